@@ -1,0 +1,3 @@
+//! Vulkan through ash: the only module that imports it.
+
+pub mod layout;

@@ -1,0 +1,1 @@
+//! Image I/O, tonemapping and error metrics.

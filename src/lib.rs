@@ -1,0 +1,11 @@
+//! wavetrace: a physically based wavefront path tracer whose rendering runs in GLSL
+//! compute kernels on Vulkan.
+//!
+//! Data flows one way: scene file -> [`scene::Scene`] (plain Rust) -> [`accel`] BVH ->
+//! GPU buffers ([`gpu`]) -> wavefront kernels ([`render`]) -> film -> [`image`].
+
+pub mod accel;
+pub mod gpu;
+pub mod image;
+pub mod render;
+pub mod scene;

@@ -1,0 +1,1 @@
+//! The wavefront renderer: queues, per-bounce dispatch, integrators, film.

@@ -1,0 +1,26 @@
+//! The perspective camera.
+
+use glam::Mat4;
+
+/// A pinhole perspective camera.
+///
+/// Camera space follows Mitsuba and Nori: the camera looks down +Z, +Y is up and +X
+/// points to the *left* of the image, so image column 0 maps to camera +X.
+///
+/// Mitsuba: `<sensor type="perspective">` with `fov`, `fov_axis` (x, y, diagonal,
+/// smaller, larger; default x), `near_clip` (1e-2), `far_clip` (1e4), `to_world`, and
+/// nested `<film>` (width, height; default 768x576) and `<sampler>` (sample_count).
+/// Nori: `<camera type="perspective">` with `fov` (horizontal), `width`, `height`
+/// (default 1280x720), `nearClip`, `farClip`, `toWorld`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Camera {
+    /// Camera-to-world transform (may contain scale or a mirror).
+    pub to_world: Mat4,
+    /// Horizontal field of view in degrees, after resolving `fov_axis` with the film's
+    /// aspect ratio.
+    pub fov_x_deg: f32,
+    pub near_clip: f32,
+    pub far_clip: f32,
+    pub width: u32,
+    pub height: u32,
+}
