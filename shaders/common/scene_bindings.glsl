@@ -1,0 +1,11 @@
+// Descriptor set 0: the scene, read-only for every kernel that includes this file.
+// Bindings are mirrored in src/render/scene_buffers.rs.
+#ifndef SCENE_BINDINGS_GLSL
+#define SCENE_BINDINGS_GLSL
+
+#include "layout.glsl"
+
+layout(std430, set = 0, binding = 0) readonly buffer BvhNodeBuffer { BvhNode bvh_nodes[]; };
+layout(std430, set = 0, binding = 1) readonly buffer PrimBuffer { Prim prims[]; };
+
+#endif
