@@ -1,1 +1,239 @@
-fn main() {}
+//! The `wavetrace` command line: parse arguments, call the library.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{bail, Context, Result};
+use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+
+use wavetrace::gpu::Device;
+use wavetrace::render::{RenderOptions, Renderer};
+use wavetrace::scene::{self, Scene};
+
+#[derive(Parser)]
+#[command(name = "wavetrace", version, about = "A wavefront path tracer on Vulkan compute")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(clap::Args)]
+struct SceneArgs {
+    /// Scene file (Mitsuba 3 or Nori XML).
+    scene: PathBuf,
+    /// Override a scene default: -D spp=64 (Mitsuba `<default name= value=>`).
+    #[arg(short = 'D', value_name = "NAME=VALUE")]
+    define: Vec<String>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Render a scene to a linear EXR and an sRGB PNG beside it.
+    Render {
+        #[command(flatten)]
+        scene: SceneArgs,
+        /// Output EXR (default: the scene's name in the current folder).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Samples per pixel (default: the scene's sampler).
+        #[arg(long)]
+        spp: Option<u32>,
+        /// Seed of the random numbers.
+        #[arg(long, default_value_t = 0)]
+        seed: u32,
+        /// Integrator, overriding the scene's (normals, ao, simple).
+        #[arg(long)]
+        integrator: Option<String>,
+        /// Vulkan device: index or part of its name (see `wavetrace devices`).
+        #[arg(long)]
+        device: Option<String>,
+        /// Most paths in flight per batch.
+        #[arg(long)]
+        batch: Option<u32>,
+        /// Print GPU time per kernel (timestamp queries).
+        #[arg(long)]
+        profile: bool,
+        /// No progress bar.
+        #[arg(short, long)]
+        quiet: bool,
+    },
+    /// Print what a scene holds: shapes, triangles, BVH, emitters, integrator.
+    Info {
+        #[command(flatten)]
+        scene: SceneArgs,
+    },
+    /// List the Vulkan devices wavetrace can use.
+    Devices,
+}
+
+fn parse_defines(defines: &[String]) -> Result<Vec<(String, String)>> {
+    defines
+        .iter()
+        .map(|d| match d.split_once('=') {
+            Some((k, v)) if !k.is_empty() => Ok((k.to_string(), v.to_string())),
+            _ => bail!("-D expects NAME=VALUE, got {d:?}"),
+        })
+        .collect()
+}
+
+fn load(args: &SceneArgs) -> Result<Scene> {
+    let defines = parse_defines(&args.define)?;
+    Ok(scene::load(&args.scene, &defines)?)
+}
+
+fn main() {
+    if let Err(e) = run(Cli::parse()) {
+        eprintln!("error: {e:#}");
+        std::process::exit(1);
+    }
+}
+
+fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Render {
+            scene,
+            output,
+            spp,
+            seed,
+            integrator,
+            device,
+            batch,
+            profile,
+            quiet,
+        } => {
+            let t_load = Instant::now();
+            let sc = load(&scene)?;
+            let load_seconds = t_load.elapsed().as_secs_f64();
+            let spp = spp.unwrap_or(sc.spp);
+            if spp == 0 {
+                bail!("--spp must be at least 1");
+            }
+            let output = output.unwrap_or_else(|| default_output(&scene.scene));
+            let device = Device::new(device.as_deref())?;
+            eprintln!("device: {}", device.info());
+            let options = RenderOptions {
+                integrator,
+                seed,
+                max_batch_paths: batch,
+                timestamps: profile,
+            };
+            let mut renderer = Renderer::new(&device, &sc, &options)?;
+            let s = &renderer.setup;
+            eprintln!(
+                "start-up: scene {:.0} ms, vulkan {:.0} ms, bvh {:.0} ms ({} nodes, SAH {:.1}), upload {:.0} ms, \
+                 pipelines {:.0} ms, first dispatch (kernel compile) {:.0} ms",
+                load_seconds * 1e3,
+                device.info().startup_seconds * 1e3,
+                s.bvh.build_seconds * 1e3,
+                s.bvh.node_count,
+                s.bvh.sah_cost,
+                s.upload_seconds * 1e3,
+                s.pipeline_seconds * 1e3,
+                s.first_dispatch_seconds * 1e3,
+            );
+            let (w, h) = (sc.camera.width, sc.camera.height);
+            eprintln!(
+                "rendering {w}x{h} at {spp} spp with '{}' ({} paths per batch)",
+                renderer.integrator().name(),
+                renderer.capacity()
+            );
+            let bar = if quiet {
+                ProgressBar::hidden()
+            } else {
+                let bar = ProgressBar::new(w as u64 * h as u64 * spp as u64);
+                bar.set_style(
+                    ProgressStyle::with_template("{bar:40} {percent:>3}% {msg} [{elapsed_precise} < {eta_precise}]")
+                        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+                );
+                bar
+            };
+            let pixels = w as u64 * h as u64;
+            let (image, stats) = renderer.render(spp, &mut |done, _total| {
+                bar.set_position(done);
+                bar.set_message(format!("{}/{spp} spp", done / pixels));
+            })?;
+            bar.finish_and_clear();
+            let samples = pixels * spp as u64;
+            eprintln!(
+                "rendered in {:.3} s: {:.2} M samples/s, {:.2} M rays/s ({} rays, {} batches)",
+                stats.seconds,
+                samples as f64 / stats.seconds / 1e6,
+                stats.rays as f64 / stats.seconds / 1e6,
+                stats.rays,
+                stats.batches
+            );
+            if stats.discarded > 0 {
+                eprintln!("warning: {} samples were NaN or infinite and were discarded", stats.discarded);
+            }
+            if profile {
+                for (name, (secs, n)) in &stats.kernel_times.by_kernel {
+                    eprintln!("  {name:<12} {:>9.2} ms over {n} dispatches", secs * 1e3);
+                }
+            }
+            wavetrace::image::write_exr(&output, &image).with_context(|| format!("writing {}", output.display()))?;
+            let png = output.with_extension("png");
+            wavetrace::image::write_png(&png, &image).with_context(|| format!("writing {}", png.display()))?;
+            eprintln!("wrote {} and {}", output.display(), png.display());
+            Ok(())
+        }
+        Command::Info { scene } => {
+            let sc = load(&scene)?;
+            print_info(&sc);
+            Ok(())
+        }
+        Command::Devices => {
+            for d in Device::list()? {
+                println!("[{}] {} ({})", d.index, d.name, d.kind.name());
+            }
+            Ok(())
+        }
+    }
+}
+
+fn default_output(scene: &Path) -> PathBuf {
+    let stem = scene.file_stem().map(|s| s.to_os_string()).unwrap_or_else(|| "render".into());
+    PathBuf::from(stem).with_extension("exr")
+}
+
+fn print_info(sc: &Scene) {
+    use wavetrace::accel::{prims_from_scene, Bvh};
+    println!("scene:       {}", sc.path.display());
+    let c = &sc.camera;
+    println!(
+        "camera:      {}x{}, horizontal fov {:.2}°, clip [{}, {}]",
+        c.width, c.height, c.fov_x_deg, c.near_clip, c.far_clip
+    );
+    println!("samples:     {} per pixel", sc.spp);
+    println!("integrator:  {} {:?}", sc.integrator.name, sc.integrator.params);
+    println!("meshes:      {}", sc.meshes.len());
+    for m in &sc.meshes {
+        println!(
+            "  {:<40} {:>8} triangles {:>8} vertices{}{}{}",
+            m.name,
+            m.indices.len(),
+            m.positions.len(),
+            if m.normals.is_empty() { "" } else { ", normals" },
+            if m.uvs.is_empty() { "" } else { ", uvs" },
+            if m.emitter.is_some() { ", emitter" } else { "" },
+        );
+    }
+    println!("spheres:     {}", sc.spheres.len());
+    println!("triangles:   {}", sc.triangle_count());
+    println!("bsdfs:       {}", sc.bsdfs.len());
+    println!("emitters:    {}", sc.emitters.len());
+    for e in &sc.emitters {
+        println!("  {e:?}");
+    }
+    let bvh = Bvh::build(prims_from_scene(sc));
+    let s = &bvh.stats;
+    println!(
+        "bvh:         {} nodes, {} leaves, depth {}, largest leaf {}, SAH cost {:.2}, built in {:.1} ms",
+        s.node_count,
+        s.leaf_count,
+        s.max_depth,
+        s.max_leaf_size,
+        s.sah_cost,
+        s.build_seconds * 1e3
+    );
+}

@@ -30,4 +30,129 @@ struct Prim {
     uint kind;
 };
 
+#define NONE 0xffffffffu
+
+// Per shape (meshes in scene order, then spheres).
+#define SHAPE_HAS_NORMALS 1u
+#define SHAPE_HAS_UVS 2u
+#define SHAPE_FLIP_NORMALS 4u
+struct ShapeRecord {
+    uint bsdf;
+    uint emitter; // NONE if the shape emits nothing
+    uint flags;
+    uint pad0;
+};
+
+// Vertex indices of a triangle into the vertex attribute array.
+struct TriangleRecord {
+    uint v0;
+    uint v1;
+    uint v2;
+};
+
+// Shading attributes of a vertex.
+struct Vertex {
+    float nx;
+    float ny;
+    float nz;
+    float u;
+    float v;
+};
+
+#define BSDF_DIFFUSE 0u
+struct BsdfRecord {
+    vec3 reflectance;
+    uint kind;
+};
+
+#define EMITTER_POINT 0u
+#define EMITTER_AREA 1u
+#define EMITTER_CONSTANT 2u
+// radiance: intensity (W/sr) of a point light, radiance of area and constant ones.
+struct EmitterRecord {
+    vec3 position;
+    uint kind;
+    vec3 radiance;
+    uint shape;
+};
+
+// Constant over a render.
+struct Frame {
+    mat4 camera_to_world;
+    vec2 tan_half_fov;
+    float near_clip;
+    float far_clip;
+    uint width;
+    uint height;
+    uint seed;
+    uint point_light_count;
+    float ao_max_t;
+    uint ao_uniform;
+    uint max_depth;
+    uint emitter_count;
+};
+
+// One path of the wavefront, by path slot.
+struct PathState {
+    vec3 throughput;
+    uint pixel;
+    vec3 radiance;
+    uint sample_index;
+};
+
+// A ray waiting for `intersect`.
+struct RayItem {
+    vec3 origin;
+    uint path;
+    vec3 dir;
+    float tmax;
+};
+
+// Closest hit of the ray at the same queue position; prim == NONE: miss.
+struct HitItem {
+    float t;
+    float u;
+    float v;
+    uint prim;
+};
+
+// A shadow ray; if unblocked, contribution is added to the path's radiance.
+struct ShadowItem {
+    vec3 origin;
+    uint path;
+    vec3 dir;
+    float tmax;
+    vec3 contribution;
+    uint pad0;
+};
+
+// Queue lengths and statistics.
+struct Counters {
+    uint ray_count[2];
+    uint shadow_count;
+    uint rays_traced;
+    uint discarded;
+    uint pad0;
+    uint pad1;
+    uint pad2;
+};
+
+// VkDispatchIndirectCommand per queue.
+struct DispatchArgs {
+    uint rays[3];
+    uint shadows[3];
+};
+
+// Push constants of the wavefront kernels.
+struct Push {
+    uint path_count;
+    uint pixel_base;
+    uint sample_base;
+    uint depth;
+    uint queue_in;
+    uint capacity; // ray queue q starts at item q * capacity
+    uint pad1;
+    uint pad2;
+};
+
 #endif

@@ -7,5 +7,10 @@
 
 layout(std430, set = 0, binding = 0) readonly buffer BvhNodeBuffer { BvhNode bvh_nodes[]; };
 layout(std430, set = 0, binding = 1) readonly buffer PrimBuffer { Prim prims[]; };
+layout(std430, set = 0, binding = 2) readonly buffer ShapeBuffer { ShapeRecord shapes[]; };
+layout(std430, set = 0, binding = 3) readonly buffer TriangleBuffer { TriangleRecord triangles[]; };
+layout(std430, set = 0, binding = 4) readonly buffer VertexBuffer { Vertex vertices[]; };
+layout(std430, set = 0, binding = 5) readonly buffer BsdfBuffer { BsdfRecord bsdfs[]; };
+layout(std430, set = 0, binding = 6) readonly buffer EmitterBuffer { EmitterRecord emitters[]; };
 
 #endif

@@ -45,3 +45,324 @@ pub struct Prim {
     pub p2: [f32; 3],
     pub kind: u32,
 }
+
+/// Per-shape data: what a hit on primitive `Prim::shape` shades with. Shapes are the
+/// scene's meshes in order, then its spheres.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct ShapeRecord {
+    /// Index into the BSDF records.
+    pub bsdf: u32,
+    /// Index into the emitter records, or `NONE`.
+    pub emitter: u32,
+    /// `SHAPE_*` flags.
+    pub flags: u32,
+    pub pad0: u32,
+}
+
+/// Marks an absent index (no emitter, no hit).
+pub const NONE: u32 = u32::MAX;
+/// The mesh has per-vertex normals.
+pub const SHAPE_HAS_NORMALS: u32 = 1;
+/// The mesh has per-vertex texture coordinates.
+pub const SHAPE_HAS_UVS: u32 = 2;
+/// Normals point inwards (Mitsuba `flip_normals`).
+pub const SHAPE_FLIP_NORMALS: u32 = 4;
+
+/// A triangle's vertex indices into the [`Vertex`] array (global numbering).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct TriangleRecord {
+    pub v0: u32,
+    pub v1: u32,
+    pub v2: u32,
+}
+
+/// Shading attributes of a mesh vertex (positions live in [`Prim`]s).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Vertex {
+    pub nx: f32,
+    pub ny: f32,
+    pub nz: f32,
+    pub u: f32,
+    pub v: f32,
+}
+
+/// BSDF kinds in [`BsdfRecord::kind`].
+pub const BSDF_DIFFUSE: u32 = 0;
+
+/// A BSDF's parameters.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct BsdfRecord {
+    pub reflectance: [f32; 3],
+    pub kind: u32,
+}
+
+/// Emitter kinds in [`EmitterRecord::kind`].
+pub const EMITTER_POINT: u32 = 0;
+pub const EMITTER_AREA: u32 = 1;
+pub const EMITTER_CONSTANT: u32 = 2;
+
+/// An emitter: `position` for point lights; `radiance` is the intensity (W/sr) of a
+/// point light and the radiance of area and constant emitters; `shape` is the shape
+/// an area emitter sits on.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct EmitterRecord {
+    pub position: [f32; 3],
+    pub kind: u32,
+    pub radiance: [f32; 3],
+    pub shape: u32,
+}
+
+/// Everything constant over one render: camera, film, integrator parameters.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Frame {
+    /// Camera-to-world, column-major.
+    pub camera_to_world: [[f32; 4]; 4],
+    /// tan(fov/2) along x and y: the image plane at z = 1 spans ±these.
+    pub tan_half_fov: [f32; 2],
+    pub near_clip: f32,
+    pub far_clip: f32,
+    pub width: u32,
+    pub height: u32,
+    pub seed: u32,
+    /// Number of point emitters (they come first in the emitter records).
+    pub point_light_count: u32,
+    /// Ambient occlusion: occluders farther than this are ignored.
+    pub ao_max_t: f32,
+    /// Ambient occlusion: 0 = cosine-weighted, 1 = uniform hemisphere sampling.
+    pub ao_uniform: u32,
+    pub max_depth: u32,
+    pub emitter_count: u32,
+}
+
+/// The state of one path of the wavefront, indexed by path slot.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct PathState {
+    pub throughput: [f32; 3],
+    pub pixel: u32,
+    pub radiance: [f32; 3],
+    pub sample_index: u32,
+}
+
+/// A ray waiting for the `intersect` stage.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct RayItem {
+    pub origin: [f32; 3],
+    pub path: u32,
+    pub dir: [f32; 3],
+    pub tmax: f32,
+}
+
+/// The closest hit of the ray at the same queue position (`prim == NONE`: a miss).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct HitItem {
+    pub t: f32,
+    pub u: f32,
+    pub v: f32,
+    pub prim: u32,
+}
+
+/// A shadow ray: if nothing blocks it, `contribution` is added to its path's
+/// radiance.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct ShadowItem {
+    pub origin: [f32; 3],
+    pub path: u32,
+    pub dir: [f32; 3],
+    pub tmax: f32,
+    pub contribution: [f32; 3],
+    pub pad0: u32,
+}
+
+/// Queue lengths and statistics, all in one buffer. `ray_count[q]` is the length of
+/// ray queue `q` (two queues, ping-ponged per bounce).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Counters {
+    pub ray_count: [u32; 2],
+    pub shadow_count: u32,
+    /// Rays traced in this batch (extension and shadow rays).
+    pub rays_traced: u32,
+    /// Samples dropped at accumulation because they were NaN or infinite.
+    pub discarded: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
+}
+
+/// Indirect dispatch arguments for each queue, written on the GPU from [`Counters`].
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct DispatchArgs {
+    pub rays: [u32; 3],
+    pub shadows: [u32; 3],
+}
+
+/// Push constants of the wavefront kernels.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Push {
+    /// Paths in this batch.
+    pub path_count: u32,
+    /// Path `p` of the batch is global sample number `pixel_base + p`, i.e. pixel
+    /// `(pixel_base + p) % pixels` of sample `sample_base + (pixel_base + p) / pixels`.
+    pub pixel_base: u32,
+    pub sample_base: u32,
+    /// Current bounce (0 = camera rays).
+    pub depth: u32,
+    /// Ray queue read this bounce (0 or 1); the other one is written.
+    pub queue_in: u32,
+    /// Path slots allocated: ray queue `q` starts at item `q * capacity`.
+    pub capacity: u32,
+    pub pad1: u32,
+    pub pad2: u32,
+}
+
+/// Threads per workgroup of every wavefront kernel (`WORKGROUP_SIZE` in GLSL).
+pub const WORKGROUP_SIZE: u32 = 64;
+
+#[cfg(test)]
+mod tests {
+    //! The GLSL mirror must agree with these structs: parse `layout.glsl`, lay every
+    //! struct out by the std430 rules (GLSL 4.60 spec, section 7.6.2.2) and compare
+    //! each field's name, order and offset, and each struct's size.
+
+    use super::*;
+    use std::collections::HashMap;
+    use std::mem::{offset_of, size_of};
+
+    /// (size, alignment) of a GLSL type under std430.
+    fn std430(ty: &str) -> (usize, usize) {
+        match ty {
+            "float" | "uint" | "int" | "bool" => (4, 4),
+            "vec2" | "uvec2" | "ivec2" => (8, 8),
+            "vec3" | "uvec3" | "ivec3" => (12, 16),
+            "vec4" | "uvec4" | "ivec4" => (16, 16),
+            "mat4" => (64, 16),
+            _ => panic!("layout test does not know GLSL type {ty}"),
+        }
+    }
+
+    /// Struct name -> (fields with offsets, size), in file order.
+    fn parse_glsl(src: &str) -> HashMap<String, (Vec<(String, usize)>, usize)> {
+        let no_comments: String = src
+            .lines()
+            .map(|l| l.split("//").next().unwrap_or(""))
+            .filter(|l| !l.trim_start().starts_with('#'))
+            .collect::<Vec<_>>()
+            .join("\n");
+        let mut out = HashMap::new();
+        let mut rest = no_comments.as_str();
+        while let Some(pos) = rest.find("struct ") {
+            rest = &rest[pos + 7..];
+            let open = rest.find('{').expect("struct body");
+            let close = rest.find('}').expect("struct end");
+            let name = rest[..open].trim().to_string();
+            let (mut offset, mut align_max) = (0usize, 4usize);
+            let mut fields = Vec::new();
+            for decl in rest[open + 1..close].split(';') {
+                let decl = decl.trim();
+                if decl.is_empty() {
+                    continue;
+                }
+                let mut parts = decl.split_whitespace();
+                let ty = parts.next().expect("type");
+                let var = parts.next().expect("field name");
+                let (field, count) = match var.find('[') {
+                    Some(b) => (&var[..b], var[b + 1..var.len() - 1].parse::<usize>().expect("array length")),
+                    None => (var, 1),
+                };
+                let (size, align) = std430(ty);
+                let stride = size.next_multiple_of(align);
+                offset = offset.next_multiple_of(align);
+                fields.push((field.to_string(), offset));
+                offset += if count == 1 { size } else { stride * count };
+                align_max = align_max.max(align);
+            }
+            out.insert(name, (fields, offset.next_multiple_of(align_max)));
+            rest = &rest[close..];
+        }
+        out
+    }
+
+    macro_rules! rust_layout {
+        ($t:ty, $($f:ident),+) => {
+            (
+                stringify!($t).to_string(),
+                vec![$((stringify!($f).to_string(), offset_of!($t, $f))),+],
+                size_of::<$t>(),
+            )
+        };
+    }
+
+    #[test]
+    fn glsl_mirror_matches_rust_layout() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/common/layout.glsl");
+        let src = std::fs::read_to_string(path).expect("read layout.glsl");
+        let glsl = parse_glsl(&src);
+        let rust = [
+            rust_layout!(BvhNode, left_min, left_index, left_max, left_count, right_min, right_index, right_max, right_count),
+            rust_layout!(Prim, p0, shape, p1, index, p2, kind),
+            rust_layout!(ShapeRecord, bsdf, emitter, flags, pad0),
+            rust_layout!(TriangleRecord, v0, v1, v2),
+            rust_layout!(Vertex, nx, ny, nz, u, v),
+            rust_layout!(BsdfRecord, reflectance, kind),
+            rust_layout!(EmitterRecord, position, kind, radiance, shape),
+            rust_layout!(
+                Frame,
+                camera_to_world,
+                tan_half_fov,
+                near_clip,
+                far_clip,
+                width,
+                height,
+                seed,
+                point_light_count,
+                ao_max_t,
+                ao_uniform,
+                max_depth,
+                emitter_count
+            ),
+            rust_layout!(PathState, throughput, pixel, radiance, sample_index),
+            rust_layout!(RayItem, origin, path, dir, tmax),
+            rust_layout!(HitItem, t, u, v, prim),
+            rust_layout!(ShadowItem, origin, path, dir, tmax, contribution, pad0),
+            rust_layout!(Counters, ray_count, shadow_count, rays_traced, discarded, pad0, pad1, pad2),
+            rust_layout!(DispatchArgs, rays, shadows),
+            rust_layout!(Push, path_count, pixel_base, sample_base, depth, queue_in, capacity, pad1, pad2),
+        ];
+        for (name, fields, size) in &rust {
+            let (gfields, gsize) = glsl
+                .get(name)
+                .unwrap_or_else(|| panic!("struct {name} is missing from layout.glsl"));
+            assert_eq!(gfields, fields, "fields or offsets of {name} differ between Rust and GLSL");
+            assert_eq!(gsize, size, "size of {name} differs between Rust and GLSL");
+        }
+        assert_eq!(glsl.len(), rust.len(), "layout.glsl has structs the Rust side does not check");
+    }
+
+    #[test]
+    fn parser_applies_std430_rules() {
+        let g = parse_glsl("struct A { float a; vec3 b; uint c[2]; vec2 d; };");
+        let (fields, size) = &g["A"];
+        let offsets: Vec<usize> = fields.iter().map(|f| f.1).collect();
+        assert_eq!(offsets, vec![0, 16, 28, 40]);
+        assert_eq!(*size, 48);
+    }
+
+    #[test]
+    fn workgroup_size_matches_glsl() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/common/wavefront.glsl");
+        let src = std::fs::read_to_string(path).expect("read wavefront.glsl");
+        assert!(src.contains(&format!("#define WORKGROUP_SIZE {WORKGROUP_SIZE}\n")));
+    }
+}

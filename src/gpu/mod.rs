@@ -1,3 +1,18 @@
 //! Vulkan through ash: the only module that imports it.
+//!
+//! `render/` speaks [`Device`], [`Buffer`], [`Kernel`], [`DescriptorSet`] and
+//! [`CommandList`]; nothing outside this module sees a `vk::` type.
 
+pub mod buffer;
+pub mod command;
+pub mod device;
+pub mod error;
+pub mod kernel;
 pub mod layout;
+pub mod shaders;
+
+pub use buffer::{Buffer, Location};
+pub use command::{CommandList, KernelTimes};
+pub use device::{Device, DeviceInfo, DeviceKind};
+pub use error::{Error, Result};
+pub use kernel::{BindingLayout, DescriptorSet, Kernel};

@@ -1,1 +1,343 @@
 //! The wavefront renderer: queues, per-bounce dispatch, integrators, film.
+//!
+//! A batch of paths runs as `generate -> (queue_args -> intersect -> shade ->
+//! queue_args -> shadow) per bounce -> accumulate`, every stage one dispatch over a
+//! queue in GPU memory. Queue lengths stay on the GPU and drive indirect dispatch, so
+//! a whole batch is one submission with no read-back between bounces (Laine, Karras
+//! and Aila 2013, "Megakernels Considered Harmful").
+
+pub mod error;
+pub mod integrator;
+pub mod scene_buffers;
+pub mod wavefront;
+
+pub use error::{Error, Result};
+pub use integrator::Integrator;
+
+use std::time::Instant;
+
+use crate::accel::{self, Bvh, BvhStats};
+use crate::gpu::layout::{Counters, Frame, Push, WORKGROUP_SIZE};
+use crate::gpu::{shaders, BindingLayout, CommandList, Device, Kernel, KernelTimes};
+use crate::image::Image;
+use crate::scene::Scene;
+
+use scene_buffers::{SceneBuffers, SceneRecords, SCENE_BINDINGS};
+use wavefront::{Wavefront, BYTES_PER_PATH, WAVEFRONT_BINDINGS};
+
+/// How to render, beyond what the scene says.
+#[derive(Debug, Clone, Default)]
+pub struct RenderOptions {
+    /// Integrator name overriding the scene's (`--integrator`).
+    pub integrator: Option<String>,
+    /// Seed of the random-number hash; a render is a function of scene, seed and
+    /// sample range.
+    pub seed: u32,
+    /// Most paths in flight per batch; `None` picks a size for the device.
+    pub max_batch_paths: Option<u32>,
+    /// Record GPU timestamps around every kernel.
+    pub timestamps: bool,
+}
+
+/// Time spent before the first sample, in seconds.
+#[derive(Debug, Clone, Default)]
+pub struct SetupStats {
+    pub bvh: BvhStats,
+    pub upload_seconds: f64,
+    /// Creating the pipelines.
+    pub pipeline_seconds: f64,
+    /// The first dispatch of every kernel with no work, where llvmpipe compiles
+    /// (fast on a second run thanks to Mesa's shader disk cache).
+    pub first_dispatch_seconds: f64,
+}
+
+/// What a render did.
+#[derive(Debug, Clone, Default)]
+pub struct RenderStats {
+    pub seconds: f64,
+    pub spp: u32,
+    /// Camera rays plus every extension and shadow ray traced.
+    pub rays: u64,
+    /// Samples dropped because they were NaN or infinite.
+    pub discarded: u64,
+    pub batches: u32,
+    pub kernel_times: KernelTimes,
+}
+
+struct Kernels {
+    generate: Kernel,
+    intersect: Kernel,
+    shade: Kernel,
+    shadow: Kernel,
+    ray_args: Kernel,
+    shadow_args: Kernel,
+    accumulate: Kernel,
+}
+
+/// A scene prepared on a device, ready to render any number of samples.
+pub struct Renderer {
+    device: Device,
+    integrator: Integrator,
+    kernels: Kernels,
+    scene_buffers: SceneBuffers,
+    wavefront: Wavefront,
+    frame: Frame,
+    width: u32,
+    height: u32,
+    timestamps: bool,
+    pub setup: SetupStats,
+}
+
+/// Workgroups for `n` threads on a 2D grid (at most 65535 per dimension); the same
+/// rule as `groups_for` in queue_args.comp.
+fn groups_for(n: u32) -> [u32; 3] {
+    let groups = n.div_ceil(WORKGROUP_SIZE);
+    let x = groups.min(65535);
+    let y = if x == 0 { 1 } else { groups.div_ceil(x) };
+    [x, y, 1]
+}
+
+impl Renderer {
+    pub fn new(device: &Device, scene: &Scene, options: &RenderOptions) -> Result<Renderer> {
+        let integrator = Integrator::from_spec(&scene.integrator, options.integrator.as_deref(), &scene.path)?;
+        let cam = &scene.camera;
+        if cam.width == 0 || cam.height == 0 {
+            return Err(Error::Options(format!("film of {}x{} pixels is empty", cam.width, cam.height)));
+        }
+        let pixels = cam.width.checked_mul(cam.height).filter(|&p| p < u32::MAX / 2).ok_or_else(|| {
+            Error::Options(format!("film of {}x{} pixels is too large", cam.width, cam.height))
+        })?;
+
+        let bvh = Bvh::build(accel::prims_from_scene(scene));
+        let records = SceneRecords::new(scene);
+
+        let t = Instant::now();
+        let layout = BindingLayout::new(device, &[SCENE_BINDINGS, WAVEFRONT_BINDINGS], std::mem::size_of::<Push>() as u32)?;
+        let scene_buffers = SceneBuffers::upload(device, &layout, &bvh, &records)?;
+        let tan_x = (cam.fov_x_deg.to_radians() * 0.5).tan();
+        let frame = Frame {
+            camera_to_world: cam.to_world.to_cols_array_2d(),
+            tan_half_fov: [tan_x, tan_x * cam.height as f32 / cam.width as f32],
+            near_clip: cam.near_clip,
+            far_clip: cam.far_clip,
+            width: cam.width,
+            height: cam.height,
+            seed: options.seed,
+            point_light_count: records.point_light_count,
+            ao_max_t: match integrator {
+                Integrator::Ao { max_t, .. } => max_t,
+                _ => f32::INFINITY,
+            },
+            ao_uniform: matches!(integrator, Integrator::Ao { uniform: true, .. }) as u32,
+            max_depth: integrator.max_depth(),
+            emitter_count: records.emitters.len() as u32,
+        };
+        let capacity = options.max_batch_paths.unwrap_or_else(|| default_capacity(device)).max(1);
+        // Keep every queue inside one storage-buffer binding.
+        let limit = device.info().max_storage_buffer_range / (2 * std::mem::size_of::<crate::gpu::layout::RayItem>() as u64);
+        let capacity = capacity.min(limit as u32).min(pixels.saturating_mul(scene.spp.max(1)));
+        let wavefront = Wavefront::new(device, &layout, capacity, pixels, &frame)?;
+        let upload_seconds = t.elapsed().as_secs_f64();
+
+        let t = Instant::now();
+        let k = |name: &str, spirv: &[u8], spec: &[u32]| Kernel::new(device, name, spirv, &layout, spec);
+        let kernels = Kernels {
+            generate: k("generate", shaders::GENERATE, &[])?,
+            intersect: k("intersect", shaders::INTERSECT, &[])?,
+            shade: k("shade", shaders::SHADE, &[integrator.id()])?,
+            shadow: k("shadow", shaders::SHADOW, &[])?,
+            ray_args: k("queue_args", shaders::QUEUE_ARGS, &[0])?,
+            shadow_args: k("queue_args", shaders::QUEUE_ARGS, &[1])?,
+            accumulate: k("accumulate", shaders::ACCUMULATE, &[])?,
+        };
+        device.save_pipeline_cache();
+        let pipeline_seconds = t.elapsed().as_secs_f64();
+
+        let mut renderer = Renderer {
+            device: device.clone(),
+            integrator,
+            kernels,
+            scene_buffers,
+            wavefront,
+            frame,
+            width: cam.width,
+            height: cam.height,
+            timestamps: options.timestamps,
+            setup: SetupStats {
+                bvh: bvh.stats.clone(),
+                upload_seconds,
+                pipeline_seconds,
+                first_dispatch_seconds: 0.0,
+            },
+        };
+        renderer.setup.first_dispatch_seconds = renderer.warm_up()?;
+        Ok(renderer)
+    }
+
+    pub fn integrator(&self) -> &Integrator {
+        &self.integrator
+    }
+
+    pub fn capacity(&self) -> u32 {
+        self.wavefront.capacity
+    }
+
+    /// Dispatches every kernel once with empty queues: llvmpipe compiles a kernel at
+    /// its first dispatch, and this keeps that cost out of the render's timing.
+    fn warm_up(&mut self) -> Result<f64> {
+        let t = Instant::now();
+        let mut cmd = CommandList::new(&self.device)?;
+        let wf = &self.wavefront;
+        cmd.update(&wf.counters, 0, bytemuck::bytes_of(&Counters::default()));
+        cmd.barrier();
+        let push = Push {
+            capacity: wf.capacity,
+            ..Default::default()
+        };
+        let push = bytemuck::bytes_of(&push);
+        let sets = [&self.scene_buffers.set, &wf.set];
+        let k = &self.kernels;
+        for kernel in [&k.generate, &k.ray_args, &k.intersect, &k.shade, &k.shadow_args, &k.shadow, &k.accumulate] {
+            cmd.dispatch(kernel, &sets, push, [1, 1, 1]);
+            cmd.barrier();
+        }
+        cmd.submit_and_wait()?;
+        Ok(t.elapsed().as_secs_f64())
+    }
+
+    /// Renders samples `0..spp` of every pixel and returns the image. `progress` is
+    /// called after each batch with (samples done, samples in all).
+    pub fn render(&mut self, spp: u32, progress: &mut dyn FnMut(u64, u64)) -> Result<(Image, RenderStats)> {
+        self.render_range(0, spp, progress)
+    }
+
+    /// Renders samples `first .. first + count` of every pixel. Sample `s` of a pixel
+    /// is the same whatever range it is rendered in, so ranges can be rendered apart
+    /// and averaged.
+    pub fn render_range(&mut self, first: u32, count: u32, progress: &mut dyn FnMut(u64, u64)) -> Result<(Image, RenderStats)> {
+        if count == 0 {
+            return Err(Error::Options("samples per pixel must be at least 1".into()));
+        }
+        let start = Instant::now();
+        let pixels = self.width * self.height;
+        let cap = self.wavefront.capacity;
+        let total = pixels as u64 * count as u64;
+        let mut stats = RenderStats {
+            spp: count,
+            ..Default::default()
+        };
+        let mut cmd = if self.timestamps {
+            CommandList::with_timestamps(&self.device)?
+        } else {
+            CommandList::new(&self.device)?
+        };
+        cmd.fill(&self.wavefront.film, 0, self.wavefront.film.size(), 0);
+        cmd.barrier();
+
+        let mut done = 0u64;
+        let mut sample = first;
+        let end = first
+            .checked_add(count)
+            .ok_or_else(|| Error::Options("sample range overflows".into()))?;
+        while sample < end {
+            // Whole samples of every pixel per batch where they fit, else a run of
+            // pixels of one sample.
+            if pixels <= cap {
+                let k = (cap / pixels).min(end - sample);
+                self.record_batch(&mut cmd, sample, 0, k * pixels);
+                sample += k;
+                done += k as u64 * pixels as u64;
+                self.finish_batch(&mut cmd, &mut stats)?;
+                progress(done, total);
+            } else {
+                let mut base = 0;
+                while base < pixels {
+                    let n = cap.min(pixels - base);
+                    self.record_batch(&mut cmd, sample, base, n);
+                    base += n;
+                    done += n as u64;
+                    self.finish_batch(&mut cmd, &mut stats)?;
+                    progress(done, total);
+                }
+                sample += 1;
+            }
+        }
+        let film: Vec<[f32; 4]> = self.wavefront.film.read(&self.device)?;
+        let mut rgb = Vec::with_capacity(pixels as usize * 3);
+        for px in &film {
+            let n = if px[3] > 0.0 { px[3] } else { 1.0 };
+            rgb.extend_from_slice(&[px[0] / n, px[1] / n, px[2] / n]);
+        }
+        stats.seconds = start.elapsed().as_secs_f64();
+        Ok((
+            Image {
+                width: self.width,
+                height: self.height,
+                rgb,
+            },
+            stats,
+        ))
+    }
+
+    /// Records one batch: `path_count` paths starting at global sample
+    /// `sample_base * pixels + pixel_base`.
+    fn record_batch(&self, cmd: &mut CommandList, sample_base: u32, pixel_base: u32, path_count: u32) {
+        let wf = &self.wavefront;
+        let counters = Counters {
+            ray_count: [path_count, 0],
+            ..Default::default()
+        };
+        cmd.update(&wf.counters, 0, bytemuck::bytes_of(&counters));
+        cmd.barrier();
+        let sets = [&self.scene_buffers.set, &wf.set];
+        let mut push = Push {
+            path_count,
+            pixel_base,
+            sample_base,
+            depth: 0,
+            queue_in: 0,
+            capacity: wf.capacity,
+            ..Default::default()
+        };
+        let k = &self.kernels;
+        cmd.dispatch(&k.generate, &sets, bytemuck::bytes_of(&push), groups_for(path_count));
+        cmd.barrier();
+        for depth in 0..self.integrator.max_depth() {
+            push.depth = depth;
+            push.queue_in = depth % 2;
+            let p = bytemuck::bytes_of(&push);
+            cmd.dispatch(&k.ray_args, &sets, p, [1, 1, 1]);
+            cmd.barrier();
+            cmd.dispatch_indirect(&k.intersect, &sets, p, &wf.dispatch_args, Wavefront::RAY_ARGS);
+            cmd.barrier();
+            cmd.dispatch_indirect(&k.shade, &sets, p, &wf.dispatch_args, Wavefront::RAY_ARGS);
+            cmd.barrier();
+            cmd.dispatch(&k.shadow_args, &sets, p, [1, 1, 1]);
+            cmd.barrier();
+            cmd.dispatch_indirect(&k.shadow, &sets, p, &wf.dispatch_args, Wavefront::SHADOW_ARGS);
+            cmd.barrier();
+        }
+        cmd.dispatch(&k.accumulate, &sets, bytemuck::bytes_of(&push), groups_for(path_count.min(self.width * self.height)));
+        cmd.barrier();
+    }
+
+    fn finish_batch(&self, cmd: &mut CommandList, stats: &mut RenderStats) -> Result<()> {
+        let times = cmd.submit_and_wait_timed()?;
+        stats.kernel_times.add(&times);
+        let c: Vec<Counters> = self.wavefront.counters.read(&self.device)?;
+        stats.rays += c[0].rays_traced as u64;
+        stats.discarded += c[0].discarded as u64;
+        stats.batches += 1;
+        Ok(())
+    }
+}
+
+/// Paths per batch: bounded by memory (about 40 MiB of path state on a CPU device,
+/// 300 MiB on a GPU) and large enough to fill a GPU.
+fn default_capacity(device: &Device) -> u32 {
+    let budget: u64 = match device.info().kind {
+        crate::gpu::DeviceKind::Cpu => 40 << 20,
+        _ => 300 << 20,
+    };
+    (budget / BYTES_PER_PATH) as u32
+}

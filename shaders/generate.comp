@@ -1,0 +1,26 @@
+#version 460
+// generate: one camera ray per path slot of the batch.
+// Writes: paths[p], ray queue 0 item p. The host sets ray_count[0] = path_count.
+
+#include "wavefront.glsl"
+#include "rng.glsl"
+#include "camera.glsl"
+
+void main() {
+    uint p = thread_index();
+    if (p >= push.path_count) return;
+    uint pixels = frame.width * frame.height;
+    uint g = push.pixel_base + p;
+    uint pixel = g % pixels;
+    uint sample_index = push.sample_base + g / pixels;
+
+    // Box filter: a uniform position inside the pixel.
+    vec2 jitter = rng_4d(pixel, sample_index, RNG_DIM_CAMERA, frame.seed).xy;
+    vec2 film_pos = vec2(pixel % frame.width, pixel / frame.width) + jitter;
+    vec3 origin, dir;
+    float tmax;
+    camera_ray(film_pos, origin, dir, tmax);
+
+    paths[p] = PathState(vec3(1.0), pixel, vec3(0.0), sample_index);
+    rays[ray_slot(0u, p)] = RayItem(origin, p, dir, tmax);
+}

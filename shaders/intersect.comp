@@ -1,0 +1,15 @@
+#version 460
+// intersect: closest hit through the BVH for every ray of the input queue.
+// Reads: ray queue `queue_in`. Writes: hits[i] for ray i.
+
+#include "wavefront.glsl"
+#include "scene_bindings.glsl"
+#include "bvh.glsl"
+
+void main() {
+    uint i = thread_index();
+    if (i >= counters.ray_count[push.queue_in]) return;
+    RayItem r = rays[ray_slot(push.queue_in, i)];
+    Hit h = bvh_closest(r.origin, r.dir, 0.0, r.tmax);
+    hits[i] = HitItem(h.t, h.u, h.v, h.prim);
+}

@@ -1,0 +1,68 @@
+#version 460
+// shade: turns each hit (or miss) into radiance, shadow rays and continuation rays,
+// as the integrator chosen by specialization constant INTEGRATOR says.
+// Reads: ray queue `queue_in`, hits. Writes: paths[].radiance, shadow queue.
+
+#include "wavefront.glsl"
+#include "scene_bindings.glsl"
+#include "integrator.glsl"
+#include "rng.glsl"
+#include "surface.glsl"
+#include "ray_offset.glsl"
+#include "ao.glsl"
+
+layout(constant_id = 0) const uint INTEGRATOR = INTEGRATOR_AO;
+
+void push_shadow(vec3 origin, uint path, vec3 dir, float tmax, vec3 contribution) {
+    uint slot = atomicAdd(counters.shadow_count, 1u);
+    shadows[slot] = ShadowItem(origin, path, dir, tmax, contribution, 0u);
+}
+
+void main() {
+    uint i = thread_index();
+    if (i >= counters.ray_count[push.queue_in]) return;
+    RayItem r = rays[ray_slot(push.queue_in, i)];
+    HitItem h = hits[i];
+    PathState path = paths[r.path];
+
+    if (h.prim == NONE) {
+        // An escaping ray sees the unoccluded sky of the AO definition (radiance 1),
+        // as Mitsuba's direct integrator does under a constant emitter.
+        if (INTEGRATOR == INTEGRATOR_AO) paths[r.path].radiance += path.throughput;
+        return;
+    }
+
+    Surface s = surface_at(h.prim, h.u, h.v, r.origin, r.dir, h.t);
+    surface_face(s, -r.dir);
+    vec4 u = rng_4d(path.pixel, path.sample_index, rng_dim_bounce(push.depth, 0u), frame.seed);
+
+    if (INTEGRATOR == INTEGRATOR_NORMALS) {
+        // Nori's normals integrator: |n_s| per component. Unflipped normal here.
+        Surface raw = surface_at(h.prim, h.u, h.v, r.origin, r.dir, h.t);
+        paths[r.path].radiance += abs(raw.ns);
+    } else if (INTEGRATOR == INTEGRATOR_AO) {
+        vec3 wi;
+        float weight = ao_sample(s.ns, s.ng, u.xy, frame.ao_uniform != 0u, wi);
+        if (weight > 0.0) {
+            push_shadow(ray_offset(s.p, s.ng), r.path, wi, frame.ao_max_t, path.throughput * weight);
+        }
+    } else if (INTEGRATOR == INTEGRATOR_SIMPLE) {
+        // Point lights on diffuse surfaces (Nori's first lighting integrator): one
+        // light chosen uniformly, L = (ρ/π) I cos θ / d² / P(light).
+        uint count = frame.point_light_count;
+        if (count == 0u) return;
+        uint k = min(uint(u.x * float(count)), count - 1u);
+        EmitterRecord light = emitters[k];
+        vec3 to_light = light.position - s.p;
+        float d2 = dot(to_light, to_light);
+        float dist = sqrt(d2);
+        vec3 wi = to_light / dist;
+        float cos_theta = dot(s.ns, wi);
+        if (cos_theta <= 0.0 || dot(s.ng, wi) <= 0.0 || d2 <= 0.0) return;
+        BsdfRecord bsdf = bsdfs[shapes[s.shape].bsdf];
+        vec3 f = bsdf.reflectance * INV_PI;
+        vec3 contribution = path.throughput * f * light.radiance * (cos_theta / d2) * float(count);
+        vec3 origin = ray_offset(s.p, s.ng);
+        push_shadow(origin, r.path, wi, length(light.position - origin) * (1.0 - 1e-5), contribution);
+    }
+}

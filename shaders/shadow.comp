@@ -1,0 +1,18 @@
+#version 460
+// shadow: any-hit occlusion test for every shadow ray; an unblocked ray adds its
+// contribution to its path. A path has at most one shadow ray per bounce, so the
+// write to its radiance does not race.
+// Reads: shadow queue. Writes: paths[].radiance.
+
+#include "wavefront.glsl"
+#include "scene_bindings.glsl"
+#include "bvh.glsl"
+
+void main() {
+    uint i = thread_index();
+    if (i >= counters.shadow_count) return;
+    ShadowItem s = shadows[i];
+    if (!bvh_any(s.origin, s.dir, 0.0, s.tmax)) {
+        paths[s.path].radiance += s.contribution;
+    }
+}

@@ -1,0 +1,30 @@
+#version 460
+// Test kernel: closest-hit and any-hit queries for a list of rays, so tests/bvh.rs
+// can compare the GLSL traversal with the CPU brute force.
+
+#include "scene_bindings.glsl"
+#include "bvh.glsl"
+
+layout(local_size_x = 64) in;
+
+struct QueryRay {
+    vec3 origin;
+    float tmin;
+    vec3 dir;
+    float tmax;
+};
+
+layout(std430, set = 1, binding = 0) readonly buffer QueryBuffer { QueryRay queries[]; };
+layout(std430, set = 1, binding = 1) writeonly buffer ClosestBuffer { HitItem closest[]; };
+layout(std430, set = 1, binding = 2) writeonly buffer AnyBuffer { uint any_hit[]; };
+
+layout(push_constant) uniform PushBlock { uint count; } pc;
+
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    if (i >= pc.count) return;
+    QueryRay q = queries[i];
+    Hit h = bvh_closest(q.origin, q.dir, q.tmin, q.tmax);
+    closest[i] = HitItem(h.t, h.u, h.v, h.prim);
+    any_hit[i] = bvh_any(q.origin, q.dir, q.tmin, q.tmax) ? 1u : 0u;
+}

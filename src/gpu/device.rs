@@ -1,0 +1,384 @@
+//! Instance, physical-device choice, logical device, queue and pipeline cache.
+
+use std::ffi::CStr;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Instant;
+
+use ash::vk;
+
+use super::error::{Error, Result, VkContext};
+
+/// What kind of device this is, best first when choosing by default.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum DeviceKind {
+    Discrete,
+    Integrated,
+    Virtual,
+    Other,
+    Cpu,
+}
+
+impl DeviceKind {
+    fn from_vk(t: vk::PhysicalDeviceType) -> Self {
+        match t {
+            vk::PhysicalDeviceType::DISCRETE_GPU => Self::Discrete,
+            vk::PhysicalDeviceType::INTEGRATED_GPU => Self::Integrated,
+            vk::PhysicalDeviceType::VIRTUAL_GPU => Self::Virtual,
+            vk::PhysicalDeviceType::CPU => Self::Cpu,
+            _ => Self::Other,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Discrete => "discrete GPU",
+            Self::Integrated => "integrated GPU",
+            Self::Virtual => "virtual GPU",
+            Self::Other => "other",
+            Self::Cpu => "CPU",
+        }
+    }
+}
+
+/// Facts about the chosen device, for printing and for limits.
+#[derive(Debug, Clone)]
+pub struct DeviceInfo {
+    pub index: usize,
+    pub name: String,
+    pub kind: DeviceKind,
+    pub driver: String,
+    pub vendor_id: u32,
+    pub device_id: u32,
+    /// Nanoseconds per timestamp tick; `None` if the queue has no timestamps.
+    pub timestamp_period_ns: Option<f64>,
+    pub max_storage_buffer_range: u64,
+    pub max_workgroups_x: u32,
+    /// Time to load Vulkan, create the instance and the device.
+    pub startup_seconds: f64,
+}
+
+impl std::fmt::Display for DeviceInfo {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "[{}] {} ({}, {})", self.index, self.name, self.kind.name(), self.driver)
+    }
+}
+
+pub(crate) struct Inner {
+    _entry: ash::Entry,
+    pub instance: ash::Instance,
+    pub raw: ash::Device,
+    pub queue: vk::Queue,
+    pub command_pool: vk::CommandPool,
+    pub memory: vk::PhysicalDeviceMemoryProperties,
+    pub pipeline_cache: vk::PipelineCache,
+    pipeline_cache_path: Option<PathBuf>,
+    pub info: DeviceInfo,
+}
+
+/// A Vulkan device with one compute queue. Cheap to clone.
+#[derive(Clone)]
+pub struct Device {
+    pub(crate) inner: Arc<Inner>,
+}
+
+/// A device that can be chosen, as listed by [`Device::list`].
+#[derive(Debug, Clone)]
+pub struct Candidate {
+    pub index: usize,
+    pub name: String,
+    pub kind: DeviceKind,
+}
+
+fn load_entry() -> Result<ash::Entry> {
+    // SAFETY: loading the system Vulkan loader; no other Vulkan state exists yet.
+    unsafe { ash::Entry::load() }.map_err(|e| Error::LoaderMissing(e.to_string()))
+}
+
+fn create_instance(entry: &ash::Entry) -> Result<ash::Instance> {
+    let app = vk::ApplicationInfo::default()
+        .application_name(c"wavetrace")
+        .engine_name(c"wavetrace")
+        .api_version(vk::API_VERSION_1_2);
+    let info = vk::InstanceCreateInfo::default().application_info(&app);
+    // SAFETY: valid create info; the instance is destroyed in Inner::drop.
+    unsafe { entry.create_instance(&info, None) }.map_err(|result| match result {
+        vk::Result::ERROR_INCOMPATIBLE_DRIVER => Error::NoDevice,
+        result => Error::Vk {
+            call: "vkCreateInstance",
+            result,
+        },
+    })
+}
+
+struct Physical {
+    handle: vk::PhysicalDevice,
+    name: String,
+    kind: DeviceKind,
+    queue_family: u32,
+}
+
+fn enumerate(instance: &ash::Instance) -> Result<Vec<Physical>> {
+    // SAFETY: instance is valid.
+    let devices = unsafe { instance.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
+    let mut out = Vec::new();
+    for handle in devices {
+        // SAFETY: handle comes from the instance.
+        let props = unsafe { instance.get_physical_device_properties(handle) };
+        let name = props
+            .device_name_as_c_str()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|_| "unnamed device".into());
+        // SAFETY: as above.
+        let families = unsafe { instance.get_physical_device_queue_family_properties(handle) };
+        let Some(queue_family) = families
+            .iter()
+            .position(|f| f.queue_flags.contains(vk::QueueFlags::COMPUTE))
+        else {
+            continue;
+        };
+        if props.api_version < vk::API_VERSION_1_2 {
+            continue;
+        }
+        out.push(Physical {
+            handle,
+            name,
+            kind: DeviceKind::from_vk(props.device_type),
+            queue_family: queue_family as u32,
+        });
+    }
+    Ok(out)
+}
+
+fn pick(devices: &[Physical], selector: Option<&str>) -> Result<usize> {
+    if devices.is_empty() {
+        return Err(Error::NoDevice);
+    }
+    let Some(selector) = selector else {
+        // Best kind first (discrete before integrated before CPU); ties keep order.
+        return Ok((0..devices.len())
+            .min_by_key(|&i| devices[i].kind)
+            .unwrap_or(0));
+    };
+    let found = match selector.parse::<usize>() {
+        Ok(i) if i < devices.len() => Some(i),
+        _ => {
+            let s = selector.to_lowercase();
+            devices.iter().position(|d| {
+                d.name.to_lowercase().contains(&s) || d.kind.name().to_lowercase().contains(&s)
+            })
+        }
+    };
+    found.ok_or_else(|| Error::DeviceNotFound {
+        selector: selector.to_string(),
+        available: devices
+            .iter()
+            .enumerate()
+            .map(|(i, d)| format!("  [{i}] {} ({})", d.name, d.kind.name()))
+            .collect::<Vec<_>>()
+            .join("\n"),
+    })
+}
+
+fn cache_dir() -> Option<PathBuf> {
+    if let Some(dir) = std::env::var_os("XDG_CACHE_HOME") {
+        return Some(PathBuf::from(dir).join("wavetrace"));
+    }
+    std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache").join("wavetrace"))
+}
+
+impl Device {
+    /// Lists the devices that could run wavetrace.
+    pub fn list() -> Result<Vec<Candidate>> {
+        let entry = load_entry()?;
+        let instance = create_instance(&entry)?;
+        let list = enumerate(&instance).map(|devices| {
+            devices
+                .into_iter()
+                .enumerate()
+                .map(|(index, d)| Candidate {
+                    index,
+                    name: d.name,
+                    kind: d.kind,
+                })
+                .collect()
+        });
+        // SAFETY: nothing else uses this instance.
+        unsafe { instance.destroy_instance(None) };
+        list
+    }
+
+    /// Opens a device: the one `selector` names (index or part of its name), else
+    /// the best available (a discrete GPU before an integrated one before lavapipe).
+    pub fn new(selector: Option<&str>) -> Result<Device> {
+        let start = Instant::now();
+        let entry = load_entry()?;
+        let instance = create_instance(&entry)?;
+        let opened = Self::open(&entry, &instance, selector, start);
+        match opened {
+            Ok(inner) => Ok(Device {
+                inner: Arc::new(inner),
+            }),
+            Err(e) => {
+                // SAFETY: nothing was created from the instance that still lives.
+                unsafe { instance.destroy_instance(None) };
+                Err(e)
+            }
+        }
+    }
+
+    // Everything after the instance. On error the caller destroys the instance; on
+    // success the returned Inner owns it (its Drop destroys it).
+    fn open(
+        entry: &ash::Entry,
+        instance: &ash::Instance,
+        selector: Option<&str>,
+        start: Instant,
+    ) -> Result<Inner> {
+        let devices = enumerate(instance)?;
+        let index = pick(&devices, selector)?;
+        let phys = &devices[index];
+        // SAFETY: physical device from this instance.
+        let props = unsafe { instance.get_physical_device_properties(phys.handle) };
+        let mut driver_props = vk::PhysicalDeviceDriverProperties::default();
+        let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver_props);
+        // SAFETY: as above; Vulkan 1.2 core.
+        unsafe { instance.get_physical_device_properties2(phys.handle, &mut props2) };
+        let driver = driver_props
+            .driver_name_as_c_str()
+            .map(CStr::to_string_lossy)
+            .unwrap_or_default()
+            .into_owned();
+        // SAFETY: as above.
+        let families = unsafe { instance.get_physical_device_queue_family_properties(phys.handle) };
+        let ts_bits = families[phys.queue_family as usize].timestamp_valid_bits;
+        let timestamp_period_ns = (ts_bits > 0 && props.limits.timestamp_compute_and_graphics != 0)
+            .then_some(props.limits.timestamp_period as f64);
+
+        let priorities = [1.0f32];
+        let queue_info = [vk::DeviceQueueCreateInfo::default()
+            .queue_family_index(phys.queue_family)
+            .queue_priorities(&priorities)];
+        let device_info = vk::DeviceCreateInfo::default().queue_create_infos(&queue_info);
+        // SAFETY: valid create info for this physical device.
+        let raw = unsafe { instance.create_device(phys.handle, &device_info, None) }
+            .vk("vkCreateDevice")?;
+        // SAFETY: queue family and index exist by construction.
+        let queue = unsafe { raw.get_device_queue(phys.queue_family, 0) };
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(phys.queue_family)
+            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        // SAFETY: valid device.
+        let command_pool = match unsafe { raw.create_command_pool(&pool_info, None) } {
+            Ok(p) => p,
+            Err(result) => {
+                // SAFETY: nothing was created from the device.
+                unsafe { raw.destroy_device(None) };
+                return Err(Error::Vk {
+                    call: "vkCreateCommandPool",
+                    result,
+                });
+            }
+        };
+        // SAFETY: valid physical device.
+        let memory = unsafe { instance.get_physical_device_memory_properties(phys.handle) };
+
+        // A pipeline cache on disk spares real GPUs the shader compile on later runs
+        // (llvmpipe keeps its own cache in Mesa's shader disk cache).
+        let pipeline_cache_path = cache_dir().map(|d| {
+            d.join(format!(
+                "pipelines-{:04x}-{:04x}-{:08x}.bin",
+                props.vendor_id, props.device_id, props.driver_version
+            ))
+        });
+        let initial = pipeline_cache_path
+            .as_ref()
+            .and_then(|p| std::fs::read(p).ok())
+            .unwrap_or_default();
+        let cache_info = vk::PipelineCacheCreateInfo::default().initial_data(&initial);
+        // SAFETY: the driver validates the header of the initial data and ignores
+        // data from another device or driver.
+        let pipeline_cache = unsafe { raw.create_pipeline_cache(&cache_info, None) }
+            .or_else(|_| {
+                // SAFETY: as above, without initial data.
+                unsafe { raw.create_pipeline_cache(&vk::PipelineCacheCreateInfo::default(), None) }
+            })
+            .vk("vkCreatePipelineCache")?;
+
+        let info = DeviceInfo {
+            index,
+            name: phys.name.clone(),
+            kind: phys.kind,
+            driver,
+            vendor_id: props.vendor_id,
+            device_id: props.device_id,
+            timestamp_period_ns,
+            max_storage_buffer_range: props.limits.max_storage_buffer_range as u64,
+            max_workgroups_x: props.limits.max_compute_work_group_count[0],
+            startup_seconds: start.elapsed().as_secs_f64(),
+        };
+        Ok(Inner {
+            _entry: entry.clone(),
+            instance: instance.clone(),
+            raw,
+            queue,
+            command_pool,
+            memory,
+            pipeline_cache,
+            pipeline_cache_path,
+            info,
+        })
+    }
+
+    pub fn info(&self) -> &DeviceInfo {
+        &self.inner.info
+    }
+
+    pub(crate) fn raw(&self) -> &ash::Device {
+        &self.inner.raw
+    }
+
+    /// Writes the pipeline cache to disk so the next run skips shader compilation
+    /// on drivers that honour it. Failures only cost time, so they are ignored.
+    pub fn save_pipeline_cache(&self) {
+        let Some(path) = &self.inner.pipeline_cache_path else {
+            return;
+        };
+        // SAFETY: valid cache of this device.
+        if let Ok(data) = unsafe { self.inner.raw.get_pipeline_cache_data(self.inner.pipeline_cache) } {
+            if let Some(dir) = path.parent() {
+                let _ = std::fs::create_dir_all(dir);
+            }
+            let tmp = path.with_extension("tmp");
+            if std::fs::write(&tmp, &data).is_ok() {
+                let _ = std::fs::rename(&tmp, path);
+            }
+        }
+    }
+
+    /// Index of a memory type with `wanted` flags among those `type_bits` allows.
+    pub(crate) fn memory_type(&self, type_bits: u32, wanted: vk::MemoryPropertyFlags) -> Option<u32> {
+        let mem = &self.inner.memory;
+        (0..mem.memory_type_count).find(|&i| {
+            type_bits & (1 << i) != 0 && mem.memory_types[i as usize].property_flags.contains(wanted)
+        })
+    }
+
+    pub(crate) fn memory_flags(&self, index: u32) -> vk::MemoryPropertyFlags {
+        self.inner.memory.memory_types[index as usize].property_flags
+    }
+}
+
+impl Drop for Inner {
+    fn drop(&mut self) {
+        // SAFETY: every object made from this device holds an Arc<Inner>, so all
+        // of them are gone; wait for the queue before destroying.
+        unsafe {
+            let _ = self.raw.device_wait_idle();
+            self.raw.destroy_pipeline_cache(self.pipeline_cache, None);
+            self.raw.destroy_command_pool(self.command_pool, None);
+            self.raw.destroy_device(None);
+            self.instance.destroy_instance(None);
+        }
+    }
+}

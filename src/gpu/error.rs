@@ -1,0 +1,50 @@
+//! Errors from the Vulkan layer.
+
+use ash::vk;
+
+/// Something the GPU layer could not do.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    #[error(
+        "the Vulkan loader (libvulkan.so.1) could not be loaded: {0}\n\
+         install it and a driver: sudo apt-get install libvulkan1 mesa-vulkan-drivers \
+         (or run tools/setup.sh)"
+    )]
+    LoaderMissing(String),
+    #[error(
+        "no Vulkan device with a compute queue was found\n\
+         install a driver, e.g. lavapipe for the CPU: sudo apt-get install mesa-vulkan-drivers \
+         (or run tools/setup.sh)"
+    )]
+    NoDevice,
+    #[error("no Vulkan device matches --device {selector:?}; available:\n{available}")]
+    DeviceNotFound { selector: String, available: String },
+    #[error("Vulkan call {call} failed: {result}")]
+    Vk { call: &'static str, result: vk::Result },
+    #[error("no memory type for buffer '{label}' (wanted {wanted:?})")]
+    NoMemoryType {
+        label: String,
+        wanted: vk::MemoryPropertyFlags,
+    },
+    #[error(
+        "buffer '{label}' needs {size} bytes, more than this device allows in one storage \
+         buffer ({limit} bytes); render a smaller image or fewer samples per batch"
+    )]
+    BufferTooLarge { label: String, size: u64, limit: u64 },
+    #[error("invalid SPIR-V for kernel '{0}'")]
+    BadSpirv(String),
+}
+
+/// Result alias of the GPU layer.
+pub type Result<T> = std::result::Result<T, Error>;
+
+/// Attaches the name of the Vulkan call to a `vk::Result`.
+pub(crate) trait VkContext<T> {
+    fn vk(self, call: &'static str) -> Result<T>;
+}
+
+impl<T> VkContext<T> for std::result::Result<T, vk::Result> {
+    fn vk(self, call: &'static str) -> Result<T> {
+        self.map_err(|result| Error::Vk { call, result })
+    }
+}

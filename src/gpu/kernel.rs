@@ -1,0 +1,235 @@
+//! Compute kernels: binding layouts, descriptor sets and pipelines.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::buffer::Buffer;
+use super::device::{Device, Inner};
+use super::error::{Error, Result, VkContext};
+
+struct LayoutInner {
+    device: Arc<Inner>,
+    set_layouts: Vec<vk::DescriptorSetLayout>,
+    pipeline_layout: vk::PipelineLayout,
+    push_bytes: u32,
+}
+
+impl Drop for LayoutInner {
+    fn drop(&mut self) {
+        // SAFETY: kernels and sets using this layout hold an Arc to it.
+        unsafe {
+            self.device.raw.destroy_pipeline_layout(self.pipeline_layout, None);
+            for &l in &self.set_layouts {
+                self.device.raw.destroy_descriptor_set_layout(l, None);
+            }
+        }
+    }
+}
+
+/// The resource interface kernels share: descriptor sets made only of storage
+/// buffers (`set_sizes[s]` bindings in set `s`) and a push-constant block.
+#[derive(Clone)]
+pub struct BindingLayout {
+    inner: Arc<LayoutInner>,
+}
+
+impl BindingLayout {
+    pub fn new(device: &Device, set_sizes: &[u32], push_bytes: u32) -> Result<BindingLayout> {
+        let raw = device.raw();
+        let mut set_layouts = Vec::new();
+        for &n in set_sizes {
+            let bindings: Vec<_> = (0..n)
+                .map(|b| {
+                    vk::DescriptorSetLayoutBinding::default()
+                        .binding(b)
+                        .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                        .descriptor_count(1)
+                        .stage_flags(vk::ShaderStageFlags::COMPUTE)
+                })
+                .collect();
+            let info = vk::DescriptorSetLayoutCreateInfo::default().bindings(&bindings);
+            // SAFETY: valid create info.
+            match unsafe { raw.create_descriptor_set_layout(&info, None) } {
+                Ok(l) => set_layouts.push(l),
+                Err(result) => {
+                    for l in set_layouts {
+                        // SAFETY: unused layouts of this device.
+                        unsafe { raw.destroy_descriptor_set_layout(l, None) };
+                    }
+                    return Err(Error::Vk {
+                        call: "vkCreateDescriptorSetLayout",
+                        result,
+                    });
+                }
+            }
+        }
+        let ranges = [vk::PushConstantRange::default()
+            .stage_flags(vk::ShaderStageFlags::COMPUTE)
+            .offset(0)
+            .size(push_bytes.max(4))];
+        let info = vk::PipelineLayoutCreateInfo::default()
+            .set_layouts(&set_layouts)
+            .push_constant_ranges(&ranges);
+        // SAFETY: valid create info.
+        let pipeline_layout = match unsafe { raw.create_pipeline_layout(&info, None) } {
+            Ok(l) => l,
+            Err(result) => {
+                for l in set_layouts {
+                    // SAFETY: unused layouts of this device.
+                    unsafe { raw.destroy_descriptor_set_layout(l, None) };
+                }
+                return Err(Error::Vk {
+                    call: "vkCreatePipelineLayout",
+                    result,
+                });
+            }
+        };
+        Ok(BindingLayout {
+            inner: Arc::new(LayoutInner {
+                device: device.inner.clone(),
+                set_layouts,
+                pipeline_layout,
+                push_bytes,
+            }),
+        })
+    }
+
+    pub fn push_bytes(&self) -> u32 {
+        self.inner.push_bytes
+    }
+}
+
+/// One descriptor set: `buffers[i]` at binding `i` of set `set` of a layout.
+pub struct DescriptorSet {
+    layout: Arc<LayoutInner>,
+    pool: vk::DescriptorPool,
+    pub(crate) raw: vk::DescriptorSet,
+    pub(crate) set: u32,
+}
+
+impl DescriptorSet {
+    pub fn new(layout: &BindingLayout, set: u32, buffers: &[&Buffer]) -> Result<DescriptorSet> {
+        let inner = &layout.inner;
+        let raw_dev = &inner.device.raw;
+        let count = buffers.len().max(1) as u32;
+        let sizes = [vk::DescriptorPoolSize::default()
+            .ty(vk::DescriptorType::STORAGE_BUFFER)
+            .descriptor_count(count)];
+        let info = vk::DescriptorPoolCreateInfo::default().max_sets(1).pool_sizes(&sizes);
+        // SAFETY: valid create info.
+        let pool = unsafe { raw_dev.create_descriptor_pool(&info, None) }.vk("vkCreateDescriptorPool")?;
+        let layouts = [inner.set_layouts[set as usize]];
+        let alloc = vk::DescriptorSetAllocateInfo::default()
+            .descriptor_pool(pool)
+            .set_layouts(&layouts);
+        // SAFETY: pool sized for exactly this set.
+        let raw = match unsafe { raw_dev.allocate_descriptor_sets(&alloc) } {
+            Ok(s) => s[0],
+            Err(result) => {
+                // SAFETY: unused pool.
+                unsafe { raw_dev.destroy_descriptor_pool(pool, None) };
+                return Err(Error::Vk {
+                    call: "vkAllocateDescriptorSets",
+                    result,
+                });
+            }
+        };
+        let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
+            .iter()
+            .map(|b| {
+                [vk::DescriptorBufferInfo::default()
+                    .buffer(b.raw)
+                    .offset(0)
+                    .range(vk::WHOLE_SIZE)]
+            })
+            .collect();
+        let writes: Vec<_> = infos
+            .iter()
+            .enumerate()
+            .map(|(i, info)| {
+                vk::WriteDescriptorSet::default()
+                    .dst_set(raw)
+                    .dst_binding(i as u32)
+                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                    .buffer_info(info)
+            })
+            .collect();
+        // SAFETY: writes reference live buffers and this set.
+        unsafe { raw_dev.update_descriptor_sets(&writes, &[]) };
+        Ok(DescriptorSet {
+            layout: inner.clone(),
+            pool,
+            raw,
+            set,
+        })
+    }
+}
+
+impl Drop for DescriptorSet {
+    fn drop(&mut self) {
+        // SAFETY: callers wait for GPU work before dropping sets it uses.
+        unsafe { self.layout.device.raw.destroy_descriptor_pool(self.pool, None) };
+    }
+}
+
+/// A compute pipeline made from SPIR-V with specialization constants.
+pub struct Kernel {
+    layout: Arc<LayoutInner>,
+    pub(crate) pipeline: vk::Pipeline,
+    name: String,
+}
+
+impl Kernel {
+    /// `spec[i]` becomes specialization constant `constant_id = i` (32-bit each).
+    pub fn new(device: &Device, name: &str, spirv: &[u8], layout: &BindingLayout, spec: &[u32]) -> Result<Kernel> {
+        let code = ash::util::read_spv(&mut std::io::Cursor::new(spirv)).map_err(|_| Error::BadSpirv(name.into()))?;
+        let raw = device.raw();
+        let module_info = vk::ShaderModuleCreateInfo::default().code(&code);
+        // SAFETY: SPIR-V produced by glslang at build time.
+        let module = unsafe { raw.create_shader_module(&module_info, None) }.vk("vkCreateShaderModule")?;
+        let entries: Vec<_> = (0..spec.len())
+            .map(|i| {
+                vk::SpecializationMapEntry::default()
+                    .constant_id(i as u32)
+                    .offset(4 * i as u32)
+                    .size(4)
+            })
+            .collect();
+        let data: &[u8] = bytemuck::cast_slice(spec);
+        let spec_info = vk::SpecializationInfo::default().map_entries(&entries).data(data);
+        let stage = vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::COMPUTE)
+            .module(module)
+            .name(c"main")
+            .specialization_info(&spec_info);
+        let info = [vk::ComputePipelineCreateInfo::default()
+            .stage(stage)
+            .layout(layout.inner.pipeline_layout)];
+        // SAFETY: valid create info; module destroyed after pipeline creation.
+        let result = unsafe { raw.create_compute_pipelines(device.inner.pipeline_cache, &info, None) };
+        // SAFETY: the module is no longer needed once the pipeline exists.
+        unsafe { raw.destroy_shader_module(module, None) };
+        let pipeline = result.map_err(|(_, r)| r).vk("vkCreateComputePipelines")?[0];
+        Ok(Kernel {
+            layout: layout.inner.clone(),
+            pipeline,
+            name: name.into(),
+        })
+    }
+
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    pub(crate) fn pipeline_layout(&self) -> vk::PipelineLayout {
+        self.layout.pipeline_layout
+    }
+}
+
+impl Drop for Kernel {
+    fn drop(&mut self) {
+        // SAFETY: callers wait for GPU work before dropping kernels.
+        unsafe { self.layout.device.raw.destroy_pipeline(self.pipeline, None) };
+    }
+}

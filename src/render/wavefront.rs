@@ -1,0 +1,68 @@
+//! The wavefront's GPU state: path states, ray, hit and shadow queues, counters,
+//! dispatch arguments and the film — descriptor set 1
+//! (`shaders/common/wavefront.glsl`).
+
+use std::mem::size_of;
+
+use crate::gpu::layout::{Counters, DispatchArgs, Frame, HitItem, PathState, RayItem, ShadowItem};
+use crate::gpu::{BindingLayout, Buffer, DescriptorSet, Device, Location};
+
+use super::error::Result;
+
+/// Bindings of set 1, in order.
+pub const WAVEFRONT_BINDINGS: u32 = 8;
+
+/// GPU memory one path slot needs, in bytes (path state, two ray queue entries, a
+/// hit, a shadow ray).
+pub const BYTES_PER_PATH: u64 =
+    (size_of::<PathState>() + 2 * size_of::<RayItem>() + size_of::<HitItem>() + size_of::<ShadowItem>()) as u64;
+
+pub struct Wavefront {
+    pub frame: Buffer,
+    pub paths: Buffer,
+    pub rays: Buffer,
+    pub hits: Buffer,
+    pub shadows: Buffer,
+    pub counters: Buffer,
+    pub dispatch_args: Buffer,
+    pub film: Buffer,
+    pub set: DescriptorSet,
+    /// Path slots.
+    pub capacity: u32,
+}
+
+impl Wavefront {
+    pub fn new(device: &Device, layout: &BindingLayout, capacity: u32, pixels: u32, frame: &Frame) -> Result<Wavefront> {
+        let n = capacity as u64;
+        let frame_buf = Buffer::from_slice(device, "frame", std::slice::from_ref(frame))?;
+        let paths = Buffer::new(device, "path states", n * size_of::<PathState>() as u64, Location::Gpu)?;
+        let rays = Buffer::new(device, "ray queues", 2 * n * size_of::<RayItem>() as u64, Location::Gpu)?;
+        let hits = Buffer::new(device, "hits", n * size_of::<HitItem>() as u64, Location::Gpu)?;
+        let shadows = Buffer::new(device, "shadow queue", n * size_of::<ShadowItem>() as u64, Location::Gpu)?;
+        let counters = Buffer::from_slice(device, "counters", &[Counters::default()])?;
+        let dispatch_args = Buffer::from_slice(device, "dispatch args", &[DispatchArgs::default()])?;
+        let film = Buffer::from_slice(device, "film", &vec![[0f32; 4]; pixels as usize])?;
+        let set = DescriptorSet::new(
+            layout,
+            1,
+            &[&frame_buf, &paths, &rays, &hits, &shadows, &counters, &dispatch_args, &film],
+        )?;
+        Ok(Wavefront {
+            frame: frame_buf,
+            paths,
+            rays,
+            hits,
+            shadows,
+            counters,
+            dispatch_args,
+            film,
+            set,
+            capacity,
+        })
+    }
+
+    /// Byte offset of the ray-queue arguments in the dispatch buffer.
+    pub const RAY_ARGS: u64 = 0;
+    /// Byte offset of the shadow-queue arguments in the dispatch buffer.
+    pub const SHADOW_ARGS: u64 = 12;
+}
