@@ -1,1 +1,62 @@
 //! Acceleration structures: the BVH built on the host and flattened for the kernels.
+//!
+//! [`prims_from_scene`] turns a [`Scene`] into [`Prim`]s, [`Bvh::build`] sorts them
+//! into a binned-SAH tree of [`BvhNode`](crate::gpu::layout::BvhNode)s, and
+//! [`Bvh::closest`] / [`Bvh::any`] traverse it on the CPU exactly as
+//! `shaders/common/bvh.glsl` does on the GPU. [`triangle`] and [`sphere`] hold the
+//! intersection routines, mirrored by `intersect_triangle.glsl` and
+//! `intersect_sphere.glsl`.
+
+pub mod bvh;
+pub mod sphere;
+pub mod triangle;
+
+pub use bvh::{
+    brute_force_closest, Bvh, BvhStats, Hit, SplitMethod, BVH_MAX_LEAF_SIZE, BVH_STACK_SIZE,
+};
+
+use crate::gpu::layout::{Prim, PRIM_SPHERE, PRIM_TRIANGLE};
+use crate::scene::{Mesh, Scene, Sphere};
+
+/// Every primitive of `scene`, in shape order: each triangle of each mesh, then each
+/// sphere.
+///
+/// Shape numbering, which the renderer relies on: shape `i` is `scene.meshes[i]` for
+/// `i < meshes.len()`, then the spheres in order. A triangle's `index` is its global
+/// triangle number (a running count over the meshes in order), a sphere's its position
+/// in `scene.spheres`. Mesh indices must be in range (the scene loader checks).
+pub fn prims_from_scene(scene: &Scene) -> Vec<Prim> {
+    prims_from_shapes(&scene.meshes, &scene.spheres)
+}
+
+/// [`prims_from_scene`] over the shape lists alone.
+pub fn prims_from_shapes(meshes: &[Mesh], spheres: &[Sphere]) -> Vec<Prim> {
+    let triangles: usize = meshes.iter().map(|m| m.indices.len()).sum();
+    let mut prims = Vec::with_capacity(triangles + spheres.len());
+    let mut tri = 0u32;
+    for (shape, mesh) in meshes.iter().enumerate() {
+        for ix in &mesh.indices {
+            let p = ix.map(|i| mesh.positions[i as usize].to_array());
+            prims.push(Prim {
+                p0: p[0],
+                shape: shape as u32,
+                p1: p[1],
+                index: tri,
+                p2: p[2],
+                kind: PRIM_TRIANGLE,
+            });
+            tri += 1;
+        }
+    }
+    for (k, s) in spheres.iter().enumerate() {
+        prims.push(Prim {
+            p0: s.center.to_array(),
+            shape: (meshes.len() + k) as u32,
+            p1: [s.radius, 0.0, 0.0],
+            index: k as u32,
+            p2: [0.0; 3],
+            kind: PRIM_SPHERE,
+        });
+    }
+    prims
+}

@@ -1,0 +1,145 @@
+// BVH traversal: closest hit and any hit. Mirrors Bvh::trace in src/accel/bvh.rs step
+// for step; the layout is BvhNode / Prim from layout.glsl (Aila, Laine 2009: both
+// children's boxes in the parent; count == 0: inner node, count > 0: leaf).
+//
+// The including kernel must include scene_bindings.glsl (bvh_nodes[], prims[]) first.
+// Optional: #define BVH_HAS_SPHERES to a bool constant (e.g. a specialization constant)
+// before including, so triangle-only scenes compile the sphere test out.
+#ifndef BVH_GLSL
+#define BVH_GLSL
+
+#ifndef SCENE_BINDINGS_GLSL
+#error "include scene_bindings.glsl before bvh.glsl"
+#endif
+
+#include "layout.glsl"
+#include "intersect_triangle.glsl"
+#include "intersect_sphere.glsl"
+
+// Traversal stack entries; the build keeps every leaf at depth <= this (root = 0).
+// Must equal accel::BVH_STACK_SIZE (a Rust test reads this line).
+#define BVH_STACK_SIZE 32
+// Stack entries are child references packed as (index << BVH_COUNT_BITS) | count.
+#define BVH_COUNT_BITS 4u
+#define BVH_COUNT_MASK 15u
+// 1 + 2 gamma(3) rounded up to a float (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2)):
+// the box far distance is scaled so rounding never culls a box the ray enters.
+#define BVH_TFAR_SCALE 1.00000048
+#define HIT_NONE 0xffffffffu
+
+#ifndef BVH_HAS_SPHERES
+#define BVH_HAS_SPHERES true
+#endif
+
+// t: distance (tmax on a miss); u, v: triangle barycentrics, p = (1-u-v) p0 + u p1 + v p2
+// (0 for spheres); prim: index into prims[], HIT_NONE on a miss.
+struct Hit {
+    float t;
+    float u;
+    float v;
+    uint prim;
+};
+
+// Per-ray part of the slab test: inverse direction (+-inf for a zero or denormal
+// component: Vulkan leaves x / y unspecified for |y| < 2^-126) and its sign, which
+// picks each axis' near plane.
+struct BvhRay {
+    vec3 o;
+    vec3 inv;
+    bvec3 neg;
+};
+
+float bvh_inv(float d) {
+    return abs(d) >= 1.17549435e-38 ? 1.0 / d : uintBitsToFloat(d < 0.0 ? 0xff800000u : 0x7f800000u);
+}
+
+// Whether the ray enters the box within [tmin, tmax]; tnear: the entry distance.
+// Compare-and-select, not min/max (undefined on NaN): 0 * inf = NaN, from an origin on
+// the slab plane of a zero direction component, fails the comparison and is ignored.
+// The empty box (min = +inf, max = -inf) is never entered.
+bool bvh_slab(BvhRay r, vec3 bmin, vec3 bmax, float tmin, float tmax, out float tnear) {
+    vec3 t0 = (mix(bmin, bmax, r.neg) - r.o) * r.inv;
+    vec3 t1 = (mix(bmax, bmin, r.neg) - r.o) * r.inv;
+    float tn = tmin;
+    float tf = tmax;
+    tn = t0.x > tn ? t0.x : tn;
+    tf = t1.x < tf ? t1.x : tf;
+    tn = t0.y > tn ? t0.y : tn;
+    tf = t1.y < tf ? t1.y : tf;
+    tn = t0.z > tn ? t0.z : tn;
+    tf = t1.z < tf ? t1.z : tf;
+    tnear = tn;
+    return tn <= tf * BVH_TFAR_SCALE;
+}
+
+// Stack traversal visiting the nearer child first; with any_hit, returns at the first
+// hit found. Requires 0 <= tmin and d != 0.
+Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, bool any_hit) {
+    BvhRay r;
+    r.o = o;
+    r.inv = vec3(bvh_inv(d.x), bvh_inv(d.y), bvh_inv(d.z));
+    r.neg = lessThan(r.inv, vec3(0.0));
+    TriangleRay tr = triangle_ray_make(d);
+    Hit hit = Hit(tmax, 0.0, 0.0, HIT_NONE);
+    uint stack[BVH_STACK_SIZE];
+    uint sp = 0u;
+    uint item = 0u; // current child reference: inner node 0
+    while (true) {
+        uint index = item >> BVH_COUNT_BITS;
+        uint count = item & BVH_COUNT_MASK;
+        if (count == 0u) {
+            BvhNode n = bvh_nodes[index];
+            float tl, tr_;
+            bool hit_l = bvh_slab(r, n.left_min, n.left_max, tmin, hit.t, tl);
+            bool hit_r = bvh_slab(r, n.right_min, n.right_max, tmin, hit.t, tr_);
+            uint left = (n.left_index << BVH_COUNT_BITS) | n.left_count;
+            uint right = (n.right_index << BVH_COUNT_BITS) | n.right_count;
+            if (hit_l && hit_r) { // go to the nearer, push the other
+                bool left_near = tl <= tr_;
+                stack[sp++] = left_near ? right : left;
+                item = left_near ? left : right;
+                continue;
+            }
+            if (hit_l || hit_r) {
+                item = hit_l ? left : right;
+                continue;
+            }
+        } else {
+            for (uint i = index; i < index + count; i++) {
+                Prim p = prims[i];
+                float t;
+                float u = 0.0;
+                float v = 0.0;
+                bool found;
+                if (BVH_HAS_SPHERES && p.kind == PRIM_SPHERE) {
+                    found = intersect_sphere(o, d, p.p0, p.p1.x, tmin, hit.t, t);
+                } else {
+                    found = intersect_triangle(tr, o, p.p0, p.p1, p.p2, tmin, hit.t, t, u, v);
+                }
+                if (found) {
+                    hit = Hit(t, u, v, i);
+                    if (any_hit) {
+                        return hit;
+                    }
+                }
+            }
+        }
+        if (sp == 0u) {
+            break;
+        }
+        item = stack[--sp];
+    }
+    return hit;
+}
+
+// Closest hit with tmin < t < tmax; prim == HIT_NONE on a miss.
+Hit bvh_closest(vec3 o, vec3 d, float tmin, float tmax) {
+    return bvh_trace(o, d, tmin, tmax, false);
+}
+
+// Whether anything is hit with tmin < t < tmax (shadow rays); stops at the first hit.
+bool bvh_any(vec3 o, vec3 d, float tmin, float tmax) {
+    return bvh_trace(o, d, tmin, tmax, true).prim != HIT_NONE;
+}
+
+#endif

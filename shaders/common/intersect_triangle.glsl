@@ -1,0 +1,74 @@
+// Watertight ray/triangle intersection (Woop, Benthin, Wald 2013, "Watertight
+// Ray/Triangle Intersection", JCGT 2(1), listings 1 and 2, no backface culling).
+// Mirrors src/accel/triangle.rs line for line; see there for the departures from the
+// paper (no fp64 fallback: a zero edge function counts as a hit; t by one division and
+// tested against the open range (tmin, tmax)).
+#ifndef INTERSECT_TRIANGLE_GLSL
+#define INTERSECT_TRIANGLE_GLSL
+
+// Per-ray part: axis permutation k = (kx, ky, kz), kz the largest |d| component, and
+// shear s = (d[kx] / d[kz], d[ky] / d[kz], 1 / d[kz]) making the ray the +z axis.
+struct TriangleRay {
+    ivec3 k;
+    vec3 s;
+};
+
+TriangleRay triangle_ray_make(vec3 d) {
+    vec3 a = abs(d);
+    int kz = a.x > a.y ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
+    int kx = kz == 2 ? 0 : kz + 1;
+    int ky = kx == 2 ? 0 : kx + 1;
+    if (d[kz] < 0.0) { // swap to keep the winding
+        int tmp = kx;
+        kx = ky;
+        ky = tmp;
+    }
+    TriangleRay tr;
+    tr.k = ivec3(kx, ky, kz);
+    tr.s = vec3(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]);
+    return tr;
+}
+
+// Hit of o + t d (tr = triangle_ray_make(d)) with triangle p0 p1 p2 for tmin < t < tmax;
+// barycentrics u, v with p = (1-u-v) p0 + u p1 + v p2. t, u, v are only set on a hit.
+bool intersect_triangle(TriangleRay tr, vec3 o, vec3 p0, vec3 p1, vec3 p2, float tmin,
+                        float tmax, out float t, out float u, out float v) {
+    int kx = tr.k.x, ky = tr.k.y, kz = tr.k.z;
+    vec3 a = p0 - o;
+    vec3 b = p1 - o;
+    vec3 c = p2 - o;
+    // `precise` forbids fused multiply-adds: the edge function of an edge shared by two
+    // triangles must come out exactly negated in the other one, or rays leak.
+    precise float ax = a[kx] - tr.s.x * a[kz];
+    precise float ay = a[ky] - tr.s.y * a[kz];
+    precise float bx = b[kx] - tr.s.x * b[kz];
+    precise float by = b[ky] - tr.s.y * b[kz];
+    precise float cx = c[kx] - tr.s.x * c[kz];
+    precise float cy = c[ky] - tr.s.y * c[kz];
+    // Scaled barycentrics: edge functions of the sheared 2D triangle at the origin.
+    precise float eu = cx * by - cy * bx;
+    precise float ev = ax * cy - ay * cx;
+    precise float ew = bx * ay - by * ax;
+    // Outside if the signs differ; zeros (edges, vertices) count as inside.
+    if ((eu < 0.0 || ev < 0.0 || ew < 0.0) && (eu > 0.0 || ev > 0.0 || ew > 0.0)) {
+        return false;
+    }
+    float det = eu + ev + ew;
+    if (det == 0.0) {
+        return false; // ray parallel to the plane, or a degenerate triangle
+    }
+    float az = tr.s.z * a[kz];
+    float bz = tr.s.z * b[kz];
+    float cz = tr.s.z * c[kz];
+    float rcp_det = 1.0 / det;
+    float th = (eu * az + ev * bz + ew * cz) * rcp_det;
+    if (!(th > tmin && th < tmax)) {
+        return false;
+    }
+    t = th;
+    u = ev * rcp_det;
+    v = ew * rcp_det;
+    return true;
+}
+
+#endif

@@ -1,0 +1,175 @@
+//! Watertight ray/triangle intersection (Woop, Benthin, Wald 2013, "Watertight
+//! Ray/Triangle Intersection", JCGT 2(1)).
+//!
+//! The ray is sheared and scaled once so that it becomes the +z axis from the origin
+//! (section 3, "ray transformation"); each triangle is then tested in 2D with three
+//! edge functions. The edge function of a shared edge is computed from the same
+//! transformed vertices in both triangles and comes out exactly negated, so a ray that
+//! crosses the edge is counted by at least one of them: no ray leaks through a closed
+//! mesh. A ray that hits an edge or vertex exactly (an edge function is 0) is counted
+//! by every triangle sharing it.
+//!
+//! Mirrored line for line by `shaders/common/intersect_triangle.glsl`.
+//!
+//! Departures from the paper, the same in GLSL:
+//! - no backface culling (the two-sided test of section 4, listing 2 without `#ifdef`);
+//! - the double-precision re-evaluation of zero edge functions is left out: a zero
+//!   edge function is accepted as a hit, which only ever adds hits on edges, never
+//!   loses one (pbrt-v4 6.5.3 makes the same observation), and keeps kernels free of
+//!   fp64 that some GPUs lack;
+//! - `t` is computed by one division and compared with `(tmin, tmax)` instead of the
+//!   paper's scaled comparison, so the range is open at both ends.
+
+use glam::Vec3;
+
+/// The per-ray part of the test: the axis permutation `k` and shear `s`
+/// (Woop et al. 2013, listing 1).
+#[derive(Clone, Copy, Debug)]
+pub struct TriangleRay {
+    /// `kx, ky, kz`: `kz` is the dimension where |d| is largest; `kx, ky` follow it
+    /// cyclically and are swapped when `d[kz] < 0` to keep the winding.
+    pub k: [usize; 3],
+    /// `Sx = d[kx] / d[kz]`, `Sy = d[ky] / d[kz]`, `Sz = 1 / d[kz]`.
+    pub s: Vec3,
+}
+
+impl TriangleRay {
+    /// Precomputes the shear for direction `d` (any length, not zero).
+    pub fn new(d: Vec3) -> TriangleRay {
+        let a = d.abs();
+        let kz = if a.x > a.y {
+            if a.x > a.z {
+                0
+            } else {
+                2
+            }
+        } else if a.y > a.z {
+            1
+        } else {
+            2
+        };
+        let mut kx = (kz + 1) % 3;
+        let mut ky = (kx + 1) % 3;
+        if d[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky);
+        }
+        TriangleRay {
+            k: [kx, ky, kz],
+            s: Vec3::new(d[kx] / d[kz], d[ky] / d[kz], 1.0 / d[kz]),
+        }
+    }
+}
+
+/// A ray/triangle hit: distance and barycentrics, `p = (1-u-v) p0 + u p1 + v p2`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TriangleHit {
+    pub t: f32,
+    pub u: f32,
+    pub v: f32,
+}
+
+/// Intersects the ray `o + t d` (with `tr = TriangleRay::new(d)`) with the triangle
+/// `p0 p1 p2`; returns the hit if `tmin < t < tmax`. Both faces count.
+#[inline]
+pub fn intersect(
+    tr: &TriangleRay,
+    o: Vec3,
+    p0: Vec3,
+    p1: Vec3,
+    p2: Vec3,
+    tmin: f32,
+    tmax: f32,
+) -> Option<TriangleHit> {
+    let [kx, ky, kz] = tr.k;
+    let s = tr.s;
+    // Vertices relative to the origin, sheared so the ray is +z (listing 1).
+    let a = p0 - o;
+    let b = p1 - o;
+    let c = p2 - o;
+    let ax = a[kx] - s.x * a[kz];
+    let ay = a[ky] - s.y * a[kz];
+    let bx = b[kx] - s.x * b[kz];
+    let by = b[ky] - s.y * b[kz];
+    let cx = c[kx] - s.x * c[kz];
+    let cy = c[ky] - s.y * c[kz];
+    // Scaled barycentrics: edge functions of the 2D triangle at the origin.
+    let eu = cx * by - cy * bx;
+    let ev = ax * cy - ay * cx;
+    let ew = bx * ay - by * ax;
+    // Outside if the signs differ; zeros (edges, vertices) count as inside.
+    if (eu < 0.0 || ev < 0.0 || ew < 0.0) && (eu > 0.0 || ev > 0.0 || ew > 0.0) {
+        return None;
+    }
+    let det = eu + ev + ew;
+    if det == 0.0 {
+        return None; // ray parallel to the triangle's plane, or a degenerate triangle
+    }
+    // Scaled hit distance from the interpolated z of the vertices.
+    let az = s.z * a[kz];
+    let bz = s.z * b[kz];
+    let cz = s.z * c[kz];
+    let rcp_det = 1.0 / det;
+    let t = (eu * az + ev * bz + ew * cz) * rcp_det;
+    if !(t > tmin && t < tmax) {
+        return None;
+    }
+    Some(TriangleHit {
+        t,
+        u: ev * rcp_det,
+        v: ew * rcp_det,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn hit(o: Vec3, d: Vec3, p: [Vec3; 3]) -> Option<TriangleHit> {
+        intersect(&TriangleRay::new(d), o, p[0], p[1], p[2], 0.0, f32::INFINITY)
+    }
+
+    #[test]
+    fn barycentrics_reconstruct_the_hit_point() {
+        let p = [
+            Vec3::new(0.0, 0.0, 1.0),
+            Vec3::new(2.0, 0.0, 1.5),
+            Vec3::new(0.0, 3.0, 2.0),
+        ];
+        for (o, d) in [
+            (Vec3::new(0.3, 0.4, -2.0), Vec3::new(0.1, 0.2, 1.0)),
+            (Vec3::new(0.3, 0.4, 5.0), Vec3::new(0.1, 0.2, -1.0)),
+            (Vec3::new(-3.0, 0.5, 1.2), Vec3::new(1.0, 0.0, 0.0)),
+        ] {
+            let h = hit(o, d, p).expect("hit");
+            let q = (1.0 - h.u - h.v) * p[0] + h.u * p[1] + h.v * p[2];
+            assert!((o + h.t * d - q).length() < 1e-5, "{h:?}");
+        }
+    }
+
+    #[test]
+    fn both_faces_hit_and_range_is_open() {
+        let p = [Vec3::ZERO, Vec3::X, Vec3::Y];
+        let up = hit(Vec3::new(0.2, 0.2, -1.0), Vec3::Z, p).unwrap();
+        let down = hit(Vec3::new(0.2, 0.2, 1.0), -Vec3::Z, p).unwrap();
+        assert_eq!(up.t, 1.0);
+        assert_eq!(down.t, 1.0);
+        let tr = TriangleRay::new(Vec3::Z);
+        let o = Vec3::new(0.2, 0.2, -1.0);
+        assert!(intersect(&tr, o, p[0], p[1], p[2], 0.0, 1.0).is_none());
+        assert!(intersect(&tr, o, p[0], p[1], p[2], 1.0, 2.0).is_none());
+        assert!(intersect(&tr, o, p[0], p[1], p[2], 0.0, 1.0001).is_some());
+        // Behind the origin.
+        assert!(hit(Vec3::new(0.2, 0.2, 1.0), Vec3::Z, p).is_none());
+    }
+
+    #[test]
+    fn edges_and_vertices_are_inside_degenerate_and_parallel_miss() {
+        let p = [Vec3::ZERO, Vec3::X, Vec3::Y];
+        for q in [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(0.5, 0.5, 0.0)] {
+            assert!(hit(q - Vec3::Z, Vec3::Z, p).is_some(), "{q}");
+        }
+        let flat = [Vec3::ZERO, Vec3::X, 2.0 * Vec3::X];
+        assert!(hit(Vec3::new(0.5, 0.0, -1.0), Vec3::Z, flat).is_none());
+        assert!(hit(Vec3::new(-1.0, 0.2, 0.0), Vec3::X, p).is_none());
+    }
+}
