@@ -33,8 +33,7 @@ fn main() {
             .arg("-V")
             .arg("--target-env")
             .arg("vulkan1.2")
-            .arg("-I")
-            .arg(shader_dir.join("common"))
+            .arg(format!("-I{}", shader_dir.join("common").display()))
             .arg("-o")
             .arg(&spv)
             .arg(kernel)
@@ -61,7 +60,8 @@ fn main() {
         }
     }
     if !failures.is_empty() {
-        panic!("GLSL compilation failed:\n{}", failures.join("\n"));
+        eprintln!("GLSL compilation failed:\n{}", failures.join("\n"));
+        std::process::exit(1);
     }
     fs::write(out.join("shaders.rs"), consts).expect("write shaders.rs");
 }

@@ -1,4 +1,5 @@
 #version 460
+#extension GL_GOOGLE_include_directive : require
 // accumulate: adds each finished path's radiance to its pixel. Thread t owns pixel
 // (pixel_base + t) % pixels and sums paths t, t + pixels, ... of the batch, so no two
 // threads write one pixel. NaN or infinite samples are dropped and counted.

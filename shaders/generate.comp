@@ -1,4 +1,5 @@
 #version 460
+#extension GL_GOOGLE_include_directive : require
 // generate: one camera ray per path slot of the batch.
 // Writes: paths[p], ray queue 0 item p. The host sets ray_count[0] = path_count.
 

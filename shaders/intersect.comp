@@ -1,4 +1,5 @@
 #version 460
+#extension GL_GOOGLE_include_directive : require
 // intersect: closest hit through the BVH for every ray of the input queue.
 // Reads: ray queue `queue_in`. Writes: hits[i] for ray i.
 

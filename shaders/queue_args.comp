@@ -1,4 +1,5 @@
 #version 460
+#extension GL_GOOGLE_include_directive : require
 // queue_args: one thread turns a queue length into indirect dispatch arguments and
 // counts the rays traced. MODE 0 (before `intersect`): the ray queue `queue_in`;
 // also empties the other ray queue and the shadow queue for this bounce.

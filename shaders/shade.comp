@@ -1,4 +1,5 @@
 #version 460
+#extension GL_GOOGLE_include_directive : require
 // shade: turns each hit (or miss) into radiance, shadow rays and continuation rays,
 // as the integrator chosen by specialization constant INTEGRATOR says.
 // Reads: ray queue `queue_in`, hits. Writes: paths[].radiance, shadow queue.

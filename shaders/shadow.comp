@@ -1,4 +1,5 @@
 #version 460
+#extension GL_GOOGLE_include_directive : require
 // shadow: any-hit occlusion test for every shadow ray; an unblocked ray adds its
 // contribution to its path. A path has at most one shadow ray per bounce, so the
 // write to its radiance does not race.

@@ -1,4 +1,5 @@
 #version 460
+#extension GL_GOOGLE_include_directive : require
 // Test kernel: closest-hit and any-hit queries for a list of rays, so tests/bvh.rs
 // can compare the GLSL traversal with the CPU brute force.
 
