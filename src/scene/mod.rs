@@ -4,11 +4,21 @@
 //! Both scene dialects (Mitsuba 3 and Nori XML) load into the same [`Scene`].
 
 pub mod bsdf;
+mod builder;
 pub mod camera;
 pub mod emitter;
 pub mod error;
 pub mod integrator;
+pub mod mesh;
+mod mitsuba;
+mod nori;
+mod obj;
+mod ply;
+pub mod properties;
 pub mod shape;
+pub mod spectrum;
+pub mod transform;
+pub mod xml;
 
 pub use bsdf::Bsdf;
 pub use camera::Camera;
@@ -17,7 +27,7 @@ pub use error::Error;
 pub use integrator::IntegratorSpec;
 pub use shape::{Mesh, Sphere};
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// A loaded scene, every shape in world space.
 #[derive(Debug, Clone)]
@@ -41,5 +51,17 @@ impl Scene {
     /// Total number of triangles over all meshes.
     pub fn triangle_count(&self) -> usize {
         self.meshes.iter().map(|m| m.indices.len()).sum()
+    }
+}
+
+/// Loads a scene file, Mitsuba 3 or Nori (told apart by the root `<scene>`: Mitsuba's
+/// carries `version="3.x.y"`). `defines` are `-D name=value` overrides of Mitsuba
+/// `<default>` parameters. Every problem is an [`Error`] naming the file and, where
+/// there is one, the line; nothing a user wrote makes this panic.
+pub fn load(path: &Path, defines: &[(String, String)]) -> Result<Scene, Error> {
+    let doc = xml::read(path, defines)?;
+    match doc.dialect {
+        xml::Dialect::Mitsuba => mitsuba::load(&doc),
+        xml::Dialect::Nori => nori::load(&doc),
     }
 }
