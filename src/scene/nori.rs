@@ -211,3 +211,83 @@ fn emitter(el: &Element, b: &mut Builder) -> Result<(), Error> {
     b.add_emitter(e);
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::testutil::{error_at, load, TRI_OBJ};
+
+    const SCENE: &str = r#"<scene>
+  <integrator type="path_mis"><integer name="maxDepth" value="5"/></integrator>
+  <sampler type="independent"><integer name="sampleCount" value="32"/></sampler>
+  <camera type="perspective">
+    <transform name="toWorld"><scale value="-1,1,1"/><lookat origin="0,0,5" target="0,0,0" up="0,1,0"/></transform>
+    <float name="fov" value="45"/>
+    <integer name="width" value="64"/><integer name="height" value="48"/>
+  </camera>
+  <mesh type="obj">
+    <string name="filename" value="t.obj"/>
+    <transform name="toWorld"><translate value="0,0,1"/></transform>
+    <bsdf type="diffuse"><color name="albedo" value="0.2,0.4,0.6"/></bsdf>
+    <emitter type="area"><color name="radiance" value="3,3,3"/></emitter>
+  </mesh>
+  <mesh type="obj"><string name="filename" value="t.obj"/></mesh>
+  <emitter type="point"><point name="position" value="1,2,3"/><color name="power" value="100,100,100"/></emitter>
+  <emitter type="distantdisk"><color name="radiance" value="0.6,0.6,0.6"/><float name="thetaA" value="180"/>
+    <transform name="toWorld"><rotate axis="1,0,0" angle="0"/></transform></emitter>
+</scene>"#;
+
+    #[test]
+    fn nori_scene() {
+        let s = load(&[("s.xml", SCENE), ("t.obj", TRI_OBJ)], &[]).unwrap();
+        assert_eq!(s.integrator.name, "path_mis");
+        assert_eq!(s.spp, 32);
+        assert_eq!((s.camera.width, s.camera.height, s.camera.fov_x_deg), (64, 48, 45.0));
+        assert_eq!((s.camera.near_clip, s.camera.far_clip), (1e-4, 1e4));
+        // scale -1 on x then lookat: camera x axis = -left = +x here.
+        assert!((s.camera.to_world.x_axis.truncate() - Vec3::X).length() < 1e-6);
+        assert_eq!(s.meshes[0].positions[0], Vec3::new(0.0, 0.0, 1.0));
+        // Nori does not flip texture coordinates.
+        assert_eq!(s.meshes[0].uvs[2], glam::Vec2::new(0.0, 1.0));
+        assert_eq!(s.bsdfs[s.meshes[0].bsdf as usize], Bsdf::Diffuse { reflectance: Vec3::new(0.2, 0.4, 0.6) });
+        assert_eq!(s.bsdfs[s.meshes[1].bsdf as usize], Bsdf::default());
+        assert_eq!(s.emitters[s.meshes[0].emitter.unwrap() as usize], Emitter::Area { radiance: Vec3::splat(3.0) });
+        // Nori power (W) -> intensity (W/sr) = power / 4π, as Mitsuba's intensity.
+        let Emitter::Point { position, intensity } = s.emitters[1] else { panic!() };
+        assert_eq!(position, Vec3::new(1.0, 2.0, 3.0));
+        assert!((intensity.x - 100.0 / (4.0 * std::f32::consts::PI)).abs() < 1e-5);
+        assert_eq!(s.emitters[2], Emitter::Constant { radiance: Vec3::splat(0.6) });
+    }
+
+    #[test]
+    fn nori_defaults() {
+        let s = load(
+            &[("s.xml", "<scene><integrator type=\"normals\"/><camera type=\"perspective\"/></scene>")],
+            &[],
+        )
+        .unwrap();
+        assert_eq!((s.camera.width, s.camera.height, s.camera.fov_x_deg, s.spp), (1280, 720, 30.0, 1));
+        let e = load(&[("s.xml", "<scene><camera type=\"perspective\"/></scene>")], &[("a", "b")]).unwrap_err();
+        assert!(e.to_string().contains("Nori"), "{e}");
+    }
+
+    #[test]
+    fn nori_errors() {
+        let cam = "<integrator type=\"ao\"/><camera type=\"perspective\"/>";
+        let cases: &[(&str, u32, &str)] = &[
+            ("<emitter type=\"distantdisk\">\n<float name=\"thetaA\" value=\"30\"/><color name=\"radiance\" value=\"1,1,1\"/></emitter>", 3, "thetaA = 30 is not supported yet"),
+            ("<mesh type=\"obj\"><string name=\"filename\" value=\"t.obj\"/>\n<bsdf type=\"microfacet\"/></mesh>", 3, "bsdf type 'microfacet' is not supported yet"),
+            ("<mesh type=\"obj\"><string name=\"filename\" value=\"t.obj\"/>\n<bsdf type=\"diffuse\"><color name=\"reflectance\" value=\"1,1,1\"/></bsdf></mesh>", 3, "unknown parameter 'reflectance' for bsdf 'diffuse'"),
+            ("<mesh type=\"obj\">\n<string name=\"filename\" value=\"../../pa1/plane.obj\"/></mesh>", 3, "pa1/plane.obj' not found"),
+            ("\n<mesh type=\"ply\"/>", 3, "unknown mesh type 'ply'"),
+            ("\n<emitter type=\"area\"/>", 3, "nested in a <mesh>"),
+            ("\n<rgb name=\"x\" value=\"1\"/>", 3, "unexpected <rgb>"),
+            ("\n<test type=\"ttest\"/>", 3, "not supported yet"),
+        ];
+        for (body, line, msg) in cases {
+            let xml = format!("<scene>{cam}\n{body}</scene>");
+            let e = error_at(load(&[("s.xml", &xml), ("t.obj", TRI_OBJ)], &[]), "s.xml", *line);
+            assert!(e.contains(msg), "{e}\n  wanted: {msg}");
+        }
+    }
+}

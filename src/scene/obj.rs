@@ -200,3 +200,57 @@ fn check(path: &Path, text: &str) -> Result<(), Error> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::testutil::temp_dir;
+
+    fn obj(text: &str) -> Result<Mesh, Error> {
+        let p = temp_dir("obj").join("m.obj");
+        std::fs::write(&p, text).unwrap();
+        load(&p, true)
+    }
+
+    fn err_line(r: Result<Mesh, Error>) -> (u32, String) {
+        match r {
+            Err(e @ Error::At { line, .. }) => (line, e.to_string()),
+            Err(e) => panic!("no line: {e}"),
+            Ok(_) => panic!("expected an error"),
+        }
+    }
+
+    #[test]
+    fn quads_relative_indices_and_groups() {
+        let m = obj("# quad\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf -4 -3 -2 -1\no second\nv 5 5 5\nv 6 5 5\nv 5 6 5\nf 5 6 7\n").unwrap();
+        assert_eq!(m.positions.len(), 7);
+        assert_eq!(m.indices.len(), 3);
+        assert!(m.normals.is_empty() && m.uvs.is_empty());
+        assert!((m.area() - 1.5).abs() < 1e-6);
+    }
+
+    #[test]
+    fn bad_numbers_and_indices_name_the_line() {
+        let cases = [
+            ("v 0 0 0\nv 1 nan 0\n", 2, "not finite"),
+            ("v 0 0 0\nv 1 inf 0\n", 2, "not finite"),
+            ("v 0 0 0\nv 1 x 0\n", 2, "could not parse"),
+            ("v 0 0\n", 1, "needs 3 numbers"),
+            ("vn 0 0 1e999\n", 1, "not finite"),
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", 4, "index 4 out of range"),
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n", 4, "reaches before the first"),
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", 4, "index 0"),
+            ("v 0 0 0\nv 1 0 0\nf 1 2\n", 3, "at least 3"),
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/5 2/5 3/5\n", 4, "texture coordinate index 5"),
+            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n", 4, "could not parse face index"),
+        ];
+        for (text, line, msg) in cases {
+            let (l, e) = err_line(obj(text));
+            assert_eq!(l, line, "{e}");
+            assert!(e.contains(msg) && e.contains("m.obj"), "{e}\n  wanted: {msg}");
+        }
+        assert!(matches!(obj("\u{0}\u{ff}"), Ok(_) | Err(_)));
+        let e = load(Path::new("/nonexistent/x.obj"), true).unwrap_err();
+        assert!(e.to_string().contains("/nonexistent/x.obj"), "{e}");
+    }
+}
