@@ -158,7 +158,10 @@ impl Builder {
         }
         let radius = radius * scale;
         if !(radius > 0.0 && radius.is_finite()) {
-            return Err(props.error("radius", format!("sphere radius must be positive, found {radius}")));
+            return Err(props.error(
+                "radius",
+                format!("sphere radius must be positive, found {radius}"),
+            ));
         }
         self.spheres.push(Sphere {
             center: to_world.transform_point3(center),
@@ -171,19 +174,12 @@ impl Builder {
     }
 }
 
-/// Resolves the mesh file named by string parameter `key` against the folder of the
-/// file that names it; a missing file is an error at the parameter's line naming the
+/// Resolves the mesh file named by string parameter `key` (see [`Element::resolve`]); a missing file is an error at the parameter's line naming the
 /// path tried.
 pub fn mesh_path(el: &Element, props: &Properties, key: &str) -> Result<PathBuf, Error> {
     let name = props
         .string_opt(key)?
         .ok_or_else(|| props.object_error(format!("{} needs a '{key}'", props.object())))?;
-    let path = el.dir().join(&name);
-    if !path.is_file() {
-        return Err(props.error(
-            key,
-            format!("mesh file '{}' not found", path.display()),
-        ));
-    }
-    Ok(path)
+    el.resolve(&name)
+        .map_err(|tried| props.error(key, format!("mesh file {tried} not found")))
 }

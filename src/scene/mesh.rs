@@ -122,7 +122,11 @@ pub fn flip(mesh: &mut Mesh) {
 /// zero or not finite (then the mesh keeps no normals at all). Returns how many
 /// triangles were dropped.
 pub fn drop_degenerate(mesh: &mut Mesh) -> usize {
-    if mesh.normals.iter().any(|n| !n.is_finite() || n.length_squared() == 0.0) {
+    if mesh
+        .normals
+        .iter()
+        .any(|n| !n.is_finite() || n.length_squared() == 0.0)
+    {
         mesh.normals.clear();
     }
     let before = mesh.indices.len();
@@ -214,7 +218,11 @@ mod tests {
         let rot = Mat4::from_rotation_x(0.5) * shear;
         transform(&mut m, rot);
         let g = geometric_normal(&m, 0);
-        assert!((m.normals[0] - g).length() < 1e-5, "{} vs {g}", m.normals[0]);
+        assert!(
+            (m.normals[0] - g).length() < 1e-5,
+            "{} vs {g}",
+            m.normals[0]
+        );
         flip(&mut m);
         assert!((geometric_normal(&m, 0) + g).length() < 1e-5);
         assert!((m.normals[0] + g).length() < 1e-5);

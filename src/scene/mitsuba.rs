@@ -56,7 +56,14 @@ const SAMPLERS: &[&str] = &[
     "orthogonal",
     "ldsampler",
 ];
-const RFILTERS: &[&str] = &["box", "tent", "gaussian", "mitchell", "catmullrom", "lanczos"];
+const RFILTERS: &[&str] = &[
+    "box",
+    "tent",
+    "gaussian",
+    "mitchell",
+    "catmullrom",
+    "lanczos",
+];
 
 /// Default `<film>` size.
 const FILM_WIDTH: u32 = 768;
@@ -194,7 +201,9 @@ fn sensor(el: &Element) -> Result<(Camera, u32), Error> {
         match n.tag.as_str() {
             "film" if size.is_none() => size = Some(film(n)?),
             "sampler" if spp.is_none() => spp = Some(sampler(n)?),
-            "film" | "sampler" => return Err(n.err(format!("more than one <{}> in <sensor>", n.tag))),
+            "film" | "sampler" => {
+                return Err(n.err(format!("more than one <{}> in <sensor>", n.tag)))
+            }
             "medium" | "ref" => return Err(n.err("media are not supported yet")),
             _ => return Err(n.err(format!("unexpected <{}> in <sensor>", n.tag))),
         }
@@ -209,7 +218,10 @@ fn sensor(el: &Element) -> Result<(Camera, u32), Error> {
         }
         let fov = props.float("fov", 0.0)? as f64;
         if !(fov > 0.0 && fov < 180.0) {
-            return Err(props.error("fov", format!("fov must be in (0, 180) degrees, found {fov}")));
+            return Err(props.error(
+                "fov",
+                format!("fov must be in (0, 180) degrees, found {fov}"),
+            ));
         }
         let axis = props.string("fov_axis", "x")?.to_ascii_lowercase();
         fov_x(fov, &axis, width, height).ok_or_else(|| {
@@ -238,7 +250,10 @@ fn sensor(el: &Element) -> Result<(Camera, u32), Error> {
         let diag = (36.0f64 * 36.0 + 24.0 * 24.0).sqrt();
         let fov = (2.0 * (diag / (2.0 * f)).atan()).to_degrees();
         if props.has("fov_axis") {
-            return Err(props.error("fov_axis", "fov_axis applies to 'fov', not to 'focal_length'"));
+            return Err(props.error(
+                "fov_axis",
+                "fov_axis applies to 'fov', not to 'focal_length'",
+            ));
         }
         fov_x(fov, "diagonal", width, height).unwrap_or(fov)
     };
@@ -289,7 +304,13 @@ fn film(el: &Element) -> Result<(u32, u32), Error> {
         props.positive("width", FILM_WIDTH)?,
         props.positive("height", FILM_HEIGHT)?,
     );
-    props.ignore(&["pixel_format", "component_format", "banner", "sample_border", "file_format"]);
+    props.ignore(&[
+        "pixel_format",
+        "component_format",
+        "banner",
+        "sample_border",
+        "file_format",
+    ]);
     props.finish()?;
     Ok(size)
 }
@@ -422,7 +443,10 @@ impl<'a> Loader<'a> {
         el.check_attrs(&["type", "id", "name"])?;
         let (props, nested) = Properties::read(el, Dialect::Mitsuba, true)?;
         if let Some(n) = nested.first() {
-            return Err(n.err(format!("<{}> inside an area emitter is not supported yet", n.tag)));
+            return Err(n.err(format!(
+                "<{}> inside an area emitter is not supported yet",
+                n.tag
+            )));
         }
         let radiance = props
             .color_opt("radiance")?
@@ -458,12 +482,14 @@ impl<'a> Loader<'a> {
             });
         }
         let emitter = if t == "point" {
-            let position = match (props.point_opt("position")?, props.transform_opt("to_world")?) {
+            let position = match (
+                props.point_opt("position")?,
+                props.transform_opt("to_world")?,
+            ) {
                 (Some(_), Some(_)) => {
-                    return Err(props.error(
-                        "position",
-                        "give either 'position' or 'to_world', not both",
-                    ))
+                    return Err(
+                        props.error("position", "give either 'position' or 'to_world', not both")
+                    )
                 }
                 (Some(p), None) => p,
                 (None, Some(m)) => m.w_axis.truncate(),
@@ -509,11 +535,19 @@ impl<'a> Loader<'a> {
                     target.check_attrs(&["type", "id", "name"])?;
                     let et = target.require("type")?;
                     if et != "area" {
-                        return Err(if via_ref || UNSUPPORTED_EMITTERS.contains(&et) || et == "point" || et == "constant" {
-                            n.err(format!("a shape can only carry an area emitter, not '{et}'"))
-                        } else {
-                            builder::unsupported(target, "emitter", UNSUPPORTED_EMITTERS)
-                        });
+                        return Err(
+                            if via_ref
+                                || UNSUPPORTED_EMITTERS.contains(&et)
+                                || et == "point"
+                                || et == "constant"
+                            {
+                                n.err(format!(
+                                    "a shape can only carry an area emitter, not '{et}'"
+                                ))
+                            } else {
+                                builder::unsupported(target, "emitter", UNSUPPORTED_EMITTERS)
+                            },
+                        );
                     }
                     radiance = Some(self.area(target)?);
                 }
@@ -546,9 +580,15 @@ impl<'a> Loader<'a> {
                 let radius = props.float("radius", 1.0)?;
                 props.finish()?;
                 let emitter = radiance.map(|r| self.b.add_emitter(Emitter::Area { radiance: r }));
-                return self
-                    .b
-                    .add_sphere(&props, center, radius, to_world, flip_normals, bsdf, emitter);
+                return self.b.add_sphere(
+                    &props,
+                    center,
+                    radius,
+                    to_world,
+                    flip_normals,
+                    bsdf,
+                    emitter,
+                );
             }
             _ => return Err(builder::unsupported(el, "shape", SHAPES)),
         };
@@ -614,19 +654,32 @@ mod tests {
         .unwrap();
         let c = &s.camera;
         assert_eq!((c.width, c.height, s.spp), (320, 160, 64));
-        assert!(close(c.fov_x_deg, fov_x(30.0, "y", 320, 160).unwrap() as f32));
+        assert!(close(
+            c.fov_x_deg,
+            fov_x(30.0, "y", 320, 160).unwrap() as f32
+        ));
         assert_eq!((c.near_clip, c.far_clip), (0.5, 50.0));
         assert_eq!(s.integrator.name, "path");
         assert_eq!(s.integrator.line, Some(16));
-        assert_eq!(s.integrator.params["max_depth"], crate::scene::integrator::Param::Integer(8));
-        assert_eq!(s.integrator.params["hide_emitters"], crate::scene::integrator::Param::Bool(true));
+        assert_eq!(
+            s.integrator.params["max_depth"],
+            crate::scene::integrator::Param::Integer(8)
+        );
+        assert_eq!(
+            s.integrator.params["hide_emitters"],
+            crate::scene::integrator::Param::Bool(true)
+        );
 
         // Defaults: 768x576, fov from focal_length 50mm (diagonal of 35 mm film), 4 spp.
         let s = load(&[("s.xml", &mitsuba(""))], &[]).unwrap();
         assert_eq!((s.camera.width, s.camera.height, s.spp), (768, 576, 4));
         let fd = 2.0 * (43.266615f64 / 100.0).atan();
         let fx = fov_x(fd.to_degrees(), "diagonal", 768, 576).unwrap();
-        assert!(close(s.camera.fov_x_deg, fx as f32), "{}", s.camera.fov_x_deg);
+        assert!(
+            close(s.camera.fov_x_deg, fx as f32),
+            "{}",
+            s.camera.fov_x_deg
+        );
         assert_eq!((s.camera.near_clip, s.camera.far_clip), (0.01, 10000.0));
         assert_eq!(s.integrator.name, "path");
     }
@@ -648,8 +701,12 @@ mod tests {
         .unwrap();
         let m = s.camera.to_world;
         // dir = (0,0,-1); left = normalize(cross(up, dir)) = (-1,0,0); up = (0,1,0).
-        assert!((m * Vec4::new(0.0, 0.0, 1.0, 0.0) - Vec4::new(0.0, 0.0, -1.0, 0.0)).length() < 1e-6);
-        assert!((m * Vec4::new(1.0, 0.0, 0.0, 0.0) - Vec4::new(-1.0, 0.0, 0.0, 0.0)).length() < 1e-6);
+        assert!(
+            (m * Vec4::new(0.0, 0.0, 1.0, 0.0) - Vec4::new(0.0, 0.0, -1.0, 0.0)).length() < 1e-6
+        );
+        assert!(
+            (m * Vec4::new(1.0, 0.0, 0.0, 0.0) - Vec4::new(-1.0, 0.0, 0.0, 0.0)).length() < 1e-6
+        );
         assert!((m * Vec4::new(0.0, 1.0, 0.0, 0.0) - Vec4::Y).length() < 1e-6);
         // The translation applies after the lookat: origin (1,0,0) + (0,0,5).
         assert!((m.w_axis - Vec4::new(1.0, 0.0, 5.0, 1.0)).length() < 1e-6);
@@ -728,12 +785,22 @@ mod tests {
         assert_eq!(s.meshes.len(), 4);
         // The referenced BSDF is built once and shared; unnamed shapes share the default.
         assert_eq!(s.meshes[0].bsdf, s.meshes[1].bsdf);
-        assert_eq!(s.bsdfs[s.meshes[0].bsdf as usize], Bsdf::Diffuse { reflectance: Vec3::new(0.8, 0.1, 0.1) });
+        assert_eq!(
+            s.bsdfs[s.meshes[0].bsdf as usize],
+            Bsdf::Diffuse {
+                reflectance: Vec3::new(0.8, 0.1, 0.1)
+            }
+        );
         assert_eq!(s.meshes[2].bsdf, s.meshes[3].bsdf);
         assert_eq!(s.bsdfs[s.meshes[2].bsdf as usize], Bsdf::default());
         assert_eq!(s.bsdfs.len(), 2);
         let e = s.meshes[0].emitter.unwrap();
-        assert_eq!(s.emitters[e as usize], Emitter::Area { radiance: Vec3::splat(10.0) });
+        assert_eq!(
+            s.emitters[e as usize],
+            Emitter::Area {
+                radiance: Vec3::splat(10.0)
+            }
+        );
         assert_eq!(s.emitters.len(), 1);
         assert!(s.meshes[1].emitter.is_none());
     }
@@ -741,15 +808,40 @@ mod tests {
     #[test]
     fn include_errors() {
         let e = error_at(
-            load(&[("a.xml", &mitsuba("<include filename=\"b.xml\"/>")), ("b.xml", "<scene version=\"3.0.0\"><include filename=\"a.xml\"/></scene>")], &[]),
+            load(
+                &[
+                    ("a.xml", &mitsuba("<include filename=\"b.xml\"/>")),
+                    (
+                        "b.xml",
+                        "<scene version=\"3.0.0\"><include filename=\"a.xml\"/></scene>",
+                    ),
+                ],
+                &[],
+            ),
             "b.xml",
             1,
         );
         assert!(e.contains("include cycle"), "{e}");
-        let e = error_at(load(&[("a.xml", &mitsuba("<include filename=\"nope.xml\"/>"))], &[]), "a.xml", 3);
+        let e = error_at(
+            load(
+                &[("a.xml", &mitsuba("<include filename=\"nope.xml\"/>"))],
+                &[],
+            ),
+            "a.xml",
+            3,
+        );
         assert!(e.contains("nope.xml") && e.contains("not found"), "{e}");
         let e = error_at(
-            load(&[("a.xml", &mitsuba("<include filename=\"b.xml\"/>")), ("b.xml", "<scene version=\"3.0.0\">\n<shape type=\"teapot\"/></scene>")], &[]),
+            load(
+                &[
+                    ("a.xml", &mitsuba("<include filename=\"b.xml\"/>")),
+                    (
+                        "b.xml",
+                        "<scene version=\"3.0.0\">\n<shape type=\"teapot\"/></scene>",
+                    ),
+                ],
+                &[],
+            ),
             "b.xml",
             2,
         );
@@ -758,16 +850,40 @@ mod tests {
 
     #[test]
     fn reference_errors() {
-        let e = error_at(load(&[("s.xml", &mitsuba("<shape type=\"cube\"><ref id=\"nope\"/></shape>"))], &[]), "s.xml", 3);
+        let e = error_at(
+            load(
+                &[(
+                    "s.xml",
+                    &mitsuba("<shape type=\"cube\"><ref id=\"nope\"/></shape>"),
+                )],
+                &[],
+            ),
+            "s.xml",
+            3,
+        );
         assert!(e.contains("unknown id 'nope'"), "{e}");
         let e = error_at(
-            load(&[("s.xml", &mitsuba("<bsdf type=\"diffuse\" id=\"a\"/>\n<bsdf type=\"diffuse\" id=\"a\"/>"))], &[]),
+            load(
+                &[(
+                    "s.xml",
+                    &mitsuba(
+                        "<bsdf type=\"diffuse\" id=\"a\"/>\n<bsdf type=\"diffuse\" id=\"a\"/>",
+                    ),
+                )],
+                &[],
+            ),
             "s.xml",
             4,
         );
         assert!(e.contains("duplicate id 'a'"), "{e}");
         let e = error_at(
-            load(&[("s.xml", &mitsuba("<bsdf type=\"twosided\" id=\"a\"><ref id=\"a\"/></bsdf>"))], &[]),
+            load(
+                &[(
+                    "s.xml",
+                    &mitsuba("<bsdf type=\"twosided\" id=\"a\"><ref id=\"a\"/></bsdf>"),
+                )],
+                &[],
+            ),
             "s.xml",
             3,
         );
@@ -792,7 +908,9 @@ mod tests {
         assert!(c.x > 2.0 * c.z && c.x <= 1.0, "{c}");
         assert_eq!(refl(3), Vec3::splat(0.7));
         assert_eq!(refl(4), Vec3::new(0.1, 0.2, 0.3));
-        let Emitter::Area { radiance } = s.emitters[0] else { panic!() };
+        let Emitter::Area { radiance } = s.emitters[0] else {
+            panic!()
+        };
         // Emission is not clamped to 1; it is warm (red > blue).
         assert!(radiance.x > 1.0 && radiance.x > radiance.z, "{radiance}");
         let e = error_at(
@@ -802,7 +920,15 @@ mod tests {
         );
         assert!(e.contains("increasing"), "{e}");
         let e = error_at(
-            load(&[("s.xml", &mitsuba("<bsdf type=\"diffuse\"><rgb name=\"reflectance\" value=\"1,2\"/></bsdf>"))], &[]),
+            load(
+                &[(
+                    "s.xml",
+                    &mitsuba(
+                        "<bsdf type=\"diffuse\"><rgb name=\"reflectance\" value=\"1,2\"/></bsdf>",
+                    ),
+                )],
+                &[],
+            ),
             "s.xml",
             3,
         );
@@ -815,14 +941,46 @@ mod tests {
 <emitter type="point"><transform name="to_world"><translate value="4,5,6"/></transform></emitter>
 <emitter type="constant"><rgb name="radiance" value="0.5"/></emitter>"#;
         let s = load(&[("s.xml", &mitsuba(body))], &[]).unwrap();
-        assert_eq!(s.emitters[0], Emitter::Point { position: Vec3::new(1.0, 2.0, 3.0), intensity: Vec3::splat(5.0) });
-        assert_eq!(s.emitters[1], Emitter::Point { position: Vec3::new(4.0, 5.0, 6.0), intensity: Vec3::ONE });
-        assert_eq!(s.emitters[2], Emitter::Constant { radiance: Vec3::splat(0.5) });
-        let e = error_at(load(&[("s.xml", &mitsuba("<emitter type=\"spot\"/>"))], &[]), "s.xml", 3);
-        assert!(e.contains("emitter type 'spot' is not supported yet"), "{e}");
-        let e = error_at(load(&[("s.xml", &mitsuba("<emitter type=\"lamp\"/>"))], &[]), "s.xml", 3);
+        assert_eq!(
+            s.emitters[0],
+            Emitter::Point {
+                position: Vec3::new(1.0, 2.0, 3.0),
+                intensity: Vec3::splat(5.0)
+            }
+        );
+        assert_eq!(
+            s.emitters[1],
+            Emitter::Point {
+                position: Vec3::new(4.0, 5.0, 6.0),
+                intensity: Vec3::ONE
+            }
+        );
+        assert_eq!(
+            s.emitters[2],
+            Emitter::Constant {
+                radiance: Vec3::splat(0.5)
+            }
+        );
+        let e = error_at(
+            load(&[("s.xml", &mitsuba("<emitter type=\"spot\"/>"))], &[]),
+            "s.xml",
+            3,
+        );
+        assert!(
+            e.contains("emitter type 'spot' is not supported yet"),
+            "{e}"
+        );
+        let e = error_at(
+            load(&[("s.xml", &mitsuba("<emitter type=\"lamp\"/>"))], &[]),
+            "s.xml",
+            3,
+        );
         assert!(e.contains("unknown emitter type 'lamp'"), "{e}");
-        let e = error_at(load(&[("s.xml", &mitsuba("<emitter type=\"area\"/>"))], &[]), "s.xml", 3);
+        let e = error_at(
+            load(&[("s.xml", &mitsuba("<emitter type=\"area\"/>"))], &[]),
+            "s.xml",
+            3,
+        );
         assert!(e.contains("nested in a <shape>"), "{e}");
     }
 
@@ -835,33 +993,53 @@ mod tests {
   <scale value="1,2,1"/></transform></shape>"#;
         let e = error_at(load(&[("s.xml", &mitsuba(body))], &[]), "s.xml", 6);
         assert!(e.contains("non-uniform"), "{e}");
-        let s = load(&[("s.xml", &mitsuba(&body[..body.find("\n<shape").unwrap()]))], &[]).unwrap();
+        let s = load(
+            &[("s.xml", &mitsuba(&body[..body.find("\n<shape").unwrap()]))],
+            &[],
+        )
+        .unwrap();
         let sp = &s.spheres[0];
-        assert!((sp.center - Vec3::new(0.0, 3.0, 1.0)).length() < 1e-5, "{}", sp.center);
+        assert!(
+            (sp.center - Vec3::new(0.0, 3.0, 1.0)).length() < 1e-5,
+            "{}",
+            sp.center
+        );
         assert!(close(sp.radius, 6.0) && sp.flip_normals);
     }
 
     #[test]
     fn obj_options() {
-        let files = |body: &str| vec![("s.xml".to_string(), mitsuba(body)), ("m/t.obj".to_string(), TRI_OBJ.to_string())];
+        let files = |body: &str| {
+            vec![
+                ("s.xml".to_string(), mitsuba(body)),
+                ("m/t.obj".to_string(), TRI_OBJ.to_string()),
+            ]
+        };
         let run = |body: &str| {
             let f = files(body);
             let refs: Vec<(&str, &str)> = f.iter().map(|(a, b)| (a.as_str(), b.as_str())).collect();
             load(&refs, &[])
         };
-        let s = run(r#"<shape type="obj"><string name="filename" value="m/t.obj"/></shape>"#).unwrap();
+        let s =
+            run(r#"<shape type="obj"><string name="filename" value="m/t.obj"/></shape>"#).unwrap();
         let m = &s.meshes[0];
         assert_eq!(m.uvs[2], glam::Vec2::new(0.0, 0.0)); // v flipped: 1 - 1
         assert_eq!(m.normals.len(), 3);
-        let s = run(r#"<shape type="obj"><string name="filename" value="m/t.obj"/>
+        let s = run(
+            r#"<shape type="obj"><string name="filename" value="m/t.obj"/>
 <boolean name="flip_tex_coords" value="false"/><boolean name="face_normals" value="true"/>
-<boolean name="flip_normals" value="true"/></shape>"#)
+<boolean name="flip_normals" value="true"/></shape>"#,
+        )
         .unwrap();
         let m = &s.meshes[0];
         assert_eq!(m.uvs[2], glam::Vec2::new(0.0, 1.0));
         assert!(m.normals.is_empty());
         assert_eq!(m.indices[0], [0, 2, 1]);
-        let e = error_at(run("<shape type=\"obj\">\n<string name=\"filename\" value=\"m/none.obj\"/></shape>"), "s.xml", 4);
+        let e = error_at(
+            run("<shape type=\"obj\">\n<string name=\"filename\" value=\"m/none.obj\"/></shape>"),
+            "s.xml",
+            4,
+        );
         assert!(e.contains("m/none.obj") && e.contains("not found"), "{e}");
         let e = error_at(run("<shape type=\"obj\"/>"), "s.xml", 3);
         assert!(e.contains("needs a 'filename'"), "{e}");
@@ -890,30 +1068,74 @@ mod tests {
             assert!(e.contains(msg), "{e}\n  wanted: {msg}");
         }
         let e = error_at(
-            load(&[("s.xml", "<scene version=\"3.0.0\">\n<sensor type=\"thinlens\"/></scene>")], &[]),
+            load(
+                &[(
+                    "s.xml",
+                    "<scene version=\"3.0.0\">\n<sensor type=\"thinlens\"/></scene>",
+                )],
+                &[],
+            ),
             "s.xml",
             2,
         );
-        assert!(e.contains("sensor type 'thinlens' is not supported yet"), "{e}");
+        assert!(
+            e.contains("sensor type 'thinlens' is not supported yet"),
+            "{e}"
+        );
         let e = error_at(
             load(&[("s.xml", "<scene version=\"3.0.0\">\n<sensor type=\"perspective\">\n<float name=\"fov\" value=\"30\"/>\n<string name=\"fov_axis\" value=\"z\"/></sensor></scene>")], &[]),
             "s.xml",
             4,
         );
         assert!(e.contains("fov_axis"), "{e}");
-        let e = error_at(load(&[("s.xml", "<scene version=\"3.0.0\">\n<shape type=\"cube\"/></scene>")], &[]), "s.xml", 1);
+        let e = error_at(
+            load(
+                &[(
+                    "s.xml",
+                    "<scene version=\"3.0.0\">\n<shape type=\"cube\"/></scene>",
+                )],
+                &[],
+            ),
+            "s.xml",
+            1,
+        );
         assert!(e.contains("no <sensor>"), "{e}");
     }
 
     #[test]
     fn dialect_detection() {
-        let e = error_at(load(&[("s.xml", "<scene>\n<sensor type=\"perspective\"/></scene>")], &[]), "s.xml", 1);
+        let e = error_at(
+            load(
+                &[("s.xml", "<scene>\n<sensor type=\"perspective\"/></scene>")],
+                &[],
+            ),
+            "s.xml",
+            1,
+        );
         assert!(e.contains("no version attribute"), "{e}");
-        let e = error_at(load(&[("s.xml", "<scene><integrator type=\"ao\"/></scene>")], &[]), "s.xml", 1);
+        let e = error_at(
+            load(
+                &[("s.xml", "<scene><integrator type=\"ao\"/></scene>")],
+                &[],
+            ),
+            "s.xml",
+            1,
+        );
         assert!(e.contains("cannot tell"), "{e}");
-        let e = error_at(load(&[("s.xml", "<scene version=\"three\"/>")], &[]), "s.xml", 1);
+        let e = error_at(
+            load(&[("s.xml", "<scene version=\"three\"/>")], &[]),
+            "s.xml",
+            1,
+        );
         assert!(e.contains("version"), "{e}");
-        let e = error_at(load(&[("s.xml", "<scene version=\"3.0.0\">\n<sensor>\n</scene>")], &[]), "s.xml", 3);
+        let e = error_at(
+            load(
+                &[("s.xml", "<scene version=\"3.0.0\">\n<sensor>\n</scene>")],
+                &[],
+            ),
+            "s.xml",
+            3,
+        );
         assert!(e.contains("malformed XML"), "{e}");
         let e = error_at(load(&[("s.xml", "<world/>")], &[]), "s.xml", 1);
         assert!(e.contains("<scene>"), "{e}");

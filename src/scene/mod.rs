@@ -100,7 +100,10 @@ pub(crate) mod testutil {
     }
 
     /// Loads `main` from a folder holding `files`.
-    pub fn load(files: &[(&str, &str)], defines: &[(&str, &str)]) -> Result<super::Scene, super::Error> {
+    pub fn load(
+        files: &[(&str, &str)],
+        defines: &[(&str, &str)],
+    ) -> Result<super::Scene, super::Error> {
         let dir = write("load", files);
         let defines: Vec<(String, String)> = defines
             .iter()
@@ -116,8 +119,13 @@ pub(crate) mod testutil {
             Err(e) => {
                 let text = e.to_string();
                 match &e {
-                    super::Error::At { file: f, line: l, .. } => {
-                        assert!(f.ends_with(Path::new(file)), "{text}: wrong file, want {file}");
+                    super::Error::At {
+                        file: f, line: l, ..
+                    } => {
+                        assert!(
+                            f.ends_with(Path::new(file)),
+                            "{text}: wrong file, want {file}"
+                        );
                         assert_eq!(*l, line, "{text}: wrong line");
                     }
                     super::Error::File { .. } => panic!("{text}: no line, want {file}:{line}"),
@@ -129,10 +137,138 @@ pub(crate) mod testutil {
 
     /// A minimal Mitsuba scene around `body`.
     pub fn mitsuba(body: &str) -> String {
-        format!(
-            "<scene version=\"3.0.0\">\n<sensor type=\"perspective\"/>\n{body}\n</scene>\n"
-        )
+        format!("<scene version=\"3.0.0\">\n<sensor type=\"perspective\"/>\n{body}\n</scene>\n")
     }
 
     pub const TRI_OBJ: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\nvn 0 0 1\nvn 0 0 1\nf 1/1/1 2/2/2 3/3/3\n";
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    /// The shared scene suites, relative to the crate root (as in CI).
+    fn shared(path: &str) -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../shared/scenes")
+            .join(path)
+    }
+
+    #[test]
+    fn nori_bunny_loads() {
+        let s = load(&shared("nori/bunny/bunny.xml"), &[]).unwrap();
+        assert_eq!(s.integrator.name, "normals");
+        assert_eq!((s.camera.width, s.camera.height, s.spp), (768, 768, 1));
+        assert_eq!(s.meshes.len(), 1);
+        let n = s.triangle_count();
+        println!("bunny: {n} triangles");
+        assert_eq!(n, 2000);
+        assert_eq!(s.meshes[0].normals.len(), s.meshes[0].positions.len());
+    }
+
+    #[test]
+    fn mitsuba_cbox_loads_spectral_and_rgb() {
+        for name in ["cbox.xml", "cbox-rgb.xml"] {
+            let s = load(&shared(&format!("mitsuba/cbox/{name}")), &[]).unwrap();
+            assert_eq!(s.meshes.len(), 8, "{name}");
+            assert_eq!((s.camera.width, s.camera.height), (256, 256));
+            assert_eq!(s.integrator.name, "path");
+            assert_eq!(s.emitters.len(), 1);
+            let light = s.meshes[0].emitter.expect("luminaire emits");
+            let Emitter::Area { radiance } = s.emitters[light as usize] else {
+                panic!()
+            };
+            assert!(
+                radiance.x > radiance.z && radiance.x > 5.0,
+                "{name}: {radiance}"
+            );
+            // The red wall is red, the green wall green.
+            let refl = |mesh: usize| match s.bsdfs[s.meshes[mesh].bsdf as usize] {
+                Bsdf::Diffuse { reflectance } => reflectance,
+            };
+            assert!(refl(5).x > 3.0 * refl(5).y, "{name}: red {}", refl(5));
+            assert!(refl(4).y > 2.0 * refl(4).x, "{name}: green {}", refl(4));
+        }
+        let s = load(
+            &shared("mitsuba/cbox/cbox.xml"),
+            &[("spp".into(), "7".into())],
+        )
+        .unwrap();
+        assert_eq!(s.spp, 7);
+    }
+
+    #[test]
+    fn unsupported_bsdf_in_a_real_scene() {
+        let e = load(&shared("nori/table/table_path_mis.xml"), &[]).unwrap_err();
+        let text = e.to_string();
+        assert!(
+            text.contains("is not supported yet") && text.contains("table_path_mis.xml:"),
+            "{text}"
+        );
+        let e = load(&shared("nori/sphere/sphere_ao_ems.xml"), &[]).unwrap_err();
+        let text = e.to_string();
+        assert!(
+            text.contains("pa1/plane.obj' not found") && text.contains("sphere_ao_ems.xml:"),
+            "{text}"
+        );
+    }
+
+    /// Truncations and byte mutations of a valid scene and mesh: errors are fine,
+    /// panics are not.
+    #[test]
+    fn mutated_inputs_never_panic() {
+        let xml = r#"<scene version="3.0.0">
+  <default name="r" value="8"/>
+  <sensor type="perspective"><float name="fov" value="40"/>
+    <transform name="to_world"><lookat origin="0,0,5" target="0,0,0" up="0,1,0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="$r"/><integer name="height" value="$r"/></film>
+  </sensor>
+  <bsdf type="diffuse" id="w"><spectrum name="reflectance" value="400:0.5, 700:0.7"/></bsdf>
+  <shape type="obj"><string name="filename" value="m.obj"/><ref id="w"/>
+    <emitter type="area"><rgb name="radiance" value="1,2,3"/></emitter></shape>
+  <shape type="sphere"><float name="radius" value="0.5"/></shape>
+</scene>"#;
+        let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1 4/4/1\nf -1 -2 -3\n";
+        let dir = testutil::temp_dir("fuzz");
+        let scene = dir.join("s.xml");
+        let mesh = dir.join("m.obj");
+        std::fs::write(&scene, xml).unwrap();
+        std::fs::write(&mesh, obj).unwrap();
+        assert!(load(&scene, &[]).is_ok());
+
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut rand = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        let interesting = b"<>/\"=$:,.-0123456789e \n\x00\xff";
+        for (target, original) in [(&scene, xml.as_bytes()), (&mesh, obj.as_bytes())] {
+            let mut variants: Vec<Vec<u8>> = (0..original.len())
+                .step_by(3)
+                .map(|n| original[..n].to_vec())
+                .collect();
+            for _ in 0..400 {
+                let mut v = original.to_vec();
+                for _ in 0..1 + rand() % 3 {
+                    let i = (rand() as usize) % v.len();
+                    match rand() % 3 {
+                        0 => v[i] = interesting[(rand() as usize) % interesting.len()],
+                        1 => {
+                            v.remove(i);
+                        }
+                        _ => v.insert(i, interesting[(rand() as usize) % interesting.len()]),
+                    }
+                }
+                variants.push(v);
+            }
+            for v in variants {
+                std::fs::write(target, &v).unwrap();
+                let _ = load(&scene, &[]);
+            }
+            std::fs::write(target, original).unwrap();
+        }
+    }
 }

@@ -82,7 +82,10 @@ fn perspective(el: &Element) -> Result<Camera, Error> {
     }
     let fov = props.float("fov", 30.0)?;
     if !(fov > 0.0 && fov < 180.0) {
-        return Err(props.error("fov", format!("fov must be in (0, 180) degrees, found {fov}")));
+        return Err(props.error(
+            "fov",
+            format!("fov must be in (0, 180) degrees, found {fov}"),
+        ));
     }
     let camera = Camera {
         to_world: props.transform("toWorld")?,
@@ -129,9 +132,7 @@ fn mesh(el: &Element, b: &mut Builder) -> Result<(), Error> {
                 n.check_attrs(&["type"])?;
                 let et = n.require("type")?;
                 if et != "area" {
-                    return Err(n.err(format!(
-                        "a mesh can only carry an area emitter, not '{et}'"
-                    )));
+                    return Err(n.err(format!("a mesh can only carry an area emitter, not '{et}'")));
                 }
                 let (p, nn) = Properties::read(n, Dialect::Nori, true)?;
                 if let Some(x) = nn.first() {
@@ -143,7 +144,9 @@ fn mesh(el: &Element, b: &mut Builder) -> Result<(), Error> {
                 );
                 p.finish()?;
             }
-            "bsdf" | "emitter" => return Err(n.err(format!("a mesh can have only one <{}>", n.tag))),
+            "bsdf" | "emitter" => {
+                return Err(n.err(format!("a mesh can have only one <{}>", n.tag)))
+            }
             "medium" => return Err(n.err("media are not supported yet")),
             t => return Err(n.err(format!("unexpected <{t}> in <mesh>"))),
         }
@@ -242,32 +245,66 @@ mod tests {
         let s = load(&[("s.xml", SCENE), ("t.obj", TRI_OBJ)], &[]).unwrap();
         assert_eq!(s.integrator.name, "path_mis");
         assert_eq!(s.spp, 32);
-        assert_eq!((s.camera.width, s.camera.height, s.camera.fov_x_deg), (64, 48, 45.0));
+        assert_eq!(
+            (s.camera.width, s.camera.height, s.camera.fov_x_deg),
+            (64, 48, 45.0)
+        );
         assert_eq!((s.camera.near_clip, s.camera.far_clip), (1e-4, 1e4));
         // scale -1 on x then lookat: camera x axis = -left = +x here.
         assert!((s.camera.to_world.x_axis.truncate() - Vec3::X).length() < 1e-6);
         assert_eq!(s.meshes[0].positions[0], Vec3::new(0.0, 0.0, 1.0));
         // Nori does not flip texture coordinates.
         assert_eq!(s.meshes[0].uvs[2], glam::Vec2::new(0.0, 1.0));
-        assert_eq!(s.bsdfs[s.meshes[0].bsdf as usize], Bsdf::Diffuse { reflectance: Vec3::new(0.2, 0.4, 0.6) });
+        assert_eq!(
+            s.bsdfs[s.meshes[0].bsdf as usize],
+            Bsdf::Diffuse {
+                reflectance: Vec3::new(0.2, 0.4, 0.6)
+            }
+        );
         assert_eq!(s.bsdfs[s.meshes[1].bsdf as usize], Bsdf::default());
-        assert_eq!(s.emitters[s.meshes[0].emitter.unwrap() as usize], Emitter::Area { radiance: Vec3::splat(3.0) });
+        assert_eq!(
+            s.emitters[s.meshes[0].emitter.unwrap() as usize],
+            Emitter::Area {
+                radiance: Vec3::splat(3.0)
+            }
+        );
         // Nori power (W) -> intensity (W/sr) = power / 4π, as Mitsuba's intensity.
-        let Emitter::Point { position, intensity } = s.emitters[1] else { panic!() };
+        let Emitter::Point {
+            position,
+            intensity,
+        } = s.emitters[1]
+        else {
+            panic!()
+        };
         assert_eq!(position, Vec3::new(1.0, 2.0, 3.0));
         assert!((intensity.x - 100.0 / (4.0 * std::f32::consts::PI)).abs() < 1e-5);
-        assert_eq!(s.emitters[2], Emitter::Constant { radiance: Vec3::splat(0.6) });
+        assert_eq!(
+            s.emitters[2],
+            Emitter::Constant {
+                radiance: Vec3::splat(0.6)
+            }
+        );
     }
 
     #[test]
     fn nori_defaults() {
         let s = load(
-            &[("s.xml", "<scene><integrator type=\"normals\"/><camera type=\"perspective\"/></scene>")],
+            &[(
+                "s.xml",
+                "<scene><integrator type=\"normals\"/><camera type=\"perspective\"/></scene>",
+            )],
             &[],
         )
         .unwrap();
-        assert_eq!((s.camera.width, s.camera.height, s.camera.fov_x_deg, s.spp), (1280, 720, 30.0, 1));
-        let e = load(&[("s.xml", "<scene><camera type=\"perspective\"/></scene>")], &[("a", "b")]).unwrap_err();
+        assert_eq!(
+            (s.camera.width, s.camera.height, s.camera.fov_x_deg, s.spp),
+            (1280, 720, 30.0, 1)
+        );
+        let e = load(
+            &[("s.xml", "<scene><camera type=\"perspective\"/></scene>")],
+            &[("a", "b")],
+        )
+        .unwrap_err();
         assert!(e.to_string().contains("Nori"), "{e}");
     }
 
@@ -286,7 +323,11 @@ mod tests {
         ];
         for (body, line, msg) in cases {
             let xml = format!("<scene>{cam}\n{body}</scene>");
-            let e = error_at(load(&[("s.xml", &xml), ("t.obj", TRI_OBJ)], &[]), "s.xml", *line);
+            let e = error_at(
+                load(&[("s.xml", &xml), ("t.obj", TRI_OBJ)], &[]),
+                "s.xml",
+                *line,
+            );
             assert!(e.contains(msg), "{e}\n  wanted: {msg}");
         }
     }

@@ -65,9 +65,11 @@ pub fn load(path: &Path, flip_tex_coords: bool) -> Result<Mesh, Error> {
             all_normals = false;
         }
         if m.texcoords.len() == 2 * n {
-            mesh.uvs.extend(m.texcoords.chunks_exact(2).map(|t| {
-                Vec2::new(t[0], if flip_tex_coords { 1.0 - t[1] } else { t[1] })
-            }));
+            mesh.uvs.extend(
+                m.texcoords
+                    .chunks_exact(2)
+                    .map(|t| Vec2::new(t[0], if flip_tex_coords { 1.0 - t[1] } else { t[1] })),
+            );
         } else {
             all_uvs = false;
         }
@@ -237,17 +239,36 @@ mod tests {
             ("v 0 0 0\nv 1 x 0\n", 2, "could not parse"),
             ("v 0 0\n", 1, "needs 3 numbers"),
             ("vn 0 0 1e999\n", 1, "not finite"),
-            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", 4, "index 4 out of range"),
-            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n", 4, "reaches before the first"),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n",
+                4,
+                "index 4 out of range",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n",
+                4,
+                "reaches before the first",
+            ),
             ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", 4, "index 0"),
             ("v 0 0 0\nv 1 0 0\nf 1 2\n", 3, "at least 3"),
-            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/5 2/5 3/5\n", 4, "texture coordinate index 5"),
-            ("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n", 4, "could not parse face index"),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/5 2/5 3/5\n",
+                4,
+                "texture coordinate index 5",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 x\n",
+                4,
+                "could not parse face index",
+            ),
         ];
         for (text, line, msg) in cases {
             let (l, e) = err_line(obj(text));
             assert_eq!(l, line, "{e}");
-            assert!(e.contains(msg) && e.contains("m.obj"), "{e}\n  wanted: {msg}");
+            assert!(
+                e.contains(msg) && e.contains("m.obj"),
+                "{e}\n  wanted: {msg}"
+            );
         }
         assert!(matches!(obj("\u{0}\u{ff}"), Ok(_) | Err(_)));
         let e = load(Path::new("/nonexistent/x.obj"), true).unwrap_err();

@@ -229,7 +229,10 @@ impl Properties {
             Some(v) if v > 0 && v <= i64::from(u32::MAX) => Ok(v as u32),
             Some(v) => Err(self.error(
                 name,
-                format!("parameter '{name}' of {} must be positive, found {v}", self.object),
+                format!(
+                    "parameter '{name}' of {} must be positive, found {v}",
+                    self.object
+                ),
             )),
         }
     }
@@ -257,7 +260,9 @@ impl Properties {
     }
 
     pub fn string(&self, name: &str, default: &str) -> Result<String, Error> {
-        Ok(self.string_opt(name)?.unwrap_or_else(|| default.to_string()))
+        Ok(self
+            .string_opt(name)?
+            .unwrap_or_else(|| default.to_string()))
     }
 
     /// A color (`rgb`, `spectrum`, `color`); a plain float or integer means a grey.
@@ -403,8 +408,7 @@ fn scalar(el: &Element) -> Result<Value, Error> {
                 .map_err(|_| el.err(format!("could not parse integer \"{s}\"")))?,
         ),
         "float" => Value::Float(
-            parse_number(s)
-                .ok_or_else(|| el.err(format!("could not parse float \"{s}\"")))?,
+            parse_number(s).ok_or_else(|| el.err(format!("could not parse float \"{s}\"")))?,
         ),
         _ => Value::String(s.to_string()),
     })

@@ -72,12 +72,7 @@ pub fn spectrum_to_xyz(wavelengths: &[f64], values: &[f64]) -> DVec3 {
         let v = if wavelengths.len() == 1 {
             values[0]
         } else {
-            let (w0, w1, v0, v1) = (
-                wavelengths[k - 1],
-                wavelengths[k],
-                values[k - 1],
-                values[k],
-            );
+            let (w0, w1, v0, v1) = (wavelengths[k - 1], wavelengths[k], values[k - 1], values[k]);
             if w1 > w0 {
                 v0 + (v1 - v0) * (w - w0) / (w1 - w0)
             } else {
@@ -107,7 +102,10 @@ mod tests {
         assert!((xyz.y - 1.0).abs() < 1e-9, "{xyz}");
         // Equal-energy white in sRGB is slightly pink: about (1.20, 0.95, 0.91).
         let rgb = xyz_to_srgb(xyz);
-        assert!((rgb.x - 1.20).abs() < 0.03 && (rgb.y - 0.95).abs() < 0.03, "{rgb}");
+        assert!(
+            (rgb.x - 1.20).abs() < 0.03 && (rgb.y - 0.95).abs() < 0.03,
+            "{rgb}"
+        );
     }
 
     #[test]
@@ -121,7 +119,10 @@ mod tests {
     #[test]
     fn red_spectrum_is_red_and_clamped() {
         let w: Vec<f64> = (0..=30).map(|i| 400.0 + 10.0 * i as f64).collect();
-        let v: Vec<f64> = w.iter().map(|&l| if l > 600.0 { 0.9 } else { 0.05 }).collect();
+        let v: Vec<f64> = w
+            .iter()
+            .map(|&l| if l > 600.0 { 0.9 } else { 0.05 })
+            .collect();
         let rgb = spectrum_to_srgb(&w, &v, true);
         assert!(rgb.x > 3.0 * rgb.y && rgb.x > 3.0 * rgb.z, "{rgb}");
         assert!(rgb.max_element() <= 1.0 && rgb.min_element() >= 0.0);

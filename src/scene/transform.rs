@@ -64,9 +64,8 @@ fn xyz(op: &Element, default: f64) -> Result<DVec3, Error> {
     let mut out = DVec3::splat(default);
     for (i, name) in ["x", "y", "z"].iter().enumerate() {
         if let Some(s) = op.attr(name) {
-            out[i] = parse_number(s).ok_or_else(|| {
-                op.err(format!("could not parse '{name}' = \"{s}\" as a number"))
-            })?;
+            out[i] = parse_number(s)
+                .ok_or_else(|| op.err(format!("could not parse '{name}' = \"{s}\" as a number")))?;
         }
     }
     Ok(out)

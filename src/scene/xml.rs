@@ -31,6 +31,9 @@ pub struct Element {
     /// The file this element was read from (an included file, for included elements).
     pub file: Rc<PathBuf>,
     pub line: u32,
+    /// The folder of the scene file `load` was given (Mitsuba's file resolver also
+    /// searches it, so included fragments may name files relative to the main scene).
+    pub base: Rc<PathBuf>,
 }
 
 impl Element {
@@ -52,10 +55,7 @@ impl Element {
     pub fn check_attrs(&self, allowed: &[&str]) -> Result<(), Error> {
         for (k, _) in &self.attrs {
             if !allowed.contains(&k.as_str()) {
-                return Err(self.err(format!(
-                    "unexpected attribute '{}' in <{}>",
-                    k, self.tag
-                )));
+                return Err(self.err(format!("unexpected attribute '{}' in <{}>", k, self.tag)));
             }
         }
         Ok(())
@@ -66,9 +66,32 @@ impl Element {
         Error::at(self.file.as_path(), self.line, message)
     }
 
-    /// The folder relative paths inside this element resolve against.
+    /// The folder relative paths inside this element resolve against first.
     pub fn dir(&self) -> &Path {
         self.file.parent().unwrap_or(Path::new(""))
+    }
+
+    /// Resolves a file name written in this element: relative to the file holding the
+    /// element, else (as Mitsuba's file resolver does) relative to the main scene's
+    /// folder. On failure, the paths tried.
+    pub fn resolve(&self, name: &str) -> Result<PathBuf, String> {
+        let first = self.dir().join(name);
+        if first.is_file() {
+            return Ok(first);
+        }
+        let second = self.base.join(name);
+        if second != first && second.is_file() {
+            return Ok(second);
+        }
+        if second != first && Path::new(name).is_relative() {
+            Err(format!(
+                "'{}' (nor '{}')",
+                first.display(),
+                second.display()
+            ))
+        } else {
+            Err(format!("'{}'", first.display()))
+        }
     }
 }
 
@@ -97,8 +120,10 @@ pub fn read(path: &Path, defines: &[(String, String)]) -> Result<Document, Error
         ));
     }
     let file = Rc::new(path.to_path_buf());
+    let base = Rc::new(path.parent().unwrap_or(Path::new("")).to_path_buf());
     let mut expander = Expander {
         dialect,
+        base: base.clone(),
         params: defines.to_vec(),
         stack: vec![canonical(path)],
     };
@@ -116,6 +141,7 @@ pub fn read(path: &Path, defines: &[(String, String)]) -> Result<Document, Error
             children,
             file,
             line,
+            base,
         },
     })
 }
@@ -134,7 +160,10 @@ fn read_text(path: &Path) -> Result<String, Error> {
     String::from_utf8(bytes).map_err(|e| {
         Error::file(
             path,
-            format!("not UTF-8 text (bad byte at offset {})", e.utf8_error().valid_up_to()),
+            format!(
+                "not UTF-8 text (bad byte at offset {})",
+                e.utf8_error().valid_up_to()
+            ),
         )
     })
 }
@@ -210,6 +239,7 @@ fn detect(path: &Path, doc: &roxmltree::Document, root: roxmltree::Node) -> Resu
 
 struct Expander {
     dialect: Dialect,
+    base: Rc<PathBuf>,
     /// `$name` substitutions: `-D` defines first, then `<default>`s in document order.
     params: Vec<(String, String)>,
     /// Canonical paths of the files being read, outermost first (include cycle guard).
@@ -251,6 +281,7 @@ impl Expander {
                 children: Vec::new(),
                 file: file.clone(),
                 line,
+                base: self.base.clone(),
             };
             if self.dialect == Dialect::Mitsuba && el.tag == "default" {
                 el.check_attrs(&["name", "value"])?;
@@ -277,13 +308,9 @@ impl Expander {
     fn include(&mut self, el: &Element) -> Result<Vec<Element>, Error> {
         el.check_attrs(&["filename"])?;
         let name = el.require("filename")?;
-        let path = el.dir().join(name);
-        if !path.is_file() {
-            return Err(el.err(format!(
-                "included file '{}' not found",
-                path.display()
-            )));
-        }
+        let path = el
+            .resolve(name)
+            .map_err(|tried| el.err(format!("included file {tried} not found")))?;
         let canon = canonical(&path);
         if self.stack.contains(&canon) {
             return Err(el.err(format!(
@@ -308,7 +335,10 @@ impl Expander {
             let line = line_of(&doc, root);
             let mut attrs = Vec::new();
             for a in root.attributes() {
-                attrs.push((a.name().to_string(), self.substitute(a.value(), &file, line)?));
+                attrs.push((
+                    a.name().to_string(),
+                    self.substitute(a.value(), &file, line)?,
+                ));
             }
             let children = self.children(&doc, root, &file)?;
             Ok(vec![Element {
@@ -317,6 +347,7 @@ impl Expander {
                 children,
                 file: file.clone(),
                 line,
+                base: self.base.clone(),
             }])
         };
         self.stack.pop();
