@@ -6,7 +6,8 @@ use glam::Vec3;
 #[derive(Debug, Clone, PartialEq)]
 pub enum Bsdf {
     /// Lambertian reflection. Mitsuba `diffuse` (`reflectance`, default 0.5); Nori
-    /// `diffuse` (`albedo`, default 0.5).
+    /// `diffuse` (`albedo`, default 0.5). A Mitsuba `twosided` around one BSDF is
+    /// unwrapped to that BSDF for now.
     Diffuse { reflectance: Vec3 },
 }
 

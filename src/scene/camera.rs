@@ -8,7 +8,7 @@ use glam::Mat4;
 /// points to the *left* of the image, so image column 0 maps to camera +X.
 ///
 /// Mitsuba: `<sensor type="perspective">` with `fov`, `fov_axis` (x, y, diagonal,
-/// smaller, larger; default x), `near_clip` (1e-2), `far_clip` (1e4), `to_world`, and
+/// smaller, larger; default x) or instead `focal_length` (35 mm film, default "50mm"), `near_clip` (1e-2), `far_clip` (1e4), `to_world`, and
 /// nested `<film>` (width, height; default 768x576) and `<sampler>` (sample_count).
 /// Nori: `<camera type="perspective">` with `fov` (horizontal), `width`, `height`
 /// (default 1280x720), `nearClip`, `farClip`, `toWorld`.

@@ -16,3 +16,22 @@ pub enum Error {
     #[error("{}: {message}", file.display())]
     File { file: PathBuf, message: String },
 }
+
+impl Error {
+    /// A problem at `line` of `file`.
+    pub(crate) fn at(file: impl Into<PathBuf>, line: u32, message: impl Into<String>) -> Self {
+        Error::At {
+            file: file.into(),
+            line,
+            message: message.into(),
+        }
+    }
+
+    /// A problem with `file` as a whole.
+    pub(crate) fn file(file: impl Into<PathBuf>, message: impl Into<String>) -> Self {
+        Error::File {
+            file: file.into(),
+            message: message.into(),
+        }
+    }
+}

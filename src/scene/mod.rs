@@ -4,11 +4,21 @@
 //! Both scene dialects (Mitsuba 3 and Nori XML) load into the same [`Scene`].
 
 pub mod bsdf;
+mod builder;
 pub mod camera;
 pub mod emitter;
 pub mod error;
 pub mod integrator;
+pub mod mesh;
+mod mitsuba;
+mod nori;
+mod obj;
+mod ply;
+pub mod properties;
 pub mod shape;
+pub mod spectrum;
+pub mod transform;
+pub mod xml;
 
 pub use bsdf::Bsdf;
 pub use camera::Camera;
@@ -17,7 +27,7 @@ pub use error::Error;
 pub use integrator::IntegratorSpec;
 pub use shape::{Mesh, Sphere};
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// A loaded scene, every shape in world space.
 #[derive(Debug, Clone)]
@@ -41,5 +51,224 @@ impl Scene {
     /// Total number of triangles over all meshes.
     pub fn triangle_count(&self) -> usize {
         self.meshes.iter().map(|m| m.indices.len()).sum()
+    }
+}
+
+/// Loads a scene file, Mitsuba 3 or Nori (told apart by the root `<scene>`: Mitsuba's
+/// carries `version="3.x.y"`). `defines` are `-D name=value` overrides of Mitsuba
+/// `<default>` parameters. Every problem is an [`Error`] naming the file and, where
+/// there is one, the line; nothing a user wrote makes this panic.
+pub fn load(path: &Path, defines: &[(String, String)]) -> Result<Scene, Error> {
+    let doc = xml::read(path, defines)?;
+    match doc.dialect {
+        xml::Dialect::Mitsuba => mitsuba::load(&doc),
+        xml::Dialect::Nori => nori::load(&doc),
+    }
+}
+
+/// Helpers for tests that write scene files.
+#[cfg(test)]
+pub(crate) mod testutil {
+    use std::path::{Path, PathBuf};
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
+    /// A fresh empty folder under the system temp dir.
+    pub fn temp_dir(tag: &str) -> PathBuf {
+        static N: AtomicUsize = AtomicUsize::new(0);
+        let dir = std::env::temp_dir().join(format!(
+            "wavetrace-scene-{}-{}-{}",
+            std::process::id(),
+            tag,
+            N.fetch_add(1, Ordering::Relaxed)
+        ));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("create temp dir");
+        dir
+    }
+
+    /// Writes `files` (name, contents) into a fresh folder; returns the folder.
+    pub fn write(tag: &str, files: &[(&str, &str)]) -> PathBuf {
+        let dir = temp_dir(tag);
+        for (name, text) in files {
+            let p = dir.join(name);
+            if let Some(parent) = p.parent() {
+                std::fs::create_dir_all(parent).expect("mkdir");
+            }
+            std::fs::write(&p, text).expect("write");
+        }
+        dir
+    }
+
+    /// Loads `main` from a folder holding `files`.
+    pub fn load(
+        files: &[(&str, &str)],
+        defines: &[(&str, &str)],
+    ) -> Result<super::Scene, super::Error> {
+        let dir = write("load", files);
+        let defines: Vec<(String, String)> = defines
+            .iter()
+            .map(|(a, b)| (a.to_string(), b.to_string()))
+            .collect();
+        super::load(&dir.join(files[0].0), &defines)
+    }
+
+    /// The error's text, checking that it names `file` (a suffix) and `line`.
+    pub fn error_at(r: Result<super::Scene, super::Error>, file: &str, line: u32) -> String {
+        match r {
+            Ok(_) => panic!("expected an error at {file}:{line}"),
+            Err(e) => {
+                let text = e.to_string();
+                match &e {
+                    super::Error::At {
+                        file: f, line: l, ..
+                    } => {
+                        assert!(
+                            f.ends_with(Path::new(file)),
+                            "{text}: wrong file, want {file}"
+                        );
+                        assert_eq!(*l, line, "{text}: wrong line");
+                    }
+                    super::Error::File { .. } => panic!("{text}: no line, want {file}:{line}"),
+                }
+                text
+            }
+        }
+    }
+
+    /// A minimal Mitsuba scene around `body`.
+    pub fn mitsuba(body: &str) -> String {
+        format!("<scene version=\"3.0.0\">\n<sensor type=\"perspective\"/>\n{body}\n</scene>\n")
+    }
+
+    pub const TRI_OBJ: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\nvn 0 0 1\nvn 0 0 1\nf 1/1/1 2/2/2 3/3/3\n";
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    /// The shared scene suites, relative to the crate root (as in CI).
+    fn shared(path: &str) -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../shared/scenes")
+            .join(path)
+    }
+
+    #[test]
+    fn nori_bunny_loads() {
+        let s = load(&shared("nori/bunny/bunny.xml"), &[]).unwrap();
+        assert_eq!(s.integrator.name, "normals");
+        assert_eq!((s.camera.width, s.camera.height, s.spp), (768, 768, 1));
+        assert_eq!(s.meshes.len(), 1);
+        let n = s.triangle_count();
+        println!("bunny: {n} triangles");
+        assert_eq!(n, 2000);
+        assert_eq!(s.meshes[0].normals.len(), s.meshes[0].positions.len());
+    }
+
+    #[test]
+    fn mitsuba_cbox_loads_spectral_and_rgb() {
+        for name in ["cbox.xml", "cbox-rgb.xml"] {
+            let s = load(&shared(&format!("mitsuba/cbox/{name}")), &[]).unwrap();
+            assert_eq!(s.meshes.len(), 8, "{name}");
+            assert_eq!((s.camera.width, s.camera.height), (256, 256));
+            assert_eq!(s.integrator.name, "path");
+            assert_eq!(s.emitters.len(), 1);
+            let light = s.meshes[0].emitter.expect("luminaire emits");
+            let Emitter::Area { radiance } = s.emitters[light as usize] else {
+                panic!()
+            };
+            assert!(
+                radiance.x > radiance.z && radiance.x > 5.0,
+                "{name}: {radiance}"
+            );
+            // The red wall is red, the green wall green.
+            let refl = |mesh: usize| match s.bsdfs[s.meshes[mesh].bsdf as usize] {
+                Bsdf::Diffuse { reflectance } => reflectance,
+            };
+            assert!(refl(5).x > 3.0 * refl(5).y, "{name}: red {}", refl(5));
+            assert!(refl(4).y > 2.0 * refl(4).x, "{name}: green {}", refl(4));
+        }
+        let s = load(
+            &shared("mitsuba/cbox/cbox.xml"),
+            &[("spp".into(), "7".into())],
+        )
+        .unwrap();
+        assert_eq!(s.spp, 7);
+    }
+
+    #[test]
+    fn unsupported_bsdf_in_a_real_scene() {
+        let e = load(&shared("nori/table/table_path_mis.xml"), &[]).unwrap_err();
+        let text = e.to_string();
+        assert!(
+            text.contains("is not supported yet") && text.contains("table_path_mis.xml:"),
+            "{text}"
+        );
+        let e = load(&shared("nori/sphere/sphere_ao_ems.xml"), &[]).unwrap_err();
+        let text = e.to_string();
+        assert!(
+            text.contains("pa1/plane.obj' not found") && text.contains("sphere_ao_ems.xml:"),
+            "{text}"
+        );
+    }
+
+    /// Truncations and byte mutations of a valid scene and mesh: errors are fine,
+    /// panics are not.
+    #[test]
+    fn mutated_inputs_never_panic() {
+        let xml = r#"<scene version="3.0.0">
+  <default name="r" value="8"/>
+  <sensor type="perspective"><float name="fov" value="40"/>
+    <transform name="to_world"><lookat origin="0,0,5" target="0,0,0" up="0,1,0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="$r"/><integer name="height" value="$r"/></film>
+  </sensor>
+  <bsdf type="diffuse" id="w"><spectrum name="reflectance" value="400:0.5, 700:0.7"/></bsdf>
+  <shape type="obj"><string name="filename" value="m.obj"/><ref id="w"/>
+    <emitter type="area"><rgb name="radiance" value="1,2,3"/></emitter></shape>
+  <shape type="sphere"><float name="radius" value="0.5"/></shape>
+</scene>"#;
+        let obj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1 4/4/1\nf -1 -2 -3\n";
+        let dir = testutil::temp_dir("fuzz");
+        let scene = dir.join("s.xml");
+        let mesh = dir.join("m.obj");
+        std::fs::write(&scene, xml).unwrap();
+        std::fs::write(&mesh, obj).unwrap();
+        assert!(load(&scene, &[]).is_ok());
+
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut rand = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed
+        };
+        let interesting = b"<>/\"=$:,.-0123456789e \n\x00\xff";
+        for (target, original) in [(&scene, xml.as_bytes()), (&mesh, obj.as_bytes())] {
+            let mut variants: Vec<Vec<u8>> = (0..original.len())
+                .step_by(3)
+                .map(|n| original[..n].to_vec())
+                .collect();
+            for _ in 0..400 {
+                let mut v = original.to_vec();
+                for _ in 0..1 + rand() % 3 {
+                    let i = (rand() as usize) % v.len();
+                    match rand() % 3 {
+                        0 => v[i] = interesting[(rand() as usize) % interesting.len()],
+                        1 => {
+                            v.remove(i);
+                        }
+                        _ => v.insert(i, interesting[(rand() as usize) % interesting.len()]),
+                    }
+                }
+                variants.push(v);
+            }
+            for v in variants {
+                std::fs::write(target, &v).unwrap();
+                let _ = load(&scene, &[]);
+            }
+            std::fs::write(target, original).unwrap();
+        }
     }
 }

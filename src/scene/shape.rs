@@ -6,7 +6,8 @@ use glam::{Vec2, Vec3};
 ///
 /// Mitsuba: `obj`, `ply`, `rectangle`, `cube`, `disk` (disk is tessellated); Nori:
 /// `mesh type="obj"`. `to_world` is already applied; normals are transformed by the
-/// inverse transpose and renormalized.
+/// inverse transpose and renormalized. The disk is a 256-gon; `flip_normals` reverses
+/// the winding and negates normals; zero-area triangles are dropped at load.
 #[derive(Debug, Clone, Default)]
 pub struct Mesh {
     /// A name for messages: the file it came from, or the shape type.

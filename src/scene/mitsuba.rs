@@ -1,0 +1,1144 @@
+//! The Mitsuba 3 dialect: `<scene version="3.x.y">` with `sensor`, `integrator`,
+//! `shape`, `bsdf`, `emitter`, `ref`/`id` (forward references allowed, as in Mitsuba).
+//!
+//! Supported objects (anything else is "not supported yet" or "unknown"):
+//! - `sensor type="perspective"`: `fov` + `fov_axis` (x, y, diagonal, smaller, larger;
+//!   default x) or `focal_length` (35 mm film, default "50mm"), `near_clip` (0.01),
+//!   `far_clip` (10000), `to_world`, `focus_distance` (read, unused); nested
+//!   `film type="hdrfilm"` (`width` 768, `height` 576; `pixel_format`,
+//!   `component_format`, `banner`, `sample_border`, `rfilter` accepted and ignored) and
+//!   `sampler` (independent, stratified, multijitter, orthogonal, ldsampler:
+//!   `sample_count` 4; `seed`, `jitter`, `strength` ignored).
+//! - `integrator`: any type; its parameters are kept unread in [`IntegratorSpec`].
+//! - shapes `obj` (`filename`, `face_normals`, `flip_tex_coords` = true), `ply`
+//!   (`filename`, `face_normals`), `rectangle`, `cube`, `disk` (a 256-gon), `sphere`
+//!   (`center`, `radius`); all with `to_world` and `flip_normals`.
+//! - `bsdf type="diffuse"` (`reflectance`, 0.5); `twosided` around one BSDF is unwrapped.
+//! - `emitter`: `area` (`radiance`, nested in or referenced by a shape), `point`
+//!   (`position` or `to_world`, `intensity` 1), `constant` (`radiance` 1).
+//!
+//! An area emitter referenced by several shapes gives each its own [`Emitter::Area`].
+
+use std::collections::{HashMap, HashSet};
+
+use glam::Vec3;
+
+use super::builder::{self, Builder, UNSUPPORTED_BSDFS, UNSUPPORTED_EMITTERS, UNSUPPORTED_MEDIA};
+use super::mesh;
+use super::properties::Properties;
+use super::xml::{Dialect, Document, Element};
+use super::{obj, ply, Bsdf, Camera, Emitter, Error, IntegratorSpec, Scene};
+
+const SENSORS: &[&str] = &[
+    "thinlens",
+    "orthographic",
+    "radiancemeter",
+    "irradiancemeter",
+    "distant",
+    "batch",
+];
+const SHAPES: &[&str] = &[
+    "serialized",
+    "cylinder",
+    "shapegroup",
+    "instance",
+    "bsplinecurve",
+    "linearcurve",
+    "sdfgrid",
+    "ellipsoids",
+    "ellipsoidsmesh",
+];
+const FILMS: &[&str] = &["specfilm"];
+const SAMPLERS: &[&str] = &[
+    "independent",
+    "stratified",
+    "multijitter",
+    "orthogonal",
+    "ldsampler",
+];
+const RFILTERS: &[&str] = &[
+    "box",
+    "tent",
+    "gaussian",
+    "mitchell",
+    "catmullrom",
+    "lanczos",
+];
+
+/// Default `<film>` size.
+const FILM_WIDTH: u32 = 768;
+const FILM_HEIGHT: u32 = 576;
+
+/// Loads a Mitsuba 3 scene read by [`super::xml::read`].
+pub fn load(doc: &Document) -> Result<Scene, Error> {
+    let mut ids = HashMap::new();
+    collect_ids(&doc.root, &mut ids)?;
+    let mut l = Loader {
+        b: Builder::default(),
+        ids,
+        bsdf_ids: HashMap::new(),
+        area_ids: HashMap::new(),
+        building: HashSet::new(),
+    };
+    let mut camera: Option<(Camera, u32)> = None;
+    let mut integrator: Option<IntegratorSpec> = None;
+    for el in &doc.root.children {
+        match el.tag.as_str() {
+            "sensor" => {
+                if camera.is_some() {
+                    return Err(el.err("more than one <sensor>; wavetrace renders one"));
+                }
+                camera = Some(sensor(el)?);
+            }
+            "integrator" => {
+                if integrator.is_some() {
+                    return Err(el.err("more than one <integrator>"));
+                }
+                integrator = Some(integrator_spec(el, Dialect::Mitsuba)?);
+            }
+            "shape" => l.shape(el)?,
+            "bsdf" => {
+                l.bsdf(el)?;
+            }
+            "emitter" => l.top_emitter(el)?,
+            _ => return Err(l.unexpected(el, "<scene>")),
+        }
+    }
+    let (camera, spp) = camera.ok_or_else(|| doc.root.err("the scene has no <sensor>"))?;
+    let integrator = integrator.unwrap_or_else(|| IntegratorSpec {
+        name: "path".into(),
+        ..Default::default()
+    });
+    Ok(Scene {
+        path: doc.root.file.as_ref().clone(),
+        camera,
+        spp,
+        integrator,
+        meshes: l.b.meshes,
+        spheres: l.b.spheres,
+        bsdfs: l.b.bsdfs,
+        emitters: l.b.emitters,
+    })
+}
+
+/// Every element with an `id`, anywhere in the tree; duplicates are an error.
+fn collect_ids<'a>(el: &'a Element, ids: &mut HashMap<String, &'a Element>) -> Result<(), Error> {
+    for c in &el.children {
+        if c.tag != "ref" {
+            if let Some(id) = c.attr("id") {
+                if let Some(prev) = ids.insert(id.to_string(), c) {
+                    return Err(c.err(format!(
+                        "duplicate id '{id}' (first used at {}:{})",
+                        prev.file.display(),
+                        prev.line
+                    )));
+                }
+            }
+        }
+        collect_ids(c, ids)?;
+    }
+    Ok(())
+}
+
+/// The parameters of an `<integrator>`, kept unread.
+pub fn integrator_spec(el: &Element, dialect: Dialect) -> Result<IntegratorSpec, Error> {
+    el.check_attrs(&["type", "id", "name"])?;
+    let name = el.require("type")?.to_string();
+    let (props, nested) = Properties::read(el, dialect, false)?;
+    if let Some(n) = nested.first() {
+        return Err(n.err(format!(
+            "<{}> inside an <integrator> is not supported yet",
+            n.tag
+        )));
+    }
+    Ok(IntegratorSpec {
+        name,
+        params: props.into_params()?,
+        line: Some(el.line),
+    })
+}
+
+/// The horizontal field of view in degrees for `fov` measured along `axis` of a
+/// `width` x `height` image (Mitsuba's `fov_axis`).
+pub fn fov_x(fov_deg: f64, axis: &str, width: u32, height: u32) -> Option<f64> {
+    let aspect = width as f64 / height as f64;
+    let axis = match axis {
+        "smaller" => {
+            if aspect > 1.0 {
+                "y"
+            } else {
+                "x"
+            }
+        }
+        "larger" => {
+            if aspect > 1.0 {
+                "x"
+            } else {
+                "y"
+            }
+        }
+        a => a,
+    };
+    let t = (fov_deg.to_radians() * 0.5).tan();
+    let tx = match axis {
+        "x" => t,
+        "y" => t * aspect,
+        "diagonal" => t / (1.0 + 1.0 / (aspect * aspect)).sqrt(),
+        _ => return None,
+    };
+    Some((2.0 * tx.atan()).to_degrees())
+}
+
+fn sensor(el: &Element) -> Result<(Camera, u32), Error> {
+    el.check_attrs(&["type", "id", "name"])?;
+    if el.require("type")? != "perspective" {
+        return Err(builder::unsupported(el, "sensor", SENSORS));
+    }
+    let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
+    let mut size = None;
+    let mut spp = None;
+    for n in nested {
+        match n.tag.as_str() {
+            "film" if size.is_none() => size = Some(film(n)?),
+            "sampler" if spp.is_none() => spp = Some(sampler(n)?),
+            "film" | "sampler" => {
+                return Err(n.err(format!("more than one <{}> in <sensor>", n.tag)))
+            }
+            "medium" | "ref" => return Err(n.err("media are not supported yet")),
+            _ => return Err(n.err(format!("unexpected <{}> in <sensor>", n.tag))),
+        }
+    }
+    let (width, height) = size.unwrap_or((FILM_WIDTH, FILM_HEIGHT));
+    let fov_x_deg = if props.has("fov") {
+        if props.has("focal_length") {
+            return Err(props.error(
+                "focal_length",
+                "give either 'fov' or 'focal_length', not both",
+            ));
+        }
+        let fov = props.float("fov", 0.0)? as f64;
+        if !(fov > 0.0 && fov < 180.0) {
+            return Err(props.error(
+                "fov",
+                format!("fov must be in (0, 180) degrees, found {fov}"),
+            ));
+        }
+        let axis = props.string("fov_axis", "x")?.to_ascii_lowercase();
+        fov_x(fov, &axis, width, height).ok_or_else(|| {
+            props.error(
+                "fov_axis",
+                format!("fov_axis must be x, y, diagonal, smaller or larger, found '{axis}'"),
+            )
+        })?
+    } else {
+        let s = props.string("focal_length", "50mm")?;
+        let f = s
+            .trim()
+            .strip_suffix("mm")
+            .unwrap_or(s.trim())
+            .trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|f| *f > 0.0 && f.is_finite())
+            .ok_or_else(|| {
+                props.error(
+                    "focal_length",
+                    format!("could not parse focal_length \"{s}\" (expected e.g. \"50mm\")"),
+                )
+            })?;
+        // 35 mm film: the 36 x 24 mm frame's diagonal sees the fov.
+        let diag = (36.0f64 * 36.0 + 24.0 * 24.0).sqrt();
+        let fov = (2.0 * (diag / (2.0 * f)).atan()).to_degrees();
+        if props.has("fov_axis") {
+            return Err(props.error(
+                "fov_axis",
+                "fov_axis applies to 'fov', not to 'focal_length'",
+            ));
+        }
+        fov_x(fov, "diagonal", width, height).unwrap_or(fov)
+    };
+    let near_clip = props.float("near_clip", 0.01)?;
+    let far_clip = props.float("far_clip", 10000.0)?;
+    if !(near_clip > 0.0 && far_clip > near_clip) {
+        return Err(props.object_error(format!(
+            "need 0 < near_clip < far_clip, found near_clip = {near_clip}, far_clip = {far_clip}"
+        )));
+    }
+    let to_world = props.transform("to_world")?;
+    props.ignore(&["focus_distance"]);
+    props.finish()?;
+    Ok((
+        Camera {
+            to_world,
+            fov_x_deg: fov_x_deg as f32,
+            near_clip,
+            far_clip,
+            width,
+            height,
+        },
+        spp.unwrap_or(4),
+    ))
+}
+
+fn film(el: &Element) -> Result<(u32, u32), Error> {
+    el.check_attrs(&["type", "id", "name"])?;
+    if el.require("type")? != "hdrfilm" {
+        return Err(builder::unsupported(el, "film", FILMS));
+    }
+    let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
+    for n in nested {
+        match n.tag.as_str() {
+            "rfilter" => {
+                n.check_attrs(&["type", "id", "name"])?;
+                let t = n.require("type")?;
+                if !RFILTERS.contains(&t) {
+                    return Err(n.err(format!("unknown rfilter type '{t}'")));
+                }
+                // Accepted and ignored, parameters included.
+                Properties::read(n, Dialect::Mitsuba, false)?;
+            }
+            _ => return Err(n.err(format!("unexpected <{}> in <film>", n.tag))),
+        }
+    }
+    let size = (
+        props.positive("width", FILM_WIDTH)?,
+        props.positive("height", FILM_HEIGHT)?,
+    );
+    props.ignore(&[
+        "pixel_format",
+        "component_format",
+        "banner",
+        "sample_border",
+        "file_format",
+    ]);
+    props.finish()?;
+    Ok(size)
+}
+
+fn sampler(el: &Element) -> Result<u32, Error> {
+    el.check_attrs(&["type", "id", "name"])?;
+    let t = el.require("type")?;
+    if !SAMPLERS.contains(&t) {
+        return Err(el.err(format!("unknown sampler type '{t}'")));
+    }
+    let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
+    if let Some(n) = nested.first() {
+        return Err(n.err(format!("unexpected <{}> in <sampler>", n.tag)));
+    }
+    let spp = props.positive("sample_count", 4)?;
+    props.ignore(&["seed", "jitter", "strength"]);
+    props.finish()?;
+    Ok(spp)
+}
+
+struct Loader<'a> {
+    b: Builder,
+    ids: HashMap<String, &'a Element>,
+    /// BSDFs with an id, built once.
+    bsdf_ids: HashMap<String, u32>,
+    /// Radiance of area emitters with an id.
+    area_ids: HashMap<String, Vec3>,
+    /// Ids being built (reference cycle guard).
+    building: HashSet<String>,
+}
+
+impl<'a> Loader<'a> {
+    fn unexpected(&self, el: &Element, parent: &str) -> Error {
+        match el.tag.as_str() {
+            "medium" => builder::unsupported(el, "medium", UNSUPPORTED_MEDIA),
+            "texture" => el.err("textures are not supported yet"),
+            "film" | "sampler" | "rfilter" => {
+                el.err(format!("<{}> must be nested in a <sensor>", el.tag))
+            }
+            "phase" | "volume" | "spectrum" => el.err(format!("<{}> is not supported yet", el.tag)),
+            "boolean" | "integer" | "float" | "string" | "point" | "vector" | "rgb"
+            | "transform" => el.err(format!("<{}> has no meaning in {parent}", el.tag)),
+            t => el.err(format!("unexpected <{t}> in {parent}")),
+        }
+    }
+
+    /// The element a `<ref id=...>` names.
+    fn deref(&self, r: &Element) -> Result<&'a Element, Error> {
+        r.check_attrs(&["id", "name"])?;
+        let id = r.require("id")?;
+        self.ids
+            .get(id)
+            .copied()
+            .ok_or_else(|| r.err(format!("reference to unknown id '{id}'")))
+    }
+
+    fn bsdf(&mut self, el: &'a Element) -> Result<u32, Error> {
+        let id = el.attr("id").map(str::to_string);
+        if let Some(id) = &id {
+            if let Some(&i) = self.bsdf_ids.get(id) {
+                return Ok(i);
+            }
+            if !self.building.insert(id.clone()) {
+                return Err(el.err(format!("reference cycle through id '{id}'")));
+            }
+        }
+        let index = self.build_bsdf(el)?;
+        if let Some(id) = id {
+            self.building.remove(&id);
+            self.bsdf_ids.insert(id, index);
+        }
+        Ok(index)
+    }
+
+    fn build_bsdf(&mut self, el: &'a Element) -> Result<u32, Error> {
+        el.check_attrs(&["type", "id", "name"])?;
+        let t = el.require("type")?;
+        let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
+        match t {
+            "diffuse" => {
+                if let Some(n) = nested.first() {
+                    return Err(match n.tag.as_str() {
+                        "texture" => n.err("textures are not supported yet"),
+                        _ => n.err(format!("unexpected <{}> in a diffuse <bsdf>", n.tag)),
+                    });
+                }
+                let reflectance = props.color("reflectance", Vec3::splat(0.5))?;
+                props.finish()?;
+                Ok(self.b.add_bsdf(Bsdf::Diffuse { reflectance }))
+            }
+            "twosided" => {
+                // Unwrapped for now: the inner BSDF is used as is.
+                props.finish()?;
+                let inner: Vec<&'a Element> = el
+                    .children
+                    .iter()
+                    .filter(|c| c.tag == "bsdf" || c.tag == "ref")
+                    .collect();
+                if inner.len() != 1 || nested.len() != 1 {
+                    return Err(el.err(
+                        "twosided needs exactly one nested <bsdf> (two different sides are not supported yet)",
+                    ));
+                }
+                let inner = if inner[0].tag == "ref" {
+                    let target = self.deref(inner[0])?;
+                    if target.tag != "bsdf" {
+                        return Err(inner[0].err(format!(
+                            "'{}' is a <{}>, not a <bsdf>",
+                            inner[0].attr("id").unwrap_or(""),
+                            target.tag
+                        )));
+                    }
+                    target
+                } else {
+                    inner[0]
+                };
+                self.bsdf(inner)
+            }
+            _ => Err(builder::unsupported(el, "bsdf", UNSUPPORTED_BSDFS)),
+        }
+    }
+
+    /// Radiance of an `<emitter type="area">`.
+    fn area(&mut self, el: &'a Element) -> Result<Vec3, Error> {
+        if let Some(id) = el.attr("id") {
+            if let Some(&r) = self.area_ids.get(id) {
+                return Ok(r);
+            }
+        }
+        el.check_attrs(&["type", "id", "name"])?;
+        let (props, nested) = Properties::read(el, Dialect::Mitsuba, true)?;
+        if let Some(n) = nested.first() {
+            return Err(n.err(format!(
+                "<{}> inside an area emitter is not supported yet",
+                n.tag
+            )));
+        }
+        let radiance = props
+            .color_opt("radiance")?
+            .ok_or_else(|| props.object_error("area emitter needs a 'radiance'"))?;
+        props.finish()?;
+        if let Some(id) = el.attr("id") {
+            self.area_ids.insert(id.to_string(), radiance);
+        }
+        Ok(radiance)
+    }
+
+    fn top_emitter(&mut self, el: &'a Element) -> Result<(), Error> {
+        el.check_attrs(&["type", "id", "name"])?;
+        let t = el.require("type")?;
+        if t == "area" {
+            if el.attr("id").is_none() {
+                return Err(el.err(
+                    "an area emitter must be nested in a <shape> or referenced by one (give it an id)",
+                ));
+            }
+            self.area(el)?;
+            return Ok(());
+        }
+        let (props, nested) = Properties::read(el, Dialect::Mitsuba, true)?;
+        if !matches!(t, "point" | "constant") {
+            return Err(builder::unsupported(el, "emitter", UNSUPPORTED_EMITTERS));
+        }
+        if let Some(n) = nested.first() {
+            return Err(match n.tag.as_str() {
+                "medium" | "ref" => n.err("media are not supported yet"),
+                "texture" => n.err("textures are not supported yet"),
+                tag => n.err(format!("unexpected <{tag}> in an emitter")),
+            });
+        }
+        let emitter = if t == "point" {
+            let position = match (
+                props.point_opt("position")?,
+                props.transform_opt("to_world")?,
+            ) {
+                (Some(_), Some(_)) => {
+                    return Err(
+                        props.error("position", "give either 'position' or 'to_world', not both")
+                    )
+                }
+                (Some(p), None) => p,
+                (None, Some(m)) => m.w_axis.truncate(),
+                (None, None) => Vec3::ZERO,
+            };
+            Emitter::Point {
+                position,
+                intensity: props.color("intensity", Vec3::ONE)?,
+            }
+        } else {
+            Emitter::Constant {
+                radiance: props.color("radiance", Vec3::ONE)?,
+            }
+        };
+        props.finish()?;
+        self.b.add_emitter(emitter);
+        Ok(())
+    }
+
+    fn shape(&mut self, el: &'a Element) -> Result<(), Error> {
+        el.check_attrs(&["type", "id", "name"])?;
+        let t = el.require("type")?;
+        let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
+        let mut bsdf = None;
+        let mut radiance = None;
+        for n in nested {
+            let (target, via_ref) = if n.tag == "ref" {
+                (self.deref(n)?, true)
+            } else {
+                (n, false)
+            };
+            match target.tag.as_str() {
+                "bsdf" => {
+                    if bsdf.is_some() {
+                        return Err(n.err("a shape can have only one bsdf"));
+                    }
+                    bsdf = Some(self.bsdf(target)?);
+                }
+                "emitter" => {
+                    if radiance.is_some() {
+                        return Err(n.err("a shape can carry only one emitter"));
+                    }
+                    target.check_attrs(&["type", "id", "name"])?;
+                    let et = target.require("type")?;
+                    if et != "area" {
+                        return Err(
+                            if via_ref
+                                || UNSUPPORTED_EMITTERS.contains(&et)
+                                || et == "point"
+                                || et == "constant"
+                            {
+                                n.err(format!(
+                                    "a shape can only carry an area emitter, not '{et}'"
+                                ))
+                            } else {
+                                builder::unsupported(target, "emitter", UNSUPPORTED_EMITTERS)
+                            },
+                        );
+                    }
+                    radiance = Some(self.area(target)?);
+                }
+                _ => return Err(self.unexpected(n, "<shape>")),
+            }
+        }
+        let bsdf = match bsdf {
+            Some(b) => b,
+            None => self.b.default_bsdf(),
+        };
+        let to_world = props.transform("to_world")?;
+        let flip_normals = props.boolean("flip_normals", false)?;
+        let (m, face_normals) = match t {
+            "obj" => {
+                let path = builder::mesh_path(el, &props, "filename")?;
+                let face_normals = props.boolean("face_normals", false)?;
+                let flip_tex = props.boolean("flip_tex_coords", true)?;
+                (obj::load(&path, flip_tex)?, face_normals)
+            }
+            "ply" => {
+                let path = builder::mesh_path(el, &props, "filename")?;
+                let face_normals = props.boolean("face_normals", false)?;
+                (ply::load(&path)?, face_normals)
+            }
+            "rectangle" => (mesh::rectangle(), false),
+            "cube" => (mesh::cube(), false),
+            "disk" => (mesh::disk(mesh::DISK_SEGMENTS), false),
+            "sphere" => {
+                let center = props.point("center", Vec3::ZERO)?;
+                let radius = props.float("radius", 1.0)?;
+                props.finish()?;
+                let emitter = radiance.map(|r| self.b.add_emitter(Emitter::Area { radiance: r }));
+                return self.b.add_sphere(
+                    &props,
+                    center,
+                    radius,
+                    to_world,
+                    flip_normals,
+                    bsdf,
+                    emitter,
+                );
+            }
+            _ => return Err(builder::unsupported(el, "shape", SHAPES)),
+        };
+        props.finish()?;
+        let emitter = radiance.map(|r| self.b.add_emitter(Emitter::Area { radiance: r }));
+        self.b
+            .add_mesh(el, m, to_world, face_normals, flip_normals, bsdf, emitter)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::testutil::{error_at, load, mitsuba, TRI_OBJ};
+    use glam::{Mat4, Vec4};
+
+    fn close(a: f32, b: f32) -> bool {
+        (a - b).abs() < 1e-4 * (1.0 + b.abs())
+    }
+
+    #[test]
+    fn fov_axis_conversions() {
+        let deg = |x: f64| x.to_radians();
+        // y: tan(fx/2) = tan(fy/2) * aspect.
+        let fx = fov_x(40.0, "y", 200, 100).unwrap();
+        assert!((deg(fx / 2.0).tan() - 2.0 * deg(20.0).tan()).abs() < 1e-12);
+        // smaller/larger pick y/x for a wide image, x/y for a tall one.
+        assert_eq!(fov_x(40.0, "smaller", 200, 100), fov_x(40.0, "y", 200, 100));
+        assert_eq!(fov_x(40.0, "larger", 200, 100), Some(40.0));
+        assert_eq!(fov_x(40.0, "smaller", 100, 200), Some(40.0));
+        assert_eq!(fov_x(40.0, "larger", 100, 200), fov_x(40.0, "y", 100, 200));
+        // diagonal: tan(fx/2) = tan(fd/2) * w / sqrt(w^2 + h^2).
+        let fx = fov_x(60.0, "diagonal", 300, 400).unwrap();
+        assert!((deg(fx / 2.0).tan() - deg(30.0).tan() * 300.0 / 500.0).abs() < 1e-12);
+        assert_eq!(fov_x(60.0, "z", 1, 1), None);
+    }
+
+    #[test]
+    fn sensor_film_sampler() {
+        let s = load(
+            &[(
+                "s.xml",
+                r#"<scene version="3.0.0">
+  <sensor type="perspective">
+    <float name="fov" value="30"/>
+    <string name="fov_axis" value="y"/>
+    <float name="near_clip" value="0.5"/>
+    <float name="far_clip" value="50"/>
+    <float name="focus_distance" value="3"/>
+    <film type="hdrfilm">
+      <integer name="width" value="320"/><integer name="height" value="160"/>
+      <rfilter type="gaussian"><float name="stddev" value="0.5"/></rfilter>
+      <string name="pixel_format" value="rgb"/><string name="component_format" value="float32"/>
+      <boolean name="banner" value="false"/>
+    </film>
+    <sampler type="stratified"><integer name="sample_count" value="64"/><integer name="seed" value="3"/></sampler>
+  </sensor>
+  <integrator type="path"><integer name="max_depth" value="8"/><boolean name="hide_emitters" value="true"/></integrator>
+</scene>"#,
+            )],
+            &[],
+        )
+        .unwrap();
+        let c = &s.camera;
+        assert_eq!((c.width, c.height, s.spp), (320, 160, 64));
+        assert!(close(
+            c.fov_x_deg,
+            fov_x(30.0, "y", 320, 160).unwrap() as f32
+        ));
+        assert_eq!((c.near_clip, c.far_clip), (0.5, 50.0));
+        assert_eq!(s.integrator.name, "path");
+        assert_eq!(s.integrator.line, Some(16));
+        assert_eq!(
+            s.integrator.params["max_depth"],
+            crate::scene::integrator::Param::Integer(8)
+        );
+        assert_eq!(
+            s.integrator.params["hide_emitters"],
+            crate::scene::integrator::Param::Bool(true)
+        );
+
+        // Defaults: 768x576, fov from focal_length 50mm (diagonal of 35 mm film), 4 spp.
+        let s = load(&[("s.xml", &mitsuba(""))], &[]).unwrap();
+        assert_eq!((s.camera.width, s.camera.height, s.spp), (768, 576, 4));
+        let fd = 2.0 * (43.266615f64 / 100.0).atan();
+        let fx = fov_x(fd.to_degrees(), "diagonal", 768, 576).unwrap();
+        assert!(
+            close(s.camera.fov_x_deg, fx as f32),
+            "{}",
+            s.camera.fov_x_deg
+        );
+        assert_eq!((s.camera.near_clip, s.camera.far_clip), (0.01, 10000.0));
+        assert_eq!(s.integrator.name, "path");
+    }
+
+    #[test]
+    fn lookat_then_translate_composes_in_order() {
+        let s = load(
+            &[(
+                "s.xml",
+                r#"<scene version="3.0.0"><sensor type="perspective">
+  <transform name="to_world">
+    <lookat origin="1,0,0" target="1,0,-1" up="0,1,0"/>
+    <translate value="0,0,5"/>
+  </transform>
+</sensor></scene>"#,
+            )],
+            &[],
+        )
+        .unwrap();
+        let m = s.camera.to_world;
+        // dir = (0,0,-1); left = normalize(cross(up, dir)) = (-1,0,0); up = (0,1,0).
+        assert!(
+            (m * Vec4::new(0.0, 0.0, 1.0, 0.0) - Vec4::new(0.0, 0.0, -1.0, 0.0)).length() < 1e-6
+        );
+        assert!(
+            (m * Vec4::new(1.0, 0.0, 0.0, 0.0) - Vec4::new(-1.0, 0.0, 0.0, 0.0)).length() < 1e-6
+        );
+        assert!((m * Vec4::new(0.0, 1.0, 0.0, 0.0) - Vec4::Y).length() < 1e-6);
+        // The translation applies after the lookat: origin (1,0,0) + (0,0,5).
+        assert!((m.w_axis - Vec4::new(1.0, 0.0, 5.0, 1.0)).length() < 1e-6);
+    }
+
+    #[test]
+    fn transform_ops_on_shapes() {
+        let body = r#"
+<shape type="rectangle"><transform name="to_world"><translate x="1"/><scale value="2"/></transform></shape>
+<shape type="rectangle"><transform name="to_world"><rotate y="1" angle="90"/></transform></shape>
+<shape type="rectangle"><transform name="to_world"><matrix value="1 0 0 10  0 1 0 20  0 0 1 30  0 0 0 1"/></transform></shape>
+<shape type="rectangle"><transform name="to_world"><scale x="2" y="3"/></transform></shape>"#;
+        let s = load(&[("s.xml", &mitsuba(body))], &[]).unwrap();
+        // translate then scale: (-1,-1,0) -> (0,-1,0) -> (0,-2,0).
+        assert_eq!(s.meshes[0].positions[0], Vec3::new(0.0, -2.0, 0.0));
+        // rotation by 90 degrees about +y takes +z to +x.
+        assert!((s.meshes[1].normals[0] - Vec3::X).length() < 1e-6);
+        assert_eq!(s.meshes[2].positions[0], Vec3::new(9.0, 19.0, 30.0));
+        assert!(close(s.meshes[3].area(), 24.0));
+    }
+
+    #[test]
+    fn defaults_substitution_and_overrides() {
+        let xml = r#"<scene version="3.0.0">
+  <default name="spp" value="8"/>
+  <default name="res" value="32"/>
+  <sensor type="perspective">
+    <sampler type="independent"><integer name="sample_count" value="$spp"/></sampler>
+    <film type="hdrfilm"><integer name="width" value="$res"/><integer name="height" value="$res"/></film>
+  </sensor>
+</scene>"#;
+        let s = load(&[("s.xml", xml)], &[]).unwrap();
+        assert_eq!((s.spp, s.camera.width), (8, 32));
+        let s = load(&[("s.xml", xml)], &[("spp", "16")]).unwrap();
+        assert_eq!((s.spp, s.camera.width), (16, 32));
+        let e = error_at(load(&[("s.xml", xml)], &[("spp", "x")]), "s.xml", 5);
+        assert!(e.contains("could not parse integer \"x\""), "{e}");
+        let e = error_at(
+            load(&[("s.xml", &mitsuba("<shape type=\"$kind\"/>"))], &[]),
+            "s.xml",
+            3,
+        );
+        assert!(e.contains("undefined parameter"), "{e}");
+    }
+
+    #[test]
+    fn include_ref_and_ids() {
+        let s = load(
+            &[
+                (
+                    "main.xml",
+                    r#"<scene version="3.0.0">
+  <include filename="frag/shapes.xml"/>
+  <sensor type="perspective"/>
+  <emitter type="area" id="light"><rgb name="radiance" value="10"/></emitter>
+</scene>"#,
+                ),
+                (
+                    "frag/shapes.xml",
+                    r#"<scene version="3.0.0">
+  <include filename="bsdfs.xml"/>
+  <shape type="rectangle"><ref id="red"/><ref id="light"/></shape>
+  <shape type="cube"><ref id="red"/></shape>
+  <shape type="disk"/>
+  <shape type="rectangle"/>
+</scene>"#,
+                ),
+                (
+                    "frag/bsdfs.xml",
+                    r#"<scene version="3.0.0"><bsdf type="diffuse" id="red"><rgb name="reflectance" value="0.8, 0.1, 0.1"/></bsdf></scene>"#,
+                ),
+            ],
+            &[],
+        )
+        .unwrap();
+        assert_eq!(s.meshes.len(), 4);
+        // The referenced BSDF is built once and shared; unnamed shapes share the default.
+        assert_eq!(s.meshes[0].bsdf, s.meshes[1].bsdf);
+        assert_eq!(
+            s.bsdfs[s.meshes[0].bsdf as usize],
+            Bsdf::Diffuse {
+                reflectance: Vec3::new(0.8, 0.1, 0.1)
+            }
+        );
+        assert_eq!(s.meshes[2].bsdf, s.meshes[3].bsdf);
+        assert_eq!(s.bsdfs[s.meshes[2].bsdf as usize], Bsdf::default());
+        assert_eq!(s.bsdfs.len(), 2);
+        let e = s.meshes[0].emitter.unwrap();
+        assert_eq!(
+            s.emitters[e as usize],
+            Emitter::Area {
+                radiance: Vec3::splat(10.0)
+            }
+        );
+        assert_eq!(s.emitters.len(), 1);
+        assert!(s.meshes[1].emitter.is_none());
+    }
+
+    #[test]
+    fn include_errors() {
+        let e = error_at(
+            load(
+                &[
+                    ("a.xml", &mitsuba("<include filename=\"b.xml\"/>")),
+                    (
+                        "b.xml",
+                        "<scene version=\"3.0.0\"><include filename=\"a.xml\"/></scene>",
+                    ),
+                ],
+                &[],
+            ),
+            "b.xml",
+            1,
+        );
+        assert!(e.contains("include cycle"), "{e}");
+        let e = error_at(
+            load(
+                &[("a.xml", &mitsuba("<include filename=\"nope.xml\"/>"))],
+                &[],
+            ),
+            "a.xml",
+            3,
+        );
+        assert!(e.contains("nope.xml") && e.contains("not found"), "{e}");
+        let e = error_at(
+            load(
+                &[
+                    ("a.xml", &mitsuba("<include filename=\"b.xml\"/>")),
+                    (
+                        "b.xml",
+                        "<scene version=\"3.0.0\">\n<shape type=\"teapot\"/></scene>",
+                    ),
+                ],
+                &[],
+            ),
+            "b.xml",
+            2,
+        );
+        assert!(e.contains("unknown shape type 'teapot'"), "{e}");
+    }
+
+    #[test]
+    fn reference_errors() {
+        let e = error_at(
+            load(
+                &[(
+                    "s.xml",
+                    &mitsuba("<shape type=\"cube\"><ref id=\"nope\"/></shape>"),
+                )],
+                &[],
+            ),
+            "s.xml",
+            3,
+        );
+        assert!(e.contains("unknown id 'nope'"), "{e}");
+        let e = error_at(
+            load(
+                &[(
+                    "s.xml",
+                    &mitsuba(
+                        "<bsdf type=\"diffuse\" id=\"a\"/>\n<bsdf type=\"diffuse\" id=\"a\"/>",
+                    ),
+                )],
+                &[],
+            ),
+            "s.xml",
+            4,
+        );
+        assert!(e.contains("duplicate id 'a'"), "{e}");
+        let e = error_at(
+            load(
+                &[(
+                    "s.xml",
+                    &mitsuba("<bsdf type=\"twosided\" id=\"a\"><ref id=\"a\"/></bsdf>"),
+                )],
+                &[],
+            ),
+            "s.xml",
+            3,
+        );
+        assert!(e.contains("cycle"), "{e}");
+    }
+
+    #[test]
+    fn colors_and_spectra() {
+        let body = r#"<bsdf type="diffuse" id="a"><rgb name="reflectance" value="0.25"/></bsdf>
+<bsdf type="diffuse" id="b"><spectrum name="reflectance" value="0.3"/></bsdf>
+<bsdf type="diffuse" id="c"><spectrum name="reflectance" value="400:0.1, 550:0.1, 600:0.9, 700:0.9"/></bsdf>
+<bsdf type="diffuse" id="d"><float name="reflectance" value="0.7"/></bsdf>
+<bsdf type="twosided" id="e"><bsdf type="diffuse"><rgb name="reflectance" value="0.1,0.2,0.3"/></bsdf></bsdf>
+<shape type="sphere"><emitter type="area"><spectrum name="radiance" value="400:0, 500:8, 600:15.6, 700:18.4"/></emitter></shape>"#;
+        let s = load(&[("s.xml", &mitsuba(body))], &[]).unwrap();
+        let refl = |i: usize| match s.bsdfs[i] {
+            Bsdf::Diffuse { reflectance } => reflectance,
+        };
+        assert_eq!(refl(0), Vec3::splat(0.25));
+        assert_eq!(refl(1), Vec3::splat(0.3));
+        let c = refl(2);
+        assert!(c.x > 2.0 * c.z && c.x <= 1.0, "{c}");
+        assert_eq!(refl(3), Vec3::splat(0.7));
+        assert_eq!(refl(4), Vec3::new(0.1, 0.2, 0.3));
+        let Emitter::Area { radiance } = s.emitters[0] else {
+            panic!()
+        };
+        // Emission is not clamped to 1; it is warm (red > blue).
+        assert!(radiance.x > 1.0 && radiance.x > radiance.z, "{radiance}");
+        let e = error_at(
+            load(&[("s.xml", &mitsuba("<bsdf type=\"diffuse\"><spectrum name=\"reflectance\" value=\"500:0.1, 400:0.2\"/></bsdf>"))], &[]),
+            "s.xml",
+            3,
+        );
+        assert!(e.contains("increasing"), "{e}");
+        let e = error_at(
+            load(
+                &[(
+                    "s.xml",
+                    &mitsuba(
+                        "<bsdf type=\"diffuse\"><rgb name=\"reflectance\" value=\"1,2\"/></bsdf>",
+                    ),
+                )],
+                &[],
+            ),
+            "s.xml",
+            3,
+        );
+        assert!(e.contains("1 or 3 values"), "{e}");
+    }
+
+    #[test]
+    fn emitters() {
+        let body = r#"<emitter type="point"><point name="position" value="1,2,3"/><rgb name="intensity" value="5"/></emitter>
+<emitter type="point"><transform name="to_world"><translate value="4,5,6"/></transform></emitter>
+<emitter type="constant"><rgb name="radiance" value="0.5"/></emitter>"#;
+        let s = load(&[("s.xml", &mitsuba(body))], &[]).unwrap();
+        assert_eq!(
+            s.emitters[0],
+            Emitter::Point {
+                position: Vec3::new(1.0, 2.0, 3.0),
+                intensity: Vec3::splat(5.0)
+            }
+        );
+        assert_eq!(
+            s.emitters[1],
+            Emitter::Point {
+                position: Vec3::new(4.0, 5.0, 6.0),
+                intensity: Vec3::ONE
+            }
+        );
+        assert_eq!(
+            s.emitters[2],
+            Emitter::Constant {
+                radiance: Vec3::splat(0.5)
+            }
+        );
+        let e = error_at(
+            load(&[("s.xml", &mitsuba("<emitter type=\"spot\"/>"))], &[]),
+            "s.xml",
+            3,
+        );
+        assert!(
+            e.contains("emitter type 'spot' is not supported yet"),
+            "{e}"
+        );
+        let e = error_at(
+            load(&[("s.xml", &mitsuba("<emitter type=\"lamp\"/>"))], &[]),
+            "s.xml",
+            3,
+        );
+        assert!(e.contains("unknown emitter type 'lamp'"), "{e}");
+        let e = error_at(
+            load(&[("s.xml", &mitsuba("<emitter type=\"area\"/>"))], &[]),
+            "s.xml",
+            3,
+        );
+        assert!(e.contains("nested in a <shape>"), "{e}");
+    }
+
+    #[test]
+    fn spheres() {
+        let body = r#"<shape type="sphere"><point name="center" value="1,0,0"/><float name="radius" value="2"/>
+  <transform name="to_world"><scale value="3"/><rotate z="1" angle="90"/><translate value="0,0,1"/></transform>
+  <boolean name="flip_normals" value="true"/></shape>
+<shape type="sphere"><transform name="to_world">
+  <scale value="1,2,1"/></transform></shape>"#;
+        let e = error_at(load(&[("s.xml", &mitsuba(body))], &[]), "s.xml", 6);
+        assert!(e.contains("non-uniform"), "{e}");
+        let s = load(
+            &[("s.xml", &mitsuba(&body[..body.find("\n<shape").unwrap()]))],
+            &[],
+        )
+        .unwrap();
+        let sp = &s.spheres[0];
+        assert!(
+            (sp.center - Vec3::new(0.0, 3.0, 1.0)).length() < 1e-5,
+            "{}",
+            sp.center
+        );
+        assert!(close(sp.radius, 6.0) && sp.flip_normals);
+    }
+
+    #[test]
+    fn obj_options() {
+        let files = |body: &str| {
+            vec![
+                ("s.xml".to_string(), mitsuba(body)),
+                ("m/t.obj".to_string(), TRI_OBJ.to_string()),
+            ]
+        };
+        let run = |body: &str| {
+            let f = files(body);
+            let refs: Vec<(&str, &str)> = f.iter().map(|(a, b)| (a.as_str(), b.as_str())).collect();
+            load(&refs, &[])
+        };
+        let s =
+            run(r#"<shape type="obj"><string name="filename" value="m/t.obj"/></shape>"#).unwrap();
+        let m = &s.meshes[0];
+        assert_eq!(m.uvs[2], glam::Vec2::new(0.0, 0.0)); // v flipped: 1 - 1
+        assert_eq!(m.normals.len(), 3);
+        let s = run(
+            r#"<shape type="obj"><string name="filename" value="m/t.obj"/>
+<boolean name="flip_tex_coords" value="false"/><boolean name="face_normals" value="true"/>
+<boolean name="flip_normals" value="true"/></shape>"#,
+        )
+        .unwrap();
+        let m = &s.meshes[0];
+        assert_eq!(m.uvs[2], glam::Vec2::new(0.0, 1.0));
+        assert!(m.normals.is_empty());
+        assert_eq!(m.indices[0], [0, 2, 1]);
+        let e = error_at(
+            run("<shape type=\"obj\">\n<string name=\"filename\" value=\"m/none.obj\"/></shape>"),
+            "s.xml",
+            4,
+        );
+        assert!(e.contains("m/none.obj") && e.contains("not found"), "{e}");
+        let e = error_at(run("<shape type=\"obj\"/>"), "s.xml", 3);
+        assert!(e.contains("needs a 'filename'"), "{e}");
+    }
+
+    #[test]
+    fn parameter_errors() {
+        let cases: &[(&str, u32, &str)] = &[
+            ("<shape type=\"cube\">\n<float name=\"radius\" value=\"1\"/></shape>", 4, "unknown parameter 'radius' for shape 'cube'"),
+            ("<shape type=\"sphere\">\n<string name=\"radius\" value=\"1\"/></shape>", 4, "parameter 'radius' of shape 'sphere' must be a float, found a string"),
+            ("<shape type=\"sphere\">\n<float name=\"radius\" value=\"abc\"/></shape>", 4, "could not parse float \"abc\""),
+            ("<shape type=\"sphere\">\n<float name=\"radius\" value=\"nan\"/></shape>", 4, "could not parse float \"nan\""),
+            ("<shape type=\"sphere\"><float name=\"radius\" value=\"1\"/>\n<float name=\"radius\" value=\"2\"/></shape>", 4, "given twice"),
+            ("<bsdf type=\"roughconductor\"/>", 3, "bsdf type 'roughconductor' is not supported yet"),
+            ("<bsdf type=\"velvet\"/>", 3, "unknown bsdf type 'velvet'"),
+            ("<shape type=\"cylinder\"/>", 3, "shape type 'cylinder' is not supported yet"),
+            ("<medium type=\"homogeneous\"/>", 3, "medium type 'homogeneous' is not supported yet"),
+            ("<shape type=\"cube\"><bsdf type=\"dielectric\"/></shape>", 3, "bsdf type 'dielectric' is not supported yet"),
+            ("<shape type=\"cube\" foo=\"1\"/>", 3, "unexpected attribute 'foo'"),
+            ("<shape type=\"cube\"><transform name=\"to_world\"><lookat origin=\"0,0,0\" target=\"0,0,0\"/></transform></shape>", 3, "invalid <lookat>"),
+            ("<shape type=\"cube\"><transform name=\"to_world\"><matrix value=\"1 2 3\"/></transform></shape>", 3, "16 numbers"),
+            ("<shape type=\"cube\"><transform name=\"to_world\"><rotate angle=\"3\"/></transform></shape>", 3, "non-zero axis"),
+        ];
+        for (body, line, msg) in cases {
+            let e = error_at(load(&[("s.xml", &mitsuba(body))], &[]), "s.xml", *line);
+            assert!(e.contains(msg), "{e}\n  wanted: {msg}");
+        }
+        let e = error_at(
+            load(
+                &[(
+                    "s.xml",
+                    "<scene version=\"3.0.0\">\n<sensor type=\"thinlens\"/></scene>",
+                )],
+                &[],
+            ),
+            "s.xml",
+            2,
+        );
+        assert!(
+            e.contains("sensor type 'thinlens' is not supported yet"),
+            "{e}"
+        );
+        let e = error_at(
+            load(&[("s.xml", "<scene version=\"3.0.0\">\n<sensor type=\"perspective\">\n<float name=\"fov\" value=\"30\"/>\n<string name=\"fov_axis\" value=\"z\"/></sensor></scene>")], &[]),
+            "s.xml",
+            4,
+        );
+        assert!(e.contains("fov_axis"), "{e}");
+        let e = error_at(
+            load(
+                &[(
+                    "s.xml",
+                    "<scene version=\"3.0.0\">\n<shape type=\"cube\"/></scene>",
+                )],
+                &[],
+            ),
+            "s.xml",
+            1,
+        );
+        assert!(e.contains("no <sensor>"), "{e}");
+    }
+
+    #[test]
+    fn dialect_detection() {
+        let e = error_at(
+            load(
+                &[("s.xml", "<scene>\n<sensor type=\"perspective\"/></scene>")],
+                &[],
+            ),
+            "s.xml",
+            1,
+        );
+        assert!(e.contains("no version attribute"), "{e}");
+        let e = error_at(
+            load(
+                &[("s.xml", "<scene><integrator type=\"ao\"/></scene>")],
+                &[],
+            ),
+            "s.xml",
+            1,
+        );
+        assert!(e.contains("cannot tell"), "{e}");
+        let e = error_at(
+            load(&[("s.xml", "<scene version=\"three\"/>")], &[]),
+            "s.xml",
+            1,
+        );
+        assert!(e.contains("version"), "{e}");
+        let e = error_at(
+            load(
+                &[("s.xml", "<scene version=\"3.0.0\">\n<sensor>\n</scene>")],
+                &[],
+            ),
+            "s.xml",
+            3,
+        );
+        assert!(e.contains("malformed XML"), "{e}");
+        let e = error_at(load(&[("s.xml", "<world/>")], &[]), "s.xml", 1);
+        assert!(e.contains("<scene>"), "{e}");
+        let _ = Mat4::IDENTITY;
+    }
+}

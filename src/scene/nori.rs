@@ -1,0 +1,334 @@
+//! The Nori dialect: `<scene>` (no version) with `camera`, `sampler`, `integrator`,
+//! `mesh`, `emitter`.
+//!
+//! Supported objects (anything else is "not supported yet" or "unknown"):
+//! - `camera type="perspective"`: `toWorld`, `fov` (horizontal degrees, 30), `width`
+//!   1280, `height` 720, `nearClip` 1e-4, `farClip` 1e4; a nested `rfilter` is ignored.
+//!   Nori's camera frame is Mitsuba's.
+//! - `sampler type="independent"`: `sampleCount` (1).
+//! - `integrator`: any type; its parameters are kept unread in [`IntegratorSpec`].
+//! - `mesh type="obj"`: `filename`, `toWorld`, nested `bsdf` (`diffuse` with `albedo`,
+//!   0.5) and `emitter type="area"` (`radiance`). Nori does not flip texture v.
+//! - top-level `emitter`: `point` (`position`, `power` in W; intensity = power / 4π)
+//!   and `distantdisk` with `thetaA` = 180 (a constant environment: `radiance`;
+//!   `toWorld` is read and has no effect).
+
+use glam::Vec3;
+
+use super::builder::{self, Builder, UNSUPPORTED_BSDFS, UNSUPPORTED_EMITTERS};
+use super::mitsuba::integrator_spec;
+use super::properties::Properties;
+use super::xml::{Dialect, Document, Element};
+use super::{obj, Bsdf, Camera, Emitter, Error, Scene};
+
+/// Loads a Nori scene read by [`super::xml::read`].
+pub fn load(doc: &Document) -> Result<Scene, Error> {
+    let mut b = Builder::default();
+    let mut camera = None;
+    let mut spp = None;
+    let mut integrator = None;
+    for el in &doc.root.children {
+        match el.tag.as_str() {
+            "camera" => {
+                if camera.is_some() {
+                    return Err(el.err("more than one <camera>"));
+                }
+                camera = Some(perspective(el)?);
+            }
+            "sampler" => {
+                if spp.is_some() {
+                    return Err(el.err("more than one <sampler>"));
+                }
+                spp = Some(sampler(el)?);
+            }
+            "integrator" => {
+                if integrator.is_some() {
+                    return Err(el.err("more than one <integrator>"));
+                }
+                integrator = Some(integrator_spec(el, Dialect::Nori)?);
+            }
+            "mesh" => mesh(el, &mut b)?,
+            "emitter" => emitter(el, &mut b)?,
+            "test" => return Err(el.err("Nori <test> scenes are not supported yet")),
+            "medium" => return Err(el.err("media are not supported yet")),
+            t => return Err(el.err(format!("unexpected <{t}> in a Nori <scene>"))),
+        }
+    }
+    let camera = camera.ok_or_else(|| doc.root.err("the scene has no <camera>"))?;
+    let integrator = integrator.ok_or_else(|| doc.root.err("the scene has no <integrator>"))?;
+    Ok(Scene {
+        path: doc.root.file.as_ref().clone(),
+        camera,
+        spp: spp.unwrap_or(1),
+        integrator,
+        meshes: b.meshes,
+        spheres: b.spheres,
+        bsdfs: b.bsdfs,
+        emitters: b.emitters,
+    })
+}
+
+fn perspective(el: &Element) -> Result<Camera, Error> {
+    el.check_attrs(&["type"])?;
+    if el.require("type")? != "perspective" {
+        return Err(builder::unsupported(el, "camera", &[]));
+    }
+    let (props, nested) = Properties::read(el, Dialect::Nori, false)?;
+    for n in nested {
+        if n.tag != "rfilter" {
+            return Err(n.err(format!("unexpected <{}> in <camera>", n.tag)));
+        }
+        Properties::read(n, Dialect::Nori, false)?; // accepted and ignored
+    }
+    let fov = props.float("fov", 30.0)?;
+    if !(fov > 0.0 && fov < 180.0) {
+        return Err(props.error(
+            "fov",
+            format!("fov must be in (0, 180) degrees, found {fov}"),
+        ));
+    }
+    let camera = Camera {
+        to_world: props.transform("toWorld")?,
+        fov_x_deg: fov,
+        near_clip: props.float("nearClip", 1e-4)?,
+        far_clip: props.float("farClip", 1e4)?,
+        width: props.positive("width", 1280)?,
+        height: props.positive("height", 720)?,
+    };
+    if !(camera.near_clip > 0.0 && camera.far_clip > camera.near_clip) {
+        return Err(props.object_error("need 0 < nearClip < farClip"));
+    }
+    props.finish()?;
+    Ok(camera)
+}
+
+fn sampler(el: &Element) -> Result<u32, Error> {
+    el.check_attrs(&["type"])?;
+    let t = el.require("type")?;
+    if t != "independent" {
+        return Err(el.err(format!("unknown sampler type '{t}'")));
+    }
+    let (props, nested) = Properties::read(el, Dialect::Nori, false)?;
+    if let Some(n) = nested.first() {
+        return Err(n.err(format!("unexpected <{}> in <sampler>", n.tag)));
+    }
+    let spp = props.positive("sampleCount", 1)?;
+    props.finish()?;
+    Ok(spp)
+}
+
+fn mesh(el: &Element, b: &mut Builder) -> Result<(), Error> {
+    el.check_attrs(&["type"])?;
+    if el.require("type")? != "obj" {
+        return Err(builder::unsupported(el, "mesh", &[]));
+    }
+    let (props, nested) = Properties::read(el, Dialect::Nori, false)?;
+    let mut bsdf = None;
+    let mut radiance = None;
+    for n in nested {
+        match n.tag.as_str() {
+            "bsdf" if bsdf.is_none() => bsdf = Some(nori_bsdf(n, b)?),
+            "emitter" if radiance.is_none() => {
+                n.check_attrs(&["type"])?;
+                let et = n.require("type")?;
+                if et != "area" {
+                    return Err(n.err(format!("a mesh can only carry an area emitter, not '{et}'")));
+                }
+                let (p, nn) = Properties::read(n, Dialect::Nori, true)?;
+                if let Some(x) = nn.first() {
+                    return Err(x.err(format!("unexpected <{}> in an emitter", x.tag)));
+                }
+                radiance = Some(
+                    p.color_opt("radiance")?
+                        .ok_or_else(|| p.object_error("area emitter needs a 'radiance'"))?,
+                );
+                p.finish()?;
+            }
+            "bsdf" | "emitter" => {
+                return Err(n.err(format!("a mesh can have only one <{}>", n.tag)))
+            }
+            "medium" => return Err(n.err("media are not supported yet")),
+            t => return Err(n.err(format!("unexpected <{t}> in <mesh>"))),
+        }
+    }
+    let path = builder::mesh_path(el, &props, "filename")?;
+    let to_world = props.transform("toWorld")?;
+    props.finish()?;
+    let m = obj::load(&path, false)?;
+    let bsdf = match bsdf {
+        Some(i) => i,
+        None => b.default_bsdf(),
+    };
+    let emitter = radiance.map(|r| b.add_emitter(Emitter::Area { radiance: r }));
+    b.add_mesh(el, m, to_world, false, false, bsdf, emitter)
+}
+
+fn nori_bsdf(el: &Element, b: &mut Builder) -> Result<u32, Error> {
+    el.check_attrs(&["type"])?;
+    if el.require("type")? != "diffuse" {
+        return Err(builder::unsupported(el, "bsdf", UNSUPPORTED_BSDFS));
+    }
+    let (props, nested) = Properties::read(el, Dialect::Nori, false)?;
+    if let Some(n) = nested.first() {
+        return Err(n.err(format!("unexpected <{}> in <bsdf>", n.tag)));
+    }
+    let reflectance = props.color("albedo", Vec3::splat(0.5))?;
+    props.finish()?;
+    Ok(b.add_bsdf(Bsdf::Diffuse { reflectance }))
+}
+
+fn emitter(el: &Element, b: &mut Builder) -> Result<(), Error> {
+    el.check_attrs(&["type"])?;
+    let t = el.require("type")?;
+    let (props, nested) = Properties::read(el, Dialect::Nori, true)?;
+    if let Some(n) = nested.first() {
+        return Err(n.err(format!("unexpected <{}> in <emitter>", n.tag)));
+    }
+    let e = match t {
+        "point" => Emitter::Point {
+            position: props.point("position", Vec3::ZERO)?,
+            intensity: props
+                .color_opt("power")?
+                .ok_or_else(|| props.object_error("point emitter needs a 'power'"))?
+                / (4.0 * std::f32::consts::PI),
+        },
+        "distantdisk" => {
+            let theta = props.float("thetaA", 180.0)?;
+            if theta != 180.0 {
+                return Err(props.error(
+                    "thetaA",
+                    format!("distantdisk with thetaA = {theta} is not supported yet (only 180, a constant environment)"),
+                ));
+            }
+            props.transform("toWorld")?;
+            Emitter::Constant {
+                radiance: props
+                    .color_opt("radiance")?
+                    .ok_or_else(|| props.object_error("distantdisk needs a 'radiance'"))?,
+            }
+        }
+        "area" => return Err(el.err("an area emitter must be nested in a <mesh>")),
+        _ => return Err(builder::unsupported(el, "emitter", UNSUPPORTED_EMITTERS)),
+    };
+    props.finish()?;
+    b.add_emitter(e);
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::testutil::{error_at, load, TRI_OBJ};
+
+    const SCENE: &str = r#"<scene>
+  <integrator type="path_mis"><integer name="maxDepth" value="5"/></integrator>
+  <sampler type="independent"><integer name="sampleCount" value="32"/></sampler>
+  <camera type="perspective">
+    <transform name="toWorld"><scale value="-1,1,1"/><lookat origin="0,0,5" target="0,0,0" up="0,1,0"/></transform>
+    <float name="fov" value="45"/>
+    <integer name="width" value="64"/><integer name="height" value="48"/>
+  </camera>
+  <mesh type="obj">
+    <string name="filename" value="t.obj"/>
+    <transform name="toWorld"><translate value="0,0,1"/></transform>
+    <bsdf type="diffuse"><color name="albedo" value="0.2,0.4,0.6"/></bsdf>
+    <emitter type="area"><color name="radiance" value="3,3,3"/></emitter>
+  </mesh>
+  <mesh type="obj"><string name="filename" value="t.obj"/></mesh>
+  <emitter type="point"><point name="position" value="1,2,3"/><color name="power" value="100,100,100"/></emitter>
+  <emitter type="distantdisk"><color name="radiance" value="0.6,0.6,0.6"/><float name="thetaA" value="180"/>
+    <transform name="toWorld"><rotate axis="1,0,0" angle="0"/></transform></emitter>
+</scene>"#;
+
+    #[test]
+    fn nori_scene() {
+        let s = load(&[("s.xml", SCENE), ("t.obj", TRI_OBJ)], &[]).unwrap();
+        assert_eq!(s.integrator.name, "path_mis");
+        assert_eq!(s.spp, 32);
+        assert_eq!(
+            (s.camera.width, s.camera.height, s.camera.fov_x_deg),
+            (64, 48, 45.0)
+        );
+        assert_eq!((s.camera.near_clip, s.camera.far_clip), (1e-4, 1e4));
+        // scale -1 on x then lookat: camera x axis = -left = +x here.
+        assert!((s.camera.to_world.x_axis.truncate() - Vec3::X).length() < 1e-6);
+        assert_eq!(s.meshes[0].positions[0], Vec3::new(0.0, 0.0, 1.0));
+        // Nori does not flip texture coordinates.
+        assert_eq!(s.meshes[0].uvs[2], glam::Vec2::new(0.0, 1.0));
+        assert_eq!(
+            s.bsdfs[s.meshes[0].bsdf as usize],
+            Bsdf::Diffuse {
+                reflectance: Vec3::new(0.2, 0.4, 0.6)
+            }
+        );
+        assert_eq!(s.bsdfs[s.meshes[1].bsdf as usize], Bsdf::default());
+        assert_eq!(
+            s.emitters[s.meshes[0].emitter.unwrap() as usize],
+            Emitter::Area {
+                radiance: Vec3::splat(3.0)
+            }
+        );
+        // Nori power (W) -> intensity (W/sr) = power / 4π, as Mitsuba's intensity.
+        let Emitter::Point {
+            position,
+            intensity,
+        } = s.emitters[1]
+        else {
+            panic!()
+        };
+        assert_eq!(position, Vec3::new(1.0, 2.0, 3.0));
+        assert!((intensity.x - 100.0 / (4.0 * std::f32::consts::PI)).abs() < 1e-5);
+        assert_eq!(
+            s.emitters[2],
+            Emitter::Constant {
+                radiance: Vec3::splat(0.6)
+            }
+        );
+    }
+
+    #[test]
+    fn nori_defaults() {
+        let s = load(
+            &[(
+                "s.xml",
+                "<scene><integrator type=\"normals\"/><camera type=\"perspective\"/></scene>",
+            )],
+            &[],
+        )
+        .unwrap();
+        assert_eq!(
+            (s.camera.width, s.camera.height, s.camera.fov_x_deg, s.spp),
+            (1280, 720, 30.0, 1)
+        );
+        let e = load(
+            &[("s.xml", "<scene><camera type=\"perspective\"/></scene>")],
+            &[("a", "b")],
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("Nori"), "{e}");
+    }
+
+    #[test]
+    fn nori_errors() {
+        let cam = "<integrator type=\"ao\"/><camera type=\"perspective\"/>";
+        let cases: &[(&str, u32, &str)] = &[
+            ("<emitter type=\"distantdisk\">\n<float name=\"thetaA\" value=\"30\"/><color name=\"radiance\" value=\"1,1,1\"/></emitter>", 3, "thetaA = 30 is not supported yet"),
+            ("<mesh type=\"obj\"><string name=\"filename\" value=\"t.obj\"/>\n<bsdf type=\"microfacet\"/></mesh>", 3, "bsdf type 'microfacet' is not supported yet"),
+            ("<mesh type=\"obj\"><string name=\"filename\" value=\"t.obj\"/>\n<bsdf type=\"diffuse\"><color name=\"reflectance\" value=\"1,1,1\"/></bsdf></mesh>", 3, "unknown parameter 'reflectance' for bsdf 'diffuse'"),
+            ("<mesh type=\"obj\">\n<string name=\"filename\" value=\"../../pa1/plane.obj\"/></mesh>", 3, "pa1/plane.obj' not found"),
+            ("\n<mesh type=\"ply\"/>", 3, "unknown mesh type 'ply'"),
+            ("\n<emitter type=\"area\"/>", 3, "nested in a <mesh>"),
+            ("\n<rgb name=\"x\" value=\"1\"/>", 3, "unexpected <rgb>"),
+            ("\n<test type=\"ttest\"/>", 3, "not supported yet"),
+        ];
+        for (body, line, msg) in cases {
+            let xml = format!("<scene>{cam}\n{body}</scene>");
+            let e = error_at(
+                load(&[("s.xml", &xml), ("t.obj", TRI_OBJ)], &[]),
+                "s.xml",
+                *line,
+            );
+            assert!(e.contains(msg), "{e}\n  wanted: {msg}");
+        }
+    }
+}

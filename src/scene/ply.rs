@@ -1,0 +1,274 @@
+//! Stanford PLY meshes (ascii, binary little and big endian) through `ply-rs`.
+//!
+//! Element `vertex` with `x`, `y`, `z`; optional `nx`, `ny`, `nz`; optional texture
+//! coordinates `u`/`v`, `s`/`t`, `texture_u`/`texture_v` or `texture_s`/`texture_t`.
+//! Element `face` with a list `vertex_indices` (or `vertex_index`); polygons are
+//! fan-triangulated. Other elements and properties are ignored.
+
+use std::path::Path;
+
+use glam::{Vec2, Vec3};
+use ply_rs::ply::{DefaultElement, Property};
+
+use super::{Error, Mesh};
+
+/// Loads a PLY file.
+pub fn load(path: &Path) -> Result<Mesh, Error> {
+    let bytes = std::fs::read(path).map_err(|e| Error::file(path, format!("cannot read: {e}")))?;
+    check_header(path, &bytes)?;
+    let parser = ply_rs::parser::Parser::<DefaultElement>::new();
+    let ply = parser
+        .read_ply(&mut &bytes[..])
+        .map_err(|e| Error::file(path, format!("malformed PLY: {e}")))?;
+
+    let vertices = ply
+        .payload
+        .get("vertex")
+        .ok_or_else(|| Error::file(path, "PLY file has no 'vertex' element"))?;
+    let mut mesh = Mesh {
+        name: path.display().to_string(),
+        ..Mesh::default()
+    };
+    let uv_names = [
+        ("u", "v"),
+        ("s", "t"),
+        ("texture_u", "texture_v"),
+        ("texture_s", "texture_t"),
+    ];
+    let first = vertices.first();
+    let has_normals = first.is_some_and(|v| ["nx", "ny", "nz"].iter().all(|k| v.contains_key(*k)));
+    let uv_keys = first.and_then(|v| {
+        uv_names
+            .iter()
+            .find(|(a, b)| v.contains_key(*a) && v.contains_key(*b))
+    });
+    for (i, v) in vertices.iter().enumerate() {
+        let get = |key: &str| -> Result<f32, Error> {
+            let value = v.get(key).and_then(scalar).ok_or_else(|| {
+                Error::file(path, format!("vertex {i} has no numeric property '{key}'"))
+            })?;
+            if !value.is_finite() {
+                return Err(Error::file(
+                    path,
+                    format!("vertex {i}: '{key}' is not finite ({value})"),
+                ));
+            }
+            Ok(value as f32)
+        };
+        mesh.positions
+            .push(Vec3::new(get("x")?, get("y")?, get("z")?));
+        if has_normals {
+            mesh.normals
+                .push(Vec3::new(get("nx")?, get("ny")?, get("nz")?));
+        }
+        if let Some((a, b)) = uv_keys {
+            mesh.uvs.push(Vec2::new(get(a)?, get(b)?));
+        }
+    }
+
+    let n = mesh.positions.len() as i64;
+    let faces = ply.payload.get("face").map(Vec::as_slice).unwrap_or(&[]);
+    for (f, face) in faces.iter().enumerate() {
+        let list = face
+            .get("vertex_indices")
+            .or_else(|| face.get("vertex_index"))
+            .ok_or_else(|| Error::file(path, format!("face {f} has no 'vertex_indices' list")))?;
+        let idx = list_indices(list).ok_or_else(|| {
+            Error::file(
+                path,
+                format!("face {f}: 'vertex_indices' is not an integer list"),
+            )
+        })?;
+        if idx.len() < 3 {
+            return Err(Error::file(
+                path,
+                format!("face {f} has {} vertices (at least 3 needed)", idx.len()),
+            ));
+        }
+        if let Some(bad) = idx.iter().find(|&&i| i < 0 || i >= n) {
+            return Err(Error::file(
+                path,
+                format!("face {f}: vertex index {bad} out of range ({n} vertices)"),
+            ));
+        }
+        for k in 1..idx.len() - 1 {
+            mesh.indices
+                .push([idx[0] as u32, idx[k] as u32, idx[k + 1] as u32]);
+        }
+    }
+    Ok(mesh)
+}
+
+fn scalar(p: &Property) -> Option<f64> {
+    Some(match *p {
+        Property::Char(v) => v.into(),
+        Property::UChar(v) => v.into(),
+        Property::Short(v) => v.into(),
+        Property::UShort(v) => v.into(),
+        Property::Int(v) => v.into(),
+        Property::UInt(v) => v.into(),
+        Property::Float(v) => v.into(),
+        Property::Double(v) => v,
+        _ => return None,
+    })
+}
+
+fn list_indices(p: &Property) -> Option<Vec<i64>> {
+    Some(match p {
+        Property::ListChar(v) => v.iter().map(|&i| i.into()).collect(),
+        Property::ListUChar(v) => v.iter().map(|&i| i.into()).collect(),
+        Property::ListShort(v) => v.iter().map(|&i| i.into()).collect(),
+        Property::ListUShort(v) => v.iter().map(|&i| i.into()).collect(),
+        Property::ListInt(v) => v.iter().map(|&i| i.into()).collect(),
+        Property::ListUInt(v) => v.iter().map(|&i| i.into()).collect(),
+        _ => return None,
+    })
+}
+
+/// Rejects headers that would make the parser loop or allocate without bound: an
+/// element with a count but no properties, or more elements than the file has bytes.
+fn check_header(path: &Path, bytes: &[u8]) -> Result<(), Error> {
+    let end = bytes
+        .windows(10)
+        .position(|w| w == b"end_header")
+        .ok_or_else(|| Error::file(path, "not a PLY file (no end_header)"))?;
+    let header = String::from_utf8_lossy(&bytes[..end]);
+    if !header.starts_with("ply") {
+        return Err(Error::file(
+            path,
+            "not a PLY file (does not start with 'ply')",
+        ));
+    }
+    let mut current: Option<(String, u64, usize)> = None;
+    let check = |e: &Option<(String, u64, usize)>| -> Result<(), Error> {
+        if let Some((name, count, props)) = e {
+            if *count > 0 && *props == 0 {
+                return Err(Error::file(
+                    path,
+                    format!("PLY element '{name}' has {count} entries but no properties"),
+                ));
+            }
+            if *count > bytes.len() as u64 {
+                return Err(Error::file(
+                    path,
+                    format!(
+                        "PLY element '{name}' claims {count} entries, more than the file can hold"
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    };
+    for line in header.lines() {
+        let w: Vec<&str> = line.split_whitespace().collect();
+        match w.first() {
+            Some(&"element") => {
+                check(&current)?;
+                let count = w
+                    .get(2)
+                    .and_then(|c| c.parse::<u64>().ok())
+                    .ok_or_else(|| {
+                        Error::file(path, format!("malformed PLY header line \"{line}\""))
+                    })?;
+                current = Some((w.get(1).unwrap_or(&"").to_string(), count, 0));
+            }
+            Some(&"property") => {
+                if let Some(c) = current.as_mut() {
+                    c.2 += 1;
+                }
+            }
+            _ => {}
+        }
+    }
+    check(&current)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::testutil::temp_dir;
+
+    fn ply(bytes: &[u8]) -> Result<Mesh, Error> {
+        let p = temp_dir("ply").join("m.ply");
+        std::fs::write(&p, bytes).unwrap();
+        load(&p)
+    }
+
+    const ASCII: &str = "ply\nformat ascii 1.0\ncomment quad and triangle\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty float s\nproperty float t\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0 0 0 1 0 0\n1 0 0 0 0 1 1 0\n1 1 0 0 0 1 1 1\n0 1 0 0 0 1 0 1\n2 2 0 0 0 1 0 0\n4 0 1 2 3\n3 1 4 2\n";
+
+    #[test]
+    fn ascii_with_normals_uvs_and_quads() {
+        let m = ply(ASCII.as_bytes()).unwrap();
+        assert_eq!((m.positions.len(), m.normals.len(), m.uvs.len()), (5, 5, 5));
+        assert_eq!(m.indices, vec![[0, 1, 2], [0, 2, 3], [1, 4, 2]]);
+        assert_eq!(m.uvs[2], Vec2::new(1.0, 1.0));
+    }
+
+    fn binary(big: bool, index: i32) -> Vec<u8> {
+        let fmt = if big {
+            "binary_big_endian"
+        } else {
+            "binary_little_endian"
+        };
+        let mut b = format!("ply\nformat {fmt} 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nproperty float u\nproperty float v\nelement face 1\nproperty list uchar int vertex_index\nend_header\n").into_bytes();
+        let f32b = |v: f32| {
+            if big {
+                v.to_be_bytes()
+            } else {
+                v.to_le_bytes()
+            }
+        };
+        for p in [
+            [0.0, 0.0, 0.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0, 1.0, 0.0],
+            [0.0, 2.0, 0.0, 0.0, 1.0],
+        ] {
+            for v in p {
+                b.extend(f32b(v));
+            }
+        }
+        b.push(3);
+        for i in [0, 1, index] {
+            b.extend(if big {
+                i.to_be_bytes()
+            } else {
+                i.to_le_bytes()
+            });
+        }
+        b
+    }
+
+    #[test]
+    fn binary_both_endians() {
+        for big in [false, true] {
+            let m = ply(&binary(big, 2)).unwrap();
+            assert_eq!(m.positions[1], Vec3::new(2.0, 0.0, 0.0));
+            assert_eq!(m.uvs[2], Vec2::new(0.0, 1.0));
+            assert!(m.normals.is_empty());
+            assert_eq!(m.indices, vec![[0, 1, 2]]);
+            assert_eq!(m.area(), 2.0);
+        }
+    }
+
+    #[test]
+    fn errors() {
+        for (bytes, msg) in [
+            (binary(false, 3), "vertex index 3 out of range"),
+            (binary(true, -1), "vertex index -1 out of range"),
+            ({ let b = binary(false, 2); b[..b.len() - 5].to_vec() }, "malformed PLY"),
+            (b"hello".to_vec(), "not a PLY file"),
+            (b"ply\nformat ascii 1.0\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n".to_vec(), "no 'vertex' element"),
+            (b"ply\nformat ascii 1.0\nelement vertex 4000000000\nend_header\n".to_vec(), "no properties"),
+            ({
+                // Binary, with vertex 1's x set to NaN (each vertex is 5 floats).
+                let mut b = binary(false, 2);
+                let h = b.windows(11).position(|w| w == b"end_header\n").unwrap() + 11;
+                b[h + 20..h + 24].copy_from_slice(&f32::NAN.to_le_bytes());
+                b
+            }, "not finite"),
+        ] {
+            let e = ply(&bytes).unwrap_err().to_string();
+            assert!(e.contains(msg) && e.contains("m.ply"), "{e}\n  wanted: {msg}");
+        }
+    }
+}

@@ -1,0 +1,493 @@
+//! The one parameter reader (STYLE.md rule 11).
+//!
+//! [`Properties`] holds the value tags of one scene object (`<float name="fov" .../>`,
+//! `<rgb name="reflectance" .../>`, ...). A plugin reads them with typed getters and
+//! defaults; each read is remembered, and [`Properties::finish`] reports any parameter
+//! the plugin did not read, naming the object, the key and the line. A value of the
+//! wrong type is an error at the value's line.
+
+use std::cell::Cell;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::rc::Rc;
+
+use glam::{Mat4, Vec3};
+
+use super::integrator::Param;
+use super::spectrum;
+use super::transform;
+use super::xml::{parse_number, parse_numbers, tokens, Dialect, Element};
+use super::Error;
+
+/// A parameter value as written in the scene file.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Value {
+    Boolean(bool),
+    Integer(i64),
+    Float(f64),
+    String(String),
+    /// `rgb`, `spectrum` (Mitsuba) or `color` (Nori), as linear sRGB.
+    Color(Vec3),
+    Point(Vec3),
+    Vector(Vec3),
+    Transform(Mat4),
+}
+
+impl Value {
+    fn type_name(&self) -> &'static str {
+        match self {
+            Value::Boolean(_) => "a boolean",
+            Value::Integer(_) => "an integer",
+            Value::Float(_) => "a float",
+            Value::String(_) => "a string",
+            Value::Color(_) => "a color",
+            Value::Point(_) => "a point",
+            Value::Vector(_) => "a vector",
+            Value::Transform(_) => "a transform",
+        }
+    }
+}
+
+#[derive(Debug)]
+struct Entry {
+    value: Value,
+    line: u32,
+    read: Cell<bool>,
+}
+
+/// The parameters of one scene object, with typed getters that remember what was read.
+#[derive(Debug)]
+pub struct Properties {
+    /// The object, for messages: `sensor 'perspective'`.
+    object: String,
+    file: Rc<PathBuf>,
+    line: u32,
+    entries: BTreeMap<String, Entry>,
+}
+
+/// Names of Mitsuba spectrum parameters that are not clamped to [0, 1].
+const UNBOUNDED: &[&str] = &["eta", "k", "int_ior", "ext_ior"];
+
+impl Properties {
+    /// Reads the value tags among `el`'s children. Returns the properties and the other
+    /// children (nested objects such as `<bsdf>`, `<film>`, `<ref>`), which the caller
+    /// must handle or reject. `within_emitter` selects Mitsuba's clamping of spectra.
+    pub fn read(
+        el: &Element,
+        dialect: Dialect,
+        within_emitter: bool,
+    ) -> Result<(Properties, Vec<&Element>), Error> {
+        let object = match el.attr("type") {
+            Some(t) => format!("{} '{}'", el.tag, t),
+            None => el.tag.clone(),
+        };
+        let mut props = Properties {
+            object,
+            file: el.file.clone(),
+            line: el.line,
+            entries: BTreeMap::new(),
+        };
+        let mut nested = Vec::new();
+        for child in &el.children {
+            let value = match (dialect, child.tag.as_str()) {
+                (_, "boolean" | "integer" | "float" | "string" | "point" | "vector") => {
+                    scalar(child)?
+                }
+                (_, "transform") => {
+                    child.check_attrs(&["name"])?;
+                    Value::Transform(transform::parse(child)?)
+                }
+                (Dialect::Mitsuba, "rgb") => {
+                    child.check_attrs(&["name", "value"])?;
+                    Value::Color(color(child)?)
+                }
+                (Dialect::Nori, "color") => {
+                    child.check_attrs(&["name", "value"])?;
+                    Value::Color(color(child)?)
+                }
+                (Dialect::Mitsuba, "spectrum") if child.attr("type").is_none() => {
+                    child.check_attrs(&["name", "value", "filename"])?;
+                    Value::Color(spectrum_value(child, within_emitter)?)
+                }
+                _ => {
+                    nested.push(child);
+                    continue;
+                }
+            };
+            let name = child.require("name")?.to_string();
+            if name.is_empty() {
+                return Err(child.err(format!("<{}> needs a non-empty name", child.tag)));
+            }
+            if let Some(prev) = props.entries.get(&name) {
+                return Err(child.err(format!(
+                    "parameter '{name}' of {} is given twice (first at line {})",
+                    props.object, prev.line
+                )));
+            }
+            props.entries.insert(
+                name,
+                Entry {
+                    value,
+                    line: child.line,
+                    read: Cell::new(false),
+                },
+            );
+        }
+        Ok((props, nested))
+    }
+
+    /// The object these properties belong to, for messages (`sensor 'perspective'`).
+    pub fn object(&self) -> &str {
+        &self.object
+    }
+
+    /// Whether parameter `name` was given (does not count as reading it).
+    pub fn has(&self, name: &str) -> bool {
+        self.entries.contains_key(name)
+    }
+
+    /// The line of parameter `name`, or of the object when it was not given.
+    pub fn line_of(&self, name: &str) -> u32 {
+        self.entries.get(name).map_or(self.line, |e| e.line)
+    }
+
+    /// An error at the line of parameter `name` (or of the object).
+    pub fn error(&self, name: &str, message: impl Into<String>) -> Error {
+        Error::at(self.file.as_path(), self.line_of(name), message)
+    }
+
+    /// An error at the object's line.
+    pub fn object_error(&self, message: impl Into<String>) -> Error {
+        Error::at(self.file.as_path(), self.line, message)
+    }
+
+    /// Marks parameters as read that are accepted and have no effect here.
+    pub fn ignore(&self, names: &[&str]) {
+        for n in names {
+            if let Some(e) = self.entries.get(*n) {
+                e.read.set(true);
+            }
+        }
+    }
+
+    fn get(&self, name: &str) -> Option<&Entry> {
+        let e = self.entries.get(name)?;
+        e.read.set(true);
+        Some(e)
+    }
+
+    fn wrong_type(&self, name: &str, e: &Entry, expected: &str) -> Error {
+        Error::at(
+            self.file.as_path(),
+            e.line,
+            format!(
+                "parameter '{name}' of {} must be {expected}, found {}",
+                self.object,
+                e.value.type_name()
+            ),
+        )
+    }
+
+    pub fn float_opt(&self, name: &str) -> Result<Option<f32>, Error> {
+        match self.get(name) {
+            None => Ok(None),
+            Some(Entry {
+                value: Value::Float(v),
+                ..
+            }) => Ok(Some(*v as f32)),
+            Some(Entry {
+                value: Value::Integer(v),
+                ..
+            }) => Ok(Some(*v as f32)),
+            Some(e) => Err(self.wrong_type(name, e, "a float")),
+        }
+    }
+
+    pub fn float(&self, name: &str, default: f32) -> Result<f32, Error> {
+        Ok(self.float_opt(name)?.unwrap_or(default))
+    }
+
+    pub fn integer_opt(&self, name: &str) -> Result<Option<i64>, Error> {
+        match self.get(name) {
+            None => Ok(None),
+            Some(Entry {
+                value: Value::Integer(v),
+                ..
+            }) => Ok(Some(*v)),
+            Some(e) => Err(self.wrong_type(name, e, "an integer")),
+        }
+    }
+
+    pub fn integer(&self, name: &str, default: i64) -> Result<i64, Error> {
+        Ok(self.integer_opt(name)?.unwrap_or(default))
+    }
+
+    /// A positive integer that fits in u32 (image sizes, sample counts).
+    pub fn positive(&self, name: &str, default: u32) -> Result<u32, Error> {
+        match self.integer_opt(name)? {
+            None => Ok(default),
+            Some(v) if v > 0 && v <= i64::from(u32::MAX) => Ok(v as u32),
+            Some(v) => Err(self.error(
+                name,
+                format!(
+                    "parameter '{name}' of {} must be positive, found {v}",
+                    self.object
+                ),
+            )),
+        }
+    }
+
+    pub fn boolean(&self, name: &str, default: bool) -> Result<bool, Error> {
+        match self.get(name) {
+            None => Ok(default),
+            Some(Entry {
+                value: Value::Boolean(v),
+                ..
+            }) => Ok(*v),
+            Some(e) => Err(self.wrong_type(name, e, "a boolean")),
+        }
+    }
+
+    pub fn string_opt(&self, name: &str) -> Result<Option<String>, Error> {
+        match self.get(name) {
+            None => Ok(None),
+            Some(Entry {
+                value: Value::String(v),
+                ..
+            }) => Ok(Some(v.clone())),
+            Some(e) => Err(self.wrong_type(name, e, "a string")),
+        }
+    }
+
+    pub fn string(&self, name: &str, default: &str) -> Result<String, Error> {
+        Ok(self
+            .string_opt(name)?
+            .unwrap_or_else(|| default.to_string()))
+    }
+
+    /// A color (`rgb`, `spectrum`, `color`); a plain float or integer means a grey.
+    pub fn color_opt(&self, name: &str) -> Result<Option<Vec3>, Error> {
+        match self.get(name) {
+            None => Ok(None),
+            Some(Entry {
+                value: Value::Color(v),
+                ..
+            }) => Ok(Some(*v)),
+            Some(Entry {
+                value: Value::Float(v),
+                ..
+            }) => Ok(Some(Vec3::splat(*v as f32))),
+            Some(Entry {
+                value: Value::Integer(v),
+                ..
+            }) => Ok(Some(Vec3::splat(*v as f32))),
+            Some(e) => Err(self.wrong_type(name, e, "a color")),
+        }
+    }
+
+    pub fn color(&self, name: &str, default: Vec3) -> Result<Vec3, Error> {
+        Ok(self.color_opt(name)?.unwrap_or(default))
+    }
+
+    /// A `point` or `vector`.
+    pub fn point_opt(&self, name: &str) -> Result<Option<Vec3>, Error> {
+        match self.get(name) {
+            None => Ok(None),
+            Some(Entry {
+                value: Value::Point(v) | Value::Vector(v),
+                ..
+            }) => Ok(Some(*v)),
+            Some(e) => Err(self.wrong_type(name, e, "a point")),
+        }
+    }
+
+    pub fn point(&self, name: &str, default: Vec3) -> Result<Vec3, Error> {
+        Ok(self.point_opt(name)?.unwrap_or(default))
+    }
+
+    /// A `vector` or `point`.
+    pub fn vector(&self, name: &str, default: Vec3) -> Result<Vec3, Error> {
+        self.point(name, default)
+    }
+
+    pub fn transform_opt(&self, name: &str) -> Result<Option<Mat4>, Error> {
+        match self.get(name) {
+            None => Ok(None),
+            Some(Entry {
+                value: Value::Transform(m),
+                ..
+            }) => Ok(Some(*m)),
+            Some(e) => Err(self.wrong_type(name, e, "a transform")),
+        }
+    }
+
+    /// A transform, identity when absent.
+    pub fn transform(&self, name: &str) -> Result<Mat4, Error> {
+        Ok(self.transform_opt(name)?.unwrap_or(Mat4::IDENTITY))
+    }
+
+    /// Every parameter as written, for objects whose parameters are read elsewhere
+    /// (the integrator). Only booleans, integers, floats and strings are allowed.
+    pub fn into_params(self) -> Result<BTreeMap<String, Param>, Error> {
+        let mut out = BTreeMap::new();
+        for (name, e) in &self.entries {
+            let p = match &e.value {
+                Value::Boolean(v) => Param::Bool(*v),
+                Value::Integer(v) => Param::Integer(*v),
+                Value::Float(v) => Param::Float(*v),
+                Value::String(v) => Param::String(v.clone()),
+                other => {
+                    return Err(Error::at(
+                        self.file.as_path(),
+                        e.line,
+                        format!(
+                            "parameter '{name}' of {} is {}; only booleans, integers, floats and strings are supported here",
+                            self.object,
+                            other.type_name()
+                        ),
+                    ))
+                }
+            };
+            out.insert(name.clone(), p);
+        }
+        Ok(out)
+    }
+
+    /// Errors on the first (by line) parameter no getter read.
+    pub fn finish(&self) -> Result<(), Error> {
+        let mut unread: Vec<(&String, &Entry)> =
+            self.entries.iter().filter(|(_, e)| !e.read.get()).collect();
+        unread.sort_by_key(|(_, e)| e.line);
+        if let Some((name, e)) = unread.first() {
+            let others = if unread.len() > 1 {
+                format!(
+                    " (also unknown: {})",
+                    unread[1..]
+                        .iter()
+                        .map(|(n, _)| format!("'{n}'"))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                )
+            } else {
+                String::new()
+            };
+            return Err(Error::at(
+                self.file.as_path(),
+                e.line,
+                format!("unknown parameter '{name}' for {}{others}", self.object),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// `boolean`, `integer`, `float`, `string`, `point`, `vector`.
+fn scalar(el: &Element) -> Result<Value, Error> {
+    if el.tag == "point" || el.tag == "vector" {
+        el.check_attrs(&["name", "value", "x", "y", "z"])?;
+        return Ok(match vec3_value(el)? {
+            v if el.tag == "point" => Value::Point(v),
+            v => Value::Vector(v),
+        });
+    }
+    el.check_attrs(&["name", "value"])?;
+    let s = el.require("value")?;
+    Ok(match el.tag.as_str() {
+        "boolean" => match s.trim().to_ascii_lowercase().as_str() {
+            "true" => Value::Boolean(true),
+            "false" => Value::Boolean(false),
+            _ => {
+                return Err(el.err(format!(
+                    "could not parse boolean \"{s}\" (must be true or false)"
+                )))
+            }
+        },
+        "integer" => Value::Integer(
+            s.trim()
+                .parse()
+                .map_err(|_| el.err(format!("could not parse integer \"{s}\"")))?,
+        ),
+        "float" => Value::Float(
+            parse_number(s).ok_or_else(|| el.err(format!("could not parse float \"{s}\"")))?,
+        ),
+        _ => Value::String(s.to_string()),
+    })
+}
+
+/// `value="x,y,z"` (or one number for all three), or `x`, `y`, `z` attributes (default 0).
+fn vec3_value(el: &Element) -> Result<Vec3, Error> {
+    if let Some(s) = el.attr("value") {
+        let v = parse_numbers(s)
+            .ok_or_else(|| el.err(format!("could not parse <{}> value \"{s}\"", el.tag)))?;
+        return match v.len() {
+            1 => Ok(Vec3::splat(v[0] as f32)),
+            3 => Ok(Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32)),
+            n => Err(el.err(format!(
+                "<{}> value needs 1 or 3 numbers, found {n}",
+                el.tag
+            ))),
+        };
+    }
+    let mut out = Vec3::ZERO;
+    for (i, name) in ["x", "y", "z"].iter().enumerate() {
+        if let Some(s) = el.attr(name) {
+            out[i] = parse_number(s)
+                .ok_or_else(|| el.err(format!("could not parse '{name}' = \"{s}\"")))?
+                as f32;
+        }
+    }
+    Ok(out)
+}
+
+/// `<rgb value="r,g,b">` / `<color value="r,g,b">`, or one value for all three.
+fn color(el: &Element) -> Result<Vec3, Error> {
+    let s = el.require("value")?;
+    let v = parse_numbers(s)
+        .ok_or_else(|| el.err(format!("could not parse <{}> value \"{s}\"", el.tag)))?;
+    match v.len() {
+        1 => Ok(Vec3::splat(v[0] as f32)),
+        3 => Ok(Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32)),
+        n => Err(el.err(format!(
+            "<{}> needs 1 or 3 values, found {n} in \"{s}\"",
+            el.tag
+        ))),
+    }
+}
+
+/// `<spectrum value="0.5">` (constant) or `value="400:0.1, 500:0.2, ..."` (linear sRGB
+/// via [`spectrum::spectrum_to_srgb`]).
+fn spectrum_value(el: &Element, within_emitter: bool) -> Result<Vec3, Error> {
+    if el.attr("filename").is_some() {
+        return Err(el.err("spectrum files (<spectrum filename=...>) are not supported yet"));
+    }
+    let s = el.require("value")?;
+    let toks: Vec<&str> = tokens(s).collect();
+    if toks.len() == 1 && !toks[0].contains(':') {
+        let v = parse_number(toks[0])
+            .ok_or_else(|| el.err(format!("could not parse constant spectrum \"{s}\"")))?;
+        return Ok(Vec3::splat(v as f32));
+    }
+    let mut wavelengths = Vec::with_capacity(toks.len());
+    let mut values = Vec::with_capacity(toks.len());
+    for t in &toks {
+        let pair = t
+            .split_once(':')
+            .and_then(|(w, v)| Some((parse_number(w)?, parse_number(v)?)))
+            .ok_or_else(|| {
+                el.err(format!(
+                    "could not parse \"{t}\" in <spectrum> (expected wavelength:value pairs)"
+                ))
+            })?;
+        if wavelengths.last().is_some_and(|&last| pair.0 <= last) {
+            return Err(el.err("<spectrum> wavelengths must be strictly increasing"));
+        }
+        wavelengths.push(pair.0);
+        values.push(pair.1);
+    }
+    if wavelengths.is_empty() {
+        return Err(el.err("<spectrum> has an empty value"));
+    }
+    let name = el.attr("name").unwrap_or("");
+    let bounded = !(within_emitter || UNBOUNDED.contains(&name));
+    Ok(spectrum::spectrum_to_srgb(&wavelengths, &values, bounded))
+}

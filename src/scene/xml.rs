@@ -1,0 +1,393 @@
+//! Reading scene XML into an owned element tree: dialect detection, Mitsuba
+//! `<include>`, `<default>` and `$name` substitution, with the file and line of every
+//! element kept for messages.
+//!
+//! The dialect loaders (`mitsuba`, `nori`) walk the [`Element`] tree this produces; they
+//! never see roxmltree.
+
+use std::path::{Path, PathBuf};
+use std::rc::Rc;
+
+use super::Error;
+
+/// Which scene format a file is written in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Dialect {
+    /// Mitsuba 3: `<scene version="3.x.y">`, `<sensor>`, `<shape>`.
+    Mitsuba,
+    /// Nori: `<scene>` without a version, `<camera>`, `<mesh>`.
+    Nori,
+}
+
+/// Nested `<include>` deeper than this is an error (Mitsuba's own limit is 15).
+const MAX_INCLUDE_DEPTH: usize = 32;
+
+/// One XML element after includes and substitutions, with where it was written.
+#[derive(Debug, Clone)]
+pub struct Element {
+    pub tag: String,
+    pub attrs: Vec<(String, String)>,
+    pub children: Vec<Element>,
+    /// The file this element was read from (an included file, for included elements).
+    pub file: Rc<PathBuf>,
+    pub line: u32,
+    /// The folder of the scene file `load` was given (Mitsuba's file resolver also
+    /// searches it, so included fragments may name files relative to the main scene).
+    pub base: Rc<PathBuf>,
+}
+
+impl Element {
+    /// The value of attribute `name`, if present.
+    pub fn attr(&self, name: &str) -> Option<&str> {
+        self.attrs
+            .iter()
+            .find(|(k, _)| k == name)
+            .map(|(_, v)| v.as_str())
+    }
+
+    /// The value of attribute `name`, or an error naming the element.
+    pub fn require(&self, name: &str) -> Result<&str, Error> {
+        self.attr(name)
+            .ok_or_else(|| self.err(format!("<{}> needs a '{}' attribute", self.tag, name)))
+    }
+
+    /// Errors on any attribute not in `allowed`.
+    pub fn check_attrs(&self, allowed: &[&str]) -> Result<(), Error> {
+        for (k, _) in &self.attrs {
+            if !allowed.contains(&k.as_str()) {
+                return Err(self.err(format!("unexpected attribute '{}' in <{}>", k, self.tag)));
+            }
+        }
+        Ok(())
+    }
+
+    /// An error at this element's line.
+    pub fn err(&self, message: impl Into<String>) -> Error {
+        Error::at(self.file.as_path(), self.line, message)
+    }
+
+    /// The folder relative paths inside this element resolve against first.
+    pub fn dir(&self) -> &Path {
+        self.file.parent().unwrap_or(Path::new(""))
+    }
+
+    /// Resolves a file name written in this element: relative to the file holding the
+    /// element, else (as Mitsuba's file resolver does) relative to the main scene's
+    /// folder. On failure, the paths tried.
+    pub fn resolve(&self, name: &str) -> Result<PathBuf, String> {
+        let first = self.dir().join(name);
+        if first.is_file() {
+            return Ok(first);
+        }
+        let second = self.base.join(name);
+        if second != first && second.is_file() {
+            return Ok(second);
+        }
+        if second != first && Path::new(name).is_relative() {
+            Err(format!(
+                "'{}' (nor '{}')",
+                first.display(),
+                second.display()
+            ))
+        } else {
+            Err(format!("'{}'", first.display()))
+        }
+    }
+}
+
+/// A scene file read into an element tree.
+#[derive(Debug)]
+pub struct Document {
+    pub dialect: Dialect,
+    /// The root `<scene>`, its children with includes spliced in.
+    pub root: Element,
+}
+
+/// Reads `path`, detects its dialect and expands it. `defines` override Mitsuba
+/// `<default>`s; they are an error for a Nori scene, which has no defaults.
+pub fn read(path: &Path, defines: &[(String, String)]) -> Result<Document, Error> {
+    let text = read_text(path)?;
+    let doc = parse(path, &text)?;
+    let root = doc.root_element();
+    let dialect = detect(path, &doc, root)?;
+    if dialect == Dialect::Nori && !defines.is_empty() {
+        return Err(Error::file(
+            path,
+            format!(
+                "-D {}=... has no effect: this is a Nori scene, and only Mitsuba 3 scenes have <default> parameters",
+                defines[0].0
+            ),
+        ));
+    }
+    let file = Rc::new(path.to_path_buf());
+    let base = Rc::new(path.parent().unwrap_or(Path::new("")).to_path_buf());
+    let mut expander = Expander {
+        dialect,
+        base: base.clone(),
+        params: defines.to_vec(),
+        stack: vec![canonical(path)],
+    };
+    let line = line_of(&doc, root);
+    let mut attrs = Vec::new();
+    for a in root.attributes() {
+        attrs.push((a.name().to_string(), a.value().to_string()));
+    }
+    let children = expander.children(&doc, root, &file)?;
+    Ok(Document {
+        dialect,
+        root: Element {
+            tag: root.tag_name().name().to_string(),
+            attrs,
+            children,
+            file,
+            line,
+            base,
+        },
+    })
+}
+
+fn read_text(path: &Path) -> Result<String, Error> {
+    let bytes = std::fs::read(path).map_err(|e| {
+        Error::file(
+            path,
+            if e.kind() == std::io::ErrorKind::NotFound {
+                "file not found".to_string()
+            } else {
+                format!("cannot read: {e}")
+            },
+        )
+    })?;
+    String::from_utf8(bytes).map_err(|e| {
+        Error::file(
+            path,
+            format!(
+                "not UTF-8 text (bad byte at offset {})",
+                e.utf8_error().valid_up_to()
+            ),
+        )
+    })
+}
+
+fn parse<'a>(path: &Path, text: &'a str) -> Result<roxmltree::Document<'a>, Error> {
+    roxmltree::Document::parse(text)
+        .map_err(|e| Error::at(path, e.pos().row, format!("malformed XML: {e}")))
+}
+
+fn line_of(doc: &roxmltree::Document, node: roxmltree::Node) -> u32 {
+    doc.text_pos_at(node.range().start).row
+}
+
+fn canonical(path: &Path) -> PathBuf {
+    std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf())
+}
+
+/// Tags only a Mitsuba 3 scene uses at the top level, and tags only Nori uses.
+const MITSUBA_TAGS: &[&str] = &[
+    "sensor", "shape", "default", "include", "film", "texture", "medium", "alias",
+];
+const NORI_TAGS: &[&str] = &["camera", "mesh"];
+
+fn detect(path: &Path, doc: &roxmltree::Document, root: roxmltree::Node) -> Result<Dialect, Error> {
+    let line = line_of(doc, root);
+    let tag = root.tag_name().name();
+    if tag != "scene" {
+        return Err(Error::at(
+            path,
+            line,
+            format!("the root element must be <scene>, found <{tag}>"),
+        ));
+    }
+    if let Some(version) = root.attribute("version") {
+        let parts: Vec<Option<u32>> = version.split('.').map(|p| p.trim().parse().ok()).collect();
+        if parts.len() != 3 || parts.iter().any(|p| p.is_none()) {
+            return Err(Error::at(
+                path,
+                line,
+                format!("could not parse version \"{version}\" (expected three numbers, e.g. \"3.0.0\")"),
+            ));
+        }
+        if parts[0] < Some(2) {
+            return Err(Error::at(
+                path,
+                line,
+                format!("Mitsuba {version} scenes (camelCase parameter names) are not supported; convert the scene to version 3"),
+            ));
+        }
+        return Ok(Dialect::Mitsuba);
+    }
+    let tags: Vec<&str> = root
+        .children()
+        .filter(|n| n.is_element())
+        .map(|n| n.tag_name().name())
+        .collect();
+    if let Some(t) = tags.iter().find(|t| MITSUBA_TAGS.contains(t)) {
+        return Err(Error::at(
+            path,
+            line,
+            format!("<scene> has no version attribute but uses the Mitsuba tag <{t}>; Mitsuba 3 scenes need <scene version=\"3.0.0\">"),
+        ));
+    }
+    if tags.iter().any(|t| NORI_TAGS.contains(t)) {
+        return Ok(Dialect::Nori);
+    }
+    Err(Error::at(
+        path,
+        line,
+        "cannot tell the scene format: <scene> has no version attribute (Mitsuba 3) and no <camera> or <mesh> (Nori)",
+    ))
+}
+
+struct Expander {
+    dialect: Dialect,
+    base: Rc<PathBuf>,
+    /// `$name` substitutions: `-D` defines first, then `<default>`s in document order.
+    params: Vec<(String, String)>,
+    /// Canonical paths of the files being read, outermost first (include cycle guard).
+    stack: Vec<PathBuf>,
+}
+
+impl Expander {
+    fn children(
+        &mut self,
+        doc: &roxmltree::Document,
+        node: roxmltree::Node,
+        file: &Rc<PathBuf>,
+    ) -> Result<Vec<Element>, Error> {
+        let mut out = Vec::new();
+        for child in node.children() {
+            if child.is_text() {
+                if child.text().is_some_and(|t| !t.trim().is_empty()) {
+                    return Err(Error::at(
+                        file.as_path(),
+                        line_of(doc, child),
+                        format!("unexpected text inside <{}>", node.tag_name().name()),
+                    ));
+                }
+                continue;
+            }
+            if !child.is_element() {
+                continue; // comments, processing instructions
+            }
+            let line = line_of(doc, child);
+            let tag = child.tag_name().name().to_string();
+            let mut attrs = Vec::new();
+            for a in child.attributes() {
+                let value = self.substitute(a.value(), file, line)?;
+                attrs.push((a.name().to_string(), value));
+            }
+            let mut el = Element {
+                tag,
+                attrs,
+                children: Vec::new(),
+                file: file.clone(),
+                line,
+                base: self.base.clone(),
+            };
+            if self.dialect == Dialect::Mitsuba && el.tag == "default" {
+                el.check_attrs(&["name", "value"])?;
+                let name = el.require("name")?.to_string();
+                let value = el.require("value")?.to_string();
+                if name.is_empty() {
+                    return Err(el.err("<default> needs a non-empty name"));
+                }
+                if !self.params.iter().any(|(k, _)| *k == name) {
+                    self.params.push((name, value));
+                }
+                continue;
+            }
+            if self.dialect == Dialect::Mitsuba && el.tag == "include" {
+                out.extend(self.include(&el)?);
+                continue;
+            }
+            el.children = self.children(doc, child, file)?;
+            out.push(el);
+        }
+        Ok(out)
+    }
+
+    fn include(&mut self, el: &Element) -> Result<Vec<Element>, Error> {
+        el.check_attrs(&["filename"])?;
+        let name = el.require("filename")?;
+        let path = el
+            .resolve(name)
+            .map_err(|tried| el.err(format!("included file {tried} not found")))?;
+        let canon = canonical(&path);
+        if self.stack.contains(&canon) {
+            return Err(el.err(format!(
+                "include cycle: '{}' is already being read",
+                path.display()
+            )));
+        }
+        if self.stack.len() > MAX_INCLUDE_DEPTH {
+            return Err(el.err(format!(
+                "includes nested deeper than {MAX_INCLUDE_DEPTH} levels"
+            )));
+        }
+        let text = read_text(&path)?;
+        let doc = parse(&path, &text)?;
+        let root = doc.root_element();
+        let file = Rc::new(path);
+        self.stack.push(canon);
+        let result = if root.tag_name().name() == "scene" {
+            self.children(&doc, root, &file)
+        } else {
+            // A file holding a single object: include that object.
+            let line = line_of(&doc, root);
+            let mut attrs = Vec::new();
+            for a in root.attributes() {
+                attrs.push((
+                    a.name().to_string(),
+                    self.substitute(a.value(), &file, line)?,
+                ));
+            }
+            let children = self.children(&doc, root, &file)?;
+            Ok(vec![Element {
+                tag: root.tag_name().name().to_string(),
+                attrs,
+                children,
+                file: file.clone(),
+                line,
+                base: self.base.clone(),
+            }])
+        };
+        self.stack.pop();
+        result
+    }
+
+    /// Mitsuba's `$name` substitution: longest names first; any `$` left is an error.
+    fn substitute(&self, value: &str, file: &Rc<PathBuf>, line: u32) -> Result<String, Error> {
+        if self.dialect != Dialect::Mitsuba || !value.contains('$') {
+            return Ok(value.to_string());
+        }
+        let mut params: Vec<&(String, String)> = self.params.iter().collect();
+        params.sort_by_key(|(k, _)| std::cmp::Reverse(k.len()));
+        let mut s = value.to_string();
+        for (k, v) in params {
+            s = s.replace(&format!("${k}"), v);
+        }
+        if s.contains('$') {
+            return Err(Error::at(
+                file.as_path(),
+                line,
+                format!("undefined parameter in \"{value}\" (no <default> or -D gives it a value)"),
+            ));
+        }
+        Ok(s)
+    }
+}
+
+/// Splits a list of numbers written with commas and/or whitespace.
+pub fn tokens(s: &str) -> impl Iterator<Item = &str> {
+    s.split(|c: char| c == ',' || c.is_whitespace())
+        .filter(|t| !t.is_empty())
+}
+
+/// Parses a finite number; `None` for anything else (including "nan" and "inf").
+pub fn parse_number(s: &str) -> Option<f64> {
+    s.trim().parse::<f64>().ok().filter(|v| v.is_finite())
+}
+
+/// Parses a list of finite numbers written with commas and/or whitespace.
+pub fn parse_numbers(s: &str) -> Option<Vec<f64>> {
+    tokens(s).map(parse_number).collect()
+}
