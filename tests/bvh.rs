@@ -1,0 +1,192 @@
+//! The GLSL BVH traversal against the CPU: closest hits equal a brute-force search
+//! and any-hit agrees, on a real mesh with spheres and on adversarial geometry.
+
+mod common;
+
+use glam::{Vec2, Vec3};
+use wavetrace::accel::{brute_force_closest, prims_from_shapes, Bvh};
+use wavetrace::gpu::layout::HitItem;
+use wavetrace::gpu::{shaders, BindingLayout, Buffer, CommandList, DescriptorSet, Kernel, Location};
+use wavetrace::render::scene_buffers::{SceneBuffers, SceneRecords, SCENE_BINDINGS};
+use wavetrace::scene::{Mesh, Sphere};
+
+/// `QueryRay` of shaders/tests/bvh_query.comp.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct QueryRay {
+    origin: [f32; 3],
+    tmin: f32,
+    dir: [f32; 3],
+    tmax: f32,
+}
+
+/// Runs closest- and any-hit queries for `rays` on the GPU.
+fn gpu_queries(bvh: &Bvh, rays: &[QueryRay]) -> (Vec<HitItem>, Vec<u32>) {
+    let device = common::device();
+    let layout = BindingLayout::new(&device, &[SCENE_BINDINGS, 3], 4).unwrap();
+    let scene = SceneBuffers::upload(&device, &layout, bvh, &SceneRecords::default()).unwrap();
+    let queries = Buffer::from_slice(&device, "queries", rays).unwrap();
+    let closest = Buffer::new(&device, "closest", (rays.len() * 16) as u64, Location::Gpu).unwrap();
+    let any = Buffer::new(&device, "any", (rays.len() * 4) as u64, Location::Gpu).unwrap();
+    let set = DescriptorSet::new(&layout, 1, &[&queries, &closest, &any]).unwrap();
+    let kernel = Kernel::new(&device, "bvh_query", shaders::TESTS_BVH_QUERY, &layout, &[]).unwrap();
+    let mut cmd = CommandList::new(&device).unwrap();
+    let n = rays.len() as u32;
+    cmd.dispatch(&kernel, &[&scene.set, &set], bytemuck::bytes_of(&n), [n.div_ceil(64), 1, 1]);
+    cmd.barrier();
+    cmd.submit_and_wait().unwrap();
+    let mut c: Vec<HitItem> = closest.read(&device).unwrap();
+    let mut a: Vec<u32> = any.read(&device).unwrap();
+    c.truncate(rays.len());
+    a.truncate(rays.len());
+    (c, a)
+}
+
+/// A small deterministic generator (SplitMix64) so failures reproduce.
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f32 {
+        self.0 = self.0.wrapping_add(0x9e3779b97f4a7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58476d1ce4e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d049bb133111eb);
+        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
+    }
+    fn in_box(&mut self, lo: Vec3, hi: Vec3) -> Vec3 {
+        lo + (hi - lo) * Vec3::new(self.next(), self.next(), self.next())
+    }
+}
+
+/// Compares GPU results with the CPU brute force and CPU traversal for every ray.
+fn check(bvh: &Bvh, rays: &[QueryRay]) -> usize {
+    let (closest, any) = gpu_queries(bvh, rays);
+    let mut hits = 0;
+    for (i, r) in rays.iter().enumerate() {
+        let (o, d) = (Vec3::from(r.origin), Vec3::from(r.dir));
+        let want = brute_force_closest(&bvh.prims, o, d, r.tmin, r.tmax);
+        let got = closest[i];
+        match want {
+            None => assert_eq!(got.prim, u32::MAX, "ray {i}: GPU hit prim {} at t={} where brute force misses", got.prim, got.t),
+            Some(w) => {
+                hits += 1;
+                assert_ne!(got.prim, u32::MAX, "ray {i} ({o}, {d}): GPU misses, brute force hits prim {} at t={}", w.prim, w.t);
+                let tol = 1e-5 * w.t.abs().max(1e-3);
+                assert!((got.t - w.t).abs() <= tol, "ray {i}: GPU t={} brute force t={}", got.t, w.t);
+                if got.prim != w.prim {
+                    // Only a tie (two primitives at the same distance) may differ.
+                    let other = bvh.prims[got.prim as usize];
+                    let t_other = brute_force_closest(std::slice::from_ref(&other), o, d, r.tmin, r.tmax).map(|h| h.t);
+                    assert!(t_other.is_some_and(|t| (t - w.t).abs() <= tol), "ray {i}: GPU prim {} is not a tie", got.prim);
+                }
+            }
+        }
+        assert_eq!(any[i] != 0, want.is_some(), "ray {i}: any-hit disagrees with brute force");
+        let cpu = bvh.closest(o, d, r.tmin, r.tmax);
+        assert_eq!(cpu.is_some(), want.is_some(), "ray {i}: CPU traversal disagrees");
+    }
+    hits
+}
+
+fn load_bunny() -> Mesh {
+    let scene = common::load(&common::repo("../shared/scenes/nori/bunny/bunny.xml"));
+    scene.meshes.into_iter().next().expect("bunny mesh")
+}
+
+#[test]
+fn gpu_closest_and_any_hit_equal_brute_force_on_bunny_and_spheres() {
+    let bunny = load_bunny();
+    let (lo, hi) = bunny
+        .positions
+        .iter()
+        .fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(a, b), &p| (a.min(p), b.max(p)));
+    let spheres: Vec<Sphere> = (0..8)
+        .map(|k| Sphere {
+            center: lo + (hi - lo) * Vec3::new(k as f32 / 7.0, 0.5, 0.3),
+            radius: 0.01 + 0.005 * k as f32,
+            bsdf: 0,
+            emitter: None,
+            flip_normals: false,
+        })
+        .collect();
+    let bvh = Bvh::build(prims_from_shapes(&[bunny], &spheres));
+    let mut rng = Rng(7);
+    let pad = (hi - lo) * 0.5;
+    let rays: Vec<QueryRay> = (0..40_000)
+        .map(|i| {
+            let o = rng.in_box(lo - pad, hi + pad);
+            // Half the rays aim at the mesh's box, half point anywhere.
+            let target = if i % 2 == 0 { rng.in_box(lo, hi) } else { rng.in_box(lo - pad, hi + pad) };
+            let d = (target - o).normalize();
+            QueryRay {
+                origin: o.into(),
+                tmin: 0.0,
+                dir: d.into(),
+                tmax: if i % 5 == 0 { (target - o).length() } else { f32::INFINITY },
+            }
+        })
+        .collect();
+    let hits = check(&bvh, &rays);
+    assert!(hits > 10_000, "too few rays hit ({hits}) for the test to mean much");
+}
+
+/// A closed cube of 12 triangles sharing edges and vertices, and a fine grid: rays
+/// aimed exactly at shared edges and vertices must hit (watertightness), never leak.
+#[test]
+fn gpu_rays_through_shared_edges_and_vertices_never_leak() {
+    let n = 16;
+    let mut grid = Mesh {
+        name: "grid".into(),
+        ..Default::default()
+    };
+    for j in 0..=n {
+        for i in 0..=n {
+            grid.positions.push(Vec3::new(i as f32 / n as f32, j as f32 / n as f32, 0.0));
+            grid.uvs.push(Vec2::ZERO);
+        }
+    }
+    for j in 0..n {
+        for i in 0..n {
+            let a = j * (n + 1) + i;
+            grid.indices.push([a, a + 1, a + n + 2]);
+            grid.indices.push([a, a + n + 2, a + n + 1]);
+        }
+    }
+    let bvh = Bvh::build(prims_from_shapes(&[grid], &[]));
+    let mut rng = Rng(3);
+    let mut rays = Vec::new();
+    for j in 1..n {
+        for i in 1..n {
+            // A vertex, the midpoint of a horizontal edge and of a diagonal.
+            for (x, y) in [(i as f32, j as f32), (i as f32 + 0.5, j as f32), (i as f32 + 0.5, j as f32 + 0.5)] {
+                let target = Vec3::new(x / n as f32, y / n as f32, 0.0);
+                let o = target + Vec3::new(rng.next() - 0.5, rng.next() - 0.5, 1.0);
+                rays.push(QueryRay {
+                    origin: o.into(),
+                    tmin: 0.0,
+                    dir: (target - o).normalize().into(),
+                    tmax: f32::INFINITY,
+                });
+            }
+        }
+    }
+    let (closest, any) = gpu_queries(&bvh, &rays);
+    for (i, (c, a)) in closest.iter().zip(&any).enumerate() {
+        assert_ne!(c.prim, u32::MAX, "ray {i} through a shared edge or vertex leaked");
+        assert_eq!(*a, 1, "any-hit ray {i} leaked");
+    }
+    check(&bvh, &rays);
+}
+
+#[test]
+fn gpu_traversal_of_an_empty_scene_misses() {
+    let bvh = Bvh::build(Vec::new());
+    let rays = [QueryRay {
+        origin: [0.0; 3],
+        tmin: 0.0,
+        dir: [0.0, 0.0, 1.0],
+        tmax: f32::INFINITY,
+    }];
+    let (c, a) = gpu_queries(&bvh, &rays);
+    assert_eq!(c[0].prim, u32::MAX);
+    assert_eq!(a[0], 0);
+}

@@ -1,0 +1,50 @@
+//! Shared helpers of the GPU tests. They run on whatever Vulkan device is best (on CI:
+//! lavapipe); a missing device fails the test with the reason.
+
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+
+use wavetrace::gpu::Device;
+use wavetrace::image::Image;
+use wavetrace::render::{RenderOptions, Renderer};
+use wavetrace::scene::Scene;
+
+pub fn device() -> Device {
+    Device::new(std::env::var("WAVETRACE_DEVICE").ok().as_deref()).expect("a Vulkan device (run tools/setup.sh)")
+}
+
+/// Path of a file in the repository.
+pub fn repo(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
+}
+
+/// Writes `text` to a fresh file in a per-test temporary folder and returns its path.
+pub fn temp_file(test: &str, name: &str, text: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("wavetrace-test-{}-{test}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("create temp dir");
+    let path = dir.join(name);
+    std::fs::write(&path, text).expect("write temp file");
+    path
+}
+
+pub fn load(path: &Path) -> Scene {
+    wavetrace::scene::load(path, &[]).unwrap_or_else(|e| panic!("loading {}: {e}", path.display()))
+}
+
+/// Renders `spp` samples (samples `0..spp`) of a scene.
+pub fn render(device: &Device, scene: &Scene, options: &RenderOptions, spp: u32) -> Image {
+    let mut r = Renderer::new(device, scene, options).unwrap_or_else(|e| panic!("setting up render: {e}"));
+    r.render(spp, &mut |_, _| {}).expect("render").0
+}
+
+/// Mean of every channel of every pixel.
+pub fn mean(img: &Image) -> f64 {
+    img.rgb.iter().map(|&v| v as f64).sum::<f64>() / img.rgb.len() as f64
+}
+
+/// The RGB value of pixel (x, y).
+pub fn pixel(img: &Image, x: u32, y: u32) -> [f32; 3] {
+    let i = 3 * (y * img.width + x) as usize;
+    [img.rgb[i], img.rgb[i + 1], img.rgb[i + 2]]
+}
