@@ -9,7 +9,6 @@
 #include "integrator.glsl"
 #include "rng.glsl"
 #include "surface.glsl"
-#include "ray_offset.glsl"
 #include "ao.glsl"
 
 layout(constant_id = 0) const uint INTEGRATOR = INTEGRATOR_AO;
@@ -45,7 +44,7 @@ void main() {
         vec3 wi;
         float weight = ao_sample(s.ns, s.ng, u.xy, frame.ao_uniform != 0u, wi);
         if (weight > 0.0) {
-            push_shadow(ray_offset(s.p, s.ng), r.path, wi, frame.ao_max_t, path.throughput * weight);
+            push_shadow(surface_spawn_origin(s, s.ng), r.path, wi, frame.ao_max_t, path.throughput * weight);
         }
     } else if (INTEGRATOR == INTEGRATOR_SIMPLE) {
         // Point lights on diffuse surfaces (Nori's first lighting integrator): one
@@ -63,7 +62,7 @@ void main() {
         BsdfRecord bsdf = bsdfs[shapes[s.shape].bsdf];
         vec3 f = bsdf.reflectance * INV_PI;
         vec3 contribution = path.throughput * f * light.radiance * (cos_theta / d2) * float(count);
-        vec3 origin = ray_offset(s.p, s.ng);
+        vec3 origin = surface_spawn_origin(s, s.ng);
         push_shadow(origin, r.path, wi, length(light.position - origin) * (1.0 - 1e-5), contribution);
     }
 }

@@ -3,9 +3,15 @@
 #define SURFACE_GLSL
 
 #include "warp.glsl"
+#include "ray_offset.glsl"
+
+// γ(n) = n ε / (1 - n ε) with ε = 2^-24 (PBR 4th ed., sec. 6.8.1), rounded up.
+#define SURFACE_GAMMA5 2.9802326e-7
+#define SURFACE_GAMMA7 4.1723283e-7
 
 struct Surface {
     vec3 p;       // position, interpolated on the primitive (not o + t d)
+    vec3 p_error; // bound on the absolute rounding error of p, per axis
     vec3 ng;      // geometric normal, unit
     vec3 ns;      // shading normal, unit, same hemisphere as ng
     vec2 uv;
@@ -24,12 +30,17 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
         vec3 local = ray_o + t * ray_d - prim.p0;
         s.ng = normalize(local);
         s.p = prim.p0 + prim.p1.x * s.ng;
+        s.p_error = SURFACE_GAMMA5 * abs(s.p);
         s.ns = s.ng;
         // Spherical coordinates as Mitsuba's sphere: u = φ / 2π, v = θ / π.
         s.uv = vec2(atan(s.ng.y, s.ng.x) * (0.5 * INV_PI) + 0.5, acos(clamp(s.ng.z, -1.0, 1.0)) * INV_PI);
     } else {
         float w = 1.0 - u - v;
         s.p = w * prim.p0 + u * prim.p1 + v * prim.p2;
+        // Pharr, Jakob, Humphreys, PBR 4th ed., sec. 6.8.5: error of barycentric
+        // interpolation. It also bounds how far a re-intersection test against this
+        // triangle (whose arithmetic works at the scale of its vertices) can err.
+        s.p_error = SURFACE_GAMMA7 * (abs(w * prim.p0) + abs(u * prim.p1) + abs(v * prim.p2));
         vec3 n = cross(prim.p1 - prim.p0, prim.p2 - prim.p0);
         float len = length(n);
         // Degenerate triangles are dropped at load time; guard anyway.
@@ -68,3 +79,11 @@ void surface_face(inout Surface s, vec3 w) {
 }
 
 #endif
+
+// Origin for a ray leaving surface s on the side of normal n (n = s.ng or -s.ng):
+// pushed past the error bounds of p along n (PBR 4th ed., sec. 6.8.6), then by a few
+// ulps (Wächter and Binder 2019) so that rounding cannot bring it back.
+vec3 surface_spawn_origin(Surface s, vec3 n) {
+    float d = dot(abs(n), s.p_error);
+    return ray_offset(s.p + d * n, n);
+}
