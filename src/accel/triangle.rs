@@ -125,7 +125,15 @@ mod tests {
     use super::*;
 
     fn hit(o: Vec3, d: Vec3, p: [Vec3; 3]) -> Option<TriangleHit> {
-        intersect(&TriangleRay::new(d), o, p[0], p[1], p[2], 0.0, f32::INFINITY)
+        intersect(
+            &TriangleRay::new(d),
+            o,
+            p[0],
+            p[1],
+            p[2],
+            0.0,
+            f32::INFINITY,
+        )
     }
 
     #[test]
