@@ -42,6 +42,8 @@ pub const BVH_MAX_LEAF_SIZE: usize = 8;
 /// leaf count (`#define BVH_COUNT_BITS` in bvh.glsl).
 pub const BVH_COUNT_BITS: u32 = 4;
 
+const _: () = assert!(BVH_MAX_LEAF_SIZE < 1 << BVH_COUNT_BITS);
+
 /// Bins per axis of the SAH build (Wald 2007 finds 16 to 32 as good as a full sweep).
 pub const SAH_BINS: usize = 16;
 
@@ -59,7 +61,7 @@ const MEDIAN_LEAF_SIZE: usize = 4;
 /// float `1 + 4 * 2^-23`: scales a box's far distance so that the three roundings in
 /// `(b - o) * inv_d` never make it smaller than the near one when the exact interval is
 /// non-empty. `#define BVH_TFAR_SCALE` in bvh.glsl.
-pub const BOX_TFAR_SCALE: f32 = 1.000_000_48;
+pub const BOX_TFAR_SCALE: f32 = 1.0 + 4.0 * f32::EPSILON;
 
 /// How [`Bvh::build_with`] chooses splits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -383,10 +385,7 @@ impl Bvh {
         );
         let bounds: Vec<Aabb> = prims.iter().map(prim_bounds).collect();
         // Box centers, not vertex means: 0.5 min + 0.5 max cannot overflow.
-        let centroids = bounds
-            .iter()
-            .map(|b| 0.5 * b.min + 0.5 * b.max)
-            .collect();
+        let centroids = bounds.iter().map(|b| 0.5 * b.min + 0.5 * b.max).collect();
         let mut builder = Builder {
             bounds,
             centroids,
@@ -443,7 +442,10 @@ impl Bvh {
             s.sah_cost += SAH_TRAVERSAL_COST * rel(bounds.area());
             let n = &self.nodes[index as usize];
             let (l, r) = boxes(n);
-            for (b, index, count) in [(l, n.left_index, n.left_count), (r, n.right_index, n.right_count)] {
+            for (b, index, count) in [
+                (l, n.left_index, n.left_count),
+                (r, n.right_index, n.right_count),
+            ] {
                 if b.min.x > b.max.x {
                     continue; // absent child
                 }
@@ -511,7 +513,8 @@ impl Bvh {
                         sphere::intersect(o, d, p0, p.p1[0], tmin, t_hit).map(|t| (t, 0.0, 0.0))
                     } else {
                         let (p1, p2) = (Vec3::from(p.p1), Vec3::from(p.p2));
-                        triangle::intersect(&tr, o, p0, p1, p2, tmin, t_hit).map(|h| (h.t, h.u, h.v))
+                        triangle::intersect(&tr, o, p0, p1, p2, tmin, t_hit)
+                            .map(|h| (h.t, h.u, h.v))
                     };
                     if let Some((t, u, v)) = found {
                         t_hit = t;
@@ -608,4 +611,909 @@ pub fn brute_force_closest(prims: &[Prim], o: Vec3, d: Vec3, tmin: f32, tmax: f3
         }
     }
     hit
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gpu::layout::PRIM_TRIANGLE;
+    use std::collections::HashMap;
+
+    /// splitmix64: a small deterministic generator for test inputs.
+    struct Rng(u64);
+
+    impl Rng {
+        fn next_u64(&mut self) -> u64 {
+            self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+            let mut z = self.0;
+            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+            z ^ (z >> 31)
+        }
+        /// Uniform in [0, 1).
+        fn f(&mut self) -> f32 {
+            (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
+        }
+        fn range(&mut self, lo: f32, hi: f32) -> f32 {
+            lo + (hi - lo) * self.f()
+        }
+        fn vec_in(&mut self, lo: Vec3, hi: Vec3) -> Vec3 {
+            Vec3::new(
+                self.range(lo.x, hi.x),
+                self.range(lo.y, hi.y),
+                self.range(lo.z, hi.z),
+            )
+        }
+        fn dir(&mut self) -> Vec3 {
+            loop {
+                let v = self.vec_in(Vec3::splat(-1.0), Vec3::ONE);
+                let l = v.length_squared();
+                if l > 1e-4 && l <= 1.0 {
+                    return v / l.sqrt();
+                }
+            }
+        }
+        fn below(&mut self, n: usize) -> usize {
+            (self.next_u64() % n as u64) as usize
+        }
+    }
+
+    fn tri(p0: Vec3, p1: Vec3, p2: Vec3) -> Prim {
+        Prim {
+            p0: p0.into(),
+            shape: 0,
+            p1: p1.into(),
+            index: 0,
+            p2: p2.into(),
+            kind: PRIM_TRIANGLE,
+        }
+    }
+
+    fn sphere(c: Vec3, r: f32) -> Prim {
+        Prim {
+            p0: c.into(),
+            shape: 1,
+            p1: [r, 0.0, 0.0],
+            index: 0,
+            p2: [0.0; 3],
+            kind: PRIM_SPHERE,
+        }
+    }
+
+    /// Triangles of an indexed mesh; shared vertices stay bit-identical.
+    fn mesh_prims(positions: &[Vec3], indices: &[[u32; 3]]) -> Vec<Prim> {
+        let mut prims: Vec<Prim> = indices
+            .iter()
+            .map(|ix| {
+                let [a, b, c] = ix.map(|i| positions[i as usize]);
+                tri(a, b, c)
+            })
+            .collect();
+        for (i, p) in prims.iter_mut().enumerate() {
+            p.index = i as u32;
+        }
+        prims
+    }
+
+    fn load_bunny() -> (Vec<Vec3>, Vec<[u32; 3]>) {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../shared/scenes/nori/bunny/bunny.obj"
+        );
+        let opts = tobj::LoadOptions {
+            triangulate: true,
+            single_index: true,
+            ..Default::default()
+        };
+        let (models, _) = tobj::load_obj(path, &opts).expect("bunny.obj");
+        let mut positions = Vec::new();
+        let mut indices = Vec::new();
+        for m in &models {
+            let base = positions.len() as u32;
+            positions.extend(
+                m.mesh
+                    .positions
+                    .chunks(3)
+                    .map(|p| Vec3::new(p[0], p[1], p[2])),
+            );
+            indices.extend(
+                m.mesh
+                    .indices
+                    .chunks(3)
+                    .map(|t| [base + t[0], base + t[1], base + t[2]]),
+            );
+        }
+        (positions, indices)
+    }
+
+    /// Icosphere of radius 1 around the origin, `levels` midpoint subdivisions of an
+    /// icosahedron, vertices shared between faces.
+    fn icosphere(levels: u32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+        let g = (1.0 + 5f32.sqrt()) / 2.0;
+        let mut pos: Vec<Vec3> = [
+            (-1.0, g, 0.0),
+            (1.0, g, 0.0),
+            (-1.0, -g, 0.0),
+            (1.0, -g, 0.0),
+            (0.0, -1.0, g),
+            (0.0, 1.0, g),
+            (0.0, -1.0, -g),
+            (0.0, 1.0, -g),
+            (g, 0.0, -1.0),
+            (g, 0.0, 1.0),
+            (-g, 0.0, -1.0),
+            (-g, 0.0, 1.0),
+        ]
+        .iter()
+        .map(|&(x, y, z)| Vec3::new(x, y, z).normalize())
+        .collect();
+        let mut idx: Vec<[u32; 3]> = vec![
+            [0, 11, 5],
+            [0, 5, 1],
+            [0, 1, 7],
+            [0, 7, 10],
+            [0, 10, 11],
+            [1, 5, 9],
+            [5, 11, 4],
+            [11, 10, 2],
+            [10, 7, 6],
+            [7, 1, 8],
+            [3, 9, 4],
+            [3, 4, 2],
+            [3, 2, 6],
+            [3, 6, 8],
+            [3, 8, 9],
+            [4, 9, 5],
+            [2, 4, 11],
+            [6, 2, 10],
+            [8, 6, 7],
+            [9, 8, 1],
+        ];
+        for _ in 0..levels {
+            let mut mid: HashMap<(u32, u32), u32> = HashMap::new();
+            let mut next = Vec::with_capacity(idx.len() * 4);
+            for [a, b, c] in idx {
+                let mut m = |i: u32, j: u32| {
+                    *mid.entry((i.min(j), i.max(j))).or_insert_with(|| {
+                        pos.push((pos[i as usize] + pos[j as usize]).normalize());
+                        pos.len() as u32 - 1
+                    })
+                };
+                let (ab, bc, ca) = (m(a, b), m(b, c), m(c, a));
+                next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+            }
+            idx = next;
+        }
+        (pos, idx)
+    }
+
+    /// The cube [-1, 1]^3, two triangles per face.
+    fn cube() -> (Vec<Vec3>, Vec<[u32; 3]>) {
+        let pos = (0..8)
+            .map(|i| {
+                Vec3::new(
+                    if i & 1 != 0 { 1.0 } else { -1.0 },
+                    if i & 2 != 0 { 1.0 } else { -1.0 },
+                    if i & 4 != 0 { 1.0 } else { -1.0 },
+                )
+            })
+            .collect();
+        let quads = [
+            [0, 2, 6, 4],
+            [1, 5, 7, 3],
+            [0, 4, 5, 1],
+            [2, 3, 7, 6],
+            [0, 1, 3, 2],
+            [4, 6, 7, 5],
+        ];
+        let idx = quads
+            .iter()
+            .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
+            .collect();
+        (pos, idx)
+    }
+
+    /// An `n` x `n` quad grid over [0, 1]^2 at z = 0, two triangles per quad.
+    fn grid(n: u32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+        let mut pos = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                pos.push(Vec3::new(i as f32 / n as f32, j as f32 / n as f32, 0.0));
+            }
+        }
+        let mut idx = Vec::new();
+        let v = |i: u32, j: u32| j * (n + 1) + i;
+        for j in 0..n {
+            for i in 0..n {
+                // Alternate the diagonal so both orientations of shared edges occur.
+                if (i + j) % 2 == 0 {
+                    idx.push([v(i, j), v(i + 1, j), v(i + 1, j + 1)]);
+                    idx.push([v(i, j), v(i + 1, j + 1), v(i, j + 1)]);
+                } else {
+                    idx.push([v(i, j), v(i + 1, j), v(i, j + 1)]);
+                    idx.push([v(i + 1, j), v(i + 1, j + 1), v(i, j + 1)]);
+                }
+            }
+        }
+        (pos, idx)
+    }
+
+    fn contains(outer: &Aabb, inner: &Aabb) -> bool {
+        outer.min.cmple(inner.min).all() && outer.max.cmpge(inner.max).all()
+    }
+
+    /// Checks the tree's structure: node 0 inner, every child box encloses what it
+    /// holds, each primitive in exactly one leaf, depth and leaf-size bounds, stats.
+    fn validate(bvh: &Bvh) {
+        assert!(!bvh.nodes.is_empty(), "node 0 must exist");
+        let mut seen = vec![0u32; bvh.prims.len()];
+        let mut visited = vec![false; bvh.nodes.len()];
+        let mut todo = vec![(0u32, 0usize)];
+        let (mut leaves, mut max_depth, mut max_leaf) = (0, 0, 0);
+        while let Some((ni, depth)) = todo.pop() {
+            assert!(!visited[ni as usize], "node {ni} reached twice");
+            visited[ni as usize] = true;
+            let n = bvh.nodes[ni as usize];
+            for (min, max, index, count) in [
+                (n.left_min, n.left_max, n.left_index, n.left_count),
+                (n.right_min, n.right_max, n.right_index, n.right_count),
+            ] {
+                let b = Aabb {
+                    min: min.into(),
+                    max: max.into(),
+                };
+                if b.min.x > b.max.x {
+                    assert_eq!(b.min, Vec3::INFINITY, "empty child box");
+                    assert_eq!(b.max, Vec3::NEG_INFINITY, "empty child box");
+                    assert_eq!(count, 0);
+                    continue;
+                }
+                if count > 0 {
+                    leaves += 1;
+                    max_depth = max_depth.max(depth + 1);
+                    max_leaf = max_leaf.max(count as usize);
+                    assert!(count as usize <= BVH_MAX_LEAF_SIZE);
+                    for i in index..index + count {
+                        seen[i as usize] += 1;
+                        assert!(contains(&b, &prim_bounds(&bvh.prims[i as usize])));
+                    }
+                } else {
+                    let c = bvh.nodes[index as usize];
+                    for (cmin, cmax) in [(c.left_min, c.left_max), (c.right_min, c.right_max)] {
+                        let cb = Aabb {
+                            min: cmin.into(),
+                            max: cmax.into(),
+                        };
+                        assert!(cb.min.x > cb.max.x || contains(&b, &cb));
+                    }
+                    todo.push((index, depth + 1));
+                }
+            }
+        }
+        assert!(visited.iter().all(|&v| v), "unreachable nodes");
+        assert!(
+            seen.iter().all(|&s| s == 1),
+            "each primitive in exactly one leaf"
+        );
+        assert!(max_depth <= BVH_STACK_SIZE, "depth {max_depth}");
+        let s = bvh.stats;
+        assert_eq!(s.node_count, bvh.nodes.len());
+        assert_eq!(s.leaf_count, leaves);
+        assert_eq!(s.max_depth, max_depth);
+        assert_eq!(s.max_leaf_size, max_leaf);
+        assert!(s.sah_cost.is_finite() && s.sah_cost >= 0.0);
+    }
+
+    /// Whether a brute-force hit is a rounding artifact of the intersection test: its
+    /// point `o + t d` lies outside the primitive's own bounding box, i.e. the
+    /// conservative slab test says the ray has not entered that box by `t`. This
+    /// happens when the test's error exceeds the distance along the ray: numerically
+    /// degenerate triangles (zero area, collinear, slivers seen edge-on), whose edge
+    /// functions are rounding noise, and coplanar overlapping triangles with vertices
+    /// far from the hit, whose `t` errs by more than the box test's `1 + 2 gamma(3)`.
+    ///
+    /// Any other hit a BVH must reproduce exactly: every ancestor box contains the
+    /// primitive's box, so the traversal enters each of them before `t` (the slab test
+    /// is monotone in the box and in `tmax`) and tests the primitive with the same code.
+    fn is_artifact(bvh: &Bvh, h: &Hit, o: Vec3, d: Vec3, tmin: f32) -> bool {
+        let b = prim_bounds(&bvh.prims[h.prim as usize]);
+        !BoxRay::new(o, d)
+            .slab(b.min.into(), b.max.into(), tmin, h.t)
+            .0
+    }
+
+    /// Closest and any hit through the BVH against brute force over `bvh.prims`:
+    /// exactly the same `t` (the same intersection code runs on the same primitive) and
+    /// the same primitive unless another ties at that `t`; the one exception is a
+    /// closer brute-force hit that `is_artifact`. `any` must agree with `closest`; no
+    /// NaN or infinity in a hit. Returns (rays that hit, artifacts).
+    fn check_rays(bvh: &Bvh, rays: &[(Vec3, Vec3, f32, f32)]) -> (usize, usize) {
+        let (mut hits, mut artifacts) = (0, 0);
+        for &(o, d, tmin, tmax) in rays {
+            let a = bvh.closest(o, d, tmin, tmax);
+            let b = brute_force_closest(&bvh.prims, o, d, tmin, tmax);
+            assert_eq!(bvh.any(o, d, tmin, tmax), a.is_some(), "any: {o} {d}");
+            if let Some(a) = a {
+                hits += 1;
+                let finite = a.t.is_finite() && a.u.is_finite() && a.v.is_finite();
+                assert!(finite && a.t > tmin && a.t < tmax, "{a:?}");
+            }
+            match (a, b) {
+                (None, None) => {}
+                (Some(a), Some(b)) if a.t == b.t => {}
+                (_, Some(b)) if is_artifact(bvh, &b, o, d, tmin) => artifacts += 1,
+                _ => panic!("bvh {a:?} vs brute force {b:?} for {o} {d}"),
+            }
+        }
+        (hits, artifacts)
+    }
+
+    /// `n` rays: half from outside the box aimed at points inside it, half from inside
+    /// in random directions; a few with axis-aligned or zero-component directions.
+    fn rays_for(rng: &mut Rng, lo: Vec3, hi: Vec3, n: usize) -> Vec<(Vec3, Vec3, f32, f32)> {
+        let c = 0.5 * (lo + hi);
+        let r = (hi - lo).length().max(f32::MIN_POSITIVE);
+        (0..n)
+            .map(|i| {
+                let (o, mut d) = if i % 2 == 0 {
+                    let o = c + rng.dir() * r * rng.range(0.6, 2.0);
+                    (o, rng.vec_in(lo, hi) - o)
+                } else {
+                    (rng.vec_in(lo, hi), rng.dir() * r)
+                };
+                if i % 16 == 1 {
+                    d[rng.below(3)] = 0.0; // a zero component
+                }
+                if i % 16 == 3 {
+                    let k = rng.below(3);
+                    d = Vec3::ZERO;
+                    d[k] = if rng.f() < 0.5 { -r } else { r };
+                }
+                let tmax = if i % 8 == 5 {
+                    rng.range(0.1, 1.0)
+                } else {
+                    f32::INFINITY
+                };
+                (o, d, 0.0, tmax)
+            })
+            .collect()
+    }
+
+    fn bounds_of(prims: &[Prim]) -> (Vec3, Vec3) {
+        let mut b = Aabb::EMPTY;
+        prims.iter().for_each(|p| b.grow(&prim_bounds(p)));
+        (b.min, b.max)
+    }
+
+    fn random_soup(rng: &mut Rng, n: usize, scale: f32, offset: Vec3) -> Vec<Prim> {
+        (0..n)
+            .map(|i| {
+                let c = rng.vec_in(Vec3::splat(-1.0), Vec3::ONE);
+                let s = 0.2 * rng.f() * rng.f();
+                let mut p = [c + rng.dir() * s, c + rng.dir() * s, c + rng.dir() * s];
+                if i % 17 == 0 {
+                    p[2] = p[1]; // zero area
+                }
+                if i % 23 == 0 {
+                    p[2] = 0.5 * (p[0] + p[1]); // collinear
+                }
+                tri(
+                    p[0] * scale + offset,
+                    p[1] * scale + offset,
+                    p[2] * scale + offset,
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn stack_size_and_constants_match_glsl() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/common/bvh.glsl");
+        let src = std::fs::read_to_string(path).expect("bvh.glsl");
+        let define = |name: &str| -> String {
+            src.lines()
+                .find_map(|l| {
+                    let mut w = l.split_whitespace();
+                    (w.next() == Some("#define") && w.next() == Some(name))
+                        .then(|| w.next().unwrap_or("").to_string())
+                })
+                .unwrap_or_else(|| panic!("#define {name} missing in bvh.glsl"))
+        };
+        assert_eq!(
+            define("BVH_STACK_SIZE").parse::<usize>().unwrap(),
+            BVH_STACK_SIZE
+        );
+        assert_eq!(define("BVH_COUNT_BITS"), format!("{BVH_COUNT_BITS}u"));
+        assert_eq!(
+            define("BVH_COUNT_MASK"),
+            format!("{}u", (1u32 << BVH_COUNT_BITS) - 1)
+        );
+        assert_eq!(
+            define("BVH_TFAR_SCALE").parse::<f32>().unwrap(),
+            BOX_TFAR_SCALE
+        );
+        // BOX_TFAR_SCALE is 1 + 2 gamma(3) rounded up.
+        let eps = f64::from(f32::EPSILON) / 2.0;
+        let gamma3 = 3.0 * eps / (1.0 - 3.0 * eps);
+        assert!(f64::from(BOX_TFAR_SCALE) >= 1.0 + 2.0 * gamma3);
+        assert!(f64::from(BOX_TFAR_SCALE) < 1.0 + 2.0 * gamma3 + f64::from(f32::EPSILON));
+    }
+
+    /// Compiles a kernel that includes bvh.glsl and calls both entry points, when the
+    /// system glslangValidator is installed (the build uses it for real kernels).
+    #[test]
+    fn glsl_compiles() {
+        let common = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/common");
+        let dir = std::env::temp_dir().join(format!("wavetrace-bvhcheck-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let comp = dir.join("bvhcheck.comp");
+        std::fs::write(
+            &comp,
+            r#"#version 460
+#extension GL_GOOGLE_include_directive : require
+layout(local_size_x = 64) in;
+#include "scene_bindings.glsl"
+#include "bvh.glsl"
+layout(std430, set = 1, binding = 0) buffer Io { vec4 io[]; };
+void main() {
+    uint i = gl_GlobalInvocationID.x;
+    Hit h = bvh_closest(io[2 * i].xyz, io[2 * i + 1].xyz, io[2 * i].w, io[2 * i + 1].w);
+    bool a = bvh_any(io[2 * i].xyz, io[2 * i + 1].xyz, io[2 * i].w, io[2 * i + 1].w);
+    io[2 * i] = vec4(h.t, h.u, h.v, uintBitsToFloat(h.prim + (a ? 1u : 0u)));
+}
+"#,
+        )
+        .unwrap();
+        let out = std::process::Command::new("glslangValidator")
+            .args(["-V", "--target-env", "vulkan1.2"])
+            .arg(format!("-I{common}"))
+            .arg(&comp)
+            .arg("-o")
+            .arg(dir.join("bvhcheck.spv"))
+            .output();
+        let _ = std::fs::remove_dir_all(&dir);
+        match out {
+            Err(e) => eprintln!("glslangValidator not run ({e}); skipping"),
+            Ok(o) => assert!(
+                o.status.success(),
+                "bvh.glsl does not compile:\n{}{}",
+                String::from_utf8_lossy(&o.stdout),
+                String::from_utf8_lossy(&o.stderr)
+            ),
+        }
+    }
+
+    #[test]
+    fn bunny_matches_brute_force() {
+        let (pos, idx) = load_bunny();
+        let bvh = Bvh::build(mesh_prims(&pos, &idx));
+        validate(&bvh);
+        let (lo, hi) = bounds_of(&bvh.prims);
+        let mut rng = Rng(1);
+        let rays = rays_for(&mut rng, lo, hi, 100_000);
+        let (hits, artifacts) = check_rays(&bvh, &rays);
+        assert_eq!(artifacts, 0);
+        assert!(
+            hits > 30_000,
+            "{hits} hits: rays should mostly hit the bunny"
+        );
+    }
+
+    #[test]
+    fn random_soups_match_brute_force() {
+        let mut rng = Rng(2);
+        // Scales from tiny to huge, offset far from the origin for one of them. Beyond
+        // ~1e18 the edge functions (products of two coordinates) overflow f32: the
+        // test then finds nothing, but builds, agrees with brute force and makes no NaN.
+        for (n, scale, offset, hits_expected) in [
+            (400, 1.0, Vec3::ZERO, true),
+            (300, 1e-3, Vec3::ZERO, true),
+            (300, 1e-12, Vec3::new(1e-11, 0.0, 0.0), true),
+            (300, 1e12, Vec3::ZERO, true),
+            (300, 1e17, Vec3::ZERO, true),
+            (300, 1e-2, Vec3::new(1e4, -2e4, 3e3), true),
+            (300, 1e30, Vec3::ZERO, false),
+        ] {
+            let bvh = Bvh::build(random_soup(&mut rng, n, scale, offset));
+            validate(&bvh);
+            let (lo, hi) = bounds_of(&bvh.prims);
+            let rays = rays_for(&mut rng, lo, hi, 20_000);
+            let (hits, artifacts) = check_rays(&bvh, &rays);
+            println!("soup x{scale}: {hits} hits, {artifacts} artifacts (degenerate triangles)");
+            // At most 1%: the 1e-2 soup at 1e4 is numerically degenerate throughout
+            // (ulp 1e-3); the others stay below 0.1%.
+            assert!(artifacts * 100 < rays.len(), "{artifacts}");
+            assert_eq!(hits > 500, hits_expected, "scale {scale}: {hits} hits");
+        }
+    }
+
+    #[test]
+    fn slivers_and_coplanar_overlaps_match_brute_force() {
+        let mut rng = Rng(3);
+        let mut prims = Vec::new();
+        // Slivers: long and a millionth as wide, fanned around the origin.
+        for i in 0..300 {
+            let a = rng.dir();
+            let b = rng.dir() * 2.0;
+            let w = rng.dir() * 1e-6 * (1 + i % 7) as f32;
+            prims.push(tri(a, b, b + w));
+        }
+        // Coplanar overlapping triangles in z = 0.25 and in a tilted plane.
+        let (u, v) = (
+            Vec3::new(1.0, 0.0, 0.3).normalize(),
+            Vec3::new(0.0, 1.0, -0.2).normalize(),
+        );
+        for _ in 0..300 {
+            let p = |r: &mut Rng| Vec3::new(r.range(-1.0, 1.0), r.range(-1.0, 1.0), 0.25);
+            prims.push(tri(p(&mut rng), p(&mut rng), p(&mut rng)));
+            let q = |r: &mut Rng| r.range(-1.0, 1.0) * u + r.range(-1.0, 1.0) * v;
+            prims.push(tri(q(&mut rng), q(&mut rng), q(&mut rng)));
+        }
+        // The same triangle several times.
+        for _ in 0..5 {
+            prims.push(tri(
+                Vec3::new(-1.0, -1.0, -0.5),
+                Vec3::new(1.0, -1.0, -0.5),
+                Vec3::new(0.0, 1.0, -0.5),
+            ));
+        }
+        let bvh = Bvh::build(prims);
+        validate(&bvh);
+        let (lo, hi) = bounds_of(&bvh.prims);
+        let rays = rays_for(&mut rng, lo, hi, 100_000);
+        let (hits, artifacts) = check_rays(&bvh, &rays);
+        println!("slivers, coplanar: {hits} hits, {artifacts} artifacts (edge-on slivers)");
+        assert!(artifacts * 1000 < rays.len(), "{artifacts}");
+        assert!(hits > 10_000, "{hits}");
+    }
+
+    /// Rays aimed exactly at vertices and at points on edges of closed meshes, from
+    /// inside (they must leave) and from outside along the inward normal (they must
+    /// enter there): every one hits, at the target or before it (rounding makes the
+    /// tiny icosphere far from the origin slightly non-convex).
+    #[test]
+    fn closed_meshes_do_not_leak() {
+        let mut rng = Rng(4);
+        let (ipos, iidx) = icosphere(3);
+        let (cpos, cidx) = cube();
+        let mut total = 0;
+        for (pos, idx, scale, offset) in [
+            (&ipos, &iidx, 1.0, Vec3::ZERO),
+            (&ipos, &iidx, 1e-3, Vec3::new(1e3, 0.0, -5e2)),
+            (&ipos, &iidx, 1e4, Vec3::new(0.0, 3e4, 0.0)),
+            (&cpos, &cidx, 1.0, Vec3::ZERO),
+            (&cpos, &cidx, 0.37, Vec3::new(-3.0, 1e2, 0.5)),
+        ] {
+            let pos: Vec<Vec3> = pos.iter().map(|&p| p * scale + offset).collect();
+            let bvh = Bvh::build(mesh_prims(&pos, idx));
+            validate(&bvh);
+            let mut targets: Vec<Vec3> = pos.clone();
+            for &[a, b, c] in idx.iter() {
+                for (i, j) in [(a, b), (b, c), (c, a)] {
+                    let (p, q) = (pos[i as usize], pos[j as usize]);
+                    targets.push(0.5 * (p + q));
+                    for _ in 0..4 {
+                        targets.push(p.lerp(q, rng.f()));
+                    }
+                }
+            }
+            // Face centers of the cube lie on the diagonals: hit with axis-aligned rays.
+            let mut inside = vec![offset, offset + Vec3::new(0.1, -0.2, 0.3) * scale];
+            for _ in 0..6 {
+                inside.push(offset + rng.dir() * 0.5 * scale * rng.f());
+            }
+            for &t in &targets {
+                for &o in &inside {
+                    let d = t - o;
+                    let h = bvh.closest(o, d, 0.0, f32::INFINITY);
+                    let h = h.unwrap_or_else(|| panic!("leak from inside: {o} -> {t}"));
+                    // An edge point computed in f32 may sit a few ulps off the surface.
+                    let slack = 4.0 * f32::EPSILON * t.abs().max_element() / d.length();
+                    assert!(h.t <= 1.0 + 1e-4 + slack, "{h:?} {o} -> {t}");
+                    assert!(bvh.any(o, d, 0.0, f32::INFINITY));
+                    total += 1;
+                }
+                // From outside, roughly along the inward normal.
+                let n = (t - offset).normalize();
+                let o = t + (n * 2.0 + rng.dir() * 0.3) * scale;
+                let h = bvh.closest(o, t - o, 0.0, f32::INFINITY);
+                let h = h.unwrap_or_else(|| panic!("leak from outside: {o} -> {t}"));
+                // An edge point computed in f32 may sit a few ulps off the surface.
+                let slack = 4.0 * f32::EPSILON * t.abs().max_element() / (t - o).length();
+                assert!(h.t <= 1.0 + 1e-4 + slack, "{h:?} {o} -> {t}");
+                total += 1;
+            }
+            // Axis-aligned rays from the center through face centers, edges, corners.
+            for d in [
+                Vec3::X,
+                Vec3::NEG_X,
+                Vec3::Y,
+                Vec3::NEG_Y,
+                Vec3::Z,
+                Vec3::NEG_Z,
+                Vec3::new(1.0, 1.0, 0.0),
+                Vec3::new(0.0, -1.0, 1.0),
+                Vec3::ONE,
+                -Vec3::ONE,
+            ] {
+                assert!(
+                    bvh.closest(offset, d, 0.0, f32::INFINITY).is_some(),
+                    "leak along {d}"
+                );
+            }
+        }
+        assert!(total > 100_000, "{total} rays");
+    }
+
+    /// A fine open grid: rays aimed exactly at interior vertices and edge points, from
+    /// above and below, including axis-aligned rays whose origin lies on the slab
+    /// planes of the leaf boxes (0 * inf in the slab test).
+    #[test]
+    fn grid_vertices_and_edges_do_not_leak() {
+        let mut rng = Rng(5);
+        let n = 64;
+        let (pos, idx) = grid(n);
+        let tilt = glam::Mat3::from_rotation_x(0.3) * glam::Mat3::from_rotation_z(0.2);
+        for transform in [glam::Mat3::IDENTITY, tilt] {
+            let pos: Vec<Vec3> = pos.iter().map(|&p| transform * p).collect();
+            let bvh = Bvh::build(mesh_prims(&pos, &idx));
+            validate(&bvh);
+            let up = transform * Vec3::Z;
+            let mut count = 0;
+            for j in 1..n {
+                for i in 1..n {
+                    let v = |i: u32, j: u32| pos[(j * (n + 1) + i) as usize];
+                    let p = v(i, j);
+                    let mut targets = vec![p, 0.5 * (p + v(i + 1, j)), 0.5 * (p + v(i, j + 1))];
+                    targets.push(p.lerp(v(i + 1, j), rng.f()));
+                    targets.push(p.lerp(v(i, j + 1), rng.f()));
+                    targets.push(p.lerp(v(i + 1, j + 1), rng.f()));
+                    targets.push(p.lerp(v(i - 1, j + 1), rng.f()));
+                    for t in targets {
+                        for o in [t + up, t - up * 0.5, t + up * 0.7 + rng.dir() * 0.5] {
+                            let h = bvh.closest(o, t - o, 0.0, f32::INFINITY);
+                            let h = h.unwrap_or_else(|| panic!("leak: {o} -> {t}"));
+                            assert!((h.t - 1.0).abs() < 1e-4, "{h:?}");
+                            assert!(bvh.any(o, t - o, 0.0, 2.0));
+                            count += 1;
+                        }
+                    }
+                }
+            }
+            assert!(count > 50_000);
+            let (lo, hi) = bounds_of(&bvh.prims);
+            let (_, artifacts) = check_rays(&bvh, &rays_for(&mut rng, lo, hi, 10_000));
+            assert_eq!(artifacts, 0);
+        }
+    }
+
+    #[test]
+    fn spheres_mixed_with_triangles() {
+        let mut rng = Rng(6);
+        let mut prims = random_soup(&mut rng, 300, 1.0, Vec3::ZERO);
+        for _ in 0..60 {
+            prims.push(sphere(
+                rng.vec_in(Vec3::splat(-1.0), Vec3::ONE),
+                0.15 * rng.f(),
+            ));
+        }
+        let far = Vec3::new(1e4, 2e3, -5e3);
+        prims.push(sphere(far, 1e-3)); // tiny and far from the origin
+        let far_big = Vec3::new(-1e4, 3e3, 2e3);
+        prims.push(sphere(far_big, 0.1)); // far from the origin
+        prims.push(sphere(Vec3::new(0.0, -1e4, 0.0), 1e4 - 2.0)); // huge ground
+        prims.push(sphere(Vec3::new(0.3, 0.2, 0.1), 1e-3)); // tiny
+        let bvh = Bvh::build(prims);
+        validate(&bvh);
+        let rays = rays_for(&mut rng, Vec3::splat(-1.5), Vec3::splat(1.5), 60_000);
+        let (_, artifacts) = check_rays(&bvh, &rays);
+        assert!(artifacts * 1000 < rays.len(), "{artifacts}");
+        let prim_at = |c: Vec3| {
+            bvh.prims
+                .iter()
+                .position(|p| Vec3::from(p.p0) == c)
+                .unwrap()
+        };
+        let mut rays = Vec::new();
+        for _ in 0..2000 {
+            let o = rng.vec_in(Vec3::splat(-3.0), Vec3::splat(3.0)) + Vec3::Y * 5.0;
+            // The tiny far sphere, aimed at exactly: f = o - c and d = c - o round
+            // alike, so the closest-point vector l is exactly 0. (With a normalized d,
+            // f32 direction error alone, 6e-8 x 1e4, is most of the radius 1e-3.)
+            let d = far - o;
+            let h = bvh
+                .closest(o, d, 0.0, f32::INFINITY)
+                .expect("far tiny sphere");
+            assert_eq!(h.prim as usize, prim_at(far));
+            let dist = d.length();
+            assert!((h.t * dist - (dist - 1e-3)).abs() <= 1e-6 * dist, "{}", h.t);
+            rays.push((o, d, 0.0, f32::INFINITY));
+            // The r = 0.1 far sphere with normalized directions anywhere within 0.9 r
+            // of its center: the textbook discriminant b^2 - 4ac (b^2 ~ 4e8, ulp 32)
+            // cannot resolve 4 a r^2 = 0.04 here.
+            let target = far_big + rng.dir() * 0.09 * rng.f();
+            let d = (target - o).normalize();
+            let h = bvh.closest(o, d, 0.0, f32::INFINITY).expect("far sphere");
+            assert_eq!(h.prim as usize, prim_at(far_big));
+            let q = o + h.t * d;
+            assert!(((q - far_big).length() - 0.1).abs() < 1e-6 * 1e4, "{q}");
+            rays.push((o, d, 0.0, f32::INFINITY));
+        }
+        let (_, artifacts) = check_rays(&bvh, &rays);
+        assert_eq!(artifacts, 0);
+        // And at the tiny one near the origin, from inside the scene.
+        let tiny = Vec3::new(0.3, 0.2, 0.1);
+        for _ in 0..1000 {
+            let o = tiny + rng.dir() * 0.01;
+            let h = bvh
+                .closest(o, tiny - o, 0.0, f32::INFINITY)
+                .expect("tiny sphere");
+            assert_eq!(Vec3::from(bvh.prims[h.prim as usize].p0), tiny);
+        }
+    }
+
+    #[test]
+    fn empty_single_and_coincident_inputs() {
+        let empty = Bvh::build(Vec::new());
+        validate(&empty);
+        assert_eq!(empty.nodes.len(), 1);
+        assert_eq!(empty.stats.leaf_count, 0);
+        assert!(empty
+            .closest(Vec3::ZERO, Vec3::X, 0.0, f32::INFINITY)
+            .is_none());
+        assert!(!empty.any(Vec3::ZERO, Vec3::X, 0.0, f32::INFINITY));
+
+        let one = Bvh::build(vec![tri(
+            Vec3::new(1.0, -1.0, -1.0),
+            Vec3::new(1.0, 1.0, -1.0),
+            Vec3::new(1.0, 0.0, 1.0),
+        )]);
+        validate(&one);
+        assert_eq!(one.nodes.len(), 1);
+        assert_eq!(one.stats.max_depth, 1);
+        let h = one
+            .closest(Vec3::ZERO, Vec3::X, 0.0, f32::INFINITY)
+            .unwrap();
+        assert_eq!((h.t, h.prim), (1.0, 0));
+        let ball = Bvh::build(vec![sphere(Vec3::new(0.0, 0.0, 5.0), 1.0)]);
+        validate(&ball);
+        assert_eq!(
+            ball.closest(Vec3::ZERO, Vec3::Z, 0.0, f32::INFINITY)
+                .unwrap()
+                .t,
+            4.0
+        );
+
+        let mut rng = Rng(7);
+        let same = tri(Vec3::ZERO, Vec3::X, Vec3::Y);
+        // Identical copies; then same centroid, different sizes; then identical points.
+        // Each set: primitives, whether coplanar overlaps make artifacts expected.
+        let nested = |tilt: f32| -> Vec<Prim> {
+            (0..1000)
+                .map(|i| {
+                    let s = 1.0 + i as f32;
+                    let a = s * tilt * ((i % 7) as f32 - 3.0);
+                    let p0 = Vec3::new(-s, -s, a);
+                    tri(p0, Vec3::new(s, -s, -a), Vec3::new(-s, s, 0.0))
+                })
+                .collect()
+        };
+        let sets = [
+            (vec![same; 1000], false),
+            (nested(0.0), true),
+            (nested(0.05), true),
+            (vec![tri(Vec3::ONE, Vec3::ONE, Vec3::ONE); 100], false),
+            (
+                (0..500)
+                    .map(|i| sphere(Vec3::ONE, 0.1 + i as f32))
+                    .collect(),
+                false,
+            ),
+        ];
+        for (prims, overlapping) in sets {
+            let bvh = Bvh::build(prims);
+            validate(&bvh);
+            let (lo, hi) = bounds_of(&bvh.prims);
+            let rays = rays_for(&mut rng, lo - 0.5, hi + 0.5, 4000);
+            let (hits, artifacts) = check_rays(&bvh, &rays);
+            println!("coincident centroids: {hits} hits, {artifacts} artifacts");
+            if !overlapping {
+                assert_eq!(artifacts, 0);
+            }
+        }
+    }
+
+    /// Exponentially spaced triangles make SAH peel off one per level; the build must
+    /// still keep every leaf within the traversal stack.
+    #[test]
+    fn depth_bound_holds_on_pathological_input() {
+        let prims: Vec<Prim> = (0..1000)
+            .map(|i| {
+                let x = 1.09f32.powi(i);
+                tri(
+                    Vec3::new(x, 0.0, 0.0),
+                    Vec3::new(x * 1.01, 1.0, 0.0),
+                    Vec3::new(x, 0.0, 1.0),
+                )
+            })
+            .collect();
+        for method in [SplitMethod::Sah, SplitMethod::Median] {
+            let bvh = Bvh::build_with(prims.clone(), method);
+            validate(&bvh);
+            assert!(bvh.stats.max_depth <= BVH_STACK_SIZE);
+            let mut rng = Rng(8);
+            let mut rays = Vec::new();
+            for _ in 0..5000 {
+                let x = 1.09f32.powf(rng.range(-5.0, 1005.0));
+                let o = Vec3::new(x, rng.range(-0.5, 1.5), rng.range(-0.5, 1.5));
+                rays.push((
+                    o,
+                    Vec3::new(rng.range(-1.0, 1.0), 0.0, 1.0),
+                    0.0,
+                    f32::INFINITY,
+                ));
+                rays.push((Vec3::new(-1.0, 0.1, 0.1), Vec3::X, 0.0, f32::INFINITY));
+                rays.push((
+                    o - Vec3::Z,
+                    Vec3::new(1.0, 0.0, x * 1e-3),
+                    0.0,
+                    f32::INFINITY,
+                ));
+            }
+            let (_, artifacts) = check_rays(&bvh, &rays);
+            assert_eq!(artifacts, 0);
+        }
+    }
+
+    /// Subdivides each triangle into `k^2`.
+    fn subdivide(pos: &[Vec3], idx: &[[u32; 3]], k: u32) -> Vec<Prim> {
+        let mut prims = Vec::with_capacity(idx.len() * (k * k) as usize);
+        for &[a, b, c] in idx {
+            let (a, b, c) = (pos[a as usize], pos[b as usize], pos[c as usize]);
+            let p = |i: u32, j: u32| {
+                a + (b - a) * (i as f32 / k as f32) + (c - a) * (j as f32 / k as f32)
+            };
+            for j in 0..k {
+                for i in 0..k - j {
+                    prims.push(tri(p(i, j), p(i + 1, j), p(i, j + 1)));
+                    if i + j + 1 < k {
+                        prims.push(tri(p(i + 1, j), p(i + 1, j + 1), p(i, j + 1)));
+                    }
+                }
+            }
+        }
+        prims
+    }
+
+    #[test]
+    fn sah_beats_median_and_builds_fast() {
+        let (pos, idx) = load_bunny();
+        let prims = mesh_prims(&pos, &idx);
+        let sah = Bvh::build(prims.clone());
+        let median = Bvh::build_with(prims, SplitMethod::Median);
+        validate(&sah);
+        validate(&median);
+        println!("bunny {} tris, SAH: {:?}", sah.prims.len(), sah.stats);
+        println!(
+            "bunny {} tris, median: {:?}",
+            median.prims.len(),
+            median.stats
+        );
+        assert!(sah.stats.sah_cost < median.stats.sah_cost);
+        assert!(sah.stats.leaf_count >= sah.prims.len() / BVH_MAX_LEAF_SIZE);
+
+        // The shipped bunny has 2k triangles; 36 per triangle makes it 72k.
+        let big = subdivide(&pos, &idx, 6);
+        assert_eq!(big.len(), idx.len() * 36);
+        let bvh = Bvh::build(big);
+        println!("bunny x36 {} tris, SAH: {:?}", bvh.prims.len(), bvh.stats);
+        validate(&bvh);
+        // Measured about 0.1 s alone (opt-level 1); the bound leaves room for a loaded
+        // machine running the other tests in parallel.
+        assert!(bvh.stats.build_seconds < 1.0, "{:?}", bvh.stats);
+        let mut rng = Rng(9);
+        let (lo, hi) = bounds_of(&bvh.prims);
+        let (_, artifacts) = check_rays(&bvh, &rays_for(&mut rng, lo, hi, 2000));
+        assert_eq!(artifacts, 0);
+    }
 }

@@ -60,3 +60,46 @@ pub fn prims_from_shapes(meshes: &[Mesh], spheres: &[Sphere]) -> Vec<Prim> {
     }
     prims
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    #[test]
+    fn shapes_number_meshes_then_spheres() {
+        let quad = Mesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::ONE, Vec3::Y],
+            indices: vec![[0, 1, 2], [0, 2, 3]],
+            ..Mesh::default()
+        };
+        let tri = Mesh {
+            positions: vec![Vec3::Z, Vec3::X, Vec3::Y],
+            indices: vec![[2, 1, 0]],
+            ..Mesh::default()
+        };
+        let ball = |x: f32| Sphere {
+            center: Vec3::new(x, 0.0, 0.0),
+            radius: 0.5,
+            bsdf: 0,
+            emitter: None,
+            flip_normals: false,
+        };
+        let prims = prims_from_shapes(&[quad, tri], &[ball(3.0), ball(5.0)]);
+        let key: Vec<(u32, u32, u32)> = prims.iter().map(|p| (p.kind, p.shape, p.index)).collect();
+        assert_eq!(
+            key,
+            [
+                (PRIM_TRIANGLE, 0, 0),
+                (PRIM_TRIANGLE, 0, 1),
+                (PRIM_TRIANGLE, 1, 2),
+                (PRIM_SPHERE, 2, 0),
+                (PRIM_SPHERE, 3, 1)
+            ]
+        );
+        assert_eq!(prims[1].p2, [0.0, 1.0, 0.0]);
+        assert_eq!(prims[2].p0, [0.0, 1.0, 0.0]);
+        assert_eq!(prims[4].p0, [5.0, 0.0, 0.0]);
+        assert_eq!(prims[4].p1[0], 0.5);
+    }
+}

@@ -50,35 +50,78 @@ mod tests {
 
     #[test]
     fn unit_sphere_from_outside_and_inside() {
-        let t = intersect(Vec3::new(0.0, 0.0, -3.0), Vec3::Z, Vec3::ZERO, 1.0, 0.0, 10.0);
+        let t = intersect(
+            Vec3::new(0.0, 0.0, -3.0),
+            Vec3::Z,
+            Vec3::ZERO,
+            1.0,
+            0.0,
+            10.0,
+        );
         assert_eq!(t, Some(2.0));
         let t = intersect(Vec3::ZERO, Vec3::Z * 2.0, Vec3::ZERO, 1.0, 0.0, 10.0);
         assert_eq!(t, Some(0.5));
         assert_eq!(
-            intersect(Vec3::new(0.0, 0.0, -3.0), Vec3::Z, Vec3::ZERO, 1.0, 0.0, 2.0),
+            intersect(
+                Vec3::new(0.0, 0.0, -3.0),
+                Vec3::Z,
+                Vec3::ZERO,
+                1.0,
+                0.0,
+                2.0
+            ),
             None
         );
         assert_eq!(
-            intersect(Vec3::new(0.0, 2.0, -3.0), Vec3::Z, Vec3::ZERO, 1.0, 0.0, 10.0),
+            intersect(
+                Vec3::new(0.0, 2.0, -3.0),
+                Vec3::Z,
+                Vec3::ZERO,
+                1.0,
+                0.0,
+                10.0
+            ),
             None
         );
         assert_eq!(
-            intersect(Vec3::new(0.0, 0.0, 3.0), Vec3::Z, Vec3::ZERO, 1.0, 0.0, 10.0),
+            intersect(
+                Vec3::new(0.0, 0.0, 3.0),
+                Vec3::Z,
+                Vec3::ZERO,
+                1.0,
+                0.0,
+                10.0
+            ),
             None
         );
     }
 
     #[test]
-    fn tiny_sphere_far_away() {
-        // The textbook discriminant b^2 - 4ac loses every bit here (b^2 ~ 1e8 vs
-        // r^2 = 1e-6); the chapter-7 form keeps the hit.
+    fn far_spheres() {
+        // The textbook discriminant b^2 - 4ac loses every bit here (b^2 ~ 4e8 with ulp
+        // 32 against 4 a r^2 <= 4); the chapter-7 form keeps the hits.
         let c = Vec3::new(1e4, -3e3, 7e3);
-        let r = 1e-3;
-        for o in [Vec3::ZERO, Vec3::new(1.0, 2.0, 3.0), Vec3::new(-50.0, 0.25, 9.0)] {
-            let d = (c - o).normalize();
-            let t = intersect(o, d, c, r, 0.0, f32::INFINITY).expect("hit");
-            let expect = (c - o).length() - r;
-            assert!((t - expect).abs() <= 1e-6 * expect, "{t} {expect}");
+        for o in [
+            Vec3::ZERO,
+            Vec3::new(1.0, 2.0, 3.0),
+            Vec3::new(-50.0, 0.25, 9.0),
+        ] {
+            // r = 1e-3, aimed exactly (unnormalized d: f = -d, so l = 0).
+            let d = c - o;
+            let t = intersect(o, d, c, 1e-3, 0.0, f32::INFINITY).expect("tiny far sphere");
+            let dist = d.length();
+            assert!((t * dist - (dist - 1e-3)).abs() <= 1e-6 * dist, "{t}");
+            // r = 1, normalized directions at points within 0.9 r of the center.
+            for off in [
+                Vec3::ZERO,
+                Vec3::new(0.9, 0.0, 0.0),
+                Vec3::new(0.0, -0.5, 0.7),
+            ] {
+                let d = (c + off - o).normalize();
+                let t = intersect(o, d, c, 1.0, 0.0, f32::INFINITY).expect("far sphere");
+                let q = o + t * d;
+                assert!(((q - c).length() - 1.0).abs() < 2e-3, "{q}");
+            }
         }
     }
 }

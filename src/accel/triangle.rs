@@ -13,10 +13,14 @@
 //!
 //! Departures from the paper, the same in GLSL:
 //! - no backface culling (the two-sided test of section 4, listing 2 without `#ifdef`);
-//! - the double-precision re-evaluation of zero edge functions is left out: a zero
-//!   edge function is accepted as a hit, which only ever adds hits on edges, never
-//!   loses one (pbrt-v4 6.5.3 makes the same observation), and keeps kernels free of
-//!   fp64 that some GPUs lack;
+//! - the paper's double-precision re-evaluation of zero edge functions (also in
+//!   pbrt-v4's `IntersectTriangle`) is left out: a zero edge function is
+//!   accepted as it is, which can only add hits on exact edges and vertices, never lose
+//!   one, since watertightness rests on the exact negation above, not on fp64; and
+//!   kernels stay free of fp64, which some GPUs lack;
+//! - edge functions are products of two coordinates relative to the ray origin, so
+//!   they overflow f32 beyond about 1e18 (no hits, no NaN) and go denormal below about
+//!   1e-19 (GPUs flushing denormals then miss).
 //! - `t` is computed by one division and compared with `(tmin, tmax)` instead of the
 //!   paper's scaled comparison, so the range is open at both ends.
 
@@ -125,7 +129,15 @@ mod tests {
     use super::*;
 
     fn hit(o: Vec3, d: Vec3, p: [Vec3; 3]) -> Option<TriangleHit> {
-        intersect(&TriangleRay::new(d), o, p[0], p[1], p[2], 0.0, f32::INFINITY)
+        intersect(
+            &TriangleRay::new(d),
+            o,
+            p[0],
+            p[1],
+            p[2],
+            0.0,
+            f32::INFINITY,
+        )
     }
 
     #[test]
