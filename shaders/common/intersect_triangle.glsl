@@ -6,6 +6,11 @@
 #ifndef INTERSECT_TRIANGLE_GLSL
 #define INTERSECT_TRIANGLE_GLSL
 
+// γ(n) = n ε / (1 - n ε), ε = 2^-24, rounded up (accel::triangle::GAMMA*).
+#define TRIANGLE_GAMMA2 1.192093e-7
+#define TRIANGLE_GAMMA3 1.7881396e-7
+#define TRIANGLE_GAMMA5 2.9802326e-7
+
 // Per-ray part: axis permutation k = (kx, ky, kz), kz the largest |d| component, and
 // shear s = (d[kx] / d[kz], d[ky] / d[kz], 1 / d[kz]) making the ray the +z axis.
 struct TriangleRay {
@@ -63,6 +68,22 @@ bool intersect_triangle(TriangleRay tr, vec3 o, vec3 p0, vec3 p1, vec3 p2, float
     float rcp_det = 1.0 / det;
     float th = (eu * az + ev * bz + ew * cz) * rcp_det;
     if (!(th > tmin && th < tmax)) {
+        return false;
+    }
+    // Reject hits whose t is within its own rounding error of zero, which a ray
+    // leaving this very surface produces (PBR 4th ed., sec. 6.8.7).
+    float max_zt = max(max(abs(az), abs(bz)), abs(cz));
+    float max_xt = max(max(abs(ax), abs(bx)), abs(cx));
+    float max_yt = max(max(abs(ay), abs(by)), abs(cy));
+    float delta_z = TRIANGLE_GAMMA3 * max_zt;
+    // Unscaled z in the shear's error, as in accel::triangle.
+    float max_z = max(max(abs(a[kz]), abs(b[kz])), abs(c[kz]));
+    float delta_x = TRIANGLE_GAMMA5 * (max_xt + max_z);
+    float delta_y = TRIANGLE_GAMMA5 * (max_yt + max_z);
+    float delta_e = 2.0 * (TRIANGLE_GAMMA2 * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
+    float max_e = max(max(abs(eu), abs(ev)), abs(ew));
+    float delta_t = 3.0 * (TRIANGLE_GAMMA3 * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * abs(rcp_det);
+    if (th <= delta_t) {
         return false;
     }
     t = th;

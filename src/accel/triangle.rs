@@ -64,6 +64,12 @@ impl TriangleRay {
     }
 }
 
+/// γ(n) = n ε / (1 - n ε), ε = 2^-24 (PBR 4th ed., sec. 6.8.1), rounded up;
+/// `TRIANGLE_GAMMA*` in intersect_triangle.glsl.
+pub const GAMMA2: f32 = 1.192_093e-7;
+pub const GAMMA3: f32 = 1.788_139_6e-7;
+pub const GAMMA5: f32 = 2.980_232_6e-7;
+
 /// A ray/triangle hit: distance and barycentrics, `p = (1-u-v) p0 + u p1 + v p2`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TriangleHit {
@@ -115,6 +121,24 @@ pub fn intersect(
     let rcp_det = 1.0 / det;
     let t = (eu * az + ev * bz + ew * cz) * rcp_det;
     if !(t > tmin && t < tmax) {
+        return None;
+    }
+    // Reject hits whose t is within its own rounding error of zero, which a ray
+    // leaving this very surface produces (PBR 4th ed., sec. 6.8.7: bounds on the error
+    // of the sheared coordinates, the edge functions and t).
+    let max_zt = az.abs().max(bz.abs()).max(cz.abs());
+    let max_xt = ax.abs().max(bx.abs()).max(cx.abs());
+    let max_yt = ay.abs().max(by.abs()).max(cy.abs());
+    let delta_z = GAMMA3 * max_zt;
+    // The shear's error involves s.x·z with |s.x| <= 1: unscaled z, in x/y units (PBR
+    // uses the scaled z here, which equals it only for unit directions).
+    let max_z = a[kz].abs().max(b[kz].abs()).max(c[kz].abs());
+    let delta_x = GAMMA5 * (max_xt + max_z);
+    let delta_y = GAMMA5 * (max_yt + max_z);
+    let delta_e = 2.0 * (GAMMA2 * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
+    let max_e = eu.abs().max(ev.abs()).max(ew.abs());
+    let delta_t = 3.0 * (GAMMA3 * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * rcp_det.abs();
+    if t <= delta_t {
         return None;
     }
     Some(TriangleHit {

@@ -1,0 +1,106 @@
+//! The command line on bad input: a clear error naming the file (and line where
+//! known), exit status 1, never a panic.
+
+mod common;
+
+use std::process::Command;
+
+use common::{repo, temp_file};
+
+fn wavetrace(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_wavetrace"))
+        .args(args)
+        .output()
+        .expect("run wavetrace");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn assert_error(args: &[&str], needles: &[&str]) {
+    let (code, _, err) = wavetrace(args);
+    assert_eq!(code, 1, "exit status for {args:?}; stderr: {err}");
+    assert!(!err.contains("panicked"), "panic for {args:?}: {err}");
+    for n in needles {
+        assert!(err.contains(n), "stderr for {args:?} lacks {n:?}:\n{err}");
+    }
+}
+
+const CAMERA: &str = r#"<sensor type="perspective"><float name="fov" value="40"/>
+    <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>"#;
+
+#[test]
+fn missing_scene_file() {
+    assert_error(&["render", "/nonexistent/scene.xml"], &["/nonexistent/scene.xml"]);
+}
+
+#[test]
+fn malformed_xml_names_file_and_line() {
+    let p = temp_file("cli_malformed", "bad.xml", "<scene version=\"3.0.0\">\n  <shape type=\"obj\">\n</scene>\n");
+    assert_error(&["render", p.to_str().unwrap()], &["bad.xml:"]);
+}
+
+#[test]
+fn unknown_plugin_type_names_line() {
+    let xml = format!("<scene version=\"3.0.0\">\n{CAMERA}\n<shape type=\"teapot\"/>\n</scene>\n");
+    let p = temp_file("cli_plugin", "plugin.xml", &xml);
+    assert_error(&["render", p.to_str().unwrap()], &["plugin.xml:4", "teapot"]);
+}
+
+#[test]
+fn missing_mesh_names_the_mesh_path() {
+    let xml = format!(
+        "<scene version=\"3.0.0\">\n{CAMERA}\n<shape type=\"obj\"><string name=\"filename\" value=\"nowhere.obj\"/></shape>\n</scene>\n"
+    );
+    let p = temp_file("cli_mesh", "mesh.xml", &xml);
+    assert_error(&["render", p.to_str().unwrap()], &["mesh.xml:4", "nowhere.obj"]);
+}
+
+#[test]
+fn nan_in_an_obj_names_the_obj_line() {
+    let obj = temp_file("cli_nan", "nan.obj", "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n");
+    let xml = format!(
+        "<scene version=\"3.0.0\">\n{CAMERA}\n<shape type=\"obj\"><string name=\"filename\" value=\"{}\"/></shape>\n</scene>\n",
+        obj.display()
+    );
+    let p = temp_file("cli_nan", "nan.xml", &xml);
+    assert_error(&["render", p.to_str().unwrap()], &["nan.obj:3"]);
+}
+
+#[test]
+fn impossible_parameters_are_refused() {
+    let xml = format!("<scene version=\"3.0.0\">\n<integrator type=\"ao\"><float name=\"max_t\" value=\"-2\"/></integrator>\n{CAMERA}\n</scene>\n");
+    let p = temp_file("cli_param", "param.xml", &xml);
+    assert_error(&["render", p.to_str().unwrap(), "-o", "/tmp/never.exr"], &["param.xml:2", "max_t"]);
+    assert_error(&["render", p.to_str().unwrap(), "--integrator", "nope"], &["'nope' is not implemented"]);
+    let scene = repo("scenes/ao/ao.xml");
+    assert_error(&["render", scene.to_str().unwrap(), "--spp", "0"], &["spp"]);
+    assert_error(&["render", scene.to_str().unwrap(), "-D", "novalue"], &["NAME=VALUE"]);
+}
+
+#[test]
+fn renders_writes_exr_and_png_and_reports_speed() {
+    let dir = std::env::temp_dir().join(format!("wavetrace-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("ao.exr");
+    let scene = repo("scenes/ao/ao.xml");
+    let (code, _, err) = wavetrace(&["render", scene.to_str().unwrap(), "--spp", "2", "-o", out.to_str().unwrap(), "-q"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("device:"), "{err}");
+    assert!(err.contains("rays/s"), "{err}");
+    let img = wavetrace::image::read_exr(&out).expect("read back the EXR");
+    assert!(img.width > 0 && img.rgb.iter().all(|v| v.is_finite()));
+    assert!(out.with_extension("png").exists());
+}
+
+#[test]
+fn info_describes_the_scene() {
+    let scene = repo("scenes/ao/ao.xml");
+    let (code, out, err) = wavetrace(&["info", scene.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    for needle in ["triangles:", "bvh:", "integrator:", "camera:"] {
+        assert!(out.contains(needle), "info lacks {needle}:\n{out}");
+    }
+}
