@@ -171,9 +171,9 @@ fn run(cli: Cli) -> Result<()> {
                     eprintln!("  {name:<12} {:>9.2} ms over {n} dispatches", secs * 1e3);
                 }
             }
-            let _ = (&image, &output); // TEMP until image I/O lands
+            wavetrace::image::write_exr(&output, &image).with_context(|| format!("writing {}", output.display()))?;
             let png = output.with_extension("png");
-
+            wavetrace::image::write_png(&png, &image).with_context(|| format!("writing {}", png.display()))?;
             eprintln!("wrote {} and {}", output.display(), png.display());
             Ok(())
         }
