@@ -25,12 +25,9 @@ void main() {
     HitItem h = hits[i];
     PathState path = paths[r.path];
 
-    if (h.prim == NONE) {
-        // An escaping ray sees the unoccluded sky of the AO definition (radiance 1),
-        // as Mitsuba's direct integrator does under a constant emitter.
-        if (INTEGRATOR == INTEGRATOR_AO) paths[r.path].radiance += path.throughput;
-        return;
-    }
+    // Nothing emits in these integrators: an escaping ray (even a camera ray, as in
+    // Nori's ao and normals) carries no radiance.
+    if (h.prim == NONE) return;
 
     Surface s = surface_at(h.prim, h.u, h.v, r.origin, r.dir, h.t);
     surface_face(s, -r.dir);

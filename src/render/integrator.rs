@@ -13,7 +13,7 @@ pub enum Integrator {
     /// Debug view of the shading normal, |n| per component (Nori's `normals`).
     Normals,
     /// Ambient occlusion (1/π)∫V(x,ω)cosθ dω over the hemisphere of the shading
-    /// normal (Nori's `ao`). Escaping camera rays see the unoccluded sky (1).
+    /// normal (Nori's `ao`). Camera rays that hit nothing are black, as in Nori.
     ///
     /// Parameters: `max_t` (float, default infinity): occluders farther than this are
     /// ignored, so a closed room is not black; `sampling` (string, `cosine` (default)
