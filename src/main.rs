@@ -12,7 +12,11 @@ use wavetrace::render::{RenderOptions, Renderer};
 use wavetrace::scene::{self, Scene};
 
 #[derive(Parser)]
-#[command(name = "wavetrace", version, about = "A wavefront path tracer on Vulkan compute")]
+#[command(
+    name = "wavetrace",
+    version,
+    about = "A wavefront path tracer on Vulkan compute"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -143,8 +147,10 @@ fn run(cli: Cli) -> Result<()> {
             } else {
                 let bar = ProgressBar::new(w as u64 * h as u64 * spp as u64);
                 bar.set_style(
-                    ProgressStyle::with_template("{bar:40} {percent:>3}% {msg} [{elapsed_precise} < {eta_precise}]")
-                        .unwrap_or_else(|_| ProgressStyle::default_bar()),
+                    ProgressStyle::with_template(
+                        "{bar:40} {percent:>3}% {msg} [{elapsed_precise} < {eta_precise}]",
+                    )
+                    .unwrap_or_else(|_| ProgressStyle::default_bar()),
                 );
                 bar
             };
@@ -164,16 +170,21 @@ fn run(cli: Cli) -> Result<()> {
                 stats.batches
             );
             if stats.discarded > 0 {
-                eprintln!("warning: {} samples were NaN or infinite and were discarded", stats.discarded);
+                eprintln!(
+                    "warning: {} samples were NaN or infinite and were discarded",
+                    stats.discarded
+                );
             }
             if profile {
                 for (name, (secs, n)) in &stats.kernel_times.by_kernel {
                     eprintln!("  {name:<12} {:>9.2} ms over {n} dispatches", secs * 1e3);
                 }
             }
-            wavetrace::image::write_exr(&output, &image).with_context(|| format!("writing {}", output.display()))?;
+            wavetrace::image::write_exr(&output, &image)
+                .with_context(|| format!("writing {}", output.display()))?;
             let png = output.with_extension("png");
-            wavetrace::image::write_png(&png, &image).with_context(|| format!("writing {}", png.display()))?;
+            wavetrace::image::write_png(&png, &image)
+                .with_context(|| format!("writing {}", png.display()))?;
             eprintln!("wrote {} and {}", output.display(), png.display());
             Ok(())
         }
@@ -192,7 +203,10 @@ fn run(cli: Cli) -> Result<()> {
 }
 
 fn default_output(scene: &Path) -> PathBuf {
-    let stem = scene.file_stem().map(|s| s.to_os_string()).unwrap_or_else(|| "render".into());
+    let stem = scene
+        .file_stem()
+        .map(|s| s.to_os_string())
+        .unwrap_or_else(|| "render".into());
     PathBuf::from(stem).with_extension("exr")
 }
 
@@ -205,7 +219,10 @@ fn print_info(sc: &Scene) {
         c.width, c.height, c.fov_x_deg, c.near_clip, c.far_clip
     );
     println!("samples:     {} per pixel", sc.spp);
-    println!("integrator:  {} {:?}", sc.integrator.name, sc.integrator.params);
+    println!(
+        "integrator:  {} {:?}",
+        sc.integrator.name, sc.integrator.params
+    );
     println!("meshes:      {}", sc.meshes.len());
     for m in &sc.meshes {
         println!(
@@ -213,7 +230,11 @@ fn print_info(sc: &Scene) {
             m.name,
             m.indices.len(),
             m.positions.len(),
-            if m.normals.is_empty() { "" } else { ", normals" },
+            if m.normals.is_empty() {
+                ""
+            } else {
+                ", normals"
+            },
             if m.uvs.is_empty() { "" } else { ", uvs" },
             if m.emitter.is_some() { ", emitter" } else { "" },
         );

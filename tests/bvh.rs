@@ -6,7 +6,9 @@ mod common;
 use glam::{Vec2, Vec3};
 use wavetrace::accel::{brute_force_closest, prims_from_shapes, Bvh};
 use wavetrace::gpu::layout::HitItem;
-use wavetrace::gpu::{shaders, BindingLayout, Buffer, CommandList, DescriptorSet, Kernel, Location};
+use wavetrace::gpu::{
+    shaders, BindingLayout, Buffer, CommandList, DescriptorSet, Kernel, Location,
+};
 use wavetrace::render::scene_buffers::{SceneBuffers, SceneRecords, SCENE_BINDINGS};
 use wavetrace::scene::{Mesh, Sphere};
 
@@ -32,7 +34,12 @@ fn gpu_queries(bvh: &Bvh, rays: &[QueryRay]) -> (Vec<HitItem>, Vec<u32>) {
     let kernel = Kernel::new(&device, "bvh_query", shaders::TESTS_BVH_QUERY, &layout, &[]).unwrap();
     let mut cmd = CommandList::new(&device).unwrap();
     let n = rays.len() as u32;
-    cmd.dispatch(&kernel, &[&scene.set, &set], bytemuck::bytes_of(&n), [n.div_ceil(64), 1, 1]);
+    cmd.dispatch(
+        &kernel,
+        &[&scene.set, &set],
+        bytemuck::bytes_of(&n),
+        [n.div_ceil(64), 1, 1],
+    );
     cmd.barrier();
     cmd.submit_and_wait().unwrap();
     let mut c: Vec<HitItem> = closest.read(&device).unwrap();
@@ -66,23 +73,54 @@ fn check(bvh: &Bvh, rays: &[QueryRay]) -> usize {
         let want = brute_force_closest(&bvh.prims, o, d, r.tmin, r.tmax);
         let got = closest[i];
         match want {
-            None => assert_eq!(got.prim, u32::MAX, "ray {i}: GPU hit prim {} at t={} where brute force misses", got.prim, got.t),
+            None => assert_eq!(
+                got.prim,
+                u32::MAX,
+                "ray {i}: GPU hit prim {} at t={} where brute force misses",
+                got.prim,
+                got.t
+            ),
             Some(w) => {
                 hits += 1;
-                assert_ne!(got.prim, u32::MAX, "ray {i} ({o}, {d}): GPU misses, brute force hits prim {} at t={}", w.prim, w.t);
+                assert_ne!(
+                    got.prim,
+                    u32::MAX,
+                    "ray {i} ({o}, {d}): GPU misses, brute force hits prim {} at t={}",
+                    w.prim,
+                    w.t
+                );
                 let tol = 1e-5 * w.t.abs().max(1e-3);
-                assert!((got.t - w.t).abs() <= tol, "ray {i}: GPU t={} brute force t={}", got.t, w.t);
+                assert!(
+                    (got.t - w.t).abs() <= tol,
+                    "ray {i}: GPU t={} brute force t={}",
+                    got.t,
+                    w.t
+                );
                 if got.prim != w.prim {
                     // Only a tie (two primitives at the same distance) may differ.
                     let other = bvh.prims[got.prim as usize];
-                    let t_other = brute_force_closest(std::slice::from_ref(&other), o, d, r.tmin, r.tmax).map(|h| h.t);
-                    assert!(t_other.is_some_and(|t| (t - w.t).abs() <= tol), "ray {i}: GPU prim {} is not a tie", got.prim);
+                    let t_other =
+                        brute_force_closest(std::slice::from_ref(&other), o, d, r.tmin, r.tmax)
+                            .map(|h| h.t);
+                    assert!(
+                        t_other.is_some_and(|t| (t - w.t).abs() <= tol),
+                        "ray {i}: GPU prim {} is not a tie",
+                        got.prim
+                    );
                 }
             }
         }
-        assert_eq!(any[i] != 0, want.is_some(), "ray {i}: any-hit disagrees with brute force");
+        assert_eq!(
+            any[i] != 0,
+            want.is_some(),
+            "ray {i}: any-hit disagrees with brute force"
+        );
         let cpu = bvh.closest(o, d, r.tmin, r.tmax);
-        assert_eq!(cpu.is_some(), want.is_some(), "ray {i}: CPU traversal disagrees");
+        assert_eq!(
+            cpu.is_some(),
+            want.is_some(),
+            "ray {i}: CPU traversal disagrees"
+        );
     }
     hits
 }
@@ -95,10 +133,10 @@ fn load_bunny() -> Mesh {
 #[test]
 fn gpu_closest_and_any_hit_equal_brute_force_on_bunny_and_spheres() {
     let bunny = load_bunny();
-    let (lo, hi) = bunny
-        .positions
-        .iter()
-        .fold((Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)), |(a, b), &p| (a.min(p), b.max(p)));
+    let (lo, hi) = bunny.positions.iter().fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(a, b), &p| (a.min(p), b.max(p)),
+    );
     let spheres: Vec<Sphere> = (0..8)
         .map(|k| Sphere {
             center: lo + (hi - lo) * Vec3::new(k as f32 / 7.0, 0.5, 0.3),
@@ -115,18 +153,29 @@ fn gpu_closest_and_any_hit_equal_brute_force_on_bunny_and_spheres() {
         .map(|i| {
             let o = rng.in_box(lo - pad, hi + pad);
             // Half the rays aim at the mesh's box, half point anywhere.
-            let target = if i % 2 == 0 { rng.in_box(lo, hi) } else { rng.in_box(lo - pad, hi + pad) };
+            let target = if i % 2 == 0 {
+                rng.in_box(lo, hi)
+            } else {
+                rng.in_box(lo - pad, hi + pad)
+            };
             let d = (target - o).normalize();
             QueryRay {
                 origin: o.into(),
                 tmin: 0.0,
                 dir: d.into(),
-                tmax: if i % 5 == 0 { (target - o).length() } else { f32::INFINITY },
+                tmax: if i % 5 == 0 {
+                    (target - o).length()
+                } else {
+                    f32::INFINITY
+                },
             }
         })
         .collect();
     let hits = check(&bvh, &rays);
-    assert!(hits > 10_000, "too few rays hit ({hits}) for the test to mean much");
+    assert!(
+        hits > 10_000,
+        "too few rays hit ({hits}) for the test to mean much"
+    );
 }
 
 /// A closed cube of 12 triangles sharing edges and vertices, and a fine grid: rays
@@ -140,7 +189,8 @@ fn gpu_rays_through_shared_edges_and_vertices_never_leak() {
     };
     for j in 0..=n {
         for i in 0..=n {
-            grid.positions.push(Vec3::new(i as f32 / n as f32, j as f32 / n as f32, 0.0));
+            grid.positions
+                .push(Vec3::new(i as f32 / n as f32, j as f32 / n as f32, 0.0));
             grid.uvs.push(Vec2::ZERO);
         }
     }
@@ -157,7 +207,11 @@ fn gpu_rays_through_shared_edges_and_vertices_never_leak() {
     for j in 1..n {
         for i in 1..n {
             // A vertex, the midpoint of a horizontal edge and of a diagonal.
-            for (x, y) in [(i as f32, j as f32), (i as f32 + 0.5, j as f32), (i as f32 + 0.5, j as f32 + 0.5)] {
+            for (x, y) in [
+                (i as f32, j as f32),
+                (i as f32 + 0.5, j as f32),
+                (i as f32 + 0.5, j as f32 + 0.5),
+            ] {
                 let target = Vec3::new(x / n as f32, y / n as f32, 0.0);
                 let o = target + Vec3::new(rng.next() - 0.5, rng.next() - 0.5, 1.0);
                 rays.push(QueryRay {
@@ -171,7 +225,11 @@ fn gpu_rays_through_shared_edges_and_vertices_never_leak() {
     }
     let (closest, any) = gpu_queries(&bvh, &rays);
     for (i, (c, a)) in closest.iter().zip(&any).enumerate() {
-        assert_ne!(c.prim, u32::MAX, "ray {i} through a shared edge or vertex leaked");
+        assert_ne!(
+            c.prim,
+            u32::MAX,
+            "ray {i} through a shared edge or vertex leaked"
+        );
         assert_eq!(*a, 1, "any-hit ray {i} leaked");
     }
     check(&bvh, &rays);

@@ -33,12 +33,19 @@ const CAMERA: &str = r#"<sensor type="perspective"><float name="fov" value="40"/
 
 #[test]
 fn missing_scene_file() {
-    assert_error(&["render", "/nonexistent/scene.xml"], &["/nonexistent/scene.xml"]);
+    assert_error(
+        &["render", "/nonexistent/scene.xml"],
+        &["/nonexistent/scene.xml"],
+    );
 }
 
 #[test]
 fn malformed_xml_names_file_and_line() {
-    let p = temp_file("cli_malformed", "bad.xml", "<scene version=\"3.0.0\">\n  <shape type=\"obj\">\n</scene>\n");
+    let p = temp_file(
+        "cli_malformed",
+        "bad.xml",
+        "<scene version=\"3.0.0\">\n  <shape type=\"obj\">\n</scene>\n",
+    );
     assert_error(&["render", p.to_str().unwrap()], &["bad.xml:"]);
 }
 
@@ -46,7 +53,10 @@ fn malformed_xml_names_file_and_line() {
 fn unknown_plugin_type_names_line() {
     let xml = format!("<scene version=\"3.0.0\">\n{CAMERA}\n<shape type=\"teapot\"/>\n</scene>\n");
     let p = temp_file("cli_plugin", "plugin.xml", &xml);
-    assert_error(&["render", p.to_str().unwrap()], &["plugin.xml:4", "teapot"]);
+    assert_error(
+        &["render", p.to_str().unwrap()],
+        &["plugin.xml:4", "teapot"],
+    );
 }
 
 #[test]
@@ -55,12 +65,19 @@ fn missing_mesh_names_the_mesh_path() {
         "<scene version=\"3.0.0\">\n{CAMERA}\n<shape type=\"obj\"><string name=\"filename\" value=\"nowhere.obj\"/></shape>\n</scene>\n"
     );
     let p = temp_file("cli_mesh", "mesh.xml", &xml);
-    assert_error(&["render", p.to_str().unwrap()], &["mesh.xml:4", "nowhere.obj"]);
+    assert_error(
+        &["render", p.to_str().unwrap()],
+        &["mesh.xml:4", "nowhere.obj"],
+    );
 }
 
 #[test]
 fn nan_in_an_obj_names_the_obj_line() {
-    let obj = temp_file("cli_nan", "nan.obj", "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n");
+    let obj = temp_file(
+        "cli_nan",
+        "nan.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n",
+    );
     let xml = format!(
         "<scene version=\"3.0.0\">\n{CAMERA}\n<shape type=\"obj\"><string name=\"filename\" value=\"{}\"/></shape>\n</scene>\n",
         obj.display()
@@ -73,11 +90,20 @@ fn nan_in_an_obj_names_the_obj_line() {
 fn impossible_parameters_are_refused() {
     let xml = format!("<scene version=\"3.0.0\">\n<integrator type=\"ao\"><float name=\"max_t\" value=\"-2\"/></integrator>\n{CAMERA}\n</scene>\n");
     let p = temp_file("cli_param", "param.xml", &xml);
-    assert_error(&["render", p.to_str().unwrap(), "-o", "/tmp/never.exr"], &["param.xml:2", "max_t"]);
-    assert_error(&["render", p.to_str().unwrap(), "--integrator", "nope"], &["'nope' is not implemented"]);
+    assert_error(
+        &["render", p.to_str().unwrap(), "-o", "/tmp/never.exr"],
+        &["param.xml:2", "max_t"],
+    );
+    assert_error(
+        &["render", p.to_str().unwrap(), "--integrator", "nope"],
+        &["'nope' is not implemented"],
+    );
     let scene = repo("scenes/ao/ao.xml");
     assert_error(&["render", scene.to_str().unwrap(), "--spp", "0"], &["spp"]);
-    assert_error(&["render", scene.to_str().unwrap(), "-D", "novalue"], &["NAME=VALUE"]);
+    assert_error(
+        &["render", scene.to_str().unwrap(), "-D", "novalue"],
+        &["NAME=VALUE"],
+    );
 }
 
 #[test]
@@ -86,7 +112,15 @@ fn renders_writes_exr_and_png_and_reports_speed() {
     std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join("ao.exr");
     let scene = repo("scenes/ao/ao.xml");
-    let (code, _, err) = wavetrace(&["render", scene.to_str().unwrap(), "--spp", "2", "-o", out.to_str().unwrap(), "-q"]);
+    let (code, _, err) = wavetrace(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--spp",
+        "2",
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+    ]);
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("device:"), "{err}");
     assert!(err.contains("rays/s"), "{err}");

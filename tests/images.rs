@@ -25,8 +25,16 @@ fn ao_matches_the_mitsuba_reference() {
     // by tens of standard errors. Flat blocks (all pixels equal) get a floor of 1e-3.
     let c = compare_blocks(&img, &reference, 8, 1e-3);
     println!("{c:?}, relMSE {}", rel_mse(&img, &reference));
-    assert!(c.mean_z2 < 1.6, "mean z² {} (noise gives ~1): {c:?}", c.mean_z2);
-    assert!(c.max_abs_z < 6.0, "a block is {} standard errors off: {c:?}", c.max_abs_z);
+    assert!(
+        c.mean_z2 < 1.6,
+        "mean z² {} (noise gives ~1): {c:?}",
+        c.mean_z2
+    );
+    assert!(
+        c.max_abs_z < 6.0,
+        "a block is {} standard errors off: {c:?}",
+        c.max_abs_z
+    );
 
     // And the same scene with a wrong estimator must fail this check: halving the
     // weight of one sampling strategy is what a pdf off by 2 does.
@@ -46,6 +54,11 @@ fn nori_and_mitsuba_dialects_render_the_same_image() {
     let a = common::render(&dev, &mitsuba, &opts, 4);
     let b = common::render(&dev, &nori, &opts, 4);
     assert_eq!(a.width, b.width);
-    let worst = a.rgb.iter().zip(&b.rgb).map(|(x, y)| (x - y).abs()).fold(0.0f32, f32::max);
+    let worst = a
+        .rgb
+        .iter()
+        .zip(&b.rgb)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0f32, f32::max);
     assert!(worst <= 1e-6, "images differ by up to {worst}");
 }

@@ -27,7 +27,14 @@ const GROUND: &str = r#"<shape type="rectangle"><transform name="to_world"><scal
 
 #[test]
 fn ao_of_an_open_plane_is_exactly_one_with_cosine_sampling() {
-    let xml = scene("0, 0, 5", "0, 0, 0", "0, 1, 0", 40.0, r#"<integrator type="ao"/>"#, GROUND);
+    let xml = scene(
+        "0, 0, 5",
+        "0, 0, 0",
+        "0, 1, 0",
+        40.0,
+        r#"<integrator type="ao"/>"#,
+        GROUND,
+    );
     let s = load(&temp_file("ao_plane", "scene.xml", &xml));
     let img = render(&device(), &s, &RenderOptions::default(), 4);
     // cos θ / π over the cosine pdf cos θ / π is exactly 1 for every unoccluded sample.
@@ -38,7 +45,8 @@ fn ao_of_an_open_plane_is_exactly_one_with_cosine_sampling() {
 
 #[test]
 fn ao_of_an_open_plane_averages_one_with_uniform_sampling() {
-    let integrator = r#"<integrator type="ao"><string name="sampling" value="uniform"/></integrator>"#;
+    let integrator =
+        r#"<integrator type="ao"><string name="sampling" value="uniform"/></integrator>"#;
     let xml = scene("0, 0, 5", "0, 0, 0", "0, 1, 0", 40.0, integrator, GROUND);
     let s = load(&temp_file("ao_uniform", "scene.xml", &xml));
     let img = render(&device(), &s, &RenderOptions::default(), 64);
@@ -60,7 +68,14 @@ fn ao_next_to_a_large_wall_is_one_half() {
             <rotate y="1" angle="90"/></transform></shape>"#;
     let floor = r#"<shape type="rectangle"><transform name="to_world"><scale value="1000"/>
             <rotate x="1" angle="-90"/></transform></shape>"#;
-    let xml = scene("0.5, 2, 0", "0.5, 0, 0", "0, 0, 1", 10.0, r#"<integrator type="ao"/>"#, &format!("{wall}{floor}"));
+    let xml = scene(
+        "0.5, 2, 0",
+        "0.5, 0, 0",
+        "0, 0, 1",
+        10.0,
+        r#"<integrator type="ao"/>"#,
+        &format!("{wall}{floor}"),
+    );
     let s = load(&temp_file("ao_wall", "scene.xml", &xml));
     let img = render(&device(), &s, &RenderOptions::default(), 64);
     // 32*32*64 binary-ish samples of mean 1/2: sd of the mean < 0.002; the finite wall
@@ -71,13 +86,35 @@ fn ao_next_to_a_large_wall_is_one_half() {
 
 #[test]
 fn ao_inside_a_closed_box_is_black_unless_max_t_limits_occluders() {
-    let cube = r#"<shape type="cube"><transform name="to_world"><scale value="10"/></transform></shape>"#;
-    let dark = scene("0, 0, 0", "0, 0, 1", "0, 1, 0", 60.0, r#"<integrator type="ao"/>"#, cube);
-    let img = render(&device(), &load(&temp_file("ao_box", "dark.xml", &dark)), &RenderOptions::default(), 4);
-    assert_eq!(mean(&img), 0.0, "every occlusion ray inside a closed box hits a wall");
+    let cube =
+        r#"<shape type="cube"><transform name="to_world"><scale value="10"/></transform></shape>"#;
+    let dark = scene(
+        "0, 0, 0",
+        "0, 0, 1",
+        "0, 1, 0",
+        60.0,
+        r#"<integrator type="ao"/>"#,
+        cube,
+    );
+    let img = render(
+        &device(),
+        &load(&temp_file("ao_box", "dark.xml", &dark)),
+        &RenderOptions::default(),
+        4,
+    );
+    assert_eq!(
+        mean(&img),
+        0.0,
+        "every occlusion ray inside a closed box hits a wall"
+    );
     let limited = r#"<integrator type="ao"><float name="max_t" value="0.5"/></integrator>"#;
     let lit = scene("0, 0, 0", "0, 0, 1", "0, 1, 0", 60.0, limited, cube);
-    let img = render(&device(), &load(&temp_file("ao_box", "lit.xml", &lit)), &RenderOptions::default(), 16);
+    let img = render(
+        &device(),
+        &load(&temp_file("ao_box", "lit.xml", &lit)),
+        &RenderOptions::default(),
+        16,
+    );
     // Far from edges nothing lies within 0.5 of the wall: the centre pixel is 1.
     assert!((pixel(&img, 16, 16)[0] - 1.0).abs() < 1e-6);
     assert!(mean(&img) > 0.9, "mean {}", mean(&img));
@@ -89,8 +126,20 @@ fn simple_point_light_follows_the_inverse_square_cosine_law() {
     // it L = (ρ/π) I cos θ / d² = (0.5/π) * 8 / 4.
     let light = r#"<emitter type="point"><point name="position" value="0, 0, 2"/>
         <rgb name="intensity" value="8"/></emitter>"#;
-    let xml = scene("0, 0, 10", "0, 0, 0", "0, 1, 0", 0.5, r#"<integrator type="simple"/>"#, &format!("{GROUND}{light}"));
-    let img = render(&device(), &load(&temp_file("simple", "scene.xml", &xml)), &RenderOptions::default(), 4);
+    let xml = scene(
+        "0, 0, 10",
+        "0, 0, 0",
+        "0, 1, 0",
+        0.5,
+        r#"<integrator type="simple"/>"#,
+        &format!("{GROUND}{light}"),
+    );
+    let img = render(
+        &device(),
+        &load(&temp_file("simple", "scene.xml", &xml)),
+        &RenderOptions::default(),
+        4,
+    );
     let expected = 0.5 / std::f32::consts::PI * 8.0 / 4.0;
     let c = pixel(&img, 16, 16)[0];
     // The pixel covers a 0.0027-wide patch: cos θ / d² varies by < 1e-5 over it.
@@ -103,24 +152,69 @@ fn camera_keeps_world_left_on_the_image_left() {
     // the plane at x = +3 lights the right half more.
     let light = r#"<emitter type="point"><point name="position" value="3, 0, 0.5"/>
         <rgb name="intensity" value="1"/></emitter>"#;
-    let xml = scene("0, 0, 10", "0, 0, 0", "0, 1, 0", 60.0, r#"<integrator type="simple"/>"#, &format!("{GROUND}{light}"));
-    let img = render(&device(), &load(&temp_file("orient", "scene.xml", &xml)), &RenderOptions::default(), 1);
+    let xml = scene(
+        "0, 0, 10",
+        "0, 0, 0",
+        "0, 1, 0",
+        60.0,
+        r#"<integrator type="simple"/>"#,
+        &format!("{GROUND}{light}"),
+    );
+    let img = render(
+        &device(),
+        &load(&temp_file("orient", "scene.xml", &xml)),
+        &RenderOptions::default(),
+        1,
+    );
     let (l, r) = (pixel(&img, 2, 16)[0], pixel(&img, 29, 16)[0]);
-    assert!(r > 10.0 * l, "right {r} should be far brighter than left {l}");
+    assert!(
+        r > 10.0 * l,
+        "right {r} should be far brighter than left {l}"
+    );
     // And +y is up: a light at y = +3 lights the top rows.
     let light = light.replace("3, 0, 0.5", "0, 3, 0.5");
-    let xml = scene("0, 0, 10", "0, 0, 0", "0, 1, 0", 60.0, r#"<integrator type="simple"/>"#, &format!("{GROUND}{light}"));
-    let img = render(&device(), &load(&temp_file("orient", "scene_y.xml", &xml)), &RenderOptions::default(), 1);
+    let xml = scene(
+        "0, 0, 10",
+        "0, 0, 0",
+        "0, 1, 0",
+        60.0,
+        r#"<integrator type="simple"/>"#,
+        &format!("{GROUND}{light}"),
+    );
+    let img = render(
+        &device(),
+        &load(&temp_file("orient", "scene_y.xml", &xml)),
+        &RenderOptions::default(),
+        1,
+    );
     let (t, b) = (pixel(&img, 16, 2)[0], pixel(&img, 16, 29)[0]);
-    assert!(t > 10.0 * b, "top {t} should be far brighter than bottom {b}");
+    assert!(
+        t > 10.0 * b,
+        "top {t} should be far brighter than bottom {b}"
+    );
 }
 
 #[test]
 fn normals_of_a_plane_facing_the_camera_are_plus_z() {
-    let xml = scene("0, 0, 5", "0, 0, 0", "0, 1, 0", 30.0, r#"<integrator type="normals"/>"#, GROUND);
-    let img = render(&device(), &load(&temp_file("normals", "scene.xml", &xml)), &RenderOptions::default(), 1);
+    let xml = scene(
+        "0, 0, 5",
+        "0, 0, 0",
+        "0, 1, 0",
+        30.0,
+        r#"<integrator type="normals"/>"#,
+        GROUND,
+    );
+    let img = render(
+        &device(),
+        &load(&temp_file("normals", "scene.xml", &xml)),
+        &RenderOptions::default(),
+        1,
+    );
     for p in img.rgb.chunks(3) {
-        assert!(p[0].abs() < 1e-5 && p[1].abs() < 1e-5 && (p[2] - 1.0).abs() < 1e-5, "{p:?}");
+        assert!(
+            p[0].abs() < 1e-5 && p[1].abs() < 1e-5 && (p[2] - 1.0).abs() < 1e-5,
+            "{p:?}"
+        );
     }
 }
 
@@ -151,10 +245,13 @@ fn samples_do_not_depend_on_batching_or_range_splits() {
     let b = r.render_range(1, 3, &mut |_, _| {}).unwrap().0;
     for i in 0..whole.rgb.len() {
         let combined = (a.rgb[i] + 3.0 * b.rgb[i]) / 4.0;
-        assert!((combined - whole.rgb[i]).abs() < 1e-5, "pixel value {i}: {combined} vs {}", whole.rgb[i]);
+        assert!(
+            (combined - whole.rgb[i]).abs() < 1e-5,
+            "pixel value {i}: {combined} vs {}",
+            whole.rgb[i]
+        );
     }
 
     let other = render(&dev, &bunny, &RenderOptions { seed: 1, ..opts }, 4);
     assert_ne!(whole.rgb, other.rgb, "the seed must change the noise");
 }
-

@@ -137,7 +137,8 @@ pub fn intersect(
     let delta_y = GAMMA5 * (max_yt + max_z);
     let delta_e = 2.0 * (GAMMA2 * max_xt * max_yt + delta_y * max_xt + delta_x * max_yt);
     let max_e = eu.abs().max(ev.abs()).max(ew.abs());
-    let delta_t = 3.0 * (GAMMA3 * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * rcp_det.abs();
+    let delta_t =
+        3.0 * (GAMMA3 * max_e * max_zt + delta_e * max_zt + delta_z * max_e) * rcp_det.abs();
     if t <= delta_t {
         return None;
     }

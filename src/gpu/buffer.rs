@@ -109,12 +109,15 @@ impl Buffer {
         };
         // SAFETY: memory is fresh and matches the buffer's requirements.
         unsafe { raw_dev.bind_buffer_memory(raw, memory, 0) }.vk("vkBindBufferMemory")?;
-        let coherent = vk::MemoryPropertyFlags::HOST_VISIBLE | vk::MemoryPropertyFlags::HOST_COHERENT;
+        let coherent =
+            vk::MemoryPropertyFlags::HOST_VISIBLE | vk::MemoryPropertyFlags::HOST_COHERENT;
         let mut buffer = buffer;
         if device.memory_flags(type_index).contains(coherent) {
             // SAFETY: host-visible memory, mapped once for the buffer's lifetime.
-            let ptr = unsafe { raw_dev.map_memory(memory, 0, vk::WHOLE_SIZE, vk::MemoryMapFlags::empty()) }
-                .vk("vkMapMemory")?;
+            let ptr = unsafe {
+                raw_dev.map_memory(memory, 0, vk::WHOLE_SIZE, vk::MemoryMapFlags::empty())
+            }
+            .vk("vkMapMemory")?;
             buffer.mapped = Some(ptr as *mut u8);
         }
         Ok(buffer)
@@ -139,10 +142,16 @@ impl Buffer {
     /// Writes bytes at `offset`, directly when mapped, else through a staging copy.
     /// Must not race with GPU work that uses the buffer.
     pub fn write(&self, device: &Device, offset: u64, bytes: &[u8]) -> Result<()> {
-        assert!(offset + bytes.len() as u64 <= self.size, "write past the end of '{}'", self.label);
+        assert!(
+            offset + bytes.len() as u64 <= self.size,
+            "write past the end of '{}'",
+            self.label
+        );
         if let Some(ptr) = self.mapped {
             // SAFETY: in bounds (asserted), memory is mapped and coherent.
-            unsafe { std::ptr::copy_nonoverlapping(bytes.as_ptr(), ptr.add(offset as usize), bytes.len()) };
+            unsafe {
+                std::ptr::copy_nonoverlapping(bytes.as_ptr(), ptr.add(offset as usize), bytes.len())
+            };
             return Ok(());
         }
         let staging = Buffer::new(device, "staging upload", bytes.len() as u64, Location::Host)?;
@@ -160,7 +169,12 @@ impl Buffer {
             unsafe { std::ptr::copy_nonoverlapping(ptr, bytes.as_mut_ptr(), bytes.len()) };
             return Ok(out);
         }
-        let staging = Buffer::new(device, "staging read-back", bytes.len() as u64, Location::Host)?;
+        let staging = Buffer::new(
+            device,
+            "staging read-back",
+            bytes.len() as u64,
+            Location::Host,
+        )?;
         copy_now(device, self, 0, &staging, 0, bytes.len() as u64)?;
         let ptr = staging.mapped.expect("host buffers are mapped");
         // SAFETY: as above, on the staging buffer.
@@ -170,7 +184,14 @@ impl Buffer {
 }
 
 /// Copies between buffers and waits for the copy to finish.
-fn copy_now(device: &Device, src: &Buffer, src_offset: u64, dst: &Buffer, dst_offset: u64, size: u64) -> Result<()> {
+fn copy_now(
+    device: &Device,
+    src: &Buffer,
+    src_offset: u64,
+    dst: &Buffer,
+    dst_offset: u64,
+    size: u64,
+) -> Result<()> {
     let mut cmd = super::command::CommandList::new(device)?;
     cmd.copy(src, src_offset, dst, dst_offset, size);
     cmd.submit_and_wait()

@@ -62,7 +62,8 @@ impl CommandList {
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
         // SAFETY: valid pool of this device.
-        let cmd = unsafe { raw.allocate_command_buffers(&alloc) }.vk("vkAllocateCommandBuffers")?[0];
+        let cmd =
+            unsafe { raw.allocate_command_buffers(&alloc) }.vk("vkAllocateCommandBuffers")?[0];
         // SAFETY: valid create info.
         let fence = unsafe { raw.create_fence(&vk::FenceCreateInfo::default(), None) };
         let mut list = CommandList {
@@ -79,7 +80,8 @@ impl CommandList {
                 .query_type(vk::QueryType::TIMESTAMP)
                 .query_count(MAX_TIMESTAMPS);
             // SAFETY: valid create info.
-            list.queries = Some(unsafe { raw.create_query_pool(&info, None) }.vk("vkCreateQueryPool")?);
+            list.queries =
+                Some(unsafe { raw.create_query_pool(&info, None) }.vk("vkCreateQueryPool")?);
         }
         list.begin()?;
         Ok(list)
@@ -87,7 +89,8 @@ impl CommandList {
 
     fn begin(&mut self) -> Result<()> {
         let raw = self.device.raw();
-        let info = vk::CommandBufferBeginInfo::default().flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+        let info = vk::CommandBufferBeginInfo::default()
+            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
         // SAFETY: the command buffer is not in use (waited on, or fresh).
         unsafe { raw.begin_command_buffer(self.cmd, &info) }.vk("vkBeginCommandBuffer")?;
         self.recording = true;
@@ -135,9 +138,12 @@ impl CommandList {
             if index < MAX_TIMESTAMPS {
                 // SAFETY: recording; index within the pool.
                 unsafe {
-                    self.device
-                        .raw()
-                        .cmd_write_timestamp(self.cmd, vk::PipelineStageFlags::BOTTOM_OF_PIPE, q, index)
+                    self.device.raw().cmd_write_timestamp(
+                        self.cmd,
+                        vk::PipelineStageFlags::BOTTOM_OF_PIPE,
+                        q,
+                        index,
+                    )
                 };
                 self.labels.push(label.to_string());
             }
@@ -145,19 +151,40 @@ impl CommandList {
     }
 
     /// Dispatches `groups` workgroups of `kernel`.
-    pub fn dispatch(&mut self, kernel: &Kernel, sets: &[&DescriptorSet], push: &[u8], groups: [u32; 3]) {
+    pub fn dispatch(
+        &mut self,
+        kernel: &Kernel,
+        sets: &[&DescriptorSet],
+        push: &[u8],
+        groups: [u32; 3],
+    ) {
         self.bind(kernel, sets, push);
         // SAFETY: recording, pipeline bound.
-        unsafe { self.device.raw().cmd_dispatch(self.cmd, groups[0], groups[1], groups[2]) };
+        unsafe {
+            self.device
+                .raw()
+                .cmd_dispatch(self.cmd, groups[0], groups[1], groups[2])
+        };
         self.stamp(kernel.name());
     }
 
     /// Dispatches `kernel` with the workgroup counts stored in `args` at `offset`
     /// (a `VkDispatchIndirectCommand`: three u32).
-    pub fn dispatch_indirect(&mut self, kernel: &Kernel, sets: &[&DescriptorSet], push: &[u8], args: &Buffer, offset: u64) {
+    pub fn dispatch_indirect(
+        &mut self,
+        kernel: &Kernel,
+        sets: &[&DescriptorSet],
+        push: &[u8],
+        args: &Buffer,
+        offset: u64,
+    ) {
         self.bind(kernel, sets, push);
         // SAFETY: recording, pipeline bound, args is an indirect buffer.
-        unsafe { self.device.raw().cmd_dispatch_indirect(self.cmd, args.raw, offset) };
+        unsafe {
+            self.device
+                .raw()
+                .cmd_dispatch_indirect(self.cmd, args.raw, offset)
+        };
         self.stamp(kernel.name());
     }
 
@@ -169,7 +196,9 @@ impl CommandList {
             | vk::AccessFlags::INDIRECT_COMMAND_READ
             | vk::AccessFlags::TRANSFER_READ
             | vk::AccessFlags::TRANSFER_WRITE;
-        let barrier = [vk::MemoryBarrier::default().src_access_mask(access).dst_access_mask(access)];
+        let barrier = [vk::MemoryBarrier::default()
+            .src_access_mask(access)
+            .dst_access_mask(access)];
         let stages = vk::PipelineStageFlags::COMPUTE_SHADER
             | vk::PipelineStageFlags::DRAW_INDIRECT
             | vk::PipelineStageFlags::TRANSFER;
@@ -190,22 +219,41 @@ impl CommandList {
     /// Fills `size` bytes at `offset` (multiples of 4) with a repeated u32.
     pub fn fill(&mut self, buffer: &Buffer, offset: u64, size: u64, value: u32) {
         // SAFETY: recording; range within the buffer (checked by validation).
-        unsafe { self.device.raw().cmd_fill_buffer(self.cmd, buffer.raw, offset, size, value) };
+        unsafe {
+            self.device
+                .raw()
+                .cmd_fill_buffer(self.cmd, buffer.raw, offset, size, value)
+        };
     }
 
     /// Writes at most 64 KiB of bytes (a multiple of 4) into `buffer` at `offset`.
     pub fn update(&mut self, buffer: &Buffer, offset: u64, bytes: &[u8]) {
         // SAFETY: recording; vkCmdUpdateBuffer takes at most 65536 bytes.
-        unsafe { self.device.raw().cmd_update_buffer(self.cmd, buffer.raw, offset, bytes) };
+        unsafe {
+            self.device
+                .raw()
+                .cmd_update_buffer(self.cmd, buffer.raw, offset, bytes)
+        };
     }
 
-    pub fn copy(&mut self, src: &Buffer, src_offset: u64, dst: &Buffer, dst_offset: u64, size: u64) {
+    pub fn copy(
+        &mut self,
+        src: &Buffer,
+        src_offset: u64,
+        dst: &Buffer,
+        dst_offset: u64,
+        size: u64,
+    ) {
         let region = [vk::BufferCopy::default()
             .src_offset(src_offset)
             .dst_offset(dst_offset)
             .size(size)];
         // SAFETY: recording; regions within both buffers.
-        unsafe { self.device.raw().cmd_copy_buffer(self.cmd, src.raw, dst.raw, &region) };
+        unsafe {
+            self.device
+                .raw()
+                .cmd_copy_buffer(self.cmd, src.raw, dst.raw, &region)
+        };
     }
 
     /// Submits what was recorded, waits for it, and starts recording again.
@@ -249,9 +297,12 @@ impl CommandList {
         let mut ticks = vec![0u64; self.labels.len() + 1];
         // SAFETY: the submission finished, so every written query is available.
         unsafe {
-            self.device
-                .raw()
-                .get_query_pool_results(q, 0, &mut ticks, vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT)
+            self.device.raw().get_query_pool_results(
+                q,
+                0,
+                &mut ticks,
+                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+            )
         }
         .vk("vkGetQueryPoolResults")?;
         for (i, label) in self.labels.iter().enumerate() {

@@ -60,7 +60,14 @@ pub struct DeviceInfo {
 
 impl std::fmt::Display for DeviceInfo {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "[{}] {} ({}, {})", self.index, self.name, self.kind.name(), self.driver)
+        write!(
+            f,
+            "[{}] {} ({}, {})",
+            self.index,
+            self.name,
+            self.kind.name(),
+            self.driver
+        )
     }
 }
 
@@ -120,7 +127,8 @@ struct Physical {
 
 fn enumerate(instance: &ash::Instance) -> Result<Vec<Physical>> {
     // SAFETY: instance is valid.
-    let devices = unsafe { instance.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
+    let devices =
+        unsafe { instance.enumerate_physical_devices() }.vk("vkEnumeratePhysicalDevices")?;
     let mut out = Vec::new();
     for handle in devices {
         // SAFETY: handle comes from the instance.
@@ -345,7 +353,11 @@ impl Device {
             return;
         };
         // SAFETY: valid cache of this device.
-        if let Ok(data) = unsafe { self.inner.raw.get_pipeline_cache_data(self.inner.pipeline_cache) } {
+        if let Ok(data) = unsafe {
+            self.inner
+                .raw
+                .get_pipeline_cache_data(self.inner.pipeline_cache)
+        } {
             if let Some(dir) = path.parent() {
                 let _ = std::fs::create_dir_all(dir);
             }
@@ -357,10 +369,15 @@ impl Device {
     }
 
     /// Index of a memory type with `wanted` flags among those `type_bits` allows.
-    pub(crate) fn memory_type(&self, type_bits: u32, wanted: vk::MemoryPropertyFlags) -> Option<u32> {
+    pub(crate) fn memory_type(
+        &self,
+        type_bits: u32,
+        wanted: vk::MemoryPropertyFlags,
+    ) -> Option<u32> {
         let mem = &self.inner.memory;
         (0..mem.memory_type_count).find(|&i| {
-            type_bits & (1 << i) != 0 && mem.memory_types[i as usize].property_flags.contains(wanted)
+            type_bits & (1 << i) != 0
+                && mem.memory_types[i as usize].property_flags.contains(wanted)
         })
     }
 

@@ -20,7 +20,10 @@ pub enum Error {
     #[error("no Vulkan device matches --device {selector:?}; available:\n{available}")]
     DeviceNotFound { selector: String, available: String },
     #[error("Vulkan call {call} failed: {result}")]
-    Vk { call: &'static str, result: vk::Result },
+    Vk {
+        call: &'static str,
+        result: vk::Result,
+    },
     #[error("no memory type for buffer '{label}' (wanted {wanted:?})")]
     NoMemoryType {
         label: String,
@@ -30,7 +33,11 @@ pub enum Error {
         "buffer '{label}' needs {size} bytes, more than this device allows in one storage \
          buffer ({limit} bytes); render a smaller image or fewer samples per batch"
     )]
-    BufferTooLarge { label: String, size: u64, limit: u64 },
+    BufferTooLarge {
+        label: String,
+        size: u64,
+        limit: u64,
+    },
     #[error("invalid SPIR-V for kernel '{0}'")]
     BadSpirv(String),
 }

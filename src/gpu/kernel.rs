@@ -19,7 +19,9 @@ impl Drop for LayoutInner {
     fn drop(&mut self) {
         // SAFETY: kernels and sets using this layout hold an Arc to it.
         unsafe {
-            self.device.raw.destroy_pipeline_layout(self.pipeline_layout, None);
+            self.device
+                .raw
+                .destroy_pipeline_layout(self.pipeline_layout, None);
             for &l in &self.set_layouts {
                 self.device.raw.destroy_descriptor_set_layout(l, None);
             }
@@ -116,9 +118,12 @@ impl DescriptorSet {
         let sizes = [vk::DescriptorPoolSize::default()
             .ty(vk::DescriptorType::STORAGE_BUFFER)
             .descriptor_count(count)];
-        let info = vk::DescriptorPoolCreateInfo::default().max_sets(1).pool_sizes(&sizes);
+        let info = vk::DescriptorPoolCreateInfo::default()
+            .max_sets(1)
+            .pool_sizes(&sizes);
         // SAFETY: valid create info.
-        let pool = unsafe { raw_dev.create_descriptor_pool(&info, None) }.vk("vkCreateDescriptorPool")?;
+        let pool =
+            unsafe { raw_dev.create_descriptor_pool(&info, None) }.vk("vkCreateDescriptorPool")?;
         let layouts = [inner.set_layouts[set as usize]];
         let alloc = vk::DescriptorSetAllocateInfo::default()
             .descriptor_pool(pool)
@@ -169,7 +174,12 @@ impl DescriptorSet {
 impl Drop for DescriptorSet {
     fn drop(&mut self) {
         // SAFETY: callers wait for GPU work before dropping sets it uses.
-        unsafe { self.layout.device.raw.destroy_descriptor_pool(self.pool, None) };
+        unsafe {
+            self.layout
+                .device
+                .raw
+                .destroy_descriptor_pool(self.pool, None)
+        };
     }
 }
 
@@ -182,12 +192,20 @@ pub struct Kernel {
 
 impl Kernel {
     /// `spec[i]` becomes specialization constant `constant_id = i` (32-bit each).
-    pub fn new(device: &Device, name: &str, spirv: &[u8], layout: &BindingLayout, spec: &[u32]) -> Result<Kernel> {
-        let code = ash::util::read_spv(&mut std::io::Cursor::new(spirv)).map_err(|_| Error::BadSpirv(name.into()))?;
+    pub fn new(
+        device: &Device,
+        name: &str,
+        spirv: &[u8],
+        layout: &BindingLayout,
+        spec: &[u32],
+    ) -> Result<Kernel> {
+        let code = ash::util::read_spv(&mut std::io::Cursor::new(spirv))
+            .map_err(|_| Error::BadSpirv(name.into()))?;
         let raw = device.raw();
         let module_info = vk::ShaderModuleCreateInfo::default().code(&code);
         // SAFETY: SPIR-V produced by glslang at build time.
-        let module = unsafe { raw.create_shader_module(&module_info, None) }.vk("vkCreateShaderModule")?;
+        let module =
+            unsafe { raw.create_shader_module(&module_info, None) }.vk("vkCreateShaderModule")?;
         let entries: Vec<_> = (0..spec.len())
             .map(|i| {
                 vk::SpecializationMapEntry::default()
@@ -197,7 +215,9 @@ impl Kernel {
             })
             .collect();
         let data: &[u8] = bytemuck::cast_slice(spec);
-        let spec_info = vk::SpecializationInfo::default().map_entries(&entries).data(data);
+        let spec_info = vk::SpecializationInfo::default()
+            .map_entries(&entries)
+            .data(data);
         let stage = vk::PipelineShaderStageCreateInfo::default()
             .stage(vk::ShaderStageFlags::COMPUTE)
             .module(module)
@@ -207,7 +227,8 @@ impl Kernel {
             .stage(stage)
             .layout(layout.inner.pipeline_layout)];
         // SAFETY: valid create info; module destroyed after pipeline creation.
-        let result = unsafe { raw.create_compute_pipelines(device.inner.pipeline_cache, &info, None) };
+        let result =
+            unsafe { raw.create_compute_pipelines(device.inner.pipeline_cache, &info, None) };
         // SAFETY: the module is no longer needed once the pipeline exists.
         unsafe { raw.destroy_shader_module(module, None) };
         let pipeline = result.map_err(|(_, r)| r).vk("vkCreateComputePipelines")?[0];

@@ -278,7 +278,12 @@ mod tests {
                 let ty = parts.next().expect("type");
                 let var = parts.next().expect("field name");
                 let (field, count) = match var.find('[') {
-                    Some(b) => (&var[..b], var[b + 1..var.len() - 1].parse::<usize>().expect("array length")),
+                    Some(b) => (
+                        &var[..b],
+                        var[b + 1..var.len() - 1]
+                            .parse::<usize>()
+                            .expect("array length"),
+                    ),
                     None => (var, 1),
                 };
                 let (size, align) = std430(ty);
@@ -310,7 +315,17 @@ mod tests {
         let src = std::fs::read_to_string(path).expect("read layout.glsl");
         let glsl = parse_glsl(&src);
         let rust = [
-            rust_layout!(BvhNode, left_min, left_index, left_max, left_count, right_min, right_index, right_max, right_count),
+            rust_layout!(
+                BvhNode,
+                left_min,
+                left_index,
+                left_max,
+                left_count,
+                right_min,
+                right_index,
+                right_max,
+                right_count
+            ),
             rust_layout!(Prim, p0, shape, p1, index, p2, kind),
             rust_layout!(ShapeRecord, bsdf, emitter, flags, pad0),
             rust_layout!(TriangleRecord, v0, v1, v2),
@@ -336,18 +351,44 @@ mod tests {
             rust_layout!(RayItem, origin, path, dir, tmax),
             rust_layout!(HitItem, t, u, v, prim),
             rust_layout!(ShadowItem, origin, path, dir, tmax, contribution, pad0),
-            rust_layout!(Counters, ray_count, shadow_count, rays_traced, discarded, pad0, pad1, pad2),
+            rust_layout!(
+                Counters,
+                ray_count,
+                shadow_count,
+                rays_traced,
+                discarded,
+                pad0,
+                pad1,
+                pad2
+            ),
             rust_layout!(DispatchArgs, rays, shadows),
-            rust_layout!(Push, path_count, pixel_base, sample_base, depth, queue_in, capacity, pad1, pad2),
+            rust_layout!(
+                Push,
+                path_count,
+                pixel_base,
+                sample_base,
+                depth,
+                queue_in,
+                capacity,
+                pad1,
+                pad2
+            ),
         ];
         for (name, fields, size) in &rust {
             let (gfields, gsize) = glsl
                 .get(name)
                 .unwrap_or_else(|| panic!("struct {name} is missing from layout.glsl"));
-            assert_eq!(gfields, fields, "fields or offsets of {name} differ between Rust and GLSL");
+            assert_eq!(
+                gfields, fields,
+                "fields or offsets of {name} differ between Rust and GLSL"
+            );
             assert_eq!(gsize, size, "size of {name} differs between Rust and GLSL");
         }
-        assert_eq!(glsl.len(), rust.len(), "layout.glsl has structs the Rust side does not check");
+        assert_eq!(
+            glsl.len(),
+            rust.len(),
+            "layout.glsl has structs the Rust side does not check"
+        );
     }
 
     #[test]

@@ -80,7 +80,12 @@ pub struct BlockComparison {
 /// per block; a missing factor or a bias shows up as large |z| across many blocks.
 /// Blocks whose pixels are all equal (no noise) compare with a small absolute floor
 /// `sigma_floor` instead.
-pub fn compare_blocks(img: &Image, reference: &Image, block: u32, sigma_floor: f64) -> BlockComparison {
+pub fn compare_blocks(
+    img: &Image,
+    reference: &Image,
+    block: u32,
+    sigma_floor: f64,
+) -> BlockComparison {
     check_sizes(img, reference);
     let (bw, bh) = (img.width / block, img.height / block);
     let mut out = BlockComparison {

@@ -6,7 +6,11 @@ use super::{file_error, Image, Result};
 
 /// The sRGB transfer function (IEC 61966-2-1) of a linear value, clamped to [0, 1].
 pub fn srgb_encode(linear: f32) -> f32 {
-    let v = if linear.is_nan() { 0.0 } else { linear.clamp(0.0, 1.0) };
+    let v = if linear.is_nan() {
+        0.0
+    } else {
+        linear.clamp(0.0, 1.0)
+    };
     if v <= 0.003_130_8 {
         12.92 * v
     } else {

@@ -57,7 +57,11 @@ impl Integrator {
 
     /// Reads the integrator the scene names, or `override_name` instead (the scene's
     /// parameters apply only if the override names the same integrator).
-    pub fn from_spec(spec: &IntegratorSpec, override_name: Option<&str>, scene_file: &Path) -> Result<Integrator> {
+    pub fn from_spec(
+        spec: &IntegratorSpec,
+        override_name: Option<&str>,
+        scene_file: &Path,
+    ) -> Result<Integrator> {
         let err = |line: Option<u32>, message: String| Error::Integrator {
             file: scene_file.to_path_buf(),
             line,
@@ -77,7 +81,12 @@ impl Integrator {
                     None => f32::INFINITY,
                     Some(Param::Float(v)) if v > 0.0 => v as f32,
                     Some(Param::Integer(v)) if v > 0 => v as f32,
-                    Some(p) => return Err(err(line, format!("integrator 'ao': max_t must be a positive float, got {p:?}"))),
+                    Some(p) => {
+                        return Err(err(
+                            line,
+                            format!("integrator 'ao': max_t must be a positive float, got {p:?}"),
+                        ))
+                    }
                 };
                 let uniform = match take("sampling") {
                     None => false,
@@ -92,7 +101,15 @@ impl Integrator {
                 };
                 Integrator::Ao { max_t, uniform }
             }
-            "" => return Err(err(line, format!("the scene names no integrator; choose one with --integrator ({})", NAMES.join(", ")))),
+            "" => {
+                return Err(err(
+                    line,
+                    format!(
+                        "the scene names no integrator; choose one with --integrator ({})",
+                        NAMES.join(", ")
+                    ),
+                ))
+            }
             other => {
                 return Err(err(
                     line,
@@ -104,7 +121,10 @@ impl Integrator {
             }
         };
         if let Some(key) = params.keys().next() {
-            return Err(err(line, format!("integrator '{name}' has no parameter '{key}'")));
+            return Err(err(
+                line,
+                format!("integrator '{name}' has no parameter '{key}'"),
+            ));
         }
         Ok(integrator)
     }
@@ -117,35 +137,81 @@ mod tests {
     fn spec(name: &str, params: &[(&str, Param)]) -> IntegratorSpec {
         IntegratorSpec {
             name: name.into(),
-            params: params.iter().map(|(k, v)| (k.to_string(), v.clone())).collect(),
+            params: params
+                .iter()
+                .map(|(k, v)| (k.to_string(), v.clone()))
+                .collect(),
             line: Some(7),
         }
     }
 
     #[test]
     fn reads_ao_parameters() {
-        let s = spec("ao", &[("max_t", Param::Float(2.5)), ("sampling", Param::String("uniform".into()))]);
+        let s = spec(
+            "ao",
+            &[
+                ("max_t", Param::Float(2.5)),
+                ("sampling", Param::String("uniform".into())),
+            ],
+        );
         let i = Integrator::from_spec(&s, None, Path::new("a.xml")).unwrap();
-        assert_eq!(i, Integrator::Ao { max_t: 2.5, uniform: true });
+        assert_eq!(
+            i,
+            Integrator::Ao {
+                max_t: 2.5,
+                uniform: true
+            }
+        );
         let d = Integrator::from_spec(&spec("ao", &[]), None, Path::new("a.xml")).unwrap();
-        assert_eq!(d, Integrator::Ao { max_t: f32::INFINITY, uniform: false });
+        assert_eq!(
+            d,
+            Integrator::Ao {
+                max_t: f32::INFINITY,
+                uniform: false
+            }
+        );
     }
 
     #[test]
     fn unknown_key_and_bad_values_name_file_and_line() {
-        let e = Integrator::from_spec(&spec("ao", &[("maxt", Param::Float(1.0))]), None, Path::new("s.xml")).unwrap_err();
-        assert_eq!(e.to_string(), "s.xml:7: integrator 'ao' has no parameter 'maxt'");
-        let e = Integrator::from_spec(&spec("ao", &[("max_t", Param::Float(-1.0))]), None, Path::new("s.xml")).unwrap_err();
-        assert!(e.to_string().starts_with("s.xml:7: integrator 'ao': max_t must be a positive float"));
-        let e = Integrator::from_spec(&spec("path_mis", &[]), None, Path::new("s.xml")).unwrap_err();
-        assert!(e.to_string().contains("'path_mis' is not implemented"), "{e}");
+        let e = Integrator::from_spec(
+            &spec("ao", &[("maxt", Param::Float(1.0))]),
+            None,
+            Path::new("s.xml"),
+        )
+        .unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "s.xml:7: integrator 'ao' has no parameter 'maxt'"
+        );
+        let e = Integrator::from_spec(
+            &spec("ao", &[("max_t", Param::Float(-1.0))]),
+            None,
+            Path::new("s.xml"),
+        )
+        .unwrap_err();
+        assert!(e
+            .to_string()
+            .starts_with("s.xml:7: integrator 'ao': max_t must be a positive float"));
+        let e =
+            Integrator::from_spec(&spec("path_mis", &[]), None, Path::new("s.xml")).unwrap_err();
+        assert!(
+            e.to_string().contains("'path_mis' is not implemented"),
+            "{e}"
+        );
     }
 
     #[test]
     fn override_replaces_the_scene_integrator_and_drops_its_parameters() {
         let s = spec("path", &[("max_depth", Param::Integer(5))]);
         let i = Integrator::from_spec(&s, Some("ao"), Path::new("s.xml")).unwrap();
-        assert_eq!(i, Integrator::Ao { max_t: f32::INFINITY, uniform: false });
+        assert_eq!(
+            i,
+            Integrator::Ao {
+                max_t: f32::INFINITY,
+                uniform: false
+            }
+        );
         let e = Integrator::from_spec(&s, Some("bogus"), Path::new("s.xml")).unwrap_err();
         assert!(e.to_string().contains("'bogus' is not implemented"));
     }

@@ -98,20 +98,38 @@ fn groups_for(n: u32) -> [u32; 3] {
 
 impl Renderer {
     pub fn new(device: &Device, scene: &Scene, options: &RenderOptions) -> Result<Renderer> {
-        let integrator = Integrator::from_spec(&scene.integrator, options.integrator.as_deref(), &scene.path)?;
+        let integrator = Integrator::from_spec(
+            &scene.integrator,
+            options.integrator.as_deref(),
+            &scene.path,
+        )?;
         let cam = &scene.camera;
         if cam.width == 0 || cam.height == 0 {
-            return Err(Error::Options(format!("film of {}x{} pixels is empty", cam.width, cam.height)));
+            return Err(Error::Options(format!(
+                "film of {}x{} pixels is empty",
+                cam.width, cam.height
+            )));
         }
-        let pixels = cam.width.checked_mul(cam.height).filter(|&p| p < u32::MAX / 2).ok_or_else(|| {
-            Error::Options(format!("film of {}x{} pixels is too large", cam.width, cam.height))
-        })?;
+        let pixels = cam
+            .width
+            .checked_mul(cam.height)
+            .filter(|&p| p < u32::MAX / 2)
+            .ok_or_else(|| {
+                Error::Options(format!(
+                    "film of {}x{} pixels is too large",
+                    cam.width, cam.height
+                ))
+            })?;
 
         let bvh = Bvh::build(accel::prims_from_scene(scene));
         let records = SceneRecords::new(scene);
 
         let t = Instant::now();
-        let layout = BindingLayout::new(device, &[SCENE_BINDINGS, WAVEFRONT_BINDINGS], std::mem::size_of::<Push>() as u32)?;
+        let layout = BindingLayout::new(
+            device,
+            &[SCENE_BINDINGS, WAVEFRONT_BINDINGS],
+            std::mem::size_of::<Push>() as u32,
+        )?;
         let scene_buffers = SceneBuffers::upload(device, &layout, &bvh, &records)?;
         let tan_x = (cam.fov_x_deg.to_radians() * 0.5).tan();
         let frame = Frame {
@@ -131,15 +149,23 @@ impl Renderer {
             max_depth: integrator.max_depth(),
             emitter_count: records.emitters.len() as u32,
         };
-        let capacity = options.max_batch_paths.unwrap_or_else(|| default_capacity(device)).max(1);
+        let capacity = options
+            .max_batch_paths
+            .unwrap_or_else(|| default_capacity(device))
+            .max(1);
         // Keep every queue inside one storage-buffer binding.
-        let limit = device.info().max_storage_buffer_range / (2 * std::mem::size_of::<crate::gpu::layout::RayItem>() as u64);
-        let capacity = capacity.min(limit as u32).min(pixels.saturating_mul(scene.spp.max(1)));
+        let limit = device.info().max_storage_buffer_range
+            / (2 * std::mem::size_of::<crate::gpu::layout::RayItem>() as u64);
+        let capacity = capacity
+            .min(limit as u32)
+            .min(pixels.saturating_mul(scene.spp.max(1)));
         let wavefront = Wavefront::new(device, &layout, capacity, pixels, &frame)?;
         let upload_seconds = t.elapsed().as_secs_f64();
 
         let t = Instant::now();
-        let k = |name: &str, spirv: &[u8], spec: &[u32]| Kernel::new(device, name, spirv, &layout, spec);
+        let k = |name: &str, spirv: &[u8], spec: &[u32]| {
+            Kernel::new(device, name, spirv, &layout, spec)
+        };
         let kernels = Kernels {
             generate: k("generate", shaders::GENERATE, &[])?,
             intersect: k("intersect", shaders::INTERSECT, &[])?,
@@ -162,7 +188,7 @@ impl Renderer {
             height: cam.height,
             timestamps: options.timestamps,
             setup: SetupStats {
-                bvh: bvh.stats.clone(),
+                bvh: bvh.stats,
                 upload_seconds,
                 pipeline_seconds,
                 first_dispatch_seconds: 0.0,
@@ -195,7 +221,15 @@ impl Renderer {
         let push = bytemuck::bytes_of(&push);
         let sets = [&self.scene_buffers.set, &wf.set];
         let k = &self.kernels;
-        for kernel in [&k.generate, &k.ray_args, &k.intersect, &k.shade, &k.shadow_args, &k.shadow, &k.accumulate] {
+        for kernel in [
+            &k.generate,
+            &k.ray_args,
+            &k.intersect,
+            &k.shade,
+            &k.shadow_args,
+            &k.shadow,
+            &k.accumulate,
+        ] {
             cmd.dispatch(kernel, &sets, push, [1, 1, 1]);
             cmd.barrier();
         }
@@ -205,16 +239,27 @@ impl Renderer {
 
     /// Renders samples `0..spp` of every pixel and returns the image. `progress` is
     /// called after each batch with (samples done, samples in all).
-    pub fn render(&mut self, spp: u32, progress: &mut dyn FnMut(u64, u64)) -> Result<(Image, RenderStats)> {
+    pub fn render(
+        &mut self,
+        spp: u32,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<(Image, RenderStats)> {
         self.render_range(0, spp, progress)
     }
 
     /// Renders samples `first .. first + count` of every pixel. Sample `s` of a pixel
     /// is the same whatever range it is rendered in, so ranges can be rendered apart
     /// and averaged.
-    pub fn render_range(&mut self, first: u32, count: u32, progress: &mut dyn FnMut(u64, u64)) -> Result<(Image, RenderStats)> {
+    pub fn render_range(
+        &mut self,
+        first: u32,
+        count: u32,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<(Image, RenderStats)> {
         if count == 0 {
-            return Err(Error::Options("samples per pixel must be at least 1".into()));
+            return Err(Error::Options(
+                "samples per pixel must be at least 1".into(),
+            ));
         }
         let start = Instant::now();
         let pixels = self.width * self.height;
@@ -279,7 +324,13 @@ impl Renderer {
 
     /// Records one batch: `path_count` paths starting at global sample
     /// `sample_base * pixels + pixel_base`.
-    fn record_batch(&self, cmd: &mut CommandList, sample_base: u32, pixel_base: u32, path_count: u32) {
+    fn record_batch(
+        &self,
+        cmd: &mut CommandList,
+        sample_base: u32,
+        pixel_base: u32,
+        path_count: u32,
+    ) {
         let wf = &self.wavefront;
         let counters = Counters {
             ray_count: [path_count, 0],
@@ -298,7 +349,12 @@ impl Renderer {
             ..Default::default()
         };
         let k = &self.kernels;
-        cmd.dispatch(&k.generate, &sets, bytemuck::bytes_of(&push), groups_for(path_count));
+        cmd.dispatch(
+            &k.generate,
+            &sets,
+            bytemuck::bytes_of(&push),
+            groups_for(path_count),
+        );
         cmd.barrier();
         for depth in 0..self.integrator.max_depth() {
             push.depth = depth;
@@ -306,16 +362,33 @@ impl Renderer {
             let p = bytemuck::bytes_of(&push);
             cmd.dispatch(&k.ray_args, &sets, p, [1, 1, 1]);
             cmd.barrier();
-            cmd.dispatch_indirect(&k.intersect, &sets, p, &wf.dispatch_args, Wavefront::RAY_ARGS);
+            cmd.dispatch_indirect(
+                &k.intersect,
+                &sets,
+                p,
+                &wf.dispatch_args,
+                Wavefront::RAY_ARGS,
+            );
             cmd.barrier();
             cmd.dispatch_indirect(&k.shade, &sets, p, &wf.dispatch_args, Wavefront::RAY_ARGS);
             cmd.barrier();
             cmd.dispatch(&k.shadow_args, &sets, p, [1, 1, 1]);
             cmd.barrier();
-            cmd.dispatch_indirect(&k.shadow, &sets, p, &wf.dispatch_args, Wavefront::SHADOW_ARGS);
+            cmd.dispatch_indirect(
+                &k.shadow,
+                &sets,
+                p,
+                &wf.dispatch_args,
+                Wavefront::SHADOW_ARGS,
+            );
             cmd.barrier();
         }
-        cmd.dispatch(&k.accumulate, &sets, bytemuck::bytes_of(&push), groups_for(path_count.min(self.width * self.height)));
+        cmd.dispatch(
+            &k.accumulate,
+            &sets,
+            bytemuck::bytes_of(&push),
+            groups_for(path_count.min(self.width * self.height)),
+        );
         cmd.barrier();
     }
 

@@ -3,8 +3,8 @@
 
 use crate::accel::Bvh;
 use crate::gpu::layout::{
-    BsdfRecord, EmitterRecord, ShapeRecord, TriangleRecord, Vertex, BSDF_DIFFUSE, EMITTER_AREA, EMITTER_CONSTANT,
-    EMITTER_POINT, NONE, SHAPE_FLIP_NORMALS, SHAPE_HAS_NORMALS, SHAPE_HAS_UVS,
+    BsdfRecord, EmitterRecord, ShapeRecord, TriangleRecord, Vertex, BSDF_DIFFUSE, EMITTER_AREA,
+    EMITTER_CONSTANT, EMITTER_POINT, NONE, SHAPE_FLIP_NORMALS, SHAPE_HAS_NORMALS, SHAPE_HAS_UVS,
 };
 use crate::gpu::{BindingLayout, Buffer, DescriptorSet, Device};
 use crate::scene::{Bsdf, Emitter, Scene};
@@ -38,7 +38,10 @@ impl SceneRecords {
         for (new, &old) in order.iter().enumerate() {
             remap[old] = new as u32;
             let rec = match scene.emitters[old] {
-                Emitter::Point { position, intensity } => {
+                Emitter::Point {
+                    position,
+                    intensity,
+                } => {
                     r.point_light_count += 1;
                     EmitterRecord {
                         position: position.into(),
@@ -113,7 +116,11 @@ impl SceneRecords {
             r.shapes.push(ShapeRecord {
                 bsdf: sphere.bsdf,
                 emitter: emitter_of(sphere.emitter),
-                flags: if sphere.flip_normals { SHAPE_FLIP_NORMALS } else { 0 },
+                flags: if sphere.flip_normals {
+                    SHAPE_FLIP_NORMALS
+                } else {
+                    0
+                },
                 pad0: 0,
             });
         }
@@ -138,7 +145,12 @@ pub struct SceneBuffers {
 }
 
 impl SceneBuffers {
-    pub fn upload(device: &Device, layout: &BindingLayout, bvh: &Bvh, records: &SceneRecords) -> Result<SceneBuffers> {
+    pub fn upload(
+        device: &Device,
+        layout: &BindingLayout,
+        bvh: &Bvh,
+        records: &SceneRecords,
+    ) -> Result<SceneBuffers> {
         let buffers = vec![
             Buffer::from_slice(device, "bvh nodes", &bvh.nodes)?,
             Buffer::from_slice(device, "primitives", &bvh.prims)?,
@@ -151,6 +163,9 @@ impl SceneBuffers {
         debug_assert_eq!(buffers.len() as u32, SCENE_BINDINGS);
         let refs: Vec<&Buffer> = buffers.iter().collect();
         let set = DescriptorSet::new(layout, 0, &refs)?;
-        Ok(SceneBuffers { _buffers: buffers, set })
+        Ok(SceneBuffers {
+            _buffers: buffers,
+            set,
+        })
     }
 }

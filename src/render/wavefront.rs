@@ -14,8 +14,10 @@ pub const WAVEFRONT_BINDINGS: u32 = 8;
 
 /// GPU memory one path slot needs, in bytes (path state, two ray queue entries, a
 /// hit, a shadow ray).
-pub const BYTES_PER_PATH: u64 =
-    (size_of::<PathState>() + 2 * size_of::<RayItem>() + size_of::<HitItem>() + size_of::<ShadowItem>()) as u64;
+pub const BYTES_PER_PATH: u64 = (size_of::<PathState>()
+    + 2 * size_of::<RayItem>()
+    + size_of::<HitItem>()
+    + size_of::<ShadowItem>()) as u64;
 
 pub struct Wavefront {
     pub frame: Buffer,
@@ -32,20 +34,56 @@ pub struct Wavefront {
 }
 
 impl Wavefront {
-    pub fn new(device: &Device, layout: &BindingLayout, capacity: u32, pixels: u32, frame: &Frame) -> Result<Wavefront> {
+    pub fn new(
+        device: &Device,
+        layout: &BindingLayout,
+        capacity: u32,
+        pixels: u32,
+        frame: &Frame,
+    ) -> Result<Wavefront> {
         let n = capacity as u64;
         let frame_buf = Buffer::from_slice(device, "frame", std::slice::from_ref(frame))?;
-        let paths = Buffer::new(device, "path states", n * size_of::<PathState>() as u64, Location::Gpu)?;
-        let rays = Buffer::new(device, "ray queues", 2 * n * size_of::<RayItem>() as u64, Location::Gpu)?;
-        let hits = Buffer::new(device, "hits", n * size_of::<HitItem>() as u64, Location::Gpu)?;
-        let shadows = Buffer::new(device, "shadow queue", n * size_of::<ShadowItem>() as u64, Location::Gpu)?;
+        let paths = Buffer::new(
+            device,
+            "path states",
+            n * size_of::<PathState>() as u64,
+            Location::Gpu,
+        )?;
+        let rays = Buffer::new(
+            device,
+            "ray queues",
+            2 * n * size_of::<RayItem>() as u64,
+            Location::Gpu,
+        )?;
+        let hits = Buffer::new(
+            device,
+            "hits",
+            n * size_of::<HitItem>() as u64,
+            Location::Gpu,
+        )?;
+        let shadows = Buffer::new(
+            device,
+            "shadow queue",
+            n * size_of::<ShadowItem>() as u64,
+            Location::Gpu,
+        )?;
         let counters = Buffer::from_slice(device, "counters", &[Counters::default()])?;
-        let dispatch_args = Buffer::from_slice(device, "dispatch args", &[DispatchArgs::default()])?;
+        let dispatch_args =
+            Buffer::from_slice(device, "dispatch args", &[DispatchArgs::default()])?;
         let film = Buffer::from_slice(device, "film", &vec![[0f32; 4]; pixels as usize])?;
         let set = DescriptorSet::new(
             layout,
             1,
-            &[&frame_buf, &paths, &rays, &hits, &shadows, &counters, &dispatch_args, &film],
+            &[
+                &frame_buf,
+                &paths,
+                &rays,
+                &hits,
+                &shadows,
+                &counters,
+                &dispatch_args,
+                &film,
+            ],
         )?;
         Ok(Wavefront {
             frame: frame_buf,

@@ -11,7 +11,8 @@ use wavetrace::render::{RenderOptions, Renderer};
 use wavetrace::scene::Scene;
 
 pub fn device() -> Device {
-    Device::new(std::env::var("WAVETRACE_DEVICE").ok().as_deref()).expect("a Vulkan device (run tools/setup.sh)")
+    Device::new(std::env::var("WAVETRACE_DEVICE").ok().as_deref())
+        .expect("a Vulkan device (run tools/setup.sh)")
 }
 
 /// Path of a file in the repository.
@@ -34,7 +35,8 @@ pub fn load(path: &Path) -> Scene {
 
 /// Renders `spp` samples (samples `0..spp`) of a scene.
 pub fn render(device: &Device, scene: &Scene, options: &RenderOptions, spp: u32) -> Image {
-    let mut r = Renderer::new(device, scene, options).unwrap_or_else(|e| panic!("setting up render: {e}"));
+    let mut r =
+        Renderer::new(device, scene, options).unwrap_or_else(|e| panic!("setting up render: {e}"));
     r.render(spp, &mut |_, _| {}).expect("render").0
 }
 
