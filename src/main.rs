@@ -180,10 +180,12 @@ fn run(cli: Cli) -> Result<()> {
                     eprintln!("  {name:<12} {:>9.2} ms over {n} dispatches", secs * 1e3);
                 }
             }
-            wavetrace::image::write_exr(&output, &image)
+            image
+                .write_exr(&output)
                 .with_context(|| format!("writing {}", output.display()))?;
             let png = output.with_extension("png");
-            wavetrace::image::write_png(&png, &image)
+            image
+                .write_png(&png, 0.0)
                 .with_context(|| format!("writing {}", png.display()))?;
             eprintln!("wrote {} and {}", output.display(), png.display());
             Ok(())

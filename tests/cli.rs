@@ -124,7 +124,7 @@ fn renders_writes_exr_and_png_and_reports_speed() {
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("device:"), "{err}");
     assert!(err.contains("rays/s"), "{err}");
-    let img = wavetrace::image::read_exr(&out).expect("read back the EXR");
+    let img = wavetrace::image::Image::read_exr(&out).expect("read back the EXR");
     assert!(img.width > 0 && img.rgb.iter().all(|v| v.is_finite()));
     assert!(out.with_extension("png").exists());
 }

@@ -1,60 +1,153 @@
-//! OpenEXR: linear float RGB, the renderer's output and the references' format.
+//! OpenEXR files.
+//!
+//! Reading takes the R, G and B channels of the first layer that has them, whatever
+//! their sample type (half, float or uint) and whether or not there is an alpha channel,
+//! so EXRs written by Mitsuba (`hdrfilm`, RGB or RGBA, float16 or float32), Nori and
+//! OpenEXR tools all load. Alpha is ignored: renders here are opaque.
+//!
+//! Writing produces one layer of three float32 channels R, G, B, ZIP-compressed in
+//! blocks of 16 scan lines (lossless, small for the reference images in `scenes/refs`).
 
 use std::path::Path;
 
-use exr::prelude::{read_first_rgba_layer_from_file, write_rgb_file};
+use ::exr::prelude::{
+    read_first_rgba_layer_from_file, Encoding, Image as ExrImage, SpecificChannels, Vec2,
+    WritableImage,
+};
 
-use super::{file_error, Image, Result};
+use super::{Error, Image};
 
-/// Writes `img` as a 32-bit float RGB EXR.
-pub fn write_exr(path: &Path, img: &Image) -> Result<()> {
-    let w = img.width as usize;
-    write_rgb_file(path, w, img.height as usize, |x, y| {
-        let i = 3 * (y * w + x);
-        (img.rgb[i], img.rgb[i + 1], img.rgb[i + 2])
-    })
-    .map_err(|e| file_error(path, e))
-}
-
-/// Reads the first RGB(A) layer of an EXR (half or float channels, as written by
-/// Mitsuba and others); alpha is ignored, a missing channel reads as 0.
-pub fn read_exr(path: &Path) -> Result<Image> {
-    let image = read_first_rgba_layer_from_file(
+/// Reads the R, G, B channels of the first layer of an EXR file as a linear image.
+pub fn read(path: impl AsRef<Path>) -> Result<Image, Error> {
+    let path = path.as_ref();
+    let exr = read_first_rgba_layer_from_file(
         path,
-        |resolution, _channels| Image::new(resolution.width() as u32, resolution.height() as u32),
-        |img: &mut Image, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
-            let i = 3 * (pos.y() * img.width as usize + pos.x());
-            img.rgb[i] = r;
-            img.rgb[i + 1] = g;
-            img.rgb[i + 2] = b;
+        |size, _channels| match (u32::try_from(size.width()), u32::try_from(size.height())) {
+            (Ok(width), Ok(height)) => Some(Image::new(width, height)),
+            _ => None,
+        },
+        |image: &mut Option<Image>, position, (r, g, b, _a): (f32, f32, f32, f32)| {
+            if let Some(image) = image {
+                image.set_pixel(position.x() as u32, position.y() as u32, [r, g, b]);
+            }
         },
     )
-    .map_err(|e| file_error(path, e))?;
-    Ok(image.layer_data.channel_data.pixels)
+    .map_err(|source| Error::Exr {
+        path: path.to_owned(),
+        source,
+    })?;
+    exr.layer_data
+        .channel_data
+        .pixels
+        .ok_or_else(|| Error::Format {
+            path: path.to_owned(),
+            message: "image too large".into(),
+        })
+}
+
+/// Writes an image as an EXR file with float32 R, G, B channels.
+pub fn write(image: &Image, path: impl AsRef<Path>) -> Result<(), Error> {
+    let path = path.as_ref();
+    let channels = SpecificChannels::rgb(|position: Vec2<usize>| {
+        let [r, g, b] = image.pixel(position.x() as u32, position.y() as u32);
+        (r, g, b)
+    });
+    let size = (image.width as usize, image.height as usize);
+    ExrImage::from_encoded_channels(size, Encoding::SMALL_LOSSLESS, channels)
+        .write()
+        .to_file(path)
+        .map_err(|source| Error::Exr {
+            path: path.to_owned(),
+            source,
+        })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use ::exr::prelude::f16;
+    use std::path::PathBuf;
 
-    #[test]
-    fn round_trip_keeps_every_float() {
-        let mut img = Image::new(5, 3);
-        for (i, v) in img.rgb.iter_mut().enumerate() {
-            *v = i as f32 * 0.37 - 2.0;
+    /// A path in the system temp folder, unique to this test process and `name`.
+    fn temp_path(name: &str) -> PathBuf {
+        std::env::temp_dir().join(format!("wavetrace-{}-{name}", std::process::id()))
+    }
+
+    fn gradient(width: u32, height: u32) -> Image {
+        let mut image = Image::new(width, height);
+        for y in 0..height {
+            for x in 0..width {
+                // Values that need all of float32's bits, plus a negative and a large one.
+                let v = (x as f32 + 0.1) / (y as f32 + 0.3);
+                image.set_pixel(x, y, [v, -v, 1.0e6 * v]);
+            }
         }
-        img.rgb[7] = 1e-30;
-        img.rgb[8] = 6.5e4;
-        let path = std::env::temp_dir().join(format!("wavetrace-exr-{}.exr", std::process::id()));
-        write_exr(&path, &img).unwrap();
-        let back = read_exr(&path).unwrap();
-        assert_eq!(back, img);
-        let _ = std::fs::remove_file(path);
+        image
     }
 
     #[test]
-    fn errors_name_the_file() {
-        let e = read_exr(Path::new("/nonexistent/x.exr")).unwrap_err();
-        assert!(e.to_string().starts_with("/nonexistent/x.exr: "), "{e}");
+    fn round_trip_is_exact() {
+        let path = temp_path("round_trip.exr");
+        let image = gradient(37, 19);
+        write(&image, &path).unwrap();
+        let back = read(&path).unwrap();
+        std::fs::remove_file(&path).ok();
+        assert_eq!(back, image);
+    }
+
+    #[test]
+    fn reads_half_rgba_taking_rgb() {
+        let path = temp_path("half_rgba.exr");
+        // Quarters are exact in half precision.
+        ::exr::prelude::write_rgba_file(&path, 4, 3, |x, y| {
+            (
+                f16::from_f32(x as f32 * 0.25),
+                f16::from_f32(y as f32 * 0.25),
+                f16::from_f32(2.0),
+                f16::from_f32(0.5),
+            )
+        })
+        .unwrap();
+        let image = read(&path).unwrap();
+        std::fs::remove_file(&path).ok();
+        assert_eq!((image.width, image.height), (4, 3));
+        assert_eq!(image.pixel(3, 2), [0.75, 0.5, 2.0]);
+        assert_eq!(image.pixel(0, 1), [0.0, 0.25, 2.0]);
+    }
+
+    /// `testdata/mitsuba_rgba_f16.exr` was written by Mitsuba 3's `Bitmap` (OpenEXR
+    /// library): 8x4, RGBA float16, pixel (x, y) = (x/8, y/4, 0.25, 0.5). See
+    /// `tools/make_image_testdata.py`.
+    #[test]
+    fn reads_mitsuba_rgba_half_exr() {
+        let path =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("src/image/testdata/mitsuba_rgba_f16.exr");
+        let image = read(path).unwrap();
+        assert_eq!((image.width, image.height), (8, 4));
+        for y in 0..4 {
+            for x in 0..8 {
+                assert_eq!(image.pixel(x, y), [x as f32 / 8.0, y as f32 / 4.0, 0.25]);
+            }
+        }
+    }
+
+    /// The AO reference rendered by Mitsuba 3 (`tools/mitsuba_ref.py`): RGB float32.
+    #[test]
+    fn reads_mitsuba_reference() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/refs/ao.exr");
+        let image = read(path).unwrap();
+        assert_eq!((image.width, image.height), (128, 128));
+        assert_eq!(image.non_finite_count(), 0);
+        // Ambient occlusion lies in [0, 1]; allow for Monte Carlo noise above 1.
+        assert!(image.rgb.iter().all(|&v| (0.0..1.05).contains(&v)));
+    }
+
+    #[test]
+    fn missing_file_names_the_file() {
+        let err = read("/nonexistent/wavetrace.exr").unwrap_err();
+        assert!(
+            err.to_string().starts_with("/nonexistent/wavetrace.exr: "),
+            "{err}"
+        );
     }
 }

@@ -1,51 +1,116 @@
-//! Image I/O, tonemapping and error metrics.
+//! Images: the [`Image`] type every render ends in, EXR and PNG files, error metrics.
+//!
+//! - [`exr`]: read (RGB or RGBA, half or float, as Mitsuba and others write them) and
+//!   write (RGB float32) OpenEXR files.
+//! - [`png`]: 8-bit sRGB PNG output for looking at a render: exposure, clamp, sRGB OETF.
+//! - [`metrics`]: MSE, RMSE, relative MSE, per-channel means, and the blockwise
+//!   t-test that image tests use to compare a noisy render with a reference.
 
+pub mod error;
 pub mod exr;
 pub mod metrics;
 pub mod png;
 
-pub use self::exr::{read_exr, write_exr};
-pub use self::png::write_png;
+pub use error::Error;
 
-use std::path::PathBuf;
-
-/// A linear RGB float image, row-major, top row first.
+/// A linear RGB image: 3 floats per pixel, row-major, top row first.
+///
+/// Values are scene-referred radiance (or AO, or whatever the integrator measures),
+/// not display values: nothing is clamped or gamma-encoded until [`png`] writes it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Image {
     pub width: u32,
     pub height: u32,
-    /// Three floats per pixel.
+    /// `rgb[3 * (y * width + x) + c]` is channel `c` of pixel `(x, y)`.
     pub rgb: Vec<f32>,
 }
 
 impl Image {
-    pub fn new(width: u32, height: u32) -> Image {
-        Image {
+    /// A black image.
+    pub fn new(width: u32, height: u32) -> Self {
+        Self {
             width,
             height,
-            rgb: vec![0.0; width as usize * height as usize * 3],
+            rgb: vec![0.0; 3 * width as usize * height as usize],
         }
     }
 
-    /// RGB of pixel (x, y).
+    /// An image over existing pixel data; `None` unless `rgb.len() == 3 * width * height`.
+    pub fn from_rgb(width: u32, height: u32, rgb: Vec<f32>) -> Option<Self> {
+        (rgb.len() == 3 * width as usize * height as usize).then_some(Self { width, height, rgb })
+    }
+
+    /// Number of pixels.
+    pub fn pixel_count(&self) -> usize {
+        self.width as usize * self.height as usize
+    }
+
+    /// The pixel at column `x`, row `y` (row 0 at the top). Panics outside the image.
     pub fn pixel(&self, x: u32, y: u32) -> [f32; 3] {
-        let i = 3 * (y as usize * self.width as usize + x as usize);
+        let i = self.index(x, y);
         [self.rgb[i], self.rgb[i + 1], self.rgb[i + 2]]
+    }
+
+    /// Sets the pixel at column `x`, row `y`. Panics outside the image.
+    pub fn set_pixel(&mut self, x: u32, y: u32, value: [f32; 3]) {
+        let i = self.index(x, y);
+        self.rgb[i..i + 3].copy_from_slice(&value);
+    }
+
+    /// How many channel values are NaN or infinite (a correct render has none).
+    pub fn non_finite_count(&self) -> usize {
+        self.rgb.iter().filter(|v| !v.is_finite()).count()
+    }
+
+    /// Reads an EXR file; see [`exr::read`].
+    pub fn read_exr(path: impl AsRef<std::path::Path>) -> Result<Self, Error> {
+        exr::read(path)
+    }
+
+    /// Writes an RGB float32 EXR file; see [`exr::write`].
+    pub fn write_exr(&self, path: impl AsRef<std::path::Path>) -> Result<(), Error> {
+        exr::write(self, path)
+    }
+
+    /// Writes an 8-bit sRGB PNG, `exposure` in stops (0 leaves values as they are);
+    /// see [`png::write`].
+    pub fn write_png(&self, path: impl AsRef<std::path::Path>, exposure: f32) -> Result<(), Error> {
+        png::write(self, path, exposure)
+    }
+
+    fn index(&self, x: u32, y: u32) -> usize {
+        assert!(
+            x < self.width && y < self.height,
+            "pixel ({x}, {y}) outside a {}x{} image",
+            self.width,
+            self.height
+        );
+        3 * (y as usize * self.width as usize + x as usize)
     }
 }
 
-/// An image file that could not be read or written.
-#[derive(Debug, thiserror::Error)]
-pub enum Error {
-    #[error("{}: {message}", path.display())]
-    File { path: PathBuf, message: String },
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
 
-pub type Result<T> = std::result::Result<T, Error>;
+    #[test]
+    fn pixels_are_row_major_top_first() {
+        let mut image = Image::new(3, 2);
+        image.set_pixel(2, 1, [1.0, 2.0, 3.0]);
+        assert_eq!(&image.rgb[15..18], &[1.0, 2.0, 3.0]);
+        assert_eq!(image.pixel(2, 1), [1.0, 2.0, 3.0]);
+        assert_eq!(image.pixel(0, 0), [0.0; 3]);
+    }
 
-pub(crate) fn file_error(path: &std::path::Path, message: impl std::fmt::Display) -> Error {
-    Error::File {
-        path: path.to_path_buf(),
-        message: message.to_string(),
+    #[test]
+    fn from_rgb_checks_length() {
+        assert!(Image::from_rgb(2, 2, vec![0.0; 12]).is_some());
+        assert!(Image::from_rgb(2, 2, vec![0.0; 11]).is_none());
+    }
+
+    #[test]
+    fn counts_non_finite_values() {
+        let image = Image::from_rgb(1, 2, vec![0.0, f32::NAN, 1.0, f32::INFINITY, 2.0, 3.0]);
+        assert_eq!(image.map(|i| i.non_finite_count()), Some(2));
     }
 }

@@ -1,0 +1,34 @@
+//! Errors from reading, writing and comparing images.
+
+use std::path::PathBuf;
+
+/// Something wrong with an image file, or two images that cannot be compared.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The EXR library could not read or write the file.
+    #[error("{}: {source}", path.display())]
+    Exr {
+        path: PathBuf,
+        source: ::exr::error::Error,
+    },
+    /// The PNG encoder could not write the file.
+    #[error("{}: {source}", path.display())]
+    Png {
+        path: PathBuf,
+        source: ::image::ImageError,
+    },
+    /// The file was read but is not an image we can use (too large, wrong channels).
+    #[error("{}: {message}", path.display())]
+    Format { path: PathBuf, message: String },
+    /// Two images compared pixel by pixel have different sizes.
+    #[error("cannot compare a {width}x{height} image with a {ref_width}x{ref_height} reference")]
+    SizeMismatch {
+        width: u32,
+        height: u32,
+        ref_width: u32,
+        ref_height: u32,
+    },
+    /// A comparison parameter makes no sense (for example a zero block size).
+    #[error("{0}")]
+    Parameter(String),
+}

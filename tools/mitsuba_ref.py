@@ -1,0 +1,241 @@
+#!/usr/bin/env python3
+"""Render a wavetrace scene (Mitsuba 3 dialect) with Mitsuba 3, as a reference EXR.
+
+    python3 tools/mitsuba_ref.py SCENE.xml -o OUT.exr --spp N [--variant scalar_rgb] [--ao]
+
+What it changes in the scene before Mitsuba sees it (the file itself is not touched):
+
+* Always: the film's reconstruction filter becomes `box` (wavetrace spreads samples
+  uniformly over each pixel's area and averages them, which is what a box filter of
+  radius 1/2 does), its pixel format `rgb` and component format `float32`. With
+  `--spp` the sampler's `sample_count` is replaced.
+* With `--ao`: wavetrace's `ao` integrator, ambient occlusion
+      AO(x) = (1/pi) * integral over the hemisphere of V(x, w) cos(theta) dw,
+  is not a Mitsuba plugin. It equals the direct illumination of a white Lambertian
+  surface (f = 1/pi) under a constant environment of radiance 1 with nothing else
+  emitting, so the scene is rewritten to exactly that: the integrator becomes
+  `direct` with `hide_emitters` (a camera ray that escapes gives 0, as it does for
+  wavetrace's and Nori's `ao`, rather than the environment's 1), every BSDF becomes
+  `diffuse` with reflectance 1 (ids kept so `<ref>`s still resolve; shapes without
+  a BSDF get one, since Mitsuba's default is reflectance 0.5), every emitter and
+  medium is removed, and a `constant` emitter of radiance 1 is added.
+  Mitsuba's diffuse BSDF is one-sided: a back face renders black. The shipped AO
+  scenes show the camera front faces only, so the convention never matters there.
+
+Large sample counts are rendered in passes of at most --pass-spp samples with
+different seeds and averaged weighted by their sample counts; with a box filter every
+pass is an exact per-pixel mean, so the result is the same estimator as one big pass
+(the JIT variants cannot hold a whole 16k-spp wavefront in memory).
+
+Next to OUT.exr it writes OUT.json: the command, spp, passes, seed, variant, Mitsuba version, time
+taken, and SHA-256 of the scene file and of every file it names, so a stale reference
+can be detected.
+"""
+
+import argparse
+import hashlib
+import json
+import os
+import shlex
+import sys
+import time
+import xml.etree.ElementTree as ET
+
+
+def die(msg):
+    sys.exit("mitsuba_ref.py: " + msg)
+
+
+def set_param(parent, tag, name, value):
+    """Replace (or add) `<tag name=... value=.../>` among parent's direct children."""
+    for child in list(parent):
+        if child.get("name") == name:
+            parent.remove(child)
+    ET.SubElement(parent, tag, name=name, value=str(value))
+
+
+def white_diffuse(bsdf_id=None):
+    el = ET.Element("bsdf", type="diffuse")
+    if bsdf_id is not None:
+        el.set("id", bsdf_id)
+    ET.SubElement(el, "rgb", name="reflectance", value="1")
+    return el
+
+
+def parents_of(root):
+    return {child: parent for parent in root.iter() for child in parent}
+
+
+def rewrite_for_ao(root):
+    """Rewrite the scene in place so Mitsuba's `direct` integrator computes AO."""
+    parent = parents_of(root)
+
+    # Integrator: direct lighting, emitters seen directly hidden.
+    for el in [e for e in root.iter("integrator")]:
+        parent[el].remove(el)
+    integrator = ET.Element("integrator", type="direct")
+    ET.SubElement(integrator, "boolean", name="hide_emitters", value="true")
+    root.insert(0, integrator)
+
+    # Emitters and media go; AO is geometry only.
+    parent = parents_of(root)
+    for tag in ("emitter", "medium"):
+        for el in [e for e in root.iter(tag)]:
+            parent[el].remove(el)
+    for el in [e for e in root.iter("ref") if e.get("name") in ("interior", "exterior")]:
+        parent[el].remove(el)
+
+    # Every BSDF (the outermost one of a nesting such as twosided) becomes white diffuse.
+    parent = parents_of(root)
+    bsdf_ids = set()
+    outer = [e for e in root.iter("bsdf") if not any(a.tag == "bsdf" for a in ancestors(e, parent))]
+    for el in outer:
+        p = parent[el]
+        index = list(p).index(el)
+        p.remove(el)
+        p.insert(index, white_diffuse(el.get("id")))
+        if el.get("id"):
+            bsdf_ids.add(el.get("id"))
+
+    # Shapes with no BSDF at all would get Mitsuba's grey default.
+    for shape in root.iter("shape"):
+        has = any(c.tag == "bsdf" or (c.tag == "ref" and c.get("id") in bsdf_ids) for c in shape)
+        if not has:
+            shape.append(white_diffuse())
+
+    emitter = ET.SubElement(root, "emitter", type="constant")
+    ET.SubElement(emitter, "rgb", name="radiance", value="1")
+
+
+def ancestors(el, parent):
+    while el in parent:
+        el = parent[el]
+        yield el
+
+
+def prepare(root, spp):
+    """Box filter, RGB float32 film, and the sample count; returns (width, height)."""
+    sensors = list(root.iter("sensor"))
+    if len(sensors) != 1:
+        die("expected exactly one <sensor>, found %d" % len(sensors))
+    sensor = sensors[0]
+    film = sensor.find("film")
+    if film is None:
+        die("the <sensor> has no <film>")
+    for rf in film.findall("rfilter"):
+        film.remove(rf)
+    ET.SubElement(film, "rfilter", type="box")
+    set_param(film, "string", "pixel_format", "rgb")
+    set_param(film, "string", "component_format", "float32")
+    sampler = sensor.find("sampler")
+    if sampler is None:
+        sampler = ET.SubElement(sensor, "sampler", type="independent")
+    if spp is not None:
+        set_param(sampler, "integer", "sample_count", spp)
+
+
+def scene_files(root, scene_path):
+    """The scene file and every file it names, for the sidecar's hashes."""
+    base = os.path.dirname(os.path.abspath(scene_path))
+    files = [os.path.abspath(scene_path)]
+    for el in root.iter("string"):
+        if el.get("name") == "filename":
+            path = os.path.join(base, el.get("value"))
+            if os.path.isfile(path) and path not in files:
+                files.append(path)
+    return files
+
+
+def sha256(path):
+    with open(path, "rb") as f:
+        return hashlib.sha256(f.read()).hexdigest()
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("scene", help="scene file in Mitsuba 3's XML dialect")
+    ap.add_argument("-o", "--output", required=True, help="EXR to write")
+    ap.add_argument("--spp", type=int, help="samples per pixel (default: the scene's)")
+    ap.add_argument("--variant", default="scalar_rgb", help="Mitsuba variant (default scalar_rgb)")
+    ap.add_argument("--ao", action="store_true", help="render wavetrace's `ao` integrator (see above)")
+    ap.add_argument("--pass-spp", type=int, default=1024, help="most samples per pass (default 1024)")
+    ap.add_argument("--seed", type=int, default=0, help="seed of the first pass (default 0)")
+    ap.add_argument("--print-xml", action="store_true", help="print the rewritten scene and stop")
+    args = ap.parse_args()
+
+    try:
+        tree = ET.parse(args.scene)
+    except (OSError, ET.ParseError) as e:
+        die("%s: %s" % (args.scene, e))
+    root = tree.getroot()
+    if root.tag != "scene" or "version" not in root.attrib:
+        die("%s: not a Mitsuba 3 scene (<scene version=...>); Nori's dialect is not supported" % args.scene)
+    if args.ao:
+        rewrite_for_ao(root)
+    prepare(root, args.spp)
+    xml = ET.tostring(root, encoding="unicode")
+    if args.print_xml:
+        print(xml)
+        return
+
+    import mitsuba as mi
+
+    mi.set_variant(args.variant)
+    scene_dir = os.path.dirname(os.path.abspath(args.scene))
+    resolver = mi.file_resolver() if hasattr(mi, "file_resolver") else mi.Thread.thread().file_resolver()
+    resolver.prepend(scene_dir)
+
+    start = time.perf_counter()
+    scene = mi.load_string(xml)
+    sensor = scene.sensors()[0]
+    spp = sensor.sampler().sample_count()
+    passes = []
+    left = spp
+    while left > 0:
+        n = min(left, args.pass_spp)
+        passes.append(n)
+        left -= n
+    image = None
+    for i, n in enumerate(passes):
+        part = mi.render(scene, spp=n, seed=args.seed + i)
+        image = part * (n / spp) if image is None else image + part * (n / spp)
+    bitmap = mi.Bitmap(image, pixel_format=mi.Bitmap.PixelFormat.RGB)
+    out_dir = os.path.dirname(os.path.abspath(args.output))
+    os.makedirs(out_dir, exist_ok=True)
+    bitmap.write(args.output)
+    seconds = time.perf_counter() - start
+
+    size = sensor.film().size()
+    print(
+        "%s: %dx%d, %d spp in %d pass(es), %.1f s, Mitsuba %s (%s)"
+        % (args.output, size[0], size[1], spp, len(passes), seconds, mi.__version__, args.variant)
+    )
+
+    # Paths in the record are relative to the repository root (this script's parent).
+    root_dir = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+    record = {
+        "command": "python3 tools/mitsuba_ref.py " + " ".join(shlex.quote(a) for a in sys.argv[1:]),
+        "scene": os.path.relpath(os.path.abspath(args.scene), root_dir),
+        "ao": args.ao,
+        "spp": spp,
+        "passes": len(passes),
+        "pass_spp": passes[0],
+        "seed": args.seed,
+        "width": size[0],
+        "height": size[1],
+        "variant": args.variant,
+        "mitsuba_version": mi.__version__,
+        "seconds": round(seconds, 1),
+        "date": time.strftime("%Y-%m-%d", time.gmtime()),
+        "sha256": {
+            os.path.relpath(f, root_dir): sha256(f) for f in scene_files(root, args.scene)
+        },
+    }
+    sidecar = os.path.splitext(args.output)[0] + ".json"
+    with open(sidecar, "w") as f:
+        json.dump(record, f, indent=2)
+        f.write("\n")
+
+
+if __name__ == "__main__":
+    main()
