@@ -7,6 +7,10 @@
 
 #include "wavefront.glsl"
 #include "scene_bindings.glsl"
+
+// Scenes without spheres compile the sphere test out of the traversal.
+layout(constant_id = 0) const bool SCENE_HAS_SPHERES = true;
+#define BVH_HAS_SPHERES SCENE_HAS_SPHERES
 #include "bvh.glsl"
 
 void main() {

@@ -243,6 +243,7 @@ fn print_info(sc: &Scene) {
     }
     println!("spheres:     {}", sc.spheres.len());
     println!("triangles:   {}", sc.triangle_count());
+    println!("features:    {}", sc.features().join(", "));
     println!("bsdfs:       {}", sc.bsdfs.len());
     println!("emitters:    {}", sc.emitters.len());
     for e in &sc.emitters {

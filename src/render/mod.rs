@@ -163,14 +163,16 @@ impl Renderer {
         let upload_seconds = t.elapsed().as_secs_f64();
 
         let t = Instant::now();
+        // Specialization: code for features the scene lacks is compiled out.
+        let has_spheres = !scene.spheres.is_empty() as u32;
         let k = |name: &str, spirv: &[u8], spec: &[u32]| {
             Kernel::new(device, name, spirv, &layout, spec)
         };
         let kernels = Kernels {
             generate: k("generate", shaders::GENERATE, &[])?,
-            intersect: k("intersect", shaders::INTERSECT, &[])?,
+            intersect: k("intersect", shaders::INTERSECT, &[has_spheres])?,
             shade: k("shade", shaders::SHADE, &[integrator.id()])?,
-            shadow: k("shadow", shaders::SHADOW, &[])?,
+            shadow: k("shadow", shaders::SHADOW, &[has_spheres])?,
             ray_args: k("queue_args", shaders::QUEUE_ARGS, &[0])?,
             shadow_args: k("queue_args", shaders::QUEUE_ARGS, &[1])?,
             accumulate: k("accumulate", shaders::ACCUMULATE, &[])?,

@@ -52,6 +52,26 @@ impl Scene {
     pub fn triangle_count(&self) -> usize {
         self.meshes.iter().map(|m| m.indices.len()).sum()
     }
+
+    /// What the scene uses, by name: the features that decide which kernel code and
+    /// stages a render needs.
+    pub fn features(&self) -> Vec<&'static str> {
+        let mut f = Vec::new();
+        let mut add = |on: bool, name| {
+            if on {
+                f.push(name)
+            }
+        };
+        add(!self.meshes.is_empty(), "triangles");
+        add(!self.spheres.is_empty(), "spheres");
+        add(self.meshes.iter().any(|m| !m.normals.is_empty()), "vertex normals");
+        add(self.meshes.iter().any(|m| !m.uvs.is_empty()), "uvs");
+        let has = |p: fn(&Emitter) -> bool| self.emitters.iter().any(p);
+        add(has(|e| matches!(e, Emitter::Point { .. })), "point lights");
+        add(has(|e| matches!(e, Emitter::Area { .. })), "area lights");
+        add(has(|e| matches!(e, Emitter::Constant { .. })), "constant environment");
+        f
+    }
 }
 
 /// Loads a scene file, Mitsuba 3 or Nori (told apart by the root `<scene>`: Mitsuba's
