@@ -156,9 +156,7 @@ impl Renderer {
         // Keep every queue inside one storage-buffer binding.
         let limit = device.info().max_storage_buffer_range
             / (2 * std::mem::size_of::<crate::gpu::layout::RayItem>() as u64);
-        let capacity = capacity
-            .min(limit as u32)
-            .min(pixels.saturating_mul(scene.spp.max(1)));
+        let capacity = capacity.min(limit as u32);
         let wavefront = Wavefront::new(device, &layout, capacity, pixels, &frame)?;
         let upload_seconds = t.elapsed().as_secs_f64();
 
