@@ -2,7 +2,7 @@
 #extension GL_GOOGLE_include_directive : require
 // shade: turns each hit (or miss) into radiance, shadow rays and continuation rays,
 // as the integrator chosen by specialization constant INTEGRATOR says.
-// Reads: ray queue `queue_in`, hits. Writes: paths[].radiance, shadow queue.
+// Reads: ray queue `queue_in`, hits. Writes: paths[], shadow queue, next ray queue.
 
 #include "wavefront.glsl"
 #include "scene_bindings.glsl"
@@ -10,19 +10,21 @@
 #include "rng.glsl"
 #include "surface.glsl"
 #include "ao.glsl"
+#include "emitter.glsl"
+#include "bsdf.glsl"
+#include "path.glsl"
 
 layout(constant_id = 0) const uint INTEGRATOR = INTEGRATOR_AO;
-
-void push_shadow(vec3 origin, uint path, vec3 dir, float tmax, vec3 contribution) {
-    uint slot = atomicAdd(counters.shadow_count, 1u);
-    shadows[slot] = ShadowItem(origin, path, dir, tmax, contribution, 0u);
-}
 
 void main() {
     uint i = thread_index();
     if (i >= counters.ray_count[push.queue_in]) return;
     RayItem r = rays[ray_slot(push.queue_in, i)];
     HitItem h = hits[i];
+    if (INTEGRATOR >= INTEGRATOR_DIRECT_EMS) {
+        path_shade(INTEGRATOR, r, h);
+        return;
+    }
     PathState path = paths[r.path];
 
     // Nothing emits in these integrators: an escaping ray (even a camera ray, as in
@@ -41,7 +43,7 @@ void main() {
         vec3 wi;
         float weight = ao_sample(s.ns, s.ng, u.xy, frame.ao_uniform != 0u, wi);
         if (weight > 0.0) {
-            push_shadow(surface_spawn_origin(s, s.ng), r.path, wi, frame.ao_max_t, path.throughput * weight);
+            path_push_shadow(surface_spawn_origin(s, s.ng), r.path, wi, frame.ao_max_t, path.throughput * weight);
         }
     } else if (INTEGRATOR == INTEGRATOR_SIMPLE) {
         // Point lights on diffuse surfaces (Nori's first lighting integrator): one
@@ -60,6 +62,6 @@ void main() {
         vec3 f = bsdf.reflectance * INV_PI;
         vec3 contribution = path.throughput * f * light.radiance * (cos_theta / d2) * float(count);
         vec3 origin = surface_spawn_origin(s, s.ng);
-        push_shadow(origin, r.path, wi, length(light.position - origin) * (1.0 - 1e-5), contribution);
+        path_push_shadow(origin, r.path, wi, length(light.position - origin) * (1.0 - 1e-5), contribution);
     }
 }

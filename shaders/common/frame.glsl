@@ -19,4 +19,11 @@ vec3 frame_to_world(vec3 n, vec3 local) {
     return local.x * s + local.y * t + local.z * n;
 }
 
+// World direction to the local frame around n (z along n).
+vec3 frame_to_local(vec3 n, vec3 v) {
+    vec3 s, t;
+    frame_basis(n, s, t);
+    return vec3(dot(v, s), dot(v, t), dot(v, n));
+}
+
 #endif

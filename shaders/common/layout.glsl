@@ -68,12 +68,35 @@ struct BsdfRecord {
 #define EMITTER_POINT 0u
 #define EMITTER_AREA 1u
 #define EMITTER_CONSTANT 2u
-// radiance: intensity (W/sr) of a point light, radiance of area and constant ones.
+#define EMITTER_SPOT 3u
+// radiance: intensity (W/sr) of point and spot lights, radiance of area and constant
+// ones. Spot: axis, cos_cutoff, cutoff (rad), inv_transition = 1/(cutoff - beam width).
+// Area: shape, total area; a mesh's triangles by area through alias entries
+// [tri_first, tri_first + tri_count); a sphere: position = centre, radius, tri_count 0.
 struct EmitterRecord {
     vec3 position;
     uint kind;
     vec3 radiance;
     uint shape;
+    vec3 axis;
+    float cos_cutoff;
+    float cutoff;
+    float inv_transition;
+    float area;
+    float radius;
+    uint tri_first;
+    uint tri_count;
+    uint pad0;
+    uint pad1;
+};
+
+// Alias table entry (Walker 1977, Vose 1991): keep i with probability prob, else alias;
+// pmf: final probability of i; prim: BVH primitive of a light triangle.
+struct AliasEntry {
+    float prob;
+    uint alias;
+    float pmf;
+    uint prim;
 };
 
 // Constant over a render.
@@ -88,16 +111,25 @@ struct Frame {
     uint point_light_count;
     float ao_max_t;
     uint ao_uniform;
-    uint max_depth;
+    uint max_depth;     // segments; 0xffffffff: unbounded
     uint emitter_count;
+    uint rr_depth;      // Russian roulette from this depth on
+    uint env_emitter;   // constant environment emitter or NONE
+    uint hide_emitters; // 1: camera rays do not see emitters
+    uint pad0;
 };
 
 // One path of the wavefront, by path slot.
+#define PATH_DELTA 1u
 struct PathState {
     vec3 throughput;
     uint pixel;
     vec3 radiance;
     uint sample_index;
+    float bsdf_pdf; // solid-angle pdf of the current ray's direction (for MIS)
+    uint flags;     // PATH_DELTA: the current ray came from a delta lobe
+    uint pad0;
+    uint pad1;
 };
 
 // A ray waiting for `intersect`.

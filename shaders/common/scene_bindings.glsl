@@ -12,5 +12,7 @@ layout(std430, set = 0, binding = 3) readonly buffer TriangleBuffer { TriangleRe
 layout(std430, set = 0, binding = 4) readonly buffer VertexBuffer { Vertex vertices[]; };
 layout(std430, set = 0, binding = 5) readonly buffer BsdfBuffer { BsdfRecord bsdfs[]; };
 layout(std430, set = 0, binding = 6) readonly buffer EmitterBuffer { EmitterRecord emitters[]; };
+// Emitter alias table at [0, emitter_count), then each mesh emitter's triangle table.
+layout(std430, set = 0, binding = 7) readonly buffer AliasBuffer { AliasEntry alias_table[]; };
 
 #endif

@@ -104,10 +104,16 @@ pub struct BsdfRecord {
 pub const EMITTER_POINT: u32 = 0;
 pub const EMITTER_AREA: u32 = 1;
 pub const EMITTER_CONSTANT: u32 = 2;
+pub const EMITTER_SPOT: u32 = 3;
 
-/// An emitter: `position` for point lights; `radiance` is the intensity (W/sr) of a
-/// point light and the radiance of area and constant emitters; `shape` is the shape
-/// an area emitter sits on.
+/// An emitter. `radiance` is the intensity (W/sr) of point and spot lights and the
+/// radiance of area and constant emitters.
+///
+/// Point and spot: `position`; spot also `axis`, `cos_cutoff`, `cutoff` (radians) and
+/// `inv_transition` = 1 / (cutoff - beam width). Area: `shape` it sits on, its total
+/// `area`; a mesh's triangles are chosen by area through the alias table entries
+/// `tri_first .. tri_first + tri_count`; a sphere has `position` = centre and
+/// `radius`, and `tri_count` = 0.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct EmitterRecord {
@@ -115,6 +121,29 @@ pub struct EmitterRecord {
     pub kind: u32,
     pub radiance: [f32; 3],
     pub shape: u32,
+    pub axis: [f32; 3],
+    pub cos_cutoff: f32,
+    pub cutoff: f32,
+    pub inv_transition: f32,
+    pub area: f32,
+    pub radius: f32,
+    pub tri_first: u32,
+    pub tri_count: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+}
+
+/// One entry of an alias table (Walker 1977; Vose 1991): pick `i` uniformly, keep it
+/// with probability `prob`, else take `alias`. `pmf` is the probability of choosing
+/// entry `i` in the end; `prim` is the BVH primitive of a light triangle (tables of
+/// mesh emitters) and unused in the emitter table.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct AliasEntry {
+    pub prob: f32,
+    pub alias: u32,
+    pub pmf: f32,
+    pub prim: u32,
 }
 
 /// Everything constant over one render: camera, film, integrator parameters.
@@ -136,8 +165,16 @@ pub struct Frame {
     pub ao_max_t: f32,
     /// Ambient occlusion: 0 = cosine-weighted, 1 = uniform hemisphere sampling.
     pub ao_uniform: u32,
+    /// Longest path in segments (Mitsuba's `max_depth`), u32::MAX for unbounded.
     pub max_depth: u32,
     pub emitter_count: u32,
+    /// Russian roulette starts at this path depth (segments).
+    pub rr_depth: u32,
+    /// The constant environment emitter, or `NONE`.
+    pub env_emitter: u32,
+    /// 1: camera rays do not see emitters.
+    pub hide_emitters: u32,
+    pub pad0: u32,
 }
 
 /// The state of one path of the wavefront, indexed by path slot.
@@ -148,7 +185,17 @@ pub struct PathState {
     pub pixel: u32,
     pub radiance: [f32; 3],
     pub sample_index: u32,
+    /// Solid-angle pdf with which the BSDF chose the current ray (for MIS when it hits
+    /// an emitter).
+    pub bsdf_pdf: f32,
+    /// `PATH_*` flags.
+    pub flags: u32,
+    pub pad0: u32,
+    pub pad1: u32,
 }
+
+/// The current ray was sampled from a delta lobe (no MIS on the emitter it hits).
+pub const PATH_DELTA: u32 = 1;
 
 /// A ray waiting for the `intersect` stage.
 #[repr(C)]
@@ -331,7 +378,24 @@ mod tests {
             rust_layout!(TriangleRecord, v0, v1, v2),
             rust_layout!(Vertex, nx, ny, nz, u, v),
             rust_layout!(BsdfRecord, reflectance, kind),
-            rust_layout!(EmitterRecord, position, kind, radiance, shape),
+            rust_layout!(
+                EmitterRecord,
+                position,
+                kind,
+                radiance,
+                shape,
+                axis,
+                cos_cutoff,
+                cutoff,
+                inv_transition,
+                area,
+                radius,
+                tri_first,
+                tri_count,
+                pad0,
+                pad1
+            ),
+            rust_layout!(AliasEntry, prob, alias, pmf, prim),
             rust_layout!(
                 Frame,
                 camera_to_world,
@@ -345,9 +409,23 @@ mod tests {
                 ao_max_t,
                 ao_uniform,
                 max_depth,
-                emitter_count
+                emitter_count,
+                rr_depth,
+                env_emitter,
+                hide_emitters,
+                pad0
             ),
-            rust_layout!(PathState, throughput, pixel, radiance, sample_index),
+            rust_layout!(
+                PathState,
+                throughput,
+                pixel,
+                radiance,
+                sample_index,
+                bsdf_pdf,
+                flags,
+                pad0,
+                pad1
+            ),
             rust_layout!(RayItem, origin, path, dir, tmax),
             rust_layout!(HitItem, t, u, v, prim),
             rust_layout!(ShadowItem, origin, path, dir, tmax, contribution, pad0),

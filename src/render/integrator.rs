@@ -27,10 +27,68 @@ pub enum Integrator {
     /// light chosen uniformly per sample, L = (ρ/π) I cosθ / d². Uses the surface's
     /// diffuse reflectance where Nori's assignment assumes ρ = 1.
     Simple,
+    /// Direct illumination by emitter sampling only (Nori's `direct_ems`).
+    DirectEms { hide_emitters: bool },
+    /// Direct illumination by BSDF sampling only (Nori's `direct_mats`).
+    DirectMats { hide_emitters: bool },
+    /// Direct illumination combining emitter and BSDF sampling with the balance
+    /// heuristic (Nori's `direct_mis`; Mitsuba's `direct`). Parameter
+    /// `hide_emitters` (default false): camera rays do not see emitters.
+    DirectMis { hide_emitters: bool },
+    /// Path tracing by BSDF sampling alone (Nori's `path_mats`).
+    PathMats(PathParams),
+    /// Path tracing with emitter sampling at every vertex, combined with BSDF
+    /// sampling by the balance heuristic (Nori's `path_mis`; Mitsuba's `path`).
+    ///
+    /// Parameters: `max_depth` (integer, default -1 = unbounded; 1 shows emitters
+    /// only, 2 direct light), `rr_depth` (integer, default 5: Russian roulette from
+    /// that path length on, survival probability min(max throughput, 0.99)),
+    /// `hide_emitters` (boolean, default false).
+    ///
+    /// ```xml
+    /// <integrator type="path"><integer name="max_depth" value="8"/></integrator>
+    /// ```
+    PathMis(PathParams),
+}
+
+/// Parameters of the path tracers.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathParams {
+    /// Longest path in segments, `None` for unbounded.
+    pub max_depth: Option<u32>,
+    pub rr_depth: u32,
+    pub hide_emitters: bool,
+}
+
+/// Bounces dispatched for an unbounded path: Russian roulette ends almost every path
+/// long before (a path that survives 64 bounces carries < 0.99^59 of its weight).
+pub const UNBOUNDED_BOUNCES: u32 = 64;
+
+/// The parameters an integrator reads.
+fn parameter_names(name: &str) -> &'static [&'static str] {
+    match name {
+        "ao" => &["max_t", "sampling"],
+        "direct_ems" | "direct_mats" | "direct_mis" | "direct" => {
+            &["hide_emitters", "emitter_samples", "bsdf_samples"]
+        }
+        "path_mats" | "path_mis" | "path" => &["max_depth", "rr_depth", "hide_emitters"],
+        _ => &[],
+    }
 }
 
 /// Names `--integrator` and scenes may use in this version.
-pub const NAMES: &[&str] = &["normals", "ao", "simple"];
+pub const NAMES: &[&str] = &[
+    "normals",
+    "ao",
+    "simple",
+    "direct_ems",
+    "direct_mats",
+    "direct_mis",
+    "direct",
+    "path_mats",
+    "path_mis",
+    "path",
+];
 
 impl Integrator {
     /// The id of the shading code (`INTEGRATOR_*` in shaders/common/integrator.glsl).
@@ -39,6 +97,11 @@ impl Integrator {
             Integrator::Normals => 0,
             Integrator::Ao { .. } => 1,
             Integrator::Simple => 2,
+            Integrator::DirectEms { .. } => 3,
+            Integrator::DirectMats { .. } => 4,
+            Integrator::DirectMis { .. } => 5,
+            Integrator::PathMats(_) => 6,
+            Integrator::PathMis(_) => 7,
         }
     }
 
@@ -47,12 +110,57 @@ impl Integrator {
             Integrator::Normals => "normals",
             Integrator::Ao { .. } => "ao",
             Integrator::Simple => "simple",
+            Integrator::DirectEms { .. } => "direct_ems",
+            Integrator::DirectMats { .. } => "direct_mats",
+            Integrator::DirectMis { .. } => "direct_mis",
+            Integrator::PathMats(_) => "path_mats",
+            Integrator::PathMis(_) => "path_mis",
         }
     }
 
-    /// Longest path in segments: 1 for every integrator of this version.
+    /// Longest path in segments (`u32::MAX`: unbounded), as the kernels see it.
     pub fn max_depth(&self) -> u32 {
-        1
+        match self {
+            Integrator::Normals | Integrator::Ao { .. } | Integrator::Simple => 1,
+            Integrator::DirectEms { .. }
+            | Integrator::DirectMats { .. }
+            | Integrator::DirectMis { .. } => 2,
+            Integrator::PathMats(p) | Integrator::PathMis(p) => p.max_depth.unwrap_or(u32::MAX),
+        }
+    }
+
+    /// Bounces the host dispatches: one per path vertex that can still add light.
+    pub fn bounces(&self) -> u32 {
+        match self {
+            Integrator::Normals
+            | Integrator::Ao { .. }
+            | Integrator::Simple
+            | Integrator::DirectEms { .. } => 1,
+            Integrator::DirectMats { .. } | Integrator::DirectMis { .. } => 2,
+            Integrator::PathMats(p) | Integrator::PathMis(p) => p
+                .max_depth
+                .unwrap_or(UNBOUNDED_BOUNCES)
+                .min(UNBOUNDED_BOUNCES),
+        }
+    }
+
+    /// Russian roulette start depth (segments); never for non-path integrators.
+    pub fn rr_depth(&self) -> u32 {
+        match self {
+            Integrator::PathMats(p) | Integrator::PathMis(p) => p.rr_depth,
+            _ => u32::MAX,
+        }
+    }
+
+    /// Whether camera rays skip the emission of the emitters they hit.
+    pub fn hide_emitters(&self) -> bool {
+        match self {
+            Integrator::DirectEms { hide_emitters }
+            | Integrator::DirectMats { hide_emitters }
+            | Integrator::DirectMis { hide_emitters } => *hide_emitters,
+            Integrator::PathMats(p) | Integrator::PathMis(p) => p.hide_emitters,
+            _ => false,
+        }
     }
 
     /// Reads the integrator the scene names, or `override_name` instead (the scene's
@@ -68,7 +176,18 @@ impl Integrator {
             message,
         };
         let (name, params, line) = match override_name {
-            Some(n) if n != spec.name => (n, Default::default(), None),
+            // Another integrator keeps the scene's parameters it understands (a
+            // Mitsuba `path` scene's max_depth for `path_mats`), and drops the rest.
+            Some(n) if n != spec.name => {
+                let keep = parameter_names(n);
+                let params = spec
+                    .params
+                    .iter()
+                    .filter(|(k, _)| keep.contains(&k.as_str()))
+                    .map(|(k, v)| (k.clone(), v.clone()))
+                    .collect();
+                (n, params, spec.line)
+            }
             _ => (spec.name.as_str(), spec.params.clone(), spec.line),
         };
         let mut params = params;
@@ -100,6 +219,80 @@ impl Integrator {
                     }
                 };
                 Integrator::Ao { max_t, uniform }
+            }
+            "direct_ems" | "direct_mats" | "direct_mis" | "direct" => {
+                let hide_emitters = match take("hide_emitters") {
+                    None => false,
+                    Some(Param::Bool(b)) => b,
+                    Some(p) => {
+                        return Err(err(
+                            line,
+                            format!(
+                                "integrator '{name}': hide_emitters must be a boolean, got {p:?}"
+                            ),
+                        ))
+                    }
+                };
+                for key in ["emitter_samples", "bsdf_samples"] {
+                    match take(key) {
+                        None | Some(Param::Integer(1)) => {}
+                        Some(p) => {
+                            return Err(err(
+                                line,
+                                format!("integrator '{name}': {key} other than 1 is not supported yet, got {p:?}"),
+                            ))
+                        }
+                    }
+                }
+                match name {
+                    "direct_ems" => Integrator::DirectEms { hide_emitters },
+                    "direct_mats" => Integrator::DirectMats { hide_emitters },
+                    _ => Integrator::DirectMis { hide_emitters },
+                }
+            }
+            "path_mats" | "path_mis" | "path" => {
+                let max_depth = match take("max_depth") {
+                    None | Some(Param::Integer(-1)) => None,
+                    Some(Param::Integer(d)) if d >= 1 && d <= u32::MAX as i64 / 2 => Some(d as u32),
+                    Some(p) => {
+                        return Err(err(
+                            line,
+                            format!("integrator '{name}': max_depth must be -1 (unbounded) or at least 1, got {p:?}"),
+                        ))
+                    }
+                };
+                let rr_depth = match take("rr_depth") {
+                    None => 5,
+                    Some(Param::Integer(d)) if d >= 1 && d <= u32::MAX as i64 / 2 => d as u32,
+                    Some(p) => {
+                        return Err(err(
+                            line,
+                            format!("integrator '{name}': rr_depth must be at least 1, got {p:?}"),
+                        ))
+                    }
+                };
+                let hide_emitters = match take("hide_emitters") {
+                    None => false,
+                    Some(Param::Bool(b)) => b,
+                    Some(p) => {
+                        return Err(err(
+                            line,
+                            format!(
+                                "integrator '{name}': hide_emitters must be a boolean, got {p:?}"
+                            ),
+                        ))
+                    }
+                };
+                let params = PathParams {
+                    max_depth,
+                    rr_depth,
+                    hide_emitters,
+                };
+                if name == "path_mats" {
+                    Integrator::PathMats(params)
+                } else {
+                    Integrator::PathMis(params)
+                }
             }
             "" => {
                 return Err(err(
@@ -193,16 +386,47 @@ mod tests {
         assert!(e
             .to_string()
             .starts_with("s.xml:7: integrator 'ao': max_t must be a positive float"));
-        let e =
-            Integrator::from_spec(&spec("path_mis", &[]), None, Path::new("s.xml")).unwrap_err();
-        assert!(
-            e.to_string().contains("'path_mis' is not implemented"),
-            "{e}"
-        );
+        let e = Integrator::from_spec(&spec("bdpt", &[]), None, Path::new("s.xml")).unwrap_err();
+        assert!(e.to_string().contains("'bdpt' is not implemented"), "{e}");
+        let e = Integrator::from_spec(
+            &spec("path", &[("max_depth", Param::Integer(0))]),
+            None,
+            Path::new("s.xml"),
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("max_depth must be -1"), "{e}");
     }
 
     #[test]
-    fn override_replaces_the_scene_integrator_and_drops_its_parameters() {
+    fn mitsuba_names_map_to_the_mis_integrators() {
+        let i = Integrator::from_spec(
+            &spec("path", &[("max_depth", Param::Integer(6))]),
+            None,
+            Path::new("a"),
+        )
+        .unwrap();
+        assert_eq!(
+            i,
+            Integrator::PathMis(PathParams {
+                max_depth: Some(6),
+                rr_depth: 5,
+                hide_emitters: false
+            })
+        );
+        assert_eq!((i.max_depth(), i.bounces()), (6, 6));
+        let d = Integrator::from_spec(&spec("direct", &[]), None, Path::new("a")).unwrap();
+        assert_eq!(
+            d,
+            Integrator::DirectMis {
+                hide_emitters: false
+            }
+        );
+        let u = Integrator::from_spec(&spec("path_mats", &[]), None, Path::new("a")).unwrap();
+        assert_eq!((u.max_depth(), u.bounces()), (u32::MAX, UNBOUNDED_BOUNCES));
+    }
+
+    #[test]
+    fn override_replaces_the_scene_integrator_and_keeps_only_parameters_it_reads() {
         let s = spec("path", &[("max_depth", Param::Integer(5))]);
         let i = Integrator::from_spec(&s, Some("ao"), Path::new("s.xml")).unwrap();
         assert_eq!(
@@ -214,5 +438,8 @@ mod tests {
         );
         let e = Integrator::from_spec(&s, Some("bogus"), Path::new("s.xml")).unwrap_err();
         assert!(e.to_string().contains("'bogus' is not implemented"));
+        // A path tracer keeps the depth of the scene's path tracer.
+        let p = Integrator::from_spec(&s, Some("path_mats"), Path::new("s.xml")).unwrap();
+        assert_eq!(p.max_depth(), 5);
     }
 }

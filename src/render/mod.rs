@@ -6,6 +6,7 @@
 //! a whole batch is one submission with no read-back between bounces (Laine, Karras
 //! and Aila 2013, "Megakernels Considered Harmful").
 
+pub mod alias;
 pub mod error;
 pub mod integrator;
 pub mod scene_buffers;
@@ -122,7 +123,7 @@ impl Renderer {
             })?;
 
         let bvh = Bvh::build(accel::prims_from_scene(scene));
-        let records = SceneRecords::new(scene);
+        let records = SceneRecords::new(scene, &bvh);
 
         let t = Instant::now();
         let layout = BindingLayout::new(
@@ -148,6 +149,10 @@ impl Renderer {
             ao_uniform: matches!(integrator, Integrator::Ao { uniform: true, .. }) as u32,
             max_depth: integrator.max_depth(),
             emitter_count: records.emitters.len() as u32,
+            rr_depth: integrator.rr_depth(),
+            env_emitter: records.env_emitter,
+            hide_emitters: integrator.hide_emitters() as u32,
+            pad0: 0,
         };
         let capacity = options
             .max_batch_paths
@@ -356,7 +361,7 @@ impl Renderer {
             groups_for(path_count),
         );
         cmd.barrier();
-        for depth in 0..self.integrator.max_depth() {
+        for depth in 0..self.integrator.bounces() {
             push.depth = depth;
             push.queue_in = depth % 2;
             let p = bytemuck::bytes_of(&push);

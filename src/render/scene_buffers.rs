@@ -1,10 +1,13 @@
 //! The scene in GPU buffers: descriptor set 0 of every kernel that reads the scene
 //! (`shaders/common/scene_bindings.glsl`).
 
+use glam::Vec3;
+
 use crate::accel::Bvh;
 use crate::gpu::layout::{
-    BsdfRecord, EmitterRecord, ShapeRecord, TriangleRecord, Vertex, BSDF_DIFFUSE, EMITTER_AREA,
-    EMITTER_CONSTANT, EMITTER_POINT, NONE, SHAPE_FLIP_NORMALS, SHAPE_HAS_NORMALS, SHAPE_HAS_UVS,
+    AliasEntry, BsdfRecord, EmitterRecord, ShapeRecord, TriangleRecord, Vertex, BSDF_DIFFUSE,
+    EMITTER_AREA, EMITTER_CONSTANT, EMITTER_POINT, EMITTER_SPOT, NONE, PRIM_TRIANGLE,
+    SHAPE_FLIP_NORMALS, SHAPE_HAS_NORMALS, SHAPE_HAS_UVS,
 };
 use crate::gpu::{BindingLayout, Buffer, DescriptorSet, Device};
 use crate::scene::{Bsdf, Emitter, Scene};
@@ -12,7 +15,7 @@ use crate::scene::{Bsdf, Emitter, Scene};
 use super::error::Result;
 
 /// Bindings of set 0, in order.
-pub const SCENE_BINDINGS: u32 = 7;
+pub const SCENE_BINDINGS: u32 = 8;
 
 /// Host-side records of a scene, before upload. Built without a GPU so it can be
 /// tested and inspected.
@@ -25,11 +28,25 @@ pub struct SceneRecords {
     /// Point lights first, then the rest; see `point_light_count`.
     pub emitters: Vec<EmitterRecord>,
     pub point_light_count: u32,
+    /// The emitter alias table (by power), then each mesh emitter's triangle table.
+    pub alias: Vec<AliasEntry>,
+    /// The constant environment emitter, or `NONE`.
+    pub env_emitter: u32,
+}
+
+/// Luminance of linear sRGB (Rec. 709 weights).
+fn luminance(c: Vec3) -> f64 {
+    (0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z) as f64
 }
 
 impl SceneRecords {
-    pub fn new(scene: &Scene) -> SceneRecords {
-        let mut r = SceneRecords::default();
+    /// Records of `scene`, whose primitives `bvh` holds (light triangles are found
+    /// through it).
+    pub fn new(scene: &Scene, bvh: &Bvh) -> SceneRecords {
+        let mut r = SceneRecords {
+            env_emitter: NONE,
+            ..Default::default()
+        };
         // Emitters: point lights first so the shading code can pick among them by
         // index; `remap[i]` is the new index of scene emitter i.
         let mut order: Vec<usize> = (0..scene.emitters.len()).collect();
@@ -48,6 +65,28 @@ impl SceneRecords {
                         kind: EMITTER_POINT,
                         radiance: intensity.into(),
                         shape: NONE,
+                        ..Default::default()
+                    }
+                }
+                Emitter::Spot {
+                    position,
+                    axis,
+                    intensity,
+                    cutoff_deg,
+                    beam_width_deg,
+                } => {
+                    let (cutoff, beam) = (cutoff_deg.to_radians(), beam_width_deg.to_radians());
+                    EmitterRecord {
+                        position: position.into(),
+                        kind: EMITTER_SPOT,
+                        radiance: intensity.into(),
+                        shape: NONE,
+                        axis: axis.into(),
+                        cos_cutoff: cutoff.cos(),
+                        cutoff,
+                        // A zero-width transition is a hard edge: a huge slope.
+                        inv_transition: 1.0 / (cutoff - beam).max(1e-6),
+                        ..Default::default()
                     }
                 }
                 Emitter::Area { radiance } => EmitterRecord {
@@ -56,12 +95,15 @@ impl SceneRecords {
                     shape: NONE,
                     ..Default::default()
                 },
-                Emitter::Constant { radiance } => EmitterRecord {
-                    kind: EMITTER_CONSTANT,
-                    radiance: radiance.into(),
-                    shape: NONE,
-                    ..Default::default()
-                },
+                Emitter::Constant { radiance } => {
+                    r.env_emitter = new as u32;
+                    EmitterRecord {
+                        kind: EMITTER_CONSTANT,
+                        radiance: radiance.into(),
+                        shape: NONE,
+                        ..Default::default()
+                    }
+                }
             };
             r.emitters.push(rec);
         }
@@ -111,7 +153,11 @@ impl SceneRecords {
         for sphere in &scene.spheres {
             let shape_index = r.shapes.len() as u32;
             if let Some(e) = sphere.emitter {
-                r.emitters[remap[e as usize] as usize].shape = shape_index;
+                let rec = &mut r.emitters[remap[e as usize] as usize];
+                rec.shape = shape_index;
+                rec.position = sphere.center.into();
+                rec.radius = sphere.radius;
+                rec.area = 4.0 * std::f32::consts::PI * sphere.radius * sphere.radius;
             }
             r.shapes.push(ShapeRecord {
                 bsdf: sphere.bsdf,
@@ -124,6 +170,7 @@ impl SceneRecords {
                 pad0: 0,
             });
         }
+        r.build_alias_tables(scene, bvh, &remap);
         r.bsdfs = scene
             .bsdfs
             .iter()
@@ -135,6 +182,75 @@ impl SceneRecords {
             })
             .collect();
         r
+    }
+}
+
+impl SceneRecords {
+    /// The emitter table, chosen by power, and per mesh emitter a table of its
+    /// triangles by area (so a point is uniform over the mesh's whole surface).
+    fn build_alias_tables(&mut self, scene: &Scene, bvh: &Bvh, remap: &[u32]) {
+        // BVH slot of every global triangle number.
+        let mut slot = vec![NONE; scene.triangle_count()];
+        for (i, p) in bvh.prims.iter().enumerate() {
+            if p.kind == PRIM_TRIANGLE {
+                slot[p.index as usize] = i as u32;
+            }
+        }
+        let n = self.emitters.len();
+        let mut tables: Vec<AliasEntry> = Vec::new();
+        let mut first_triangle = 0usize;
+        for mesh in &scene.meshes {
+            if let Some(e) = mesh.emitter {
+                let areas: Vec<f64> = mesh
+                    .indices
+                    .iter()
+                    .map(|t| {
+                        let p = t.map(|i| mesh.positions[i as usize]);
+                        0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length() as f64
+                    })
+                    .collect();
+                let prims: Vec<u32> = (0..mesh.indices.len())
+                    .map(|k| slot[first_triangle + k])
+                    .collect();
+                let rec = &mut self.emitters[remap[e as usize] as usize];
+                rec.area = areas.iter().sum::<f64>() as f32;
+                rec.tri_first = (n + tables.len()) as u32;
+                rec.tri_count = areas.len() as u32;
+                tables.extend(super::alias::build(&areas, &prims));
+            }
+            first_triangle += mesh.indices.len();
+        }
+        // Power of each emitter; a constant environment's flux through a sphere
+        // bounding the scene.
+        let radius = bvh
+            .nodes
+            .first()
+            .map(|n| {
+                let lo = Vec3::from(n.left_min).min(Vec3::from(n.right_min));
+                let hi = Vec3::from(n.left_max).max(Vec3::from(n.right_max));
+                if lo.cmple(hi).all() {
+                    0.5 * (hi - lo).length()
+                } else {
+                    1.0
+                }
+            })
+            .unwrap_or(1.0) as f64;
+        let pi = std::f64::consts::PI;
+        let power: Vec<f64> = self
+            .emitters
+            .iter()
+            .map(|e| {
+                let l = luminance(Vec3::from(e.radiance));
+                match e.kind {
+                    EMITTER_POINT => 4.0 * pi * l,
+                    EMITTER_SPOT => 2.0 * pi * (1.0 - (0.5 * e.cutoff).cos() as f64) * l,
+                    EMITTER_AREA => pi * e.area as f64 * l,
+                    _ => pi * 4.0 * pi * radius * radius * l,
+                }
+            })
+            .collect();
+        self.alias = super::alias::build(&power, &[]);
+        self.alias.extend(tables);
     }
 }
 
@@ -159,6 +275,7 @@ impl SceneBuffers {
             Buffer::from_slice(device, "vertices", &records.vertices)?,
             Buffer::from_slice(device, "bsdfs", &records.bsdfs)?,
             Buffer::from_slice(device, "emitters", &records.emitters)?,
+            Buffer::from_slice(device, "alias tables", &records.alias)?,
         ];
         debug_assert_eq!(buffers.len() as u32, SCENE_BINDINGS);
         let refs: Vec<&Buffer> = buffers.iter().collect();

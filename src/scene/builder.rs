@@ -40,7 +40,6 @@ pub const UNSUPPORTED_BSDFS: &[&str] = &[
 
 /// Emitter types we know but do not implement yet.
 pub const UNSUPPORTED_EMITTERS: &[&str] = &[
-    "spot",
     "directional",
     "envmap",
     "sunsky",

@@ -8,6 +8,23 @@ pub enum Emitter {
     /// An isotropic point light. Mitsuba `point` (`position` or `to_world`, `intensity`
     /// in W/sr); Nori `point` (`position`, `power` in W: intensity = power / 4π).
     Point { position: Vec3, intensity: Vec3 },
+    /// A spot light at `position` shining along `axis` (Mitsuba `spot`: `intensity`
+    /// in W/sr on the axis, `cutoff_angle` (degrees, default 20), `beam_width`
+    /// (degrees, default 3/4 of the cutoff), `to_world` placing the light at its
+    /// origin looking down its +z). Full intensity inside the beam width, falling
+    /// linearly in angle to 0 at the cutoff, as Mitsuba's spotlight.
+    ///
+    /// ```xml
+    /// <emitter type="spot"><transform name="to_world"><lookat origin="0,5,0" target="0,0,0"/></transform>
+    ///     <rgb name="intensity" value="10"/><float name="cutoff_angle" value="30"/></emitter>
+    /// ```
+    Spot {
+        position: Vec3,
+        axis: Vec3,
+        intensity: Vec3,
+        cutoff_deg: f32,
+        beam_width_deg: f32,
+    },
     /// Uniform emission from the surface of the shape that carries it (front side).
     /// Mitsuba and Nori `area` (`radiance`).
     Area { radiance: Vec3 },

@@ -471,7 +471,7 @@ impl<'a> Loader<'a> {
             return Ok(());
         }
         let (props, nested) = Properties::read(el, Dialect::Mitsuba, true)?;
-        if !matches!(t, "point" | "constant") {
+        if !matches!(t, "point" | "constant" | "spot") {
             return Err(builder::unsupported(el, "emitter", UNSUPPORTED_EMITTERS));
         }
         if let Some(n) = nested.first() {
@@ -498,6 +498,36 @@ impl<'a> Loader<'a> {
             Emitter::Point {
                 position,
                 intensity: props.color("intensity", Vec3::ONE)?,
+            }
+        } else if t == "spot" {
+            let m = props
+                .transform_opt("to_world")?
+                .unwrap_or(glam::Mat4::IDENTITY);
+            let axis = m.transform_vector3(Vec3::Z);
+            if axis.length_squared() == 0.0 || !axis.is_finite() {
+                return Err(
+                    props.error("to_world", "the spot light's transform collapses its axis")
+                );
+            }
+            let cutoff_deg = props.float("cutoff_angle", 20.0)?;
+            if !(cutoff_deg > 0.0 && cutoff_deg <= 180.0) {
+                return Err(
+                    props.error("cutoff_angle", "cutoff_angle must lie in (0, 180] degrees")
+                );
+            }
+            let beam_width_deg = props.float("beam_width", 0.75 * cutoff_deg)?;
+            if !(beam_width_deg >= 0.0 && beam_width_deg <= cutoff_deg) {
+                return Err(props.error(
+                    "beam_width",
+                    "beam_width must lie in [0, cutoff_angle] degrees",
+                ));
+            }
+            Emitter::Spot {
+                position: m.w_axis.truncate(),
+                axis: axis.normalize(),
+                intensity: props.color("intensity", Vec3::ONE)?,
+                cutoff_deg,
+                beam_width_deg,
             }
         } else {
             Emitter::Constant {
@@ -961,13 +991,32 @@ mod tests {
                 radiance: Vec3::splat(0.5)
             }
         );
+        let spot = r#"<emitter type="spot"><transform name="to_world"><lookat origin="0,5,0" target="0,0,0" up="0,0,1"/></transform>
+    <float name="cutoff_angle" value="30"/></emitter>"#;
+        let s = load(&[("s.xml", &mitsuba(spot))], &[]).unwrap();
+        let Emitter::Spot {
+            position,
+            axis,
+            cutoff_deg,
+            beam_width_deg,
+            ..
+        } = s.emitters[0]
+        else {
+            panic!("{:?}", s.emitters[0]);
+        };
+        assert!((position - Vec3::new(0.0, 5.0, 0.0)).length() < 1e-6);
+        assert!((axis - Vec3::new(0.0, -1.0, 0.0)).length() < 1e-6);
+        assert_eq!((cutoff_deg, beam_width_deg), (30.0, 22.5));
+        let bad = r#"<emitter type="spot"><float name="cutoff_angle" value="10"/><float name="beam_width" value="20"/></emitter>"#;
+        let e = error_at(load(&[("s.xml", &mitsuba(bad))], &[]), "s.xml", 3);
+        assert!(e.contains("beam_width"), "{e}");
         let e = error_at(
-            load(&[("s.xml", &mitsuba("<emitter type=\"spot\"/>"))], &[]),
+            load(&[("s.xml", &mitsuba("<emitter type=\"envmap\"/>"))], &[]),
             "s.xml",
             3,
         );
         assert!(
-            e.contains("emitter type 'spot' is not supported yet"),
+            e.contains("emitter type 'envmap' is not supported yet"),
             "{e}"
         );
         let e = error_at(

@@ -1,0 +1,133 @@
+// Emitters: sampling a point of light as seen from a shading point, and the density
+// of that sampling for a point that a BSDF-sampled ray found (for MIS). Needs
+// scene_bindings.glsl and wavefront.glsl (frame).
+//
+// An emitter is chosen in proportion to its power through the alias table at
+// alias_table[0 .. emitter_count); a mesh emitter then picks a triangle by area and a
+// uniform point on it, so points are uniform over its whole surface; a sphere
+// emitter samples the cone of directions it subtends (PBR 4th ed., sec. 6.2.4).
+// Every pdf here is per unit solid angle at the shading point and includes the
+// probability of choosing the emitter.
+#ifndef EMITTER_GLSL
+#define EMITTER_GLSL
+
+#include "alias.glsl"
+#include "frame.glsl"
+#include "warp.glsl"
+#include "intersect_sphere.glsl"
+
+#define EMITTER_INFINITY uintBitsToFloat(0x7f800000u)
+
+struct EmitterSample {
+    vec3 wi;     // unit direction from the shading point towards the light
+    float dist;  // distance to the sampled point; EMITTER_INFINITY for the environment
+    vec3 Le;     // radiance arriving along -wi (for point and spot lights: I / d²)
+    float pdf;   // solid angle (delta lights: the probability of choosing the light)
+    bool delta;  // a point or spot light: no MIS, BSDF sampling can never hit it
+};
+
+// Spot light falloff as Mitsuba's spotlight: 1 inside the beam width, falling linearly
+// in angle to 0 at the cutoff.
+float emitter_spot_falloff(EmitterRecord e, vec3 w_out) {
+    float cos_theta = dot(w_out, e.axis);
+    if (cos_theta <= e.cos_cutoff) return 0.0;
+    float theta = acos(clamp(cos_theta, -1.0, 1.0));
+    return clamp((e.cutoff - theta) * e.inv_transition, 0.0, 1.0);
+}
+
+// Radiance leaving an area emitter towards -d, at a point with geometric normal ng:
+// one-sided, from the front face only.
+vec3 emitter_area_radiance(EmitterRecord e, vec3 ng, vec3 d) {
+    return dot(ng, d) < 0.0 ? e.radiance : vec3(0.0);
+}
+
+// 1 - cos θmax of the cone a sphere (centre c, radius r) subtends from x; 0 if x is
+// inside it. Written as sin²/(1 + cos) to stay accurate for small, far spheres.
+float emitter_sphere_cone(vec3 x, vec3 c, float r) {
+    float dc2 = dot(c - x, c - x);
+    float sin2 = r * r / dc2;
+    if (sin2 >= 1.0) return 0.0;
+    return sin2 / (1.0 + sqrt(1.0 - sin2));
+}
+
+// Samples light arriving at x. u: four uniform numbers.
+EmitterSample emitter_sample(vec3 x, vec4 u) {
+    EmitterSample s;
+    s.delta = false;
+    s.Le = vec3(0.0);
+    s.pdf = 0.0;
+    s.dist = 0.0;
+    s.wi = vec3(0.0, 0.0, 1.0);
+    if (frame.emitter_count == 0u) return s;
+    float pmf;
+    uint index = alias_sample(0u, frame.emitter_count, u.x, pmf);
+    EmitterRecord e = emitters[index];
+    if (e.kind == EMITTER_POINT || e.kind == EMITTER_SPOT) {
+        vec3 d = e.position - x;
+        float d2 = dot(d, d);
+        s.dist = sqrt(d2);
+        s.wi = d / s.dist;
+        s.Le = e.radiance / d2;
+        if (e.kind == EMITTER_SPOT) s.Le *= emitter_spot_falloff(e, -s.wi);
+        s.pdf = pmf;
+        s.delta = true;
+    } else if (e.kind == EMITTER_CONSTANT) {
+        s.wi = warp_uniform_sphere(u.yz);
+        s.dist = EMITTER_INFINITY;
+        s.Le = e.radiance;
+        s.pdf = pmf * warp_uniform_sphere_pdf();
+    } else if (e.tri_count > 0u) {
+        // A mesh: a triangle by area, then a uniform point on it.
+        float tri_pmf;
+        uint t = alias_sample(e.tri_first, e.tri_count, u.y, tri_pmf);
+        Prim p = prims[alias_table[e.tri_first + t].prim];
+        vec2 b = warp_uniform_triangle(u.zw);
+        vec3 y = (1.0 - b.x - b.y) * p.p0 + b.x * p.p1 + b.y * p.p2;
+        vec3 ng = normalize(cross(p.p1 - p.p0, p.p2 - p.p0));
+        if ((shapes[e.shape].flags & SHAPE_FLIP_NORMALS) != 0u) ng = -ng;
+        vec3 d = y - x;
+        float d2 = dot(d, d);
+        s.dist = sqrt(d2);
+        s.wi = d / s.dist;
+        float cos_light = -dot(ng, s.wi);
+        if (cos_light <= 0.0 || d2 == 0.0) return s;
+        s.Le = e.radiance;
+        // Area density 1/area, to solid angle: d² / cos.
+        s.pdf = pmf * d2 / (e.area * cos_light);
+    } else {
+        // A sphere: directions uniform in the cone it subtends.
+        float one_minus_cos_max = emitter_sphere_cone(x, e.position, e.radius);
+        if (one_minus_cos_max <= 0.0) return s; // inside the light: it emits outwards
+        vec3 wc = normalize(e.position - x);
+        s.wi = frame_to_world(wc, warp_uniform_cone(u.yz, one_minus_cos_max));
+        float t;
+        if (!intersect_sphere(x, s.wi, e.position, e.radius, 0.0, EMITTER_INFINITY, t)) {
+            t = dot(e.position - x, s.wi); // grazing the rim: the closest approach
+        }
+        s.dist = t;
+        s.Le = e.radiance;
+        s.pdf = pmf * warp_uniform_cone_pdf(one_minus_cos_max);
+    }
+    return s;
+}
+
+// Density with which emitter_sample, called at x_prev, picks the point at distance t
+// along the unit direction d where a ray hit area emitter `index` (geometric normal ng
+// there).
+float emitter_pdf_hit(uint index, vec3 x_prev, vec3 d, float t, vec3 ng) {
+    EmitterRecord e = emitters[index];
+    float pmf = alias_table[index].pmf;
+    if (e.tri_count > 0u) {
+        float cos_light = abs(dot(ng, d));
+        return cos_light > 0.0 ? pmf * t * t / (e.area * cos_light) : 0.0;
+    }
+    float one_minus_cos_max = emitter_sphere_cone(x_prev, e.position, e.radius);
+    return one_minus_cos_max > 0.0 ? pmf * warp_uniform_cone_pdf(one_minus_cos_max) : 0.0;
+}
+
+// Density with which emitter_sample picks direction d towards the environment.
+float emitter_pdf_env() {
+    return alias_table[frame.env_emitter].pmf * warp_uniform_sphere_pdf();
+}
+
+#endif

@@ -1,0 +1,103 @@
+// One path vertex of the direct-lighting and path-tracing integrators: emission found
+// by the ray (weighted by MIS), emitter sampling through a shadow ray, and BSDF
+// sampling for the next ray, with Russian roulette. Which of these run is fixed by the
+// integrator (specialization constants), so absent strategies compile away:
+//   direct_ems  : emitter sampling          direct_mats : BSDF sampling
+//   direct_mis  : both, balance heuristic    path_mats   : BSDF sampling, any depth
+//   path_mis    : both at every vertex, balance heuristic (Veach 1997, ch. 9)
+// Needs wavefront.glsl, scene_bindings.glsl, surface.glsl, emitter.glsl, bsdf.glsl.
+#ifndef PATH_GLSL
+#define PATH_GLSL
+
+#include "integrator.glsl"
+#include "frame.glsl"
+#include "rng.glsl"
+
+// Balance heuristic weight of a strategy with density a against one with density b.
+float mis_balance(float a, float b) { return a / (a + b); }
+
+void path_push_shadow(vec3 origin, uint path, vec3 dir, float tmax, vec3 contribution) {
+    uint slot = atomicAdd(counters.shadow_count, 1u);
+    shadows[slot] = ShadowItem(origin, path, dir, tmax, contribution, 0u);
+}
+
+void path_push_ray(vec3 origin, uint path, vec3 dir) {
+    uint q = 1u - push.queue_in;
+    uint slot = atomicAdd(counters.ray_count[q], 1u);
+    rays[ray_slot(q, slot)] = RayItem(origin, path, dir, EMITTER_INFINITY);
+}
+
+// Shades ray r (path vertex number push.depth + 1) with its hit h.
+void path_shade(uint integrator, RayItem r, HitItem h) {
+    bool ems = integrator == INTEGRATOR_DIRECT_EMS || integrator == INTEGRATOR_DIRECT_MIS
+        || integrator == INTEGRATOR_PATH_MIS;
+    bool mats = integrator != INTEGRATOR_DIRECT_EMS;
+    bool mis = integrator == INTEGRATOR_DIRECT_MIS || integrator == INTEGRATOR_PATH_MIS;
+    bool path_tracer = integrator == INTEGRATOR_PATH_MATS || integrator == INTEGRATOR_PATH_MIS;
+
+    PathState path = paths[r.path];
+    uint depth = push.depth;
+    // Emission found by this ray counts for camera rays (unless hidden) and for rays
+    // that BSDF sampling chose; with MIS it is weighted against emitter sampling,
+    // except after a delta lobe, which emitter sampling cannot reproduce.
+    bool count_emission = depth == 0u ? frame.hide_emitters == 0u : mats;
+    bool weigh = depth > 0u && mis && (path.flags & PATH_DELTA) == 0u;
+
+    if (h.prim == NONE) {
+        if (count_emission && frame.env_emitter != NONE) {
+            float w = weigh ? mis_balance(path.bsdf_pdf, emitter_pdf_env()) : 1.0;
+            paths[r.path].radiance += path.throughput * emitters[frame.env_emitter].radiance * w;
+        }
+        return;
+    }
+
+    Surface s = surface_at(h.prim, h.u, h.v, r.origin, r.dir, h.t);
+    ShapeRecord shape = shapes[s.shape];
+    if (count_emission && shape.emitter != NONE) {
+        vec3 Le = emitter_area_radiance(emitters[shape.emitter], s.ng, r.dir);
+        float w = weigh ? mis_balance(path.bsdf_pdf, emitter_pdf_hit(shape.emitter, r.origin, r.dir, h.t, s.ng)) : 1.0;
+        paths[r.path].radiance += path.throughput * Le * w;
+    }
+
+    // A longer path must fit in max_depth segments (this vertex ends segment depth+1).
+    if (depth + 2u > frame.max_depth) return;
+
+    BsdfRecord bsdf = bsdfs[shape.bsdf];
+    vec3 wo = frame_to_local(s.ns, -r.dir);
+
+    if (ems && !bsdf_is_delta(bsdf)) {
+        vec4 u = rng_4d(path.pixel, path.sample_index, rng_dim_bounce(depth, 0u), frame.seed);
+        EmitterSample es = emitter_sample(s.p, u);
+        if (es.pdf > 0.0 && any(greaterThan(es.Le, vec3(0.0)))) {
+            vec3 wi = frame_to_local(s.ns, es.wi);
+            vec3 f = bsdf_eval(bsdf, wo, wi, s.uv);
+            if (any(greaterThan(f, vec3(0.0)))) {
+                float w = (mis && !es.delta) ? mis_balance(es.pdf, bsdf_pdf(bsdf, wo, wi, s.uv)) : 1.0;
+                vec3 origin = surface_spawn_origin(s, dot(es.wi, s.ng) > 0.0 ? s.ng : -s.ng);
+                // Stop short of the light's own surface (PBR's shadow epsilon).
+                float tmax = isinf(es.dist) ? es.dist : length(s.p + es.wi * es.dist - origin) * (1.0 - 1e-4);
+                path_push_shadow(origin, r.path, es.wi, tmax, path.throughput * f * es.Le * (w / es.pdf));
+            }
+        }
+    }
+
+    if (mats) {
+        vec4 u = rng_4d(path.pixel, path.sample_index, rng_dim_bounce(depth, 1u), frame.seed);
+        BsdfSample bs = bsdf_sample(bsdf, wo, u.xyz, s.uv);
+        vec3 throughput = path.throughput * bs.weight;
+        if (!any(greaterThan(throughput, vec3(0.0)))) return;
+        // Russian roulette: survive with probability min(max throughput, 0.99).
+        if (path_tracer && depth + 1u >= frame.rr_depth) {
+            float q = min(max(throughput.x, max(throughput.y, throughput.z)), 0.99);
+            if (u.w >= q) return;
+            throughput /= q;
+        }
+        vec3 wi = frame_to_world(s.ns, bs.wi);
+        paths[r.path].throughput = throughput;
+        paths[r.path].bsdf_pdf = bs.pdf;
+        paths[r.path].flags = (bs.flags & BSDF_FLAG_DELTA) != 0u ? PATH_DELTA : 0u;
+        path_push_ray(surface_spawn_origin(s, dot(wi, s.ng) > 0.0 ? s.ng : -s.ng), r.path, wi);
+    }
+}
+
+#endif

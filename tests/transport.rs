@@ -1,0 +1,199 @@
+//! Light transport with closed-form answers: every direct-lighting and path-tracing
+//! estimator must converge to the same known value, so a missing cosine, a pdf off by
+//! a factor, a wrong MIS weight or a biased Russian roulette fails here.
+
+mod common;
+
+use common::{device, mean, temp_file};
+use wavetrace::render::RenderOptions;
+
+/// A Mitsuba scene with a 32x32 camera.
+fn scene(camera: &str, fov: f32, body: &str) -> String {
+    format!(
+        r#"<scene version="3.0.0">
+    <sensor type="perspective">
+        <float name="fov" value="{fov}"/>
+        <transform name="to_world">{camera}</transform>
+        <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/></film>
+    </sensor>
+    {body}
+</scene>"#
+    )
+}
+
+/// Mean of the image and the standard error of that mean, from the spread of its
+/// pixels (independent estimates; the scenes here have a constant true image).
+struct Estimate {
+    mean: f64,
+    se: f64,
+}
+
+impl Estimate {
+    /// Checks `expected` lies within 5 standard errors, and that the test is sharp:
+    /// the standard error is below `max_rel_se` of the value.
+    fn check(&self, expected: f64, max_rel_se: f64, what: &str) {
+        let z = (self.mean - expected) / self.se.max(1e-12);
+        println!(
+            "{what}: {:.5} ± {:.5} (expected {expected}, z = {z:.2})",
+            self.mean, self.se
+        );
+        assert!(
+            z.abs() < 5.0,
+            "{what}: {:.5} ± {:.5}, expected {expected} (z = {z:.1})",
+            self.mean,
+            self.se
+        );
+        assert!(
+            self.se < max_rel_se * expected,
+            "{what}: too noisy to test ({:.5})",
+            self.se
+        );
+    }
+}
+
+fn render_with(
+    xml: &str,
+    name: &str,
+    integrator: &str,
+    spp: u32,
+    defines: &[(&str, &str)],
+) -> Estimate {
+    let path = temp_file("transport", &format!("{name}.xml"), xml);
+    let defines: Vec<(String, String)> = defines
+        .iter()
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
+    let s = wavetrace::scene::load(&path, &defines).unwrap_or_else(|e| panic!("{e}"));
+    let opts = RenderOptions {
+        integrator: Some(integrator.into()),
+        ..Default::default()
+    };
+    let img = common::render(&device(), &s, &opts, spp);
+    assert!(img.rgb.iter().all(|v| v.is_finite()));
+    let m = mean(&img);
+    let var =
+        img.rgb.iter().map(|&v| (v as f64 - m).powi(2)).sum::<f64>() / (img.rgb.len() - 1) as f64;
+    // Three channels of a grey scene are one estimate: count pixels, not values.
+    let se = (var / (img.rgb.len() / 3) as f64).sqrt();
+    Estimate { mean: m, se }
+}
+
+/// Inside a closed box whose walls all emit radiance 1 and reflect diffusely with
+/// albedo 1/2, the radiance of paths of at most D segments is 1 + 1/2 + ... + 1/2^(D-1)
+/// everywhere, and 2 for unbounded paths.
+#[test]
+fn emissive_box_gives_the_geometric_series_for_every_estimator() {
+    let body = r#"
+    <default name="max_depth" value="2"/>
+    <integrator type="path"><integer name="max_depth" value="$max_depth"/></integrator>
+    <shape type="cube"><boolean name="flip_normals" value="true"/>
+        <transform name="to_world"><scale value="2, 1, 3"/></transform>
+        <bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf>
+        <emitter type="area"><rgb name="radiance" value="1"/></emitter>
+    </shape>"#;
+    // Looking at the middle of the far wall, away from edges, where emitter sampling
+    // of an adjacent wall would have a heavy tail (1/d² at the corner).
+    let xml = scene(
+        r#"<lookat origin="0.3, 0.1, -1" target="0, 0, 1" up="0, 1, 0"/>"#,
+        20.0,
+        body,
+    );
+    for (integrator, depth, spp, expected) in [
+        ("direct_ems", "2", 16, 1.5),
+        ("direct_mats", "2", 16, 1.5),
+        ("direct_mis", "2", 16, 1.5),
+        ("path_mats", "4", 16, 1.875),
+        ("path_mis", "4", 16, 1.875),
+        ("path_mis", "-1", 32, 2.0),
+        ("path_mats", "-1", 32, 2.0),
+    ] {
+        let e = render_with(&xml, "box", integrator, spp, &[("max_depth", depth)]);
+        e.check(expected, 0.01, &format!("{integrator} max_depth {depth}"));
+    }
+}
+
+/// A diffuse plane (albedo 1/2) under a sphere light of radiance 10, radius 1/2, whose
+/// centre is 2 above the point seen: irradiance π L sin²α with sin α = r/d, so the
+/// plane's radiance is ρ L (r/d)² = 0.3125.
+#[test]
+fn sphere_light_over_a_plane_matches_its_solid_angle() {
+    let body = r#"
+    <shape type="rectangle"><transform name="to_world"><scale value="100"/></transform>
+        <bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf></shape>
+    <shape type="sphere"><point name="center" value="0, 0, 2"/><float name="radius" value="0.5"/>
+        <emitter type="area"><rgb name="radiance" value="10"/></emitter></shape>"#;
+    // Looking at the origin from the side, over a 0.5° field: the patch seen is 0.03
+    // wide, where (r/d)² and the cosine change by under 1e-4.
+    let xml = scene(
+        r#"<lookat origin="3, 0, 1.5" target="0, 0, 0" up="0, 0, 1"/>"#,
+        0.5,
+        body,
+    );
+    let expected = 0.5 * 10.0 * 0.0625;
+    // BSDF sampling hits the light with probability sin²α = 1/16 only: more samples.
+    for (integrator, spp) in [
+        ("direct_mats", 256),
+        ("direct_ems", 16),
+        ("direct_mis", 16),
+        ("path_mis", 16),
+    ] {
+        render_with(&xml, "sphere", integrator, spp, &[]).check(expected, 0.01, integrator);
+    }
+}
+
+/// An open plane under a uniform sky of radiance 1 reflects ρ = 1/2.
+#[test]
+fn constant_environment_over_a_plane_reflects_its_albedo() {
+    let body = r#"
+    <shape type="rectangle"><transform name="to_world"><scale value="1000"/></transform>
+        <bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf></shape>
+    <emitter type="constant"><rgb name="radiance" value="1"/></emitter>"#;
+    let xml = scene(
+        r#"<lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/>"#,
+        30.0,
+        body,
+    );
+    for integrator in [
+        "direct_ems",
+        "direct_mats",
+        "direct_mis",
+        "path_mis",
+        "path_mats",
+    ] {
+        render_with(&xml, "env", integrator, 64, &[]).check(0.5, 0.01, integrator);
+    }
+}
+
+/// A point light and a spot light through the general emitter sampling: (ρ/π) I / d²
+/// below the point light; the spot is at full intensity inside its beam and dark
+/// outside its cutoff.
+#[test]
+fn point_and_spot_lights_follow_the_inverse_square_law() {
+    let plane = r#"<shape type="rectangle"><transform name="to_world"><scale value="100"/></transform>
+        <bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf></shape>"#;
+    let camera = r#"<lookat origin="0, 0, 10" target="0, 0, 0" up="0, 1, 0"/>"#;
+    let point = format!(
+        r#"{plane}<emitter type="point"><point name="position" value="0, 0, 2"/><rgb name="intensity" value="8"/></emitter>"#
+    );
+    let expected = 0.5 / std::f64::consts::PI * 8.0 / 4.0;
+    // Over the 0.09-wide patch seen, cos θ / d² falls by 5e-4 on average from its
+    // value below the light.
+    let m = render_with(&scene(camera, 0.5, &point), "point", "direct_ems", 4, &[]).mean;
+    assert!(
+        (m - expected).abs() < 1e-3 * expected,
+        "point: {m} vs {expected}"
+    );
+    let spot = format!(
+        r#"{plane}<emitter type="spot"><transform name="to_world"><lookat origin="0, 0, 2" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <rgb name="intensity" value="8"/><float name="cutoff_angle" value="30"/></emitter>"#
+    );
+    let m = render_with(&scene(camera, 0.5, &spot), "spot", "path_mis", 4, &[]).mean;
+    assert!(
+        (m - expected).abs() < 1e-3 * expected,
+        "spot on axis: {m} vs {expected}"
+    );
+    // Looking at a point 2 units off axis, 45° from the spot: outside its 30° cutoff.
+    let off = r#"<lookat origin="2, 0, 10" target="2, 0, 0" up="0, 1, 0"/>"#;
+    let m = render_with(&scene(off, 0.5, &spot), "spot_off", "direct_mis", 4, &[]).mean;
+    assert_eq!(m, 0.0, "outside the cutoff");
+}
