@@ -3,11 +3,11 @@
 
 use crate::accel::Bvh;
 use crate::gpu::layout::{
-    BsdfRecord, EmitterRecord, ShapeRecord, TriangleRecord, Vertex, BSDF_DIFFUSE, EMITTER_AREA,
-    EMITTER_CONSTANT, EMITTER_POINT, NONE, SHAPE_FLIP_NORMALS, SHAPE_HAS_NORMALS, SHAPE_HAS_UVS,
+    BsdfRecord, EmitterRecord, ShapeRecord, TriangleRecord, Vertex, EMITTER_AREA, EMITTER_CONSTANT,
+    EMITTER_POINT, NONE, SHAPE_FLIP_NORMALS, SHAPE_HAS_NORMALS, SHAPE_HAS_UVS,
 };
 use crate::gpu::{BindingLayout, Buffer, DescriptorSet, Device};
-use crate::scene::{Bsdf, Emitter, Scene};
+use crate::scene::{Emitter, Scene};
 
 use super::error::Result;
 
@@ -124,16 +124,7 @@ impl SceneRecords {
                 pad0: 0,
             });
         }
-        r.bsdfs = scene
-            .bsdfs
-            .iter()
-            .map(|b| match b {
-                Bsdf::Diffuse { reflectance } => BsdfRecord {
-                    reflectance: (*reflectance).into(),
-                    kind: BSDF_DIFFUSE,
-                },
-            })
-            .collect();
+        r.bsdfs = scene.bsdfs.iter().map(BsdfRecord::from).collect();
         r
     }
 }
