@@ -62,7 +62,7 @@ impl Chart {
         }
     }
     /// The point and the area element per unit du dv.
-    fn from_square(self, u: f64, v: f64) -> ([f32; 4], f64) {
+    fn point_at(self, u: f64, v: f64) -> ([f32; 4], f64) {
         match self {
             Chart::Disk => {
                 let (r, phi) = (u.sqrt(), 2.0 * std::f64::consts::PI * v);
@@ -99,8 +99,7 @@ fn planar(probe: &WarpProbe, name: &str, warp: Warp, chart: Chart) {
     let mut jac = Vec::with_capacity(m * m);
     for i in 0..m {
         for j in 0..m {
-            let (p, da) =
-                chart.from_square((i as f64 + 0.5) / m as f64, (j as f64 + 0.5) / m as f64);
+            let (p, da) = chart.point_at((i as f64 + 0.5) / m as f64, (j as f64 + 0.5) / m as f64);
             points.push(p);
             jac.push(da / (m * m) as f64);
         }

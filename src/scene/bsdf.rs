@@ -763,7 +763,7 @@ mod tests {
         assert_eq!(ior_preset("BK7"), Some(1.5046));
         assert_eq!(ior_preset("water"), Some(1.333));
         assert_eq!(ior_preset("glass"), None);
-        let r = BsdfRecord::from(&Bsdf::TwoSided(Box::new(Bsdf::default())));
+        let r = BsdfRecord::from(&Bsdf::TwoSided(Box::default()));
         assert_eq!(
             (r.kind, r.flags, r.reflectance),
             (BSDF_DIFFUSE, BSDF_TWOSIDED, [0.5; 3])

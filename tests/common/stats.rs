@@ -315,6 +315,7 @@ impl BsdfProbe {
         }
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn run(
         &self,
         rec: &BsdfRecord,
