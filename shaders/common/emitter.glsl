@@ -75,7 +75,7 @@ EmitterSample emitter_sample(vec3 x, vec4 u) {
         s.wi = warp_uniform_sphere(u.yz);
         s.dist = EMITTER_INFINITY;
         s.Le = e.radiance;
-        s.pdf = pmf * warp_uniform_sphere_pdf();
+        s.pdf = pmf * warp_uniform_sphere_pdf(s.wi);
     } else if (e.tri_count > 0u) {
         // A mesh: a triangle by area, then a uniform point on it.
         float tri_pmf;
@@ -127,7 +127,7 @@ float emitter_pdf_hit(uint index, vec3 x_prev, vec3 d, float t, vec3 ng) {
 
 // Density with which emitter_sample picks direction d towards the environment.
 float emitter_pdf_env() {
-    return alias_table[frame.env_emitter].pmf * warp_uniform_sphere_pdf();
+    return alias_table[frame.env_emitter].pmf * INV_FOUR_PI;
 }
 
 #endif

@@ -59,10 +59,38 @@ struct Vertex {
     float v;
 };
 
+// BSDF kinds (shaders/common/bsdf.glsl dispatches on them).
 #define BSDF_DIFFUSE 0u
+#define BSDF_CONDUCTOR 1u
+#define BSDF_ROUGHCONDUCTOR 2u
+#define BSDF_DIELECTRIC 3u
+#define BSDF_ROUGHDIELECTRIC 4u
+#define BSDF_PLASTIC 5u
+#define BSDF_ROUGHPLASTIC 6u
+#define BSDF_NORI_MICROFACET 7u
+// BsdfRecord.flags
+#define BSDF_TWOSIDED 1u
+#define BSDF_NONLINEAR 2u
+// BsdfRecord.distribution
+#define BSDF_BECKMANN 0u
+#define BSDF_GGX 1u
+// A BSDF's parameters; which fields a kind reads is listed in src/gpu/layout.rs.
 struct BsdfRecord {
-    vec3 reflectance;
+    vec3 reflectance;     // diffuse reflectance (diffuse, plastics, Nori kd)
     uint kind;
+    vec3 specular;        // specular_reflectance
+    uint flags;
+    vec3 transmittance;   // specular_transmittance (dielectrics)
+    float eta;            // int_ior / ext_ior (dielectrics, plastics, Nori microfacet)
+    vec3 cond_eta;        // conductor: real part of the complex index
+    float alpha_u;
+    vec3 cond_k;          // conductor: imaginary part of the complex index
+    float alpha_v;
+    uint distribution;
+    float specular_weight; // plastics: specular sampling weight; Nori microfacet: ks
+    float internal;       // plastic: inner diffuse Fresnel reflectance; roughplastic: R_int
+    uint pad0;
+    vec4 table[8];        // roughplastic: coating transmittance at cos θ = i/31
 };
 
 #define EMITTER_POINT 0u

@@ -1,9 +1,12 @@
-// Warps of the unit square to sampling domains, with their densities.
+// Warps of the unit square to sampling domains, with their densities. Each pdf is
+// stated with its measure; tests/chi2.rs checks every warp against its pdf.
 #ifndef WARP_GLSL
 #define WARP_GLSL
 
 #define PI 3.14159265358979323846
 #define INV_PI 0.31830988618379067154
+#define INV_TWO_PI 0.15915494309189533577
+#define INV_FOUR_PI 0.07957747154594766788
 
 // Concentric map to the unit disk (Shirley and Chiu 1997, "A Low Distortion Map
 // Between Disk and Square"). Density 1/π per unit area.
@@ -20,6 +23,8 @@ vec2 warp_square_to_disk(vec2 u) {
     }
     return r * vec2(cos(theta), sin(theta));
 }
+// Per unit area of the plane.
+float warp_square_to_disk_pdf(vec2 p) { return dot(p, p) <= 1.0 ? INV_PI : 0.0; }
 
 // Cosine-weighted hemisphere around +z (Malley's method: lift the disk).
 // Density cos θ / π per unit solid angle.
@@ -39,17 +44,18 @@ vec3 warp_uniform_hemisphere(vec2 u) {
 }
 float warp_uniform_hemisphere_pdf(vec3 v) { return v.z > 0.0 ? 0.5 * INV_PI : 0.0; }
 
-// Uniform sphere. Density 1/(4π) per unit solid angle.
+// Uniform sphere (Archimedes: z uniform in [-1, 1]). Density 1/(4π) per unit solid angle.
 vec3 warp_uniform_sphere(vec2 u) {
     float z = 1.0 - 2.0 * u.x;
     float r = sqrt(max(0.0, 1.0 - z * z));
     float phi = 2.0 * PI * u.y;
     return vec3(r * cos(phi), r * sin(phi), z);
 }
-float warp_uniform_sphere_pdf() { return 0.25 * INV_PI; }
+float warp_uniform_sphere_pdf(vec3 v) { return INV_FOUR_PI; }
 
-// Uniform cone of directions around +z with 1 - cos θmax = one_minus_cos_max (passed
-// in that form so tiny cones keep their precision). Density 1 / (2π (1 - cos θmax)).
+// Uniform cone of directions around +z with 1 - cos θmax = one_minus_cos_max, given in
+// that form so that tiny cones (far, small sphere lights) keep their precision: the
+// cap below with cos_max = 1 - one_minus_cos_max. Density 1 / (2π (1 - cos θmax)).
 vec3 warp_uniform_cone(vec2 u, float one_minus_cos_max) {
     float one_minus_cos = u.x * one_minus_cos_max;
     float cos_theta = 1.0 - one_minus_cos;
@@ -57,14 +63,26 @@ vec3 warp_uniform_cone(vec2 u, float one_minus_cos_max) {
     float phi = 2.0 * PI * u.y;
     return vec3(sin_theta * cos(phi), sin_theta * sin(phi), cos_theta);
 }
-float warp_uniform_cone_pdf(float one_minus_cos_max) { return 1.0 / (2.0 * PI * one_minus_cos_max); }
+float warp_uniform_cone_pdf(float one_minus_cos_max) { return INV_TWO_PI / one_minus_cos_max; }
 
-// Uniform point on a triangle as barycentrics (b1, b2), p = (1-b1-b2) p0 + b1 p1 + b2 p2
-// (Turk 1990, "Generating Random Points in Triangles", Graphics Gems). Density
-// 1/area per unit area.
+// Uniform spherical cap around +z of all directions with cos θ >= cos_max (a cone of
+// half-angle acos(cos_max)); z is uniform in [cos_max, 1]. Density 1/(2π(1 - cos_max))
+// per unit solid angle inside the cap, 0 outside.
+vec3 warp_uniform_cap(vec2 u, float cos_max) { return warp_uniform_cone(u, 1.0 - cos_max); }
+float warp_uniform_cap_pdf(vec3 v, float cos_max) {
+    return v.z >= cos_max ? INV_TWO_PI / (1.0 - cos_max) : 0.0;
+}
+
+// Uniform point on a triangle as barycentrics (b0, b1), b2 = 1 - b0 - b1 (PBR 4th ed.,
+// sec. A.5.5, the square-root parameterization). Density 2 per unit area of the
+// (b0, b1) plane inside the triangle b0, b1 >= 0, b0 + b1 <= 1 (whose area is 1/2):
+// so 1/A per unit area of a triangle of area A.
 vec2 warp_uniform_triangle(vec2 u) {
-    float s = sqrt(u.x);
-    return vec2(1.0 - s, u.y * s);
+    float su = sqrt(u.x);
+    return vec2(1.0 - su, u.y * su);
+}
+float warp_uniform_triangle_pdf(vec2 b) {
+    return (b.x >= 0.0 && b.y >= 0.0 && b.x + b.y <= 1.0) ? 2.0 : 0.0;
 }
 
 #endif

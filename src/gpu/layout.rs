@@ -89,15 +89,57 @@ pub struct Vertex {
     pub v: f32,
 }
 
-/// BSDF kinds in [`BsdfRecord::kind`].
+/// BSDF kinds in [`BsdfRecord::kind`] (one GLSL file each in `shaders/common/bsdf/`).
 pub const BSDF_DIFFUSE: u32 = 0;
+pub const BSDF_CONDUCTOR: u32 = 1;
+pub const BSDF_ROUGHCONDUCTOR: u32 = 2;
+pub const BSDF_DIELECTRIC: u32 = 3;
+pub const BSDF_ROUGHDIELECTRIC: u32 = 4;
+pub const BSDF_PLASTIC: u32 = 5;
+pub const BSDF_ROUGHPLASTIC: u32 = 6;
+pub const BSDF_NORI_MICROFACET: u32 = 7;
+/// [`BsdfRecord::flags`]: Mitsuba `twosided` around the model.
+pub const BSDF_TWOSIDED: u32 = 1;
+/// [`BsdfRecord::flags`]: plastics with `nonlinear` = true.
+pub const BSDF_NONLINEAR: u32 = 2;
+/// [`BsdfRecord::distribution`] values.
+pub const BSDF_BECKMANN: u32 = 0;
+pub const BSDF_GGX: u32 = 1;
+/// Entries of [`BsdfRecord::table`].
+pub const BSDF_TABLE_SIZE: usize = 32;
 
-/// A BSDF's parameters.
+/// A BSDF's parameters; made from a `scene::Bsdf` by `BsdfRecord::from`. Fields by kind:
+///
+/// | kind | fields read |
+/// |------|-------------|
+/// | diffuse | `reflectance` |
+/// | conductor | `specular`, `cond_eta`, `cond_k` |
+/// | roughconductor | + `distribution`, `alpha_u`, `alpha_v` |
+/// | dielectric | `specular`, `transmittance`, `eta` |
+/// | roughdielectric | + `distribution`, `alpha_u`, `alpha_v` |
+/// | plastic | `reflectance`, `specular`, `eta`, `specular_weight`, `internal` (F_dr inside) |
+/// | roughplastic | + `distribution`, `alpha_u` (= `alpha_v`), `table` (coating transmittance at cos θ = i/31), `internal` (R_int) |
+/// | Nori microfacet | `reflectance` (kd), `specular_weight` (ks), `eta`, `alpha_u` |
+///
+/// `flags`: [`BSDF_TWOSIDED`], [`BSDF_NONLINEAR`].
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct BsdfRecord {
     pub reflectance: [f32; 3],
     pub kind: u32,
+    pub specular: [f32; 3],
+    pub flags: u32,
+    pub transmittance: [f32; 3],
+    pub eta: f32,
+    pub cond_eta: [f32; 3],
+    pub alpha_u: f32,
+    pub cond_k: [f32; 3],
+    pub alpha_v: f32,
+    pub distribution: u32,
+    pub specular_weight: f32,
+    pub internal: f32,
+    pub pad0: u32,
+    pub table: [[f32; 4]; BSDF_TABLE_SIZE / 4],
 }
 
 /// Emitter kinds in [`EmitterRecord::kind`].
@@ -377,7 +419,24 @@ mod tests {
             rust_layout!(ShapeRecord, bsdf, emitter, flags, pad0),
             rust_layout!(TriangleRecord, v0, v1, v2),
             rust_layout!(Vertex, nx, ny, nz, u, v),
-            rust_layout!(BsdfRecord, reflectance, kind),
+            rust_layout!(
+                BsdfRecord,
+                reflectance,
+                kind,
+                specular,
+                flags,
+                transmittance,
+                eta,
+                cond_eta,
+                alpha_u,
+                cond_k,
+                alpha_v,
+                distribution,
+                specular_weight,
+                internal,
+                pad0,
+                table
+            ),
             rust_layout!(
                 EmitterRecord,
                 position,

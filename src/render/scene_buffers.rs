@@ -5,12 +5,12 @@ use glam::Vec3;
 
 use crate::accel::Bvh;
 use crate::gpu::layout::{
-    AliasEntry, BsdfRecord, EmitterRecord, ShapeRecord, TriangleRecord, Vertex, BSDF_DIFFUSE,
-    EMITTER_AREA, EMITTER_CONSTANT, EMITTER_POINT, EMITTER_SPOT, NONE, PRIM_TRIANGLE,
-    SHAPE_FLIP_NORMALS, SHAPE_HAS_NORMALS, SHAPE_HAS_UVS,
+    AliasEntry, BsdfRecord, EmitterRecord, ShapeRecord, TriangleRecord, Vertex, EMITTER_AREA,
+    EMITTER_CONSTANT, EMITTER_POINT, EMITTER_SPOT, NONE, PRIM_TRIANGLE, SHAPE_FLIP_NORMALS,
+    SHAPE_HAS_NORMALS, SHAPE_HAS_UVS,
 };
 use crate::gpu::{BindingLayout, Buffer, DescriptorSet, Device};
-use crate::scene::{Bsdf, Emitter, Scene};
+use crate::scene::{Emitter, Scene};
 
 use super::error::Result;
 
@@ -171,16 +171,7 @@ impl SceneRecords {
             });
         }
         r.build_alias_tables(scene, bvh, &remap);
-        r.bsdfs = scene
-            .bsdfs
-            .iter()
-            .map(|b| match b {
-                Bsdf::Diffuse { reflectance } => BsdfRecord {
-                    reflectance: (*reflectance).into(),
-                    kind: BSDF_DIFFUSE,
-                },
-            })
-            .collect();
+        r.bsdfs = scene.bsdfs.iter().map(BsdfRecord::from).collect();
         r
     }
 }

@@ -13,13 +13,7 @@ use super::{Bsdf, Emitter, Error, Mesh, Sphere};
 
 /// BSDF types of Mitsuba 3 or Nori that wavetrace does not implement yet.
 pub const UNSUPPORTED_BSDFS: &[&str] = &[
-    "conductor",
-    "roughconductor",
-    "dielectric",
-    "roughdielectric",
     "thindielectric",
-    "plastic",
-    "roughplastic",
     "principled",
     "principledthin",
     "blendbsdf",
@@ -34,8 +28,6 @@ pub const UNSUPPORTED_BSDFS: &[&str] = &[
     "measured_polarized",
     "pplastic",
     "hair",
-    "mirror",
-    "microfacet",
 ];
 
 /// Emitter types we know but do not implement yet.

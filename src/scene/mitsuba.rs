@@ -13,7 +13,9 @@
 //! - shapes `obj` (`filename`, `face_normals`, `flip_tex_coords` = true), `ply`
 //!   (`filename`, `face_normals`), `rectangle`, `cube`, `disk` (a 256-gon), `sphere`
 //!   (`center`, `radius`); all with `to_world` and `flip_normals`.
-//! - `bsdf type="diffuse"` (`reflectance`, 0.5); `twosided` around one BSDF is unwrapped.
+//! - `bsdf`: `diffuse`, `conductor`, `roughconductor`, `dielectric`, `roughdielectric`,
+//!   `plastic`, `roughplastic` (parameters in [`Bsdf`]), `twosided` around one BSDF
+//!   without transmission.
 //! - `emitter`: `area` (`radiance`, nested in or referenced by a shape), `point`
 //!   (`position` or `to_world`, `intensity` 1), `constant` (`radiance` 1).
 //!
@@ -49,6 +51,16 @@ const SHAPES: &[&str] = &[
     "ellipsoidsmesh",
 ];
 const FILMS: &[&str] = &["specfilm"];
+/// BSDF types read by [`Bsdf::from_mitsuba`] (besides `twosided`).
+const BSDFS: &[&str] = &[
+    "diffuse",
+    "conductor",
+    "roughconductor",
+    "dielectric",
+    "roughdielectric",
+    "plastic",
+    "roughplastic",
+];
 const SAMPLERS: &[&str] = &[
     "independent",
     "stratified",
@@ -390,19 +402,8 @@ impl<'a> Loader<'a> {
         let t = el.require("type")?;
         let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
         match t {
-            "diffuse" => {
-                if let Some(n) = nested.first() {
-                    return Err(match n.tag.as_str() {
-                        "texture" => n.err("textures are not supported yet"),
-                        _ => n.err(format!("unexpected <{}> in a diffuse <bsdf>", n.tag)),
-                    });
-                }
-                let reflectance = props.color("reflectance", Vec3::splat(0.5))?;
-                props.finish()?;
-                Ok(self.b.add_bsdf(Bsdf::Diffuse { reflectance }))
-            }
             "twosided" => {
-                // Unwrapped for now: the inner BSDF is used as is.
+                // One nested BSDF used on both faces (Mitsuba's twosided.cpp).
                 props.finish()?;
                 let inner: Vec<&'a Element> = el
                     .children
@@ -427,9 +428,28 @@ impl<'a> Loader<'a> {
                 } else {
                     inner[0]
                 };
-                self.bsdf(inner)
+                let index = self.bsdf(inner)?;
+                let nested_bsdf = self.b.bsdfs[index as usize].clone();
+                if nested_bsdf.transmits() {
+                    return Err(
+                        el.err("twosided: only materials without transmission can be nested")
+                    );
+                }
+                Ok(self.b.add_bsdf(Bsdf::TwoSided(Box::new(nested_bsdf))))
             }
-            _ => Err(builder::unsupported(el, "bsdf", UNSUPPORTED_BSDFS)),
+            _ if !BSDFS.contains(&t) => Err(builder::unsupported(el, "bsdf", UNSUPPORTED_BSDFS)),
+            _ => {
+                if let Some(n) = nested.first() {
+                    return Err(match n.tag.as_str() {
+                        "texture" => n.err("textures are not supported yet"),
+                        _ => n.err(format!("unexpected <{}> in a {t} <bsdf>", n.tag)),
+                    });
+                }
+                let bsdf = Bsdf::from_mitsuba(t, &props)?
+                    .ok_or_else(|| builder::unsupported(el, "bsdf", UNSUPPORTED_BSDFS))?;
+                props.finish()?;
+                Ok(self.b.add_bsdf(bsdf))
+            }
         }
     }
 
@@ -632,6 +652,7 @@ impl<'a> Loader<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::bsdf::Distribution;
     use crate::scene::testutil::{error_at, load, mitsuba, TRI_OBJ};
     use glam::{Mat4, Vec4};
 
@@ -931,7 +952,9 @@ mod tests {
         let s = load(&[("s.xml", &mitsuba(body))], &[]).unwrap();
         let refl = |i: usize| match s.bsdfs[i] {
             Bsdf::Diffuse { reflectance } => reflectance,
+            ref other => panic!("{other:?}"),
         };
+        assert_eq!(s.bsdfs[5], Bsdf::TwoSided(Box::new(s.bsdfs[4].clone())));
         assert_eq!(refl(0), Vec3::splat(0.25));
         assert_eq!(refl(1), Vec3::splat(0.3));
         let c = refl(2);
@@ -1094,6 +1117,114 @@ mod tests {
         assert!(e.contains("needs a 'filename'"), "{e}");
     }
 
+    /// Every BSDF model with its parameters and defaults.
+    #[test]
+    fn bsdf_models() {
+        let body = r#"<bsdf type="conductor" id="c0"/>
+<bsdf type="conductor" id="c1"><string name="material" value="Au"/><rgb name="specular_reflectance" value="0.5"/></bsdf>
+<bsdf type="conductor" id="c2"><rgb name="eta" value="0.2, 0.9, 1.1"/><rgb name="k" value="3.9, 2.4, 2.1"/></bsdf>
+<bsdf type="roughconductor" id="r0"/>
+<bsdf type="roughconductor" id="r1"><string name="distribution" value="GGX"/><float name="alpha_u" value="0.05"/><float name="alpha_v" value="0.3"/><string name="material" value="Cu"/><boolean name="sample_visible" value="true"/></bsdf>
+<bsdf type="roughconductor" id="r2"><float name="alpha" value="0"/></bsdf>
+<bsdf type="dielectric" id="d0"/>
+<bsdf type="dielectric" id="d1"><string name="int_ior" value="Water"/><float name="ext_ior" value="1.5"/><rgb name="specular_transmittance" value="0.9"/></bsdf>
+<bsdf type="roughdielectric" id="d2"><string name="distribution" value="ggx"/><float name="alpha" value="0.3"/><string name="int_ior" value="diamond"/></bsdf>
+<bsdf type="plastic" id="p0"/>
+<bsdf type="plastic" id="p1"><rgb name="diffuse_reflectance" value="0.1, 0.27, 0.36"/><float name="int_ior" value="1.9"/><boolean name="nonlinear" value="true"/></bsdf>
+<bsdf type="roughplastic" id="p2"><string name="distribution" value="ggx"/><float name="alpha" value="0.2"/></bsdf>
+<bsdf type="twosided" id="t"><bsdf type="roughplastic"/></bsdf>"#;
+        let s = load(&[("s.xml", &mitsuba(body))], &[]).unwrap();
+        let b = &s.bsdfs;
+        assert_eq!(
+            b[0],
+            Bsdf::Conductor {
+                eta: Vec3::ZERO,
+                k: Vec3::ONE,
+                specular_reflectance: Vec3::ONE
+            }
+        );
+        let Bsdf::Conductor {
+            eta,
+            k,
+            specular_reflectance,
+        } = b[1]
+        else {
+            panic!("{:?}", b[1])
+        };
+        // Gold: low η and high κ in red (yellow colour).
+        assert!(eta.x < 0.2 && eta.z > 1.4 && k.x > 3.9, "{eta} {k}");
+        assert_eq!(specular_reflectance, Vec3::splat(0.5));
+        assert!(matches!(b[2], Bsdf::Conductor { eta, .. } if eta == Vec3::new(0.2, 0.9, 1.1)));
+        assert!(matches!(
+            b[3],
+            Bsdf::RoughConductor { distribution: Distribution::Beckmann, alpha_u, alpha_v, .. }
+                if alpha_u == 0.1 && alpha_v == 0.1
+        ));
+        assert!(matches!(
+            b[4],
+            Bsdf::RoughConductor { distribution: Distribution::Ggx, alpha_u, alpha_v, eta, .. }
+                if alpha_u == 0.05 && alpha_v == 0.3 && eta.y > 0.9
+        ));
+        // alpha = 0 is clamped to 1e-4 as in Mitsuba.
+        assert!(matches!(b[5], Bsdf::RoughConductor { alpha_u, .. } if alpha_u == 1e-4));
+        assert!(
+            matches!(b[6], Bsdf::Dielectric { eta, .. } if (eta - 1.5046 / 1.000277).abs() < 1e-6)
+        );
+        assert!(matches!(
+            b[7],
+            Bsdf::Dielectric { eta, specular_transmittance, .. }
+                if (eta - 1.333 / 1.5).abs() < 1e-6 && specular_transmittance == Vec3::splat(0.9)
+        ));
+        assert!(matches!(
+            b[8],
+            Bsdf::RoughDielectric { distribution: Distribution::Ggx, alpha_u, eta, .. }
+                if alpha_u == 0.3 && (eta - 2.419 / 1.000277).abs() < 1e-5
+        ));
+        assert_eq!(
+            b[9],
+            Bsdf::Plastic {
+                diffuse_reflectance: Vec3::splat(0.5),
+                specular_reflectance: Vec3::ONE,
+                eta: 1.49 / 1.000277,
+                nonlinear: false
+            }
+        );
+        assert!(
+            matches!(b[10], Bsdf::Plastic { nonlinear: true, eta, .. } if (eta - 1.9 / 1.000277).abs() < 1e-6)
+        );
+        assert!(matches!(
+            b[11],
+            Bsdf::RoughPlastic { distribution: Distribution::Ggx, alpha, .. } if alpha == 0.2
+        ));
+        assert!(
+            matches!(&b[13], Bsdf::TwoSided(inner) if matches!(**inner, Bsdf::RoughPlastic { .. }))
+        );
+    }
+
+    #[test]
+    fn bsdf_errors() {
+        let cases: &[(&str, u32, &str)] = &[
+            ("<bsdf type=\"roughconductor\">\n<string name=\"distribution\" value=\"phong\"/></bsdf>", 4, "invalid distribution 'phong'"),
+            ("<bsdf type=\"roughconductor\">\n<float name=\"alpha\" value=\"-0.1\"/></bsdf>", 4, "must be a finite number >= 0, found -0.1"),
+            ("<bsdf type=\"roughdielectric\">\n<float name=\"alpha_u\" value=\"0.1\"/></bsdf>", 3, "both 'alpha_u' and 'alpha_v'"),
+            ("<bsdf type=\"roughconductor\"><float name=\"alpha\" value=\"0.1\"/>\n<float name=\"alpha_u\" value=\"0.1\"/></bsdf>", 3, "either 'alpha' or 'alpha_u'"),
+            ("<bsdf type=\"roughplastic\">\n<float name=\"alpha_u\" value=\"0.1\"/><float name=\"alpha_v\" value=\"0.2\"/></bsdf>", 4, "does not support anisotropic"),
+            ("<bsdf type=\"conductor\">\n<string name=\"material\" value=\"Unobtainium\"/></bsdf>", 4, "unknown conductor material 'Unobtainium'"),
+            ("<bsdf type=\"conductor\">\n<string name=\"material\" value=\"Au\"/><rgb name=\"eta\" value=\"1\"/></bsdf>", 4, "not both"),
+            ("<bsdf type=\"dielectric\">\n<string name=\"int_ior\" value=\"glass\"/></bsdf>", 4, "unknown index of refraction 'glass'"),
+            ("<bsdf type=\"dielectric\">\n<float name=\"int_ior\" value=\"-1.5\"/></bsdf>", 4, "must be positive"),
+            ("<bsdf type=\"dielectric\">\n<rgb name=\"int_ior\" value=\"1.5\"/></bsdf>", 4, "must be a float or a material name"),
+            ("<bsdf type=\"roughdielectric\">\n<float name=\"int_ior\" value=\"1.2\"/><float name=\"ext_ior\" value=\"1.2\"/></bsdf>", 4, "must differ"),
+            ("<bsdf type=\"plastic\">\n<float name=\"alpha\" value=\"0.1\"/></bsdf>", 4, "unknown parameter 'alpha' for bsdf 'plastic'"),
+            ("<bsdf type=\"plastic\">\n<texture type=\"bitmap\"/></bsdf>", 4, "textures are not supported yet"),
+            ("<bsdf type=\"twosided\"><bsdf type=\"dielectric\"/></bsdf>", 3, "without transmission"),
+        ];
+        for (body, line, msg) in cases {
+            let e = error_at(load(&[("s.xml", &mitsuba(body))], &[]), "s.xml", *line);
+            assert!(e.contains(msg), "{e}\n  wanted: {msg}");
+        }
+    }
+
     #[test]
     fn parameter_errors() {
         let cases: &[(&str, u32, &str)] = &[
@@ -1102,11 +1233,11 @@ mod tests {
             ("<shape type=\"sphere\">\n<float name=\"radius\" value=\"abc\"/></shape>", 4, "could not parse float \"abc\""),
             ("<shape type=\"sphere\">\n<float name=\"radius\" value=\"nan\"/></shape>", 4, "could not parse float \"nan\""),
             ("<shape type=\"sphere\"><float name=\"radius\" value=\"1\"/>\n<float name=\"radius\" value=\"2\"/></shape>", 4, "given twice"),
-            ("<bsdf type=\"roughconductor\"/>", 3, "bsdf type 'roughconductor' is not supported yet"),
+            ("<bsdf type=\"thindielectric\"/>", 3, "bsdf type 'thindielectric' is not supported yet"),
             ("<bsdf type=\"velvet\"/>", 3, "unknown bsdf type 'velvet'"),
             ("<shape type=\"cylinder\"/>", 3, "shape type 'cylinder' is not supported yet"),
             ("<medium type=\"homogeneous\"/>", 3, "medium type 'homogeneous' is not supported yet"),
-            ("<shape type=\"cube\"><bsdf type=\"dielectric\"/></shape>", 3, "bsdf type 'dielectric' is not supported yet"),
+            ("<shape type=\"cube\"><bsdf type=\"principled\"/></shape>", 3, "bsdf type 'principled' is not supported yet"),
             ("<shape type=\"cube\" foo=\"1\"/>", 3, "unexpected attribute 'foo'"),
             ("<shape type=\"cube\"><transform name=\"to_world\"><lookat origin=\"0,0,0\" target=\"0,0,0\"/></transform></shape>", 3, "invalid <lookat>"),
             ("<shape type=\"cube\"><transform name=\"to_world\"><matrix value=\"1 2 3\"/></transform></shape>", 3, "16 numbers"),

@@ -7,8 +7,8 @@
 //!   Nori's camera frame is Mitsuba's.
 //! - `sampler type="independent"`: `sampleCount` (1).
 //! - `integrator`: any type; its parameters are kept unread in [`IntegratorSpec`].
-//! - `mesh type="obj"`: `filename`, `toWorld`, nested `bsdf` (`diffuse` with `albedo`,
-//!   0.5) and `emitter type="area"` (`radiance`). Nori does not flip texture v.
+//! - `mesh type="obj"`: `filename`, `toWorld`, nested `bsdf` (`diffuse`, `mirror`,
+//!   `dielectric`, `microfacet`; parameters in [`Bsdf`]) and `emitter type="area"` (`radiance`). Nori does not flip texture v.
 //! - top-level `emitter`: `point` (`position`, `power` in W; intensity = power / 4π)
 //!   and `distantdisk` with `thetaA` = 180 (a constant environment: `radiance`;
 //!   `toWorld` is read and has no effect).
@@ -165,16 +165,18 @@ fn mesh(el: &Element, b: &mut Builder) -> Result<(), Error> {
 
 fn nori_bsdf(el: &Element, b: &mut Builder) -> Result<u32, Error> {
     el.check_attrs(&["type"])?;
-    if el.require("type")? != "diffuse" {
+    let t = el.require("type")?;
+    if !["diffuse", "mirror", "dielectric", "microfacet"].contains(&t) {
         return Err(builder::unsupported(el, "bsdf", UNSUPPORTED_BSDFS));
     }
     let (props, nested) = Properties::read(el, Dialect::Nori, false)?;
     if let Some(n) = nested.first() {
         return Err(n.err(format!("unexpected <{}> in <bsdf>", n.tag)));
     }
-    let reflectance = props.color("albedo", Vec3::splat(0.5))?;
+    let bsdf = Bsdf::from_nori(t, &props)?
+        .ok_or_else(|| builder::unsupported(el, "bsdf", UNSUPPORTED_BSDFS))?;
     props.finish()?;
-    Ok(b.add_bsdf(Bsdf::Diffuse { reflectance }))
+    Ok(b.add_bsdf(bsdf))
 }
 
 fn emitter(el: &Element, b: &mut Builder) -> Result<(), Error> {
@@ -309,11 +311,52 @@ mod tests {
     }
 
     #[test]
+    fn nori_bsdfs() {
+        let mesh = |bsdf: &str| {
+            format!("<mesh type=\"obj\"><string name=\"filename\" value=\"t.obj\"/>{bsdf}</mesh>")
+        };
+        let xml = format!(
+            "<scene><integrator type=\"path_mis\"/><camera type=\"perspective\"/>{}{}{}{}</scene>",
+            mesh("<bsdf type=\"mirror\"/>"),
+            mesh("<bsdf type=\"dielectric\"/>"),
+            mesh("<bsdf type=\"dielectric\"><float name=\"intIOR\" value=\"1.33\"/><float name=\"extIOR\" value=\"1.0\"/></bsdf>"),
+            mesh("<bsdf type=\"microfacet\"><float name=\"alpha\" value=\"0.28\"/><color name=\"kd\" value=\"0.2,0.2,0.4\"/></bsdf>"),
+        );
+        let s = load(&[("s.xml", &xml), ("t.obj", TRI_OBJ)], &[]).unwrap();
+        assert_eq!(
+            s.bsdfs[0],
+            Bsdf::Conductor {
+                eta: Vec3::ZERO,
+                k: Vec3::ONE,
+                specular_reflectance: Vec3::ONE
+            }
+        );
+        assert!(
+            matches!(s.bsdfs[1], Bsdf::Dielectric { eta, .. } if (eta - 1.5046 / 1.000277).abs() < 1e-6)
+        );
+        assert!(matches!(s.bsdfs[2], Bsdf::Dielectric { eta, .. } if eta == 1.33));
+        assert_eq!(
+            s.bsdfs[3],
+            Bsdf::NoriMicrofacet {
+                alpha: 0.28,
+                eta: 1.5046 / 1.000277,
+                kd: Vec3::new(0.2, 0.2, 0.4)
+            }
+        );
+        let r = crate::gpu::layout::BsdfRecord::from(&s.bsdfs[3]);
+        assert!((r.specular_weight - 0.6).abs() < 1e-6, "ks = 1 - max(kd)");
+    }
+
+    #[test]
     fn nori_errors() {
         let cam = "<integrator type=\"ao\"/><camera type=\"perspective\"/>";
         let cases: &[(&str, u32, &str)] = &[
             ("<emitter type=\"distantdisk\">\n<float name=\"thetaA\" value=\"30\"/><color name=\"radiance\" value=\"1,1,1\"/></emitter>", 3, "thetaA = 30 is not supported yet"),
-            ("<mesh type=\"obj\"><string name=\"filename\" value=\"t.obj\"/>\n<bsdf type=\"microfacet\"/></mesh>", 3, "bsdf type 'microfacet' is not supported yet"),
+            ("<mesh type=\"obj\"><string name=\"filename\" value=\"t.obj\"/>\n<bsdf type=\"blendbsdf\"/></mesh>", 3, "bsdf type 'blendbsdf' is not supported yet"),
+            ("<mesh type=\"obj\"><string name=\"filename\" value=\"t.obj\"/>\n<bsdf type=\"microfacet\">\n<float name=\"alpha\" value=\"-1\"/></bsdf></mesh>", 4, "must be a finite number >= 0"),
+            ("<mesh type=\"obj\"><string name=\"filename\" value=\"t.obj\"/>\n<bsdf type=\"microfacet\">\n<float name=\"int_ior\" value=\"1.5\"/></bsdf></mesh>", 4, "unknown parameter 'int_ior' for bsdf 'microfacet'"),
+            ("<mesh type=\"obj\"><string name=\"filename\" value=\"t.obj\"/>\n<bsdf type=\"dielectric\">\n<float name=\"intIOR\" value=\"0\"/></bsdf></mesh>", 4, "'intIOR' must be positive"),
+            ("<mesh type=\"obj\"><string name=\"filename\" value=\"t.obj\"/>\n<bsdf type=\"mirror\">\n<float name=\"alpha\" value=\"1\"/></bsdf></mesh>", 4, "unknown parameter 'alpha' for bsdf 'mirror'"),
             ("<mesh type=\"obj\"><string name=\"filename\" value=\"t.obj\"/>\n<bsdf type=\"diffuse\"><color name=\"reflectance\" value=\"1,1,1\"/></bsdf></mesh>", 3, "unknown parameter 'reflectance' for bsdf 'diffuse'"),
             ("<mesh type=\"obj\">\n<string name=\"filename\" value=\"../../pa1/plane.obj\"/></mesh>", 3, "pa1/plane.obj' not found"),
             ("\n<mesh type=\"ply\"/>", 3, "unknown mesh type 'ply'"),

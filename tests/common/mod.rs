@@ -50,3 +50,4 @@ pub fn pixel(img: &Image, x: u32, y: u32) -> [f32; 3] {
     let i = 3 * (y * img.width + x) as usize;
     [img.rgb[i], img.rgb[i + 1], img.rgb[i + 2]]
 }
+pub mod stats;

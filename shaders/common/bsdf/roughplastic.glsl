@@ -1,0 +1,70 @@
+// Rough plastic (Mitsuba `roughplastic`): microfacet reflection from a rough
+// dielectric coating (as roughconductor, with the dielectric Fresnel term) plus a
+// diffuse base seen through it:
+//   f cos θi = spec · F D G / (4 cos θo)
+//            + ρ / (1 - R_int ρ') · (1/η²) T(cos θo) T(cos θi) cos θi / π
+// T(μ) = 1 - (directional albedo of the rough coating's reflection at μ), tabulated
+// on the host at μ = i/31 (b.table, linear interpolation; Mitsuba uses 64 points),
+// R_int = b.internal its hemispherical average from inside. Mitsuba 3,
+// src/bsdfs/roughplastic.cpp. Isotropic; one-sided.
+// Sampling: the specular lobe with probability P_s = (1 - T_o) w / ((1 - T_o) w + T_o (1 - w)),
+// else cosine-weighted; pdf is the mixture, weight = eval / pdf.
+
+float bsdf_roughplastic_transmittance(BsdfRecord b, float mu) {
+    float x = clamp(mu, 0.0, 1.0) * 31.0;
+    int i = min(int(x), 30);
+    float w = x - float(i);
+    float v0 = b.table[i >> 2][i & 3];
+    float v1 = b.table[(i + 1) >> 2][(i + 1) & 3];
+    return mix(v0, v1, w);
+}
+
+float bsdf_roughplastic_prob_specular(BsdfRecord b, float to) {
+    float ps = (1.0 - to) * b.specular_weight;
+    float pd = to * (1.0 - b.specular_weight);
+    return ps / (ps + pd);
+}
+
+vec3 bsdf_roughplastic_eval(BsdfRecord b, vec3 wo, vec3 wi) {
+    if (wo.z <= 0.0 || wi.z <= 0.0) return vec3(0.0);
+    Microfacet d = bsdf_microfacet_of(b);
+    vec3 m = normalize(wo + wi);
+    float D = microfacet_d(d, m);
+    vec3 result = vec3(0.0);
+    if (D > 0.0) {
+        float F = fresnel_dielectric_f(dot(wo, m), b.eta);
+        result = b.specular * (F * D * microfacet_g(d, wo, wi, m) / (4.0 * wo.z));
+    }
+    vec3 rho = b.reflectance;
+    vec3 denom = 1.0 - ((b.flags & BSDF_NONLINEAR) != 0u ? rho * b.internal : vec3(b.internal));
+    float to = bsdf_roughplastic_transmittance(b, wo.z);
+    float ti = bsdf_roughplastic_transmittance(b, wi.z);
+    return result + rho / denom * (to * ti * wi.z * INV_PI / (b.eta * b.eta));
+}
+
+float bsdf_roughplastic_pdf(BsdfRecord b, vec3 wo, vec3 wi) {
+    if (wo.z <= 0.0 || wi.z <= 0.0) return 0.0;
+    float ps = bsdf_roughplastic_prob_specular(b, bsdf_roughplastic_transmittance(b, wo.z));
+    vec3 m = normalize(wo + wi);
+    float wim = dot(wi, m);
+    float spec = wim > 0.0 ? microfacet_pdf(bsdf_microfacet_of(b), wo, m) / (4.0 * wim) : 0.0;
+    return ps * spec + (1.0 - ps) * warp_cosine_hemisphere_pdf(wi);
+}
+
+BsdfSample bsdf_roughplastic_sample(BsdfRecord b, vec3 wo, vec3 u) {
+    BsdfSample s = bsdf_sample_none();
+    if (wo.z <= 0.0) return s;
+    float ps = bsdf_roughplastic_prob_specular(b, bsdf_roughplastic_transmittance(b, wo.z));
+    vec3 wi;
+    uint flags = BSDF_FLAG_REFLECTION;
+    if (u.x < ps) {
+        vec3 m = microfacet_sample(bsdf_microfacet_of(b), wo, u.yz);
+        wi = 2.0 * dot(wo, m) * m - wo;
+    } else {
+        wi = warp_cosine_hemisphere(u.yz);
+    }
+    if (wi.z <= 0.0) return s;
+    float pdf = bsdf_roughplastic_pdf(b, wo, wi);
+    if (!(pdf > 0.0)) return s;
+    return BsdfSample(wi, bsdf_roughplastic_eval(b, wo, wi) / pdf, pdf, flags);
+}

@@ -1,0 +1,43 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// Test kernel for tests/chi2.rs and tests/furnace.rs: runs bsdf_sample, bsdf_eval and
+// bsdf_pdf of one BsdfRecord for a fixed wo.
+// mode 0 (sample): item i draws u from a hash of (i, seed) and writes
+//   out[3i] = (wi, pdf), out[3i+1] = (weight, flags as float bits),
+//   out[3i+2] = (bsdf_eval(wo, wi), bsdf_pdf(wo, wi)).
+// mode 1 (evaluate): out[i] = (bsdf_eval(wo, dirs[i].xyz), bsdf_pdf(wo, dirs[i].xyz)).
+
+#include "bsdf.glsl"
+#include "rng.glsl"
+
+layout(local_size_x = 64) in;
+
+layout(std430, set = 0, binding = 0) readonly buffer RecordBuffer { BsdfRecord records[]; };
+layout(std430, set = 0, binding = 1) readonly buffer DirBuffer { vec4 dirs[]; };
+layout(std430, set = 0, binding = 2) writeonly buffer OutBuffer { vec4 outs[]; };
+
+layout(push_constant) uniform PushBlock {
+    vec4 wo;
+    uint mode;
+    uint count;
+    uint seed;
+    uint pad;
+} pc;
+
+void main() {
+    uint i = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    if (i >= pc.count) return;
+    BsdfRecord b = records[0];
+    vec3 wo = pc.wo.xyz;
+    if (pc.mode == 0u) {
+        uvec4 h = rng_pcg4d(uvec4(i, pc.seed, 0x9e3779b9u, 17u));
+        vec3 u = vec3(rng_to_float(h.x), rng_to_float(h.y), rng_to_float(h.z));
+        BsdfSample s = bsdf_sample(b, wo, u, vec2(0.0));
+        outs[3u * i] = vec4(s.wi, s.pdf);
+        outs[3u * i + 1u] = vec4(s.weight, uintBitsToFloat(s.flags));
+        outs[3u * i + 2u] = vec4(bsdf_eval(b, wo, s.wi, vec2(0.0)), bsdf_pdf(b, wo, s.wi, vec2(0.0)));
+    } else {
+        vec3 wi = dirs[i].xyz;
+        outs[i] = vec4(bsdf_eval(b, wo, wi, vec2(0.0)), bsdf_pdf(b, wo, wi, vec2(0.0)));
+    }
+}

@@ -1,0 +1,608 @@
+//! Chi-square goodness-of-fit tests of every GLSL sampler against its own pdf
+//! (tests/common/stats.rs explains the method): the warps of warp.glsl, the microfacet
+//! normal samplers of microfacet.glsl, and bsdf_sample against bsdf_pdf for every BSDF
+//! over several (wo, parameters). Each BSDF case also checks that the pdf integrates
+//! to 1 minus the probability of delta lobes, that sample's pdf equals bsdf_pdf and
+//! that its weight equals bsdf_eval / bsdf_pdf.
+
+mod common;
+
+use common::stats::{
+    chi2, sidak, BsdfProbe, Sampled, SphereGrid, Warp, WarpProbe, FLAG_DELTA, FLAG_REFLECTION,
+    FLAG_TRANSMISSION,
+};
+use glam::{Vec2, Vec3};
+use wavetrace::gpu::layout::BsdfRecord;
+use wavetrace::scene::bsdf::{fresnel_dielectric, Bsdf, Distribution};
+
+/// At least as many chi-square tests as this file runs (89 now; Šidák correction, a
+/// larger m only makes each test slightly more lenient).
+const TESTS_IN_FILE: usize = 96;
+/// Family-wise significance of the file.
+const ALPHA: f64 = 0.01;
+
+/// Samples per chi-square test: enough that a pdf 2% off in a cell of 1% mass shows.
+const N: u32 = 400_000;
+
+fn assert_fit(name: &str, observed: &[f64], expected: &[f64]) {
+    let r = chi2(observed, expected);
+    let level = sidak(ALPHA, TESTS_IN_FILE);
+    println!(
+        "{name}: X² = {:.1}, dof = {}, p = {:.4}",
+        r.statistic, r.dof, r.p_value
+    );
+    assert!(
+        r.p_value > level,
+        "{name}: sampling does not match the pdf: X² = {:.1} with {} dof, p = {:.3e} < {:.3e}",
+        r.statistic,
+        r.dof,
+        r.p_value,
+        level
+    );
+}
+
+/// Coordinates on [0, 1]² for a planar domain, chosen so that the domain's edge is the
+/// square's edge (a density jumping to 0 inside a cell would defeat the quadrature).
+#[derive(Clone, Copy)]
+enum Chart {
+    /// Unit disk: (r², φ / 2π); dA = π du dv.
+    Disk,
+    /// Triangle b0, b1 >= 0, b0 + b1 <= 1: (b0, b1 / (1 - b0)); dA = (1 - b0) du dv.
+    Triangle,
+}
+
+impl Chart {
+    fn to_square(self, p: Vec2) -> Vec2 {
+        match self {
+            Chart::Disk => {
+                let phi = p.y.atan2(p.x) / (2.0 * std::f32::consts::PI);
+                Vec2::new(p.length_squared(), phi.rem_euclid(1.0))
+            }
+            Chart::Triangle => Vec2::new(p.x, if p.x < 1.0 { p.y / (1.0 - p.x) } else { 0.0 }),
+        }
+    }
+    /// The point and the area element per unit du dv.
+    fn point_at(self, u: f64, v: f64) -> ([f32; 4], f64) {
+        match self {
+            Chart::Disk => {
+                let (r, phi) = (u.sqrt(), 2.0 * std::f64::consts::PI * v);
+                (
+                    [(r * phi.cos()) as f32, (r * phi.sin()) as f32, 0.0, 0.0],
+                    std::f64::consts::PI,
+                )
+            }
+            Chart::Triangle => ([u as f32, (v * (1.0 - u)) as f32, 0.0, 0.0], 1.0 - u),
+        }
+    }
+}
+
+/// A 2D warp against its density per unit area, histogrammed in `chart` coordinates.
+fn planar(probe: &WarpProbe, name: &str, warp: Warp, chart: Chart) {
+    let res = 32;
+    let k = 8;
+    let samples = probe.sample(warp, N, 1);
+    let mut observed = vec![0.0; res * res];
+    for s in &samples {
+        let q = chart.to_square(Vec2::new(s[0], s[1]));
+        assert!(
+            q.x >= 0.0 && q.y >= 0.0 && q.x <= 1.0 + 1e-6 && q.y <= 1.0 + 1e-6,
+            "{name}: sample ({}, {}) outside the domain",
+            s[0],
+            s[1]
+        );
+        let i = ((q.x * res as f32) as usize).min(res - 1);
+        let j = ((q.y * res as f32) as usize).min(res - 1);
+        observed[i * res + j] += 1.0;
+    }
+    let m = res * k;
+    let mut points = Vec::with_capacity(m * m);
+    let mut jac = Vec::with_capacity(m * m);
+    for i in 0..m {
+        for j in 0..m {
+            let (p, da) = chart.point_at((i as f64 + 0.5) / m as f64, (j as f64 + 0.5) / m as f64);
+            points.push(p);
+            jac.push(da / (m * m) as f64);
+        }
+    }
+    let pdf = probe.pdf(warp, &points);
+    let mut expected = vec![0.0; res * res];
+    for i in 0..m {
+        for j in 0..m {
+            expected[(i / k) * res + j / k] += pdf[i * m + j] * jac[i * m + j] * N as f64;
+        }
+    }
+    let total: f64 = expected.iter().sum::<f64>() / N as f64;
+    // Constant densities with affine Jacobians: the midpoint rule is exact to rounding.
+    assert!(
+        (total - 1.0).abs() < 1e-3,
+        "{name}: pdf integrates to {total}"
+    );
+    assert_fit(name, &observed, &expected);
+}
+
+/// A warp to the sphere against its density per unit solid angle.
+fn spherical(probe: &WarpProbe, name: &str, warp: Warp, axis: Vec3) {
+    let grid = SphereGrid::new(axis, 32, 24);
+    let k = 8;
+    let samples = probe.sample(warp, N, 2);
+    let mut observed = vec![0.0; grid.cells()];
+    for s in &samples {
+        let d = Vec3::new(s[0], s[1], s[2]);
+        assert!(
+            (d.length() - 1.0).abs() < 1e-4,
+            "{name}: sample {d} is not unit"
+        );
+        let c = grid.cell_of(d).expect("finite direction");
+        observed[c] += 1.0;
+    }
+    let (dirs, w) = grid.quadrature(k);
+    let pdf = probe.pdf(warp, &dirs);
+    let mass = grid.integrate(k, &pdf, &w);
+    let total: f64 = mass.iter().sum();
+    // Midpoint rule on smooth densities with 256 x 192 points: error well under 0.5%;
+    // the cap's edge cuts one ring of cells (< 0.5% of its mass).
+    assert!(
+        (total - 1.0).abs() < 5e-3,
+        "{name}: pdf integrates to {total}"
+    );
+    let expected: Vec<f64> = mass.iter().map(|m| m * N as f64).collect();
+    assert_fit(name, &observed, &expected);
+}
+
+#[test]
+fn warps() {
+    let probe = WarpProbe::new();
+    planar(&probe, "square to disk", Warp::Disk, Chart::Disk);
+    planar(&probe, "uniform triangle", Warp::Triangle, Chart::Triangle);
+    spherical(
+        &probe,
+        "uniform hemisphere",
+        Warp::UniformHemisphere,
+        Vec3::Z,
+    );
+    spherical(&probe, "cosine hemisphere", Warp::CosineHemisphere, Vec3::Z);
+    spherical(&probe, "uniform sphere", Warp::UniformSphere, Vec3::Z);
+    // Cap edges on ring boundaries of the 32-ring grid (θ = (π/2) (2i/32)², i = 14 and
+    // 5), so no cell straddles the jump of the density; 1e-4 inside, so that f32
+    // rounding cannot push a sample over the boundary.
+    for i in [14.0f64, 5.0] {
+        let cos_max = (0.5 * std::f64::consts::PI * (i / 16.0) * (i / 16.0) - 1e-4).cos() as f32;
+        spherical(
+            &probe,
+            &format!("spherical cap cos θmax = {cos_max}"),
+            Warp::Cap { cos_max },
+            Vec3::Z,
+        );
+    }
+}
+
+fn dir(theta_deg: f32, phi_deg: f32) -> Vec3 {
+    let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
+    Vec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
+}
+
+#[test]
+fn microfacet_normals() {
+    let probe = WarpProbe::new();
+    for (ty, name) in [(0u32, "beckmann"), (1, "ggx")] {
+        for (au, av) in [(0.1f32, 0.1f32), (0.5, 0.5), (0.15, 0.6)] {
+            // Beckmann samples D cos θm whatever wo; GGX visible normals depend on wo.
+            let wos: &[Vec3] = if ty == 0 {
+                &[Vec3::Z]
+            } else {
+                &[Vec3::Z, dir(45.0, 30.0), dir(85.0, 200.0)]
+            };
+            for &wo in wos {
+                spherical(
+                    &probe,
+                    &format!("{name} normals α = ({au}, {av}), wo = {wo:.2}"),
+                    Warp::Microfacet {
+                        ty,
+                        alpha_u: au,
+                        alpha_v: av,
+                        wo,
+                    },
+                    Vec3::Z,
+                );
+            }
+        }
+    }
+}
+
+/// Where to centre the histogram of a BSDF case.
+#[derive(Clone, Copy)]
+enum Axis {
+    /// The normal.
+    Normal,
+    /// The mirror direction of wo.
+    Reflect,
+    /// The refracted direction of wo through a smooth interface of relative index eta.
+    Refract(f32),
+}
+
+fn axis_dir(axis: Axis, wo: Vec3) -> Vec3 {
+    match axis {
+        Axis::Normal => Vec3::Z,
+        Axis::Reflect => Vec3::new(-wo.x, -wo.y, wo.z),
+        Axis::Refract(eta) => {
+            let eta_ti = if wo.z > 0.0 { 1.0 / eta } else { eta };
+            let s2 = eta_ti * eta_ti * (1.0 - wo.z * wo.z);
+            if s2 >= 1.0 {
+                Vec3::new(-wo.x, -wo.y, wo.z)
+            } else {
+                let ct = (1.0 - s2).sqrt() * -wo.z.signum();
+                Vec3::new(-eta_ti * wo.x, -eta_ti * wo.y, ct).normalize()
+            }
+        }
+    }
+}
+
+/// eval/pdf consistency of the non-delta samples; returns the fraction of delta ones.
+fn check_consistency(name: &str, samples: &[Sampled]) -> f64 {
+    let mut delta = 0usize;
+    let mut bad = 0usize;
+    let mut worst = String::new();
+    for s in samples {
+        if s.flags == 0 {
+            assert_eq!(
+                s.weight,
+                Vec3::ZERO,
+                "{name}: a failed sample carries weight"
+            );
+            continue;
+        }
+        assert!(
+            s.weight.is_finite() && s.weight.min_element() >= 0.0,
+            "{name}: bad weight {:?}",
+            s
+        );
+        assert!(
+            (s.wi.length() - 1.0).abs() < 1e-3,
+            "{name}: wi not unit: {:?}",
+            s
+        );
+        let refl = s.flags & FLAG_REFLECTION != 0;
+        let trans = s.flags & FLAG_TRANSMISSION != 0;
+        assert!(refl != trans, "{name}: flags {}", s.flags);
+        if s.flags & FLAG_DELTA != 0 {
+            delta += 1;
+            assert_eq!(s.pdf, 0.0, "{name}: delta sample with a pdf");
+            continue;
+        }
+        // Relative 1e-3 (f32 evaluations of the same terms along different paths).
+        let rel = |a: f32, b: f32| (a - b).abs() <= 1e-3 * a.abs().max(b.abs()) + 1e-7;
+        let w = s.eval / s.pdf_eval;
+        let ok = s.pdf > 0.0
+            && rel(s.pdf, s.pdf_eval)
+            && rel(s.weight.x, w.x)
+            && rel(s.weight.y, w.y)
+            && rel(s.weight.z, w.z);
+        if !ok {
+            bad += 1;
+            if worst.is_empty() {
+                worst = format!("{s:?} (eval/pdf = {w})");
+            }
+        }
+    }
+    // At most 1 in 10^4 samples may miss the 1e-3 agreement through f32 cancellation
+    // (normalize(wo + wi) at near-grazing configurations).
+    assert!(
+        bad * 10_000 <= samples.len(),
+        "{name}: {bad} of {} samples disagree with eval/pdf, e.g. {worst}",
+        samples.len()
+    );
+    delta as f64 / samples.len() as f64
+}
+
+/// One BSDF case: chi-square of the non-delta samples, pdf normalization, consistency.
+fn bsdf_case(probe: &BsdfProbe, name: &str, bsdf: &Bsdf, wo: Vec3, axis: Axis, seed: u32) {
+    let rec = BsdfRecord::from(bsdf);
+    let name = format!("{name}, wo = {wo:.2}");
+    let samples = probe.sample(&rec, wo, N, seed);
+    let delta = check_consistency(&name, &samples);
+    let grid = SphereGrid::new(axis_dir(axis, wo), 32, 24);
+    // Quadrature points per cell side; CHI2_K overrides (diagnostics), as CHI2_DEBUG
+    // prints the cells that contribute most to X².
+    let k: usize = std::env::var("CHI2_K")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(8);
+    let mut observed = vec![0.0; grid.cells()];
+    for s in samples
+        .iter()
+        .filter(|s| s.flags != 0 && s.flags & FLAG_DELTA == 0)
+    {
+        observed[grid.cell_of(s.wi).expect("finite wi")] += 1.0;
+    }
+    let (dirs, w) = grid.quadrature(k);
+    let pdf: Vec<f64> = probe
+        .eval(&rec, wo, &dirs)
+        .iter()
+        .map(|e| e.1 as f64)
+        .collect();
+    let mass = grid.integrate(k, &pdf, &w);
+    let total: f64 = mass.iter().sum();
+    // ∫ pdf = P(non-delta sample). Allowed gap: 5 binomial σ of the delta fraction plus
+    // 1% for the quadrature (midpoint, 256 x 192 points, peaks centred on the grid axis)
+    // and for samples lost below the horizon (pdf mass with no valid sample).
+    let sigma = (delta * (1.0 - delta) / N as f64).sqrt();
+    let failed = samples.iter().filter(|s| s.flags == 0).count() as f64 / N as f64;
+    println!("{name}: ∫pdf = {total:.4}, delta {delta:.4}, absorbed {failed:.4}");
+    assert!(
+        (total + delta - 1.0).abs() < 5.0 * sigma + 0.01 + failed,
+        "{name}: ∫pdf = {total} but {delta} of the samples are delta"
+    );
+    let expected: Vec<f64> = mass.iter().map(|m| m * N as f64).collect();
+    if std::env::var("CHI2_DEBUG").is_ok() {
+        let mut c: Vec<(f64, usize)> = (0..expected.len())
+            .filter(|&i| expected[i] > 5.0)
+            .map(|i| ((observed[i] - expected[i]).powi(2) / expected[i], i))
+            .collect();
+        c.sort_by(|a, b| b.0.total_cmp(&a.0));
+        for (x, i) in c.iter().take(12) {
+            println!(
+                "  cell ({}, {}): o = {}, e = {:.1}, contrib {x:.1}",
+                i / grid.np,
+                i % grid.np,
+                observed[*i],
+                expected[*i]
+            );
+        }
+    }
+    assert_fit(&name, &observed, &expected);
+}
+
+fn conductor_none() -> (Vec3, Vec3) {
+    (Vec3::ZERO, Vec3::ONE)
+}
+
+#[test]
+fn rough_conductors() {
+    let probe = BsdfProbe::new();
+    let (eta, k) = (Vec3::new(0.2, 0.92, 1.1), Vec3::new(3.9, 2.46, 2.14)); // Cu
+    for distribution in [Distribution::Beckmann, Distribution::Ggx] {
+        for (au, av) in [(0.05, 0.05), (0.3, 0.3), (0.8, 0.8), (0.1, 0.5)] {
+            let b = Bsdf::RoughConductor {
+                distribution,
+                alpha_u: au,
+                alpha_v: av,
+                eta,
+                k,
+                specular_reflectance: Vec3::ONE,
+            };
+            for wo in [dir(10.0, 20.0), dir(70.0, 120.0)] {
+                let axis = if au < 0.2 {
+                    Axis::Reflect
+                } else {
+                    Axis::Normal
+                };
+                bsdf_case(
+                    &probe,
+                    &format!("roughconductor {distribution:?} α = ({au}, {av})"),
+                    &b,
+                    wo,
+                    axis,
+                    3,
+                );
+            }
+        }
+    }
+    let _ = conductor_none();
+}
+
+#[test]
+fn rough_dielectrics() {
+    let probe = BsdfProbe::new();
+    for distribution in [Distribution::Beckmann, Distribution::Ggx] {
+        for (au, av) in [(0.1f32, 0.1f32), (0.3, 0.3), (0.8, 0.8), (0.15, 0.45)] {
+            for eta in [1.5f32, 1.0 / 1.5] {
+                let b = Bsdf::RoughDielectric {
+                    distribution,
+                    alpha_u: au,
+                    alpha_v: av,
+                    eta,
+                    specular_reflectance: Vec3::ONE,
+                    specular_transmittance: Vec3::ONE,
+                };
+                // From outside, and from inside (wo below the surface).
+                for wo in [dir(30.0, 40.0), dir(150.0, 250.0)] {
+                    let axis = if au < 0.2 {
+                        Axis::Refract(eta)
+                    } else {
+                        Axis::Normal
+                    };
+                    bsdf_case(
+                        &probe,
+                        &format!("roughdielectric {distribution:?} α = ({au}, {av}) η = {eta:.3}"),
+                        &b,
+                        wo,
+                        axis,
+                        4,
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn diffuse_plastics_and_nori() {
+    let probe = BsdfProbe::new();
+    let diffuse = Bsdf::Diffuse {
+        reflectance: Vec3::new(0.2, 0.5, 0.8),
+    };
+    bsdf_case(&probe, "diffuse", &diffuse, dir(40.0, 0.0), Axis::Normal, 5);
+    let twosided = Bsdf::TwoSided(Box::new(Bsdf::RoughConductor {
+        distribution: Distribution::Ggx,
+        alpha_u: 0.3,
+        alpha_v: 0.3,
+        eta: Vec3::ZERO,
+        k: Vec3::ONE,
+        specular_reflectance: Vec3::ONE,
+    }));
+    bsdf_case(
+        &probe,
+        "twosided roughconductor (back face)",
+        &twosided,
+        dir(130.0, 60.0),
+        Axis::Normal,
+        6,
+    );
+    for (eta, nonlinear) in [(1.49f32, false), (1.9, true)] {
+        let b = Bsdf::Plastic {
+            diffuse_reflectance: Vec3::new(0.1, 0.27, 0.36),
+            specular_reflectance: Vec3::ONE,
+            eta,
+            nonlinear,
+        };
+        for wo in [dir(20.0, 10.0), dir(80.0, 100.0)] {
+            bsdf_case(
+                &probe,
+                &format!("plastic η = {eta}"),
+                &b,
+                wo,
+                Axis::Normal,
+                7,
+            );
+        }
+    }
+    for distribution in [Distribution::Beckmann, Distribution::Ggx] {
+        for alpha in [0.05f32, 0.3, 0.8] {
+            let b = Bsdf::RoughPlastic {
+                distribution,
+                alpha,
+                diffuse_reflectance: Vec3::new(0.6, 0.3, 0.2),
+                specular_reflectance: Vec3::ONE,
+                eta: 1.49,
+                nonlinear: false,
+            };
+            for wo in [dir(15.0, 10.0), dir(75.0, 300.0)] {
+                let axis = if alpha < 0.2 {
+                    Axis::Reflect
+                } else {
+                    Axis::Normal
+                };
+                bsdf_case(
+                    &probe,
+                    &format!("roughplastic {distribution:?} α = {alpha}"),
+                    &b,
+                    wo,
+                    axis,
+                    8,
+                );
+            }
+        }
+    }
+    for alpha in [0.1f32, 0.5] {
+        let b = Bsdf::NoriMicrofacet {
+            alpha,
+            eta: 1.5046 / 1.000277,
+            kd: Vec3::new(0.2, 0.2, 0.4),
+        };
+        for wo in [dir(25.0, 0.0), dir(70.0, 45.0)] {
+            let axis = if alpha < 0.2 {
+                Axis::Reflect
+            } else {
+                Axis::Normal
+            };
+            bsdf_case(
+                &probe,
+                &format!("nori microfacet α = {alpha}"),
+                &b,
+                wo,
+                axis,
+                9,
+            );
+        }
+    }
+}
+
+/// Smooth models sample delta lobes only: exact mirror / refraction directions, the
+/// reflected fraction follows Fresnel (binomial 5σ), weights as documented.
+#[test]
+fn smooth_delta_models() {
+    let probe = BsdfProbe::new();
+    let n = 200_000u32;
+    for eta in [1.5f32, 1.0 / 1.5] {
+        let b = Bsdf::Dielectric {
+            eta,
+            specular_reflectance: Vec3::ONE,
+            specular_transmittance: Vec3::ONE,
+        };
+        for wo in [
+            dir(0.0, 0.0),
+            dir(35.0, 80.0),
+            dir(60.0, 10.0),
+            dir(140.0, 33.0),
+            dir(170.0, 5.0),
+        ] {
+            let rec = BsdfRecord::from(&b);
+            let samples = probe.sample(&rec, wo, n, 11);
+            let (eta_it, cos) = if wo.z > 0.0 {
+                (eta, wo.z)
+            } else {
+                (1.0 / eta, -wo.z)
+            };
+            let f = fresnel_dielectric(cos as f64, eta_it as f64);
+            let mut reflected = 0;
+            for s in &samples {
+                assert_ne!(s.flags & FLAG_DELTA, 0);
+                assert_eq!((s.pdf, s.eval, s.pdf_eval), (0.0, Vec3::ZERO, 0.0));
+                if s.flags & FLAG_REFLECTION != 0 {
+                    reflected += 1;
+                    assert!((s.wi - Vec3::new(-wo.x, -wo.y, wo.z)).length() < 1e-5);
+                    assert_eq!(s.weight, Vec3::ONE);
+                } else {
+                    assert!(s.wi.z * wo.z < 0.0, "refraction stays on its side");
+                    // Snell: η_i sin θi = η_t sin θt, and radiance scaled by 1/η_it².
+                    let sin_o = Vec2::new(wo.x, wo.y).length();
+                    let sin_i = Vec2::new(s.wi.x, s.wi.y).length();
+                    assert!((sin_o - eta_it * sin_i).abs() < 1e-5, "{wo} -> {}", s.wi);
+                    assert!((s.weight - Vec3::splat(1.0 / (eta_it * eta_it))).length() < 1e-5);
+                }
+            }
+            let frac = reflected as f64 / n as f64;
+            let sigma = (f * (1.0 - f) / n as f64).sqrt();
+            assert!(
+                (frac - f).abs() <= 5.0 * sigma + 1e-6,
+                "dielectric η = {eta}, wo = {wo}: reflected {frac}, Fresnel {f}"
+            );
+        }
+    }
+    // Conductors: gold at normal incidence reflects ((η-1)² + κ²) / ((η+1)² + κ²).
+    let gold = Bsdf::Conductor {
+        eta: Vec3::new(0.1456, 0.3729, 1.4414),
+        k: Vec3::new(3.9565, 2.3955, 1.6007),
+        specular_reflectance: Vec3::ONE,
+    };
+    let s = probe.sample(&BsdfRecord::from(&gold), Vec3::Z, 64, 12);
+    let want = |e: f32, k: f32| ((e - 1.0).powi(2) + k * k) / ((e + 1.0).powi(2) + k * k);
+    let w = s[0].weight;
+    assert!(
+        (w.x - want(0.1456, 3.9565)).abs() < 1e-5 && (w.z - want(1.4414, 1.6007)).abs() < 1e-5,
+        "{w}"
+    );
+    assert!(w.x > w.y && w.y > w.z, "gold is yellow: {w}");
+    // A one-sided mirror seen from behind absorbs; twosided mirrors it.
+    let (e, k) = conductor_none();
+    let mirror = Bsdf::Conductor {
+        eta: e,
+        k,
+        specular_reflectance: Vec3::ONE,
+    };
+    let back = dir(120.0, 10.0);
+    assert_eq!(
+        probe.sample(&BsdfRecord::from(&mirror), back, 64, 13)[0].flags,
+        0
+    );
+    let s = probe.sample(
+        &BsdfRecord::from(&Bsdf::TwoSided(Box::new(mirror))),
+        back,
+        64,
+        13,
+    )[0];
+    assert!(
+        (s.wi - Vec3::new(-back.x, -back.y, back.z)).length() < 1e-5
+            && (s.weight - Vec3::ONE).length() < 1e-5
+    );
+}
