@@ -134,7 +134,13 @@ fn info_describes_the_scene() {
     let scene = repo("scenes/ao/ao.xml");
     let (code, out, err) = wavetrace(&["info", scene.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
-    for needle in ["triangles:", "bvh:", "integrator:", "camera:", "features:    triangles, vertex normals"] {
+    for needle in [
+        "triangles:",
+        "bvh:",
+        "integrator:",
+        "camera:",
+        "features:    triangles, vertex normals",
+    ] {
         assert!(out.contains(needle), "info lacks {needle}:\n{out}");
     }
 }

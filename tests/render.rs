@@ -264,13 +264,22 @@ fn samples_do_not_depend_on_batching_or_range_splits() {
 #[test]
 fn convex_shapes_never_occlude_themselves_at_any_scale() {
     let dev = device();
-    for (scale, offset) in [(1e-3f32, 0.0f32), (1.0, 0.0), (1e4, 0.0), (1.0, 1e4), (1e-2, 1e3)] {
+    for (scale, offset) in [
+        (1e-3f32, 0.0f32),
+        (1.0, 0.0),
+        (1e4, 0.0),
+        (1.0, 1e4),
+        (1e-2, 1e3),
+    ] {
         for shape in ["sphere", "cube"] {
             let shape_xml = format!(
                 r#"<shape type="{shape}"><transform name="to_world"><rotate x="1" y="1" z="0" angle="30"/>
                     <scale value="{scale}"/><translate value="{offset}, {offset}, 0"/></transform></shape>"#
             );
-            let (o, t) = (format!("{offset}, {offset}, {}", 2.5 * scale), format!("{offset}, {offset}, 0"));
+            let (o, t) = (
+                format!("{offset}, {offset}, {}", 2.5 * scale),
+                format!("{offset}, {offset}, 0"),
+            );
             let xml = scene(&o, &t, "0, 1, 0", 20.0, r#"<integrator type="ao"/>"#, &shape_xml).replace(
                 r#"<float name="fov""#,
                 &format!(
@@ -279,10 +288,17 @@ fn convex_shapes_never_occlude_themselves_at_any_scale() {
                     100.0 * scale
                 ),
             );
-            let s = load(&temp_file("convex", &format!("{shape}{scale}{offset}.xml"), &xml));
+            let s = load(&temp_file(
+                "convex",
+                &format!("{shape}{scale}{offset}.xml"),
+                &xml,
+            ));
             let img = render(&dev, &s, &RenderOptions::default(), 16);
             let worst = img.rgb.iter().fold(1.0f32, |m, &v| m.min(v));
-            assert!(worst > 1.0 - 1e-6, "{shape} at scale {scale} offset {offset}: self-occlusion, AO {worst}");
+            assert!(
+                worst > 1.0 - 1e-6,
+                "{shape} at scale {scale} offset {offset}: self-occlusion, AO {worst}"
+            );
         }
     }
 }

@@ -64,12 +64,18 @@ impl Scene {
         };
         add(!self.meshes.is_empty(), "triangles");
         add(!self.spheres.is_empty(), "spheres");
-        add(self.meshes.iter().any(|m| !m.normals.is_empty()), "vertex normals");
+        add(
+            self.meshes.iter().any(|m| !m.normals.is_empty()),
+            "vertex normals",
+        );
         add(self.meshes.iter().any(|m| !m.uvs.is_empty()), "uvs");
         let has = |p: fn(&Emitter) -> bool| self.emitters.iter().any(p);
         add(has(|e| matches!(e, Emitter::Point { .. })), "point lights");
         add(has(|e| matches!(e, Emitter::Area { .. })), "area lights");
-        add(has(|e| matches!(e, Emitter::Constant { .. })), "constant environment");
+        add(
+            has(|e| matches!(e, Emitter::Constant { .. })),
+            "constant environment",
+        );
         f
     }
 }
