@@ -5,6 +5,7 @@
 //! GPU buffers ([`gpu`]) -> wavefront kernels ([`render`]) -> film -> [`image`].
 
 pub mod accel;
+pub mod bench;
 pub mod gpu;
 pub mod image;
 pub mod render;

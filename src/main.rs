@@ -7,6 +7,7 @@ use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 
+use wavetrace::bench;
 use wavetrace::gpu::Device;
 use wavetrace::render::{RenderOptions, Renderer};
 use wavetrace::scene::{self, Scene};
@@ -58,6 +59,36 @@ enum Command {
         /// Print GPU time per kernel (timestamp queries).
         #[arg(long)]
         profile: bool,
+        /// No progress bar.
+        #[arg(short, long)]
+        quiet: bool,
+    },
+    /// Time against error: render at increasing sample counts and compare each image
+    /// with a reference (RMSE, relMSE, rays/s, efficiency, GPU time per kernel).
+    Bench {
+        #[command(flatten)]
+        scene: SceneArgs,
+        /// Reference EXR of the scene's size (e.g. made by tools/mitsuba_ref.py).
+        #[arg(long = "ref", value_name = "REF.exr")]
+        reference: PathBuf,
+        /// Sample counts, comma-separated; each is a render of samples 0..N.
+        #[arg(long, value_name = "N,N,...", default_value = "1,4,16,64,256")]
+        spp: String,
+        /// Also write everything measured as JSON to this file.
+        #[arg(long, value_name = "FILE")]
+        json: Option<PathBuf>,
+        /// Seed of the random numbers.
+        #[arg(long, default_value_t = 0)]
+        seed: u32,
+        /// Integrator, overriding the scene's.
+        #[arg(long)]
+        integrator: Option<String>,
+        /// Vulkan device: index or part of its name (see `wavetrace devices`).
+        #[arg(long)]
+        device: Option<String>,
+        /// Most paths in flight per batch.
+        #[arg(long)]
+        batch: Option<u32>,
         /// No progress bar.
         #[arg(short, long)]
         quiet: bool,
@@ -190,6 +221,30 @@ fn run(cli: Cli) -> Result<()> {
             eprintln!("wrote {} and {}", output.display(), png.display());
             Ok(())
         }
+        Command::Bench {
+            scene,
+            reference,
+            spp,
+            json,
+            seed,
+            integrator,
+            device,
+            batch,
+            quiet,
+        } => bench(
+            &scene,
+            &reference,
+            &spp,
+            json.as_deref(),
+            RenderOptions {
+                integrator,
+                seed,
+                max_batch_paths: batch,
+                timestamps: true,
+            },
+            device.as_deref(),
+            quiet,
+        ),
         Command::Info { scene } => {
             let sc = load(&scene)?;
             print_info(&sc);
@@ -202,6 +257,85 @@ fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
     }
+}
+
+fn bench(
+    scene: &SceneArgs,
+    reference: &Path,
+    spp: &str,
+    json: Option<&Path>,
+    render: RenderOptions,
+    device: Option<&str>,
+    quiet: bool,
+) -> Result<()> {
+    let options = bench::BenchOptions {
+        spp: bench::parse_spp_list(spp)?,
+        render,
+    };
+    let defines = parse_defines(&scene.define)?;
+    let device = Device::new(device)?;
+    eprintln!("device: {}", device.info());
+    let bar = if quiet {
+        ProgressBar::hidden()
+    } else {
+        let bar = ProgressBar::new(0);
+        bar.set_style(
+            ProgressStyle::with_template("{bar:40} {percent:>3}% {msg}")
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        bar
+    };
+    let report = bench::run(
+        &device,
+        &scene.scene,
+        &defines,
+        reference,
+        &options,
+        &mut |spp, done, total| {
+            bar.set_length(total);
+            bar.set_position(done);
+            bar.set_message(format!("{spp} spp"));
+        },
+    )?;
+    bar.finish_and_clear();
+    let s = &report.startup;
+    eprintln!(
+        "start-up: scene {:.0} ms, reference {:.0} ms, vulkan {:.0} ms, bvh {:.0} ms ({} nodes, SAH {:.1}), \
+         upload {:.0} ms, pipelines {:.0} ms, first dispatch {:.0} ms, warm-up render (1 spp) {:.0} ms",
+        s.scene_seconds * 1e3,
+        s.reference_seconds * 1e3,
+        s.vulkan_seconds * 1e3,
+        s.bvh_seconds * 1e3,
+        s.bvh_nodes,
+        s.bvh_sah_cost,
+        s.upload_seconds * 1e3,
+        s.pipeline_seconds * 1e3,
+        s.first_dispatch_seconds * 1e3,
+        s.warmup_seconds * 1e3,
+    );
+    println!(
+        "{} ({}x{}, integrator {}, seed {}) against {}",
+        report.scene.display(),
+        report.width,
+        report.height,
+        report.integrator,
+        report.seed,
+        report.reference.display()
+    );
+    print!("{}", report.table());
+    print!("{}", report.kernel_table());
+    for r in report.rows.iter().filter(|r| r.discarded > 0) {
+        eprintln!(
+            "warning: {} samples at {} spp were NaN or infinite and were discarded",
+            r.discarded, r.spp
+        );
+    }
+    if let Some(path) = json {
+        let text = serde_json::to_string_pretty(&report.to_json())?;
+        std::fs::write(path, text + "\n").with_context(|| format!("writing {}", path.display()))?;
+        eprintln!("wrote {}", path.display());
+    }
+    Ok(())
 }
 
 fn default_output(scene: &Path) -> PathBuf {

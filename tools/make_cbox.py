@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Write the Cornell box scene: OBJ meshes from the published measurements, and cbox.xml.
 
-    python3 tools/make_cbox.py               # writes scenes/cbox/{cbox.xml,meshes/}
+    python3 tools/make_cbox.py     # writes scenes/cbox/{cbox.xml,cbox_path.xml,meshes/}
 
 Geometry is the Cornell Program of Computer Graphics' measured data ("Cornell Box
 Data", https://www.graphics.cornell.edu/online/box/data.html), in millimetres, with
@@ -15,6 +15,11 @@ computing smoothed vertex normals across the blocks' edges.
 
 Reflectances are plain RGB diffuse values (the usual RGB stand-ins for the measured
 spectra); the light's radiance is (17, 12, 4).
+
+cbox.xml renders ambient occlusion at 256x256. cbox_path.xml is the same geometry
+with Mitsuba's `path` integrator (max_depth 6) and scene parameters `res` (default
+128, the size of the reference and the tests; `-D res=256` for the full picture),
+`spp` (64) and `max_depth` (6).
 """
 
 import os
@@ -126,7 +131,25 @@ def write_obj(name, quads, facing):
         f.write("\n".join(lines) + "\n")
 
 
-def scene_xml():
+HEADERS = {
+    "ao": ("Cornell box (Mitsuba 3 dialect, RGB)", "", '<integrator type="ao"/>', "64", "256"),
+    "path": (
+        "Cornell box lit by its ceiling light, path traced (Mitsuba 3 dialect, RGB)",
+        """
+    <default name="res" value="128"/>
+    <default name="spp" value="64"/>
+    <default name="max_depth" value="6"/>
+""",
+        """<integrator type="path">
+        <integer name="max_depth" value="$max_depth"/>
+    </integrator>""",
+        "$spp",
+        "$res",
+    ),
+}
+
+
+def scene_xml(kind):
     bsdfs = "\n".join(
         """    <bsdf type="diffuse" id="%s">
         <rgb name="reflectance" value="%s"/>
@@ -148,9 +171,10 @@ def scene_xml():
         <ref id="%s"/>%s
     </shape>""" % (name, bsdf, emitter)
         )
-    return """<!-- Cornell box (Mitsuba 3 dialect, RGB); written by tools/make_cbox.py. -->
-<scene version="3.0.0">
-    <integrator type="ao"/>
+    title, defaults, integrator, spp, res = HEADERS[kind]
+    return """<!-- %s; written by tools/make_cbox.py. -->
+<scene version="3.0.0">%s
+    %s
 
     <sensor type="perspective">
         <string name="fov_axis" value="smaller"/>
@@ -161,11 +185,11 @@ def scene_xml():
             <lookat origin="278, 273, -800" target="278, 273, -799" up="0, 1, 0"/>
         </transform>
         <sampler type="independent">
-            <integer name="sample_count" value="64"/>
+            <integer name="sample_count" value="%s"/>
         </sampler>
         <film type="hdrfilm">
-            <integer name="width" value="256"/>
-            <integer name="height" value="256"/>
+            <integer name="width" value="%s"/>
+            <integer name="height" value="%s"/>
             <rfilter type="box"/>
         </film>
     </sensor>
@@ -174,15 +198,16 @@ def scene_xml():
 
 %s
 </scene>
-""" % (bsdfs, "\n".join(shapes))
+""" % (title, defaults, integrator, spp, res, res, bsdfs, "\n".join(shapes))
 
 
 def main():
     os.makedirs(os.path.join(OUT, "meshes"), exist_ok=True)
     for name, quads in QUADS.items():
         write_obj(name, quads, ROLES[name][1])
-    with open(os.path.join(OUT, "cbox.xml"), "w") as f:
-        f.write(scene_xml())
+    for kind, name in (("ao", "cbox.xml"), ("path", "cbox_path.xml")):
+        with open(os.path.join(OUT, name), "w") as f:
+            f.write(scene_xml(kind))
     print("wrote %s: %d meshes" % (os.path.relpath(OUT, ROOT), len(QUADS)))
 
 

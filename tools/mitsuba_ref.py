@@ -2,6 +2,7 @@
 """Render a wavetrace scene (Mitsuba 3 dialect) with Mitsuba 3, as a reference EXR.
 
     python3 tools/mitsuba_ref.py SCENE.xml -o OUT.exr --spp N [--variant scalar_rgb] [--ao]
+                                 [--integrator path|direct] [--max-depth N] [-D name=value]
 
 What it changes in the scene before Mitsuba sees it (the file itself is not touched):
 
@@ -9,6 +10,13 @@ What it changes in the scene before Mitsuba sees it (the file itself is not touc
   uniformly over each pixel's area and averages them, which is what a box filter of
   radius 1/2 does), its pixel format `rgb` and component format `float32`. With
   `--spp` the sampler's `sample_count` is replaced.
+* With `--integrator path|direct`: the scene's integrator is replaced by Mitsuba's
+  `path` (with `--max-depth`, default 6) or `direct` (MIS of one emitter sample and
+  one BSDF sample, which is wavetrace's `direct_mis`; it takes no depth). Mitsuba's
+  `max_depth` counts path segments from the camera: 1 shows emitters only, 2 is
+  direct lighting, 6 is up to five bounces.
+* With `-D name=value`: Mitsuba's `$name` parameters (the scene's `<default>`s), as
+  `wavetrace -D` does.
 * With `--ao`: wavetrace's `ao` integrator, ambient occlusion
       AO(x) = (1/pi) * integral over the hemisphere of V(x, w) cos(theta) dw,
   is not a Mitsuba plugin. It equals the direct illumination of a white Lambertian
@@ -113,6 +121,17 @@ def ancestors(el, parent):
         yield el
 
 
+def set_integrator(root, kind, max_depth):
+    """Replace the scene's integrator by Mitsuba's `path` or `direct`."""
+    parent = parents_of(root)
+    for el in [e for e in root.iter("integrator")]:
+        parent[el].remove(el)
+    integrator = ET.Element("integrator", type=kind)
+    if kind == "path":
+        ET.SubElement(integrator, "integer", name="max_depth", value=str(max_depth))
+    root.insert(0, integrator)
+
+
 def prepare(root, spp):
     """Box filter, RGB float32 film, and the sample count; returns (width, height)."""
     sensors = list(root.iter("sensor"))
@@ -134,16 +153,52 @@ def prepare(root, spp):
         set_param(sampler, "integer", "sample_count", spp)
 
 
-def scene_files(root, scene_path):
-    """The scene file and every file it names, for the sidecar's hashes."""
+def scene_files(root, scene_path, defines):
+    """The scene file and every file it names (meshes, included files), for the
+    sidecar's hashes."""
+    resolve = resolver_of(root, defines)
     base = os.path.dirname(os.path.abspath(scene_path))
     files = [os.path.abspath(scene_path)]
-    for el in root.iter("string"):
-        if el.get("name") == "filename":
-            path = os.path.join(base, el.get("value"))
-            if os.path.isfile(path) and path not in files:
-                files.append(path)
+    named = [os.path.join(base, resolve(el.get("value")))
+             for el in root.iter("string") if el.get("name") == "filename"]
+    for path in named + included(root, scene_path, resolve):
+        if os.path.isfile(path) and path not in files:
+            files.append(path)
     return files
+
+
+def resolver_of(root, defines):
+    """Mitsuba's `$name` substitution with -D values over the scene's <default>s."""
+    values = {d.get("name"): d.get("value") for d in root.findall("default")}
+    values.update(defines)
+
+    def resolve(text):
+        for name in sorted(values, key=len, reverse=True):
+            text = text.replace("$" + name, values[name])
+        return text
+
+    return resolve
+
+
+def included(root, scene_path, resolve):
+    """Paths of the files that the scene's top-level <include>s name."""
+    base = os.path.dirname(os.path.abspath(scene_path))
+    return [os.path.join(base, resolve(el.get("filename", ""))) for el in root.findall("include")]
+
+
+def integrator_description(root, scene_path, defines):
+    """The integrator Mitsuba runs as text, e.g. `path max_depth=6`, with `$name`
+    parameters resolved from -D and the scene's <default>s; looks into included
+    files (veach.xml picks its integrator by including integrator_$integrator.xml)."""
+    resolve = resolver_of(root, defines)
+    el = root.find("integrator")
+    for path in included(root, scene_path, resolve):
+        if el is None and os.path.isfile(path):
+            el = ET.parse(path).getroot().find("integrator")
+    if el is None:
+        return "(Mitsuba's default)"
+    params = ["%s=%s" % (c.get("name"), resolve(c.get("value", ""))) for c in el]
+    return " ".join([resolve(el.get("type", "?"))] + params)
 
 
 def sha256(path):
@@ -158,6 +213,22 @@ def main():
     ap.add_argument("--spp", type=int, help="samples per pixel (default: the scene's)")
     ap.add_argument("--variant", default="scalar_rgb", help="Mitsuba variant (default scalar_rgb)")
     ap.add_argument("--ao", action="store_true", help="render wavetrace's `ao` integrator (see above)")
+    ap.add_argument(
+        "--integrator",
+        choices=("path", "direct"),
+        help="replace the scene's integrator by Mitsuba's path or direct (MIS) integrator",
+    )
+    ap.add_argument(
+        "--max-depth", type=int, default=6, help="max_depth of --integrator path (default 6)"
+    )
+    ap.add_argument(
+        "-D",
+        dest="defines",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="set a scene parameter ($NAME, <default name=NAME>)",
+    )
     ap.add_argument("--pass-spp", type=int, default=1024, help="most samples per pass (default 1024)")
     ap.add_argument("--seed", type=int, default=0, help="seed of the first pass (default 0)")
     ap.add_argument("--print-xml", action="store_true", help="print the rewritten scene and stop")
@@ -167,11 +238,21 @@ def main():
         tree = ET.parse(args.scene)
     except (OSError, ET.ParseError) as e:
         die("%s: %s" % (args.scene, e))
+    defines = {}
+    for d in args.defines:
+        name, eq, value = d.partition("=")
+        if not name or not eq:
+            die("-D expects NAME=VALUE, got %r" % d)
+        defines[name] = value
+    if args.ao and args.integrator:
+        die("--ao and --integrator exclude each other")
     root = tree.getroot()
     if root.tag != "scene" or "version" not in root.attrib:
         die("%s: not a Mitsuba 3 scene (<scene version=...>); Nori's dialect is not supported" % args.scene)
     if args.ao:
         rewrite_for_ao(root)
+    if args.integrator:
+        set_integrator(root, args.integrator, args.max_depth)
     prepare(root, args.spp)
     xml = ET.tostring(root, encoding="unicode")
     if args.print_xml:
@@ -186,7 +267,10 @@ def main():
     resolver.prepend(scene_dir)
 
     start = time.perf_counter()
-    scene = mi.load_string(xml)
+    try:
+        scene = mi.load_string(xml, **defines)
+    except Exception as e:  # Mitsuba raises RuntimeError with its own message
+        die("%s: %s" % (args.scene, e))
     sensor = scene.sensors()[0]
     spp = sensor.sampler().sample_count()
     passes = []
@@ -217,6 +301,8 @@ def main():
         "command": "python3 tools/mitsuba_ref.py " + " ".join(shlex.quote(a) for a in sys.argv[1:]),
         "scene": os.path.relpath(os.path.abspath(args.scene), root_dir),
         "ao": args.ao,
+        "integrator": integrator_description(root, args.scene, defines),
+        "defines": defines,
         "spp": spp,
         "passes": len(passes),
         "pass_spp": passes[0],
@@ -228,7 +314,7 @@ def main():
         "seconds": round(seconds, 1),
         "date": time.strftime("%Y-%m-%d", time.gmtime()),
         "sha256": {
-            os.path.relpath(f, root_dir): sha256(f) for f in scene_files(root, args.scene)
+            os.path.relpath(f, root_dir): sha256(f) for f in scene_files(root, args.scene, defines)
         },
     }
     sidecar = os.path.splitext(args.output)[0] + ".json"

@@ -1,0 +1,134 @@
+//! `wavetrace bench`: the table and the JSON it writes, and its errors.
+
+mod common;
+
+use std::process::Command;
+
+use common::{repo, temp_file};
+use serde_json::Value;
+
+fn wavetrace(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_wavetrace"))
+        .current_dir(repo(""))
+        .args(args)
+        .output()
+        .expect("run wavetrace");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn ao_bench_prints_a_table_and_writes_json() {
+    let json_path = temp_file("bench_ao", "ao.json", "");
+    let json_arg = json_path.to_str().expect("utf-8 temp path");
+    let (code, out, err) = wavetrace(&[
+        "bench",
+        "scenes/ao/ao.xml",
+        "--ref",
+        "scenes/refs/ao.exr",
+        "--spp",
+        "1,4",
+        "--json",
+        json_arg,
+        "-q",
+    ]);
+    assert_eq!(code, 0, "stdout:\n{out}\nstderr:\n{err}");
+
+    // The table: a header, then one line per sample count, in the order asked.
+    let lines: Vec<&str> = out.lines().collect();
+    let header = lines
+        .iter()
+        .position(|l| l.contains("relMSE") && l.contains("efficiency"))
+        .unwrap_or_else(|| panic!("no table header in:\n{out}"));
+    let rows: Vec<Vec<f64>> = lines[header + 1..header + 3]
+        .iter()
+        .map(|l| {
+            l.split_whitespace()
+                .map(|t| t.parse().unwrap_or_else(|_| panic!("bad number in {l:?}")))
+                .collect()
+        })
+        .collect();
+    assert_eq!(rows[0][0], 1.0);
+    assert_eq!(rows[1][0], 4.0);
+    for r in &rows {
+        assert_eq!(
+            r.len(),
+            6,
+            "spp seconds RMSE relMSE Mrays/s efficiency: {r:?}"
+        );
+        assert!(r.iter().all(|v| v.is_finite() && *v > 0.0), "{r:?}");
+    }
+    assert!(
+        out.contains("GPU time per kernel at 4 spp"),
+        "no kernel times:\n{out}"
+    );
+
+    // The JSON holds the same rows and the context of the run.
+    let text = std::fs::read_to_string(&json_path).expect("read the JSON");
+    let v: Value = serde_json::from_str(&text).expect("valid JSON");
+    assert_eq!(v["integrator"], "ao");
+    assert_eq!(v["width"], 128);
+    assert_eq!(v["height"], 128);
+    assert!(v["device"].as_str().is_some_and(|d| !d.is_empty()));
+    assert!(v["startup"]["pipeline_seconds"].as_f64().is_some());
+    assert!(v["startup"]["warmup_seconds"].as_f64().is_some());
+    let rows = v["rows"].as_array().expect("rows");
+    assert_eq!(rows.len(), 2);
+    let num = |r: &Value, k: &str| {
+        r[k].as_f64()
+            .unwrap_or_else(|| panic!("{k} is not a number in {r}"))
+    };
+    assert_eq!(num(&rows[0], "spp"), 1.0);
+    assert_eq!(num(&rows[1], "spp"), 4.0);
+    for r in rows {
+        assert!(num(r, "seconds") > 0.0);
+        assert!(num(r, "rays") >= 128.0 * 128.0 * num(r, "spp"));
+        assert!(num(r, "efficiency") > 0.0);
+        assert!(r["kernels"]["intersect"]["seconds"].as_f64().is_some());
+    }
+    // Four times the samples: relMSE falls about fourfold (unbiased AO, variance
+    // ~ 1/spp; the reference's own relMSE, ~1e-4 at 16384 spp, is negligible). A
+    // factor of 2.5 leaves room for noise in the 1-spp estimate of the error.
+    let (e1, e4) = (num(&rows[0], "rel_mse"), num(&rows[1], "rel_mse"));
+    assert!(e4 * 2.5 < e1, "relMSE {e1} at 1 spp, {e4} at 4 spp");
+}
+
+#[test]
+fn reference_of_another_size_is_a_clear_error() {
+    // cbox.xml renders 256x256; ao.exr is 128x128.
+    let (code, _, err) = wavetrace(&[
+        "bench",
+        "scenes/cbox/cbox.xml",
+        "--ref",
+        "scenes/refs/ao.exr",
+        "--spp",
+        "1",
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    for needle in ["scenes/refs/ao.exr", "128x128", "256x256", "cbox.xml"] {
+        assert!(err.contains(needle), "stderr lacks {needle:?}:\n{err}");
+    }
+}
+
+#[test]
+fn bad_spp_list_and_missing_reference_are_errors() {
+    let (code, _, err) = wavetrace(&[
+        "bench",
+        "scenes/ao/ao.xml",
+        "--ref",
+        "scenes/refs/ao.exr",
+        "--spp",
+        "1,0",
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("--spp"), "{err}");
+
+    let (code, _, err) = wavetrace(&["bench", "scenes/ao/ao.xml", "--ref", "/nonexistent/ref.exr"]);
+    assert_eq!(code, 1, "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(err.contains("/nonexistent/ref.exr"), "{err}");
+}
