@@ -11,6 +11,10 @@
 #include "surface.glsl"
 #include "ao.glsl"
 #include "emitter.glsl"
+
+// The BSDF kinds the scene uses (a bit per BSDF_* kind): the others compile away.
+layout(constant_id = 1) const uint SCENE_BSDF_KINDS = 0xffffffffu;
+#define BSDF_KINDS SCENE_BSDF_KINDS
 #include "bsdf.glsl"
 #include "path.glsl"
 

@@ -19,6 +19,9 @@
 //   bool  bsdf_is_delta(b)           every lobe is a delta: skip emitter sampling.
 //
 // uv is the surface texture coordinate (unused until textures arrive).
+//
+// Models a scene does not use compile away: define BSDF_KINDS (a bit per BSDF_* kind,
+// e.g. a specialization constant) before including this file; the default keeps all.
 #ifndef BSDF_GLSL
 #define BSDF_GLSL
 
@@ -26,6 +29,12 @@
 #include "warp.glsl"
 #include "fresnel.glsl"
 #include "microfacet.glsl"
+
+#ifndef BSDF_KINDS
+#define BSDF_KINDS 0xffffffffu
+#endif
+// Whether the scene may hold BSDFs of kind k.
+#define BSDF_HAS(k) ((BSDF_KINDS & (1u << (k))) != 0u)
 
 #define BSDF_FLAG_REFLECTION 1u
 #define BSDF_FLAG_TRANSMISSION 2u
@@ -59,12 +68,12 @@ vec3 bsdf_eval(BsdfRecord b, vec3 wo, vec3 wi, vec2 uv) {
         wi = bsdf_mirror(wi);
     }
     switch (b.kind) {
-    case BSDF_DIFFUSE: return bsdf_diffuse_eval(b, wo, wi);
-    case BSDF_ROUGHCONDUCTOR: return bsdf_roughconductor_eval(b, wo, wi);
-    case BSDF_ROUGHDIELECTRIC: return bsdf_roughdielectric_eval(b, wo, wi);
-    case BSDF_PLASTIC: return bsdf_plastic_eval(b, wo, wi);
-    case BSDF_ROUGHPLASTIC: return bsdf_roughplastic_eval(b, wo, wi);
-    case BSDF_NORI_MICROFACET: return bsdf_nori_microfacet_eval(b, wo, wi);
+    case BSDF_DIFFUSE: if (BSDF_HAS(BSDF_DIFFUSE)) return bsdf_diffuse_eval(b, wo, wi); break;
+    case BSDF_ROUGHCONDUCTOR: if (BSDF_HAS(BSDF_ROUGHCONDUCTOR)) return bsdf_roughconductor_eval(b, wo, wi); break;
+    case BSDF_ROUGHDIELECTRIC: if (BSDF_HAS(BSDF_ROUGHDIELECTRIC)) return bsdf_roughdielectric_eval(b, wo, wi); break;
+    case BSDF_PLASTIC: if (BSDF_HAS(BSDF_PLASTIC)) return bsdf_plastic_eval(b, wo, wi); break;
+    case BSDF_ROUGHPLASTIC: if (BSDF_HAS(BSDF_ROUGHPLASTIC)) return bsdf_roughplastic_eval(b, wo, wi); break;
+    case BSDF_NORI_MICROFACET: if (BSDF_HAS(BSDF_NORI_MICROFACET)) return bsdf_nori_microfacet_eval(b, wo, wi); break;
     default: return vec3(0.0); // conductor, dielectric: delta lobes only
     }
 }
@@ -75,12 +84,12 @@ float bsdf_pdf(BsdfRecord b, vec3 wo, vec3 wi, vec2 uv) {
         wi = bsdf_mirror(wi);
     }
     switch (b.kind) {
-    case BSDF_DIFFUSE: return bsdf_diffuse_pdf(b, wo, wi);
-    case BSDF_ROUGHCONDUCTOR: return bsdf_roughconductor_pdf(b, wo, wi);
-    case BSDF_ROUGHDIELECTRIC: return bsdf_roughdielectric_pdf(b, wo, wi);
-    case BSDF_PLASTIC: return bsdf_plastic_pdf(b, wo, wi);
-    case BSDF_ROUGHPLASTIC: return bsdf_roughplastic_pdf(b, wo, wi);
-    case BSDF_NORI_MICROFACET: return bsdf_nori_microfacet_pdf(b, wo, wi);
+    case BSDF_DIFFUSE: if (BSDF_HAS(BSDF_DIFFUSE)) return bsdf_diffuse_pdf(b, wo, wi); break;
+    case BSDF_ROUGHCONDUCTOR: if (BSDF_HAS(BSDF_ROUGHCONDUCTOR)) return bsdf_roughconductor_pdf(b, wo, wi); break;
+    case BSDF_ROUGHDIELECTRIC: if (BSDF_HAS(BSDF_ROUGHDIELECTRIC)) return bsdf_roughdielectric_pdf(b, wo, wi); break;
+    case BSDF_PLASTIC: if (BSDF_HAS(BSDF_PLASTIC)) return bsdf_plastic_pdf(b, wo, wi); break;
+    case BSDF_ROUGHPLASTIC: if (BSDF_HAS(BSDF_ROUGHPLASTIC)) return bsdf_roughplastic_pdf(b, wo, wi); break;
+    case BSDF_NORI_MICROFACET: if (BSDF_HAS(BSDF_NORI_MICROFACET)) return bsdf_nori_microfacet_pdf(b, wo, wi); break;
     default: return 0.0;
     }
 }
@@ -90,14 +99,14 @@ BsdfSample bsdf_sample(BsdfRecord b, vec3 wo, vec3 u, vec2 uv) {
     if (flip) wo = bsdf_mirror(wo);
     BsdfSample s;
     switch (b.kind) {
-    case BSDF_DIFFUSE: s = bsdf_diffuse_sample(b, wo, u); break;
-    case BSDF_CONDUCTOR: s = bsdf_conductor_sample(b, wo, u); break;
-    case BSDF_ROUGHCONDUCTOR: s = bsdf_roughconductor_sample(b, wo, u); break;
-    case BSDF_DIELECTRIC: s = bsdf_dielectric_sample(b, wo, u); break;
-    case BSDF_ROUGHDIELECTRIC: s = bsdf_roughdielectric_sample(b, wo, u); break;
-    case BSDF_PLASTIC: s = bsdf_plastic_sample(b, wo, u); break;
-    case BSDF_ROUGHPLASTIC: s = bsdf_roughplastic_sample(b, wo, u); break;
-    case BSDF_NORI_MICROFACET: s = bsdf_nori_microfacet_sample(b, wo, u); break;
+    case BSDF_DIFFUSE: s = BSDF_HAS(BSDF_DIFFUSE) ? bsdf_diffuse_sample(b, wo, u) : bsdf_sample_none(); break;
+    case BSDF_CONDUCTOR: s = BSDF_HAS(BSDF_CONDUCTOR) ? bsdf_conductor_sample(b, wo, u) : bsdf_sample_none(); break;
+    case BSDF_ROUGHCONDUCTOR: s = BSDF_HAS(BSDF_ROUGHCONDUCTOR) ? bsdf_roughconductor_sample(b, wo, u) : bsdf_sample_none(); break;
+    case BSDF_DIELECTRIC: s = BSDF_HAS(BSDF_DIELECTRIC) ? bsdf_dielectric_sample(b, wo, u) : bsdf_sample_none(); break;
+    case BSDF_ROUGHDIELECTRIC: s = BSDF_HAS(BSDF_ROUGHDIELECTRIC) ? bsdf_roughdielectric_sample(b, wo, u) : bsdf_sample_none(); break;
+    case BSDF_PLASTIC: s = BSDF_HAS(BSDF_PLASTIC) ? bsdf_plastic_sample(b, wo, u) : bsdf_sample_none(); break;
+    case BSDF_ROUGHPLASTIC: s = BSDF_HAS(BSDF_ROUGHPLASTIC) ? bsdf_roughplastic_sample(b, wo, u) : bsdf_sample_none(); break;
+    case BSDF_NORI_MICROFACET: s = BSDF_HAS(BSDF_NORI_MICROFACET) ? bsdf_nori_microfacet_sample(b, wo, u) : bsdf_sample_none(); break;
     default: s = bsdf_sample_none(); break;
     }
     if (flip) s.wi = bsdf_mirror(s.wi);

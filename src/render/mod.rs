@@ -168,13 +168,14 @@ impl Renderer {
         let t = Instant::now();
         // Specialization: code for features the scene lacks is compiled out.
         let has_spheres = !scene.spheres.is_empty() as u32;
+        let bsdf_kinds = records.bsdfs.iter().fold(0u32, |m, b| m | 1 << b.kind);
         let k = |name: &str, spirv: &[u8], spec: &[u32]| {
             Kernel::new(device, name, spirv, &layout, spec)
         };
         let kernels = Kernels {
             generate: k("generate", shaders::GENERATE, &[])?,
             intersect: k("intersect", shaders::INTERSECT, &[has_spheres])?,
-            shade: k("shade", shaders::SHADE, &[integrator.id()])?,
+            shade: k("shade", shaders::SHADE, &[integrator.id(), bsdf_kinds])?,
             shadow: k("shadow", shaders::SHADOW, &[has_spheres])?,
             ray_args: k("queue_args", shaders::QUEUE_ARGS, &[0])?,
             shadow_args: k("queue_args", shaders::QUEUE_ARGS, &[1])?,
