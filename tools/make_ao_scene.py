@@ -279,6 +279,8 @@ def nori_xml():
 
     <camera type="perspective">
         <transform name="toWorld">
+            <!-- Nori's image x runs along camera -x, Mitsuba's along +x. -->
+            <scale value="-1,1,1"/>
             <lookat origin="%(origin)s" target="%(target)s" up="%(up)s"/>
         </transform>
         <float name="fov" value="%(fov)g"/>

@@ -15,6 +15,7 @@
 #include "frame.glsl"
 #include "warp.glsl"
 #include "intersect_sphere.glsl"
+#include "surface.glsl"
 
 #define EMITTER_INFINITY uintBitsToFloat(0x7f800000u)
 
@@ -80,11 +81,13 @@ EmitterSample emitter_sample(vec3 x, vec4 u) {
         // A mesh: a triangle by area, then a uniform point on it.
         float tri_pmf;
         uint t = alias_sample(e.tri_first, e.tri_count, u.y, tri_pmf);
-        Prim p = prims[alias_table[e.tri_first + t].prim];
         vec2 b = warp_uniform_triangle(u.zw);
-        vec3 y = (1.0 - b.x - b.y) * p.p0 + b.x * p.p1 + b.y * p.p2;
-        vec3 ng = normalize(cross(p.p1 - p.p0, p.p2 - p.p0));
-        if ((shapes[e.shape].flags & SHAPE_FLIP_NORMALS) != 0u) ng = -ng;
+        // The same surface a ray would find there: its front side follows the vertex
+        // normals where the mesh has them (as in Mitsuba and Nori), so a mirroring
+        // to_world does not turn a light around.
+        Surface ls = surface_at(alias_table[e.tri_first + t].prim, b.x, b.y, x, vec3(0.0), 0.0);
+        vec3 y = ls.p;
+        vec3 ng = ls.ng;
         vec3 d = y - x;
         float d2 = dot(d, d);
         s.dist = sqrt(d2);

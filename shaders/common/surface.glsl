@@ -78,8 +78,6 @@ void surface_face(inout Surface s, vec3 w) {
     }
 }
 
-#endif
-
 // Origin for a ray leaving surface s on the side of normal n (n = s.ng or -s.ng):
 // pushed past the error bounds of p along n (PBR 4th ed., sec. 6.8.6), then by a few
 // ulps (Wächter and Binder 2019) so that rounding cannot bring it back.
@@ -87,3 +85,5 @@ vec3 surface_spawn_origin(Surface s, vec3 n) {
     float d = dot(abs(n), s.p_error);
     return ray_offset(s.p + d * n, n);
 }
+
+#endif

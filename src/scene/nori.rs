@@ -4,7 +4,7 @@
 //! Supported objects (anything else is "not supported yet" or "unknown"):
 //! - `camera type="perspective"`: `toWorld`, `fov` (horizontal degrees, 30), `width`
 //!   1280, `height` 720, `nearClip` 1e-4, `farClip` 1e4; a nested `rfilter` is ignored.
-//!   Nori's camera frame is Mitsuba's.
+//!   Nori's camera looks down +z like Mitsuba's but puts image column 0 at camera -x.
 //! - `sampler type="independent"`: `sampleCount` (1).
 //! - `integrator`: any type; its parameters are kept unread in [`IntegratorSpec`].
 //! - `mesh type="obj"`: `filename`, `toWorld`, nested `bsdf` (`diffuse`, `mirror`,
@@ -88,7 +88,11 @@ fn perspective(el: &Element) -> Result<Camera, Error> {
         ));
     }
     let camera = Camera {
-        to_world: props.transform("toWorld")?,
+        // Nori maps image column 0 to camera -x (its sample-to-camera transform scales
+        // x by +1/2 where Mitsuba's scales by -1/2): mirror x into our Mitsuba frame.
+        // Scenes converted from Mitsuba therefore carry <scale value="-1,1,1"/>.
+        to_world: props.transform("toWorld")?
+            * glam::Mat4::from_scale(glam::Vec3::new(-1.0, 1.0, 1.0)),
         fov_x_deg: fov,
         near_clip: props.float("nearClip", 1e-4)?,
         far_clip: props.float("farClip", 1e4)?,
@@ -252,8 +256,9 @@ mod tests {
             (64, 48, 45.0)
         );
         assert_eq!((s.camera.near_clip, s.camera.far_clip), (1e-4, 1e4));
-        // scale -1 on x then lookat: camera x axis = -left = +x here.
-        assert!((s.camera.to_world.x_axis.truncate() - Vec3::X).length() < 1e-6);
+        // The scene's scale -1 on x then lookat gives a camera x axis of -left = +x;
+        // Nori's image x runs along -x, so in our (Mitsuba) frame the axis is -x.
+        assert!((s.camera.to_world.x_axis.truncate() + Vec3::X).length() < 1e-6);
         assert_eq!(s.meshes[0].positions[0], Vec3::new(0.0, 0.0, 1.0));
         // Nori does not flip texture coordinates.
         assert_eq!(s.meshes[0].uvs[2], glam::Vec2::new(0.0, 1.0));
