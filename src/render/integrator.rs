@@ -192,6 +192,12 @@ impl Integrator {
         };
         let mut params = params;
         let mut take = |key: &str| params.remove(key);
+        let not_boolean = |key: &str, p: Param| {
+            err(
+                line,
+                format!("integrator '{name}': {key} must be a boolean, got {p:?}"),
+            )
+        };
         let integrator = match name {
             "normals" => Integrator::Normals,
             "simple" => Integrator::Simple,
@@ -224,14 +230,7 @@ impl Integrator {
                 let hide_emitters = match take("hide_emitters") {
                     None => false,
                     Some(Param::Bool(b)) => b,
-                    Some(p) => {
-                        return Err(err(
-                            line,
-                            format!(
-                                "integrator '{name}': hide_emitters must be a boolean, got {p:?}"
-                            ),
-                        ))
-                    }
+                    Some(p) => return Err(not_boolean("hide_emitters", p)),
                 };
                 for key in ["emitter_samples", "bsdf_samples"] {
                     match take(key) {
@@ -274,14 +273,7 @@ impl Integrator {
                 let hide_emitters = match take("hide_emitters") {
                     None => false,
                     Some(Param::Bool(b)) => b,
-                    Some(p) => {
-                        return Err(err(
-                            line,
-                            format!(
-                                "integrator '{name}': hide_emitters must be a boolean, got {p:?}"
-                            ),
-                        ))
-                    }
+                    Some(p) => return Err(not_boolean("hide_emitters", p)),
                 };
                 let params = PathParams {
                     max_depth,

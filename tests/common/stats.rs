@@ -19,32 +19,7 @@ use wavetrace::gpu::{
     shaders, BindingLayout, Buffer, CommandList, DescriptorSet, Device, Kernel, Location,
 };
 
-/// ln Γ(x) for x > 0 (Lanczos approximation, g = 7, n = 9; relative error < 1e-13).
-pub fn ln_gamma(x: f64) -> f64 {
-    const C: [f64; 9] = [
-        0.999_999_999_999_809_9,
-        676.520_368_121_885_1,
-        -1_259.139_216_722_402_8,
-        771.323_428_777_653_1,
-        -176.615_029_162_140_6,
-        12.507_343_278_686_905,
-        -0.138_571_095_265_720_12,
-        9.984_369_578_019_572e-6,
-        1.505_632_735_149_311_6e-7,
-    ];
-    if x < 0.5 {
-        // Reflection formula.
-        let pi = std::f64::consts::PI;
-        return (pi / (pi * x).sin()).ln() - ln_gamma(1.0 - x);
-    }
-    let x = x - 1.0;
-    let mut a = C[0];
-    let t = x + 7.5;
-    for (i, c) in C.iter().enumerate().skip(1) {
-        a += c / (x + i as f64);
-    }
-    0.5 * (2.0 * std::f64::consts::PI).ln() + (x + 0.5) * t.ln() - t + a.ln()
-}
+pub use wavetrace::image::metrics::ln_gamma;
 
 /// Regularized upper incomplete gamma Q(a, x) = Γ(a, x) / Γ(a): the series for
 /// x < a + 1, else the continued fraction (Press et al., "Numerical Recipes", 3rd ed.,
