@@ -25,6 +25,7 @@ struct EmitterSample {
     vec3 Le;     // radiance arriving along -wi (for point and spot lights: I / d²)
     float pdf;   // solid angle (delta lights: the probability of choosing the light)
     bool delta;  // a point or spot light: no MIS, BSDF sampling can never hit it
+    uint emitter; // which emitter was chosen
 };
 
 // Spot light falloff as Mitsuba's spotlight: 1 inside the beam width, falling linearly
@@ -59,9 +60,11 @@ EmitterSample emitter_sample(vec3 x, vec4 u) {
     s.pdf = 0.0;
     s.dist = 0.0;
     s.wi = vec3(0.0, 0.0, 1.0);
+    s.emitter = NONE;
     if (frame.emitter_count == 0u) return s;
     float pmf;
     uint index = alias_sample(0u, frame.emitter_count, u.x, pmf);
+    s.emitter = index;
     EmitterRecord e = emitters[index];
     if (e.kind == EMITTER_POINT || e.kind == EMITTER_SPOT) {
         vec3 d = e.position - x;

@@ -1,0 +1,264 @@
+//! Emitter sampling in its GLSL form (shaders/common/emitter.glsl, through
+//! shaders/tests/emitter_sample.comp): the emitter is chosen in proportion to power
+//! and a mesh light's triangle in proportion to area (chi-square tests), and the
+//! density that MIS evaluates when a ray hits a light equals the density with which
+//! emitter sampling produced that very point.
+
+mod common;
+
+use common::stats::{chi2, sidak};
+use glam::Vec3;
+use wavetrace::accel::{prims_from_scene, Bvh};
+use wavetrace::gpu::layout::{Frame, NONE};
+use wavetrace::gpu::{
+    shaders, BindingLayout, Buffer, CommandList, DescriptorSet, Kernel, Location,
+};
+use wavetrace::render::scene_buffers::{SceneBuffers, SceneRecords, SCENE_BINDINGS};
+use wavetrace::scene::{Emitter, Scene};
+
+const N: u32 = 200_000;
+/// Chi-square tests in this file, for the Šidák correction of a 1% family level.
+const TESTS: usize = 2;
+
+struct Probe {
+    wi: Vec3,
+    pdf: f32,
+    dist: f32,
+    pdf_hit: f32,
+    prim: u32,
+    emitter: u32,
+}
+
+/// Samples N emitter points from `x` on the GPU.
+fn probe(scene: &Scene, bvh: &Bvh, records: &SceneRecords, x: Vec3) -> Vec<Probe> {
+    let device = common::device();
+    let layout = BindingLayout::new(&device, &[SCENE_BINDINGS, 2], 20).unwrap();
+    let buffers = SceneBuffers::upload(&device, &layout, bvh, records).unwrap();
+    let frame = Frame {
+        emitter_count: records.emitters.len() as u32,
+        env_emitter: records.env_emitter,
+        ..Default::default()
+    };
+    let frame = Buffer::from_slice(&device, "frame", &[frame]).unwrap();
+    let out = Buffer::new(&device, "probes", N as u64 * 32, Location::Gpu).unwrap();
+    let set = DescriptorSet::new(&layout, 1, &[&frame, &out]).unwrap();
+    let kernel = Kernel::new(
+        &device,
+        "emitter_sample",
+        shaders::TESTS_EMITTER_SAMPLE,
+        &layout,
+        &[],
+    )
+    .unwrap();
+    let mut push = [0u32; 5];
+    push[..3].copy_from_slice(&x.to_array().map(f32::to_bits));
+    push[3] = N;
+    push[4] = 11;
+    let mut cmd = CommandList::new(&device).unwrap();
+    cmd.dispatch(
+        &kernel,
+        &[&buffers.set, &set],
+        bytemuck::cast_slice(&push),
+        [N.div_ceil(64), 1, 1],
+    );
+    cmd.submit_and_wait().unwrap();
+    let raw: Vec<[f32; 4]> = out.read(&device).unwrap();
+    let _ = scene;
+    raw.chunks(2)
+        .take(N as usize)
+        .map(|p| Probe {
+            wi: Vec3::new(p[0][0], p[0][1], p[0][2]),
+            pdf: p[0][3],
+            dist: p[1][0],
+            pdf_hit: p[1][1],
+            prim: p[1][2].to_bits(),
+            emitter: p[1][3].to_bits(),
+        })
+        .collect()
+}
+
+fn luminance(c: Vec3) -> f64 {
+    (0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z) as f64
+}
+
+/// Four lights around the origin, facing it: a quad, a fan of four triangles of areas
+/// 1/2 : 1 : 3 : 6, a sphere, and a point light.
+fn scene() -> Scene {
+    let fan = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv -2 0 0\nv 0 -3 0\nv 4 0 0\n\
+               f 1 2 3\nf 1 3 4\nf 1 4 5\nf 1 5 6\n";
+    let obj = common::temp_file("emitters", "fan.obj", fan);
+    let xml = format!(
+        r#"<scene version="3.0.0">
+    <sensor type="perspective"><film type="hdrfilm"><integer name="width" value="4"/><integer name="height" value="4"/></film></sensor>
+    <shape type="rectangle"><transform name="to_world"><rotate x="1" angle="180"/><translate value="0, 0, 3"/></transform>
+        <emitter type="area"><rgb name="radiance" value="2, 1, 0.5"/></emitter></shape>
+    <shape type="obj"><string name="filename" value="{}"/>
+        <transform name="to_world"><scale value="0.5"/><translate value="0, 0, -4"/></transform>
+        <emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
+    <shape type="sphere"><point name="center" value="5, 0, 0"/><float name="radius" value="0.7"/>
+        <emitter type="area"><rgb name="radiance" value="3"/></emitter></shape>
+    <emitter type="point"><point name="position" value="0, 4, 0"/><rgb name="intensity" value="2"/></emitter>
+</scene>"#,
+        obj.display()
+    );
+    common::load(&common::temp_file("emitters", "scene.xml", &xml))
+}
+
+#[test]
+fn emitters_are_chosen_by_power_and_triangles_by_area() {
+    let s = scene();
+    let bvh = Bvh::build(prims_from_scene(&s));
+    let records = SceneRecords::new(&s, &bvh);
+    let probes = probe(&s, &bvh, &records, Vec3::ZERO);
+    let level = sidak(0.01, TESTS);
+
+    // Power of each emitter, computed here independently of the renderer: π A L for a
+    // one-sided area light, 4π I for a point light; in the renderer's emitter order
+    // (point lights first, then the scene's order).
+    let pi = std::f64::consts::PI;
+    let mut power = Vec::new();
+    for e in s
+        .emitters
+        .iter()
+        .filter(|e| matches!(e, Emitter::Point { .. }))
+    {
+        if let Emitter::Point { intensity, .. } = e {
+            power.push(4.0 * pi * luminance(*intensity));
+        }
+    }
+    let areas = [4.0, s.meshes[1].area() as f64, 4.0 * pi * 0.49];
+    for (e, area) in s
+        .emitters
+        .iter()
+        .filter(|e| matches!(e, Emitter::Area { .. }))
+        .zip(areas)
+    {
+        if let Emitter::Area { radiance } = e {
+            power.push(pi * area * luminance(*radiance));
+        }
+    }
+    let total: f64 = power.iter().sum();
+    let mut observed = vec![0.0; power.len()];
+    for p in &probes {
+        observed[p.emitter as usize] += 1.0;
+    }
+    let expected: Vec<f64> = power.iter().map(|w| w / total * N as f64).collect();
+    let r = chi2(&observed, &expected);
+    println!(
+        "emitter choice: observed {observed:?}, expected {expected:?}, p = {:.4}",
+        r.p_value
+    );
+    assert!(
+        r.p_value > level,
+        "emitters are not chosen by power: p = {:.3e}",
+        r.p_value
+    );
+
+    // Triangles of the fan (shape 1) by area, from the triangles the sampled
+    // directions hit.
+    let first = s.meshes[0].indices.len() as u32;
+    let mut tri = [0.0f64; 4];
+    for p in probes.iter().filter(|p| p.prim != NONE) {
+        let prim = bvh.prims[p.prim as usize];
+        if prim.shape == 1 {
+            tri[(prim.index - first) as usize] += 1.0;
+        }
+    }
+    let n: f64 = tri.iter().sum();
+    let fan = &s.meshes[1];
+    let area: Vec<f64> = fan
+        .indices
+        .iter()
+        .map(|t| {
+            let p = t.map(|i| fan.positions[i as usize]);
+            0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length() as f64
+        })
+        .collect();
+    assert_eq!(area.len(), 4);
+    let total_area: f64 = area.iter().sum();
+    let expected: Vec<f64> = area.iter().map(|a| a / total_area * n).collect();
+    let r = chi2(&tri, &expected);
+    println!(
+        "fan triangles: observed {tri:?}, expected {expected:?}, p = {:.4}",
+        r.p_value
+    );
+    assert!(
+        r.p_value > level,
+        "triangles are not chosen by area: p = {:.3e}",
+        r.p_value
+    );
+}
+
+#[test]
+fn density_on_a_hit_equals_the_density_of_sampling_it() {
+    let s = scene();
+    let bvh = Bvh::build(prims_from_scene(&s));
+    let records = SceneRecords::new(&s, &bvh);
+    let point = records
+        .emitters
+        .iter()
+        .position(|e| e.kind == wavetrace::gpu::layout::EMITTER_POINT)
+        .unwrap();
+    let mut checked = 0;
+    let mut mismatched = 0;
+    for p in probe(&s, &bvh, &records, Vec3::new(0.1, -0.2, 0.3)) {
+        assert!(p.pdf.is_finite() && p.pdf >= 0.0 && p.wi.is_finite());
+        if p.emitter as usize == point {
+            // A delta light: its choice probability, at its true distance.
+            assert_eq!(p.pdf, records.alias[point].pmf);
+            let d = (Vec3::new(0.0, 4.0, 0.0) - Vec3::new(0.1, -0.2, 0.3)).length();
+            assert!((p.dist - d).abs() < 1e-5 * d);
+            continue;
+        }
+        assert!(
+            p.pdf > 0.0,
+            "every area light faces the point: no sample may fail"
+        );
+        checked += 1;
+        if (p.pdf_hit - p.pdf).abs() > 1e-3 * p.pdf {
+            mismatched += 1;
+        }
+    }
+    // Directions grazing a sphere's rim can miss it in float arithmetic.
+    println!("{mismatched} of {checked} samples disagree");
+    assert!(checked > N as usize / 2);
+    assert!(
+        mismatched * 10_000 < checked,
+        "{mismatched} of {checked} samples: pdf at the hit != sampling pdf"
+    );
+}
+
+#[test]
+fn environment_density_matches_on_escape() {
+    let xml = r#"<scene version="3.0.0">
+    <sensor type="perspective"><film type="hdrfilm"><integer name="width" value="4"/><integer name="height" value="4"/></film></sensor>
+    <emitter type="constant"><rgb name="radiance" value="1"/></emitter>
+    <shape type="sphere"><point name="center" value="3, 0, 0"/><float name="radius" value="1"/>
+        <emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
+</scene>"#;
+    let s = common::load(&common::temp_file("emitters", "env.xml", xml));
+    let bvh = Bvh::build(prims_from_scene(&s));
+    let records = SceneRecords::new(&s, &bvh);
+    let env = records.env_emitter as usize;
+    let mut escaped = 0;
+    for p in probe(&s, &bvh, &records, Vec3::ZERO)
+        .iter()
+        .filter(|p| p.emitter as usize == env)
+    {
+        // Directions towards the sphere light hit it: the environment behind it is
+        // not where the ray ends.
+        if p.prim == NONE {
+            escaped += 1;
+            assert!(
+                (p.pdf_hit - p.pdf).abs() <= 1e-6 * p.pdf,
+                "{} vs {}",
+                p.pdf_hit,
+                p.pdf
+            );
+        }
+    }
+    assert!(
+        escaped > N / 10,
+        "only {escaped} environment samples escaped"
+    );
+}
