@@ -5,7 +5,7 @@
 
 #include "layout.glsl"
 
-#define WORKGROUP_SIZE 64
+#define WORKGROUP_SIZE 128
 layout(local_size_x = WORKGROUP_SIZE) in;
 
 layout(std430, set = 1, binding = 0) readonly buffer FrameBuffer { Frame frame; };

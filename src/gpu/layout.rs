@@ -317,7 +317,7 @@ pub struct Push {
 }
 
 /// Threads per workgroup of every wavefront kernel (`WORKGROUP_SIZE` in GLSL).
-pub const WORKGROUP_SIZE: u32 = 64;
+pub const WORKGROUP_SIZE: u32 = 128;
 
 #[cfg(test)]
 mod tests {
