@@ -32,6 +32,36 @@ struct SceneArgs {
     define: Vec<String>,
 }
 
+/// How to run a render, shared by `render` and `bench`.
+#[derive(clap::Args)]
+struct RunArgs {
+    /// Seed of the random numbers.
+    #[arg(long, default_value_t = 0)]
+    seed: u32,
+    /// Integrator, overriding the scene's: normals, ao, simple, direct_ems,
+    /// direct_mats, direct_mis (direct), path_mats, path_mis (path).
+    #[arg(long)]
+    integrator: Option<String>,
+    /// Vulkan device: index or part of its name (see `wavetrace devices`).
+    #[arg(long)]
+    device: Option<String>,
+    /// Most paths in flight per batch.
+    #[arg(long)]
+    batch: Option<u32>,
+}
+
+impl RunArgs {
+    fn options(self, timestamps: bool) -> (RenderOptions, Option<String>) {
+        let options = RenderOptions {
+            integrator: self.integrator,
+            seed: self.seed,
+            max_batch_paths: self.batch,
+            timestamps,
+        };
+        (options, self.device)
+    }
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Render a scene to a linear EXR and an sRGB PNG beside it.
@@ -44,18 +74,8 @@ enum Command {
         /// Samples per pixel (default: the scene's sampler).
         #[arg(long)]
         spp: Option<u32>,
-        /// Seed of the random numbers.
-        #[arg(long, default_value_t = 0)]
-        seed: u32,
-        /// Integrator, overriding the scene's (normals, ao, simple).
-        #[arg(long)]
-        integrator: Option<String>,
-        /// Vulkan device: index or part of its name (see `wavetrace devices`).
-        #[arg(long)]
-        device: Option<String>,
-        /// Most paths in flight per batch.
-        #[arg(long)]
-        batch: Option<u32>,
+        #[command(flatten)]
+        run: RunArgs,
         /// Print GPU time per kernel (timestamp queries).
         #[arg(long)]
         profile: bool,
@@ -77,18 +97,8 @@ enum Command {
         /// Also write everything measured as JSON to this file.
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
-        /// Seed of the random numbers.
-        #[arg(long, default_value_t = 0)]
-        seed: u32,
-        /// Integrator, overriding the scene's.
-        #[arg(long)]
-        integrator: Option<String>,
-        /// Vulkan device: index or part of its name (see `wavetrace devices`).
-        #[arg(long)]
-        device: Option<String>,
-        /// Most paths in flight per batch.
-        #[arg(long)]
-        batch: Option<u32>,
+        #[command(flatten)]
+        run: RunArgs,
         /// No progress bar.
         #[arg(short, long)]
         quiet: bool,
@@ -130,10 +140,7 @@ fn run(cli: Cli) -> Result<()> {
             scene,
             output,
             spp,
-            seed,
-            integrator,
-            device,
-            batch,
+            run,
             profile,
             quiet,
         } => {
@@ -145,14 +152,9 @@ fn run(cli: Cli) -> Result<()> {
                 bail!("--spp must be at least 1");
             }
             let output = output.unwrap_or_else(|| default_output(&scene.scene));
+            let (options, device) = run.options(profile);
             let device = Device::new(device.as_deref())?;
             eprintln!("device: {}", device.info());
-            let options = RenderOptions {
-                integrator,
-                seed,
-                max_batch_paths: batch,
-                timestamps: profile,
-            };
             let mut renderer = Renderer::new(&device, &sc, &options)?;
             let s = &renderer.setup;
             eprintln!(
@@ -226,25 +228,20 @@ fn run(cli: Cli) -> Result<()> {
             reference,
             spp,
             json,
-            seed,
-            integrator,
-            device,
-            batch,
+            run,
             quiet,
-        } => bench(
-            &scene,
-            &reference,
-            &spp,
-            json.as_deref(),
-            RenderOptions {
-                integrator,
-                seed,
-                max_batch_paths: batch,
-                timestamps: true,
-            },
-            device.as_deref(),
-            quiet,
-        ),
+        } => {
+            let (options, device) = run.options(true);
+            bench(
+                &scene,
+                &reference,
+                &spp,
+                json.as_deref(),
+                options,
+                device.as_deref(),
+                quiet,
+            )
+        }
         Command::Info { scene } => {
             let sc = load(&scene)?;
             print_info(&sc);
