@@ -12,20 +12,10 @@
 #include "integrator.glsl"
 #include "frame.glsl"
 #include "rng.glsl"
+#include "queue.glsl"
 
 // Balance heuristic weight of a strategy with density a against one with density b.
 float mis_balance(float a, float b) { return a / (a + b); }
-
-void path_push_shadow(vec3 origin, uint path, vec3 dir, float tmax, vec3 contribution) {
-    uint slot = atomicAdd(counters.shadow_count, 1u);
-    shadows[slot] = ShadowItem(origin, path, dir, tmax, contribution, 0u);
-}
-
-void path_push_ray(vec3 origin, uint path, vec3 dir) {
-    uint q = 1u - push.queue_in;
-    uint slot = atomicAdd(counters.ray_count[q], 1u);
-    rays[ray_slot(q, slot)] = RayItem(origin, path, dir, EMITTER_INFINITY);
-}
 
 // Shades ray r (path vertex number push.depth + 1) with its hit h.
 void path_shade(uint integrator, RayItem r, HitItem h) {
@@ -76,7 +66,7 @@ void path_shade(uint integrator, RayItem r, HitItem h) {
                 vec3 origin = surface_spawn_origin(s, dot(es.wi, s.ng) > 0.0 ? s.ng : -s.ng);
                 // Stop short of the light's own surface (PBR's shadow epsilon).
                 float tmax = isinf(es.dist) ? es.dist : length(s.p + es.wi * es.dist - origin) * (1.0 - 1e-4);
-                path_push_shadow(origin, r.path, es.wi, tmax, path.throughput * f * es.Le * (w / es.pdf));
+                queue_push_shadow(origin, r.path, es.wi, tmax, path.throughput * f * es.Le * (w / es.pdf));
             }
         }
     }
@@ -96,7 +86,7 @@ void path_shade(uint integrator, RayItem r, HitItem h) {
         paths[r.path].throughput = throughput;
         paths[r.path].bsdf_pdf = bs.pdf;
         paths[r.path].flags = (bs.flags & BSDF_FLAG_DELTA) != 0u ? PATH_DELTA : 0u;
-        path_push_ray(surface_spawn_origin(s, dot(wi, s.ng) > 0.0 ? s.ng : -s.ng), r.path, wi);
+        queue_push_ray(surface_spawn_origin(s, dot(wi, s.ng) > 0.0 ? s.ng : -s.ng), r.path, wi, EMITTER_INFINITY);
     }
 }
 
