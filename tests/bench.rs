@@ -2,23 +2,8 @@
 
 mod common;
 
-use std::process::Command;
-
-use common::{repo, temp_file};
+use common::{temp_file, wavetrace};
 use serde_json::Value;
-
-fn wavetrace(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_wavetrace"))
-        .current_dir(repo(""))
-        .args(args)
-        .output()
-        .expect("run wavetrace");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
 
 #[test]
 fn ao_bench_prints_a_table_and_writes_json() {

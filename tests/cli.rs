@@ -3,21 +3,7 @@
 
 mod common;
 
-use std::process::Command;
-
-use common::{repo, temp_file};
-
-fn wavetrace(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_wavetrace"))
-        .args(args)
-        .output()
-        .expect("run wavetrace");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::{repo, temp_file, wavetrace};
 
 fn assert_error(args: &[&str], needles: &[&str]) {
     let (code, _, err) = wavetrace(args);

@@ -15,6 +15,20 @@ pub fn device() -> Device {
         .expect("a Vulkan device (run tools/setup.sh)")
 }
 
+/// Runs the `wavetrace` binary in the repository root: (exit status, stdout, stderr).
+pub fn wavetrace(args: &[&str]) -> (i32, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_wavetrace"))
+        .current_dir(repo(""))
+        .args(args)
+        .output()
+        .expect("run wavetrace");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
 /// Path of a file in the repository.
 pub fn repo(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
