@@ -315,12 +315,10 @@ def main():
     args = ap.parse_args()
 
     spp = parse_spp(args.spp)
-    defines = {}
-    for d in args.defines:
-        name, eq, value = d.partition("=")
-        if not name or not eq:
-            die("-D expects NAME=VALUE, got %r" % d)
-        defines[name] = value
+    try:
+        defines = mitsuba_ref.parse_defines(args.defines)
+    except ValueError as e:
+        die(str(e))
     for path in (args.scene, args.ref):
         if not os.path.isfile(path):
             die("%s: no such file" % path)

@@ -50,6 +50,17 @@ import time
 import xml.etree.ElementTree as ET
 
 
+def parse_defines(items):
+    """`-D NAME=VALUE` arguments as a dict; ValueError names a malformed one."""
+    defines = {}
+    for d in items:
+        name, eq, value = d.partition("=")
+        if not name or not eq:
+            raise ValueError("-D expects NAME=VALUE, got %r" % d)
+        defines[name] = value
+    return defines
+
+
 def die(msg):
     sys.exit("mitsuba_ref.py: " + msg)
 
@@ -238,12 +249,10 @@ def main():
         tree = ET.parse(args.scene)
     except (OSError, ET.ParseError) as e:
         die("%s: %s" % (args.scene, e))
-    defines = {}
-    for d in args.defines:
-        name, eq, value = d.partition("=")
-        if not name or not eq:
-            die("-D expects NAME=VALUE, got %r" % d)
-        defines[name] = value
+    try:
+        defines = parse_defines(args.defines)
+    except ValueError as e:
+        die(str(e))
     if args.ao and args.integrator:
         die("--ao and --integrator exclude each other")
     root = tree.getroot()
