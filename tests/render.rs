@@ -22,6 +22,16 @@ fn scene(origin: &str, target: &str, up: &str, fov: f32, integrator: &str, shape
     )
 }
 
+/// Renders samples 0..spp of a scene written to a temporary file, default options.
+fn render_xml(test: &str, name: &str, xml: &str, spp: u32) -> wavetrace::image::Image {
+    render(
+        &device(),
+        &load(&temp_file(test, name, xml)),
+        &RenderOptions::default(),
+        spp,
+    )
+}
+
 const GROUND: &str = r#"<shape type="rectangle"><transform name="to_world"><scale value="100"/></transform>
         <bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf></shape>"#;
 
@@ -35,8 +45,7 @@ fn ao_of_an_open_plane_is_exactly_one_with_cosine_sampling() {
         r#"<integrator type="ao"/>"#,
         GROUND,
     );
-    let s = load(&temp_file("ao_plane", "scene.xml", &xml));
-    let img = render(&device(), &s, &RenderOptions::default(), 4);
+    let img = render_xml("ao_plane", "scene.xml", &xml, 4);
     // cos θ / π over the cosine pdf cos θ / π is exactly 1 for every unoccluded sample.
     for (i, v) in img.rgb.iter().enumerate() {
         assert!((v - 1.0).abs() < 1e-6, "value {v} at {i}");
@@ -48,8 +57,7 @@ fn ao_of_an_open_plane_averages_one_with_uniform_sampling() {
     let integrator =
         r#"<integrator type="ao"><string name="sampling" value="uniform"/></integrator>"#;
     let xml = scene("0, 0, 5", "0, 0, 0", "0, 1, 0", 40.0, integrator, GROUND);
-    let s = load(&temp_file("ao_uniform", "scene.xml", &xml));
-    let img = render(&device(), &s, &RenderOptions::default(), 64);
+    let img = render_xml("ao_uniform", "scene.xml", &xml, 64);
     // Estimator 2 cos θ under uniform sampling: mean 1, variance 4/3 - 1 = 1/3. Over
     // 32*32*64 samples the mean's standard deviation is 0.0023; allow 5 of them.
     let m = mean(&img);
@@ -76,8 +84,7 @@ fn ao_next_to_a_large_wall_is_one_half() {
         r#"<integrator type="ao"/>"#,
         &format!("{wall}{floor}"),
     );
-    let s = load(&temp_file("ao_wall", "scene.xml", &xml));
-    let img = render(&device(), &s, &RenderOptions::default(), 64);
+    let img = render_xml("ao_wall", "scene.xml", &xml, 64);
     // 32*32*64 binary-ish samples of mean 1/2: sd of the mean < 0.002; the finite wall
     // (1000 units at distance < 1) lets through less than 0.1%.
     let m = mean(&img);
@@ -96,12 +103,7 @@ fn ao_inside_a_closed_box_is_black_unless_max_t_limits_occluders() {
         r#"<integrator type="ao"/>"#,
         cube,
     );
-    let img = render(
-        &device(),
-        &load(&temp_file("ao_box", "dark.xml", &dark)),
-        &RenderOptions::default(),
-        4,
-    );
+    let img = render_xml("ao_box", "dark.xml", &dark, 4);
     assert_eq!(
         mean(&img),
         0.0,
@@ -109,12 +111,7 @@ fn ao_inside_a_closed_box_is_black_unless_max_t_limits_occluders() {
     );
     let limited = r#"<integrator type="ao"><float name="max_t" value="0.5"/></integrator>"#;
     let lit = scene("0, 0, 0", "0, 0, 1", "0, 1, 0", 60.0, limited, cube);
-    let img = render(
-        &device(),
-        &load(&temp_file("ao_box", "lit.xml", &lit)),
-        &RenderOptions::default(),
-        16,
-    );
+    let img = render_xml("ao_box", "lit.xml", &lit, 16);
     // Far from edges nothing lies within 0.5 of the wall: the centre pixel is 1.
     assert!((pixel(&img, 16, 16)[0] - 1.0).abs() < 1e-6);
     assert!(mean(&img) > 0.9, "mean {}", mean(&img));
@@ -134,12 +131,7 @@ fn simple_point_light_follows_the_inverse_square_cosine_law() {
         r#"<integrator type="simple"/>"#,
         &format!("{GROUND}{light}"),
     );
-    let img = render(
-        &device(),
-        &load(&temp_file("simple", "scene.xml", &xml)),
-        &RenderOptions::default(),
-        4,
-    );
+    let img = render_xml("simple", "scene.xml", &xml, 4);
     let expected = 0.5 / std::f32::consts::PI * 8.0 / 4.0;
     let c = pixel(&img, 16, 16)[0];
     // The pixel covers a 0.0027-wide patch: cos θ / d² varies by < 1e-5 over it.
@@ -160,12 +152,7 @@ fn camera_keeps_world_left_on_the_image_left() {
         r#"<integrator type="simple"/>"#,
         &format!("{GROUND}{light}"),
     );
-    let img = render(
-        &device(),
-        &load(&temp_file("orient", "scene.xml", &xml)),
-        &RenderOptions::default(),
-        1,
-    );
+    let img = render_xml("orient", "scene.xml", &xml, 1);
     let (l, r) = (pixel(&img, 2, 16)[0], pixel(&img, 29, 16)[0]);
     assert!(
         r > 10.0 * l,
@@ -181,12 +168,7 @@ fn camera_keeps_world_left_on_the_image_left() {
         r#"<integrator type="simple"/>"#,
         &format!("{GROUND}{light}"),
     );
-    let img = render(
-        &device(),
-        &load(&temp_file("orient", "scene_y.xml", &xml)),
-        &RenderOptions::default(),
-        1,
-    );
+    let img = render_xml("orient", "scene_y.xml", &xml, 1);
     let (t, b) = (pixel(&img, 16, 2)[0], pixel(&img, 16, 29)[0]);
     assert!(
         t > 10.0 * b,
@@ -204,12 +186,7 @@ fn normals_of_a_plane_facing_the_camera_are_plus_z() {
         r#"<integrator type="normals"/>"#,
         GROUND,
     );
-    let img = render(
-        &device(),
-        &load(&temp_file("normals", "scene.xml", &xml)),
-        &RenderOptions::default(),
-        1,
-    );
+    let img = render_xml("normals", "scene.xml", &xml, 1);
     for p in img.rgb.chunks(3) {
         assert!(
             p[0].abs() < 1e-5 && p[1].abs() < 1e-5 && (p[2] - 1.0).abs() < 1e-5,
