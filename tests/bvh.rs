@@ -7,9 +7,9 @@ use glam::{Vec2, Vec3};
 use wavetrace::accel::{brute_force_closest, prims_from_shapes, Bvh};
 use wavetrace::gpu::layout::HitItem;
 use wavetrace::gpu::{
-    shaders, BindingLayout, Buffer, CommandList, DescriptorSet, Kernel, Location,
+    shaders, BindingKind, BindingLayout, Buffer, CommandList, DescriptorSet, Kernel, Location,
 };
-use wavetrace::render::scene_buffers::{SceneBuffers, SceneRecords, SCENE_BINDINGS};
+use wavetrace::render::scene_buffers::{scene_binding_kinds, SceneBuffers, SceneRecords};
 use wavetrace::scene::{Mesh, Sphere};
 
 /// `QueryRay` of shaders/tests/bvh_query.comp.
@@ -25,7 +25,12 @@ struct QueryRay {
 /// Runs closest- and any-hit queries for `rays` on the GPU.
 fn gpu_queries(bvh: &Bvh, rays: &[QueryRay]) -> (Vec<HitItem>, Vec<u32>) {
     let device = common::device();
-    let layout = BindingLayout::new(&device, &[SCENE_BINDINGS, 3], 4).unwrap();
+    let layout = BindingLayout::with_kinds(
+        &device,
+        &[scene_binding_kinds(), vec![BindingKind::Storage; 3]],
+        4,
+    )
+    .unwrap();
     let scene = SceneBuffers::upload(&device, &layout, bvh, &SceneRecords::default()).unwrap();
     let queries = Buffer::from_slice(&device, "queries", rays).unwrap();
     let closest = Buffer::new(&device, "closest", (rays.len() * 16) as u64, Location::Gpu).unwrap();

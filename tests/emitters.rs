@@ -11,9 +11,9 @@ use glam::Vec3;
 use wavetrace::accel::{prims_from_scene, Bvh};
 use wavetrace::gpu::layout::{Frame, NONE};
 use wavetrace::gpu::{
-    shaders, BindingLayout, Buffer, CommandList, DescriptorSet, Kernel, Location,
+    shaders, BindingKind, BindingLayout, Buffer, CommandList, DescriptorSet, Kernel, Location,
 };
-use wavetrace::render::scene_buffers::{SceneBuffers, SceneRecords, SCENE_BINDINGS};
+use wavetrace::render::scene_buffers::{scene_binding_kinds, SceneBuffers, SceneRecords};
 use wavetrace::scene::{Emitter, Scene};
 
 const N: u32 = 200_000;
@@ -32,7 +32,12 @@ struct Probe {
 /// Samples N emitter points from `x` on the GPU.
 fn probe(scene: &Scene, bvh: &Bvh, records: &SceneRecords, x: Vec3) -> Vec<Probe> {
     let device = common::device();
-    let layout = BindingLayout::new(&device, &[SCENE_BINDINGS, 2], 20).unwrap();
+    let layout = BindingLayout::with_kinds(
+        &device,
+        &[scene_binding_kinds(), vec![BindingKind::Storage; 2]],
+        20,
+    )
+    .unwrap();
     let buffers = SceneBuffers::upload(&device, &layout, bvh, records).unwrap();
     let frame = Frame {
         emitter_count: records.emitters.len() as u32,

@@ -2,7 +2,7 @@
 // for step; the layout is BvhNode / Prim from layout.glsl (Aila, Laine 2009: both
 // children's boxes in the parent; count == 0: inner node, count > 0: leaf).
 //
-// The including kernel must include scene_bindings.glsl (bvh_nodes[], prims[]) first.
+// The including kernel must include scene_bindings.glsl (bvh_node_load, prim_load) first.
 // Optional: #define BVH_HAS_SPHERES to a bool constant (e.g. a specialization constant)
 // before including, so triangle-only scenes compile the sphere test out.
 #ifndef BVH_GLSL
@@ -88,7 +88,7 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, bool any_hit) {
         uint index = item >> BVH_COUNT_BITS;
         uint count = item & BVH_COUNT_MASK;
         if (count == 0u) {
-            BvhNode n = bvh_nodes[index];
+            BvhNode n = bvh_node_load(index);
             float tl, tr_;
             bool hit_l = bvh_slab(r, n.left_min, n.left_max, tmin, hit.t, tl);
             bool hit_r = bvh_slab(r, n.right_min, n.right_max, tmin, hit.t, tr_);
@@ -106,7 +106,7 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, bool any_hit) {
             }
         } else {
             for (uint i = index; i < index + count; i++) {
-                Prim p = prims[i];
+                Prim p = prim_load(i);
                 float t;
                 float u = 0.0;
                 float v = 0.0;

@@ -5,8 +5,10 @@
 
 #include "layout.glsl"
 
-layout(std430, set = 0, binding = 0) readonly buffer BvhNodeBuffer { BvhNode bvh_nodes[]; };
-layout(std430, set = 0, binding = 1) readonly buffer PrimBuffer { Prim prims[]; };
+// BVH nodes and primitives are texel buffers (BindingKind::Texels in src/gpu/kernel.rs):
+// 4 and 3 uvec4 texels a record, read through bvh_node_load / prim_load below.
+layout(set = 0, binding = 0) uniform usamplerBuffer bvh_node_texels;
+layout(set = 0, binding = 1) uniform usamplerBuffer prim_texels;
 layout(std430, set = 0, binding = 2) readonly buffer ShapeBuffer { ShapeRecord shapes[]; };
 layout(std430, set = 0, binding = 3) readonly buffer TriangleBuffer { TriangleRecord triangles[]; };
 layout(std430, set = 0, binding = 4) readonly buffer VertexBuffer { Vertex vertices[]; };
@@ -14,5 +16,23 @@ layout(std430, set = 0, binding = 5) readonly buffer BsdfBuffer { BsdfRecord bsd
 layout(std430, set = 0, binding = 6) readonly buffer EmitterBuffer { EmitterRecord emitters[]; };
 // Emitter alias table at [0, emitter_count), then each mesh emitter's triangle table.
 layout(std430, set = 0, binding = 7) readonly buffer AliasBuffer { AliasEntry alias_table[]; };
+
+BvhNode bvh_node_load(uint i) {
+    int base = int(4u * i);
+    uvec4 a = texelFetch(bvh_node_texels, base);
+    uvec4 b = texelFetch(bvh_node_texels, base + 1);
+    uvec4 c = texelFetch(bvh_node_texels, base + 2);
+    uvec4 d = texelFetch(bvh_node_texels, base + 3);
+    return BvhNode(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w,
+                   uintBitsToFloat(c.xyz), c.w, uintBitsToFloat(d.xyz), d.w);
+}
+
+Prim prim_load(uint i) {
+    int base = int(3u * i);
+    uvec4 a = texelFetch(prim_texels, base);
+    uvec4 b = texelFetch(prim_texels, base + 1);
+    uvec4 c = texelFetch(prim_texels, base + 2);
+    return Prim(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w, uintBitsToFloat(c.xyz), c.w);
+}
 
 #endif

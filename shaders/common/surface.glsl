@@ -22,7 +22,7 @@ struct Surface {
 // Spheres are re-projected onto their surface. Normals follow the primitive's
 // orientation (counter-clockwise front, or outwards), flipped by SHAPE_FLIP_NORMALS.
 Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, float t) {
-    Prim prim = prims[prim_index];
+    Prim prim = prim_load(prim_index);
     ShapeRecord shape = shapes[prim.shape];
     Surface s;
     s.shape = prim.shape;

@@ -40,6 +40,12 @@ pub enum Error {
     },
     #[error("invalid SPIR-V for kernel '{0}'")]
     BadSpirv(String),
+    #[error("descriptor set {set} has {expected} bindings but {got} buffers were given")]
+    BindingCount {
+        set: u32,
+        expected: usize,
+        got: usize,
+    },
 }
 
 /// Result alias of the GPU layer.

@@ -8,9 +8,31 @@ use super::buffer::Buffer;
 use super::device::{Device, Inner};
 use super::error::{Error, Result, VkContext};
 
+/// What a binding holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BindingKind {
+    /// A storage buffer (`buffer` block in GLSL), read and written by any access.
+    Storage,
+    /// A read-only buffer of 16-byte texels (`usamplerBuffer`, fetched with
+    /// `texelFetch` as `uvec4`). For records read at scattered addresses in hot loops:
+    /// llvmpipe compiles a divergent storage-buffer load into a loop over the SIMD lanes
+    /// with a branch per lane, a texel fetch into one unrolled gather.
+    Texels,
+}
+
+impl BindingKind {
+    fn descriptor_type(self) -> vk::DescriptorType {
+        match self {
+            BindingKind::Storage => vk::DescriptorType::STORAGE_BUFFER,
+            BindingKind::Texels => vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
+        }
+    }
+}
+
 struct LayoutInner {
     device: Arc<Inner>,
     set_layouts: Vec<vk::DescriptorSetLayout>,
+    kinds: Vec<Vec<BindingKind>>,
     pipeline_layout: vk::PipelineLayout,
     push_bytes: u32,
 }
@@ -29,23 +51,39 @@ impl Drop for LayoutInner {
     }
 }
 
-/// The resource interface kernels share: descriptor sets made only of storage
-/// buffers (`set_sizes[s]` bindings in set `s`) and a push-constant block.
+/// The resource interface kernels share: descriptor sets of buffers and a
+/// push-constant block.
 #[derive(Clone)]
 pub struct BindingLayout {
     inner: Arc<LayoutInner>,
 }
 
 impl BindingLayout {
+    /// Sets made only of storage buffers, `set_sizes[s]` bindings in set `s`.
     pub fn new(device: &Device, set_sizes: &[u32], push_bytes: u32) -> Result<BindingLayout> {
+        let kinds: Vec<Vec<BindingKind>> = set_sizes
+            .iter()
+            .map(|&n| vec![BindingKind::Storage; n as usize])
+            .collect();
+        BindingLayout::with_kinds(device, &kinds, push_bytes)
+    }
+
+    /// Set `s` has binding `b` of kind `kinds[s][b]`.
+    pub fn with_kinds(
+        device: &Device,
+        kinds: &[Vec<BindingKind>],
+        push_bytes: u32,
+    ) -> Result<BindingLayout> {
         let raw = device.raw();
         let mut set_layouts = Vec::new();
-        for &n in set_sizes {
-            let bindings: Vec<_> = (0..n)
-                .map(|b| {
+        for set in kinds {
+            let bindings: Vec<_> = set
+                .iter()
+                .enumerate()
+                .map(|(b, kind)| {
                     vk::DescriptorSetLayoutBinding::default()
-                        .binding(b)
-                        .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
+                        .binding(b as u32)
+                        .descriptor_type(kind.descriptor_type())
                         .descriptor_count(1)
                         .stage_flags(vk::ShaderStageFlags::COMPUTE)
                 })
@@ -91,6 +129,7 @@ impl BindingLayout {
             inner: Arc::new(LayoutInner {
                 device: device.inner.clone(),
                 set_layouts,
+                kinds: kinds.to_vec(),
                 pipeline_layout,
                 push_bytes,
             }),
@@ -102,10 +141,12 @@ impl BindingLayout {
     }
 }
 
-/// One descriptor set: `buffers[i]` at binding `i` of set `set` of a layout.
+/// One descriptor set: `buffers[i]` at binding `i` of set `set` of a layout, as the
+/// layout's kind of that binding says (texel bindings get a view of the whole buffer).
 pub struct DescriptorSet {
     layout: Arc<LayoutInner>,
     pool: vk::DescriptorPool,
+    views: Vec<vk::BufferView>,
     pub(crate) raw: vk::DescriptorSet,
     pub(crate) set: u32,
 }
@@ -114,10 +155,23 @@ impl DescriptorSet {
     pub fn new(layout: &BindingLayout, set: u32, buffers: &[&Buffer]) -> Result<DescriptorSet> {
         let inner = &layout.inner;
         let raw_dev = &inner.device.raw;
-        let count = buffers.len().max(1) as u32;
-        let sizes = [vk::DescriptorPoolSize::default()
-            .ty(vk::DescriptorType::STORAGE_BUFFER)
-            .descriptor_count(count)];
+        let kinds = &inner.kinds[set as usize];
+        if kinds.len() != buffers.len() {
+            return Err(Error::BindingCount {
+                set,
+                expected: kinds.len(),
+                got: buffers.len(),
+            });
+        }
+        let count_of = |k: BindingKind| kinds.iter().filter(|&&x| x == k).count().max(1) as u32;
+        let sizes = [
+            vk::DescriptorPoolSize::default()
+                .ty(vk::DescriptorType::STORAGE_BUFFER)
+                .descriptor_count(count_of(BindingKind::Storage)),
+            vk::DescriptorPoolSize::default()
+                .ty(vk::DescriptorType::UNIFORM_TEXEL_BUFFER)
+                .descriptor_count(count_of(BindingKind::Texels)),
+        ];
         let info = vk::DescriptorPoolCreateInfo::default()
             .max_sets(1)
             .pool_sizes(&sizes);
@@ -140,6 +194,29 @@ impl DescriptorSet {
                 });
             }
         };
+        let mut result = DescriptorSet {
+            layout: inner.clone(),
+            pool,
+            views: Vec::new(),
+            raw,
+            set,
+        };
+        let mut views = vec![[vk::BufferView::null()]; buffers.len()];
+        for (i, b) in buffers.iter().enumerate() {
+            if kinds[i] == BindingKind::Texels {
+                let info = vk::BufferViewCreateInfo::default()
+                    .buffer(b.raw)
+                    .format(vk::Format::R32G32B32A32_UINT)
+                    .offset(0)
+                    .range(vk::WHOLE_SIZE);
+                // SAFETY: a live buffer created with UNIFORM_TEXEL_BUFFER usage; the view
+                // is destroyed with the set (dropping `result` on error).
+                let view =
+                    unsafe { raw_dev.create_buffer_view(&info, None) }.vk("vkCreateBufferView")?;
+                result.views.push(view);
+                views[i] = [view];
+            }
+        }
         let infos: Vec<[vk::DescriptorBufferInfo; 1]> = buffers
             .iter()
             .map(|b| {
@@ -153,32 +230,31 @@ impl DescriptorSet {
             .iter()
             .enumerate()
             .map(|(i, info)| {
-                vk::WriteDescriptorSet::default()
+                let w = vk::WriteDescriptorSet::default()
                     .dst_set(raw)
                     .dst_binding(i as u32)
-                    .descriptor_type(vk::DescriptorType::STORAGE_BUFFER)
-                    .buffer_info(info)
+                    .descriptor_type(kinds[i].descriptor_type());
+                match kinds[i] {
+                    BindingKind::Storage => w.buffer_info(info),
+                    BindingKind::Texels => w.texel_buffer_view(&views[i]),
+                }
             })
             .collect();
-        // SAFETY: writes reference live buffers and this set.
+        // SAFETY: writes reference live buffers, views and this set.
         unsafe { raw_dev.update_descriptor_sets(&writes, &[]) };
-        Ok(DescriptorSet {
-            layout: inner.clone(),
-            pool,
-            raw,
-            set,
-        })
+        Ok(result)
     }
 }
 
 impl Drop for DescriptorSet {
     fn drop(&mut self) {
+        let raw = &self.layout.device.raw;
         // SAFETY: callers wait for GPU work before dropping sets it uses.
         unsafe {
-            self.layout
-                .device
-                .raw
-                .destroy_descriptor_pool(self.pool, None)
+            raw.destroy_descriptor_pool(self.pool, None);
+            for &v in &self.views {
+                raw.destroy_buffer_view(v, None);
+            }
         };
     }
 }

@@ -15,4 +15,4 @@ pub use buffer::{Buffer, Location};
 pub use command::{CommandList, KernelTimes};
 pub use device::{Device, DeviceInfo, DeviceKind};
 pub use error::{Error, Result};
-pub use kernel::{BindingLayout, DescriptorSet, Kernel};
+pub use kernel::{BindingKind, BindingLayout, DescriptorSet, Kernel};

@@ -19,11 +19,11 @@ use std::time::Instant;
 
 use crate::accel::{self, Bvh, BvhStats};
 use crate::gpu::layout::{Counters, Frame, Push, WORKGROUP_SIZE};
-use crate::gpu::{shaders, BindingLayout, CommandList, Device, Kernel, KernelTimes};
+use crate::gpu::{shaders, BindingKind, BindingLayout, CommandList, Device, Kernel, KernelTimes};
 use crate::image::Image;
 use crate::scene::Scene;
 
-use scene_buffers::{SceneBuffers, SceneRecords, SCENE_BINDINGS};
+use scene_buffers::{scene_binding_kinds, SceneBuffers, SceneRecords};
 use wavefront::{Wavefront, BYTES_PER_PATH, WAVEFRONT_BINDINGS};
 
 /// How to render, beyond what the scene says.
@@ -126,9 +126,12 @@ impl Renderer {
         let records = SceneRecords::new(scene, &bvh);
 
         let t = Instant::now();
-        let layout = BindingLayout::new(
+        let layout = BindingLayout::with_kinds(
             device,
-            &[SCENE_BINDINGS, WAVEFRONT_BINDINGS],
+            &[
+                scene_binding_kinds(),
+                vec![BindingKind::Storage; WAVEFRONT_BINDINGS as usize],
+            ],
             std::mem::size_of::<Push>() as u32,
         )?;
         let scene_buffers = SceneBuffers::upload(device, &layout, &bvh, &records)?;

@@ -9,13 +9,25 @@ use crate::gpu::layout::{
     EMITTER_CONSTANT, EMITTER_POINT, EMITTER_SPOT, NONE, PRIM_TRIANGLE, SHAPE_FLIP_NORMALS,
     SHAPE_HAS_NORMALS, SHAPE_HAS_UVS,
 };
-use crate::gpu::{BindingLayout, Buffer, DescriptorSet, Device};
+use crate::gpu::{BindingKind, BindingLayout, Buffer, DescriptorSet, Device};
 use crate::scene::{Emitter, Scene};
 
 use super::error::Result;
 
 /// Bindings of set 0, in order.
 pub const SCENE_BINDINGS: u32 = 8;
+
+/// The kind of each binding of set 0: the BVH nodes and primitives, read at scattered
+/// addresses in every traversal step, are texel buffers (see [`BindingKind::Texels`]);
+/// the rest are storage buffers.
+pub fn scene_binding_kinds() -> Vec<BindingKind> {
+    (0..SCENE_BINDINGS)
+        .map(|b| match b {
+            0 | 1 => BindingKind::Texels,
+            _ => BindingKind::Storage,
+        })
+        .collect()
+}
 
 /// Host-side records of a scene, before upload. Built without a GPU so it can be
 /// tested and inspected.
