@@ -15,7 +15,7 @@ void main() {
     float n = 0.0;
     uint dropped = 0u;
     for (uint p = t; p < push.path_count; p += pixels) {
-        vec3 L = paths[p].radiance;
+        vec3 L = path_load(p).radiance;
         if (any(isnan(L)) || any(isinf(L))) {
             dropped += 1u;
         } else {
@@ -23,7 +23,7 @@ void main() {
             n += 1.0;
         }
     }
-    uint pixel = paths[t].pixel;
+    uint pixel = path_load(t).pixel;
     film[pixel] += vec4(sum, n);
     if (dropped != 0u) atomicAdd(counters.discarded, dropped);
 }

@@ -14,7 +14,7 @@ layout(constant_id = 0) const bool SCENE_HAS_SPHERES = true;
 void main() {
     uint i = thread_index();
     if (i >= counters.ray_count[push.queue_in]) return;
-    RayItem r = rays[ray_slot(push.queue_in, i)];
+    RayItem r = ray_load(ray_slot(push.queue_in, i));
     Hit h = bvh_closest(r.origin, r.dir, 0.0, r.tmax);
-    hits[i] = HitItem(h.t, h.u, h.v, h.prim);
+    hit_store(i, HitItem(h.t, h.u, h.v, h.prim));
 }

@@ -20,8 +20,8 @@ layout(constant_id = 0) const uint INTEGRATOR = INTEGRATOR_AO;
 void main() {
     uint i = thread_index();
     if (i >= counters.ray_count[push.queue_in]) return;
-    RayItem r = rays[ray_slot(push.queue_in, i)];
-    HitItem h = hits[i];
+    RayItem r = ray_load(ray_slot(push.queue_in, i));
+    HitItem h = hit_load(i);
     if (INTEGRATOR >= INTEGRATOR_DIRECT_EMS) {
         path_shade(INTEGRATOR, r, h);
     } else {

@@ -16,8 +16,10 @@ layout(constant_id = 0) const bool SCENE_HAS_SPHERES = true;
 void main() {
     uint i = thread_index();
     if (i >= counters.shadow_count) return;
-    ShadowItem s = shadows[i];
+    ShadowItem s = shadow_load(i);
     if (!bvh_any(s.origin, s.dir, 0.0, s.tmax)) {
-        paths[s.path].radiance += s.contribution;
+        PathState p = path_load(s.path);
+        p.radiance += s.contribution;
+        path_store_radiance(s.path, p);
     }
 }

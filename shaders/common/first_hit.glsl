@@ -14,10 +14,11 @@
 
 void first_hit_shade(uint integrator, RayItem r, HitItem h) {
     if (h.prim == NONE) return;
-    PathState path = paths[r.path];
+    PathState path = path_load(r.path);
     Surface s = surface_at(h.prim, h.u, h.v, r.origin, r.dir, h.t);
     if (integrator == INTEGRATOR_NORMALS) {
-        paths[r.path].radiance += abs(s.ns); // before facing the viewer
+        path.radiance += abs(s.ns); // before facing the viewer
+        path_store_radiance(r.path, path);
         return;
     }
     surface_face(s, -r.dir);
@@ -39,7 +40,7 @@ void first_hit_shade(uint integrator, RayItem r, HitItem h) {
         vec3 wi = to_light * inversesqrt(d2);
         float cos_theta = dot(s.ns, wi);
         if (cos_theta <= 0.0 || dot(s.ng, wi) <= 0.0 || !(d2 > 0.0)) return;
-        vec3 f = bsdfs[shapes[s.shape].bsdf].reflectance * INV_PI;
+        vec3 f = bsdfs[shape_load(s.shape).bsdf].reflectance * INV_PI;
         vec3 origin = surface_spawn_origin(s, s.ng);
         queue_push_shadow(origin, r.path, wi, length(light.position - origin) * (1.0 - 1e-5),
                           path.throughput * f * light.radiance * (cos_theta / d2) * float(count));

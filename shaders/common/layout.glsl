@@ -127,7 +127,8 @@ struct AliasEntry {
     uint prim;
 };
 
-// Constant over a render.
+// Constant over a render. Bound as a std140 uniform block, which lays it out as
+// std430 does only while it has no arrays of scalars or of vec2.
 struct Frame {
     mat4 camera_to_world;
     vec2 tan_half_fov;

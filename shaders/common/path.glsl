@@ -25,7 +25,7 @@ void path_shade(uint integrator, RayItem r, HitItem h) {
     bool mis = integrator == INTEGRATOR_DIRECT_MIS || integrator == INTEGRATOR_PATH_MIS;
     bool path_tracer = integrator == INTEGRATOR_PATH_MATS || integrator == INTEGRATOR_PATH_MIS;
 
-    PathState path = paths[r.path];
+    PathState path = path_load(r.path);
     uint depth = push.depth;
     // Emission found by this ray counts for camera rays (unless hidden) and for rays
     // that BSDF sampling chose; with MIS it is weighted against emitter sampling,
@@ -36,17 +36,19 @@ void path_shade(uint integrator, RayItem r, HitItem h) {
     if (h.prim == NONE) {
         if (count_emission && frame.env_emitter != NONE) {
             float w = weigh ? mis_balance(path.bsdf_pdf, emitter_pdf_env()) : 1.0;
-            paths[r.path].radiance += path.throughput * emitters[frame.env_emitter].radiance * w;
+            path.radiance += path.throughput * emitters[frame.env_emitter].radiance * w;
+            path_store_radiance(r.path, path);
         }
         return;
     }
 
     Surface s = surface_at(h.prim, h.u, h.v, r.origin, r.dir, h.t);
-    ShapeRecord shape = shapes[s.shape];
+    ShapeRecord shape = shape_load(s.shape);
     if (count_emission && shape.emitter != NONE) {
         vec3 Le = emitter_area_radiance(emitters[shape.emitter], s.ng, r.dir);
         float w = weigh ? mis_balance(path.bsdf_pdf, emitter_pdf_hit(shape.emitter, r.origin, r.dir, h.t, s.ng)) : 1.0;
-        paths[r.path].radiance += path.throughput * Le * w;
+        path.radiance += path.throughput * Le * w;
+        path_store_radiance(r.path, path);
     }
 
     // A longer path must fit in max_depth segments (this vertex ends segment depth+1).
@@ -83,9 +85,10 @@ void path_shade(uint integrator, RayItem r, HitItem h) {
             throughput /= q;
         }
         vec3 wi = frame_to_world(s.ns, bs.wi);
-        paths[r.path].throughput = throughput;
-        paths[r.path].bsdf_pdf = bs.pdf;
-        paths[r.path].flags = (bs.flags & BSDF_FLAG_DELTA) != 0u ? PATH_DELTA : 0u;
+        path.throughput = throughput;
+        path.bsdf_pdf = bs.pdf;
+        path.flags = (bs.flags & BSDF_FLAG_DELTA) != 0u ? PATH_DELTA : 0u;
+        path_store(r.path, path);
         queue_push_ray(surface_spawn_origin(s, dot(wi, s.ng) > 0.0 ? s.ng : -s.ng), r.path, wi, EMITTER_INFINITY);
     }
 }

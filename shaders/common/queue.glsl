@@ -5,14 +5,14 @@
 // A shadow ray: if nothing blocks it within tmax, `contribution` joins its path.
 void queue_push_shadow(vec3 origin, uint path, vec3 dir, float tmax, vec3 contribution) {
     uint slot = atomicAdd(counters.shadow_count, 1u);
-    shadows[slot] = ShadowItem(origin, path, dir, tmax, contribution, 0u);
+    shadow_store(slot, ShadowItem(origin, path, dir, tmax, contribution, 0u));
 }
 
 // A ray continuing `path`, for the next bounce (the other ray queue).
 void queue_push_ray(vec3 origin, uint path, vec3 dir, float tmax) {
     uint q = 1u - push.queue_in;
     uint slot = atomicAdd(counters.ray_count[q], 1u);
-    rays[ray_slot(q, slot)] = RayItem(origin, path, dir, tmax);
+    ray_store(ray_slot(q, slot), RayItem(origin, path, dir, tmax));
 }
 
 #endif

@@ -5,13 +5,17 @@
 
 #include "layout.glsl"
 
-// BVH nodes and primitives are texel buffers (BindingKind::Texels in src/gpu/kernel.rs):
-// 4 and 3 uvec4 texels a record, read through bvh_node_load / prim_load below.
+// BVH nodes and primitives are texel buffers (BindingKind::Texels in src/gpu/kernel.rs:
+// llvmpipe gathers a texel fetch at scattered addresses much faster than it loads from
+// a storage buffer): 4 and 3 uvec4 texels a record, read through bvh_node_load and
+// prim_load below.
 layout(set = 0, binding = 0) uniform usamplerBuffer bvh_node_texels;
 layout(set = 0, binding = 1) uniform usamplerBuffer prim_texels;
-layout(std430, set = 0, binding = 2) readonly buffer ShapeBuffer { ShapeRecord shapes[]; };
-layout(std430, set = 0, binding = 3) readonly buffer TriangleBuffer { TriangleRecord triangles[]; };
-layout(std430, set = 0, binding = 4) readonly buffer VertexBuffer { Vertex vertices[]; };
+// Shapes (one texel each), triangles and vertices (4-byte texels) likewise: read them
+// with shape_load, triangle_load and vertex_load.
+layout(set = 0, binding = 2) uniform usamplerBuffer shape_texels;
+layout(set = 0, binding = 3) uniform usamplerBuffer triangle_words;
+layout(set = 0, binding = 4) uniform usamplerBuffer vertex_words;
 layout(std430, set = 0, binding = 5) readonly buffer BsdfBuffer { BsdfRecord bsdfs[]; };
 layout(std430, set = 0, binding = 6) readonly buffer EmitterBuffer { EmitterRecord emitters[]; };
 // Emitter alias table at [0, emitter_count), then each mesh emitter's triangle table.
@@ -33,6 +37,24 @@ Prim prim_load(uint i) {
     uvec4 b = texelFetch(prim_texels, base + 1);
     uvec4 c = texelFetch(prim_texels, base + 2);
     return Prim(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w, uintBitsToFloat(c.xyz), c.w);
+}
+
+ShapeRecord shape_load(uint i) {
+    uvec4 w = texelFetch(shape_texels, int(i));
+    return ShapeRecord(w.x, w.y, w.z, w.w);
+}
+
+TriangleRecord triangle_load(uint i) {
+    int b = int(3u * i);
+    return TriangleRecord(texelFetch(triangle_words, b).x, texelFetch(triangle_words, b + 1).x,
+                          texelFetch(triangle_words, b + 2).x);
+}
+
+Vertex vertex_load(uint i) {
+    int b = int(5u * i);
+    return Vertex(uintBitsToFloat(texelFetch(vertex_words, b).x), uintBitsToFloat(texelFetch(vertex_words, b + 1).x),
+                  uintBitsToFloat(texelFetch(vertex_words, b + 2).x), uintBitsToFloat(texelFetch(vertex_words, b + 3).x),
+                  uintBitsToFloat(texelFetch(vertex_words, b + 4).x));
 }
 
 #endif

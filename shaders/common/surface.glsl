@@ -23,7 +23,7 @@ struct Surface {
 // orientation (counter-clockwise front, or outwards), flipped by SHAPE_FLIP_NORMALS.
 Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, float t) {
     Prim prim = prim_load(prim_index);
-    ShapeRecord shape = shapes[prim.shape];
+    ShapeRecord shape = shape_load(prim.shape);
     Surface s;
     s.shape = prim.shape;
     if (prim.kind == PRIM_SPHERE) {
@@ -48,8 +48,8 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
         s.ns = s.ng;
         s.uv = vec2(u, v);
         if ((shape.flags & (SHAPE_HAS_NORMALS | SHAPE_HAS_UVS)) != 0u) {
-            TriangleRecord tri = triangles[prim.index];
-            Vertex a = vertices[tri.v0], b = vertices[tri.v1], c = vertices[tri.v2];
+            TriangleRecord tri = triangle_load(prim.index);
+            Vertex a = vertex_load(tri.v0), b = vertex_load(tri.v1), c = vertex_load(tri.v2);
             if ((shape.flags & SHAPE_HAS_NORMALS) != 0u) {
                 vec3 ns = w * vec3(a.nx, a.ny, a.nz) + u * vec3(b.nx, b.ny, b.nz) + v * vec3(c.nx, c.ny, c.nz);
                 float l = length(ns);

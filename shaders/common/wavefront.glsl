@@ -8,14 +8,25 @@
 #define WORKGROUP_SIZE 128
 layout(local_size_x = WORKGROUP_SIZE) in;
 
-layout(std430, set = 1, binding = 0) readonly buffer FrameBuffer { Frame frame; };
-layout(std430, set = 1, binding = 1) buffer PathBuffer { PathState paths[]; };
-layout(std430, set = 1, binding = 2) buffer RayBuffer { RayItem rays[]; };
-layout(std430, set = 1, binding = 3) buffer HitBuffer { HitItem hits[]; };
-layout(std430, set = 1, binding = 4) buffer ShadowBuffer { ShadowItem shadows[]; };
+// The frame's parameters: a uniform block (std140 lays Frame out as std430 does; see
+// layout.glsl).
+layout(std140, set = 1, binding = 0) uniform FrameBuffer { Frame frame; };
+// Path states and queues are written through 16-byte words, one store per word, and
+// read through texel views of the same buffers (bindings 8-11): llvmpipe turns each
+// divergent storage-buffer access into a loop over the SIMD lanes, a texel fetch into
+// one gather (see BindingKind::Texels in src/gpu/kernel.rs). Use the *_load and
+// *_store functions below, never the arrays.
+layout(std430, set = 1, binding = 1) writeonly buffer PathBuffer { uvec4 path_words[]; };
+layout(std430, set = 1, binding = 2) writeonly buffer RayBuffer { uvec4 ray_words[]; };
+layout(std430, set = 1, binding = 3) writeonly buffer HitBuffer { uvec4 hit_words[]; };
+layout(std430, set = 1, binding = 4) writeonly buffer ShadowBuffer { uvec4 shadow_words[]; };
 layout(std430, set = 1, binding = 5) buffer CounterBuffer { Counters counters; };
 layout(std430, set = 1, binding = 6) buffer DispatchBuffer { DispatchArgs dispatch_args; };
 layout(std430, set = 1, binding = 7) buffer FilmBuffer { vec4 film[]; };
+layout(set = 1, binding = 8) uniform usamplerBuffer path_texels;
+layout(set = 1, binding = 9) uniform usamplerBuffer ray_texels;
+layout(set = 1, binding = 10) uniform usamplerBuffer hit_texels;
+layout(set = 1, binding = 11) uniform usamplerBuffer shadow_texels;
 
 layout(push_constant) uniform PushBlock { Push push; };
 
@@ -27,5 +38,61 @@ uint thread_index() {
 
 // Index of item i of ray queue q in the ray buffer.
 uint ray_slot(uint q, uint i) { return q * push.capacity + i; }
+
+// PathState: 3 words; RayItem: 2; HitItem: 1; ShadowItem: 3 (layout.glsl).
+PathState path_load(uint i) {
+    int b = int(3u * i);
+    uvec4 w0 = texelFetch(path_texels, b);
+    uvec4 w1 = texelFetch(path_texels, b + 1);
+    uvec4 w2 = texelFetch(path_texels, b + 2);
+    return PathState(uintBitsToFloat(w0.xyz), w0.w, uintBitsToFloat(w1.xyz), w1.w,
+                     uintBitsToFloat(w2.x), w2.y, w2.z, w2.w);
+}
+
+void path_store(uint i, PathState p) {
+    path_words[3u * i] = uvec4(floatBitsToUint(p.throughput), p.pixel);
+    path_words[3u * i + 1u] = uvec4(floatBitsToUint(p.radiance), p.sample_index);
+    path_words[3u * i + 2u] = uvec4(floatBitsToUint(p.bsdf_pdf), p.flags, p.pad0, p.pad1);
+}
+
+// Only the radiance word (with the sample index it shares) of path i.
+void path_store_radiance(uint i, PathState p) {
+    path_words[3u * i + 1u] = uvec4(floatBitsToUint(p.radiance), p.sample_index);
+}
+
+RayItem ray_load(uint slot) {
+    uvec4 w0 = texelFetch(ray_texels, int(2u * slot));
+    uvec4 w1 = texelFetch(ray_texels, int(2u * slot + 1u));
+    return RayItem(uintBitsToFloat(w0.xyz), w0.w, uintBitsToFloat(w1.xyz), uintBitsToFloat(w1.w));
+}
+
+void ray_store(uint slot, RayItem r) {
+    ray_words[2u * slot] = uvec4(floatBitsToUint(r.origin), r.path);
+    ray_words[2u * slot + 1u] = uvec4(floatBitsToUint(r.dir), floatBitsToUint(r.tmax));
+}
+
+HitItem hit_load(uint i) {
+    uvec4 w = texelFetch(hit_texels, int(i));
+    return HitItem(uintBitsToFloat(w.x), uintBitsToFloat(w.y), uintBitsToFloat(w.z), w.w);
+}
+
+void hit_store(uint i, HitItem h) {
+    hit_words[i] = uvec4(floatBitsToUint(vec3(h.t, h.u, h.v)), h.prim);
+}
+
+ShadowItem shadow_load(uint i) {
+    int b = int(3u * i);
+    uvec4 w0 = texelFetch(shadow_texels, b);
+    uvec4 w1 = texelFetch(shadow_texels, b + 1);
+    uvec4 w2 = texelFetch(shadow_texels, b + 2);
+    return ShadowItem(uintBitsToFloat(w0.xyz), w0.w, uintBitsToFloat(w1.xyz), uintBitsToFloat(w1.w),
+                      uintBitsToFloat(w2.xyz), w2.w);
+}
+
+void shadow_store(uint i, ShadowItem s) {
+    shadow_words[3u * i] = uvec4(floatBitsToUint(s.origin), s.path);
+    shadow_words[3u * i + 1u] = uvec4(floatBitsToUint(s.dir), floatBitsToUint(s.tmax));
+    shadow_words[3u * i + 2u] = uvec4(floatBitsToUint(s.contribution), s.pad0);
+}
 
 #endif

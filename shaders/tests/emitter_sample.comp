@@ -34,7 +34,7 @@ void main() {
         prim = h.prim;
         if (h.prim != HIT_NONE) {
             Surface s = surface_at(h.prim, h.u, h.v, pc.x, es.wi, h.t);
-            uint e = shapes[s.shape].emitter;
+            uint e = shape_load(s.shape).emitter;
             if (e != NONE) pdf_hit = emitter_pdf_hit(e, pc.x, es.wi, h.t, s.ng);
         } else if (frame.env_emitter != NONE) {
             pdf_hit = emitter_pdf_env();

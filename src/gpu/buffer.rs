@@ -35,7 +35,7 @@ unsafe impl Send for Buffer {}
 unsafe impl Sync for Buffer {}
 
 impl Buffer {
-    /// Creates a buffer of `size` bytes (at least 16) usable as a storage or texel buffer, for
+    /// Creates a buffer of `size` bytes (at least 16) usable as a storage, texel or uniform buffer, for
     /// indirect dispatch arguments, and as a copy source and destination.
     pub fn new(device: &Device, label: &str, size: u64, location: Location) -> Result<Buffer> {
         let size = size.max(16).next_multiple_of(4);
@@ -53,6 +53,7 @@ impl Buffer {
             .usage(
                 vk::BufferUsageFlags::STORAGE_BUFFER
                     | vk::BufferUsageFlags::UNIFORM_TEXEL_BUFFER
+                    | vk::BufferUsageFlags::UNIFORM_BUFFER
                     | vk::BufferUsageFlags::INDIRECT_BUFFER
                     | vk::BufferUsageFlags::TRANSFER_SRC
                     | vk::BufferUsageFlags::TRANSFER_DST,

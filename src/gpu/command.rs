@@ -193,6 +193,7 @@ impl CommandList {
     pub fn barrier(&mut self) {
         let access = vk::AccessFlags::SHADER_READ
             | vk::AccessFlags::SHADER_WRITE
+            | vk::AccessFlags::UNIFORM_READ
             | vk::AccessFlags::INDIRECT_COMMAND_READ
             | vk::AccessFlags::TRANSFER_READ
             | vk::AccessFlags::TRANSFER_WRITE;

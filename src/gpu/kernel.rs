@@ -18,13 +18,29 @@ pub enum BindingKind {
     /// llvmpipe compiles a divergent storage-buffer load into a loop over the SIMD lanes
     /// with a branch per lane, a texel fetch into one unrolled gather.
     Texels,
+    /// As `Texels`, of 4-byte texels (`usamplerBuffer` fetched as `uint`), for records
+    /// whose size is not a multiple of 16 bytes.
+    Words,
+    /// A uniform buffer (`uniform` block, std140): small read-only data such as the
+    /// frame's parameters, which llvmpipe loads without a per-lane loop even inside
+    /// divergent control flow.
+    Uniform,
 }
 
 impl BindingKind {
     fn descriptor_type(self) -> vk::DescriptorType {
         match self {
             BindingKind::Storage => vk::DescriptorType::STORAGE_BUFFER,
-            BindingKind::Texels => vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
+            BindingKind::Texels | BindingKind::Words => vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
+            BindingKind::Uniform => vk::DescriptorType::UNIFORM_BUFFER,
+        }
+    }
+
+    fn texel_format(self) -> Option<vk::Format> {
+        match self {
+            BindingKind::Texels => Some(vk::Format::R32G32B32A32_UINT),
+            BindingKind::Words => Some(vk::Format::R32_UINT),
+            BindingKind::Storage | BindingKind::Uniform => None,
         }
     }
 }
@@ -163,15 +179,20 @@ impl DescriptorSet {
                 got: buffers.len(),
             });
         }
-        let count_of = |k: BindingKind| kinds.iter().filter(|&&x| x == k).count().max(1) as u32;
+        let count_of = |ty: vk::DescriptorType| {
+            let n = kinds.iter().filter(|k| k.descriptor_type() == ty).count();
+            n.max(1) as u32
+        };
         let sizes = [
+            vk::DescriptorType::STORAGE_BUFFER,
+            vk::DescriptorType::UNIFORM_TEXEL_BUFFER,
+            vk::DescriptorType::UNIFORM_BUFFER,
+        ]
+        .map(|ty| {
             vk::DescriptorPoolSize::default()
-                .ty(vk::DescriptorType::STORAGE_BUFFER)
-                .descriptor_count(count_of(BindingKind::Storage)),
-            vk::DescriptorPoolSize::default()
-                .ty(vk::DescriptorType::UNIFORM_TEXEL_BUFFER)
-                .descriptor_count(count_of(BindingKind::Texels)),
-        ];
+                .ty(ty)
+                .descriptor_count(count_of(ty))
+        });
         let info = vk::DescriptorPoolCreateInfo::default()
             .max_sets(1)
             .pool_sizes(&sizes);
@@ -203,10 +224,10 @@ impl DescriptorSet {
         };
         let mut views = vec![[vk::BufferView::null()]; buffers.len()];
         for (i, b) in buffers.iter().enumerate() {
-            if kinds[i] == BindingKind::Texels {
+            if let Some(format) = kinds[i].texel_format() {
                 let info = vk::BufferViewCreateInfo::default()
                     .buffer(b.raw)
-                    .format(vk::Format::R32G32B32A32_UINT)
+                    .format(format)
                     .offset(0)
                     .range(vk::WHOLE_SIZE);
                 // SAFETY: a live buffer created with UNIFORM_TEXEL_BUFFER usage; the view
@@ -234,9 +255,9 @@ impl DescriptorSet {
                     .dst_set(raw)
                     .dst_binding(i as u32)
                     .descriptor_type(kinds[i].descriptor_type());
-                match kinds[i] {
-                    BindingKind::Storage => w.buffer_info(info),
-                    BindingKind::Texels => w.texel_buffer_view(&views[i]),
+                match kinds[i].texel_format() {
+                    None => w.buffer_info(info),
+                    Some(_) => w.texel_buffer_view(&views[i]),
                 }
             })
             .collect();

@@ -19,12 +19,12 @@ use std::time::Instant;
 
 use crate::accel::{self, Bvh, BvhStats};
 use crate::gpu::layout::{Counters, Frame, Push, WORKGROUP_SIZE};
-use crate::gpu::{shaders, BindingKind, BindingLayout, CommandList, Device, Kernel, KernelTimes};
+use crate::gpu::{shaders, BindingLayout, CommandList, Device, Kernel, KernelTimes};
 use crate::image::Image;
 use crate::scene::Scene;
 
 use scene_buffers::{scene_binding_kinds, SceneBuffers, SceneRecords};
-use wavefront::{Wavefront, BYTES_PER_PATH, WAVEFRONT_BINDINGS};
+use wavefront::{wavefront_binding_kinds, Wavefront, BYTES_PER_PATH};
 
 /// How to render, beyond what the scene says.
 #[derive(Debug, Clone, Default)]
@@ -128,10 +128,7 @@ impl Renderer {
         let t = Instant::now();
         let layout = BindingLayout::with_kinds(
             device,
-            &[
-                scene_binding_kinds(),
-                vec![BindingKind::Storage; WAVEFRONT_BINDINGS as usize],
-            ],
+            &[scene_binding_kinds(), wavefront_binding_kinds()],
             std::mem::size_of::<Push>() as u32,
         )?;
         let scene_buffers = SceneBuffers::upload(device, &layout, &bvh, &records)?;

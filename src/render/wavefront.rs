@@ -5,12 +5,26 @@
 use std::mem::size_of;
 
 use crate::gpu::layout::{Counters, DispatchArgs, Frame, HitItem, PathState, RayItem, ShadowItem};
-use crate::gpu::{BindingLayout, Buffer, DescriptorSet, Device, Location};
+use crate::gpu::{BindingKind, BindingLayout, Buffer, DescriptorSet, Device, Location};
 
 use super::error::Result;
 
 /// Bindings of set 1, in order.
-pub const WAVEFRONT_BINDINGS: u32 = 8;
+pub const WAVEFRONT_BINDINGS: u32 = 12;
+
+/// The kind of each binding of set 1: the frame is a uniform buffer; path states,
+/// rays, hits and shadow rays are written as storage buffers (bindings 1-4) and read
+/// through texel views of the same buffers (bindings 8-11), see
+/// [`BindingKind::Texels`].
+pub fn wavefront_binding_kinds() -> Vec<BindingKind> {
+    (0..WAVEFRONT_BINDINGS)
+        .map(|b| match b {
+            0 => BindingKind::Uniform,
+            8.. => BindingKind::Texels,
+            _ => BindingKind::Storage,
+        })
+        .collect()
+}
 
 /// GPU memory one path slot needs, in bytes (path state, two ray queue entries, a
 /// hit, a shadow ray).
@@ -83,6 +97,10 @@ impl Wavefront {
                 &counters,
                 &dispatch_args,
                 &film,
+                &paths,
+                &rays,
+                &hits,
+                &shadows,
             ],
         )?;
         Ok(Wavefront {
