@@ -3,7 +3,7 @@
 // scene_bindings.glsl and wavefront.glsl (frame).
 //
 // An emitter is chosen in proportion to its power through the alias table at
-// alias_table[0 .. emitter_count); a mesh emitter then picks a triangle by area and a
+// alias table entries [0, emitter_count); a mesh emitter then picks a triangle by area and a
 // uniform point on it, so points are uniform over its whole surface; a sphere
 // emitter samples the cone of directions it subtends (PBR 4th ed., sec. 6.2.4).
 // Every pdf here is per unit solid angle at the shading point and includes the
@@ -65,7 +65,7 @@ EmitterSample emitter_sample(vec3 x, vec4 u) {
     float pmf;
     uint index = alias_sample(0u, frame.emitter_count, u.x, pmf);
     s.emitter = index;
-    EmitterRecord e = emitters[index];
+    EmitterRecord e = emitter_load(index);
     if (e.kind == EMITTER_POINT || e.kind == EMITTER_SPOT) {
         vec3 d = e.position - x;
         float d2 = dot(d, d);
@@ -88,7 +88,7 @@ EmitterSample emitter_sample(vec3 x, vec4 u) {
         // The same surface a ray would find there: its front side follows the vertex
         // normals where the mesh has them (as in Mitsuba and Nori), so a mirroring
         // to_world does not turn a light around.
-        Surface ls = surface_at(alias_table[e.tri_first + t].prim, b.x, b.y, x, vec3(0.0), 0.0);
+        Surface ls = surface_at(alias_load(e.tri_first + t).prim, b.x, b.y, x, vec3(0.0), 0.0);
         vec3 y = ls.p;
         vec3 ng = ls.ng;
         vec3 d = y - x;
@@ -121,8 +121,8 @@ EmitterSample emitter_sample(vec3 x, vec4 u) {
 // along the unit direction d where a ray hit area emitter `index` (geometric normal ng
 // there).
 float emitter_pdf_hit(uint index, vec3 x_prev, vec3 d, float t, vec3 ng) {
-    EmitterRecord e = emitters[index];
-    float pmf = alias_table[index].pmf;
+    EmitterRecord e = emitter_load(index);
+    float pmf = alias_load(index).pmf;
     if (e.tri_count > 0u) {
         float cos_light = abs(dot(ng, d));
         return cos_light > 0.0 ? pmf * t * t / (e.area * cos_light) : 0.0;
@@ -133,7 +133,7 @@ float emitter_pdf_hit(uint index, vec3 x_prev, vec3 d, float t, vec3 ng) {
 
 // Density with which emitter_sample picks direction d towards the environment.
 float emitter_pdf_env() {
-    return alias_table[frame.env_emitter].pmf * INV_FOUR_PI;
+    return alias_load(frame.env_emitter).pmf * INV_FOUR_PI;
 }
 
 #endif

@@ -34,13 +34,13 @@ void first_hit_shade(uint integrator, RayItem r, HitItem h) {
         // L = (ρ/π) I cos θ / d² / P(light).
         uint count = frame.point_light_count;
         if (count == 0u) return;
-        EmitterRecord light = emitters[min(uint(u.x * float(count)), count - 1u)];
+        EmitterRecord light = emitter_load(min(uint(u.x * float(count)), count - 1u));
         vec3 to_light = light.position - s.p;
         float d2 = dot(to_light, to_light);
         vec3 wi = to_light * inversesqrt(d2);
         float cos_theta = dot(s.ns, wi);
         if (cos_theta <= 0.0 || dot(s.ng, wi) <= 0.0 || !(d2 > 0.0)) return;
-        vec3 f = bsdfs[shape_load(s.shape).bsdf].reflectance * INV_PI;
+        vec3 f = bsdf_load(shape_load(s.shape).bsdf).reflectance * INV_PI;
         vec3 origin = surface_spawn_origin(s, s.ng);
         queue_push_shadow(origin, r.path, wi, length(light.position - origin) * (1.0 - 1e-5),
                           path.throughput * f * light.radiance * (cos_theta / d2) * float(count));

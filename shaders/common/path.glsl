@@ -36,7 +36,7 @@ void path_shade(uint integrator, RayItem r, HitItem h) {
     if (h.prim == NONE) {
         if (count_emission && frame.env_emitter != NONE) {
             float w = weigh ? mis_balance(path.bsdf_pdf, emitter_pdf_env()) : 1.0;
-            path.radiance += path.throughput * emitters[frame.env_emitter].radiance * w;
+            path.radiance += path.throughput * emitter_load(frame.env_emitter).radiance * w;
             path_store_radiance(r.path, path);
         }
         return;
@@ -45,7 +45,7 @@ void path_shade(uint integrator, RayItem r, HitItem h) {
     Surface s = surface_at(h.prim, h.u, h.v, r.origin, r.dir, h.t);
     ShapeRecord shape = shape_load(s.shape);
     if (count_emission && shape.emitter != NONE) {
-        vec3 Le = emitter_area_radiance(emitters[shape.emitter], s.ng, r.dir);
+        vec3 Le = emitter_area_radiance(emitter_load(shape.emitter), s.ng, r.dir);
         float w = weigh ? mis_balance(path.bsdf_pdf, emitter_pdf_hit(shape.emitter, r.origin, r.dir, h.t, s.ng)) : 1.0;
         path.radiance += path.throughput * Le * w;
         path_store_radiance(r.path, path);
@@ -54,7 +54,7 @@ void path_shade(uint integrator, RayItem r, HitItem h) {
     // A longer path must fit in max_depth segments (this vertex ends segment depth+1).
     if (depth + 2u > frame.max_depth) return;
 
-    BsdfRecord bsdf = bsdfs[shape.bsdf];
+    BsdfRecord bsdf = bsdf_load(shape.bsdf);
     vec3 wo = frame_to_local(s.ns, -r.dir);
 
     if (ems && !bsdf_is_delta(bsdf)) {

@@ -16,10 +16,12 @@ layout(set = 0, binding = 1) uniform usamplerBuffer prim_texels;
 layout(set = 0, binding = 2) uniform usamplerBuffer shape_texels;
 layout(set = 0, binding = 3) uniform usamplerBuffer triangle_words;
 layout(set = 0, binding = 4) uniform usamplerBuffer vertex_words;
-layout(std430, set = 0, binding = 5) readonly buffer BsdfBuffer { BsdfRecord bsdfs[]; };
-layout(std430, set = 0, binding = 6) readonly buffer EmitterBuffer { EmitterRecord emitters[]; };
+// BSDFs, emitters and alias tables: texel buffers too (bsdf_load, emitter_load,
+// alias_load).
+layout(set = 0, binding = 5) uniform usamplerBuffer bsdf_texels;
+layout(set = 0, binding = 6) uniform usamplerBuffer emitter_texels;
 // Emitter alias table at [0, emitter_count), then each mesh emitter's triangle table.
-layout(std430, set = 0, binding = 7) readonly buffer AliasBuffer { AliasEntry alias_table[]; };
+layout(set = 0, binding = 7) uniform usamplerBuffer alias_texels;
 
 BvhNode bvh_node_load(uint i) {
     int base = int(4u * i);
@@ -55,6 +57,55 @@ Vertex vertex_load(uint i) {
     return Vertex(uintBitsToFloat(texelFetch(vertex_words, b).x), uintBitsToFloat(texelFetch(vertex_words, b + 1).x),
                   uintBitsToFloat(texelFetch(vertex_words, b + 2).x), uintBitsToFloat(texelFetch(vertex_words, b + 3).x),
                   uintBitsToFloat(texelFetch(vertex_words, b + 4).x));
+}
+
+// BsdfRecord: 14 texels (6 of fields, then the 8 of `table`).
+BsdfRecord bsdf_load(uint i) {
+    int b = int(14u * i);
+    uvec4 w0 = texelFetch(bsdf_texels, b);
+    uvec4 w1 = texelFetch(bsdf_texels, b + 1);
+    uvec4 w2 = texelFetch(bsdf_texels, b + 2);
+    uvec4 w3 = texelFetch(bsdf_texels, b + 3);
+    uvec4 w4 = texelFetch(bsdf_texels, b + 4);
+    uvec4 w5 = texelFetch(bsdf_texels, b + 5);
+    BsdfRecord r;
+    r.reflectance = uintBitsToFloat(w0.xyz);
+    r.kind = w0.w;
+    r.specular = uintBitsToFloat(w1.xyz);
+    r.flags = w1.w;
+    r.transmittance = uintBitsToFloat(w2.xyz);
+    r.eta = uintBitsToFloat(w2.w);
+    r.cond_eta = uintBitsToFloat(w3.xyz);
+    r.alpha_u = uintBitsToFloat(w3.w);
+    r.cond_k = uintBitsToFloat(w4.xyz);
+    r.alpha_v = uintBitsToFloat(w4.w);
+    r.distribution = w5.x;
+    r.specular_weight = uintBitsToFloat(w5.y);
+    r.internal = uintBitsToFloat(w5.z);
+    r.pad0 = w5.w;
+    for (int k = 0; k < 8; k++) {
+        r.table[k] = uintBitsToFloat(texelFetch(bsdf_texels, b + 6 + k));
+    }
+    return r;
+}
+
+// EmitterRecord: 5 texels.
+EmitterRecord emitter_load(uint i) {
+    int b = int(5u * i);
+    uvec4 w0 = texelFetch(emitter_texels, b);
+    uvec4 w1 = texelFetch(emitter_texels, b + 1);
+    uvec4 w2 = texelFetch(emitter_texels, b + 2);
+    uvec4 w3 = texelFetch(emitter_texels, b + 3);
+    uvec4 w4 = texelFetch(emitter_texels, b + 4);
+    return EmitterRecord(uintBitsToFloat(w0.xyz), w0.w, uintBitsToFloat(w1.xyz), w1.w,
+                         uintBitsToFloat(w2.xyz), uintBitsToFloat(w2.w),
+                         uintBitsToFloat(w3.x), uintBitsToFloat(w3.y), uintBitsToFloat(w3.z), uintBitsToFloat(w3.w),
+                         w4.x, w4.y, w4.z, w4.w);
+}
+
+AliasEntry alias_load(uint i) {
+    uvec4 w = texelFetch(alias_texels, int(i));
+    return AliasEntry(uintBitsToFloat(w.x), w.y, uintBitsToFloat(w.z), w.w);
 }
 
 #endif

@@ -17,16 +17,14 @@ use super::error::Result;
 /// Bindings of set 0, in order.
 pub const SCENE_BINDINGS: u32 = 8;
 
-/// The kind of each binding of set 0: the BVH nodes, primitives and shapes, read at
-/// scattered addresses in every traversal step or hit, are texel buffers (see
-/// [`BindingKind::Texels`]), triangles and vertices (12 and 20 bytes) buffers of
-/// 4-byte texels; the rest are storage buffers.
+/// The kind of each binding of set 0. Everything is read at scattered addresses, so
+/// all are texel buffers (see [`BindingKind::Texels`]); triangles and vertices (12 and
+/// 20 bytes) of 4-byte texels.
 pub fn scene_binding_kinds() -> Vec<BindingKind> {
     (0..SCENE_BINDINGS)
         .map(|b| match b {
-            0..=2 => BindingKind::Texels,
             3 | 4 => BindingKind::Words,
-            _ => BindingKind::Storage,
+            _ => BindingKind::Texels,
         })
         .collect()
 }
