@@ -157,7 +157,7 @@ struct PathState {
     uint sample_index;
     float bsdf_pdf; // solid-angle pdf of the current ray's direction (for MIS)
     uint flags;     // PATH_DELTA: the current ray came from a delta lobe
-    uint pad0;
+    float eta_scale; // product of (η_t/η_i)² over refractions (for Russian roulette)
     uint pad1;
 };
 

@@ -78,9 +78,15 @@ void path_shade(uint integrator, RayItem r, HitItem h) {
         BsdfSample bs = bsdf_sample(bsdf, wo, u.xyz, s.uv);
         vec3 throughput = path.throughput * bs.weight;
         if (!any(greaterThan(throughput, vec3(0.0)))) return;
-        // Russian roulette: survive with probability min(max throughput, 0.99).
+        // Refraction scaled the radiance by (η_i/η_t)² (dielectrics, rough or smooth).
+        if ((bs.flags & BSDF_FLAG_TRANSMISSION) != 0u) {
+            path.eta_scale *= wo.z > 0.0 ? bsdf.eta * bsdf.eta : 1.0 / (bsdf.eta * bsdf.eta);
+        }
+        // Russian roulette: survive with probability min(max throughput, 0.99), the
+        // throughput taken without the refractions' radiance scaling.
         if (path_tracer && depth + 1u >= frame.rr_depth) {
-            float q = min(max(throughput.x, max(throughput.y, throughput.z)), 0.99);
+            vec3 rr = throughput * path.eta_scale;
+            float q = min(max(rr.x, max(rr.y, rr.z)), 0.99);
             if (u.w >= q) return;
             throughput /= q;
         }

@@ -46,13 +46,13 @@ PathState path_load(uint i) {
     uvec4 w1 = texelFetch(path_texels, b + 1);
     uvec4 w2 = texelFetch(path_texels, b + 2);
     return PathState(uintBitsToFloat(w0.xyz), w0.w, uintBitsToFloat(w1.xyz), w1.w,
-                     uintBitsToFloat(w2.x), w2.y, w2.z, w2.w);
+                     uintBitsToFloat(w2.x), w2.y, uintBitsToFloat(w2.z), w2.w);
 }
 
 void path_store(uint i, PathState p) {
     path_words[3u * i] = uvec4(floatBitsToUint(p.throughput), p.pixel);
     path_words[3u * i + 1u] = uvec4(floatBitsToUint(p.radiance), p.sample_index);
-    path_words[3u * i + 2u] = uvec4(floatBitsToUint(p.bsdf_pdf), p.flags, p.pad0, p.pad1);
+    path_words[3u * i + 2u] = uvec4(floatBitsToUint(p.bsdf_pdf), p.flags, floatBitsToUint(p.eta_scale), p.pad1);
 }
 
 // Only the radiance word (with the sample index it shares) of path i.

@@ -232,7 +232,11 @@ pub struct PathState {
     pub bsdf_pdf: f32,
     /// `PATH_*` flags.
     pub flags: u32,
-    pub pad0: u32,
+    /// Product of η_t²/η_i² over the refractions so far: the factor by which they
+    /// scaled the throughput's radiance (1/η² each) undone, so that Russian roulette
+    /// does not kill paths inside glass for carrying less radiance (PBR 4th ed.,
+    /// sec. 13.1, `etaScale`; Mitsuba's path integrator likewise).
+    pub eta_scale: f32,
     pub pad1: u32,
 }
 
@@ -482,7 +486,7 @@ mod tests {
                 sample_index,
                 bsdf_pdf,
                 flags,
-                pad0,
+                eta_scale,
                 pad1
             ),
             rust_layout!(RayItem, origin, path, dir, tmax),
