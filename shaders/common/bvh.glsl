@@ -22,6 +22,8 @@
 // Stack entries are child references packed as (index << BVH_COUNT_BITS) | count.
 #define BVH_COUNT_BITS 4u
 #define BVH_COUNT_MASK 15u
+// Item meaning "nothing left to visit" (a leaf reference no BVH can have).
+#define BVH_DONE 0xffffffffu
 // 1 + 2 gamma(3) rounded up to a float (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2)):
 // the box far distance is scaled so rounding never culls a box the ray enters.
 #define BVH_TFAR_SCALE 1.00000048
@@ -84,11 +86,13 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, bool any_hit) {
     uint stack[BVH_STACK_SIZE];
     uint sp = 0u;
     uint item = 0u; // current child reference: inner node 0
+    // "While-while" order (Aila, Laine 2009): descend through inner nodes until a leaf
+    // is found, then test its primitives. SIMD lanes (llvmpipe, GPU warps) step
+    // through inner nodes together and through leaves together, instead of paying for
+    // both in every iteration where some lanes are at a leaf and others are not.
     while (true) {
-        uint index = item >> BVH_COUNT_BITS;
-        uint count = item & BVH_COUNT_MASK;
-        if (count == 0u) {
-            BvhNode n = bvh_node_load(index);
+        while ((item & BVH_COUNT_MASK) == 0u) {
+            BvhNode n = bvh_node_load(item >> BVH_COUNT_BITS);
             float tl, tr_;
             bool hit_l = bvh_slab(r, n.left_min, n.left_max, tmin, hit.t, tl);
             bool hit_r = bvh_slab(r, n.right_min, n.right_max, tmin, hit.t, tr_);
@@ -98,29 +102,34 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, bool any_hit) {
                 bool left_near = tl <= tr_;
                 stack[sp++] = left_near ? right : left;
                 item = left_near ? left : right;
-                continue;
-            }
-            if (hit_l || hit_r) {
+            } else if (hit_l || hit_r) {
                 item = hit_l ? left : right;
-                continue;
+            } else if (sp == 0u) {
+                item = BVH_DONE;
+            } else {
+                item = stack[--sp];
             }
-        } else {
-            for (uint i = index; i < index + count; i++) {
-                Prim p = prim_load(i);
-                float t;
-                float u = 0.0;
-                float v = 0.0;
-                bool found;
-                if (BVH_HAS_SPHERES && p.kind == PRIM_SPHERE) {
-                    found = intersect_sphere(o, d, p.p0, p.p1.x, tmin, hit.t, t);
-                } else {
-                    found = intersect_triangle(tr, o, p.p0, p.p1, p.p2, tmin, hit.t, t, u, v);
-                }
-                if (found) {
-                    hit = Hit(t, u, v, i);
-                    if (any_hit) {
-                        return hit;
-                    }
+        }
+        if (item == BVH_DONE) {
+            break;
+        }
+        uint index = item >> BVH_COUNT_BITS;
+        uint count = item & BVH_COUNT_MASK;
+        for (uint i = index; i < index + count; i++) {
+            Prim p = prim_load(i);
+            float t;
+            float u = 0.0;
+            float v = 0.0;
+            bool found;
+            if (BVH_HAS_SPHERES && p.kind == PRIM_SPHERE) {
+                found = intersect_sphere(o, d, p.p0, p.p1.x, tmin, hit.t, t);
+            } else {
+                found = intersect_triangle(tr, o, p.p0, p.p1, p.p2, tmin, hit.t, t, u, v);
+            }
+            if (found) {
+                hit = Hit(t, u, v, i);
+                if (any_hit) {
+                    return hit;
                 }
             }
         }
