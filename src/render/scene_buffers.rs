@@ -17,14 +17,16 @@ use super::error::Result;
 /// Bindings of set 0, in order.
 pub const SCENE_BINDINGS: u32 = 8;
 
-/// The kind of each binding of set 0. Everything is read at scattered addresses, so
-/// all are texel buffers (see [`BindingKind::Texels`]); triangles and vertices (12 and
-/// 20 bytes) of 4-byte texels.
+/// The kind of each binding of set 0. The records read at scattered addresses on
+/// every hit or traversal step (bindings 0-7) are texel buffers (see
+/// [`BindingKind::Texels`]; triangles and vertices, 12 and 20 bytes, of 4-byte
+/// texels); the rest are storage buffers.
 pub fn scene_binding_kinds() -> Vec<BindingKind> {
     (0..SCENE_BINDINGS)
         .map(|b| match b {
             3 | 4 => BindingKind::Words,
-            _ => BindingKind::Texels,
+            0..=7 => BindingKind::Texels,
+            _ => BindingKind::Storage,
         })
         .collect()
 }
