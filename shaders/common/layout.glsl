@@ -48,6 +48,7 @@ struct TriangleRecord {
     uint v0;
     uint v1;
     uint v2;
+    uint pad0;
 };
 
 // Shading attributes of a vertex.

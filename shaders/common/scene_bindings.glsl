@@ -11,10 +11,10 @@
 // prim_load below.
 layout(set = 0, binding = 0) uniform usamplerBuffer bvh_node_texels;
 layout(set = 0, binding = 1) uniform usamplerBuffer prim_texels;
-// Shapes (one texel each), triangles and vertices (4-byte texels) likewise: read them
+// Shapes and triangles (one texel each) and vertices (4-byte texels) likewise: read them
 // with shape_load, triangle_load and vertex_load.
 layout(set = 0, binding = 2) uniform usamplerBuffer shape_texels;
-layout(set = 0, binding = 3) uniform usamplerBuffer triangle_words;
+layout(set = 0, binding = 3) uniform usamplerBuffer triangle_texels;
 layout(set = 0, binding = 4) uniform usamplerBuffer vertex_words;
 // BSDFs, emitters and alias tables: texel buffers too (bsdf_load, emitter_load,
 // alias_load).
@@ -47,9 +47,8 @@ ShapeRecord shape_load(uint i) {
 }
 
 TriangleRecord triangle_load(uint i) {
-    int b = int(3u * i);
-    return TriangleRecord(texelFetch(triangle_words, b).x, texelFetch(triangle_words, b + 1).x,
-                          texelFetch(triangle_words, b + 2).x);
+    uvec4 w = texelFetch(triangle_texels, int(i));
+    return TriangleRecord(w.x, w.y, w.z, w.w);
 }
 
 Vertex vertex_load(uint i) {

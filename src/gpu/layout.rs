@@ -69,13 +69,15 @@ pub const SHAPE_HAS_UVS: u32 = 2;
 /// Normals point inwards (Mitsuba `flip_normals`).
 pub const SHAPE_FLIP_NORMALS: u32 = 4;
 
-/// A triangle's vertex indices into the [`Vertex`] array (global numbering).
+/// A triangle's vertex indices into the [`Vertex`] array (global numbering), padded
+/// to one 16-byte texel.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct TriangleRecord {
     pub v0: u32,
     pub v1: u32,
     pub v2: u32,
+    pub pad0: u32,
 }
 
 /// Shading attributes of a mesh vertex (positions live in [`Prim`]s).
@@ -421,7 +423,7 @@ mod tests {
             ),
             rust_layout!(Prim, p0, shape, p1, index, p2, kind),
             rust_layout!(ShapeRecord, bsdf, emitter, flags, pad0),
-            rust_layout!(TriangleRecord, v0, v1, v2),
+            rust_layout!(TriangleRecord, v0, v1, v2, pad0),
             rust_layout!(Vertex, nx, ny, nz, u, v),
             rust_layout!(
                 BsdfRecord,

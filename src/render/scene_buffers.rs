@@ -19,12 +19,11 @@ pub const SCENE_BINDINGS: u32 = 8;
 
 /// The kind of each binding of set 0. The records read at scattered addresses on
 /// every hit or traversal step (bindings 0-7) are texel buffers (see
-/// [`BindingKind::Texels`]; triangles and vertices, 12 and 20 bytes, of 4-byte
-/// texels); the rest are storage buffers.
+/// [`BindingKind::Texels`]; vertices, 20 bytes, of 4-byte texels); the rest are storage buffers.
 pub fn scene_binding_kinds() -> Vec<BindingKind> {
     (0..SCENE_BINDINGS)
         .map(|b| match b {
-            3 | 4 => BindingKind::Words,
+            4 => BindingKind::Words,
             0..=7 => BindingKind::Texels,
             _ => BindingKind::Storage,
         })
@@ -152,6 +151,7 @@ impl SceneRecords {
                     v0: base + t[0],
                     v1: base + t[1],
                     v2: base + t[2],
+                    pad0: 0,
                 });
             }
             if let Some(e) = mesh.emitter {
