@@ -2,11 +2,12 @@
 //! shaders/tests/emitter_sample.comp): the emitter is chosen in proportion to power
 //! and a mesh light's triangle in proportion to area (chi-square tests), and the
 //! density that MIS evaluates when a ray hits a light equals the density with which
-//! emitter sampling produced that very point.
+//! emitter sampling produced that very point, and the sampled directions follow that
+//! density (chi-square over a 2D histogram of directions).
 
 mod common;
 
-use common::stats::{chi2, sidak};
+use common::stats::{chi2, sidak, SphereGrid};
 use glam::Vec3;
 use wavetrace::accel::{prims_from_scene, Bvh};
 use wavetrace::gpu::layout::{Frame, NONE};
@@ -18,7 +19,7 @@ use wavetrace::scene::{Emitter, Scene};
 
 const N: u32 = 200_000;
 /// Chi-square tests in this file, for the Šidák correction of a 1% family level.
-const TESTS: usize = 2;
+const TESTS: usize = 3;
 
 struct Probe {
     wi: Vec3,
@@ -31,13 +32,21 @@ struct Probe {
 
 /// Samples N emitter points from `x` on the GPU.
 fn probe(scene: &Scene, bvh: &Bvh, records: &SceneRecords, x: Vec3) -> Vec<Probe> {
+    let _ = scene;
+    run_probe(bvh, records, x, None)
+}
+
+/// Runs shaders/tests/emitter_sample.comp: N samples from `x`, or, given `dirs`, the
+/// density of emitter sampling from `x` in each direction (in `pdf_hit`).
+fn run_probe(bvh: &Bvh, records: &SceneRecords, x: Vec3, dirs: Option<&[[f32; 4]]>) -> Vec<Probe> {
     let device = common::device();
     let layout = BindingLayout::with_kinds(
         &device,
-        &[scene_binding_kinds(), vec![BindingKind::Storage; 2]],
-        20,
+        &[scene_binding_kinds(), vec![BindingKind::Storage; 3]],
+        24,
     )
     .unwrap();
+    let count = dirs.map_or(N, |d| d.len() as u32);
     let buffers = SceneBuffers::upload(&device, &layout, bvh, records).unwrap();
     let frame = Frame {
         emitter_count: records.emitters.len() as u32,
@@ -45,8 +54,9 @@ fn probe(scene: &Scene, bvh: &Bvh, records: &SceneRecords, x: Vec3) -> Vec<Probe
         ..Default::default()
     };
     let frame = Buffer::from_slice(&device, "frame", &[frame]).unwrap();
-    let out = Buffer::new(&device, "probes", N as u64 * 32, Location::Gpu).unwrap();
-    let set = DescriptorSet::new(&layout, 1, &[&frame, &out]).unwrap();
+    let out = Buffer::new(&device, "probes", count as u64 * 32, Location::Gpu).unwrap();
+    let dir_buf = Buffer::from_slice(&device, "directions", dirs.unwrap_or(&[[0.0; 4]])).unwrap();
+    let set = DescriptorSet::new(&layout, 1, &[&frame, &out, &dir_buf]).unwrap();
     let kernel = Kernel::new(
         &device,
         "emitter_sample",
@@ -55,22 +65,22 @@ fn probe(scene: &Scene, bvh: &Bvh, records: &SceneRecords, x: Vec3) -> Vec<Probe
         &[],
     )
     .unwrap();
-    let mut push = [0u32; 5];
+    let mut push = [0u32; 6];
     push[..3].copy_from_slice(&x.to_array().map(f32::to_bits));
-    push[3] = N;
+    push[3] = count;
     push[4] = 11;
+    push[5] = dirs.is_some() as u32;
     let mut cmd = CommandList::new(&device).unwrap();
     cmd.dispatch(
         &kernel,
         &[&buffers.set, &set],
         bytemuck::cast_slice(&push),
-        [N.div_ceil(64), 1, 1],
+        [count.div_ceil(64), 1, 1],
     );
     cmd.submit_and_wait().unwrap();
     let raw: Vec<[f32; 4]> = out.read(&device).unwrap();
-    let _ = scene;
     raw.chunks(2)
-        .take(N as usize)
+        .take(count as usize)
         .map(|p| Probe {
             wi: Vec3::new(p[0][0], p[0][1], p[0][2]),
             pdf: p[0][3],
@@ -89,9 +99,15 @@ fn luminance(c: Vec3) -> f64 {
 /// Four lights around the origin, facing it: a quad, a fan of four triangles of areas
 /// 1/2 : 1 : 3 : 6, a sphere, and a point light.
 fn scene() -> Scene {
+    // Tests run in parallel: each call writes its own files.
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let dir = format!(
+        "emitters-{}",
+        CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+    );
     let fan = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv -2 0 0\nv 0 -3 0\nv 4 0 0\n\
                f 1 2 3\nf 1 3 4\nf 1 4 5\nf 1 5 6\n";
-    let obj = common::temp_file("emitters", "fan.obj", fan);
+    let obj = common::temp_file(&dir, "fan.obj", fan);
     let xml = format!(
         r#"<scene version="3.0.0">
     <sensor type="perspective"><film type="hdrfilm"><integer name="width" value="4"/><integer name="height" value="4"/></film></sensor>
@@ -106,7 +122,7 @@ fn scene() -> Scene {
 </scene>"#,
         obj.display()
     );
-    common::load(&common::temp_file("emitters", "scene.xml", &xml))
+    common::load(&common::temp_file(&dir, "scene.xml", &xml))
 }
 
 #[test]
@@ -190,6 +206,81 @@ fn emitters_are_chosen_by_power_and_triangles_by_area() {
     assert!(
         r.p_value > level,
         "triangles are not chosen by area: p = {:.3e}",
+        r.p_value
+    );
+}
+
+#[test]
+fn sampled_directions_follow_the_density() {
+    // From a point that sees every light, with no occluder between: the density of
+    // emitter sampling in a direction is then what the MIS code evaluates at the light
+    // the direction hits (zero where it hits none; the point light is a delta and
+    // appears in no cell).
+    let s = scene();
+    let bvh = Bvh::build(prims_from_scene(&s));
+    let records = SceneRecords::new(&s, &bvh);
+    let x = Vec3::new(0.1, -0.2, 0.3);
+    let grid = SphereGrid::new(Vec3::new(0.3, 0.2, 1.0), 48, 96);
+    let mut observed = vec![0.0; grid.cells()];
+    for p in probe(&s, &bvh, &records, x) {
+        if p.pdf > 0.0
+            && p.dist.is_finite()
+            && records.emitters[p.emitter as usize].kind != wavetrace::gpu::layout::EMITTER_POINT
+        {
+            if let Some(c) = grid.cell_of(p.wi) {
+                observed[c] += 1.0;
+            }
+        }
+    }
+    // Expected counts: the density integrated over each cell at 4 x 4 points, and at
+    // 48 x 48 where those disagree or all miss a cell that samples reached (cells a
+    // light's outline crosses: the density jumps there, and a coarse rule would
+    // misjudge how much of the cell the light covers).
+    let cell_integrals = |cells: &[usize], k: usize| -> Vec<f64> {
+        let (dirs, w) = grid.quadrature_of(cells, k);
+        let pdf = run_probe(&bvh, &records, x, Some(&dirs));
+        (0..cells.len())
+            .map(|c| {
+                (c * k * k..(c + 1) * k * k)
+                    .map(|q| pdf[q].pdf_hit as f64 * w[q])
+                    .sum()
+            })
+            .collect()
+    };
+    let all: Vec<usize> = (0..grid.cells()).collect();
+    let coarse = 4;
+    let (dirs, _) = grid.quadrature_of(&all, coarse);
+    let pdf = run_probe(&bvh, &records, x, Some(&dirs));
+    let edges: Vec<usize> = all
+        .iter()
+        .copied()
+        .filter(|&c| {
+            let v = &pdf[c * coarse * coarse..(c + 1) * coarse * coarse];
+            let (lo, hi) = v.iter().fold((f32::MAX, 0f32), |(lo, hi), p| {
+                (lo.min(p.pdf_hit), hi.max(p.pdf_hit))
+            });
+            (hi > 0.0 && lo < hi * 0.9) || (hi == 0.0 && observed[c] > 0.0)
+        })
+        .collect();
+    let mut expected = cell_integrals(&all, coarse);
+    for (c, v) in edges.iter().zip(cell_integrals(&edges, 48)) {
+        expected[*c] = v;
+    }
+    let expected: Vec<f64> = expected.iter().map(|e| e * N as f64).collect();
+    let r = chi2(&observed, &expected);
+    let (o, e): (f64, f64) = (observed.iter().sum(), expected.iter().sum());
+    println!(
+        "directions: {o} samples in cells, {e:.1} expected ({} of {} cells at 48 x 48), \
+         X² = {:.1}, dof {}, p = {:.4}",
+        edges.len(),
+        grid.cells(),
+        r.statistic,
+        r.dof,
+        r.p_value
+    );
+    assert!(
+        r.p_value > sidak(0.01, TESTS),
+        "sampled directions do not follow the density: p = {:.3e}",
         r.p_value
     );
 }

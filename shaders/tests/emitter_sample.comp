@@ -3,7 +3,10 @@
 // Test kernel: emitter_sample from a point, then the ray along each sampled direction
 // traced to what it hits and emitter_pdf_hit / emitter_pdf_env evaluated there, so
 // tests/emitters.rs can check the choice of emitter and triangle and that the density
-// used for MIS on a hit equals the density of sampling that point.
+// used for MIS on a hit equals the density of sampling that point. With mode 1, the
+// directions come from dirs[] instead (nothing is sampled): the probe then holds the
+// density of emitter sampling in that direction, for a chi-square test of the
+// sampled directions.
 
 #include "scene_bindings.glsl"
 
@@ -12,11 +15,13 @@ layout(local_size_x = 64) in;
 layout(std430, set = 1, binding = 0) readonly buffer FrameBuffer { Frame frame; };
 // Per sample two vec4: (wi, pdf), (dist, pdf at the hit, hit primitive, emitter).
 layout(std430, set = 1, binding = 1) writeonly buffer OutBuffer { vec4 probe[]; };
+layout(std430, set = 1, binding = 2) readonly buffer DirBuffer { vec4 dirs[]; };
 
 layout(push_constant) uniform PushBlock {
     vec3 x;
     uint count;
     uint seed;
+    uint mode;
 } pc;
 
 #include "bvh.glsl"
@@ -26,7 +31,12 @@ layout(push_constant) uniform PushBlock {
 void main() {
     uint i = gl_GlobalInvocationID.x;
     if (i >= pc.count) return;
-    EmitterSample es = emitter_sample(pc.x, rng_4d(i, 0u, 7u, pc.seed));
+    EmitterSample es;
+    if (pc.mode == 1u) {
+        es = EmitterSample(normalize(dirs[i].xyz), 0.0, vec3(0.0), 1.0, false, NONE);
+    } else {
+        es = emitter_sample(pc.x, rng_4d(i, 0u, 7u, pc.seed));
+    }
     float pdf_hit = 0.0;
     uint prim = NONE;
     if (!es.delta && es.pdf > 0.0) {

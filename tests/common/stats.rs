@@ -209,21 +209,26 @@ impl SphereGrid {
     /// k x k midpoints per cell, and the solid angle each stands for:
     /// dω = sin θ' (dθ'/dt) dt dφ', φ' = 2π p.
     pub fn quadrature(&self, k: usize) -> (Vec<[f32; 4]>, Vec<f64>) {
+        let cells: Vec<usize> = (0..self.cells()).collect();
+        self.quadrature_of(&cells, k)
+    }
+
+    /// As [`SphereGrid::quadrature`], for the given cells only (in that order).
+    pub fn quadrature_of(&self, cells: &[usize], k: usize) -> (Vec<[f32; 4]>, Vec<f64>) {
         let (nt, np) = (self.nt * k, self.np * k);
-        let mut dirs = Vec::with_capacity(nt * np);
-        let mut w = Vec::with_capacity(nt * np);
+        let mut dirs = Vec::with_capacity(cells.len() * k * k);
+        let mut w = Vec::with_capacity(cells.len() * k * k);
         let pi = std::f64::consts::PI;
-        for i in 0..self.nt {
-            for j in 0..self.np {
-                for a in 0..k {
-                    for b in 0..k {
-                        let tc = (i * k + a) as f64 / nt as f64 + 0.5 / nt as f64;
-                        let pc = (j * k + b) as f64 / np as f64 + 0.5 / np as f64;
-                        let d = self.dir(tc, pc);
-                        dirs.push([d.x, d.y, d.z, 0.0]);
-                        let (theta, dtheta) = Self::theta(tc);
-                        w.push(theta.sin() * dtheta * 2.0 * pi / (nt * np) as f64);
-                    }
+        for &c in cells {
+            let (i, j) = (c / self.np, c % self.np);
+            for a in 0..k {
+                for b in 0..k {
+                    let tc = (i * k + a) as f64 / nt as f64 + 0.5 / nt as f64;
+                    let pc = (j * k + b) as f64 / np as f64 + 0.5 / np as f64;
+                    let d = self.dir(tc, pc);
+                    dirs.push([d.x, d.y, d.z, 0.0]);
+                    let (theta, dtheta) = Self::theta(tc);
+                    w.push(theta.sin() * dtheta * 2.0 * pi / (nt * np) as f64);
                 }
             }
         }
