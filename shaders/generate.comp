@@ -22,6 +22,6 @@ void main() {
     float tmax;
     camera_ray(film_pos, origin, dir, tmax);
 
-    paths[p] = PathState(vec3(1.0), pixel, vec3(0.0), sample_index, 0.0, PATH_DELTA, 0u, 0u);
+    paths[p] = PathState(vec3(1.0), pixel, vec3(0.0), sample_index, 0.0, PATH_DELTA, frame.camera_medium, 0u);
     rays[ray_slot(0u, p)] = RayItem(origin, p, dir, tmax);
 }

@@ -97,7 +97,14 @@ impl PhaseProbe {
         };
         self.run(push, &[], 2)
             .chunks(2)
-            .map(|c| (Vec3::new(c[0][0], c[0][1], c[0][2]), c[0][3], c[1][0], c[1][1]))
+            .map(|c| {
+                (
+                    Vec3::new(c[0][0], c[0][1], c[0][2]),
+                    c[0][3],
+                    c[1][0],
+                    c[1][1],
+                )
+            })
             .collect()
     }
 
@@ -110,7 +117,10 @@ impl PhaseProbe {
             count: dirs.len() as u32,
             seed: 0,
         };
-        self.run(push, dirs, 1).iter().map(|v| v[0] as f64).collect()
+        self.run(push, dirs, 1)
+            .iter()
+            .map(|v| v[0] as f64)
+            .collect()
     }
 }
 

@@ -10,5 +10,11 @@
 #define INTEGRATOR_DIRECT_MIS 5u
 #define INTEGRATOR_PATH_MATS 6u
 #define INTEGRATOR_PATH_MIS 7u
+#define INTEGRATOR_VOL_PATH_SIMPLE 8u
+#define INTEGRATOR_VOL_PATH_MIS 9u
+
+bool integrator_is_volumetric(uint integrator) {
+    return integrator == INTEGRATOR_VOL_PATH_SIMPLE || integrator == INTEGRATOR_VOL_PATH_MIS;
+}
 
 #endif

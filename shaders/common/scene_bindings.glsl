@@ -14,5 +14,10 @@ layout(std430, set = 0, binding = 5) readonly buffer BsdfBuffer { BsdfRecord bsd
 layout(std430, set = 0, binding = 6) readonly buffer EmitterBuffer { EmitterRecord emitters[]; };
 // Emitter alias table at [0, emitter_count), then each mesh emitter's triangle table.
 layout(std430, set = 0, binding = 7) readonly buffer AliasBuffer { AliasEntry alias_table[]; };
+// Bindings 8-10: textures.
+// Media (shaders/common/medium.glsl): records, density grids, majorant grids.
+layout(std430, set = 0, binding = 11) readonly buffer MediumBuffer { MediumRecord media[]; };
+layout(std430, set = 0, binding = 12) readonly buffer GridBuffer { float grid_data[]; };
+layout(std430, set = 0, binding = 13) readonly buffer MajorantBuffer { float majorants[]; };
 
 #endif

@@ -49,6 +49,19 @@ pub enum Integrator {
     /// <integrator type="path"><integer name="max_depth" value="8"/></integrator>
     /// ```
     PathMis(PathParams),
+    /// Volumetric path tracing by phase-function and BSDF sampling alone: free-flight
+    /// distances by delta tracking (closed form in homogeneous media), null surfaces
+    /// passed straight through. Parameters as `path_mis`.
+    VolPathSimple(PathParams),
+    /// Volumetric path tracing with emitter sampling at surface and medium vertices
+    /// (transmittance of the shadow ray by ratio tracking, closed form in homogeneous
+    /// media), combined with BSDF and phase sampling by the balance heuristic
+    /// (Mitsuba's `volpath` and `volpathmis`). Parameters as `path_mis`.
+    ///
+    /// ```xml
+    /// <integrator type="volpath"><integer name="max_depth" value="16"/></integrator>
+    /// ```
+    VolPathMis(PathParams),
 }
 
 /// Parameters of the path tracers.
@@ -71,7 +84,8 @@ fn parameter_names(name: &str) -> &'static [&'static str] {
         "direct_ems" | "direct_mats" | "direct_mis" | "direct" => {
             &["hide_emitters", "emitter_samples", "bsdf_samples"]
         }
-        "path_mats" | "path_mis" | "path" => &["max_depth", "rr_depth", "hide_emitters"],
+        "path_mats" | "path_mis" | "path" | "vol_path_simple" | "vol_path_mis" | "volpath"
+        | "volpathmis" => &["max_depth", "rr_depth", "hide_emitters"],
         _ => &[],
     }
 }
@@ -88,6 +102,10 @@ pub const NAMES: &[&str] = &[
     "path_mats",
     "path_mis",
     "path",
+    "vol_path_simple",
+    "vol_path_mis",
+    "volpath",
+    "volpathmis",
 ];
 
 impl Integrator {
@@ -102,7 +120,17 @@ impl Integrator {
             Integrator::DirectMis { .. } => 5,
             Integrator::PathMats(_) => 6,
             Integrator::PathMis(_) => 7,
+            Integrator::VolPathSimple(_) => 8,
+            Integrator::VolPathMis(_) => 9,
         }
+    }
+
+    /// Whether the integrator follows light through media.
+    pub fn is_volumetric(&self) -> bool {
+        matches!(
+            self,
+            Integrator::VolPathSimple(_) | Integrator::VolPathMis(_)
+        )
     }
 
     pub fn name(&self) -> &'static str {
@@ -115,6 +143,8 @@ impl Integrator {
             Integrator::DirectMis { .. } => "direct_mis",
             Integrator::PathMats(_) => "path_mats",
             Integrator::PathMis(_) => "path_mis",
+            Integrator::VolPathSimple(_) => "vol_path_simple",
+            Integrator::VolPathMis(_) => "vol_path_mis",
         }
     }
 
@@ -125,7 +155,10 @@ impl Integrator {
             Integrator::DirectEms { .. }
             | Integrator::DirectMats { .. }
             | Integrator::DirectMis { .. } => 2,
-            Integrator::PathMats(p) | Integrator::PathMis(p) => p.max_depth.unwrap_or(u32::MAX),
+            Integrator::PathMats(p)
+            | Integrator::PathMis(p)
+            | Integrator::VolPathSimple(p)
+            | Integrator::VolPathMis(p) => p.max_depth.unwrap_or(u32::MAX),
         }
     }
 
@@ -137,7 +170,10 @@ impl Integrator {
             | Integrator::Simple
             | Integrator::DirectEms { .. } => 1,
             Integrator::DirectMats { .. } | Integrator::DirectMis { .. } => 2,
-            Integrator::PathMats(p) | Integrator::PathMis(p) => p
+            Integrator::PathMats(p)
+            | Integrator::PathMis(p)
+            | Integrator::VolPathSimple(p)
+            | Integrator::VolPathMis(p) => p
                 .max_depth
                 .unwrap_or(UNBOUNDED_BOUNCES)
                 .min(UNBOUNDED_BOUNCES),
@@ -147,7 +183,10 @@ impl Integrator {
     /// Russian roulette start depth (segments); never for non-path integrators.
     pub fn rr_depth(&self) -> u32 {
         match self {
-            Integrator::PathMats(p) | Integrator::PathMis(p) => p.rr_depth,
+            Integrator::PathMats(p)
+            | Integrator::PathMis(p)
+            | Integrator::VolPathSimple(p)
+            | Integrator::VolPathMis(p) => p.rr_depth,
             _ => u32::MAX,
         }
     }
@@ -158,7 +197,10 @@ impl Integrator {
             Integrator::DirectEms { hide_emitters }
             | Integrator::DirectMats { hide_emitters }
             | Integrator::DirectMis { hide_emitters } => *hide_emitters,
-            Integrator::PathMats(p) | Integrator::PathMis(p) => p.hide_emitters,
+            Integrator::PathMats(p)
+            | Integrator::PathMis(p)
+            | Integrator::VolPathSimple(p)
+            | Integrator::VolPathMis(p) => p.hide_emitters,
             _ => false,
         }
     }
@@ -249,7 +291,8 @@ impl Integrator {
                     _ => Integrator::DirectMis { hide_emitters },
                 }
             }
-            "path_mats" | "path_mis" | "path" => {
+            "path_mats" | "path_mis" | "path" | "vol_path_simple" | "vol_path_mis" | "volpath"
+            | "volpathmis" => {
                 let max_depth = match take("max_depth") {
                     None | Some(Param::Integer(-1)) => None,
                     Some(Param::Integer(d)) if d >= 1 && d <= u32::MAX as i64 / 2 => Some(d as u32),
@@ -280,10 +323,11 @@ impl Integrator {
                     rr_depth,
                     hide_emitters,
                 };
-                if name == "path_mats" {
-                    Integrator::PathMats(params)
-                } else {
-                    Integrator::PathMis(params)
+                match name {
+                    "path_mats" => Integrator::PathMats(params),
+                    "path_mis" | "path" => Integrator::PathMis(params),
+                    "vol_path_simple" => Integrator::VolPathSimple(params),
+                    _ => Integrator::VolPathMis(params),
                 }
             }
             "" => {
