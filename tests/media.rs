@@ -163,3 +163,354 @@ fn henyey_greenstein_sampling_matches_its_pdf() {
         assert_fit(&name, &observed, &expected);
     }
 }
+
+// ---------------------------------------------------------------------------------
+// Renders: references, transmittance, furnace, stress.
+
+use std::path::Path;
+
+use wavetrace::image::metrics::{block_t_test, rel_mse};
+use wavetrace::image::Image;
+use wavetrace::render::{RenderOptions, RenderStats, Renderer};
+use wavetrace::scene::Scene;
+
+fn load_with(path: &Path, defines: &[(&str, &str)]) -> Scene {
+    let d: Vec<(String, String)> = defines
+        .iter()
+        .map(|(a, b)| (a.to_string(), b.to_string()))
+        .collect();
+    wavetrace::scene::load(path, &d).unwrap_or_else(|e| panic!("loading {}: {e}", path.display()))
+}
+
+fn render_stats(
+    device: &Device,
+    scene: &Scene,
+    integrator: Option<&str>,
+    spp: u32,
+    seed: u32,
+) -> (Image, RenderStats) {
+    let options = RenderOptions {
+        integrator: integrator.map(str::to_string),
+        seed,
+        ..Default::default()
+    };
+    let mut r = Renderer::new(device, scene, &options).unwrap_or_else(|e| panic!("setup: {e}"));
+    r.render(spp, &mut |_, _| {}).expect("render")
+}
+
+/// Renders `scene` (with `defines`) at 64 spp and compares it with a Mitsuba 3
+/// `volpath` reference from tools/mitsuba_ref.py (scenes/refs/README.md): one-sample
+/// t-tests of the pixel differences per 8x8 block and channel, the worst p-value
+/// Bonferroni-corrected over the 192 tests; an unbiased render fails with probability
+/// below 1%. Also checks that a 5% bias would be seen.
+fn matches_reference(device: &Device, scene: &str, defines: &[(&str, &str)], reference: &str) {
+    let scene = load_with(&common::repo(scene), defines);
+    let reference = Image::read_exr(common::repo(reference)).expect("reference EXR");
+    let (img, stats) = render_stats(device, &scene, None, 64, 0);
+    assert_eq!(stats.discarded, 0, "NaN or infinite samples");
+    let test = block_t_test(&img, &reference, 8).expect("t-test");
+    println!(
+        "{}: {test}; relMSE {:.3e}; {:.2} s",
+        reference_name(&scene, defines),
+        rel_mse(&img, &reference).expect("relMSE"),
+        stats.seconds
+    );
+    assert!(
+        test.passes(0.01),
+        "render disagrees with the Mitsuba reference: {test}"
+    );
+    let mut biased = img.clone();
+    biased.rgb.iter_mut().for_each(|v| *v *= 0.95);
+    let b = block_t_test(&biased, &reference, 8).expect("t-test");
+    assert!(!b.passes(0.01), "the check cannot see a 5% bias: {b}");
+}
+
+fn reference_name(scene: &Scene, defines: &[(&str, &str)]) -> String {
+    format!("{} {defines:?}", scene.path.display())
+}
+
+/// The shipped homogeneous scenes against Mitsuba's volpath: a scattering cube
+/// (sigma_s = 1, sigma_a = 0) with isotropic, g = 0.7 and g = -0.7 phase functions, a
+/// pure absorber, and two coloured media inside fog that also holds the camera.
+#[test]
+fn homogeneous_media_match_mitsuba() {
+    let device = common::device();
+    let cube = "scenes/media/cube.xml";
+    matches_reference(&device, cube, &[], "scenes/refs/media_cube.exr");
+    matches_reference(
+        &device,
+        cube,
+        &[("g", "0.7")],
+        "scenes/refs/media_cube_g07.exr",
+    );
+    matches_reference(
+        &device,
+        cube,
+        &[("g", "-0.7")],
+        "scenes/refs/media_cube_gm07.exr",
+    );
+    matches_reference(
+        &device,
+        cube,
+        &[("albedo", "0")],
+        "scenes/refs/media_cube_absorber.exr",
+    );
+    matches_reference(
+        &device,
+        "scenes/media/two_media.xml",
+        &[],
+        "scenes/refs/media_two.exr",
+    );
+}
+
+/// The heterogeneous smoke grid against Mitsuba's volpath.
+#[test]
+fn grid_medium_matches_mitsuba() {
+    let device = common::device();
+    matches_reference(
+        &device,
+        "scenes/media/smoke.xml",
+        &[],
+        "scenes/refs/media_smoke.exr",
+    );
+}
+
+/// A Mitsuba .vol file's bytes (float32, bounding box the unit cube).
+fn vol_bytes(res: [i32; 3], data: &[f32]) -> Vec<u8> {
+    let mut b = b"VOL\x03".to_vec();
+    for i in [1, res[0], res[1], res[2], 1] {
+        b.extend_from_slice(&i.to_le_bytes());
+    }
+    for f in [0f32, 0.0, 0.0, 1.0, 1.0, 1.0].iter().chain(data) {
+        b.extend_from_slice(&f.to_le_bytes());
+    }
+    b
+}
+
+/// A grid of density 1 everywhere but one corner voxel of 4: with a single majorant
+/// (majorant_resolution_factor 0) tracking in the constant part sees a majorant 4
+/// times the extinction, so delta tracking takes null collisions and ratio tracking
+/// multiplies real factors (3/4) rather than 0 or 1.
+fn constant_grid_file(test: &str) -> std::path::PathBuf {
+    let n = 8;
+    let mut data = vec![1.0f32; n * n * n];
+    data[0] = 4.0;
+    let path = std::env::temp_dir().join(format!(
+        "wavetrace-test-{}-{test}-const.vol",
+        std::process::id()
+    ));
+    std::fs::write(&path, vol_bytes([n as i32; 3], &data)).expect("write vol");
+    path
+}
+
+/// The slab's medium: homogeneous, or the constant grid on the slab's box.
+fn slab_medium(kind: &str, sigma: f32, albedo: f32, z0: f32, z1: f32, vol: &Path) -> String {
+    if kind == "homogeneous" {
+        format!(
+            r#"<medium type="homogeneous" name="interior"><rgb name="sigma_t" value="{sigma}"/><rgb name="albedo" value="{albedo}"/></medium>"#
+        )
+    } else {
+        format!(
+            r#"<medium type="heterogeneous" name="interior">
+        <volume type="gridvolume" name="sigma_t"><string name="filename" value="{}"/>
+            <transform name="to_world"><scale x="4" y="4" z="{}"/><translate x="-2" y="-2" z="{z0}"/></transform></volume>
+        <float name="scale" value="{sigma}"/><rgb name="albedo" value="{albedo}"/>
+        <integer name="majorant_resolution_factor" value="0"/></medium>"#,
+            vol.display(),
+            z1 - z0
+        )
+    }
+}
+
+/// A slab z in [z0, z1], x and y in [-2, 2], null boundary, with `medium` inside.
+fn slab_shape(z0: f32, z1: f32, medium: &str) -> String {
+    format!(
+        r#"<shape type="cube"><bsdf type="null"/>
+    <transform name="to_world"><scale x="2" y="2" z="{}"/><translate z="{}"/></transform>
+    {medium}</shape>"#,
+        0.5 * (z1 - z0),
+        0.5 * (z0 + z1)
+    )
+}
+
+/// Per pixel, the mean of its three channels (they are not independent samples).
+fn pixel_means(img: &Image) -> Vec<f64> {
+    img.rgb
+        .chunks(3)
+        .map(|c| (c[0] as f64 + c[1] as f64 + c[2] as f64) / 3.0)
+        .collect()
+}
+
+/// Relative error allowed where a result is exact in exact arithmetic: lavapipe's
+/// exp() is accurate to about 1e-4 relative, not to f32 rounding.
+const EXACT: f64 = 5e-4;
+
+/// Mean and standard error of the mean of `v`.
+fn mean_se(v: &[f64]) -> (f64, f64) {
+    let n = v.len() as f64;
+    let m = v.iter().sum::<f64>() / n;
+    let var = v.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (n - 1.0);
+    (m, (var / n).sqrt())
+}
+
+/// Transmittance through a slab of thickness d = 0.5 and extinction 2 equals
+/// e^{-σt d} = e^{-1}:
+/// - camera rays (free-flight sampling) through the slab towards an emitter of
+///   radiance 1, seen through a 2° field of view (slant paths at most 3e-4 longer):
+///   homogeneous absorber (closed form, exact), homogeneous with albedo 0.5 (the ray
+///   passes only if it samples no collision), and the constant grid (delta tracking
+///   with null collisions);
+/// - shadow rays from a white diffuse plane to a distant point light through the slab
+///   (transmittance estimators): homogeneous (closed form, exact) and the constant
+///   grid (ratio tracking), each as the pixel ratio to the same render without slab
+///   (identical camera samples: same seed).
+///
+/// Stochastic cases: a z-test of the image mean (4.5 standard errors: a false alarm
+/// has probability 7e-6).
+#[test]
+fn slab_transmittance_is_beer_lambert() {
+    let device = common::device();
+    let vol = constant_grid_file("slab");
+    let (sigma, d) = (2.0f32, 0.5f32);
+    let want = (-(sigma * d) as f64).exp();
+    let sensor = |z: f32, fov: f32, res: u32| {
+        format!(
+            r#"<sensor type="perspective"><float name="fov" value="{fov}"/>
+    <transform name="to_world"><lookat origin="0, 0, {z}" target="0, 0, -10" up="0, 1, 0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="{res}"/><integer name="height" value="{res}"/></film></sensor>"#
+        )
+    };
+    // Camera rays: the slab at z in [0, 0.5], an emitter at z = -2 facing the camera.
+    for (kind, albedo, exact) in [
+        ("homogeneous", 0.0, true),
+        ("homogeneous", 0.5, false),
+        ("grid", 0.5, false),
+    ] {
+        let xml = format!(
+            r#"<scene version="3.0.0">
+<integrator type="vol_path_simple"><integer name="max_depth" value="1"/></integrator>
+{}
+<shape type="rectangle"><transform name="to_world"><scale value="5"/><translate z="-2"/></transform>
+    <emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
+{}
+</scene>"#,
+            sensor(5.0, 2.0, 32),
+            slab_shape(0.0, d, &slab_medium(kind, sigma, albedo, 0.0, d, &vol)),
+        );
+        let path = common::temp_file("slab", &format!("camera_{kind}_{albedo}.xml"), &xml);
+        let (img, stats) = render_stats(&device, &common::load(&path), None, 64, 1);
+        assert_eq!(stats.discarded, 0);
+        let px = pixel_means(&img);
+        let (m, se) = mean_se(&px);
+        println!("camera rays, {kind}, albedo {albedo}: mean {m:.5} ± {se:.5}, e^-1 = {want:.5}");
+        if exact {
+            assert!((m - want).abs() < EXACT * want, "{kind}: {m} vs {want}");
+        } else {
+            // Binomial standard error of the 65536 samples (each passes or not).
+            let se = (want * (1.0 - want) / (px.len() as f64 * 64.0)).sqrt();
+            assert!((m - want).abs() < 4.5 * se, "{kind}: {m} vs {want} ± {se}");
+        }
+    }
+    // Shadow rays: a white plane at z = 0 seen from z = 1, the slab at z in [2, 2.5],
+    // a point light at z = 1000 (irradiance 1 at the plane).
+    let render_plane = |slab: &str, name: &str| {
+        let xml = format!(
+            r#"<scene version="3.0.0">
+<integrator type="vol_path_mis"><integer name="max_depth" value="2"/></integrator>
+{}
+<emitter type="point"><point name="position" x="0" y="0" z="1000"/><rgb name="intensity" value="1000000"/></emitter>
+<shape type="rectangle"><transform name="to_world"><scale value="3"/></transform>
+    <bsdf type="diffuse"><rgb name="reflectance" value="1"/></bsdf></shape>
+{slab}
+</scene>"#,
+            sensor(1.0, 10.0, 32)
+        );
+        let path = common::temp_file("slab", &format!("shadow_{name}.xml"), &xml);
+        let (img, stats) = render_stats(&device, &common::load(&path), None, 16, 2);
+        assert_eq!(stats.discarded, 0);
+        img
+    };
+    let open = render_plane("", "open");
+    for (kind, exact) in [("homogeneous", true), ("grid", false)] {
+        let slab = slab_shape(
+            2.0,
+            2.0 + d,
+            &slab_medium(kind, sigma, 0.5, 2.0, 2.0 + d, &vol),
+        );
+        let img = render_plane(&slab, kind);
+        let ratios: Vec<f64> = pixel_means(&img)
+            .iter()
+            .zip(&pixel_means(&open))
+            .map(|(&a, &b)| {
+                assert!(b > 0.2, "the open plane is lit: {b}");
+                a / b
+            })
+            .collect();
+        let (m, se) = mean_se(&ratios);
+        println!("shadow rays, {kind}: mean ratio {m:.5} ± {se:.5}, e^-1 = {want:.5}");
+        if exact {
+            assert!(
+                ratios.iter().all(|r| (r - want).abs() < EXACT * want),
+                "{kind}: closed form off"
+            );
+        } else {
+            assert!(
+                se > 0.0 && (m - want).abs() < 4.5 * se,
+                "{kind}: {m} vs {want} ± {se}"
+            );
+        }
+    }
+}
+
+/// White furnace: a non-absorbing medium (albedo 1) inside a null sphere, under a
+/// constant environment of radiance 1 and nothing else, returns exactly 1 along every
+/// ray. vol_path_simple with neither Russian roulette nor a depth limit within the 64
+/// bounces dispatched carries weight exactly 1 on every sample (grey homogeneous and
+/// grid media: scattering weights are the albedo); vol_path_mis (emitter sampling with
+/// transmittance, MIS) and coloured extinction are right on average (z-test of the
+/// image mean, 4.5 standard errors).
+#[test]
+fn furnace_non_absorbing_medium_returns_the_light() {
+    let device = common::device();
+    let smoke = common::repo("scenes/media/smoke.vol");
+    let media = [
+        ("grey", r#"<medium type="homogeneous" name="interior"><rgb name="sigma_t" value="2"/><rgb name="albedo" value="1"/><phase type="hg"><float name="g" value="0.6"/></phase></medium>"#.to_string()),
+        ("coloured", r#"<medium type="homogeneous" name="interior"><rgb name="sigma_t" value="0.1, 0.5, 1"/><float name="scale" value="3"/><rgb name="albedo" value="1"/></medium>"#.to_string()),
+        ("grid", format!(r#"<medium type="heterogeneous" name="interior"><volume type="gridvolume" name="sigma_t"><string name="filename" value="{}"/>
+            <transform name="to_world"><scale value="2"/><translate x="-1" y="-1" z="-1"/></transform></volume>
+            <float name="scale" value="4"/><rgb name="albedo" value="1"/></medium>"#, smoke.display())),
+    ];
+    for (name, medium) in &media {
+        let xml = format!(
+            r#"<scene version="3.0.0">
+<integrator type="vol_path_mis"><integer name="rr_depth" value="1000"/></integrator>
+<sensor type="perspective"><float name="fov" value="30"/>
+    <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/></film></sensor>
+<emitter type="constant"><rgb name="radiance" value="1"/></emitter>
+<shape type="sphere"><bsdf type="null"/>{medium}</shape>
+</scene>"#
+        );
+        let scene = common::load(&common::temp_file("furnace", &format!("{name}.xml"), &xml));
+        for integrator in ["vol_path_simple", "vol_path_mis"] {
+            let (img, stats) = render_stats(&device, &scene, Some(integrator), 32, 3);
+            assert_eq!(stats.discarded, 0);
+            let px = pixel_means(&img);
+            let (m, se) = mean_se(&px);
+            let worst = img
+                .rgb
+                .iter()
+                .map(|&v| (v as f64 - 1.0).abs())
+                .fold(0.0, f64::max);
+            println!("furnace {name}, {integrator}: mean {m:.5} ± {se:.5}, worst pixel off by {worst:.2e}");
+            if integrator == "vol_path_simple" && *name != "coloured" {
+                assert!(worst < 1e-4, "{name}: a pixel is off by {worst}");
+            } else {
+                assert!(
+                    (m - 1.0).abs() < 4.5 * se.max(1e-6),
+                    "{name}, {integrator}: {m} ± {se}"
+                );
+            }
+        }
+    }
+}

@@ -19,6 +19,8 @@ What it changes in the scene before Mitsuba sees it (the file itself is not touc
   direct lighting, 6 is up to five bounces.
 * With `-D name=value`: Mitsuba's `$name` parameters (the scene's `<default>`s), as
   `wavetrace -D` does.
+* Always: wavetrace-only medium parameters (`majorant_resolution_factor`, which
+  Mitsuba 3.9 does not read) are removed.
 * With `--ao`: wavetrace's `ao` integrator, ambient occlusion
       AO(x) = (1/pi) * integral over the hemisphere of V(x, w) cos(theta) dw,
   is not a Mitsuba plugin. It equals the direct illumination of a white Lambertian
@@ -164,6 +166,10 @@ def prepare(root, spp):
         sampler = ET.SubElement(sensor, "sampler", type="independent")
     if spp is not None:
         set_param(sampler, "integer", "sample_count", spp)
+    # wavetrace-only medium parameters (Mitsuba 3.9 rejects unknown ones).
+    for medium in root.iter("medium"):
+        for el in [e for e in medium if e.get("name") == "majorant_resolution_factor"]:
+            medium.remove(el)
 
 
 def scene_files(root, scene_path, defines):
