@@ -9,7 +9,7 @@ use wavetrace::gpu::{
     shaders, BindingLayout, Buffer, CommandList, DescriptorSet, Device, Kernel, Location,
 };
 
-/// At least as many chi-square tests as this file runs (Šidák correction).
+/// At least as many chi-square tests as this file runs (10 now; Šidák correction).
 const TESTS_IN_FILE: usize = 12;
 /// Family-wise significance of the file.
 const ALPHA: f64 = 0.01;
@@ -164,6 +164,109 @@ fn henyey_greenstein_sampling_matches_its_pdf() {
     }
 }
 
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct EquiangularPush {
+    o: [f32; 4],
+    d: [f32; 4],
+    c: [f32; 4],
+    mode: u32,
+    count: u32,
+    seed: u32,
+    pad: u32,
+}
+
+/// Runs `shaders/tests/equiangular.comp`: `count` outputs for `input` (one vec4 each).
+fn run_equiangular(push: EquiangularPush, input: &[[f32; 4]]) -> Vec<[f32; 4]> {
+    let device = common::device();
+    let layout = BindingLayout::new(&device, &[2], 64).expect("layout");
+    let kernel = Kernel::new(
+        &device,
+        "equiangular",
+        shaders::TESTS_EQUIANGULAR,
+        &layout,
+        &[],
+    )
+    .expect("kernel");
+    let dummy = [[0f32; 4]];
+    let inb = Buffer::from_slice(&device, "in", if input.is_empty() { &dummy } else { input })
+        .expect("buffer");
+    let out = Buffer::new(&device, "out", push.count as u64 * 16, Location::Gpu).expect("buffer");
+    let set = DescriptorSet::new(&layout, 0, &[&inb, &out]).expect("set");
+    let mut cmd = CommandList::new(&device).expect("commands");
+    let groups = push.count.div_ceil(64);
+    cmd.dispatch(
+        &kernel,
+        &[&set],
+        bytemuck::bytes_of(&push),
+        [groups.min(65535), groups.div_ceil(65535), 1],
+    );
+    cmd.barrier();
+    cmd.submit_and_wait().expect("submit");
+    let mut v: Vec<[f32; 4]> = out.read(&device).expect("read");
+    v.truncate(push.count as usize);
+    v
+}
+
+/// Equiangular sampling (Kulla and Fajardo 2012) against its pdf: a chi-square test
+/// of 400k distances histogrammed in 64 bins of [a, b], expected counts by a 16-point
+/// midpoint rule of the kernel's pdf per bin; the pdf integrates to 1 and matches the
+/// pdf returned with each sample. Lights beside the segment, far beyond its end,
+/// behind its origin, and very close to the ray (a sharp peak).
+#[test]
+fn equiangular_sampling_matches_its_pdf() {
+    let o = Vec3::new(0.1, -0.2, 0.3);
+    let d = Vec3::new(1.0, 0.5, -0.3).normalize();
+    let (a, b) = (0.5f32, 4.0f32);
+    let side = d.any_orthonormal_vector();
+    let cases = [
+        ("beside the middle", o + 2.0 * d + 0.7 * side),
+        ("beyond the end", o + 9.0 * d + 1.5 * side),
+        ("behind the origin", o - 2.0 * d + 0.4 * side),
+        ("close to the ray", o + 1.3 * d + 0.03 * side),
+    ];
+    for (k, (name, c)) in cases.into_iter().enumerate() {
+        let name = format!("equiangular, light {name}");
+        let push = |mode, count| EquiangularPush {
+            o: [o.x, o.y, o.z, a],
+            d: [d.x, d.y, d.z, b],
+            c: [c.x, c.y, c.z, 0.0],
+            mode,
+            count,
+            seed: 100 + k as u32,
+            pad: 0,
+        };
+        let bins = 64usize;
+        let mut observed = vec![0.0; bins];
+        for s in run_equiangular(push(0, N), &[]) {
+            let t = s[0];
+            assert!(
+                t >= a && t <= b && s[1] > 0.0,
+                "{name}: sample {t} with pdf {}",
+                s[1]
+            );
+            let i = (((t - a) / (b - a)) * bins as f32) as usize;
+            observed[i.min(bins - 1)] += 1.0;
+        }
+        let q = 16usize;
+        let h = (b - a) as f64 / (bins * q) as f64;
+        let points: Vec<[f32; 4]> = (0..bins * q)
+            .map(|j| [(a as f64 + (j as f64 + 0.5) * h) as f32, 0.0, 0.0, 0.0])
+            .collect();
+        let pdf = run_equiangular(push(1, points.len() as u32), &points);
+        let mass: Vec<f64> = (0..bins)
+            .map(|i| (0..q).map(|j| pdf[i * q + j][0] as f64 * h).sum())
+            .collect();
+        let total: f64 = mass.iter().sum();
+        assert!(
+            (total - 1.0).abs() < 2e-3,
+            "{name}: pdf integrates to {total}"
+        );
+        let expected: Vec<f64> = mass.iter().map(|m| m * N as f64).collect();
+        assert_fit(&name, &observed, &expected);
+    }
+}
+
 // ---------------------------------------------------------------------------------
 // Renders: references, transmittance, furnace, stress.
 
@@ -261,6 +364,21 @@ fn homogeneous_media_match_mitsuba() {
         &[],
         "scenes/refs/media_two.exr",
     );
+}
+
+/// Single scattering with distance and with equiangular sampling (a point light in
+/// fog) against Mitsuba's volpath with max_depth 2: both have its mean.
+#[test]
+fn single_scattering_distance_and_equiangular_match_mitsuba() {
+    let device = common::device();
+    for sampling in ["distance", "equiangular"] {
+        matches_reference(
+            &device,
+            "scenes/media/fog_point.xml",
+            &[("sampling", sampling)],
+            "scenes/refs/media_fog_point.exr",
+        );
+    }
 }
 
 /// The heterogeneous smoke grid against Mitsuba's volpath.

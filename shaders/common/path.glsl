@@ -5,7 +5,8 @@
 //   direct_ems  : emitter sampling          direct_mats : BSDF sampling
 //   direct_mis  : both, balance heuristic    path_mats   : BSDF sampling, any depth
 //   path_mis    : both at every vertex, balance heuristic (Veach 1997, ch. 9)
-//   vol_path_simple, vol_path_mis: as path_mats and path_mis at surfaces; their
+//   vol_path_simple, vol_path_mis, single_scatter: as path_mats, path_mis and
+//                 direct_mis at surfaces; their
 //                 medium stage runs first (vol_path.glsl), and the rays they spawn
 //                 carry the medium they enter.
 // Needs wavefront.glsl, scene_bindings.glsl, surface.glsl, emitter.glsl, bsdf.glsl.
@@ -35,10 +36,11 @@ uint path_medium_after(uint integrator, uint shape, uint current, vec3 d, vec3 n
 // Shades ray r (path vertex number push.depth + 1) with its hit h.
 void path_shade(uint integrator, RayItem r, HitItem h) {
     bool ems = integrator == INTEGRATOR_DIRECT_EMS || integrator == INTEGRATOR_DIRECT_MIS
-        || integrator == INTEGRATOR_PATH_MIS || integrator == INTEGRATOR_VOL_PATH_MIS;
+        || integrator == INTEGRATOR_PATH_MIS || integrator == INTEGRATOR_VOL_PATH_MIS
+        || integrator_is_single_scatter(integrator);
     bool mats = integrator != INTEGRATOR_DIRECT_EMS;
     bool mis = integrator == INTEGRATOR_DIRECT_MIS || integrator == INTEGRATOR_PATH_MIS
-        || integrator == INTEGRATOR_VOL_PATH_MIS;
+        || integrator == INTEGRATOR_VOL_PATH_MIS || integrator_is_single_scatter(integrator);
     bool path_tracer = integrator == INTEGRATOR_PATH_MATS || integrator == INTEGRATOR_PATH_MIS
         || integrator_is_volumetric(integrator);
 

@@ -62,6 +62,22 @@ pub enum Integrator {
     /// <integrator type="volpath"><integer name="max_depth" value="16"/></integrator>
     /// ```
     VolPathMis(PathParams),
+    /// Single scattering: light reaching the camera after at most one scattering event
+    /// (in a medium, or direct lighting at the first surface with BSDF/emitter MIS),
+    /// attenuated by every medium on the way; the same expectation as `vol_path_mis`
+    /// with max_depth 2. Parameter `sampling`: `distance` (default; free-flight
+    /// sampling) or `equiangular` (Kulla and Fajardo 2012: camera-ray distances
+    /// towards the point of light chosen for the scattering point, for point, spot
+    /// and mesh lights; others get equiangular towards the point first sampled);
+    /// `hide_emitters` (default false).
+    ///
+    /// ```xml
+    /// <integrator type="single_scatter"><string name="sampling" value="equiangular"/></integrator>
+    /// ```
+    SingleScatter {
+        equiangular: bool,
+        hide_emitters: bool,
+    },
 }
 
 /// Parameters of the path tracers.
@@ -86,6 +102,7 @@ fn parameter_names(name: &str) -> &'static [&'static str] {
         }
         "path_mats" | "path_mis" | "path" | "vol_path_simple" | "vol_path_mis" | "volpath"
         | "volpathmis" => &["max_depth", "rr_depth", "hide_emitters"],
+        "single_scatter" => &["sampling", "hide_emitters"],
         _ => &[],
     }
 }
@@ -106,6 +123,7 @@ pub const NAMES: &[&str] = &[
     "vol_path_mis",
     "volpath",
     "volpathmis",
+    "single_scatter",
 ];
 
 impl Integrator {
@@ -122,6 +140,10 @@ impl Integrator {
             Integrator::PathMis(_) => 7,
             Integrator::VolPathSimple(_) => 8,
             Integrator::VolPathMis(_) => 9,
+            Integrator::SingleScatter {
+                equiangular: false, ..
+            } => 10,
+            Integrator::SingleScatter { .. } => 11,
         }
     }
 
@@ -129,7 +151,9 @@ impl Integrator {
     pub fn is_volumetric(&self) -> bool {
         matches!(
             self,
-            Integrator::VolPathSimple(_) | Integrator::VolPathMis(_)
+            Integrator::VolPathSimple(_)
+                | Integrator::VolPathMis(_)
+                | Integrator::SingleScatter { .. }
         )
     }
 
@@ -145,6 +169,7 @@ impl Integrator {
             Integrator::PathMis(_) => "path_mis",
             Integrator::VolPathSimple(_) => "vol_path_simple",
             Integrator::VolPathMis(_) => "vol_path_mis",
+            Integrator::SingleScatter { .. } => "single_scatter",
         }
     }
 
@@ -154,7 +179,8 @@ impl Integrator {
             Integrator::Normals | Integrator::Ao { .. } | Integrator::Simple => 1,
             Integrator::DirectEms { .. }
             | Integrator::DirectMats { .. }
-            | Integrator::DirectMis { .. } => 2,
+            | Integrator::DirectMis { .. }
+            | Integrator::SingleScatter { .. } => 2,
             Integrator::PathMats(p)
             | Integrator::PathMis(p)
             | Integrator::VolPathSimple(p)
@@ -169,7 +195,9 @@ impl Integrator {
             | Integrator::Ao { .. }
             | Integrator::Simple
             | Integrator::DirectEms { .. } => 1,
-            Integrator::DirectMats { .. } | Integrator::DirectMis { .. } => 2,
+            Integrator::DirectMats { .. }
+            | Integrator::DirectMis { .. }
+            | Integrator::SingleScatter { .. } => 2,
             Integrator::PathMats(p)
             | Integrator::PathMis(p)
             | Integrator::VolPathSimple(p)
@@ -196,7 +224,8 @@ impl Integrator {
         match self {
             Integrator::DirectEms { hide_emitters }
             | Integrator::DirectMats { hide_emitters }
-            | Integrator::DirectMis { hide_emitters } => *hide_emitters,
+            | Integrator::DirectMis { hide_emitters }
+            | Integrator::SingleScatter { hide_emitters, .. } => *hide_emitters,
             Integrator::PathMats(p)
             | Integrator::PathMis(p)
             | Integrator::VolPathSimple(p)
@@ -328,6 +357,28 @@ impl Integrator {
                     "path_mis" | "path" => Integrator::PathMis(params),
                     "vol_path_simple" => Integrator::VolPathSimple(params),
                     _ => Integrator::VolPathMis(params),
+                }
+            }
+            "single_scatter" => {
+                let equiangular = match take("sampling") {
+                    None => false,
+                    Some(Param::String(s)) if s == "distance" => false,
+                    Some(Param::String(s)) if s == "equiangular" => true,
+                    Some(p) => {
+                        return Err(err(
+                            line,
+                            format!("integrator 'single_scatter': sampling must be \"distance\" or \"equiangular\", got {p:?}"),
+                        ))
+                    }
+                };
+                let hide_emitters = match take("hide_emitters") {
+                    None => false,
+                    Some(Param::Bool(b)) => b,
+                    Some(p) => return Err(not_boolean("hide_emitters", p)),
+                };
+                Integrator::SingleScatter {
+                    equiangular,
+                    hide_emitters,
                 }
             }
             "" => {
