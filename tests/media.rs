@@ -584,7 +584,8 @@ fn slab_transmittance_is_beer_lambert() {
 /// constant environment of radiance 1 and nothing else, returns exactly 1 along every
 /// ray. vol_path_simple with neither Russian roulette nor a depth limit within the 64
 /// bounces dispatched carries weight exactly 1 on every sample (grey homogeneous and
-/// grid media: scattering weights are the albedo); vol_path_mis (emitter sampling with
+/// grid media, here the smoke grid and a procedural cloud: scattering weights are the
+/// albedo); vol_path_mis (emitter sampling with
 /// transmittance, MIS) and coloured extinction are right on average (z-test of the
 /// image mean, 4.5 standard errors).
 #[test]
@@ -597,6 +598,9 @@ fn furnace_non_absorbing_medium_returns_the_light() {
         ("grid", format!(r#"<medium type="heterogeneous" name="interior"><volume type="gridvolume" name="sigma_t"><string name="filename" value="{}"/>
             <transform name="to_world"><scale value="2"/><translate x="-1" y="-1" z="-1"/></transform></volume>
             <float name="scale" value="4"/><rgb name="albedo" value="1"/></medium>"#, smoke.display())),
+        ("cloud", r#"<medium type="heterogeneous" name="interior"><volume type="cloud" name="sigma_t"><integer name="resolution" value="32"/>
+            <transform name="to_world"><scale value="2"/><translate x="-1" y="-1" z="-1"/></transform></volume>
+            <float name="scale" value="6"/><rgb name="albedo" value="1"/></medium>"#.to_string()),
     ];
     for (name, medium) in &media {
         let xml = format!(

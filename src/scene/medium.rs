@@ -13,7 +13,8 @@
 //!   Mitsuba 3's `gridvolume`) or a constant; `albedo` a constant color; `scale`;
 //!   `majorant_resolution_factor` (wavetrace default 8: a coarse grid of maxima, one
 //!   cell per 8³ voxels, lets delta tracking take long steps through thin regions; 0:
-//!   one majorant for the whole grid, as Mitsuba's default).
+//!   one majorant for the whole grid, as Mitsuba's default). Procedural `cloud` and
+//!   `perlin` volumes are baked to a grid at load (`scene::procedural`).
 //! - A nested `<phase type="isotropic"/>` (default) or `<phase type="hg">` (`g` in
 //!   (-1, 1), Mitsuba's default 0.8).
 //!
@@ -221,6 +222,7 @@ fn volume(el: &Element) -> Result<Volume, Error> {
             props.ignore(&["raw", "accel", "wrap_mode"]);
             Volume::Grid(grid)
         }
+        "cloud" | "perlin" => Volume::Grid(super::procedural::bake(t, &props)?),
         _ => return Err(el.err(format!("unknown volume type '{t}'"))),
     };
     props.finish()?;

@@ -15,6 +15,7 @@ mod mitsuba;
 mod nori;
 mod obj;
 mod ply;
+pub mod procedural;
 pub mod properties;
 pub mod shape;
 pub mod spectrum;
