@@ -22,6 +22,6 @@ void main() {
     float tmax;
     camera_ray(film_pos, origin, dir, tmax);
 
-    path_store(p, PathState(vec3(1.0), pixel, vec3(0.0), sample_index, 0.0, PATH_DELTA, 1.0, 0u));
+    path_store(p, PathState(vec3(1.0), pixel, vec3(0.0), sample_index, 0.0, PATH_DELTA, 1.0, frame.camera_medium));
     ray_store(ray_slot(0u, p), RayItem(origin, p, dir, tmax));
 }

@@ -1,7 +1,9 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // shade: turns each hit (or miss) into radiance, shadow rays and continuation rays,
-// as the integrator chosen by specialization constant INTEGRATOR says.
+// as the integrator chosen by specialization constant INTEGRATOR says. In scenes with
+// media or null surfaces (SCENE_HAS_MEDIA), path integrators first run the medium
+// stage (vol_path.glsl): free-flight sampling and null-surface crossings.
 // Reads: ray queue `queue_in`, hits. Writes: paths[], shadow queue, next ray queue.
 
 #include "wavefront.glsl"
@@ -13,7 +15,16 @@ layout(constant_id = 1) const uint SCENE_BSDF_KINDS = 0xffffffffu;
 #define BSDF_KINDS SCENE_BSDF_KINDS
 #include "bsdf.glsl"
 #include "first_hit.glsl"
+
+// Media or null surfaces in the scene; without them the medium stage compiles away.
+layout(constant_id = 4) const bool SCENE_HAS_MEDIA = false;
+layout(constant_id = 5) const bool SCENE_HAS_SPHERES = true;
+#define BVH_HAS_SPHERES SCENE_HAS_SPHERES
+#include "bvh.glsl"
+#define MEDIA_ENABLED SCENE_HAS_MEDIA
+#include "medium.glsl"
 #include "path.glsl"
+#include "vol_path.glsl"
 
 layout(constant_id = 0) const uint INTEGRATOR = INTEGRATOR_AO;
 
@@ -23,7 +34,9 @@ void main() {
     RayItem r = ray_load(ray_slot(push.queue_in, i));
     HitItem h = hit_load(i);
     if (INTEGRATOR >= INTEGRATOR_DIRECT_EMS) {
-        path_shade(INTEGRATOR, r, h);
+        PathState path = path_load(r.path);
+        if (SCENE_HAS_MEDIA && !vol_path_traverse(INTEGRATOR, r, h, path)) return;
+        path_shade(INTEGRATOR, r, h, path);
     } else {
         first_hit_shade(INTEGRATOR, r, h);
     }

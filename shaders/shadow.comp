@@ -1,8 +1,10 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // shadow: any-hit occlusion test for every shadow ray; an unblocked ray adds its
-// contribution to its path. A path has at most one shadow ray per bounce, so the
-// write to its radiance does not race.
+// contribution to its path. In scenes with media or null surfaces (SCENE_HAS_MEDIA)
+// the ray passes null surfaces and is attenuated by the media it crosses
+// (transmittance.glsl). A path has at most one shadow ray per bounce, so the write
+// to its radiance does not race.
 // Reads: shadow queue. Writes: paths[].radiance.
 
 #include "wavefront.glsl"
@@ -12,12 +14,24 @@
 layout(constant_id = 0) const bool SCENE_HAS_SPHERES = true;
 #define BVH_HAS_SPHERES SCENE_HAS_SPHERES
 #include "bvh.glsl"
+// Media or null surfaces in the scene; without them the code below compiles away.
+layout(constant_id = 4) const bool SCENE_HAS_MEDIA = false;
+#include "surface.glsl"
+#define MEDIA_ENABLED SCENE_HAS_MEDIA
+#include "transmittance.glsl"
 
 void main() {
     uint i = thread_index();
     if (i >= counters.shadow_count) return;
     ShadowItem s = shadow_load(i);
-    if (!bvh_any(s.origin, s.dir, 0.0, s.tmax)) {
+    if (SCENE_HAS_MEDIA) {
+        vec3 T = transmittance_shadow(s);
+        if (any(greaterThan(T, vec3(0.0)))) {
+            PathState p = path_load(s.path);
+            p.radiance += s.contribution * T;
+            path_store_radiance(s.path, p);
+        }
+    } else if (!bvh_any(s.origin, s.dir, 0.0, s.tmax)) {
         PathState p = path_load(s.path);
         p.radiance += s.contribution;
         path_store_radiance(s.path, p);

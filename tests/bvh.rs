@@ -149,6 +149,9 @@ fn gpu_closest_and_any_hit_equal_brute_force_on_bunny_and_spheres() {
             bsdf: 0,
             emitter: None,
             flip_normals: false,
+            interior: None,
+            exterior: None,
+            null_bsdf: false,
         })
         .collect();
     let bvh = Bvh::build(prims_from_shapes(&[bunny], &spheres));

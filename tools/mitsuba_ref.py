@@ -2,7 +2,8 @@
 """Render a wavetrace scene (Mitsuba 3 dialect) with Mitsuba 3, as a reference EXR.
 
     python3 tools/mitsuba_ref.py SCENE.xml -o OUT.exr --spp N [--variant scalar_rgb] [--ao]
-                                 [--integrator path|direct] [--max-depth N] [-D name=value]
+                                 [--integrator path|direct|volpath] [--max-depth N]
+                                 [-D name=value]
 
 What it changes in the scene before Mitsuba sees it (the file itself is not touched):
 
@@ -10,13 +11,16 @@ What it changes in the scene before Mitsuba sees it (the file itself is not touc
   uniformly over each pixel's area and averages them, which is what a box filter of
   radius 1/2 does), its pixel format `rgb` and component format `float32`. With
   `--spp` the sampler's `sample_count` is replaced.
-* With `--integrator path|direct`: the scene's integrator is replaced by Mitsuba's
-  `path` (with `--max-depth`, default 6) or `direct` (MIS of one emitter sample and
-  one BSDF sample, which is wavetrace's `direct_mis`; it takes no depth). Mitsuba's
+* With `--integrator path|direct|volpath`: the scene's integrator is replaced by
+  Mitsuba's `path` (with `--max-depth`, default 6), `direct` (MIS of one emitter
+  sample and one BSDF sample, which is wavetrace's `direct_mis`; it takes no depth)
+  or `volpath` (volumetric path tracing, wavetrace's `vol_path_mis`; `--max-depth`). Mitsuba's
   `max_depth` counts path segments from the camera: 1 shows emitters only, 2 is
   direct lighting, 6 is up to five bounces.
 * With `-D name=value`: Mitsuba's `$name` parameters (the scene's `<default>`s), as
   `wavetrace -D` does.
+* Always: wavetrace-only medium parameters (`majorant_resolution_factor`, which
+  Mitsuba 3.9 does not read) are removed.
 * With `--ao`: wavetrace's `ao` integrator, ambient occlusion
       AO(x) = (1/pi) * integral over the hemisphere of V(x, w) cos(theta) dw,
   is not a Mitsuba plugin. It equals the direct illumination of a white Lambertian
@@ -133,12 +137,12 @@ def ancestors(el, parent):
 
 
 def set_integrator(root, kind, max_depth):
-    """Replace the scene's integrator by Mitsuba's `path` or `direct`."""
+    """Replace the scene's integrator by Mitsuba's `path`, `direct` or `volpath`."""
     parent = parents_of(root)
     for el in [e for e in root.iter("integrator")]:
         parent[el].remove(el)
     integrator = ET.Element("integrator", type=kind)
-    if kind == "path":
+    if kind in ("path", "volpath"):
         ET.SubElement(integrator, "integer", name="max_depth", value=str(max_depth))
     root.insert(0, integrator)
 
@@ -162,6 +166,10 @@ def prepare(root, spp):
         sampler = ET.SubElement(sensor, "sampler", type="independent")
     if spp is not None:
         set_param(sampler, "integer", "sample_count", spp)
+    # wavetrace-only medium parameters (Mitsuba 3.9 rejects unknown ones).
+    for medium in root.iter("medium"):
+        for el in [e for e in medium if e.get("name") == "majorant_resolution_factor"]:
+            medium.remove(el)
 
 
 def scene_files(root, scene_path, defines):
@@ -226,11 +234,11 @@ def main():
     ap.add_argument("--ao", action="store_true", help="render wavetrace's `ao` integrator (see above)")
     ap.add_argument(
         "--integrator",
-        choices=("path", "direct"),
-        help="replace the scene's integrator by Mitsuba's path or direct (MIS) integrator",
+        choices=("path", "direct", "volpath"),
+        help="replace the scene's integrator by Mitsuba's path, direct (MIS) or volpath integrator",
     )
     ap.add_argument(
-        "--max-depth", type=int, default=6, help="max_depth of --integrator path (default 6)"
+        "--max-depth", type=int, default=6, help="max_depth of --integrator path or volpath (default 6)"
     )
     ap.add_argument(
         "-D",

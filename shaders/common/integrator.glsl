@@ -10,5 +10,18 @@
 #define INTEGRATOR_DIRECT_MIS 5u
 #define INTEGRATOR_PATH_MATS 6u
 #define INTEGRATOR_PATH_MIS 7u
+#define INTEGRATOR_VOL_PATH_SIMPLE 8u
+#define INTEGRATOR_VOL_PATH_MIS 9u
+#define INTEGRATOR_SINGLE_DISTANCE 10u
+#define INTEGRATOR_SINGLE_EQUIANGULAR 11u
+
+bool integrator_is_single_scatter(uint integrator) {
+    return integrator == INTEGRATOR_SINGLE_DISTANCE || integrator == INTEGRATOR_SINGLE_EQUIANGULAR;
+}
+
+bool integrator_is_volumetric(uint integrator) {
+    return integrator == INTEGRATOR_VOL_PATH_SIMPLE || integrator == INTEGRATOR_VOL_PATH_MIS
+        || integrator_is_single_scatter(integrator);
+}
 
 #endif

@@ -36,11 +36,14 @@ struct Prim {
 #define SHAPE_HAS_NORMALS 1u
 #define SHAPE_HAS_UVS 2u
 #define SHAPE_FLIP_NORMALS 4u
+#define SHAPE_NULL_BSDF 8u
+#define SHAPE_MEDIUM_TRANSITION 16u
+#define MEDIUM_NONE16 0xffffu
 struct ShapeRecord {
     uint bsdf;
     uint emitter; // NONE if the shape emits nothing
     uint flags;
-    uint pad0;
+    uint media;   // interior medium (low 16 bits), exterior (high 16); 0xffff: none
 };
 
 // Vertex indices of a triangle into the vertex attribute array.
@@ -146,7 +149,7 @@ struct Frame {
     uint rr_depth;      // Russian roulette from this depth on
     uint env_emitter;   // constant environment emitter or NONE
     uint hide_emitters; // 1: camera rays do not see emitters
-    uint pad0;
+    uint camera_medium; // medium camera rays start in, or NONE
 };
 
 // One path of the wavefront, by path slot.
@@ -159,7 +162,7 @@ struct PathState {
     float bsdf_pdf; // solid-angle pdf of the current ray's direction (for MIS)
     uint flags;     // PATH_DELTA: the current ray came from a delta lobe
     float eta_scale; // product of (η_t/η_i)² over refractions (for Russian roulette)
-    uint pad1;
+    uint medium;    // medium the current ray travels in, or NONE
 };
 
 // A ray waiting for `intersect`.
@@ -185,6 +188,30 @@ struct ShadowItem {
     vec3 dir;
     float tmax;
     vec3 contribution;
+    uint medium; // medium the shadow ray starts in, or NONE
+};
+
+#define MEDIUM_HOMOGENEOUS 0u
+#define MEDIUM_GRID 1u
+#define MEDIUM_SAMPLE_EMITTERS 1u
+// A participating medium; see src/gpu/layout.rs. Homogeneous: sigma_t (scale applied)
+// and albedo. Grid: extinction = sigma_t (per-channel scale) x trilinear density at
+// `data` (res voxels, channels 1 or 3), world_to_grid maps to the grid's unit cube; a
+// coarse majorant grid (maj_res cells at maj_data) bounds it per cell, `majorant`
+// everywhere. g: Henyey-Greenstein asymmetry.
+struct MediumRecord {
+    vec3 sigma_t;
+    uint kind;
+    vec3 albedo;
+    float g;
+    mat4 world_to_grid;
+    uvec3 res;
+    uint data;
+    uvec3 maj_res;
+    uint maj_data;
+    float majorant;
+    uint channels;
+    uint flags;
     uint pad0;
 };
 

@@ -5,6 +5,10 @@
 //   direct_ems  : emitter sampling          direct_mats : BSDF sampling
 //   direct_mis  : both, balance heuristic    path_mats   : BSDF sampling, any depth
 //   path_mis    : both at every vertex, balance heuristic (Veach 1997, ch. 9)
+//   vol_path_simple, vol_path_mis, single_scatter: as path_mats, path_mis and
+//                 direct_mis at surfaces; their
+//                 medium stage runs first (vol_path.glsl), and the rays they spawn
+//                 carry the medium they enter.
 // Needs wavefront.glsl, scene_bindings.glsl, surface.glsl, emitter.glsl, bsdf.glsl.
 #ifndef PATH_GLSL
 #define PATH_GLSL
@@ -17,15 +21,31 @@
 // Balance heuristic weight of a strategy with density a against one with density b.
 float mis_balance(float a, float b) { return a / (a + b); }
 
-// Shades ray r (path vertex number push.depth + 1) with its hit h.
-void path_shade(uint integrator, RayItem r, HitItem h) {
-    bool ems = integrator == INTEGRATOR_DIRECT_EMS || integrator == INTEGRATOR_DIRECT_MIS
-        || integrator == INTEGRATOR_PATH_MIS;
-    bool mats = integrator != INTEGRATOR_DIRECT_EMS;
-    bool mis = integrator == INTEGRATOR_DIRECT_MIS || integrator == INTEGRATOR_PATH_MIS;
-    bool path_tracer = integrator == INTEGRATOR_PATH_MATS || integrator == INTEGRATOR_PATH_MIS;
+// The medium a ray leaving surface `shape` along d enters, for volumetric integrators
+// in scenes with media (MEDIA_ENABLED, set where medium.glsl is included); NONE
+// otherwise.
+uint path_medium_after(uint integrator, uint shape, uint current, vec3 d, vec3 ng) {
+#ifdef MEDIUM_GLSL
+    if (MEDIA_ENABLED && integrator_is_volumetric(integrator)) {
+        return medium_after(shape, current, d, ng);
+    }
+#endif
+    return NONE;
+}
 
-    PathState path = path_load(r.path);
+// Shades ray r (path vertex number push.depth + 1) with its hit h; `path` is the
+// state of r's path (path_load(r.path), as the medium stage may have left it: a path
+// state written in this dispatch is passed on, never read back through the texel view).
+void path_shade(uint integrator, RayItem r, HitItem h, PathState path) {
+    bool ems = integrator == INTEGRATOR_DIRECT_EMS || integrator == INTEGRATOR_DIRECT_MIS
+        || integrator == INTEGRATOR_PATH_MIS || integrator == INTEGRATOR_VOL_PATH_MIS
+        || integrator_is_single_scatter(integrator);
+    bool mats = integrator != INTEGRATOR_DIRECT_EMS;
+    bool mis = integrator == INTEGRATOR_DIRECT_MIS || integrator == INTEGRATOR_PATH_MIS
+        || integrator == INTEGRATOR_VOL_PATH_MIS || integrator_is_single_scatter(integrator);
+    bool path_tracer = integrator == INTEGRATOR_PATH_MATS || integrator == INTEGRATOR_PATH_MIS
+        || integrator_is_volumetric(integrator);
+
     uint depth = push.depth;
     // Emission found by this ray counts for camera rays (unless hidden) and for rays
     // that BSDF sampling chose; with MIS it is weighted against emitter sampling,
@@ -68,7 +88,8 @@ void path_shade(uint integrator, RayItem r, HitItem h) {
                 vec3 origin = surface_spawn_origin(s, dot(es.wi, s.ng) > 0.0 ? s.ng : -s.ng);
                 // Stop short of the light's own surface (PBR's shadow epsilon).
                 float tmax = isinf(es.dist) ? es.dist : length(s.p + es.wi * es.dist - origin) * (1.0 - 1e-4);
-                queue_push_shadow(origin, r.path, es.wi, tmax, path.throughput * f * es.Le * (w / es.pdf));
+                uint medium = path_medium_after(integrator, s.shape, path.medium, es.wi, s.ng);
+                queue_push_shadow_in(medium, origin, r.path, es.wi, tmax, path.throughput * f * es.Le * (w / es.pdf));
             }
         }
     }
@@ -94,6 +115,7 @@ void path_shade(uint integrator, RayItem r, HitItem h) {
         path.throughput = throughput;
         path.bsdf_pdf = bs.pdf;
         path.flags = (bs.flags & BSDF_FLAG_DELTA) != 0u ? PATH_DELTA : 0u;
+        path.medium = path_medium_after(integrator, s.shape, path.medium, wi, s.ng);
         path_store(r.path, path);
         queue_push_ray(surface_spawn_origin(s, dot(wi, s.ng) > 0.0 ? s.ng : -s.ng), r.path, wi, EMITTER_INFINITY);
     }

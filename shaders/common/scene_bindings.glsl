@@ -22,6 +22,11 @@ layout(set = 0, binding = 5) uniform usamplerBuffer bsdf_texels;
 layout(set = 0, binding = 6) uniform usamplerBuffer emitter_texels;
 // Emitter alias table at [0, emitter_count), then each mesh emitter's triangle table.
 layout(set = 0, binding = 7) uniform usamplerBuffer alias_texels;
+// Bindings 8-10: textures.
+// Media (shaders/common/medium.glsl): records, density grids, majorant grids.
+layout(std430, set = 0, binding = 11) readonly buffer MediumBuffer { MediumRecord media[]; };
+layout(std430, set = 0, binding = 12) readonly buffer GridBuffer { float grid_data[]; };
+layout(std430, set = 0, binding = 13) readonly buffer MajorantBuffer { float majorants[]; };
 
 BvhNode bvh_node_load(uint i) {
     int base = int(4u * i);

@@ -52,7 +52,7 @@ PathState path_load(uint i) {
 void path_store(uint i, PathState p) {
     path_words[3u * i] = uvec4(floatBitsToUint(p.throughput), p.pixel);
     path_words[3u * i + 1u] = uvec4(floatBitsToUint(p.radiance), p.sample_index);
-    path_words[3u * i + 2u] = uvec4(floatBitsToUint(p.bsdf_pdf), p.flags, floatBitsToUint(p.eta_scale), p.pad1);
+    path_words[3u * i + 2u] = uvec4(floatBitsToUint(p.bsdf_pdf), p.flags, floatBitsToUint(p.eta_scale), p.medium);
 }
 
 // Only the radiance word (with the sample index it shares) of path i.
@@ -92,7 +92,7 @@ ShadowItem shadow_load(uint i) {
 void shadow_store(uint i, ShadowItem s) {
     shadow_words[3u * i] = uvec4(floatBitsToUint(s.origin), s.path);
     shadow_words[3u * i + 1u] = uvec4(floatBitsToUint(s.dir), floatBitsToUint(s.tmax));
-    shadow_words[3u * i + 2u] = uvec4(floatBitsToUint(s.contribution), s.pad0);
+    shadow_words[3u * i + 2u] = uvec4(floatBitsToUint(s.contribution), s.medium);
 }
 
 #endif

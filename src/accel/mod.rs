@@ -84,6 +84,9 @@ mod tests {
             bsdf: 0,
             emitter: None,
             flip_normals: false,
+            interior: None,
+            exterior: None,
+            null_bsdf: false,
         };
         let prims = prims_from_shapes(&[quad, tri], &[ball(3.0), ball(5.0)]);
         let key: Vec<(u32, u32, u32)> = prims.iter().map(|p| (p.kind, p.shape, p.index)).collect();

@@ -57,7 +57,10 @@ pub struct ShapeRecord {
     pub emitter: u32,
     /// `SHAPE_*` flags.
     pub flags: u32,
-    pub pad0: u32,
+    /// The media on both sides ([`shape_media`]): interior medium in the low 16 bits,
+    /// exterior in the high 16, [`MEDIUM_NONE16`] for none. Used where
+    /// [`SHAPE_MEDIUM_TRANSITION`] is set.
+    pub media: u32,
 }
 
 /// Marks an absent index (no emitter, no hit).
@@ -68,6 +71,51 @@ pub const SHAPE_HAS_NORMALS: u32 = 1;
 pub const SHAPE_HAS_UVS: u32 = 2;
 /// Normals point inwards (Mitsuba `flip_normals`).
 pub const SHAPE_FLIP_NORMALS: u32 = 4;
+/// A `null` BSDF: an index-matched boundary that rays pass straight through.
+pub const SHAPE_NULL_BSDF: u32 = 8;
+/// The shape bounds media (Mitsuba `interior`/`exterior`): a ray leaving it towards
+/// its normal enters the exterior medium, against it the interior one.
+pub const SHAPE_MEDIUM_TRANSITION: u32 = 16;
+/// No medium in one half of [`ShapeRecord::media`].
+pub const MEDIUM_NONE16: u32 = 0xffff;
+
+/// [`ShapeRecord::media`] of a shape with these media (indices below 0xffff).
+pub fn shape_media(interior: Option<u32>, exterior: Option<u32>) -> u32 {
+    interior.unwrap_or(MEDIUM_NONE16) | exterior.unwrap_or(MEDIUM_NONE16) << 16
+}
+
+/// Medium kinds in [`MediumRecord::kind`].
+pub const MEDIUM_HOMOGENEOUS: u32 = 0;
+pub const MEDIUM_GRID: u32 = 1;
+/// [`MediumRecord::flags`]: Mitsuba `sample_emitters` (next-event estimation at
+/// scattering points in the medium).
+pub const MEDIUM_SAMPLE_EMITTERS: u32 = 1;
+
+/// A participating medium. Homogeneous: `sigma_t` is the extinction per unit length
+/// (scale applied), `albedo` the single-scattering albedo. Grid: the extinction at a
+/// point is `sigma_t` (the scale, per channel) times the trilinearly interpolated
+/// density grid of `res` voxels and `channels` channels at `data` in the grid buffer;
+/// `world_to_grid` maps world space to the grid's unit cube. A coarse grid of
+/// `maj_res` cells at `maj_data` in the majorant buffer bounds the extinction (max
+/// over channels) within each cell; `majorant` bounds it everywhere. `g`: the
+/// Henyey-Greenstein asymmetry (0: isotropic).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct MediumRecord {
+    pub sigma_t: [f32; 3],
+    pub kind: u32,
+    pub albedo: [f32; 3],
+    pub g: f32,
+    pub world_to_grid: [[f32; 4]; 4],
+    pub res: [u32; 3],
+    pub data: u32,
+    pub maj_res: [u32; 3],
+    pub maj_data: u32,
+    pub majorant: f32,
+    pub channels: u32,
+    pub flags: u32,
+    pub pad0: u32,
+}
 
 /// A triangle's vertex indices into the [`Vertex`] array (global numbering), padded
 /// to one 16-byte texel.
@@ -218,7 +266,8 @@ pub struct Frame {
     pub env_emitter: u32,
     /// 1: camera rays do not see emitters.
     pub hide_emitters: u32,
-    pub pad0: u32,
+    /// The medium camera rays start in (Mitsuba's sensor `<medium>`), or `NONE`.
+    pub camera_medium: u32,
 }
 
 /// The state of one path of the wavefront, indexed by path slot.
@@ -239,7 +288,8 @@ pub struct PathState {
     /// does not kill paths inside glass for carrying less radiance (PBR 4th ed.,
     /// sec. 13.1, `etaScale`; Mitsuba's path integrator likewise).
     pub eta_scale: f32,
-    pub pad1: u32,
+    /// The medium the current ray travels in, or `NONE`.
+    pub medium: u32,
 }
 
 /// The current ray was sampled from a delta lobe (no MIS on the emitter it hits).
@@ -275,7 +325,8 @@ pub struct ShadowItem {
     pub dir: [f32; 3],
     pub tmax: f32,
     pub contribution: [f32; 3],
-    pub pad0: u32,
+    /// The medium the shadow ray starts in, or `NONE`.
+    pub medium: u32,
 }
 
 /// Queue lengths and statistics, all in one buffer. `ray_count[q]` is the length of
@@ -422,7 +473,7 @@ mod tests {
                 right_count
             ),
             rust_layout!(Prim, p0, shape, p1, index, p2, kind),
-            rust_layout!(ShapeRecord, bsdf, emitter, flags, pad0),
+            rust_layout!(ShapeRecord, bsdf, emitter, flags, media),
             rust_layout!(TriangleRecord, v0, v1, v2, pad0),
             rust_layout!(Vertex, nx, ny, nz, u, v),
             rust_layout!(
@@ -478,7 +529,7 @@ mod tests {
                 rr_depth,
                 env_emitter,
                 hide_emitters,
-                pad0
+                camera_medium
             ),
             rust_layout!(
                 PathState,
@@ -489,11 +540,27 @@ mod tests {
                 bsdf_pdf,
                 flags,
                 eta_scale,
-                pad1
+                medium
             ),
             rust_layout!(RayItem, origin, path, dir, tmax),
             rust_layout!(HitItem, t, u, v, prim),
-            rust_layout!(ShadowItem, origin, path, dir, tmax, contribution, pad0),
+            rust_layout!(ShadowItem, origin, path, dir, tmax, contribution, medium),
+            rust_layout!(
+                MediumRecord,
+                sigma_t,
+                kind,
+                albedo,
+                g,
+                world_to_grid,
+                res,
+                data,
+                maj_res,
+                maj_data,
+                majorant,
+                channels,
+                flags,
+                pad0
+            ),
             rust_layout!(
                 Counters,
                 ray_count,

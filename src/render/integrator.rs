@@ -49,6 +49,35 @@ pub enum Integrator {
     /// <integrator type="path"><integer name="max_depth" value="8"/></integrator>
     /// ```
     PathMis(PathParams),
+    /// Volumetric path tracing by phase-function and BSDF sampling alone: free-flight
+    /// distances by delta tracking (closed form in homogeneous media), null surfaces
+    /// passed straight through. Parameters as `path_mis`.
+    VolPathSimple(PathParams),
+    /// Volumetric path tracing with emitter sampling at surface and medium vertices
+    /// (transmittance of the shadow ray by ratio tracking, closed form in homogeneous
+    /// media), combined with BSDF and phase sampling by the balance heuristic
+    /// (Mitsuba's `volpath` and `volpathmis`). Parameters as `path_mis`.
+    ///
+    /// ```xml
+    /// <integrator type="volpath"><integer name="max_depth" value="16"/></integrator>
+    /// ```
+    VolPathMis(PathParams),
+    /// Single scattering: light reaching the camera after at most one scattering event
+    /// (in a medium, or direct lighting at the first surface with BSDF/emitter MIS),
+    /// attenuated by every medium on the way; the same expectation as `vol_path_mis`
+    /// with max_depth 2. Parameter `sampling`: `distance` (default; free-flight
+    /// sampling) or `equiangular` (Kulla and Fajardo 2012: camera-ray distances
+    /// towards the point of light chosen for the scattering point, for point, spot
+    /// and mesh lights; others get equiangular towards the point first sampled);
+    /// `hide_emitters` (default false).
+    ///
+    /// ```xml
+    /// <integrator type="single_scatter"><string name="sampling" value="equiangular"/></integrator>
+    /// ```
+    SingleScatter {
+        equiangular: bool,
+        hide_emitters: bool,
+    },
 }
 
 /// Parameters of the path tracers.
@@ -71,7 +100,9 @@ fn parameter_names(name: &str) -> &'static [&'static str] {
         "direct_ems" | "direct_mats" | "direct_mis" | "direct" => {
             &["hide_emitters", "emitter_samples", "bsdf_samples"]
         }
-        "path_mats" | "path_mis" | "path" => &["max_depth", "rr_depth", "hide_emitters"],
+        "path_mats" | "path_mis" | "path" | "vol_path_simple" | "vol_path_mis" | "volpath"
+        | "volpathmis" => &["max_depth", "rr_depth", "hide_emitters"],
+        "single_scatter" => &["sampling", "hide_emitters"],
         _ => &[],
     }
 }
@@ -88,6 +119,11 @@ pub const NAMES: &[&str] = &[
     "path_mats",
     "path_mis",
     "path",
+    "vol_path_simple",
+    "vol_path_mis",
+    "volpath",
+    "volpathmis",
+    "single_scatter",
 ];
 
 impl Integrator {
@@ -102,7 +138,23 @@ impl Integrator {
             Integrator::DirectMis { .. } => 5,
             Integrator::PathMats(_) => 6,
             Integrator::PathMis(_) => 7,
+            Integrator::VolPathSimple(_) => 8,
+            Integrator::VolPathMis(_) => 9,
+            Integrator::SingleScatter {
+                equiangular: false, ..
+            } => 10,
+            Integrator::SingleScatter { .. } => 11,
         }
+    }
+
+    /// Whether the integrator follows light through media.
+    pub fn is_volumetric(&self) -> bool {
+        matches!(
+            self,
+            Integrator::VolPathSimple(_)
+                | Integrator::VolPathMis(_)
+                | Integrator::SingleScatter { .. }
+        )
     }
 
     pub fn name(&self) -> &'static str {
@@ -115,6 +167,9 @@ impl Integrator {
             Integrator::DirectMis { .. } => "direct_mis",
             Integrator::PathMats(_) => "path_mats",
             Integrator::PathMis(_) => "path_mis",
+            Integrator::VolPathSimple(_) => "vol_path_simple",
+            Integrator::VolPathMis(_) => "vol_path_mis",
+            Integrator::SingleScatter { .. } => "single_scatter",
         }
     }
 
@@ -124,8 +179,12 @@ impl Integrator {
             Integrator::Normals | Integrator::Ao { .. } | Integrator::Simple => 1,
             Integrator::DirectEms { .. }
             | Integrator::DirectMats { .. }
-            | Integrator::DirectMis { .. } => 2,
-            Integrator::PathMats(p) | Integrator::PathMis(p) => p.max_depth.unwrap_or(u32::MAX),
+            | Integrator::DirectMis { .. }
+            | Integrator::SingleScatter { .. } => 2,
+            Integrator::PathMats(p)
+            | Integrator::PathMis(p)
+            | Integrator::VolPathSimple(p)
+            | Integrator::VolPathMis(p) => p.max_depth.unwrap_or(u32::MAX),
         }
     }
 
@@ -136,8 +195,13 @@ impl Integrator {
             | Integrator::Ao { .. }
             | Integrator::Simple
             | Integrator::DirectEms { .. } => 1,
-            Integrator::DirectMats { .. } | Integrator::DirectMis { .. } => 2,
-            Integrator::PathMats(p) | Integrator::PathMis(p) => p
+            Integrator::DirectMats { .. }
+            | Integrator::DirectMis { .. }
+            | Integrator::SingleScatter { .. } => 2,
+            Integrator::PathMats(p)
+            | Integrator::PathMis(p)
+            | Integrator::VolPathSimple(p)
+            | Integrator::VolPathMis(p) => p
                 .max_depth
                 .unwrap_or(UNBOUNDED_BOUNCES)
                 .min(UNBOUNDED_BOUNCES),
@@ -147,7 +211,10 @@ impl Integrator {
     /// Russian roulette start depth (segments); never for non-path integrators.
     pub fn rr_depth(&self) -> u32 {
         match self {
-            Integrator::PathMats(p) | Integrator::PathMis(p) => p.rr_depth,
+            Integrator::PathMats(p)
+            | Integrator::PathMis(p)
+            | Integrator::VolPathSimple(p)
+            | Integrator::VolPathMis(p) => p.rr_depth,
             _ => u32::MAX,
         }
     }
@@ -157,8 +224,12 @@ impl Integrator {
         match self {
             Integrator::DirectEms { hide_emitters }
             | Integrator::DirectMats { hide_emitters }
-            | Integrator::DirectMis { hide_emitters } => *hide_emitters,
-            Integrator::PathMats(p) | Integrator::PathMis(p) => p.hide_emitters,
+            | Integrator::DirectMis { hide_emitters }
+            | Integrator::SingleScatter { hide_emitters, .. } => *hide_emitters,
+            Integrator::PathMats(p)
+            | Integrator::PathMis(p)
+            | Integrator::VolPathSimple(p)
+            | Integrator::VolPathMis(p) => p.hide_emitters,
             _ => false,
         }
     }
@@ -249,7 +320,8 @@ impl Integrator {
                     _ => Integrator::DirectMis { hide_emitters },
                 }
             }
-            "path_mats" | "path_mis" | "path" => {
+            "path_mats" | "path_mis" | "path" | "vol_path_simple" | "vol_path_mis" | "volpath"
+            | "volpathmis" => {
                 let max_depth = match take("max_depth") {
                     None | Some(Param::Integer(-1)) => None,
                     Some(Param::Integer(d)) if d >= 1 && d <= u32::MAX as i64 / 2 => Some(d as u32),
@@ -280,10 +352,33 @@ impl Integrator {
                     rr_depth,
                     hide_emitters,
                 };
-                if name == "path_mats" {
-                    Integrator::PathMats(params)
-                } else {
-                    Integrator::PathMis(params)
+                match name {
+                    "path_mats" => Integrator::PathMats(params),
+                    "path_mis" | "path" => Integrator::PathMis(params),
+                    "vol_path_simple" => Integrator::VolPathSimple(params),
+                    _ => Integrator::VolPathMis(params),
+                }
+            }
+            "single_scatter" => {
+                let equiangular = match take("sampling") {
+                    None => false,
+                    Some(Param::String(s)) if s == "distance" => false,
+                    Some(Param::String(s)) if s == "equiangular" => true,
+                    Some(p) => {
+                        return Err(err(
+                            line,
+                            format!("integrator 'single_scatter': sampling must be \"distance\" or \"equiangular\", got {p:?}"),
+                        ))
+                    }
+                };
+                let hide_emitters = match take("hide_emitters") {
+                    None => false,
+                    Some(Param::Bool(b)) => b,
+                    Some(p) => return Err(not_boolean("hide_emitters", p)),
+                };
+                Integrator::SingleScatter {
+                    equiangular,
+                    hide_emitters,
                 }
             }
             "" => {

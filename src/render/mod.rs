@@ -9,6 +9,7 @@
 pub mod alias;
 pub mod error;
 pub mod integrator;
+pub mod media;
 pub mod scene_buffers;
 pub mod wavefront;
 
@@ -152,7 +153,7 @@ impl Renderer {
             rr_depth: integrator.rr_depth(),
             env_emitter: records.env_emitter,
             hide_emitters: integrator.hide_emitters() as u32,
-            pad0: 0,
+            camera_medium: scene.camera_medium.unwrap_or(crate::gpu::layout::NONE),
         };
         let capacity = options
             .max_batch_paths
@@ -168,6 +169,9 @@ impl Renderer {
         let t = Instant::now();
         // Specialization: code for features the scene lacks is compiled out.
         let has_spheres = !scene.spheres.is_empty() as u32;
+        // Media and null surfaces: the medium code of shade and shadow
+        // (constant_id 4 of both; 2-3 belong to textures).
+        let has_media = scene.needs_medium_code() as u32;
         let bsdf_kinds = records.bsdfs.iter().fold(0u32, |m, b| m | 1 << b.kind);
         let k = |name: &str, spirv: &[u8], spec: &[u32]| {
             Kernel::new(device, name, spirv, &layout, spec)
@@ -175,8 +179,16 @@ impl Renderer {
         let kernels = Kernels {
             generate: k("generate", shaders::GENERATE, &[])?,
             intersect: k("intersect", shaders::INTERSECT, &[has_spheres])?,
-            shade: k("shade", shaders::SHADE, &[integrator.id(), bsdf_kinds])?,
-            shadow: k("shadow", shaders::SHADOW, &[has_spheres])?,
+            shade: k(
+                "shade",
+                shaders::SHADE,
+                &[integrator.id(), bsdf_kinds, 0, 0, has_media, has_spheres],
+            )?,
+            shadow: k(
+                "shadow",
+                shaders::SHADOW,
+                &[has_spheres, 0, 0, 0, has_media],
+            )?,
             ray_args: k("queue_args", shaders::QUEUE_ARGS, &[0])?,
             shadow_args: k("queue_args", shaders::QUEUE_ARGS, &[1])?,
             accumulate: k("accumulate", shaders::ACCUMULATE, &[])?,

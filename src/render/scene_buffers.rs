@@ -5,17 +5,18 @@ use glam::Vec3;
 
 use crate::accel::Bvh;
 use crate::gpu::layout::{
-    AliasEntry, BsdfRecord, EmitterRecord, ShapeRecord, TriangleRecord, Vertex, EMITTER_AREA,
-    EMITTER_CONSTANT, EMITTER_POINT, EMITTER_SPOT, NONE, PRIM_TRIANGLE, SHAPE_FLIP_NORMALS,
-    SHAPE_HAS_NORMALS, SHAPE_HAS_UVS,
+    shape_media, AliasEntry, BsdfRecord, EmitterRecord, MediumRecord, ShapeRecord, TriangleRecord,
+    Vertex, EMITTER_AREA, EMITTER_CONSTANT, EMITTER_POINT, EMITTER_SPOT, NONE, PRIM_TRIANGLE,
+    SHAPE_FLIP_NORMALS, SHAPE_HAS_NORMALS, SHAPE_HAS_UVS, SHAPE_MEDIUM_TRANSITION, SHAPE_NULL_BSDF,
 };
 use crate::gpu::{BindingKind, BindingLayout, Buffer, DescriptorSet, Device};
 use crate::scene::{Emitter, Scene};
 
 use super::error::Result;
 
-/// Bindings of set 0, in order.
-pub const SCENE_BINDINGS: u32 = 8;
+/// Bindings of set 0, in order: 0-7 geometry, materials and emitters, 8-10 reserved
+/// for textures, 11-13 media (records, density grids, majorant grids).
+pub const SCENE_BINDINGS: u32 = 14;
 
 /// The kind of each binding of set 0. The records read at scattered addresses on
 /// every hit or traversal step (bindings 0-7) are texel buffers (see
@@ -45,6 +46,22 @@ pub struct SceneRecords {
     pub alias: Vec<AliasEntry>,
     /// The constant environment emitter, or `NONE`.
     pub env_emitter: u32,
+    /// Media, indexed by `Scene::media`; their density grids and majorant grids.
+    pub media: Vec<MediumRecord>,
+    pub grid_data: Vec<f32>,
+    pub majorants: Vec<f32>,
+}
+
+/// `SHAPE_*` medium flags and packed media of a shape.
+fn medium_flags(interior: Option<u32>, exterior: Option<u32>, null_bsdf: bool) -> (u32, u32) {
+    let mut flags = 0;
+    if null_bsdf {
+        flags |= SHAPE_NULL_BSDF;
+    }
+    if interior.is_some() || exterior.is_some() {
+        flags |= SHAPE_MEDIUM_TRANSITION;
+    }
+    (flags, shape_media(interior, exterior))
 }
 
 /// Luminance of linear sRGB (Rec. 709 weights).
@@ -157,11 +174,12 @@ impl SceneRecords {
             if let Some(e) = mesh.emitter {
                 r.emitters[remap[e as usize] as usize].shape = shape_index as u32;
             }
+            let (mflags, media) = medium_flags(mesh.interior, mesh.exterior, mesh.null_bsdf);
             r.shapes.push(ShapeRecord {
                 bsdf: mesh.bsdf,
                 emitter: emitter_of(mesh.emitter),
-                flags,
-                pad0: 0,
+                flags: flags | mflags,
+                media,
             });
         }
         for sphere in &scene.spheres {
@@ -173,16 +191,22 @@ impl SceneRecords {
                 rec.radius = sphere.radius;
                 rec.area = 4.0 * std::f32::consts::PI * sphere.radius * sphere.radius;
             }
+            let (mflags, media) = medium_flags(sphere.interior, sphere.exterior, sphere.null_bsdf);
             r.shapes.push(ShapeRecord {
                 bsdf: sphere.bsdf,
                 emitter: emitter_of(sphere.emitter),
-                flags: if sphere.flip_normals {
-                    SHAPE_FLIP_NORMALS
-                } else {
-                    0
-                },
-                pad0: 0,
+                flags: mflags
+                    | if sphere.flip_normals {
+                        SHAPE_FLIP_NORMALS
+                    } else {
+                        0
+                    },
+                media,
             });
+        }
+        for m in &scene.media {
+            let rec = super::media::record(m, &mut r.grid_data, &mut r.majorants);
+            r.media.push(rec);
         }
         r.build_alias_tables(scene, bvh, &remap);
         r.bsdfs = scene.bsdfs.iter().map(BsdfRecord::from).collect();
@@ -282,6 +306,35 @@ impl SceneBuffers {
             Buffer::from_slice(device, "emitters", &records.emitters)?,
             Buffer::from_slice(device, "alias tables", &records.alias)?,
         ];
+        // Bindings 8-10 belong to textures; placeholders until they exist.
+        let mut buffers = buffers;
+        for name in ["texture 8", "texture 9", "texture 10"] {
+            buffers.push(Buffer::from_slice(device, name, &[0u32; 4])?);
+        }
+        // Storage buffers may not be empty: a scene without media binds one zero record.
+        let or_one = |v: &[f32]| {
+            if v.is_empty() {
+                vec![0.0f32]
+            } else {
+                v.to_vec()
+            }
+        };
+        let media = if records.media.is_empty() {
+            vec![MediumRecord::default()]
+        } else {
+            records.media.clone()
+        };
+        buffers.push(Buffer::from_slice(device, "media", &media)?);
+        buffers.push(Buffer::from_slice(
+            device,
+            "density grids",
+            &or_one(&records.grid_data),
+        )?);
+        buffers.push(Buffer::from_slice(
+            device,
+            "majorant grids",
+            &or_one(&records.majorants),
+        )?);
         debug_assert_eq!(buffers.len() as u32, SCENE_BINDINGS);
         let refs: Vec<&Buffer> = buffers.iter().collect();
         let set = DescriptorSet::new(layout, 0, &refs)?;

@@ -9,7 +9,7 @@ use glam::{Mat4, Vec3};
 use super::mesh;
 use super::properties::Properties;
 use super::xml::Element;
-use super::{Bsdf, Emitter, Error, Mesh, Sphere};
+use super::{Bsdf, Emitter, Error, Medium, Mesh, Sphere};
 
 /// BSDF types of Mitsuba 3 or Nori that wavetrace does not implement yet.
 pub const UNSUPPORTED_BSDFS: &[&str] = &[
@@ -20,7 +20,6 @@ pub const UNSUPPORTED_BSDFS: &[&str] = &[
     "mask",
     "bumpmap",
     "normalmap",
-    "null",
     "polarizer",
     "retarder",
     "circular",
@@ -40,9 +39,6 @@ pub const UNSUPPORTED_EMITTERS: &[&str] = &[
     "environment",
 ];
 
-/// Medium types we know but do not implement yet.
-pub const UNSUPPORTED_MEDIA: &[&str] = &["homogeneous", "heterogeneous"];
-
 /// "bsdf type 'X' is not supported yet" or "unknown bsdf type 'X'".
 pub fn unsupported(el: &Element, kind: &str, known: &[&str]) -> Error {
     let t = el.attr("type").unwrap_or("");
@@ -60,6 +56,7 @@ pub struct Builder {
     pub spheres: Vec<Sphere>,
     pub bsdfs: Vec<Bsdf>,
     pub emitters: Vec<Emitter>,
+    pub media: Vec<Medium>,
     default_bsdf: Option<u32>,
 }
 
@@ -160,6 +157,9 @@ impl Builder {
             bsdf,
             emitter,
             flip_normals,
+            interior: None,
+            exterior: None,
+            null_bsdf: false,
         });
         Ok(())
     }

@@ -25,11 +25,11 @@ use std::collections::{HashMap, HashSet};
 
 use glam::Vec3;
 
-use super::builder::{self, Builder, UNSUPPORTED_BSDFS, UNSUPPORTED_EMITTERS, UNSUPPORTED_MEDIA};
+use super::builder::{self, Builder, UNSUPPORTED_BSDFS, UNSUPPORTED_EMITTERS};
 use super::mesh;
 use super::properties::Properties;
 use super::xml::{Dialect, Document, Element};
-use super::{obj, ply, Bsdf, Camera, Emitter, Error, IntegratorSpec, Scene};
+use super::{obj, ply, Bsdf, Camera, Emitter, Error, IntegratorSpec, Medium, Scene};
 
 const SENSORS: &[&str] = &[
     "thinlens",
@@ -90,9 +90,12 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         ids,
         bsdf_ids: HashMap::new(),
         area_ids: HashMap::new(),
+        medium_ids: HashMap::new(),
+        null_bsdfs: HashSet::new(),
         building: HashSet::new(),
     };
     let mut camera: Option<(Camera, u32)> = None;
+    let mut camera_medium = None;
     let mut integrator: Option<IntegratorSpec> = None;
     for el in &doc.root.children {
         match el.tag.as_str() {
@@ -100,7 +103,11 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
                 if camera.is_some() {
                     return Err(el.err("more than one <sensor>; wavetrace renders one"));
                 }
-                camera = Some(sensor(el)?);
+                let (cam, spp, medium) = sensor(el)?;
+                camera = Some((cam, spp));
+                if let Some(m) = medium {
+                    camera_medium = Some(l.medium_of(m)?);
+                }
             }
             "integrator" => {
                 if integrator.is_some() {
@@ -113,6 +120,9 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
                 l.bsdf(el)?;
             }
             "emitter" => l.top_emitter(el)?,
+            "medium" => {
+                l.medium(el)?;
+            }
             _ => return Err(l.unexpected(el, "<scene>")),
         }
     }
@@ -130,6 +140,8 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         spheres: l.b.spheres,
         bsdfs: l.b.bsdfs,
         emitters: l.b.emitters,
+        media: l.b.media,
+        camera_medium,
     })
 }
 
@@ -201,7 +213,8 @@ pub fn fov_x(fov_deg: f64, axis: &str, width: u32, height: u32) -> Option<f64> {
     Some((2.0 * tx.atan()).to_degrees())
 }
 
-fn sensor(el: &Element) -> Result<(Camera, u32), Error> {
+/// The camera, its sample count and the `<medium>` (or `<ref>` to one) it sits in.
+fn sensor(el: &Element) -> Result<(Camera, u32, Option<&Element>), Error> {
     el.check_attrs(&["type", "id", "name"])?;
     if el.require("type")? != "perspective" {
         return Err(builder::unsupported(el, "sensor", SENSORS));
@@ -209,6 +222,7 @@ fn sensor(el: &Element) -> Result<(Camera, u32), Error> {
     let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
     let mut size = None;
     let mut spp = None;
+    let mut medium = None;
     for n in nested {
         match n.tag.as_str() {
             "film" if size.is_none() => size = Some(film(n)?),
@@ -216,7 +230,8 @@ fn sensor(el: &Element) -> Result<(Camera, u32), Error> {
             "film" | "sampler" => {
                 return Err(n.err(format!("more than one <{}> in <sensor>", n.tag)))
             }
-            "medium" | "ref" => return Err(n.err("media are not supported yet")),
+            "medium" | "ref" if medium.is_none() => medium = Some(n),
+            "medium" | "ref" => return Err(n.err("a sensor sits in one medium")),
             _ => return Err(n.err(format!("unexpected <{}> in <sensor>", n.tag))),
         }
     }
@@ -289,6 +304,7 @@ fn sensor(el: &Element) -> Result<(Camera, u32), Error> {
             height,
         },
         spp.unwrap_or(4),
+        medium,
     ))
 }
 
@@ -350,6 +366,10 @@ struct Loader<'a> {
     bsdf_ids: HashMap<String, u32>,
     /// Radiance of area emitters with an id.
     area_ids: HashMap<String, Vec3>,
+    /// Media with an id, built once.
+    medium_ids: HashMap<String, u32>,
+    /// Indices of `null` BSDFs (boundaries of media, passed straight through).
+    null_bsdfs: HashSet<u32>,
     /// Ids being built (reference cycle guard).
     building: HashSet<String>,
 }
@@ -357,7 +377,6 @@ struct Loader<'a> {
 impl<'a> Loader<'a> {
     fn unexpected(&self, el: &Element, parent: &str) -> Error {
         match el.tag.as_str() {
-            "medium" => builder::unsupported(el, "medium", UNSUPPORTED_MEDIA),
             "texture" => el.err("textures are not supported yet"),
             "film" | "sampler" | "rfilter" => {
                 el.err(format!("<{}> must be nested in a <sensor>", el.tag))
@@ -377,6 +396,37 @@ impl<'a> Loader<'a> {
             .get(id)
             .copied()
             .ok_or_else(|| r.err(format!("reference to unknown id '{id}'")))
+    }
+
+    /// A `<medium>` element's index in the scene's media (built once per id).
+    fn medium(&mut self, el: &'a Element) -> Result<u32, Error> {
+        let id = el.attr("id").map(str::to_string);
+        if let Some(i) = id.as_ref().and_then(|id| self.medium_ids.get(id)) {
+            return Ok(*i);
+        }
+        let m = Medium::from_mitsuba(el)?;
+        if self.b.media.len() >= 0xfffe {
+            return Err(el.err("more than 65534 media"));
+        }
+        self.b.media.push(m);
+        let index = (self.b.media.len() - 1) as u32;
+        if let Some(id) = id {
+            self.medium_ids.insert(id, index);
+        }
+        Ok(index)
+    }
+
+    /// The medium a nested `<medium>` or a `<ref>` names.
+    fn medium_of(&mut self, n: &'a Element) -> Result<u32, Error> {
+        let target = if n.tag == "ref" { self.deref(n)? } else { n };
+        if target.tag != "medium" {
+            return Err(n.err(format!(
+                "'{}' is a <{}>, not a <medium>",
+                n.attr("id").unwrap_or(""),
+                target.tag
+            )));
+        }
+        self.medium(target)
     }
 
     fn bsdf(&mut self, el: &'a Element) -> Result<u32, Error> {
@@ -402,6 +452,17 @@ impl<'a> Loader<'a> {
         let t = el.require("type")?;
         let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
         match t {
+            "null" => {
+                // Mitsuba's null BSDF: the surface only bounds media. Shapes carrying it
+                // are flagged; the diffuse stand-in is never evaluated.
+                props.finish()?;
+                if let Some(n) = nested.first() {
+                    return Err(n.err(format!("unexpected <{}> in a null <bsdf>", n.tag)));
+                }
+                let index = self.b.add_bsdf(Bsdf::default());
+                self.null_bsdfs.insert(index);
+                Ok(index)
+            }
             "twosided" => {
                 // One nested BSDF used on both faces (Mitsuba's twosided.cpp).
                 props.finish()?;
@@ -565,6 +626,7 @@ impl<'a> Loader<'a> {
         let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
         let mut bsdf = None;
         let mut radiance = None;
+        let (mut interior, mut exterior) = (None, None);
         for n in nested {
             let (target, via_ref) = if n.tag == "ref" {
                 (self.deref(n)?, true)
@@ -601,6 +663,22 @@ impl<'a> Loader<'a> {
                     }
                     radiance = Some(self.area(target)?);
                 }
+                "medium" => {
+                    let slot = match n.attr("name") {
+                        Some("interior") => &mut interior,
+                        Some("exterior") => &mut exterior,
+                        other => {
+                            return Err(n.err(format!(
+                            "a shape's medium is named \"interior\" or \"exterior\", found {:?}",
+                            other.unwrap_or("")
+                        )))
+                        }
+                    };
+                    if slot.is_some() {
+                        return Err(n.err("the shape's medium on that side is given twice"));
+                    }
+                    *slot = Some(self.medium_of(n)?);
+                }
                 _ => return Err(self.unexpected(n, "<shape>")),
             }
         }
@@ -630,7 +708,7 @@ impl<'a> Loader<'a> {
                 let radius = props.float("radius", 1.0)?;
                 props.finish()?;
                 let emitter = radiance.map(|r| self.b.add_emitter(Emitter::Area { radiance: r }));
-                return self.b.add_sphere(
+                self.b.add_sphere(
                     &props,
                     center,
                     radius,
@@ -638,14 +716,26 @@ impl<'a> Loader<'a> {
                     flip_normals,
                     bsdf,
                     emitter,
-                );
+                )?;
+                if let Some(s) = self.b.spheres.last_mut() {
+                    s.interior = interior;
+                    s.exterior = exterior;
+                    s.null_bsdf = self.null_bsdfs.contains(&bsdf);
+                }
+                return Ok(());
             }
             _ => return Err(builder::unsupported(el, "shape", SHAPES)),
         };
         props.finish()?;
         let emitter = radiance.map(|r| self.b.add_emitter(Emitter::Area { radiance: r }));
         self.b
-            .add_mesh(el, m, to_world, face_normals, flip_normals, bsdf, emitter)
+            .add_mesh(el, m, to_world, face_normals, flip_normals, bsdf, emitter)?;
+        if let Some(m) = self.b.meshes.last_mut() {
+            m.interior = interior;
+            m.exterior = exterior;
+            m.null_bsdf = self.null_bsdfs.contains(&bsdf);
+        }
+        Ok(())
     }
 }
 
@@ -1236,7 +1326,7 @@ mod tests {
             ("<bsdf type=\"thindielectric\"/>", 3, "bsdf type 'thindielectric' is not supported yet"),
             ("<bsdf type=\"velvet\"/>", 3, "unknown bsdf type 'velvet'"),
             ("<shape type=\"cylinder\"/>", 3, "shape type 'cylinder' is not supported yet"),
-            ("<medium type=\"homogeneous\"/>", 3, "medium type 'homogeneous' is not supported yet"),
+            ("<medium type=\"homogeneous\"><float name=\"albedo\" value=\"2\"/></medium>", 3, "albedo must be in [0, 1]"),
             ("<shape type=\"cube\"><bsdf type=\"principled\"/></shape>", 3, "bsdf type 'principled' is not supported yet"),
             ("<shape type=\"cube\" foo=\"1\"/>", 3, "unexpected attribute 'foo'"),
             ("<shape type=\"cube\"><transform name=\"to_world\"><lookat origin=\"0,0,0\" target=\"0,0,0\"/></transform></shape>", 3, "invalid <lookat>"),

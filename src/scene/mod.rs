@@ -9,11 +9,13 @@ pub mod camera;
 pub mod emitter;
 pub mod error;
 pub mod integrator;
+pub mod medium;
 pub mod mesh;
 mod mitsuba;
 mod nori;
 mod obj;
 mod ply;
+pub mod procedural;
 pub mod properties;
 pub mod shape;
 pub mod spectrum;
@@ -25,6 +27,7 @@ pub use camera::Camera;
 pub use emitter::Emitter;
 pub use error::Error;
 pub use integrator::IntegratorSpec;
+pub use medium::Medium;
 pub use shape::{Mesh, Sphere};
 
 use std::path::{Path, PathBuf};
@@ -45,12 +48,27 @@ pub struct Scene {
     pub bsdfs: Vec<Bsdf>,
     /// Every emitter; area emitters are referenced by the shape that carries them.
     pub emitters: Vec<Emitter>,
+    /// Every participating medium, referenced by shapes (`interior`, `exterior`) and
+    /// by the camera.
+    pub media: Vec<Medium>,
+    /// The medium the camera sits in.
+    pub camera_medium: Option<u32>,
 }
 
 impl Scene {
     /// Total number of triangles over all meshes.
     pub fn triangle_count(&self) -> usize {
         self.meshes.iter().map(|m| m.indices.len()).sum()
+    }
+
+    /// Whether some shape has a `null` BSDF (a boundary rays pass through).
+    pub fn has_null_surfaces(&self) -> bool {
+        self.meshes.iter().any(|m| m.null_bsdf) || self.spheres.iter().any(|s| s.null_bsdf)
+    }
+
+    /// Whether the kernels need their medium code: media or null surfaces.
+    pub fn needs_medium_code(&self) -> bool {
+        !self.media.is_empty() || self.has_null_surfaces()
     }
 
     /// What the scene uses, by name: the features that decide which kernel code and
@@ -76,6 +94,14 @@ impl Scene {
             has(|e| matches!(e, Emitter::Constant { .. })),
             "constant environment",
         );
+        add(!self.media.is_empty(), "media");
+        add(
+            self.media
+                .iter()
+                .any(|m| matches!(m.kind, medium::MediumKind::Grid { .. })),
+            "grid media",
+        );
+        add(self.has_null_surfaces(), "null surfaces");
         f
     }
 }

@@ -65,6 +65,8 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         spheres: b.spheres,
         bsdfs: b.bsdfs,
         emitters: b.emitters,
+        media: Vec::new(),
+        camera_medium: None,
     })
 }
 

@@ -66,7 +66,9 @@ pub struct Properties {
 }
 
 /// Names of Mitsuba spectrum parameters that are not clamped to [0, 1].
-const UNBOUNDED: &[&str] = &["eta", "k", "int_ior", "ext_ior"];
+const UNBOUNDED: &[&str] = &[
+    "eta", "k", "int_ior", "ext_ior", "sigma_t", "sigma_a", "sigma_s",
+];
 
 impl Properties {
     /// Reads the value tags among `el`'s children. Returns the properties and the other

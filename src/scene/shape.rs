@@ -23,6 +23,12 @@ pub struct Mesh {
     pub bsdf: u32,
     /// Index into `Scene::emitters` of the area emitter this mesh carries.
     pub emitter: Option<u32>,
+    /// Media inside and outside (indices into `Scene::media`; Mitsuba `interior`,
+    /// `exterior`): a ray leaving the surface against its normal enters `interior`.
+    pub interior: Option<u32>,
+    pub exterior: Option<u32>,
+    /// A `null` BSDF: the surface only bounds media; rays pass straight through.
+    pub null_bsdf: bool,
 }
 
 /// An analytic sphere in world space (Mitsuba `sphere`: `center`, `radius`, `to_world`
@@ -37,4 +43,8 @@ pub struct Sphere {
     pub emitter: Option<u32>,
     /// Mitsuba's `flip_normals`: normals point inwards.
     pub flip_normals: bool,
+    /// As [`Mesh::interior`], [`Mesh::exterior`], [`Mesh::null_bsdf`].
+    pub interior: Option<u32>,
+    pub exterior: Option<u32>,
+    pub null_bsdf: bool,
 }

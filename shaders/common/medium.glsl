@@ -1,0 +1,276 @@
+// Participating media: where a ray first scatters (free-flight sampling) and how much
+// of it gets through a segment (transmittance), for homogeneous and grid media. Needs
+// scene_bindings.glsl. All distances are world-space ray parameters t along a unit
+// direction; extinction is per unit length and per RGB channel.
+#ifndef MEDIUM_GLSL
+#define MEDIUM_GLSL
+
+#include "rng.glsl"
+
+#define MEDIUM_INF uintBitsToFloat(0x7f800000u)
+// Tentative collisions one tracking loop may take before it gives up (the path or
+// shadow ray then carries nothing): a guard against pathological grids, far above
+// what the majorant grid needs (optical depth of the majorants along the ray).
+#define MEDIUM_MAX_STEPS 65536u
+// Ratio tracking plays Russian roulette once the transmittance drops below this.
+#define MEDIUM_RR_THRESHOLD 0.1
+
+// Random numbers for the unbounded loops of tracking: one stream per path, bounce and
+// purpose (0: free flight, 1: shadow transmittance), indexed by a counter. Their
+// dimensions have the top bit set, so they never meet those of rng_dim_bounce.
+struct MediumRng {
+    uint pixel;
+    uint sample_index;
+    uint base;
+    uint seed;
+    uint n;
+};
+
+MediumRng medium_rng(uint pixel, uint sample_index, uint depth, uint stream, uint seed) {
+    uint base = 0x80000000u | ((depth & 0x7fu) << 24) | ((stream & 3u) << 22);
+    return MediumRng(pixel, sample_index, base, seed, 0u);
+}
+
+vec4 medium_rng_next(inout MediumRng r) {
+    vec4 u = rng_4d(r.pixel, r.sample_index, r.base | (r.n & 0x3fffffu), r.seed);
+    r.n += 1u;
+    return u;
+}
+
+// The medium a ray leaving shape `shape` (geometric normal ng there) along d travels
+// in: as Mitsuba's target_medium, the exterior towards the normal, the interior
+// against it; a shape that bounds no media keeps the current one.
+uint medium_after(uint shape, uint current, vec3 d, vec3 ng) {
+    ShapeRecord s = shape_load(shape);
+    if ((s.flags & SHAPE_MEDIUM_TRANSITION) == 0u) return current;
+    uint m = dot(d, ng) > 0.0 ? (s.media >> 16) : (s.media & 0xffffu);
+    return m == MEDIUM_NONE16 ? NONE : m;
+}
+
+// Beer-Lambert transmittance e^{-σ t} per channel, with e^{-0·∞} = 1.
+vec3 medium_tr(vec3 sigma, float t) {
+    return vec3(sigma.x > 0.0 ? exp(-sigma.x * t) : 1.0,
+                sigma.y > 0.0 ? exp(-sigma.y * t) : 1.0,
+                sigma.z > 0.0 ? exp(-sigma.z * t) : 1.0);
+}
+
+float medium_avg(vec3 v) { return (v.x + v.y + v.z) * (1.0 / 3.0); }
+
+// Extinction at grid-local point pl (the grid's unit cube): the record's per-channel
+// scale times the density interpolated trilinearly between voxel centres, clamped at
+// the edges (as Mitsuba 3's gridvolume).
+vec3 medium_grid_sigma_t(MediumRecord m, vec3 pl) {
+    ivec3 res = ivec3(m.res);
+    vec3 x = pl * vec3(m.res) - 0.5;
+    vec3 f = floor(x);
+    vec3 w = clamp(x - f, 0.0, 1.0);
+    ivec3 i0 = clamp(ivec3(f), ivec3(0), res - 1);
+    ivec3 i1 = clamp(ivec3(f) + 1, ivec3(0), res - 1);
+    vec3 d = vec3(0.0);
+    for (uint k = 0u; k < 8u; k++) {
+        bvec3 hi = bvec3((k & 1u) != 0u, (k & 2u) != 0u, (k & 4u) != 0u);
+        ivec3 i = ivec3(hi.x ? i1.x : i0.x, hi.y ? i1.y : i0.y, hi.z ? i1.z : i0.z);
+        vec3 wk = mix(1.0 - w, w, vec3(hi));
+        float weight = wk.x * wk.y * wk.z;
+        uint idx = uint((i.z * res.y + i.y) * res.x + i.x);
+        if (m.channels == 1u) {
+            d += vec3(weight * grid_data[m.data + idx]);
+        } else {
+            uint b = m.data + 3u * idx;
+            d += weight * vec3(grid_data[b], grid_data[b + 1u], grid_data[b + 2u]);
+        }
+    }
+    return m.sigma_t * d;
+}
+
+// A walk through the cells of a grid medium's majorant grid along a ray (Amanatides
+// and Woo 1987, "A Fast Voxel Traversal Algorithm for Ray Tracing"), in grid-local
+// coordinates where the ray parameter t is the world one (the map is affine).
+struct MajorantWalk {
+    vec3 ol;
+    vec3 dl;
+    ivec3 cell;
+    ivec3 step;
+    vec3 t_next;  // t at which the walk crosses into the next cell, per axis
+    vec3 t_delta; // t across one cell, per axis
+    float t;      // start of the current segment
+    float t_end;  // where the ray leaves the grid (or tmax)
+};
+
+// Starts the walk of ray (o, d) on [0, tmax); false if it misses the grid.
+bool medium_walk_begin(MediumRecord m, vec3 o, vec3 d, float tmax, out MajorantWalk w) {
+    w.ol = (m.world_to_grid * vec4(o, 1.0)).xyz;
+    w.dl = (m.world_to_grid * vec4(d, 0.0)).xyz;
+    float t0 = 0.0, t1 = tmax;
+    for (int a = 0; a < 3; a++) {
+        if (abs(w.dl[a]) < 1e-30) {
+            if (w.ol[a] < 0.0 || w.ol[a] > 1.0) return false;
+        } else {
+            float inv = 1.0 / w.dl[a];
+            float ta = -w.ol[a] * inv, tb = (1.0 - w.ol[a]) * inv;
+            t0 = max(t0, min(ta, tb));
+            t1 = min(t1, max(ta, tb));
+        }
+    }
+    if (!(t0 < t1)) return false;
+    w.t = t0;
+    w.t_end = t1;
+    vec3 M = vec3(m.maj_res);
+    ivec3 last = ivec3(m.maj_res) - 1;
+    w.cell = clamp(ivec3(floor((w.ol + t0 * w.dl) * M)), ivec3(0), last);
+    for (int a = 0; a < 3; a++) {
+        if (abs(w.dl[a]) < 1e-30) {
+            w.step[a] = 0;
+            w.t_next[a] = MEDIUM_INF;
+            w.t_delta[a] = MEDIUM_INF;
+        } else if (w.dl[a] > 0.0) {
+            w.step[a] = 1;
+            w.t_next[a] = (float(w.cell[a] + 1) / M[a] - w.ol[a]) / w.dl[a];
+            w.t_delta[a] = 1.0 / (M[a] * w.dl[a]);
+        } else {
+            w.step[a] = -1;
+            w.t_next[a] = (float(w.cell[a]) / M[a] - w.ol[a]) / w.dl[a];
+            w.t_delta[a] = -1.0 / (M[a] * w.dl[a]);
+        }
+    }
+    return true;
+}
+
+// The majorant of the walk's current cell and the end of its segment.
+float medium_walk_cell(MediumRecord m, MajorantWalk w, out float t_cell_end) {
+    t_cell_end = min(min(w.t_next.x, w.t_next.y), min(w.t_next.z, w.t_end));
+    uvec3 c = uvec3(w.cell);
+    return majorants[m.maj_data + (c.z * m.maj_res.y + c.y) * m.maj_res.x + c.x];
+}
+
+// Moves the walk to the next cell; false when the ray has left the grid or tmax.
+bool medium_walk_next(MediumRecord m, inout MajorantWalk w, float t_cell_end) {
+    if (t_cell_end >= w.t_end) return false;
+    w.t = t_cell_end;
+    int a = w.t_next.x <= w.t_next.y ? (w.t_next.x <= w.t_next.z ? 0 : 2)
+                                     : (w.t_next.y <= w.t_next.z ? 1 : 2);
+    w.cell[a] += w.step[a];
+    if (w.cell[a] < 0 || w.cell[a] >= int(m.maj_res[a])) return false;
+    w.t_next[a] += w.t_delta[a];
+    return true;
+}
+
+// What happens to a ray in a medium before it reaches tmax (a surface, or ∞).
+struct MediumEvent {
+    bool scattered; // a real scattering event at t (else the ray reaches tmax)
+    float t;
+    vec3 weight;    // factor for the path throughput: 0 when absorbed
+};
+
+// Samples where ray (o, d) in medium `mi` first scatters before tmax, returning a
+// weight whose expectation over the event gives the radiative transfer estimate:
+//
+// - Homogeneous: distances in closed form from the exponential of one channel picked
+//   uniformly, weighted by the one-sample balance heuristic over the three channels
+//   (PBR 3rd ed., sec. 15.2.1): at t < tmax, weight σs e^{-σt t} / avg(σt e^{-σt t});
+//   reaching tmax, e^{-σt tmax} / avg(e^{-σt tmax}). Grey media: weight = albedo at a
+//   scattering event, 1 otherwise. A pure absorber (albedo 0) cannot scatter: its
+//   weight is the transmittance itself, with no variance.
+// - Grid: delta tracking (Woodcock et al. 1965) with the majorant of each cell of the
+//   majorant grid: tentative collisions at rate μ; a real one with probability
+//   avg(σt)/μ, weight σs / avg(σt); a null one otherwise, weight σn / avg(σn), σn =
+//   μ - σt (grey σt: weights albedo and 1, the classic algorithm; coloured σt:
+//   spectral tracking after Kutz et al. 2017, "Spectral and Decomposition Tracking").
+MediumEvent medium_sample(uint mi, vec3 o, vec3 d, float tmax, inout MediumRng rng) {
+    MediumEvent ev;
+    ev.scattered = false;
+    ev.t = tmax;
+    ev.weight = vec3(1.0);
+    MediumRecord m = media[mi];
+    if (m.kind == MEDIUM_HOMOGENEOUS) {
+        vec3 st = m.sigma_t;
+        if (all(equal(m.albedo, vec3(0.0)))) {
+            ev.weight = medium_tr(st, tmax);
+            return ev;
+        }
+        vec4 u = medium_rng_next(rng);
+        uint c = min(uint(u.x * 3.0), 2u);
+        float sc = st[c];
+        float t = sc > 0.0 ? -log(1.0 - u.y) / sc : MEDIUM_INF;
+        if (t < tmax) {
+            vec3 tr = medium_tr(st, t);
+            float pdf = medium_avg(st * tr);
+            ev.scattered = true;
+            ev.t = t;
+            ev.weight = pdf > 0.0 ? st * m.albedo * tr / pdf : vec3(0.0);
+        } else {
+            vec3 tr = medium_tr(st, tmax);
+            float p = medium_avg(tr);
+            ev.weight = p > 0.0 ? tr / p : vec3(0.0);
+        }
+        return ev;
+    }
+    MajorantWalk w;
+    if (!medium_walk_begin(m, o, d, tmax, w)) return ev;
+    uint steps = 0u;
+    while (true) {
+        float t_cell_end;
+        float mu = medium_walk_cell(m, w, t_cell_end);
+        if (mu > 0.0) {
+            while (true) {
+                if (++steps >= MEDIUM_MAX_STEPS) {
+                    ev.weight = vec3(0.0);
+                    return ev;
+                }
+                vec4 u = medium_rng_next(rng);
+                w.t -= log(1.0 - u.x) / mu;
+                if (w.t >= t_cell_end) break;
+                vec3 st = medium_grid_sigma_t(m, w.ol + w.t * w.dl);
+                float avg_t = medium_avg(st);
+                if (u.y * mu < avg_t) {
+                    ev.scattered = true;
+                    ev.t = w.t;
+                    ev.weight *= st * m.albedo / avg_t;
+                    return ev;
+                }
+                vec3 sn = max(vec3(mu) - st, vec3(0.0));
+                float avg_n = medium_avg(sn);
+                if (avg_n > 0.0) ev.weight *= sn / avg_n;
+            }
+        }
+        if (!medium_walk_next(m, w, t_cell_end)) return ev;
+    }
+    return ev;
+}
+
+// Transmittance of medium `mi` along (o, d) over [0, tmax): closed form in a
+// homogeneous medium, ratio tracking in a grid (Novák et al. 2014, "Residual Ratio
+// Tracking for Estimating Attenuation in Participating Media": a factor σn/μ per
+// tentative collision), with Russian roulette once it falls below
+// MEDIUM_RR_THRESHOLD (survival probability = its largest channel).
+vec3 medium_transmittance(uint mi, vec3 o, vec3 d, float tmax, inout MediumRng rng) {
+    MediumRecord m = media[mi];
+    if (m.kind == MEDIUM_HOMOGENEOUS) return medium_tr(m.sigma_t, tmax);
+    vec3 T = vec3(1.0);
+    MajorantWalk w;
+    if (!medium_walk_begin(m, o, d, tmax, w)) return T;
+    uint steps = 0u;
+    while (true) {
+        float t_cell_end;
+        float mu = medium_walk_cell(m, w, t_cell_end);
+        if (mu > 0.0) {
+            while (true) {
+                if (++steps >= MEDIUM_MAX_STEPS) return vec3(0.0);
+                vec4 u = medium_rng_next(rng);
+                w.t -= log(1.0 - u.x) / mu;
+                if (w.t >= t_cell_end) break;
+                vec3 st = medium_grid_sigma_t(m, w.ol + w.t * w.dl);
+                T *= max(vec3(mu) - st, vec3(0.0)) / mu;
+                float q = max(T.x, max(T.y, T.z));
+                if (q < MEDIUM_RR_THRESHOLD) {
+                    if (u.y >= q) return vec3(0.0);
+                    T /= q;
+                }
+            }
+        }
+        if (!medium_walk_next(m, w, t_cell_end)) return T;
+    }
+    return T;
+}
+
+#endif

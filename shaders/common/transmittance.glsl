@@ -1,0 +1,37 @@
+// Transmittance of a shadow ray through media and null surfaces: the ray passes every
+// null surface (switching medium there as Mitsuba's target_medium does) and is blocked
+// by any other; each medium segment contributes its transmittance (medium.glsl).
+// Needs wavefront.glsl, scene_bindings.glsl, bvh.glsl, surface.glsl, medium.glsl.
+#ifndef TRANSMITTANCE_GLSL
+#define TRANSMITTANCE_GLSL
+
+#include "medium.glsl"
+
+// Surfaces one shadow ray may pass before it counts as blocked.
+#define TRANSMITTANCE_MAX_CROSSINGS 64u
+
+vec3 transmittance_shadow(ShadowItem s) {
+    PathState path = path_load(s.path);
+    MediumRng rng = medium_rng(path.pixel, path.sample_index, push.depth, 1u, frame.seed);
+    vec3 T = vec3(1.0);
+    vec3 o = s.origin;
+    uint medium = s.medium;
+    float remaining = s.tmax;
+    for (uint crossing = 0u; crossing < TRANSMITTANCE_MAX_CROSSINGS; crossing++) {
+        Hit h = bvh_closest(o, s.dir, 0.0, remaining);
+        if (medium != NONE) {
+            T *= medium_transmittance(medium, o, s.dir, h.prim == NONE ? remaining : h.t, rng);
+            if (!any(greaterThan(T, vec3(0.0)))) return vec3(0.0);
+        }
+        if (h.prim == NONE) return T;
+        Surface sf = surface_at(h.prim, h.u, h.v, o, s.dir, h.t);
+        if ((shape_load(sf.shape).flags & SHAPE_NULL_BSDF) == 0u) return vec3(0.0);
+        medium = medium_after(sf.shape, medium, s.dir, sf.ng);
+        vec3 next = surface_spawn_origin(sf, dot(s.dir, sf.ng) > 0.0 ? sf.ng : -sf.ng);
+        remaining = max(remaining - dot(next - o, s.dir), 0.0);
+        o = next;
+    }
+    return vec3(0.0);
+}
+
+#endif

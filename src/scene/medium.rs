@@ -1,0 +1,518 @@
+//! Participating media, as the scene describes them.
+//!
+//! Mitsuba 3's `homogeneous` and `heterogeneous` media, bound to shapes through
+//! `interior`/`exterior` and to the sensor (a camera inside fog):
+//!
+//! - `homogeneous`: `sigma_t` (color, default 1) and `albedo` (color in [0, 1], default
+//!   0.75), or instead `sigma_a` and `sigma_s` (sigma_t = sigma_a + sigma_s, albedo =
+//!   sigma_s / sigma_t); `scale` (default 1) multiplies the extinction;
+//!   `sample_emitters` (default true): next-event estimation at scattering points.
+//! - `heterogeneous`: `sigma_t` a nested `<volume type="gridvolume">` (a Mitsuba `.vol`
+//!   file, 1 or 3 float32 channels; `to_world` places its unit cube, or its own bounding
+//!   box with `use_grid_bbox`; trilinear interpolation between voxel centres, as
+//!   Mitsuba 3's `gridvolume`) or a constant; `albedo` a constant color; `scale`;
+//!   `majorant_resolution_factor` (wavetrace default 8: a coarse grid of maxima, one
+//!   cell per 8³ voxels, lets delta tracking take long steps through thin regions; 0:
+//!   one majorant for the whole grid, as Mitsuba's default). Procedural `cloud` and
+//!   `perlin` volumes are baked to a grid at load (`scene::procedural`).
+//! - A nested `<phase type="isotropic"/>` (default) or `<phase type="hg">` (`g` in
+//!   (-1, 1), Mitsuba's default 0.8).
+//!
+//! ```xml
+//! <shape type="cube">
+//!     <bsdf type="null"/>
+//!     <medium type="homogeneous" name="interior">
+//!         <rgb name="sigma_t" value="1"/><rgb name="albedo" value="0.9"/>
+//!         <phase type="hg"><float name="g" value="0.7"/></phase>
+//!     </medium>
+//! </shape>
+//! ```
+
+use std::path::Path;
+
+use glam::{Mat4, Vec3};
+
+use super::properties::Properties;
+use super::xml::{Dialect, Element};
+use super::Error;
+
+/// A medium.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Medium {
+    /// For messages: the id, or the type.
+    pub name: String,
+    pub kind: MediumKind,
+    /// Single-scattering albedo sigma_s / sigma_t, each channel in [0, 1].
+    pub albedo: Vec3,
+    /// Henyey-Greenstein asymmetry, 0 for the isotropic phase function.
+    pub g: f32,
+    pub sample_emitters: bool,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub enum MediumKind {
+    /// Constant extinction per unit length (scale applied).
+    Homogeneous { sigma_t: Vec3 },
+    /// Extinction = scale x the grid's density.
+    Grid {
+        grid: Grid,
+        scale: Vec3,
+        /// Voxels per majorant cell along each axis; 0 for a single majorant.
+        majorant_factor: u32,
+    },
+}
+
+/// A voxel grid on the unit cube that `to_world` places in the scene. Values at voxel
+/// centres; voxel (x, y, z) channel c is `data[((z * res[1] + y) * res[0] + x) *
+/// channels + c]` (Mitsuba's `.vol` order).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Grid {
+    pub res: [u32; 3],
+    pub channels: u32,
+    pub data: Vec<f32>,
+    pub to_world: Mat4,
+}
+
+impl Grid {
+    /// Largest value of channel `c`.
+    pub fn max(&self, c: u32) -> f32 {
+        self.data
+            .iter()
+            .skip(c as usize)
+            .step_by(self.channels as usize)
+            .fold(0.0f32, |m, &v| m.max(v))
+    }
+}
+
+/// Reads a Mitsuba `.vol` grid (version 3: "VOL", 3, int32 encoding (1 = float32),
+/// int32 xres, yres, zres, channels, 6 float32 bounding box, float32 data). Returns the
+/// grid with `to_world` mapping the unit cube onto the file's bounding box.
+pub fn read_vol(path: &Path) -> Result<Grid, String> {
+    let bytes = std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let bad = |what: &str| format!("{}: not a Mitsuba .vol grid: {what}", path.display());
+    if bytes.len() < 48 || &bytes[0..3] != b"VOL" {
+        return Err(bad("missing the 'VOL' header"));
+    }
+    if bytes[3] != 3 {
+        return Err(bad(&format!(
+            "version {} (only version 3 is read)",
+            bytes[3]
+        )));
+    }
+    let int = |i: usize| i32::from_le_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
+    let float = |i: usize| f32::from_le_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
+    let encoding = int(4);
+    if encoding != 1 {
+        return Err(bad(&format!(
+            "encoding {encoding} (only 1 = float32 is supported, as in Mitsuba 3)"
+        )));
+    }
+    let (xr, yr, zr, ch) = (int(8), int(12), int(16), int(20));
+    if xr <= 0 || yr <= 0 || zr <= 0 || !(ch == 1 || ch == 3) {
+        return Err(bad(&format!(
+            "resolution {xr} x {yr} x {zr} with {ch} channels (need positive sizes and 1 or 3 channels)"
+        )));
+    }
+    let count = (xr as u64) * (yr as u64) * (zr as u64) * (ch as u64);
+    if count > (1u64 << 25) {
+        return Err(bad(&format!(
+            "{count} values is more than wavetrace accepts (2^25: one 128 MiB GPU buffer)"
+        )));
+    }
+    let need = 48 + 4 * count as usize;
+    if bytes.len() < need {
+        return Err(bad(&format!(
+            "{} bytes, but {xr} x {yr} x {zr} x {ch} float32 values need {need}",
+            bytes.len()
+        )));
+    }
+    let lo = Vec3::new(float(24), float(28), float(32));
+    let hi = Vec3::new(float(36), float(40), float(44));
+    let mut data = Vec::with_capacity(count as usize);
+    for i in 0..count as usize {
+        let v = float(48 + 4 * i);
+        if !v.is_finite() || v < 0.0 {
+            return Err(bad(&format!(
+                "value {v} at index {i} (need finite values >= 0)"
+            )));
+        }
+        data.push(v);
+    }
+    let ext = hi - lo;
+    let to_world = if lo.is_finite() && hi.is_finite() && ext.min_element() > 0.0 {
+        Mat4::from_translation(lo) * Mat4::from_scale(ext)
+    } else {
+        Mat4::IDENTITY
+    };
+    Ok(Grid {
+        res: [xr as u32, yr as u32, zr as u32],
+        channels: ch as u32,
+        data,
+        to_world,
+    })
+}
+
+/// Phase function asymmetry of a nested `<phase>`.
+fn phase(el: &Element) -> Result<f32, Error> {
+    el.check_attrs(&["type", "id", "name"])?;
+    let t = el.require("type")?;
+    let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
+    if let Some(n) = nested.first() {
+        return Err(n.err(format!("unexpected <{}> in a <phase>", n.tag)));
+    }
+    let g = match t {
+        "isotropic" => 0.0,
+        "hg" => {
+            let g = props.float("g", 0.8)?;
+            if !(g > -1.0 && g < 1.0) {
+                return Err(props.error("g", format!("hg: g must lie in (-1, 1), found {g}")));
+            }
+            g
+        }
+        "rayleigh" | "sggx" | "tabphase" | "blendphase" => {
+            return Err(el.err(format!("phase type '{t}' is not supported yet")))
+        }
+        _ => return Err(el.err(format!("unknown phase type '{t}'"))),
+    };
+    props.finish()?;
+    Ok(g)
+}
+
+/// A nested `<volume name=...>`: a constant color or a grid.
+enum Volume {
+    Constant(Vec3),
+    Grid(Grid),
+}
+
+fn volume(el: &Element) -> Result<Volume, Error> {
+    el.check_attrs(&["type", "id", "name"])?;
+    let t = el.require("type")?;
+    let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
+    if let Some(n) = nested.first() {
+        return Err(n.err(format!("unexpected <{}> in a <volume>", n.tag)));
+    }
+    let v = match t {
+        "constvolume" => Volume::Constant(props.color("value", Vec3::ONE)?),
+        "gridvolume" => {
+            let name = props
+                .string_opt("filename")?
+                .ok_or_else(|| props.object_error("gridvolume needs a 'filename'"))?;
+            let path = el
+                .resolve(&name)
+                .map_err(|tried| props.error("filename", format!("grid file {tried} not found")))?;
+            let mut grid = read_vol(&path).map_err(|m| props.error("filename", m))?;
+            let to_world = props.transform("to_world")?;
+            grid.to_world = if props.boolean("use_grid_bbox", false)? {
+                to_world * grid.to_world
+            } else {
+                to_world
+            };
+            if grid.to_world.determinant().abs() < 1e-30 || !grid.to_world.is_finite() {
+                return Err(props.error("to_world", "the grid's to_world is not invertible"));
+            }
+            match props.string("filter_type", "trilinear")?.as_str() {
+                "trilinear" => {}
+                other => {
+                    return Err(props.error(
+                        "filter_type",
+                        format!("filter_type '{other}' is not supported (trilinear only)"),
+                    ))
+                }
+            }
+            props.ignore(&["raw", "accel", "wrap_mode"]);
+            Volume::Grid(grid)
+        }
+        "cloud" | "perlin" => Volume::Grid(super::procedural::bake(t, &props)?),
+        _ => return Err(el.err(format!("unknown volume type '{t}'"))),
+    };
+    props.finish()?;
+    Ok(v)
+}
+
+fn check_color(props: &Properties, key: &str, c: Vec3, max: Option<f32>) -> Result<Vec3, Error> {
+    let ok = c.is_finite() && c.min_element() >= 0.0 && max.is_none_or(|m| c.max_element() <= m);
+    if !ok {
+        let range = match max {
+            Some(m) => format!("in [0, {m}]"),
+            None => "finite and >= 0".into(),
+        };
+        return Err(props.error(key, format!("{key} must be {range}, found {c}")));
+    }
+    Ok(c)
+}
+
+impl Medium {
+    /// A Mitsuba `<medium>` element.
+    pub fn from_mitsuba(el: &Element) -> Result<Medium, Error> {
+        el.check_attrs(&["type", "id", "name"])?;
+        let t = el.require("type")?;
+        if !matches!(t, "homogeneous" | "heterogeneous") {
+            return Err(el.err(format!("unknown medium type '{t}'")));
+        }
+        let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
+        let mut g = None;
+        let mut volumes: Vec<(&str, Volume, &Element)> = Vec::new();
+        for n in nested {
+            match n.tag.as_str() {
+                "phase" if g.is_none() => g = Some(phase(n)?),
+                "phase" => return Err(n.err("a medium has one <phase>")),
+                "volume" => {
+                    let name = n.require("name")?;
+                    if !matches!(name, "sigma_t" | "albedo") {
+                        return Err(n.err(format!(
+                            "a <volume> of a medium is its 'sigma_t' or 'albedo', not '{name}'"
+                        )));
+                    }
+                    if props.has(name) || volumes.iter().any(|v| v.0 == name) {
+                        return Err(n.err(format!("'{name}' of the medium is given twice")));
+                    }
+                    volumes.push((name, volume(n)?, n));
+                }
+                "ref" => return Err(n.err("references inside a <medium> are not supported yet")),
+                tag => return Err(n.err(format!("unexpected <{tag}> in a <medium>"))),
+            }
+        }
+        let mut sigma_t = props.color_opt("sigma_t")?;
+        let mut albedo = props.color_opt("albedo")?;
+        let mut grid = None;
+        for (name, v, n) in volumes {
+            match (name, v) {
+                ("sigma_t", Volume::Constant(c)) => sigma_t = Some(c),
+                ("albedo", Volume::Constant(c)) => albedo = Some(c),
+                ("sigma_t", Volume::Grid(gr)) => grid = Some(gr),
+                _ => {
+                    return Err(
+                        n.err("an albedo grid is not supported yet (give a constant albedo)")
+                    )
+                }
+            }
+        }
+        let (sa, ss) = (props.color_opt("sigma_a")?, props.color_opt("sigma_s")?);
+        if sa.is_some() || ss.is_some() {
+            if sigma_t.is_some() || albedo.is_some() || grid.is_some() {
+                return Err(props.object_error(
+                    "give either sigma_a and sigma_s, or sigma_t and albedo, not both",
+                ));
+            }
+            let sa = check_color(&props, "sigma_a", sa.unwrap_or(Vec3::ZERO), None)?;
+            let ss = check_color(&props, "sigma_s", ss.unwrap_or(Vec3::ZERO), None)?;
+            let st = sa + ss;
+            sigma_t = Some(st);
+            albedo = Some(Vec3::select(st.cmpgt(Vec3::ZERO), ss / st, Vec3::ZERO));
+        }
+        let albedo = check_color(
+            &props,
+            "albedo",
+            albedo.unwrap_or(Vec3::splat(0.75)),
+            Some(1.0),
+        )?;
+        let scale = props.float("scale", 1.0)?;
+        if !(scale.is_finite() && scale >= 0.0) {
+            return Err(props.error(
+                "scale",
+                format!("scale must be finite and >= 0, found {scale}"),
+            ));
+        }
+        let sample_emitters = props.boolean("sample_emitters", true)?;
+        let kind = if t == "homogeneous" {
+            if grid.is_some() {
+                return Err(
+                    props.object_error("a homogeneous medium takes no grid (use heterogeneous)")
+                );
+            }
+            let st = check_color(&props, "sigma_t", sigma_t.unwrap_or(Vec3::ONE), None)?;
+            let st = st * scale;
+            if !st.is_finite() {
+                return Err(props.error("scale", "sigma_t x scale overflows"));
+            }
+            MediumKind::Homogeneous { sigma_t: st }
+        } else {
+            let factor = props.integer("majorant_resolution_factor", 8)?;
+            if !(0..=1024).contains(&factor) {
+                return Err(props.error(
+                    "majorant_resolution_factor",
+                    format!("majorant_resolution_factor must be in [0, 1024], found {factor}"),
+                ));
+            }
+            props.ignore(&["majorant_factor"]);
+            match grid {
+                Some(grid) => MediumKind::Grid {
+                    scale: check_color(&props, "sigma_t", Vec3::ONE, None)? * scale,
+                    grid,
+                    majorant_factor: factor as u32,
+                },
+                // A constant sigma_t: the same as a homogeneous medium.
+                None => MediumKind::Homogeneous {
+                    sigma_t: check_color(&props, "sigma_t", sigma_t.unwrap_or(Vec3::ONE), None)?
+                        * scale,
+                },
+            }
+        };
+        props.finish()?;
+        Ok(Medium {
+            name: el.attr("id").unwrap_or(t).to_string(),
+            kind,
+            albedo,
+            g: g.unwrap_or(0.0),
+            sample_emitters,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::testutil::{error_at, load, mitsuba};
+
+    /// A .vol file's bytes.
+    pub fn vol_bytes(res: [i32; 3], channels: i32, bbox: [f32; 6], data: &[f32]) -> Vec<u8> {
+        let mut b = b"VOL\x03".to_vec();
+        for i in [1, res[0], res[1], res[2], channels] {
+            b.extend_from_slice(&i.to_le_bytes());
+        }
+        for f in bbox.iter().chain(data) {
+            b.extend_from_slice(&f.to_le_bytes());
+        }
+        b
+    }
+
+    #[test]
+    fn homogeneous_parameters() {
+        let s = load(
+            &[(
+                "s.xml",
+                &mitsuba(
+                    r#"<medium type="homogeneous" id="fog">
+    <rgb name="sigma_t" value="1, 2, 3"/><float name="albedo" value="0.5"/>
+    <float name="scale" value="2"/><phase type="hg"><float name="g" value="-0.7"/></phase>
+</medium>
+<shape type="cube"><bsdf type="null"/><ref id="fog" name="interior"/></shape>"#,
+                ),
+            )],
+            &[],
+        )
+        .unwrap();
+        assert_eq!(s.media.len(), 1);
+        let m = &s.media[0];
+        assert_eq!(
+            m.kind,
+            MediumKind::Homogeneous {
+                sigma_t: Vec3::new(2.0, 4.0, 6.0)
+            }
+        );
+        assert_eq!((m.albedo, m.g), (Vec3::splat(0.5), -0.7));
+        assert_eq!(
+            (s.meshes[0].interior, s.meshes[0].exterior),
+            (Some(0), None)
+        );
+        assert!(s.meshes[0].null_bsdf);
+
+        let s = load(
+            &[(
+                "s.xml",
+                &mitsuba(
+                    r#"<shape type="sphere"><medium type="homogeneous" name="exterior">
+    <rgb name="sigma_a" value="1"/><rgb name="sigma_s" value="3"/></medium></shape>"#,
+                ),
+            )],
+            &[],
+        )
+        .unwrap();
+        let m = &s.media[0];
+        assert_eq!(
+            m.kind,
+            MediumKind::Homogeneous {
+                sigma_t: Vec3::splat(4.0)
+            }
+        );
+        assert_eq!((m.albedo, m.g), (Vec3::splat(0.75), 0.0));
+        assert_eq!(
+            (s.spheres[0].interior, s.spheres[0].exterior),
+            (None, Some(0))
+        );
+        // Without a BSDF a medium's shape is diffuse, as in Mitsuba 3.9.
+        assert!(!s.spheres[0].null_bsdf);
+    }
+
+    #[test]
+    fn sensor_medium_and_errors() {
+        let xml = r#"<scene version="3.0.0">
+<medium type="homogeneous" id="fog"/>
+<sensor type="perspective"><ref id="fog"/></sensor>
+</scene>"#;
+        let s = load(&[("s.xml", xml)], &[]).unwrap();
+        assert_eq!(s.camera_medium, Some(0));
+        let bad = |body: &str, line: u32, want: &str| {
+            let text = error_at(load(&[("s.xml", &mitsuba(body))], &[]), "s.xml", line);
+            assert!(text.contains(want), "{text}");
+        };
+        bad(
+            "<medium type=\"homogeneous\"><float name=\"albedo\" value=\"1.5\"/></medium>",
+            3,
+            "albedo must be in [0, 1]",
+        );
+        bad(
+            "<medium type=\"homogeneous\"><phase type=\"hg\"><float name=\"g\" value=\"1\"/></phase></medium>",
+            3,
+            "g must lie in (-1, 1)",
+        );
+        bad("<medium type=\"fancy\"/>", 3, "unknown medium type 'fancy'");
+        bad(
+            "<medium type=\"homogeneous\"><float name=\"sigma_t\" value=\"-1\"/></medium>",
+            3,
+            "sigma_t must be finite and >= 0",
+        );
+        bad(
+            "<medium type=\"homogeneous\"><float name=\"density\" value=\"1\"/></medium>",
+            3,
+            "'density'",
+        );
+        bad(
+            "<shape type=\"cube\"><medium type=\"homogeneous\" name=\"inside\"/></shape>",
+            3,
+            "interior",
+        );
+        bad(
+            "<medium type=\"heterogeneous\"><volume name=\"sigma_t\" type=\"gridvolume\"><string name=\"filename\" value=\"missing.vol\"/></volume></medium>",
+            3,
+            "missing.vol",
+        );
+    }
+
+    #[test]
+    fn vol_files() {
+        let data: Vec<f32> = (0..24).map(|i| i as f32).collect();
+        let dir = crate::scene::testutil::temp_dir("vol");
+        let p = dir.join("g.vol");
+        std::fs::write(
+            &p,
+            vol_bytes([2, 3, 4], 1, [0.0, 0.0, 0.0, 2.0, 1.0, 1.0], &data),
+        )
+        .unwrap();
+        let g = read_vol(&p).unwrap();
+        assert_eq!((g.res, g.channels, g.max(0)), ([2, 3, 4], 1, 23.0));
+        assert_eq!(
+            g.to_world.transform_point3(Vec3::ONE),
+            Vec3::new(2.0, 1.0, 1.0)
+        );
+        for (bytes, want) in [
+            (b"VOX\x03".to_vec(), "VOL"),
+            (vol_bytes([2, 3, 4], 1, [0.0; 6], &data[..10]), "need"),
+            (vol_bytes([2, 3, 4], 2, [0.0; 6], &data), "channels"),
+            (
+                vol_bytes([2, 1, 1], 1, [0.0; 6], &[1.0, f32::NAN]),
+                "finite",
+            ),
+        ] {
+            std::fs::write(&p, bytes).unwrap();
+            let e = read_vol(&p).unwrap_err();
+            assert!(e.contains(want), "{e}");
+        }
+        // A wrong file never panics, at any truncation.
+        let good = vol_bytes([2, 3, 4], 1, [0.0, 0.0, 0.0, 1.0, 1.0, 1.0], &data);
+        for n in 0..good.len() {
+            std::fs::write(&p, &good[..n]).unwrap();
+            assert!(read_vol(&p).is_err());
+        }
+    }
+}
