@@ -14,5 +14,10 @@ layout(std430, set = 0, binding = 5) readonly buffer BsdfBuffer { BsdfRecord bsd
 layout(std430, set = 0, binding = 6) readonly buffer EmitterBuffer { EmitterRecord emitters[]; };
 // Emitter alias table at [0, emitter_count), then each mesh emitter's triangle table.
 layout(std430, set = 0, binding = 7) readonly buffer AliasBuffer { AliasEntry alias_table[]; };
+// Textures (texture.glsl): records, and every bitmap's RGB texels, three floats each.
+layout(std430, set = 0, binding = 8) readonly buffer TextureBuffer { TextureRecord textures[]; };
+layout(std430, set = 0, binding = 9) readonly buffer TexelBuffer { float texels[]; };
+// Environment map sampling distributions (envmap.glsl).
+layout(std430, set = 0, binding = 10) readonly buffer EnvDistBuffer { float env_dist[]; };
 
 #endif

@@ -175,7 +175,11 @@ impl Renderer {
         let kernels = Kernels {
             generate: k("generate", shaders::GENERATE, &[])?,
             intersect: k("intersect", shaders::INTERSECT, &[has_spheres])?,
-            shade: k("shade", shaders::SHADE, &[integrator.id(), bsdf_kinds])?,
+            shade: k(
+                "shade",
+                shaders::SHADE,
+                &[integrator.id(), bsdf_kinds, records.texture_mask()],
+            )?,
             shadow: k("shadow", shaders::SHADOW, &[has_spheres])?,
             ray_args: k("queue_args", shaders::QUEUE_ARGS, &[0])?,
             shadow_args: k("queue_args", shaders::QUEUE_ARGS, &[1])?,

@@ -7,6 +7,7 @@ pub mod bsdf;
 mod builder;
 pub mod camera;
 pub mod emitter;
+pub mod envmap;
 pub mod error;
 pub mod integrator;
 pub mod mesh;
@@ -17,6 +18,7 @@ mod ply;
 pub mod properties;
 pub mod shape;
 pub mod spectrum;
+pub mod texture;
 pub mod transform;
 pub mod xml;
 
@@ -26,6 +28,7 @@ pub use emitter::Emitter;
 pub use error::Error;
 pub use integrator::IntegratorSpec;
 pub use shape::{Mesh, Sphere};
+pub use texture::Texture;
 
 use std::path::{Path, PathBuf};
 
@@ -45,6 +48,8 @@ pub struct Scene {
     pub bsdfs: Vec<Bsdf>,
     /// Every emitter; area emitters are referenced by the shape that carries them.
     pub emitters: Vec<Emitter>,
+    /// Every texture, indexed by BSDF texture maps and textured emitters.
+    pub textures: Vec<Texture>,
 }
 
 impl Scene {
@@ -75,6 +80,22 @@ impl Scene {
         add(
             has(|e| matches!(e, Emitter::Constant { .. })),
             "constant environment",
+        );
+        add(
+            has(|e| matches!(e, Emitter::TexturedArea { .. })),
+            "textured area lights",
+        );
+        add(
+            has(|e| matches!(e, Emitter::EnvMap { .. })),
+            "environment map",
+        );
+        add(!self.textures.is_empty(), "textures");
+        add(
+            self.bsdfs.iter().any(|b| {
+                matches!(b, Bsdf::NormalMap { .. })
+                    || matches!(b, Bsdf::TwoSided(i) if matches!(**i, Bsdf::NormalMap { .. }))
+            }),
+            "normal maps",
         );
         f
     }

@@ -65,6 +65,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         spheres: b.spheres,
         bsdfs: b.bsdfs,
         emitters: b.emitters,
+        textures: b.textures,
     })
 }
 
