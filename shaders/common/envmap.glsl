@@ -64,6 +64,17 @@ float envmap_cell_density(EmitterRecord e, uint i, uint j) {
     return pm * pc * float(w * h);
 }
 
+// Density per unit solid angle with which envmap_sample picks world direction d.
+float envmap_pdf(EmitterRecord e, vec3 d) {
+    vec3 local = envmap_to_local(e, d);
+    vec2 uv = envmap_uv(local);
+    float st = sqrt(max(0.0, 1.0 - local.y * local.y));
+    if (st <= 0.0) return 0.0;
+    uint i = min(uint(uv.x * float(e.dist_width)), e.dist_width - 1u);
+    uint j = min(uint(uv.y * float(e.dist_height)), e.dist_height - 1u);
+    return envmap_cell_density(e, i, j) / (2.0 * PI * PI * st);
+}
+
 // Samples a world direction towards the map; pdf per unit solid angle,
 // p(ω) = p(u, v) / (2π² sin θ) (PBR 3rd ed., sec. 14.2.4).
 vec3 envmap_sample(EmitterRecord e, vec2 u, out float pdf) {
@@ -77,20 +88,11 @@ vec3 envmap_sample(EmitterRecord e, vec2 u, out float pdf) {
                    (float(j) + clamp((u.x - m0) / (m1 - m0), 0.0, 1.0)) / float(h));
     float theta = uv.y * PI, phi = uv.x * (2.0 * PI);
     float st = sin(theta);
-    vec3 local = vec3(st * sin(phi), cos(theta), -st * cos(phi));
-    pdf = st > 0.0 ? (m1 - m0) * (c1 - c0) * float(w * h) / (2.0 * PI * PI * st) : 0.0;
-    return envmap_to_world(e, local);
-}
-
-// Density per unit solid angle with which envmap_sample picks world direction d.
-float envmap_pdf(EmitterRecord e, vec3 d) {
-    vec3 local = envmap_to_local(e, d);
-    vec2 uv = envmap_uv(local);
-    float st = sqrt(max(0.0, 1.0 - local.y * local.y));
-    if (st <= 0.0) return 0.0;
-    uint i = min(uint(uv.x * float(e.dist_width)), e.dist_width - 1u);
-    uint j = min(uint(uv.y * float(e.dist_height)), e.dist_height - 1u);
-    return envmap_cell_density(e, i, j) / (2.0 * PI * PI * st);
+    vec3 d = envmap_to_world(e, vec3(st * sin(phi), cos(theta), -st * cos(phi)));
+    // The density of the direction as envmap_pdf finds it, so that MIS sees the very
+    // same number on a hit (they differ from the cell's only by rounding at its edges).
+    pdf = envmap_pdf(e, d);
+    return d;
 }
 
 #endif
