@@ -8,12 +8,16 @@
 
 #include "wavefront.glsl"
 #include "scene_bindings.glsl"
+// Texture kinds and features the scene uses (TEXTURE_* kind bits, TEXTURE_FEATURE_*).
+layout(constant_id = 2) const uint SCENE_TEXTURES = 0xffffffffu;
+#define TEXTURE_KINDS SCENE_TEXTURES
 #include "emitter.glsl"
 
 // The BSDF kinds the scene uses (a bit per BSDF_* kind): the others compile away.
 layout(constant_id = 1) const uint SCENE_BSDF_KINDS = 0xffffffffu;
 #define BSDF_KINDS SCENE_BSDF_KINDS
 #include "bsdf.glsl"
+#include "bsdf_textured.glsl"
 #include "first_hit.glsl"
 
 // Media or null surfaces in the scene; without them the medium stage compiles away.

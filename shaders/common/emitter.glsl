@@ -16,6 +16,8 @@
 #include "warp.glsl"
 #include "intersect_sphere.glsl"
 #include "surface.glsl"
+#include "texture.glsl"
+#include "envmap.glsl"
 
 #define EMITTER_INFINITY uintBitsToFloat(0x7f800000u)
 
@@ -37,10 +39,22 @@ float emitter_spot_falloff(EmitterRecord e, vec3 w_out) {
     return clamp((e.cutoff - theta) * e.inv_transition, 0.0, 1.0);
 }
 
-// Radiance leaving an area emitter towards -d, at a point with geometric normal ng:
-// one-sided, from the front face only.
-vec3 emitter_area_radiance(EmitterRecord e, vec3 ng, vec3 d) {
-    return dot(ng, d) < 0.0 ? e.radiance : vec3(0.0);
+// Radiance leaving an area emitter towards -d, at a point with geometric normal ng
+// and texture coordinates uv: one-sided, from the front face only; a textured
+// emitter's radiance is its texture at uv times e.radiance (the scale).
+vec3 emitter_area_radiance(EmitterRecord e, vec3 ng, vec3 d, vec2 uv) {
+    if (dot(ng, d) >= 0.0) return vec3(0.0);
+    if (TEXTURE_USES(TEXTURE_FEATURE_AREA) && e.texture != 0u) {
+        return e.radiance * texture_eval(e.texture, uv);
+    }
+    return e.radiance;
+}
+
+// Radiance arriving from the environment along world direction d (away from the
+// scene): the constant emitter or the environment map.
+vec3 emitter_env_radiance(EmitterRecord e, vec3 d) {
+    if (TEXTURE_USES(TEXTURE_FEATURE_ENVMAP) && e.kind == EMITTER_ENVMAP) return envmap_eval(e, d);
+    return e.radiance;
 }
 
 // 1 - cos θmax of the cone a sphere (centre c, radius r) subtends from x; 0 if x is
@@ -80,6 +94,13 @@ EmitterSample emitter_sample(vec3 x, vec4 u) {
         s.dist = EMITTER_INFINITY;
         s.Le = e.radiance;
         s.pdf = pmf * warp_uniform_sphere_pdf(s.wi);
+    } else if (e.kind == EMITTER_ENVMAP) {
+        if (!TEXTURE_USES(TEXTURE_FEATURE_ENVMAP)) return s;
+        float pdf;
+        s.wi = envmap_sample(e, u.yz, pdf);
+        s.dist = EMITTER_INFINITY;
+        s.Le = envmap_eval(e, s.wi);
+        s.pdf = pmf * pdf;
     } else if (e.tri_count > 0u) {
         // A mesh: a triangle by area, then a uniform point on it.
         float tri_pmf;
@@ -97,7 +118,7 @@ EmitterSample emitter_sample(vec3 x, vec4 u) {
         s.wi = d / s.dist;
         float cos_light = -dot(ng, s.wi);
         if (cos_light <= 0.0 || d2 == 0.0) return s;
-        s.Le = e.radiance;
+        s.Le = emitter_area_radiance(e, ng, s.wi, ls.uv);
         // Area density 1/area, to solid angle: d² / cos.
         s.pdf = pmf * d2 / (e.area * cos_light);
     } else {
@@ -112,6 +133,10 @@ EmitterSample emitter_sample(vec3 x, vec4 u) {
         }
         s.dist = t;
         s.Le = e.radiance;
+        if (TEXTURE_USES(TEXTURE_FEATURE_AREA) && e.texture != 0u) {
+            vec3 n = normalize(x + t * s.wi - e.position);
+            s.Le *= texture_eval(e.texture, surface_sphere_uv(n));
+        }
         s.pdf = pmf * warp_uniform_cone_pdf(one_minus_cos_max);
     }
     return s;
@@ -132,8 +157,11 @@ float emitter_pdf_hit(uint index, vec3 x_prev, vec3 d, float t, vec3 ng) {
 }
 
 // Density with which emitter_sample picks direction d towards the environment.
-float emitter_pdf_env() {
-    return alias_load(frame.env_emitter).pmf * INV_FOUR_PI;
+float emitter_pdf_env(vec3 d) {
+    EmitterRecord e = emitter_load(frame.env_emitter);
+    float pmf = alias_load(frame.env_emitter).pmf;
+    if (TEXTURE_USES(TEXTURE_FEATURE_ENVMAP) && e.kind == EMITTER_ENVMAP) return pmf * envmap_pdf(e, d);
+    return pmf * INV_FOUR_PI;
 }
 
 #endif

@@ -40,7 +40,7 @@ void first_hit_shade(uint integrator, RayItem r, HitItem h) {
         vec3 wi = to_light * inversesqrt(d2);
         float cos_theta = dot(s.ns, wi);
         if (cos_theta <= 0.0 || dot(s.ng, wi) <= 0.0 || !(d2 > 0.0)) return;
-        vec3 f = bsdf_load(shape_load(s.shape).bsdf).reflectance * INV_PI;
+        vec3 f = bsdf_textured(bsdf_load(shape_load(s.shape).bsdf), s.uv).reflectance * INV_PI;
         vec3 origin = surface_spawn_origin(s, s.ng);
         queue_push_shadow(origin, r.path, wi, length(light.position - origin) * (1.0 - 1e-5),
                           path.throughput * f * light.radiance * (cos_theta / d2) * float(count));

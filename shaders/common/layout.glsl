@@ -61,6 +61,9 @@ struct Vertex {
     float nz;
     float u;
     float v;
+    float tx;             // tangent dp/du (host-made from uvs), zero without uvs
+    float ty;
+    float tz;
 };
 
 // BSDF kinds (shaders/common/bsdf.glsl dispatches on them).
@@ -95,12 +98,22 @@ struct BsdfRecord {
     float internal;       // plastic: inner diffuse Fresnel reflectance; roughplastic: R_int
     uint pad0;
     vec4 table[8];        // roughplastic: coating transmittance at cos θ = i/31
+    // Textures replacing constants at a hit, as texture index + 1 (0: none).
+    uint tex_reflectance;
+    uint tex_specular;
+    uint tex_transmittance;
+    uint tex_alpha_u;     // alpha from the texture's luminance
+    uint tex_alpha_v;
+    uint normal_map;      // Mitsuba normalmap around the model
+    uint pad1;
+    uint pad2;
 };
 
 #define EMITTER_POINT 0u
 #define EMITTER_AREA 1u
 #define EMITTER_CONSTANT 2u
 #define EMITTER_SPOT 3u
+#define EMITTER_ENVMAP 4u
 // radiance: intensity (W/sr) of point and spot lights, radiance of area and constant
 // ones. Spot: axis, cos_cutoff, cutoff (rad), inv_transition = 1/(cutoff - beam width).
 // Area: shape, total area; a mesh's triangles by area through alias entries
@@ -120,6 +133,46 @@ struct EmitterRecord {
     uint tri_count;
     uint pad0;
     uint pad1;
+    uint texture;         // index + 1: area radiance texture, or the envmap's image
+    uint dist_offset;     // envmap: its sampling distribution in env_dist[]
+    uint dist_width;
+    uint dist_height;
+    vec4 to_world_x;      // envmap: columns of its rotation
+    vec4 to_world_y;
+    vec4 to_world_z;
+};
+
+#define TEXTURE_BITMAP 0u
+#define TEXTURE_CHECKERBOARD 1u
+#define TEXTURE_NOISE 2u
+#define TEXTURE_MARBLE 3u
+#define TEXTURE_NEAREST 1u
+#define TEXTURE_WRAP_SHIFT 1u
+#define TEXTURE_WRAP_REPEAT 0u
+#define TEXTURE_WRAP_MIRROR 1u
+#define TEXTURE_WRAP_CLAMP 2u
+// Bits of the shade kernel's texture mask beside the kinds (1 << TEXTURE_*).
+#define TEXTURE_FEATURE_BSDF 256u
+#define TEXTURE_FEATURE_NORMALMAP 512u
+#define TEXTURE_FEATURE_ENVMAP 1024u
+#define TEXTURE_FEATURE_AREA 2048u
+// A texture; lookups map uv by the affine to_uv first (u' = dot(to_uv_u.xyz, (u,v,1))).
+// Bitmap: width x height RGB texels at texels[offset..], row 0 at v = 0.
+struct TextureRecord {
+    uint kind;
+    uint offset;
+    uint width;
+    uint height;
+    uint flags;
+    uint octaves;
+    uint seed;
+    uint pad0;
+    vec3 color0;
+    float frequency;
+    vec3 color1;
+    float variation;
+    vec4 to_uv_u;
+    vec4 to_uv_v;
 };
 
 // Alias table entry (Walker 1977, Vose 1991): keep i with probability prob, else alias;

@@ -17,6 +17,7 @@
 #include "frame.glsl"
 #include "rng.glsl"
 #include "queue.glsl"
+#include "bsdf_textured.glsl"
 
 // Balance heuristic weight of a strategy with density a against one with density b.
 float mis_balance(float a, float b) { return a / (a + b); }
@@ -55,8 +56,8 @@ void path_shade(uint integrator, RayItem r, HitItem h, PathState path) {
 
     if (h.prim == NONE) {
         if (count_emission && frame.env_emitter != NONE) {
-            float w = weigh ? mis_balance(path.bsdf_pdf, emitter_pdf_env()) : 1.0;
-            path.radiance += path.throughput * emitter_load(frame.env_emitter).radiance * w;
+            float w = weigh ? mis_balance(path.bsdf_pdf, emitter_pdf_env(r.dir)) : 1.0;
+            path.radiance += path.throughput * emitter_env_radiance(emitter_load(frame.env_emitter), r.dir) * w;
             path_store_radiance(r.path, path);
         }
         return;
@@ -65,7 +66,7 @@ void path_shade(uint integrator, RayItem r, HitItem h, PathState path) {
     Surface s = surface_at(h.prim, h.u, h.v, r.origin, r.dir, h.t);
     ShapeRecord shape = shape_load(s.shape);
     if (count_emission && shape.emitter != NONE) {
-        vec3 Le = emitter_area_radiance(emitter_load(shape.emitter), s.ng, r.dir);
+        vec3 Le = emitter_area_radiance(emitter_load(shape.emitter), s.ng, r.dir, s.uv);
         float w = weigh ? mis_balance(path.bsdf_pdf, emitter_pdf_hit(shape.emitter, r.origin, r.dir, h.t, s.ng)) : 1.0;
         path.radiance += path.throughput * Le * w;
         path_store_radiance(r.path, path);
@@ -74,15 +75,20 @@ void path_shade(uint integrator, RayItem r, HitItem h, PathState path) {
     // A longer path must fit in max_depth segments (this vertex ends segment depth+1).
     if (depth + 2u > frame.max_depth) return;
 
-    BsdfRecord bsdf = bsdf_load(shape.bsdf);
+    BsdfRecord bsdf = bsdf_textured(bsdf_load(shape.bsdf), s.uv);
+    // A normal map replaces the shading normal; directions on different sides of it
+    // and of the geometric normal carry no light (no leaks through the surface).
+    bool mapped = TEXTURE_USES(TEXTURE_FEATURE_NORMALMAP) && bsdf.normal_map != 0u;
+    if (mapped) s.ns = bsdf_normal_mapped(bsdf.normal_map, s);
     vec3 wo = frame_to_local(s.ns, -r.dir);
+    if (mapped && (wo.z > 0.0) != (dot(-r.dir, s.ng) > 0.0)) return;
 
     if (ems && !bsdf_is_delta(bsdf)) {
         vec4 u = rng_4d(path.pixel, path.sample_index, rng_dim_bounce(depth, 0u), frame.seed);
         EmitterSample es = emitter_sample(s.p, u);
         if (es.pdf > 0.0 && any(greaterThan(es.Le, vec3(0.0)))) {
             vec3 wi = frame_to_local(s.ns, es.wi);
-            vec3 f = bsdf_eval(bsdf, wo, wi, s.uv);
+            vec3 f = (mapped && (wi.z > 0.0) != (dot(es.wi, s.ng) > 0.0)) ? vec3(0.0) : bsdf_eval(bsdf, wo, wi, s.uv);
             if (any(greaterThan(f, vec3(0.0)))) {
                 float w = (mis && !es.delta) ? mis_balance(es.pdf, bsdf_pdf(bsdf, wo, wi, s.uv)) : 1.0;
                 vec3 origin = surface_spawn_origin(s, dot(es.wi, s.ng) > 0.0 ? s.ng : -s.ng);
@@ -112,6 +118,7 @@ void path_shade(uint integrator, RayItem r, HitItem h, PathState path) {
             throughput /= q;
         }
         vec3 wi = frame_to_world(s.ns, bs.wi);
+        if (mapped && (bs.wi.z > 0.0) != (dot(wi, s.ng) > 0.0)) return;
         path.throughput = throughput;
         path.bsdf_pdf = bs.pdf;
         path.flags = (bs.flags & BSDF_FLAG_DELTA) != 0u ? PATH_DELTA : 0u;

@@ -11,18 +11,22 @@
 // prim_load below.
 layout(set = 0, binding = 0) uniform usamplerBuffer bvh_node_texels;
 layout(set = 0, binding = 1) uniform usamplerBuffer prim_texels;
-// Shapes and triangles (one texel each) and vertices (4-byte texels) likewise: read them
+// Shapes and triangles (one texel each) and vertices (two) likewise: read them
 // with shape_load, triangle_load and vertex_load.
 layout(set = 0, binding = 2) uniform usamplerBuffer shape_texels;
 layout(set = 0, binding = 3) uniform usamplerBuffer triangle_texels;
-layout(set = 0, binding = 4) uniform usamplerBuffer vertex_words;
+layout(set = 0, binding = 4) uniform usamplerBuffer vertex_texels;
 // BSDFs, emitters and alias tables: texel buffers too (bsdf_load, emitter_load,
 // alias_load).
 layout(set = 0, binding = 5) uniform usamplerBuffer bsdf_texels;
 layout(set = 0, binding = 6) uniform usamplerBuffer emitter_texels;
 // Emitter alias table at [0, emitter_count), then each mesh emitter's triangle table.
 layout(set = 0, binding = 7) uniform usamplerBuffer alias_texels;
-// Bindings 8-10: textures.
+// Textures (texture.glsl): records, and every bitmap's RGB texels, three floats each.
+layout(std430, set = 0, binding = 8) readonly buffer TextureBuffer { TextureRecord textures[]; };
+layout(std430, set = 0, binding = 9) readonly buffer TexelBuffer { float texels[]; };
+// Environment map sampling distributions (envmap.glsl).
+layout(std430, set = 0, binding = 10) readonly buffer EnvDistBuffer { float env_dist[]; };
 // Media (shaders/common/medium.glsl): records, density grids, majorant grids.
 layout(std430, set = 0, binding = 11) readonly buffer MediumBuffer { MediumRecord media[]; };
 layout(std430, set = 0, binding = 12) readonly buffer GridBuffer { float grid_data[]; };
@@ -57,15 +61,15 @@ TriangleRecord triangle_load(uint i) {
 }
 
 Vertex vertex_load(uint i) {
-    int b = int(5u * i);
-    return Vertex(uintBitsToFloat(texelFetch(vertex_words, b).x), uintBitsToFloat(texelFetch(vertex_words, b + 1).x),
-                  uintBitsToFloat(texelFetch(vertex_words, b + 2).x), uintBitsToFloat(texelFetch(vertex_words, b + 3).x),
-                  uintBitsToFloat(texelFetch(vertex_words, b + 4).x));
+    uvec4 a = texelFetch(vertex_texels, int(2u * i));
+    uvec4 b = texelFetch(vertex_texels, int(2u * i + 1u));
+    return Vertex(uintBitsToFloat(a.x), uintBitsToFloat(a.y), uintBitsToFloat(a.z), uintBitsToFloat(a.w),
+                  uintBitsToFloat(b.x), uintBitsToFloat(b.y), uintBitsToFloat(b.z), uintBitsToFloat(b.w));
 }
 
-// BsdfRecord: 14 texels (6 of fields, then the 8 of `table`).
+// BsdfRecord: 16 texels (6 of fields, the 8 of `table`, 2 of texture maps).
 BsdfRecord bsdf_load(uint i) {
-    int b = int(14u * i);
+    int b = int(16u * i);
     uvec4 w0 = texelFetch(bsdf_texels, b);
     uvec4 w1 = texelFetch(bsdf_texels, b + 1);
     uvec4 w2 = texelFetch(bsdf_texels, b + 2);
@@ -90,21 +94,35 @@ BsdfRecord bsdf_load(uint i) {
     for (int k = 0; k < 8; k++) {
         r.table[k] = uintBitsToFloat(texelFetch(bsdf_texels, b + 6 + k));
     }
+    uvec4 w14 = texelFetch(bsdf_texels, b + 14);
+    uvec4 w15 = texelFetch(bsdf_texels, b + 15);
+    r.tex_reflectance = w14.x;
+    r.tex_specular = w14.y;
+    r.tex_transmittance = w14.z;
+    r.tex_alpha_u = w14.w;
+    r.tex_alpha_v = w15.x;
+    r.normal_map = w15.y;
+    r.pad1 = w15.z;
+    r.pad2 = w15.w;
     return r;
 }
 
-// EmitterRecord: 5 texels.
+// EmitterRecord: 9 texels.
 EmitterRecord emitter_load(uint i) {
-    int b = int(5u * i);
+    int b = int(9u * i);
     uvec4 w0 = texelFetch(emitter_texels, b);
     uvec4 w1 = texelFetch(emitter_texels, b + 1);
     uvec4 w2 = texelFetch(emitter_texels, b + 2);
     uvec4 w3 = texelFetch(emitter_texels, b + 3);
     uvec4 w4 = texelFetch(emitter_texels, b + 4);
+    uvec4 w5 = texelFetch(emitter_texels, b + 5);
     return EmitterRecord(uintBitsToFloat(w0.xyz), w0.w, uintBitsToFloat(w1.xyz), w1.w,
                          uintBitsToFloat(w2.xyz), uintBitsToFloat(w2.w),
                          uintBitsToFloat(w3.x), uintBitsToFloat(w3.y), uintBitsToFloat(w3.z), uintBitsToFloat(w3.w),
-                         w4.x, w4.y, w4.z, w4.w);
+                         w4.x, w4.y, w4.z, w4.w, w5.x, w5.y, w5.z, w5.w,
+                         uintBitsToFloat(texelFetch(emitter_texels, b + 6)),
+                         uintBitsToFloat(texelFetch(emitter_texels, b + 7)),
+                         uintBitsToFloat(texelFetch(emitter_texels, b + 8)));
 }
 
 AliasEntry alias_load(uint i) {

@@ -16,7 +16,16 @@ struct Surface {
     vec3 ns;      // shading normal, unit, same hemisphere as ng
     vec2 uv;
     uint shape;
+    vec3 dpdu;    // tangent ∂p/∂u (unnormalized direction); zero where unknown
 };
+
+// Mitsuba's sphere coordinates of the outward unit normal n (object frame = world
+// here): u = φ / 2π in [0, 1), v = θ / π.
+vec2 surface_sphere_uv(vec3 n) {
+    float u = atan(n.y, n.x) * (0.5 * INV_PI);
+    if (u < 0.0) u += 1.0;
+    return vec2(u, acos(clamp(n.z, -1.0, 1.0)) * INV_PI);
+}
 
 // Surface at barycentrics (u, v) of primitive `prim`: p = (1-u-v) p0 + u p1 + v p2.
 // Spheres are re-projected onto their surface. Normals follow the primitive's
@@ -32,8 +41,8 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
         s.p = prim.p0 + prim.p1.x * s.ng;
         s.p_error = SURFACE_GAMMA5 * abs(s.p);
         s.ns = s.ng;
-        // Spherical coordinates as Mitsuba's sphere: u = φ / 2π, v = θ / π.
-        s.uv = vec2(atan(s.ng.y, s.ng.x) * (0.5 * INV_PI) + 0.5, acos(clamp(s.ng.z, -1.0, 1.0)) * INV_PI);
+        s.uv = surface_sphere_uv(s.ng);
+        s.dpdu = vec3(-s.ng.y, s.ng.x, 0.0); // ∂p/∂φ direction
     } else {
         float w = 1.0 - u - v;
         s.p = w * prim.p0 + u * prim.p1 + v * prim.p2;
@@ -47,6 +56,7 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
         s.ng = len > 0.0 ? n / len : vec3(0.0, 0.0, 1.0);
         s.ns = s.ng;
         s.uv = vec2(u, v);
+        s.dpdu = vec3(0.0);
         if ((shape.flags & (SHAPE_HAS_NORMALS | SHAPE_HAS_UVS)) != 0u) {
             TriangleRecord tri = triangle_load(prim.index);
             Vertex a = vertex_load(tri.v0), b = vertex_load(tri.v1), c = vertex_load(tri.v2);
@@ -59,6 +69,7 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
             }
             if ((shape.flags & SHAPE_HAS_UVS) != 0u) {
                 s.uv = w * vec2(a.u, a.v) + u * vec2(b.u, b.v) + v * vec2(c.u, c.v);
+                s.dpdu = w * vec3(a.tx, a.ty, a.tz) + u * vec3(b.tx, b.ty, b.tz) + v * vec3(c.tx, c.ty, c.tz);
             }
         }
     }

@@ -47,7 +47,7 @@ void main() {
             uint e = shape_load(s.shape).emitter;
             if (e != NONE) pdf_hit = emitter_pdf_hit(e, pc.x, es.wi, h.t, s.ng);
         } else if (frame.env_emitter != NONE) {
-            pdf_hit = emitter_pdf_env();
+            pdf_hit = emitter_pdf_env(es.wi);
         }
     }
     probe[2u * i] = vec4(es.wi, es.pdf);

@@ -128,7 +128,9 @@ pub struct TriangleRecord {
     pub pad0: u32,
 }
 
-/// Shading attributes of a mesh vertex (positions live in [`Prim`]s).
+/// Shading attributes of a mesh vertex (positions live in [`Prim`]s). `t*` is the
+/// tangent ∂p/∂u averaged over the vertex's triangles (area-weighted), made on the
+/// host where the mesh has uvs; zero otherwise. Normal maps build their frame on it.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Vertex {
@@ -137,6 +139,9 @@ pub struct Vertex {
     pub nz: f32,
     pub u: f32,
     pub v: f32,
+    pub tx: f32,
+    pub ty: f32,
+    pub tz: f32,
 }
 
 /// BSDF kinds in [`BsdfRecord::kind`] (one GLSL file each in `shaders/common/bsdf/`).
@@ -190,6 +195,18 @@ pub struct BsdfRecord {
     pub internal: f32,
     pub pad0: u32,
     pub table: [[f32; 4]; BSDF_TABLE_SIZE / 4],
+    /// Textures replacing the constants above at a hit, as texture index + 1 (0: the
+    /// constant applies): `reflectance`, `specular`, `transmittance` (colors),
+    /// `alpha_u`, `alpha_v` (luminance of the texture).
+    pub tex_reflectance: u32,
+    pub tex_specular: u32,
+    pub tex_transmittance: u32,
+    pub tex_alpha_u: u32,
+    pub tex_alpha_v: u32,
+    /// Mitsuba `normalmap` around the model: its texture index + 1, or 0.
+    pub normal_map: u32,
+    pub pad1: u32,
+    pub pad2: u32,
 }
 
 /// Emitter kinds in [`EmitterRecord::kind`].
@@ -197,6 +214,8 @@ pub const EMITTER_POINT: u32 = 0;
 pub const EMITTER_AREA: u32 = 1;
 pub const EMITTER_CONSTANT: u32 = 2;
 pub const EMITTER_SPOT: u32 = 3;
+/// Mitsuba `envmap`: a lat-long image around the scene.
+pub const EMITTER_ENVMAP: u32 = 4;
 
 /// An emitter. `radiance` is the intensity (W/sr) of point and spot lights and the
 /// radiance of area and constant emitters.
@@ -206,6 +225,12 @@ pub const EMITTER_SPOT: u32 = 3;
 /// `area`; a mesh's triangles are chosen by area through the alias table entries
 /// `tri_first .. tri_first + tri_count`; a sphere has `position` = centre and
 /// `radius`, and `tri_count` = 0.
+///
+/// `texture` (index + 1, 0 for none): an area emitter's radiance is `radiance` times
+/// the texture at the hit's uv; an environment map's image (then `radiance` is its
+/// `scale`). Environment map: `to_world_*` are the columns of its rotation;
+/// `dist_offset` is where its sampling distribution starts in the distribution
+/// buffer, over `dist_width` x `dist_height` cells (see `scene::envmap`).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct EmitterRecord {
@@ -223,6 +248,58 @@ pub struct EmitterRecord {
     pub tri_count: u32,
     pub pad0: u32,
     pub pad1: u32,
+    pub texture: u32,
+    pub dist_offset: u32,
+    pub dist_width: u32,
+    pub dist_height: u32,
+    pub to_world_x: [f32; 4],
+    pub to_world_y: [f32; 4],
+    pub to_world_z: [f32; 4],
+}
+
+/// Texture kinds in [`TextureRecord::kind`] (`shaders/common/texture.glsl`).
+pub const TEXTURE_BITMAP: u32 = 0;
+pub const TEXTURE_CHECKERBOARD: u32 = 1;
+pub const TEXTURE_NOISE: u32 = 2;
+pub const TEXTURE_MARBLE: u32 = 3;
+/// [`TextureRecord::flags`]: nearest-neighbour lookups (else bilinear).
+pub const TEXTURE_NEAREST: u32 = 1;
+/// [`TextureRecord::flags`] bits 1-2: the wrap mode.
+pub const TEXTURE_WRAP_SHIFT: u32 = 1;
+pub const TEXTURE_WRAP_REPEAT: u32 = 0;
+pub const TEXTURE_WRAP_MIRROR: u32 = 1;
+pub const TEXTURE_WRAP_CLAMP: u32 = 2;
+/// Bits of the shade kernel's texture mask (specialization constant 2) beside the
+/// kinds (`1 << TEXTURE_*`): code for features a scene lacks compiles out.
+pub const TEXTURE_FEATURE_BSDF: u32 = 256;
+pub const TEXTURE_FEATURE_NORMALMAP: u32 = 512;
+pub const TEXTURE_FEATURE_ENVMAP: u32 = 1024;
+pub const TEXTURE_FEATURE_AREA: u32 = 2048;
+
+/// A texture (`scene::Texture`). Every texture's lookups first map the surface uv by
+/// the affine `to_uv` (rows `to_uv_u`, `to_uv_v`: u' = x u + y v + z).
+///
+/// Bitmap: `width` x `height` RGB texels (linear) at `offset` in the texel buffer, row
+/// 0 at v = 0, `flags` for filter and wrap. Checkerboard: `color0`, `color1`. Noise
+/// and marble: `color0`, `color1`, `frequency`, `octaves`, `seed`, and for marble
+/// `variation` (see texture.glsl).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct TextureRecord {
+    pub kind: u32,
+    pub offset: u32,
+    pub width: u32,
+    pub height: u32,
+    pub flags: u32,
+    pub octaves: u32,
+    pub seed: u32,
+    pub pad0: u32,
+    pub color0: [f32; 3],
+    pub frequency: f32,
+    pub color1: [f32; 3],
+    pub variation: f32,
+    pub to_uv_u: [f32; 4],
+    pub to_uv_v: [f32; 4],
 }
 
 /// One entry of an alias table (Walker 1977; Vose 1991): pick `i` uniformly, keep it
@@ -475,7 +552,7 @@ mod tests {
             rust_layout!(Prim, p0, shape, p1, index, p2, kind),
             rust_layout!(ShapeRecord, bsdf, emitter, flags, media),
             rust_layout!(TriangleRecord, v0, v1, v2, pad0),
-            rust_layout!(Vertex, nx, ny, nz, u, v),
+            rust_layout!(Vertex, nx, ny, nz, u, v, tx, ty, tz),
             rust_layout!(
                 BsdfRecord,
                 reflectance,
@@ -492,7 +569,15 @@ mod tests {
                 specular_weight,
                 internal,
                 pad0,
-                table
+                table,
+                tex_reflectance,
+                tex_specular,
+                tex_transmittance,
+                tex_alpha_u,
+                tex_alpha_v,
+                normal_map,
+                pad1,
+                pad2
             ),
             rust_layout!(
                 EmitterRecord,
@@ -509,7 +594,31 @@ mod tests {
                 tri_first,
                 tri_count,
                 pad0,
-                pad1
+                pad1,
+                texture,
+                dist_offset,
+                dist_width,
+                dist_height,
+                to_world_x,
+                to_world_y,
+                to_world_z
+            ),
+            rust_layout!(
+                TextureRecord,
+                kind,
+                offset,
+                width,
+                height,
+                flags,
+                octaves,
+                seed,
+                pad0,
+                color0,
+                frequency,
+                color1,
+                variation,
+                to_uv_u,
+                to_uv_v
             ),
             rust_layout!(AliasEntry, prob, alias, pmf, prim),
             rust_layout!(

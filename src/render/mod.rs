@@ -182,7 +182,7 @@ impl Renderer {
             shade: k(
                 "shade",
                 shaders::SHADE,
-                &[integrator.id(), bsdf_kinds, 0, 0, has_media, has_spheres],
+                &[integrator.id(), bsdf_kinds, records.texture_mask(), 0, has_media, has_spheres],
             )?,
             shadow: k(
                 "shadow",

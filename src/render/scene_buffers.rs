@@ -5,26 +5,28 @@ use glam::Vec3;
 
 use crate::accel::Bvh;
 use crate::gpu::layout::{
-    shape_media, AliasEntry, BsdfRecord, EmitterRecord, MediumRecord, ShapeRecord, TriangleRecord,
-    Vertex, EMITTER_AREA, EMITTER_CONSTANT, EMITTER_POINT, EMITTER_SPOT, NONE, PRIM_TRIANGLE,
-    SHAPE_FLIP_NORMALS, SHAPE_HAS_NORMALS, SHAPE_HAS_UVS, SHAPE_MEDIUM_TRANSITION, SHAPE_NULL_BSDF,
+    shape_media, AliasEntry, BsdfRecord, EmitterRecord, MediumRecord, ShapeRecord, TextureRecord,
+    TriangleRecord, Vertex, EMITTER_AREA, EMITTER_CONSTANT, EMITTER_ENVMAP, EMITTER_POINT,
+    EMITTER_SPOT, NONE, PRIM_TRIANGLE, SHAPE_FLIP_NORMALS, SHAPE_HAS_NORMALS, SHAPE_HAS_UVS,
+    SHAPE_MEDIUM_TRANSITION, SHAPE_NULL_BSDF,
 };
 use crate::gpu::{BindingKind, BindingLayout, Buffer, DescriptorSet, Device};
+use crate::scene::envmap;
 use crate::scene::{Emitter, Scene};
+use crate::scene::{Mesh, Texture};
 
 use super::error::Result;
 
-/// Bindings of set 0, in order: 0-7 geometry, materials and emitters, 8-10 reserved
-/// for textures, 11-13 media (records, density grids, majorant grids).
+/// Bindings of set 0, in order: 0-7 geometry, materials and emitters, 8-10
+/// textures (records, texels, environment-map distributions), 11-13 media (records, density grids, majorant grids).
 pub const SCENE_BINDINGS: u32 = 14;
 
 /// The kind of each binding of set 0. The records read at scattered addresses on
 /// every hit or traversal step (bindings 0-7) are texel buffers (see
-/// [`BindingKind::Texels`]; vertices, 20 bytes, of 4-byte texels); the rest are storage buffers.
+/// [`BindingKind::Texels`]); the rest are storage buffers.
 pub fn scene_binding_kinds() -> Vec<BindingKind> {
     (0..SCENE_BINDINGS)
         .map(|b| match b {
-            4 => BindingKind::Words,
             0..=7 => BindingKind::Texels,
             _ => BindingKind::Storage,
         })
@@ -44,8 +46,16 @@ pub struct SceneRecords {
     pub point_light_count: u32,
     /// The emitter alias table (by power), then each mesh emitter's triangle table.
     pub alias: Vec<AliasEntry>,
-    /// The constant environment emitter, or `NONE`.
+    /// The environment emitter (constant or envmap), or `NONE`.
     pub env_emitter: u32,
+    pub textures: Vec<TextureRecord>,
+    /// Every bitmap's texels, RGB, three floats each.
+    pub texels: Vec<f32>,
+    /// Environment map sampling distributions (`scene::envmap::Distribution::cdf`).
+    pub env_dist: Vec<f32>,
+    /// Per emitter, the mean of its radiance texture (white for untextured ones), for
+    /// the emitter's power; for an envmap its mean luminance over the sphere.
+    emitter_mean: Vec<f64>,
     /// Media, indexed by `Scene::media`; their density grids and majorant grids.
     pub media: Vec<MediumRecord>,
     pub grid_data: Vec<f32>,
@@ -69,6 +79,36 @@ fn luminance(c: Vec3) -> f64 {
     (0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z) as f64
 }
 
+/// Per-vertex tangents ∂p/∂u of a mesh with uvs: each triangle's ∂p/∂u (from its
+/// positions and uvs, PBR 4th ed., sec. 6.5.3), summed over the triangles around a
+/// vertex weighted by their uv-space area, then normalized. Empty without uvs;
+/// vertices whose triangles have degenerate uvs get zero (the shader then builds an
+/// arbitrary frame).
+pub fn vertex_tangents(mesh: &Mesh) -> Vec<Vec3> {
+    if mesh.uvs.len() != mesh.positions.len() {
+        return Vec::new();
+    }
+    let mut acc = vec![Vec3::ZERO; mesh.positions.len()];
+    for t in &mesh.indices {
+        let [a, b, c] = t.map(|i| i as usize);
+        let (dp1, dp2) = (
+            mesh.positions[b] - mesh.positions[a],
+            mesh.positions[c] - mesh.positions[a],
+        );
+        let (duv1, duv2) = (mesh.uvs[b] - mesh.uvs[a], mesh.uvs[c] - mesh.uvs[a]);
+        let det = duv1.x * duv2.y - duv1.y * duv2.x;
+        if det == 0.0 || !det.is_finite() {
+            continue;
+        }
+        // dp/du = (Δv2 dp1 − Δv1 dp2) / det; weight by |det| (uv area) → drop 1/|det|.
+        let dpdu = (dp1 * duv2.y - dp2 * duv1.y) * det.signum();
+        for v in [a, b, c] {
+            acc[v] += dpdu;
+        }
+    }
+    acc.into_iter().map(|t| t.normalize_or_zero()).collect()
+}
+
 impl SceneRecords {
     /// Records of `scene`, whose primitives `bvh` holds (light triangles are found
     /// through it).
@@ -77,6 +117,10 @@ impl SceneRecords {
             env_emitter: NONE,
             ..Default::default()
         };
+        for t in &scene.textures {
+            let rec = t.record(&mut r.texels);
+            r.textures.push(rec);
+        }
         // Emitters: point lights first so the shading code can pick among them by
         // index; `remap[i]` is the new index of scene emitter i.
         let mut order: Vec<usize> = (0..scene.emitters.len()).collect();
@@ -84,6 +128,7 @@ impl SceneRecords {
         let mut remap = vec![NONE; scene.emitters.len()];
         for (new, &old) in order.iter().enumerate() {
             remap[old] = new as u32;
+            let mut mean = 1.0f64;
             let rec = match scene.emitters[old] {
                 Emitter::Point {
                     position,
@@ -134,8 +179,53 @@ impl SceneRecords {
                         ..Default::default()
                     }
                 }
+                Emitter::TexturedArea { texture, scale } => {
+                    mean = luminance(scene.textures[texture as usize].mean());
+                    EmitterRecord {
+                        kind: EMITTER_AREA,
+                        radiance: scale.into(),
+                        shape: NONE,
+                        texture: texture + 1,
+                        ..Default::default()
+                    }
+                }
+                Emitter::EnvMap {
+                    texture,
+                    scale,
+                    to_world,
+                } => {
+                    r.env_emitter = new as u32;
+                    let Texture::Bitmap {
+                        width,
+                        height,
+                        texels,
+                        ..
+                    } = &scene.textures[texture as usize]
+                    else {
+                        unreachable!("the loader gives an envmap a bitmap")
+                    };
+                    let dist = envmap::Distribution::build(*width, *height, texels);
+                    mean = dist.mean_luminance;
+                    let offset = r.env_dist.len() as u32;
+                    r.env_dist.extend_from_slice(&dist.cdf);
+                    let col = |v: Vec3| [v.x, v.y, v.z, 0.0];
+                    EmitterRecord {
+                        kind: EMITTER_ENVMAP,
+                        radiance: [scale; 3],
+                        shape: NONE,
+                        texture: texture + 1,
+                        dist_offset: offset,
+                        dist_width: *width,
+                        dist_height: *height,
+                        to_world_x: col(to_world.x_axis),
+                        to_world_y: col(to_world.y_axis),
+                        to_world_z: col(to_world.z_axis),
+                        ..Default::default()
+                    }
+                }
             };
             r.emitters.push(rec);
+            r.emitter_mean.push(mean);
         }
         let emitter_of = |e: Option<u32>| e.map(|i| remap[i as usize]).unwrap_or(NONE);
 
@@ -151,15 +241,20 @@ impl SceneRecords {
                 flags |= SHAPE_HAS_UVS;
             }
             if has_n || has_uv {
+                let tangents = vertex_tangents(mesh);
                 for i in 0..mesh.positions.len() {
                     let n = mesh.normals.get(i).copied().unwrap_or_default();
                     let uv = mesh.uvs.get(i).copied().unwrap_or_default();
+                    let t = tangents.get(i).copied().unwrap_or_default();
                     r.vertices.push(Vertex {
                         nx: n.x,
                         ny: n.y,
                         nz: n.z,
                         u: uv.x,
                         v: uv.y,
+                        tx: t.x,
+                        ty: t.y,
+                        tz: t.z,
                     });
                 }
             }
@@ -215,6 +310,37 @@ impl SceneRecords {
 }
 
 impl SceneRecords {
+    /// The shade kernel's texture mask (specialization constant 2): a bit per texture
+    /// kind present, and `TEXTURE_FEATURE_*` for what reads textures.
+    pub fn texture_mask(&self) -> u32 {
+        use crate::gpu::layout::{
+            TEXTURE_FEATURE_AREA, TEXTURE_FEATURE_BSDF, TEXTURE_FEATURE_ENVMAP,
+            TEXTURE_FEATURE_NORMALMAP,
+        };
+        let mut m = self.textures.iter().fold(0u32, |m, t| m | 1 << t.kind);
+        let b = &self.bsdfs;
+        if b.iter().any(|b| {
+            b.tex_reflectance | b.tex_specular | b.tex_transmittance | b.tex_alpha_u | b.tex_alpha_v
+                != 0
+        }) {
+            m |= TEXTURE_FEATURE_BSDF;
+        }
+        if b.iter().any(|b| b.normal_map != 0) {
+            m |= TEXTURE_FEATURE_NORMALMAP;
+        }
+        if self.emitters.iter().any(|e| e.kind == EMITTER_ENVMAP) {
+            m |= TEXTURE_FEATURE_ENVMAP;
+        }
+        if self
+            .emitters
+            .iter()
+            .any(|e| e.kind == EMITTER_AREA && e.texture != 0)
+        {
+            m |= TEXTURE_FEATURE_AREA;
+        }
+        m
+    }
+
     /// The emitter table, chosen by power, and per mesh emitter a table of its
     /// triangles by area (so a point is uniform over the mesh's whole surface).
     fn build_alias_tables(&mut self, scene: &Scene, bvh: &Bvh, remap: &[u32]) {
@@ -268,12 +394,14 @@ impl SceneRecords {
         let power: Vec<f64> = self
             .emitters
             .iter()
-            .map(|e| {
-                let l = luminance(Vec3::from(e.radiance));
+            .zip(&self.emitter_mean)
+            .map(|(e, mean)| {
+                let l = luminance(Vec3::from(e.radiance)) * mean;
                 match e.kind {
                     EMITTER_POINT => 4.0 * pi * l,
                     EMITTER_SPOT => 2.0 * pi * (1.0 - (0.5 * e.cutoff).cos() as f64) * l,
                     EMITTER_AREA => pi * e.area as f64 * l,
+                    EMITTER_ENVMAP => pi * 4.0 * pi * radius * radius * l,
                     _ => pi * 4.0 * pi * radius * radius * l,
                 }
             })
@@ -305,6 +433,9 @@ impl SceneBuffers {
             Buffer::from_slice(device, "bsdfs", &records.bsdfs)?,
             Buffer::from_slice(device, "emitters", &records.emitters)?,
             Buffer::from_slice(device, "alias tables", &records.alias)?,
+            Buffer::from_slice(device, "textures", &records.textures)?,
+            Buffer::from_slice(device, "texels", &records.texels)?,
+            Buffer::from_slice(device, "envmap distributions", &records.env_dist)?,
         ];
         // Bindings 8-10 belong to textures; placeholders until they exist.
         let mut buffers = buffers;

@@ -109,6 +109,116 @@ pub enum Bsdf {
     NoriMicrofacet { alpha: f32, eta: f32, kd: Vec3 },
     /// Mitsuba `twosided` with one nested BSDF without transmission: both faces use it.
     TwoSided(Box<Bsdf>),
+    /// A model whose parameters are partly textures: `maps` says which texture feeds
+    /// which parameter; the model's own values are the textures' means (used where a
+    /// single number is needed, e.g. the plastics' lobe sampling weights). Any
+    /// parameter listed by [`texture_slots`] may be a nested `<texture name=...>` or a
+    /// `<ref name=... id=.../>` to one.
+    /// `<bsdf type="diffuse"><texture type="checkerboard" name="reflectance"/></bsdf>`
+    Textured { bsdf: Box<Bsdf>, maps: TextureMaps },
+    /// Mitsuba `normalmap`: the nested model shaded with the normal read from
+    /// `normalmap` (a texture, usually a `raw` bitmap; its RGB in [0, 1]³ maps to a
+    /// tangent-space normal 2c − 1 in the frame (∂p/∂u, n × ∂p/∂u, n)). Directions on
+    /// opposite sides of the geometric and the mapped normal get no light, so the
+    /// map never lets light through the surface.
+    /// `<bsdf type="normalmap"><texture type="bitmap" name="normalmap"><string name="filename" value="n.png"/><boolean name="raw" value="true"/></texture><bsdf type="diffuse"/></bsdf>`
+    NormalMap { bsdf: Box<Bsdf>, normal_map: u32 },
+}
+
+/// Textures feeding parameters of a BSDF record (texture indices).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct TextureMaps {
+    pub reflectance: Option<u32>,
+    pub specular: Option<u32>,
+    pub transmittance: Option<u32>,
+    pub alpha_u: Option<u32>,
+    pub alpha_v: Option<u32>,
+}
+
+/// A parameter slot of the BSDF record a texture can feed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Slot {
+    Reflectance,
+    Specular,
+    Transmittance,
+    AlphaU,
+    AlphaV,
+    /// `alpha`: both roughnesses.
+    Alpha,
+}
+
+/// The parameters of Mitsuba BSDF type `t` that may be textures, and their slots
+/// (as Mitsuba's plugins, which read these with `props.texture`; roughplastic's
+/// `alpha` is a plain float there too, since its coating tables depend on it).
+pub fn texture_slots(t: &str) -> &'static [(&'static str, Slot)] {
+    match t {
+        "diffuse" => &[("reflectance", Slot::Reflectance)],
+        "conductor" => &[("specular_reflectance", Slot::Specular)],
+        "roughconductor" => &[
+            ("specular_reflectance", Slot::Specular),
+            ("alpha", Slot::Alpha),
+            ("alpha_u", Slot::AlphaU),
+            ("alpha_v", Slot::AlphaV),
+        ],
+        "dielectric" => &[
+            ("specular_reflectance", Slot::Specular),
+            ("specular_transmittance", Slot::Transmittance),
+        ],
+        "roughdielectric" => &[
+            ("specular_reflectance", Slot::Specular),
+            ("specular_transmittance", Slot::Transmittance),
+            ("alpha", Slot::Alpha),
+            ("alpha_u", Slot::AlphaU),
+            ("alpha_v", Slot::AlphaV),
+        ],
+        "plastic" | "roughplastic" => &[
+            ("diffuse_reflectance", Slot::Reflectance),
+            ("specular_reflectance", Slot::Specular),
+        ],
+        _ => &[],
+    }
+}
+
+impl TextureMaps {
+    /// The maps of a Mitsuba BSDF of type `t` from its texture parameters; a texture
+    /// given for a parameter that cannot take one is an error.
+    pub fn from_props(t: &str, props: &Properties) -> Result<Option<TextureMaps>, Error> {
+        let given = props.textures();
+        if given.is_empty() {
+            return Ok(None);
+        }
+        let slots = texture_slots(t);
+        let mut maps = TextureMaps::default();
+        for (name, index) in given {
+            let Some((_, slot)) = slots.iter().find(|(n, _)| *n == name) else {
+                let ok: Vec<&str> = slots.iter().map(|s| s.0).collect();
+                return Err(props.error(
+                    &name,
+                    format!(
+                        "parameter '{name}' of {} cannot be a texture (textures: {})",
+                        props.object(),
+                        if ok.is_empty() {
+                            "none".into()
+                        } else {
+                            ok.join(", ")
+                        }
+                    ),
+                ));
+            };
+            match slot {
+                Slot::Reflectance => maps.reflectance = Some(index),
+                Slot::Specular => maps.specular = Some(index),
+                Slot::Transmittance => maps.transmittance = Some(index),
+                Slot::AlphaU => maps.alpha_u = Some(index),
+                Slot::AlphaV => maps.alpha_v = Some(index),
+                Slot::Alpha => {
+                    maps.alpha_u = Some(index);
+                    maps.alpha_v = Some(index);
+                }
+            }
+        }
+        Ok(Some(maps))
+    }
 }
 
 impl Default for Bsdf {
@@ -125,6 +235,7 @@ impl Bsdf {
         match self {
             Bsdf::Dielectric { .. } | Bsdf::RoughDielectric { .. } => true,
             Bsdf::TwoSided(inner) => inner.transmits(),
+            Bsdf::Textured { bsdf, .. } | Bsdf::NormalMap { bsdf, .. } => bsdf.transmits(),
             _ => false,
         }
     }
@@ -584,6 +695,21 @@ impl From<&Bsdf> for BsdfRecord {
             Bsdf::TwoSided(inner) => {
                 let mut r = BsdfRecord::from(inner.as_ref());
                 r.flags |= BSDF_TWOSIDED;
+                return r;
+            }
+            Bsdf::Textured { bsdf, maps } => {
+                let mut r = BsdfRecord::from(bsdf.as_ref());
+                let id = |t: Option<u32>| t.map_or(0, |i| i + 1);
+                r.tex_reflectance = id(maps.reflectance);
+                r.tex_specular = id(maps.specular);
+                r.tex_transmittance = id(maps.transmittance);
+                r.tex_alpha_u = id(maps.alpha_u);
+                r.tex_alpha_v = id(maps.alpha_v);
+                return r;
+            }
+            Bsdf::NormalMap { bsdf, normal_map } => {
+                let mut r = BsdfRecord::from(bsdf.as_ref());
+                r.normal_map = normal_map + 1;
                 return r;
             }
         }

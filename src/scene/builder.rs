@@ -9,7 +9,7 @@ use glam::{Mat4, Vec3};
 use super::mesh;
 use super::properties::Properties;
 use super::xml::Element;
-use super::{Bsdf, Emitter, Error, Medium, Mesh, Sphere};
+use super::{Bsdf, Emitter, Error, Medium, Mesh, Sphere, Texture};
 
 /// BSDF types of Mitsuba 3 or Nori that wavetrace does not implement yet.
 pub const UNSUPPORTED_BSDFS: &[&str] = &[
@@ -19,7 +19,6 @@ pub const UNSUPPORTED_BSDFS: &[&str] = &[
     "blendbsdf",
     "mask",
     "bumpmap",
-    "normalmap",
     "polarizer",
     "retarder",
     "circular",
@@ -32,7 +31,6 @@ pub const UNSUPPORTED_BSDFS: &[&str] = &[
 /// Emitter types we know but do not implement yet.
 pub const UNSUPPORTED_EMITTERS: &[&str] = &[
     "directional",
-    "envmap",
     "sunsky",
     "projector",
     "directionalarea",
@@ -57,6 +55,7 @@ pub struct Builder {
     pub bsdfs: Vec<Bsdf>,
     pub emitters: Vec<Emitter>,
     pub media: Vec<Medium>,
+    pub textures: Vec<Texture>,
     default_bsdf: Option<u32>,
 }
 
@@ -74,6 +73,11 @@ impl Builder {
     pub fn add_bsdf(&mut self, bsdf: Bsdf) -> u32 {
         self.bsdfs.push(bsdf);
         (self.bsdfs.len() - 1) as u32
+    }
+
+    pub fn add_texture(&mut self, texture: Texture) -> u32 {
+        self.textures.push(texture);
+        (self.textures.len() - 1) as u32
     }
 
     pub fn add_emitter(&mut self, emitter: Emitter) -> u32 {

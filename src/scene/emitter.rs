@@ -1,6 +1,6 @@
 //! Light sources, as the scene describes them.
 
-use glam::Vec3;
+use glam::{Mat3, Vec3};
 
 /// An emitter.
 #[derive(Debug, Clone, PartialEq)]
@@ -31,4 +31,20 @@ pub enum Emitter {
     /// Uniform radiance arriving from every direction at infinity. Mitsuba `constant`
     /// (`radiance`); Nori's `distantdisk` with `thetaA` = 180 is the same light.
     Constant { radiance: Vec3 },
+    /// An area emitter whose radiance is a texture at the surface's uv times `scale`:
+    /// Mitsuba `area` with a nested (or referenced) `<texture name="radiance">`.
+    /// Points are sampled uniformly by area and weighted by the texture, so sampling
+    /// and evaluation agree wherever it is looked up.
+    /// `<emitter type="area"><texture type="checkerboard" name="radiance"><rgb name="color0" value="8"/></texture></emitter>`
+    TexturedArea { texture: u32, scale: Vec3 },
+    /// Mitsuba `envmap`: radiance from a lat-long image at infinity (`filename`: EXR,
+    /// Radiance HDR, or PNG/JPEG as sRGB), times `scale` (1), turned by `to_world` (a
+    /// rotation). Convention and sampling in `scene::envmap`. `texture` is the image,
+    /// a bitmap among the scene's textures.
+    /// `<emitter type="envmap"><string name="filename" value="sky.exr"/><float name="scale" value="2"/></emitter>`
+    EnvMap {
+        texture: u32,
+        scale: f32,
+        to_world: Mat3,
+    },
 }

@@ -25,11 +25,12 @@ use std::collections::{HashMap, HashSet};
 
 use glam::Vec3;
 
+use super::bsdf::TextureMaps;
 use super::builder::{self, Builder, UNSUPPORTED_BSDFS, UNSUPPORTED_EMITTERS};
 use super::mesh;
 use super::properties::Properties;
 use super::xml::{Dialect, Document, Element};
-use super::{obj, ply, Bsdf, Camera, Emitter, Error, IntegratorSpec, Medium, Scene};
+use super::{envmap, obj, ply, Bsdf, Camera, Emitter, Error, IntegratorSpec, Medium, Scene, Texture};
 
 const SENSORS: &[&str] = &[
     "thinlens",
@@ -92,6 +93,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         area_ids: HashMap::new(),
         medium_ids: HashMap::new(),
         null_bsdfs: HashSet::new(),
+        texture_ids: HashMap::new(),
         building: HashSet::new(),
     };
     let mut camera: Option<(Camera, u32)> = None;
@@ -123,10 +125,28 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
             "medium" => {
                 l.medium(el)?;
             }
+            "texture" => {
+                if el.attr("id").is_none() {
+                    return Err(el.err(
+                        "a texture outside a bsdf or emitter needs an id to be referenced by",
+                    ));
+                }
+                l.texture(el, false)?;
+            }
             _ => return Err(l.unexpected(el, "<scene>")),
         }
     }
     let (camera, spp) = camera.ok_or_else(|| doc.root.err("the scene has no <sensor>"))?;
+    let environments =
+        l.b.emitters
+            .iter()
+            .filter(|e| matches!(e, Emitter::Constant { .. } | Emitter::EnvMap { .. }))
+            .count();
+    if environments > 1 {
+        return Err(doc.root.err(
+            "the scene has more than one environment emitter (constant or envmap); wavetrace supports one",
+        ));
+    }
     let integrator = integrator.unwrap_or_else(|| IntegratorSpec {
         name: "path".into(),
         ..Default::default()
@@ -142,6 +162,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         emitters: l.b.emitters,
         media: l.b.media,
         camera_medium,
+        textures: l.b.textures,
     })
 }
 
@@ -364,8 +385,10 @@ struct Loader<'a> {
     ids: HashMap<String, &'a Element>,
     /// BSDFs with an id, built once.
     bsdf_ids: HashMap<String, u32>,
-    /// Radiance of area emitters with an id.
-    area_ids: HashMap<String, Vec3>,
+    /// Area emitters with an id.
+    area_ids: HashMap<String, Emitter>,
+    /// Textures with an id: index and mean.
+    texture_ids: HashMap<String, (u32, Vec3)>,
     /// Media with an id, built once.
     medium_ids: HashMap<String, u32>,
     /// Indices of `null` BSDFs (boundaries of media, passed straight through).
@@ -377,7 +400,9 @@ struct Loader<'a> {
 impl<'a> Loader<'a> {
     fn unexpected(&self, el: &Element, parent: &str) -> Error {
         match el.tag.as_str() {
-            "texture" => el.err("textures are not supported yet"),
+            "texture" => el.err(format!(
+                "a <texture> in {parent} has no parameter to feed (textures go in a bsdf or an area emitter)"
+            )),
             "film" | "sampler" | "rfilter" => {
                 el.err(format!("<{}> must be nested in a <sensor>", el.tag))
             }
@@ -498,45 +523,207 @@ impl<'a> Loader<'a> {
                 }
                 Ok(self.b.add_bsdf(Bsdf::TwoSided(Box::new(nested_bsdf))))
             }
+            "normalmap" => {
+                // Mitsuba's normalmap.cpp: a `normalmap` texture and one nested BSDF.
+                let mut props = props;
+                let rest = self.attach_textures(&mut props, nested, false)?;
+                let normal_map = props
+                    .textures()
+                    .iter()
+                    .find(|(n, _)| n == "normalmap")
+                    .map(|(_, i)| *i)
+                    .ok_or_else(|| {
+                        props.object_error("normalmap needs a <texture name=\"normalmap\">")
+                    })?;
+                props.ignore(&["normalmap"]);
+                props.finish()?;
+                let inner: Vec<&'a Element> = rest
+                    .iter()
+                    .map(|n| {
+                        if n.tag == "ref" {
+                            self.deref(n)
+                        } else {
+                            Ok(*n)
+                        }
+                    })
+                    .collect::<Result<_, _>>()?;
+                if inner.len() != 1 || inner[0].tag != "bsdf" {
+                    return Err(el.err("normalmap needs exactly one nested <bsdf>"));
+                }
+                let index = self.bsdf(inner[0])?;
+                let nested_bsdf = self.b.bsdfs[index as usize].clone();
+                Ok(self.b.add_bsdf(Bsdf::NormalMap {
+                    bsdf: Box::new(nested_bsdf),
+                    normal_map,
+                }))
+            }
             _ if !BSDFS.contains(&t) => Err(builder::unsupported(el, "bsdf", UNSUPPORTED_BSDFS)),
             _ => {
-                if let Some(n) = nested.first() {
-                    return Err(match n.tag.as_str() {
-                        "texture" => n.err("textures are not supported yet"),
-                        _ => n.err(format!("unexpected <{}> in a {t} <bsdf>", n.tag)),
-                    });
+                let mut props = props;
+                let rest = self.attach_textures(&mut props, nested, false)?;
+                if let Some(n) = rest.first() {
+                    return Err(n.err(format!("unexpected <{}> in a {t} <bsdf>", n.tag)));
                 }
                 let bsdf = Bsdf::from_mitsuba(t, &props)?
                     .ok_or_else(|| builder::unsupported(el, "bsdf", UNSUPPORTED_BSDFS))?;
+                let maps = TextureMaps::from_props(t, &props)?;
                 props.finish()?;
+                let bsdf = match maps {
+                    Some(maps) => Bsdf::Textured {
+                        bsdf: Box::new(bsdf),
+                        maps,
+                    },
+                    None => bsdf,
+                };
                 Ok(self.b.add_bsdf(bsdf))
             }
         }
     }
 
-    /// Radiance of an `<emitter type="area">`.
-    fn area(&mut self, el: &'a Element) -> Result<Vec3, Error> {
+    /// A `<texture>` (nested, or the target of a `<ref>`): its index and mean.
+    /// `within_emitter`: its colors are radiance (not clamped to [0, 1]).
+    fn texture(&mut self, el: &'a Element, within_emitter: bool) -> Result<(u32, Vec3), Error> {
         if let Some(id) = el.attr("id") {
-            if let Some(&r) = self.area_ids.get(id) {
-                return Ok(r);
+            if let Some(&t) = self.texture_ids.get(id) {
+                return Ok(t);
             }
         }
         el.check_attrs(&["type", "id", "name"])?;
-        let (props, nested) = Properties::read(el, Dialect::Mitsuba, true)?;
+        let t = el.require("type")?;
+        let (props, nested) = Properties::read(el, Dialect::Mitsuba, within_emitter)?;
         if let Some(n) = nested.first() {
+            return Err(n.err(format!(
+                "<{}> inside a texture is not supported (textures of textures)",
+                n.tag
+            )));
+        }
+        let texture = Texture::from_mitsuba(t, &props, el)?;
+        let mean = texture.mean();
+        let index = self.b.add_texture(texture);
+        if let Some(id) = el.attr("id") {
+            self.texture_ids.insert(id.to_string(), (index, mean));
+        }
+        Ok((index, mean))
+    }
+
+    /// Moves the `<texture name=...>` children and `<ref name=... id=.../>`s to
+    /// textures among `nested` into `props`; returns the other nested elements.
+    fn attach_textures(
+        &mut self,
+        props: &mut Properties,
+        nested: Vec<&'a Element>,
+        within_emitter: bool,
+    ) -> Result<Vec<&'a Element>, Error> {
+        let mut rest = Vec::new();
+        for n in nested {
+            let target = if n.tag == "ref" {
+                let target = self.deref(n)?;
+                if target.tag != "texture" {
+                    rest.push(n);
+                    continue;
+                }
+                target
+            } else if n.tag == "texture" {
+                n
+            } else {
+                rest.push(n);
+                continue;
+            };
+            let name = n
+                .attr("name")
+                .ok_or_else(|| n.err("a texture here needs a name (the parameter it gives)"))?;
+            let (index, mean) = self.texture(target, within_emitter)?;
+            props.insert_texture(name, index, mean, n.line)?;
+        }
+        Ok(rest)
+    }
+
+    /// An `<emitter type="area">`: constant or textured radiance.
+    fn area(&mut self, el: &'a Element) -> Result<Emitter, Error> {
+        if let Some(id) = el.attr("id") {
+            if let Some(e) = self.area_ids.get(id) {
+                return Ok(e.clone());
+            }
+        }
+        el.check_attrs(&["type", "id", "name"])?;
+        let (mut props, nested) = Properties::read(el, Dialect::Mitsuba, true)?;
+        let rest = self.attach_textures(&mut props, nested, true)?;
+        if let Some(n) = rest.first() {
             return Err(n.err(format!(
                 "<{}> inside an area emitter is not supported yet",
                 n.tag
             )));
         }
-        let radiance = props
-            .color_opt("radiance")?
-            .ok_or_else(|| props.object_error("area emitter needs a 'radiance'"))?;
+        let textures = props.textures();
+        let emitter = if let Some((name, index)) = textures.first() {
+            if name != "radiance" {
+                return Err(props.error(
+                    name,
+                    format!("'{name}' of an area emitter cannot be a texture"),
+                ));
+            }
+            let _ = props.color_opt("radiance")?;
+            // wavetrace's extension: a factor on the texture (Mitsuba has none).
+            let scale = props.color("scale", Vec3::ONE)?;
+            Emitter::TexturedArea {
+                texture: *index,
+                scale,
+            }
+        } else {
+            Emitter::Area {
+                radiance: props
+                    .color_opt("radiance")?
+                    .ok_or_else(|| props.object_error("area emitter needs a 'radiance'"))?,
+            }
+        };
         props.finish()?;
         if let Some(id) = el.attr("id") {
-            self.area_ids.insert(id.to_string(), radiance);
+            self.area_ids.insert(id.to_string(), emitter.clone());
         }
-        Ok(radiance)
+        Ok(emitter)
+    }
+
+    /// Mitsuba `envmap`: `filename`, `scale`, `to_world`.
+    fn envmap(&mut self, el: &'a Element, props: &Properties) -> Result<Emitter, Error> {
+        let name = props
+            .string_opt("filename")?
+            .ok_or_else(|| props.object_error("envmap needs a 'filename'"))?;
+        let path = el
+            .resolve(&name)
+            .map_err(|tried| props.error("filename", format!("image file {tried} not found")))?;
+        let (width, height, texels) =
+            super::texture::load_image(&path, false).map_err(|e| props.error("filename", e))?;
+        if height < 2 {
+            return Err(props.error("filename", "an envmap needs at least two rows"));
+        }
+        let scale = props.float("scale", 1.0)?;
+        if !(scale >= 0.0 && scale.is_finite()) {
+            return Err(props.error(
+                "scale",
+                format!("scale must be finite and >= 0, found {scale}"),
+            ));
+        }
+        let m = props.transform("to_world")?;
+        let to_world = envmap::rotation_of(glam::Mat3::from_mat4(m)).ok_or_else(|| {
+            props.error(
+                "to_world",
+                "an envmap's to_world must be a rotation (no shear, mirroring or non-uniform scale)",
+            )
+        })?;
+        props.ignore(&["mis_compensation"]);
+        let texture = self.b.add_texture(Texture::Bitmap {
+            width,
+            height,
+            texels,
+            nearest: false,
+            wrap: super::texture::Wrap::Repeat,
+            to_uv: super::texture::IDENTITY_UV,
+        });
+        Ok(Emitter::EnvMap {
+            texture,
+            scale,
+            to_world,
+        })
     }
 
     fn top_emitter(&mut self, el: &'a Element) -> Result<(), Error> {
@@ -552,7 +739,7 @@ impl<'a> Loader<'a> {
             return Ok(());
         }
         let (props, nested) = Properties::read(el, Dialect::Mitsuba, true)?;
-        if !matches!(t, "point" | "constant" | "spot") {
+        if !matches!(t, "point" | "constant" | "spot" | "envmap") {
             return Err(builder::unsupported(el, "emitter", UNSUPPORTED_EMITTERS));
         }
         if let Some(n) = nested.first() {
@@ -562,7 +749,9 @@ impl<'a> Loader<'a> {
                 tag => n.err(format!("unexpected <{tag}> in an emitter")),
             });
         }
-        let emitter = if t == "point" {
+        let emitter = if t == "envmap" {
+            self.envmap(el, &props)?
+        } else if t == "point" {
             let position = match (
                 props.point_opt("position")?,
                 props.transform_opt("to_world")?,
@@ -707,7 +896,7 @@ impl<'a> Loader<'a> {
                 let center = props.point("center", Vec3::ZERO)?;
                 let radius = props.float("radius", 1.0)?;
                 props.finish()?;
-                let emitter = radiance.map(|r| self.b.add_emitter(Emitter::Area { radiance: r }));
+                let emitter = radiance.map(|e| self.b.add_emitter(e));
                 self.b.add_sphere(
                     &props,
                     center,
@@ -727,7 +916,7 @@ impl<'a> Loader<'a> {
             _ => return Err(builder::unsupported(el, "shape", SHAPES)),
         };
         props.finish()?;
-        let emitter = radiance.map(|r| self.b.add_emitter(Emitter::Area { radiance: r }));
+        let emitter = radiance.map(|e| self.b.add_emitter(e));
         self.b
             .add_mesh(el, m, to_world, face_normals, flip_normals, bsdf, emitter)?;
         if let Some(m) = self.b.meshes.last_mut() {
@@ -1128,10 +1317,7 @@ mod tests {
             "s.xml",
             3,
         );
-        assert!(
-            e.contains("emitter type 'envmap' is not supported yet"),
-            "{e}"
-        );
+        assert!(e.contains("envmap needs a 'filename'"), "{e}");
         let e = error_at(
             load(&[("s.xml", &mitsuba("<emitter type=\"lamp\"/>"))], &[]),
             "s.xml",
@@ -1306,7 +1492,14 @@ mod tests {
             ("<bsdf type=\"dielectric\">\n<rgb name=\"int_ior\" value=\"1.5\"/></bsdf>", 4, "must be a float or a material name"),
             ("<bsdf type=\"roughdielectric\">\n<float name=\"int_ior\" value=\"1.2\"/><float name=\"ext_ior\" value=\"1.2\"/></bsdf>", 4, "must differ"),
             ("<bsdf type=\"plastic\">\n<float name=\"alpha\" value=\"0.1\"/></bsdf>", 4, "unknown parameter 'alpha' for bsdf 'plastic'"),
-            ("<bsdf type=\"plastic\">\n<texture type=\"bitmap\"/></bsdf>", 4, "textures are not supported yet"),
+            ("<bsdf type=\"plastic\">\n<texture type=\"bitmap\"/></bsdf>", 4, "needs a name"),
+            ("<bsdf type=\"plastic\">\n<texture type=\"checkerboard\" name=\"int_ior\"/></bsdf>", 4, "'int_ior' of bsdf 'plastic' cannot be a texture"),
+            ("<bsdf type=\"diffuse\"><texture type=\"bitmap\" name=\"reflectance\">\n<string name=\"filename\" value=\"missing.png\"/></texture></bsdf>", 4, "missing.png' not found"),
+            ("<bsdf type=\"diffuse\"><texture type=\"checkerboard\" name=\"reflectance\">\n<string name=\"wrap_mode\" value=\"x\"/></texture></bsdf>", 4, "unknown parameter 'wrap_mode'"),
+            ("<bsdf type=\"diffuse\"><texture type=\"noise\" name=\"reflectance\">\n<integer name=\"octaves\" value=\"0\"/></texture></bsdf>", 4, "octaves must be in"),
+            ("<bsdf type=\"diffuse\">\n<texture type=\"wood\" name=\"reflectance\"/></bsdf>", 4, "unknown texture type 'wood'"),
+            ("<bsdf type=\"normalmap\">\n<bsdf type=\"diffuse\"/></bsdf>", 3, "normalmap needs a <texture"),
+            ("<bsdf type=\"diffuse\">\n<ref name=\"reflectance\" id=\"nothere\"/></bsdf>", 4, "unknown id 'nothere'"),
             ("<bsdf type=\"twosided\"><bsdf type=\"dielectric\"/></bsdf>", 3, "without transmission"),
         ];
         for (body, line, msg) in cases {

@@ -7,6 +7,7 @@ pub mod bsdf;
 mod builder;
 pub mod camera;
 pub mod emitter;
+pub mod envmap;
 pub mod error;
 pub mod integrator;
 pub mod medium;
@@ -19,6 +20,7 @@ pub mod procedural;
 pub mod properties;
 pub mod shape;
 pub mod spectrum;
+pub mod texture;
 pub mod transform;
 pub mod xml;
 
@@ -29,6 +31,7 @@ pub use error::Error;
 pub use integrator::IntegratorSpec;
 pub use medium::Medium;
 pub use shape::{Mesh, Sphere};
+pub use texture::Texture;
 
 use std::path::{Path, PathBuf};
 
@@ -53,6 +56,8 @@ pub struct Scene {
     pub media: Vec<Medium>,
     /// The medium the camera sits in.
     pub camera_medium: Option<u32>,
+    /// Every texture, indexed by BSDF texture maps and textured emitters.
+    pub textures: Vec<Texture>,
 }
 
 impl Scene {
@@ -102,6 +107,22 @@ impl Scene {
             "grid media",
         );
         add(self.has_null_surfaces(), "null surfaces");
+        add(
+            has(|e| matches!(e, Emitter::TexturedArea { .. })),
+            "textured area lights",
+        );
+        add(
+            has(|e| matches!(e, Emitter::EnvMap { .. })),
+            "environment map",
+        );
+        add(!self.textures.is_empty(), "textures");
+        add(
+            self.bsdfs.iter().any(|b| {
+                matches!(b, Bsdf::NormalMap { .. })
+                    || matches!(b, Bsdf::TwoSided(i) if matches!(**i, Bsdf::NormalMap { .. }))
+            }),
+            "normal maps",
+        );
         f
     }
 }

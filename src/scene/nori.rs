@@ -67,6 +67,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         emitters: b.emitters,
         media: Vec::new(),
         camera_medium: None,
+        textures: b.textures,
     })
 }
 

@@ -31,6 +31,12 @@ pub enum Value {
     Point(Vec3),
     Vector(Vec3),
     Transform(Mat4),
+    /// A nested or referenced `<texture>`: its index in the scene's textures, and its
+    /// mean (what color and float getters return, e.g. for sampling weights).
+    Texture {
+        index: u32,
+        mean: Vec3,
+    },
 }
 
 impl Value {
@@ -44,6 +50,7 @@ impl Value {
             Value::Point(_) => "a point",
             Value::Vector(_) => "a vector",
             Value::Transform(_) => "a transform",
+            Value::Texture { .. } => "a texture",
         }
     }
 }
@@ -201,6 +208,10 @@ impl Properties {
                 value: Value::Integer(v),
                 ..
             }) => Ok(Some(*v as f32)),
+            Some(Entry {
+                value: Value::Texture { mean, .. },
+                ..
+            }) => Ok(Some(mean.dot(glam::Vec3::new(0.2126, 0.7152, 0.0722)))),
             Some(e) => Err(self.wrong_type(name, e, "a float")),
         }
     }
@@ -283,6 +294,10 @@ impl Properties {
                 value: Value::Integer(v),
                 ..
             }) => Ok(Some(Vec3::splat(*v as f32))),
+            Some(Entry {
+                value: Value::Texture { mean, .. },
+                ..
+            }) => Ok(Some(*mean)),
             Some(e) => Err(self.wrong_type(name, e, "a color")),
         }
     }
@@ -326,6 +341,53 @@ impl Properties {
     /// A transform, identity when absent.
     pub fn transform(&self, name: &str) -> Result<Mat4, Error> {
         Ok(self.transform_opt(name)?.unwrap_or(Mat4::IDENTITY))
+    }
+
+    /// Adds texture `index` (mean color `mean`) as parameter `name`, given at `line`.
+    pub fn insert_texture(
+        &mut self,
+        name: &str,
+        index: u32,
+        mean: Vec3,
+        line: u32,
+    ) -> Result<(), Error> {
+        if name.is_empty() {
+            return Err(Error::at(
+                self.file.as_path(),
+                line,
+                format!("a texture in {} needs a name", self.object),
+            ));
+        }
+        if let Some(prev) = self.entries.get(name) {
+            return Err(Error::at(
+                self.file.as_path(),
+                line,
+                format!(
+                    "parameter '{name}' of {} is given twice (first at line {})",
+                    self.object, prev.line
+                ),
+            ));
+        }
+        self.entries.insert(
+            name.to_string(),
+            Entry {
+                value: Value::Texture { index, mean },
+                line,
+                read: Cell::new(false),
+            },
+        );
+        Ok(())
+    }
+
+    /// The parameters given as textures: (name, texture index).
+    pub fn textures(&self) -> Vec<(String, u32)> {
+        self.entries
+            .iter()
+            .filter_map(|(n, e)| match e.value {
+                Value::Texture { index, .. } => Some((n.clone(), index)),
+                _ => None,
+            })
+            .collect()
     }
 
     /// Every parameter as written, for objects whose parameters are read elsewhere

@@ -1,0 +1,660 @@
+//! Textures: functions of the surface uv that any color or float parameter of a BSDF,
+//! the radiance of an area emitter or a normal map can read.
+//!
+//! The GLSL is `shaders/common/texture.glsl`; [`Texture::eval`] here is its CPU
+//! reference (the GPU test compares them at random uvs) and also gives the means the
+//! host needs (emitter power, sampling weights of plastics).
+//!
+//! Every texture first maps the surface uv by the affine `to_uv` (Mitsuba's
+//! `<transform name="to_uv">`: rows 0 and 1 of the 4x4, columns x, y and translation).
+//!
+//! Mitsuba 3 conventions (checked against Mitsuba 3.9.1's `bitmap` and `checkerboard`):
+//! image row 0 (the top of the file) lies at v = 0, uv is not flipped; texel (i, j)
+//! is centred at ((i + ½)/W, (j + ½)/H); wrap modes act on texel indices.
+
+use std::path::Path;
+
+use glam::{Mat4, Vec2, Vec3};
+
+use super::properties::Properties;
+use super::xml::Element;
+use super::Error;
+use crate::gpu::layout::{
+    TextureRecord, TEXTURE_BITMAP, TEXTURE_CHECKERBOARD, TEXTURE_MARBLE, TEXTURE_NEAREST,
+    TEXTURE_NOISE, TEXTURE_WRAP_CLAMP, TEXTURE_WRAP_MIRROR, TEXTURE_WRAP_REPEAT,
+    TEXTURE_WRAP_SHIFT,
+};
+
+/// How texel indices outside the image are brought back (Mitsuba `wrap_mode`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Wrap {
+    Repeat,
+    Mirror,
+    Clamp,
+}
+
+/// A texture. Types and parameters as written in a Mitsuba scene:
+///
+/// - `bitmap`: `filename` (EXR or Radiance HDR: linear; PNG or JPEG: sRGB, converted
+///   to linear unless `raw` = true), `filter_type` (`bilinear` | `nearest`, default
+///   bilinear), `wrap_mode` (`repeat` | `mirror` | `clamp`, default repeat), `to_uv`.
+///   `<texture type="bitmap" name="reflectance"><string name="filename" value="bricks.jpg"/></texture>`
+/// - `checkerboard`: `color0` (0.4), `color1` (0.2), `to_uv`; color0 where
+///   (u mod 1 > ½) equals (v mod 1 > ½), as Mitsuba's.
+/// - `noise` (wavetrace's; Mitsuba has none): Perlin gradient noise (Perlin 2002,
+///   "Improving Noise": quintic fade, hashed lattice gradients) summed over `octaves`
+///   (4) as fractal Brownian motion, each octave at twice the frequency and half the
+///   amplitude; `frequency` (8) lattice cells per unit uv; `seed` (0). The sum n in
+///   [-1, 1] blends `color0` (0) and `color1` (1) by t = ½ + ½ n.
+///   `<texture type="noise" name="reflectance"><float name="frequency" value="16"/><integer name="octaves" value="5"/></texture>`
+/// - `marble` (wavetrace's): stripes along u bent by the same fBm, through a cosine:
+///   t = ½ − ½ cos(2π (`frequency` u + `variation` n)); `frequency` (4) stripes per
+///   unit u, `variation` (1) the bend in stripe widths, `octaves` (4), `seed` (0),
+///   `color0` (0), `color1` (1). (Perlin 1985, "An Image Synthesizer", marble.)
+#[derive(Debug, Clone, PartialEq)]
+pub enum Texture {
+    Bitmap {
+        width: u32,
+        height: u32,
+        /// Linear RGB, row 0 first (at v = 0).
+        texels: Vec<[f32; 3]>,
+        nearest: bool,
+        wrap: Wrap,
+        to_uv: [[f32; 3]; 2],
+    },
+    Checkerboard {
+        color0: Vec3,
+        color1: Vec3,
+        to_uv: [[f32; 3]; 2],
+    },
+    Noise {
+        color0: Vec3,
+        color1: Vec3,
+        frequency: f32,
+        octaves: u32,
+        seed: u32,
+        to_uv: [[f32; 3]; 2],
+    },
+    Marble {
+        color0: Vec3,
+        color1: Vec3,
+        frequency: f32,
+        variation: f32,
+        octaves: u32,
+        seed: u32,
+        to_uv: [[f32; 3]; 2],
+    },
+}
+
+/// The identity `to_uv`.
+pub const IDENTITY_UV: [[f32; 3]; 2] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+
+/// Most octaves a noise may sum (more are below float precision).
+pub const MAX_OCTAVES: u32 = 16;
+
+/// Texture types of Mitsuba 3 we know but do not implement.
+const UNSUPPORTED: &[&str] = &["volume", "mesh_attribute", "constvolume", "gridvolume"];
+
+/// sRGB transfer function to linear (IEC 61966-2-1).
+pub fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// Reads an image as linear RGB, row 0 = the top of the file. EXR and Radiance HDR
+/// are linear already; 8/16-bit formats (PNG, JPEG) are sRGB-decoded unless `raw`.
+pub fn load_image(path: &Path, raw: bool) -> Result<(u32, u32, Vec<[f32; 3]>), String> {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    if !path.exists() {
+        return Err(format!("image file '{}' not found", path.display()));
+    }
+    let (w, h, texels, linear) = if ext == "exr" {
+        let img = crate::image::Image::read_exr(path)
+            .map_err(|e| format!("cannot read EXR '{}': {e}", path.display()))?;
+        let texels = img.rgb.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+        (img.width, img.height, texels, true)
+    } else {
+        let img = image::open(path)
+            .map_err(|e| format!("cannot read image '{}': {e}", path.display()))?;
+        let linear = matches!(
+            img,
+            image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_)
+        );
+        let rgb = img.to_rgb32f();
+        let (w, h) = rgb.dimensions();
+        let texels = rgb.pixels().map(|p| p.0).collect();
+        (w, h, texels, linear)
+    };
+    if w == 0 || h == 0 {
+        return Err(format!("image '{}' is empty", path.display()));
+    }
+    let mut texels: Vec<[f32; 3]> = texels;
+    if let Some(bad) = texels.iter().position(|t| t.iter().any(|c| !c.is_finite())) {
+        return Err(format!(
+            "image '{}' has a NaN or infinite value at pixel ({}, {})",
+            path.display(),
+            bad as u32 % w,
+            bad as u32 / w
+        ));
+    }
+    if !linear && !raw {
+        for t in &mut texels {
+            for c in t.iter_mut() {
+                *c = srgb_to_linear(*c);
+            }
+        }
+    }
+    Ok((w, h, texels))
+}
+
+/// `to_uv` of a Mitsuba `<transform>`: rows 0 and 1, columns x, y, translation.
+pub fn to_uv_from(m: Mat4) -> [[f32; 3]; 2] {
+    let r = m.transpose();
+    [
+        [r.x_axis.x, r.x_axis.y, r.x_axis.w],
+        [r.y_axis.x, r.y_axis.y, r.y_axis.w],
+    ]
+}
+
+fn apply_uv(m: &[[f32; 3]; 2], uv: Vec2) -> Vec2 {
+    Vec2::new(
+        m[0][0] * uv.x + m[0][1] * uv.y + m[0][2],
+        m[1][0] * uv.x + m[1][1] * uv.y + m[1][2],
+    )
+}
+
+/// A texel index brought into [0, n) by the wrap mode.
+pub fn wrap_index(i: i32, n: u32, wrap: Wrap) -> u32 {
+    let n = n as i32;
+    match wrap {
+        Wrap::Repeat => i.rem_euclid(n) as u32,
+        Wrap::Clamp => i.clamp(0, n - 1) as u32,
+        Wrap::Mirror => {
+            let m = i.rem_euclid(2 * n);
+            (if m >= n { 2 * n - 1 - m } else { m }) as u32
+        }
+    }
+}
+
+/// Integer hash of a lattice point (the same in texture.glsl).
+pub fn lattice_hash(x: i32, y: i32, seed: u32) -> u32 {
+    let mut h = (x as u32).wrapping_mul(0x8da6_b343)
+        ^ (y as u32).wrapping_mul(0xd816_3841)
+        ^ seed.wrapping_mul(0xcb1a_b31f);
+    h ^= h >> 16;
+    h = h.wrapping_mul(0x7feb_352d);
+    h ^= h >> 15;
+    h = h.wrapping_mul(0x846c_a68b);
+    h ^= h >> 16;
+    h
+}
+
+/// Perlin's quintic fade 6t⁵ − 15t⁴ + 10t³ (Perlin 2002).
+fn fade(t: f32) -> f32 {
+    t * t * t * (t * (t * 6.0 - 15.0) + 10.0)
+}
+
+/// Dot product of lattice point (x, y)'s gradient, one of eight unit directions, with
+/// the offset d.
+fn grad(h: u32, d: Vec2) -> f32 {
+    const S: f32 = std::f32::consts::FRAC_1_SQRT_2;
+    let g = match h & 7 {
+        0 => Vec2::new(1.0, 0.0),
+        1 => Vec2::new(-1.0, 0.0),
+        2 => Vec2::new(0.0, 1.0),
+        3 => Vec2::new(0.0, -1.0),
+        4 => Vec2::new(S, S),
+        5 => Vec2::new(-S, S),
+        6 => Vec2::new(S, -S),
+        _ => Vec2::new(-S, -S),
+    };
+    g.dot(d)
+}
+
+/// 2D gradient noise in [-1, 1] (scaled by √2 from the unit-gradient range ±√½).
+pub fn perlin(p: Vec2, seed: u32) -> f32 {
+    let i = p.floor();
+    let f = p - i;
+    let (x, y) = (i.x as i32, i.y as i32);
+    let n00 = grad(lattice_hash(x, y, seed), f);
+    let n10 = grad(
+        lattice_hash(x.wrapping_add(1), y, seed),
+        f - Vec2::new(1.0, 0.0),
+    );
+    let n01 = grad(
+        lattice_hash(x, y.wrapping_add(1), seed),
+        f - Vec2::new(0.0, 1.0),
+    );
+    let n11 = grad(
+        lattice_hash(x.wrapping_add(1), y.wrapping_add(1), seed),
+        f - Vec2::new(1.0, 1.0),
+    );
+    let (sx, sy) = (fade(f.x), fade(f.y));
+    let a = n00 + sx * (n10 - n00);
+    let b = n01 + sx * (n11 - n01);
+    std::f32::consts::SQRT_2 * (a + sy * (b - a))
+}
+
+/// Fractal Brownian motion: octaves of [`perlin`] at doubling frequency and halving
+/// amplitude, normalized to [-1, 1].
+pub fn fbm(p: Vec2, octaves: u32, seed: u32) -> f32 {
+    let (mut sum, mut amp, mut norm, mut freq) = (0.0f32, 1.0f32, 0.0f32, 1.0f32);
+    for o in 0..octaves {
+        sum += amp * perlin(p * freq, seed.wrapping_add(o));
+        norm += amp;
+        amp *= 0.5;
+        freq *= 2.0;
+    }
+    if norm > 0.0 {
+        sum / norm
+    } else {
+        0.0
+    }
+}
+
+impl Texture {
+    /// The texture at surface uv (the CPU reference of `texture_eval`).
+    pub fn eval(&self, uv: Vec2) -> Vec3 {
+        match self {
+            Texture::Bitmap {
+                width,
+                height,
+                texels,
+                nearest,
+                wrap,
+                to_uv,
+            } => {
+                let p = apply_uv(to_uv, uv);
+                let texel = |x: i32, y: i32| {
+                    let i = wrap_index(x, *width, *wrap);
+                    let j = wrap_index(y, *height, *wrap);
+                    Vec3::from(texels[(j * width + i) as usize])
+                };
+                if *nearest {
+                    let x = (p.x * *width as f32).floor() as i32;
+                    let y = (p.y * *height as f32).floor() as i32;
+                    texel(x, y)
+                } else {
+                    let x = p.x * *width as f32 - 0.5;
+                    let y = p.y * *height as f32 - 0.5;
+                    let (x0, y0) = (x.floor(), y.floor());
+                    let (fx, fy) = (x - x0, y - y0);
+                    let (x0, y0) = (x0 as i32, y0 as i32);
+                    let a = texel(x0, y0).lerp(texel(x0 + 1, y0), fx);
+                    let b = texel(x0, y0 + 1).lerp(texel(x0 + 1, y0 + 1), fx);
+                    a.lerp(b, fy)
+                }
+            }
+            Texture::Checkerboard {
+                color0,
+                color1,
+                to_uv,
+            } => {
+                let p = apply_uv(to_uv, uv);
+                let (fu, fv) = (p.x - p.x.floor(), p.y - p.y.floor());
+                if (fu > 0.5) == (fv > 0.5) {
+                    *color0
+                } else {
+                    *color1
+                }
+            }
+            Texture::Noise {
+                color0,
+                color1,
+                frequency,
+                octaves,
+                seed,
+                to_uv,
+            } => {
+                let p = apply_uv(to_uv, uv) * *frequency;
+                let t = 0.5 + 0.5 * fbm(p, *octaves, *seed);
+                color0.lerp(*color1, t)
+            }
+            Texture::Marble {
+                color0,
+                color1,
+                frequency,
+                variation,
+                octaves,
+                seed,
+                to_uv,
+            } => {
+                let p = apply_uv(to_uv, uv) * *frequency;
+                let n = fbm(p, *octaves, *seed);
+                let t = 0.5 - 0.5 * (std::f32::consts::TAU * (p.x + *variation * n)).cos();
+                color0.lerp(*color1, t)
+            }
+        }
+    }
+
+    /// Mean over the unit uv square: exact for bitmaps with an identity `to_uv` (the
+    /// texel average), else from a 64 x 64 grid of lookups.
+    pub fn mean(&self) -> Vec3 {
+        if let Texture::Bitmap { texels, to_uv, .. } = self {
+            if *to_uv == IDENTITY_UV {
+                let sum = texels
+                    .iter()
+                    .fold(glam::DVec3::ZERO, |s, t| s + Vec3::from(*t).as_dvec3());
+                return (sum / texels.len() as f64).as_vec3();
+            }
+        }
+        let n = 64;
+        let mut sum = glam::DVec3::ZERO;
+        for j in 0..n {
+            for i in 0..n {
+                let uv = Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
+                sum += self.eval(uv).as_dvec3();
+            }
+        }
+        (sum / (n * n) as f64).as_vec3()
+    }
+
+    /// Reads a Mitsuba `<texture type=t>` (element `el`, whose folder relative file
+    /// names resolve against).
+    pub fn from_mitsuba(t: &str, props: &Properties, el: &Element) -> Result<Texture, Error> {
+        let to_uv = to_uv_from(props.transform("to_uv")?);
+        if to_uv.iter().flatten().any(|v| !v.is_finite()) {
+            return Err(props.error("to_uv", "to_uv is not finite"));
+        }
+        let tex = match t {
+            "bitmap" => {
+                let name = props
+                    .string_opt("filename")?
+                    .ok_or_else(|| props.object_error("bitmap texture needs a 'filename'"))?;
+                let raw = props.boolean("raw", false)?;
+                let nearest = match props.string("filter_type", "bilinear")?.as_str() {
+                    "bilinear" => false,
+                    "nearest" => true,
+                    other => {
+                        return Err(props.error(
+                            "filter_type",
+                            format!("filter_type must be bilinear or nearest, found '{other}'"),
+                        ))
+                    }
+                };
+                let wrap = match props.string("wrap_mode", "repeat")?.as_str() {
+                    "repeat" => Wrap::Repeat,
+                    "mirror" => Wrap::Mirror,
+                    "clamp" => Wrap::Clamp,
+                    other => {
+                        return Err(props.error(
+                            "wrap_mode",
+                            format!("wrap_mode must be repeat, mirror or clamp, found '{other}'"),
+                        ))
+                    }
+                };
+                props.ignore(&["format", "accel"]);
+                let path = el.resolve(&name).map_err(|tried| {
+                    props.error("filename", format!("image file {tried} not found"))
+                })?;
+                let (width, height, texels) =
+                    load_image(&path, raw).map_err(|e| props.error("filename", e))?;
+                Texture::Bitmap {
+                    width,
+                    height,
+                    texels,
+                    nearest,
+                    wrap,
+                    to_uv,
+                }
+            }
+            "checkerboard" => Texture::Checkerboard {
+                color0: props.color("color0", Vec3::splat(0.4))?,
+                color1: props.color("color1", Vec3::splat(0.2))?,
+                to_uv,
+            },
+            "noise" | "marble" => {
+                let frequency = props.float("frequency", if t == "noise" { 8.0 } else { 4.0 })?;
+                if !(frequency.is_finite() && frequency > 0.0) {
+                    return Err(props.error("frequency", "frequency must be positive"));
+                }
+                let octaves = props.integer("octaves", 4)?;
+                if !(1..=MAX_OCTAVES as i64).contains(&octaves) {
+                    return Err(props.error(
+                        "octaves",
+                        format!("octaves must be in 1..={MAX_OCTAVES}, found {octaves}"),
+                    ));
+                }
+                let seed = props.integer("seed", 0)?;
+                if !(0..=u32::MAX as i64).contains(&seed) {
+                    return Err(props.error("seed", "seed must be a non-negative 32-bit integer"));
+                }
+                let (color0, color1) = (
+                    props.color("color0", Vec3::ZERO)?,
+                    props.color("color1", Vec3::ONE)?,
+                );
+                if t == "noise" {
+                    Texture::Noise {
+                        color0,
+                        color1,
+                        frequency,
+                        octaves: octaves as u32,
+                        seed: seed as u32,
+                        to_uv,
+                    }
+                } else {
+                    let variation = props.float("variation", 1.0)?;
+                    if !variation.is_finite() {
+                        return Err(props.error("variation", "variation must be finite"));
+                    }
+                    Texture::Marble {
+                        color0,
+                        color1,
+                        frequency,
+                        variation,
+                        octaves: octaves as u32,
+                        seed: seed as u32,
+                        to_uv,
+                    }
+                }
+            }
+            _ if UNSUPPORTED.contains(&t) => {
+                return Err(props.object_error(format!("texture type '{t}' is not supported")))
+            }
+            _ => return Err(props.object_error(format!("unknown texture type '{t}'"))),
+        };
+        props.finish()?;
+        Ok(tex)
+    }
+
+    /// The GPU record, with bitmap texels appended to `texels` (three floats each).
+    pub fn record(&self, texels: &mut Vec<f32>) -> TextureRecord {
+        let uv = |m: &[[f32; 3]; 2]| {
+            (
+                [m[0][0], m[0][1], m[0][2], 0.0],
+                [m[1][0], m[1][1], m[1][2], 0.0],
+            )
+        };
+        match self {
+            Texture::Bitmap {
+                width,
+                height,
+                texels: data,
+                nearest,
+                wrap,
+                to_uv,
+            } => {
+                let offset = texels.len() as u32;
+                texels.extend(data.iter().flatten());
+                let wrap = match wrap {
+                    Wrap::Repeat => TEXTURE_WRAP_REPEAT,
+                    Wrap::Mirror => TEXTURE_WRAP_MIRROR,
+                    Wrap::Clamp => TEXTURE_WRAP_CLAMP,
+                };
+                let (u, v) = uv(to_uv);
+                TextureRecord {
+                    kind: TEXTURE_BITMAP,
+                    offset,
+                    width: *width,
+                    height: *height,
+                    flags: (*nearest as u32 * TEXTURE_NEAREST) | (wrap << TEXTURE_WRAP_SHIFT),
+                    to_uv_u: u,
+                    to_uv_v: v,
+                    ..Default::default()
+                }
+            }
+            Texture::Checkerboard {
+                color0,
+                color1,
+                to_uv,
+            } => {
+                let (u, v) = uv(to_uv);
+                TextureRecord {
+                    kind: TEXTURE_CHECKERBOARD,
+                    color0: (*color0).into(),
+                    color1: (*color1).into(),
+                    to_uv_u: u,
+                    to_uv_v: v,
+                    ..Default::default()
+                }
+            }
+            Texture::Noise {
+                color0,
+                color1,
+                frequency,
+                octaves,
+                seed,
+                to_uv,
+            } => {
+                let (u, v) = uv(to_uv);
+                TextureRecord {
+                    kind: TEXTURE_NOISE,
+                    color0: (*color0).into(),
+                    color1: (*color1).into(),
+                    frequency: *frequency,
+                    octaves: *octaves,
+                    seed: *seed,
+                    to_uv_u: u,
+                    to_uv_v: v,
+                    ..Default::default()
+                }
+            }
+            Texture::Marble {
+                color0,
+                color1,
+                frequency,
+                variation,
+                octaves,
+                seed,
+                to_uv,
+            } => {
+                let (u, v) = uv(to_uv);
+                TextureRecord {
+                    kind: TEXTURE_MARBLE,
+                    color0: (*color0).into(),
+                    color1: (*color1).into(),
+                    frequency: *frequency,
+                    variation: *variation,
+                    octaves: *octaves,
+                    seed: *seed,
+                    to_uv_u: u,
+                    to_uv_v: v,
+                    ..Default::default()
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn bitmap(nearest: bool, wrap: Wrap) -> Texture {
+        // 4 x 2, texel (x, y) = (x, y, 0), as the Mitsuba probes below.
+        let texels = (0..2)
+            .flat_map(|y| (0..4).map(move |x| [x as f32, y as f32, 0.0]))
+            .collect();
+        Texture::Bitmap {
+            width: 4,
+            height: 2,
+            texels,
+            nearest,
+            wrap,
+            to_uv: IDENTITY_UV,
+        }
+    }
+
+    /// Values Mitsuba 3.9.1 (scalar_rgb) returns for the same 4 x 2 bitmap.
+    #[test]
+    fn bitmap_lookups_match_mitsuba() {
+        let near = bitmap(true, Wrap::Repeat);
+        for (uv, want) in [
+            ((0.1, 0.1), [0.0, 0.0]),
+            ((0.9, 0.1), [3.0, 0.0]),
+            ((0.1, 0.9), [0.0, 1.0]),
+            ((0.6, 0.6), [2.0, 1.0]),
+        ] {
+            let v = near.eval(Vec2::new(uv.0, uv.1));
+            assert_eq!([v.x, v.y], want, "nearest at {uv:?}");
+        }
+        let lin = bitmap(false, Wrap::Repeat);
+        for (uv, want) in [
+            ((0.0, 0.0), [1.5, 0.5]),
+            ((0.125, 0.25), [0.0, 0.0]),
+            ((0.25, 0.25), [0.5, 0.0]),
+            ((0.01, 0.99), [1.38, 0.52]),
+        ] {
+            let v = lin.eval(Vec2::new(uv.0, uv.1));
+            assert!(
+                (v.x - want[0]).abs() < 1e-4 && (v.y - want[1]).abs() < 1e-4,
+                "bilinear at {uv:?}: {v}"
+            );
+        }
+        let clamp = bitmap(false, Wrap::Clamp);
+        assert_eq!(clamp.eval(Vec2::new(1.3, -0.2)).x, 3.0);
+        assert_eq!(clamp.eval(Vec2::new(0.0, 0.0)).x, 0.0);
+        let mirror = bitmap(true, Wrap::Mirror);
+        for (u, want) in [(1.1, 3.0), (-0.1, 0.0), (2.1, 0.0)] {
+            assert_eq!(mirror.eval(Vec2::new(u, 0.1)).x, want, "mirror at {u}");
+        }
+    }
+
+    #[test]
+    fn checkerboard_and_to_uv_match_mitsuba() {
+        let c = Texture::Checkerboard {
+            color0: Vec3::splat(0.4),
+            color1: Vec3::splat(0.2),
+            to_uv: IDENTITY_UV,
+        };
+        assert_eq!(c.eval(Vec2::new(0.1, 0.1)).x, 0.4);
+        assert_eq!(c.eval(Vec2::new(0.6, 0.1)).x, 0.2);
+        assert_eq!(c.eval(Vec2::new(0.6, 0.6)).x, 0.4);
+        // Mitsuba: to_uv = translate(0.25, 0) maps (0.3, 0.7) to texel (2, 1).
+        let m = to_uv_from(Mat4::from_translation(Vec3::new(0.25, 0.0, 0.0)));
+        let Texture::Bitmap { texels, .. } = bitmap(true, Wrap::Repeat) else {
+            unreachable!()
+        };
+        let t = Texture::Bitmap {
+            width: 4,
+            height: 2,
+            texels,
+            nearest: true,
+            wrap: Wrap::Repeat,
+            to_uv: m,
+        };
+        assert_eq!(t.eval(Vec2::new(0.3, 0.7)), Vec3::new(2.0, 1.0, 0.0));
+    }
+
+    #[test]
+    fn noise_is_bounded_and_varies() {
+        let mut lo = f32::MAX;
+        let mut hi = f32::MIN;
+        for i in 0..2000 {
+            let p = Vec2::new(i as f32 * 0.0173, (i * 7 % 13) as f32 * 0.31);
+            let n = fbm(p, 4, 3);
+            lo = lo.min(n);
+            hi = hi.max(n);
+        }
+        assert!((-1.0..=1.0).contains(&lo) && (-1.0..=1.0).contains(&hi));
+        assert!(hi - lo > 0.5, "noise barely varies: {lo}..{hi}");
+        // Zero at lattice points.
+        assert_eq!(perlin(Vec2::new(3.0, -2.0), 0), 0.0);
+    }
+}
