@@ -8,10 +8,10 @@ use glam::{Mat3, Vec2, Vec3};
 use wavetrace::accel::{prims_from_scene, Bvh};
 use wavetrace::gpu::layout::EMITTER_ENVMAP;
 use wavetrace::gpu::{
-    shaders, BindingLayout, Buffer, CommandList, DescriptorSet, Kernel, Location,
+    shaders, BindingKind, BindingLayout, Buffer, CommandList, DescriptorSet, Kernel, Location,
 };
 use wavetrace::image::Image;
-use wavetrace::render::scene_buffers::{SceneBuffers, SceneRecords, SCENE_BINDINGS};
+use wavetrace::render::scene_buffers::{scene_binding_kinds, SceneBuffers, SceneRecords};
 use wavetrace::scene::{envmap, Emitter, Scene, Texture};
 
 const N: u32 = 20_000;
@@ -32,7 +32,12 @@ fn lookup(scene: &Scene, queries: &[[f32; 4]], id: u32, mode: u32) -> Vec<Vec3> 
     let device = common::device();
     let bvh = Bvh::build(prims_from_scene(scene));
     let records = SceneRecords::new(scene, &bvh);
-    let layout = BindingLayout::new(&device, &[SCENE_BINDINGS, 2], 12).unwrap();
+    let layout = BindingLayout::with_kinds(
+        &device,
+        &[scene_binding_kinds(), vec![BindingKind::Storage; 2]],
+        12,
+    )
+    .unwrap();
     let buffers = SceneBuffers::upload(&device, &layout, &bvh, &records).unwrap();
     let input = Buffer::from_slice(&device, "queries", queries).unwrap();
     let out = Buffer::new(&device, "results", queries.len() as u64 * 16, Location::Gpu).unwrap();

@@ -182,7 +182,14 @@ impl Renderer {
             shade: k(
                 "shade",
                 shaders::SHADE,
-                &[integrator.id(), bsdf_kinds, records.texture_mask(), 0, has_media, has_spheres],
+                &[
+                    integrator.id(),
+                    bsdf_kinds,
+                    records.texture_mask(),
+                    0,
+                    has_media,
+                    has_spheres,
+                ],
             )?,
             shadow: k(
                 "shadow",

@@ -437,11 +437,7 @@ impl SceneBuffers {
             Buffer::from_slice(device, "texels", &records.texels)?,
             Buffer::from_slice(device, "envmap distributions", &records.env_dist)?,
         ];
-        // Bindings 8-10 belong to textures; placeholders until they exist.
         let mut buffers = buffers;
-        for name in ["texture 8", "texture 9", "texture 10"] {
-            buffers.push(Buffer::from_slice(device, name, &[0u32; 4])?);
-        }
         // Storage buffers may not be empty: a scene without media binds one zero record.
         let or_one = |v: &[f32]| {
             if v.is_empty() {

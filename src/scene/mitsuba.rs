@@ -30,7 +30,9 @@ use super::builder::{self, Builder, UNSUPPORTED_BSDFS, UNSUPPORTED_EMITTERS};
 use super::mesh;
 use super::properties::Properties;
 use super::xml::{Dialect, Document, Element};
-use super::{envmap, obj, ply, Bsdf, Camera, Emitter, Error, IntegratorSpec, Medium, Scene, Texture};
+use super::{
+    envmap, obj, ply, Bsdf, Camera, Emitter, Error, IntegratorSpec, Medium, Scene, Texture,
+};
 
 const SENSORS: &[&str] = &[
     "thinlens",
