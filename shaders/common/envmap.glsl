@@ -29,7 +29,7 @@ vec2 envmap_uv(vec3 d) {
 // bilinear, periodic in u (texel i at (i + ½)/W), pole to pole in v (y = v (H − 1)),
 // times scale (in e.radiance).
 vec3 envmap_eval(EmitterRecord e, vec3 d) {
-    TextureRecord t = textures[e.texture - 1u];
+    TextureRecord t = texture_load(e.texture - 1u);
     vec2 uv = envmap_uv(envmap_to_local(e, d));
     int w = int(t.width), h = int(t.height);
     float x = uv.x * float(w) - 0.5;
@@ -44,13 +44,13 @@ vec3 envmap_eval(EmitterRecord e, vec3 d) {
     return e.radiance * mix(a, b, fy);
 }
 
-// Index k in [0, n) with cdf[k] <= x < cdf[k + 1] for the n + 1 values from env_dist[base]
+// Index k in [0, n) with cdf[k] <= x < cdf[k + 1] for the n + 1 values from env_dist(base)
 // (the last k whose cdf[k] <= x: never a zero-probability entry).
 uint envmap_find(uint base, uint n, float x) {
     uint lo = 0u, hi = n; // invariant: cdf[lo] <= x, answer < hi
     while (lo + 1u < hi) {
         uint mid = (lo + hi) >> 1u;
-        if (env_dist[base + mid] <= x) lo = mid; else hi = mid;
+        if (env_dist(base + mid) <= x) lo = mid; else hi = mid;
     }
     return lo;
 }
@@ -59,8 +59,8 @@ uint envmap_find(uint base, uint n, float x) {
 float envmap_cell_density(EmitterRecord e, uint i, uint j) {
     uint w = e.dist_width, h = e.dist_height;
     uint row = e.dist_offset + h + 1u + j * (w + 1u);
-    float pm = env_dist[e.dist_offset + j + 1u] - env_dist[e.dist_offset + j];
-    float pc = env_dist[row + i + 1u] - env_dist[row + i];
+    float pm = env_dist(e.dist_offset + j + 1u) - env_dist(e.dist_offset + j);
+    float pc = env_dist(row + i + 1u) - env_dist(row + i);
     return pm * pc * float(w * h);
 }
 
@@ -80,10 +80,10 @@ float envmap_pdf(EmitterRecord e, vec3 d) {
 vec3 envmap_sample(EmitterRecord e, vec2 u, out float pdf) {
     uint w = e.dist_width, h = e.dist_height;
     uint j = envmap_find(e.dist_offset, h, u.x);
-    float m0 = env_dist[e.dist_offset + j], m1 = env_dist[e.dist_offset + j + 1u];
+    float m0 = env_dist(e.dist_offset + j), m1 = env_dist(e.dist_offset + j + 1u);
     uint row = e.dist_offset + h + 1u + j * (w + 1u);
     uint i = envmap_find(row, w, u.y);
-    float c0 = env_dist[row + i], c1 = env_dist[row + i + 1u];
+    float c0 = env_dist(row + i), c1 = env_dist(row + i + 1u);
     vec2 uv = vec2((float(i) + clamp((u.y - c0) / (c1 - c0), 0.0, 1.0)) / float(w),
                    (float(j) + clamp((u.x - m0) / (m1 - m0), 0.0, 1.0)) / float(h));
     float theta = uv.y * PI, phi = uv.x * (2.0 * PI);

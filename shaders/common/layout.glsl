@@ -134,7 +134,7 @@ struct EmitterRecord {
     uint pad0;
     uint pad1;
     uint texture;         // index + 1: area radiance texture, or the envmap's image
-    uint dist_offset;     // envmap: its sampling distribution in env_dist[]
+    uint dist_offset;     // envmap: its sampling distribution in env_dist()
     uint dist_width;
     uint dist_height;
     vec4 to_world_x;      // envmap: columns of its rotation
@@ -157,7 +157,7 @@ struct EmitterRecord {
 #define TEXTURE_FEATURE_ENVMAP 1024u
 #define TEXTURE_FEATURE_AREA 2048u
 // A texture; lookups map uv by the affine to_uv first (u' = dot(to_uv_u.xyz, (u,v,1))).
-// Bitmap: width x height RGB texels at texels[offset..], row 0 at v = 0.
+// Bitmap: width x height RGB texels at texel_value(offset..), row 0 at v = 0.
 struct TextureRecord {
     uint kind;
     uint offset;

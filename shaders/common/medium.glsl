@@ -74,10 +74,10 @@ vec3 medium_grid_sigma_t(MediumRecord m, vec3 pl) {
         float weight = wk.x * wk.y * wk.z;
         uint idx = uint((i.z * res.y + i.y) * res.x + i.x);
         if (m.channels == 1u) {
-            d += vec3(weight * grid_data[m.data + idx]);
+            d += vec3(weight * grid_value(m.data + idx));
         } else {
             uint b = m.data + 3u * idx;
-            d += weight * vec3(grid_data[b], grid_data[b + 1u], grid_data[b + 2u]);
+            d += weight * vec3(grid_value(b), grid_value(b + 1u), grid_value(b + 2u));
         }
     }
     return m.sigma_t * d;
@@ -140,7 +140,7 @@ bool medium_walk_begin(MediumRecord m, vec3 o, vec3 d, float tmax, out MajorantW
 float medium_walk_cell(MediumRecord m, MajorantWalk w, out float t_cell_end) {
     t_cell_end = min(min(w.t_next.x, w.t_next.y), min(w.t_next.z, w.t_end));
     uvec3 c = uvec3(w.cell);
-    return majorants[m.maj_data + (c.z * m.maj_res.y + c.y) * m.maj_res.x + c.x];
+    return majorant_value(m.maj_data + (c.z * m.maj_res.y + c.y) * m.maj_res.x + c.x);
 }
 
 // Moves the walk to the next cell; false when the ray has left the grid or tmax.
@@ -181,7 +181,7 @@ MediumEvent medium_sample(uint mi, vec3 o, vec3 d, float tmax, inout MediumRng r
     ev.scattered = false;
     ev.t = tmax;
     ev.weight = vec3(1.0);
-    MediumRecord m = media[mi];
+    MediumRecord m = medium_load(mi);
     if (m.kind == MEDIUM_HOMOGENEOUS) {
         vec3 st = m.sigma_t;
         if (all(equal(m.albedo, vec3(0.0)))) {
@@ -244,7 +244,7 @@ MediumEvent medium_sample(uint mi, vec3 o, vec3 d, float tmax, inout MediumRng r
 // tentative collision), with Russian roulette once it falls below
 // MEDIUM_RR_THRESHOLD (survival probability = its largest channel).
 vec3 medium_transmittance(uint mi, vec3 o, vec3 d, float tmax, inout MediumRng rng) {
-    MediumRecord m = media[mi];
+    MediumRecord m = medium_load(mi);
     if (m.kind == MEDIUM_HOMOGENEOUS) return medium_tr(m.sigma_t, tmax);
     vec3 T = vec3(1.0);
     MajorantWalk w;

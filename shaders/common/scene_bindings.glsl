@@ -22,15 +22,52 @@ layout(set = 0, binding = 5) uniform usamplerBuffer bsdf_texels;
 layout(set = 0, binding = 6) uniform usamplerBuffer emitter_texels;
 // Emitter alias table at [0, emitter_count), then each mesh emitter's triangle table.
 layout(set = 0, binding = 7) uniform usamplerBuffer alias_texels;
-// Textures (texture.glsl): records, and every bitmap's RGB texels, three floats each.
-layout(std430, set = 0, binding = 8) readonly buffer TextureBuffer { TextureRecord textures[]; };
-layout(std430, set = 0, binding = 9) readonly buffer TexelBuffer { float texels[]; };
-// Environment map sampling distributions (envmap.glsl).
-layout(std430, set = 0, binding = 10) readonly buffer EnvDistBuffer { float env_dist[]; };
-// Media (shaders/common/medium.glsl): records, density grids, majorant grids.
-layout(std430, set = 0, binding = 11) readonly buffer MediumBuffer { MediumRecord media[]; };
-layout(std430, set = 0, binding = 12) readonly buffer GridBuffer { float grid_data[]; };
-layout(std430, set = 0, binding = 13) readonly buffer MajorantBuffer { float majorants[]; };
+// Textures (texture.glsl): records (texture_load), and every bitmap's RGB texels, three
+// floats each (texel_value).
+layout(set = 0, binding = 8) uniform usamplerBuffer texture_texels;
+layout(set = 0, binding = 9) uniform usamplerBuffer texel_words;
+// Environment map sampling distributions (envmap.glsl; env_dist).
+layout(set = 0, binding = 10) uniform usamplerBuffer env_dist_words;
+// Media (shaders/common/medium.glsl): records (medium_load), density grids (grid_value),
+// majorant grids (majorant_value).
+layout(set = 0, binding = 11) uniform usamplerBuffer medium_texels;
+layout(set = 0, binding = 12) uniform usamplerBuffer grid_words;
+layout(set = 0, binding = 13) uniform usamplerBuffer majorant_words;
+
+float texel_value(uint k) { return uintBitsToFloat(texelFetch(texel_words, int(k)).x); }
+float env_dist(uint k) { return uintBitsToFloat(texelFetch(env_dist_words, int(k)).x); }
+float grid_value(uint k) { return uintBitsToFloat(texelFetch(grid_words, int(k)).x); }
+float majorant_value(uint k) { return uintBitsToFloat(texelFetch(majorant_words, int(k)).x); }
+
+// TextureRecord: 6 texels.
+TextureRecord texture_load(uint i) {
+    int b = int(6u * i);
+    uvec4 w0 = texelFetch(texture_texels, b);
+    uvec4 w1 = texelFetch(texture_texels, b + 1);
+    uvec4 w2 = texelFetch(texture_texels, b + 2);
+    uvec4 w3 = texelFetch(texture_texels, b + 3);
+    return TextureRecord(w0.x, w0.y, w0.z, w0.w, w1.x, w1.y, w1.z, w1.w,
+                         uintBitsToFloat(w2.xyz), uintBitsToFloat(w2.w),
+                         uintBitsToFloat(w3.xyz), uintBitsToFloat(w3.w),
+                         uintBitsToFloat(texelFetch(texture_texels, b + 4)),
+                         uintBitsToFloat(texelFetch(texture_texels, b + 5)));
+}
+
+// MediumRecord: 9 texels.
+MediumRecord medium_load(uint i) {
+    int b = int(9u * i);
+    uvec4 w0 = texelFetch(medium_texels, b);
+    uvec4 w1 = texelFetch(medium_texels, b + 1);
+    mat4 to_grid = mat4(uintBitsToFloat(texelFetch(medium_texels, b + 2)),
+                        uintBitsToFloat(texelFetch(medium_texels, b + 3)),
+                        uintBitsToFloat(texelFetch(medium_texels, b + 4)),
+                        uintBitsToFloat(texelFetch(medium_texels, b + 5)));
+    uvec4 w6 = texelFetch(medium_texels, b + 6);
+    uvec4 w7 = texelFetch(medium_texels, b + 7);
+    uvec4 w8 = texelFetch(medium_texels, b + 8);
+    return MediumRecord(uintBitsToFloat(w0.xyz), w0.w, uintBitsToFloat(w1.xyz), uintBitsToFloat(w1.w),
+                        to_grid, w6.xyz, w6.w, w7.xyz, w7.w, uintBitsToFloat(w8.x), w8.y, w8.z, w8.w);
+}
 
 BvhNode bvh_node_load(uint i) {
     int base = int(4u * i);

@@ -27,7 +27,7 @@ int texture_wrap(int i, int n, uint mode) {
 
 vec3 texture_texel(TextureRecord t, int x, int y) {
     uint k = t.offset + 3u * (uint(y) * t.width + uint(x));
-    return vec3(texels[k], texels[k + 1u], texels[k + 2u]);
+    return vec3(texel_value(k), texel_value(k + 1u), texel_value(k + 2u));
 }
 
 // Bitmap at p (already through to_uv): texel (i, j) centred at ((i+½)/W, (j+½)/H),
@@ -109,7 +109,7 @@ float texture_fbm(vec2 p, uint octaves, uint seed) {
 }
 
 vec3 texture_eval(uint id, vec2 uv) {
-    TextureRecord t = textures[id - 1u];
+    TextureRecord t = texture_load(id - 1u);
     vec2 p = vec2(dot(t.to_uv_u.xyz, vec3(uv, 1.0)), dot(t.to_uv_v.xyz, vec3(uv, 1.0)));
     switch (t.kind) {
     case TEXTURE_BITMAP:

@@ -33,7 +33,7 @@ void vol_path_scatter(uint integrator, RayItem r, PathState path, uint medium, v
     uint depth = push.depth;
     // This vertex ends segment depth + 1; a longer path must fit in max_depth.
     if (depth + 2u > frame.max_depth) return;
-    MediumRecord m = media[medium];
+    MediumRecord m = medium_load(medium);
     vec3 wo = -r.dir;
     bool single = integrator_is_single_scatter(integrator);
     bool nee = (integrator == INTEGRATOR_VOL_PATH_MIS || single)
@@ -86,7 +86,7 @@ vec3 vol_path_sigma_t(MediumRecord m, vec3 p) {
 // 1/2 for grids, 1 when nothing lies beyond.
 bool vol_path_equiangular(uint integrator, RayItem r, PathState path, uint medium, vec3 o,
                           float seg, inout vec3 throughput, inout MediumRng rng) {
-    MediumRecord m = media[medium];
+    MediumRecord m = medium_load(medium);
     vec3 T_seg = isinf(seg) ? vec3(0.0) : medium_transmittance(medium, o, r.dir, seg, rng);
     float p_med = isinf(seg) ? 1.0
         : (m.kind == MEDIUM_HOMOGENEOUS ? clamp(1.0 - medium_avg(T_seg), 0.05, 0.95) : 0.5);

@@ -21,14 +21,16 @@ use super::error::Result;
 /// textures (records, texels, environment-map distributions), 11-13 media (records, density grids, majorant grids).
 pub const SCENE_BINDINGS: u32 = 14;
 
-/// The kind of each binding of set 0. The records read at scattered addresses on
-/// every hit or traversal step (bindings 0-7) are texel buffers (see
-/// [`BindingKind::Texels`]); the rest are storage buffers.
+/// The kind of each binding of set 0. Every record is read at scattered addresses
+/// (traversal steps, hits, texture and grid lookups), so all are texel buffers (see
+/// [`BindingKind::Texels`]): records of 16-byte texels, and arrays of floats (texels of
+/// bitmaps, environment-map distributions, density and majorant grids) of 4-byte
+/// ones.
 pub fn scene_binding_kinds() -> Vec<BindingKind> {
     (0..SCENE_BINDINGS)
         .map(|b| match b {
-            0..=7 => BindingKind::Texels,
-            _ => BindingKind::Storage,
+            9 | 10 | 12 | 13 => BindingKind::Words,
+            _ => BindingKind::Texels,
         })
         .collect()
 }
