@@ -123,7 +123,7 @@ void path_shade(uint integrator, RayItem r, HitItem h, PathState path) {
         path.bsdf_pdf = bs.pdf;
         path.flags = (bs.flags & BSDF_FLAG_DELTA) != 0u ? PATH_DELTA : 0u;
         path.medium = path_medium_after(integrator, s.shape, path.medium, wi, s.ng);
-        path_store(r.path, path);
+        path_store_bounce(r.path, path); // the radiance word is stored where it changed
         queue_push_ray(surface_spawn_origin(s, dot(wi, s.ng) > 0.0 ? s.ng : -s.ng), r.path, wi, EMITTER_INFINITY);
     }
 }

@@ -97,6 +97,11 @@ TriangleRecord triangle_load(uint i) {
     return TriangleRecord(w.x, w.y, w.z, w.w);
 }
 
+// Texel k (0: normal and u; 1: v and tangent) of vertex i.
+vec4 vertex_texel(uint i, uint k) {
+    return uintBitsToFloat(texelFetch(vertex_texels, int(2u * i + k)));
+}
+
 Vertex vertex_load(uint i) {
     uvec4 a = texelFetch(vertex_texels, int(2u * i));
     uvec4 b = texelFetch(vertex_texels, int(2u * i + 1u));

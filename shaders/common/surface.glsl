@@ -59,15 +59,17 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
         s.dpdu = vec3(0.0);
         if ((shape.flags & (SHAPE_HAS_NORMALS | SHAPE_HAS_UVS)) != 0u) {
             TriangleRecord tri = triangle_load(prim.index);
-            Vertex a = vertex_load(tri.v0), b = vertex_load(tri.v1), c = vertex_load(tri.v2);
+            // Each half of a vertex is fetched only where it is used (vertex_texel).
             if ((shape.flags & SHAPE_HAS_NORMALS) != 0u) {
-                vec3 ns = w * vec3(a.nx, a.ny, a.nz) + u * vec3(b.nx, b.ny, b.nz) + v * vec3(c.nx, c.ny, c.nz);
+                vec3 ns = w * vertex_texel(tri.v0, 0u).xyz + u * vertex_texel(tri.v1, 0u).xyz
+                    + v * vertex_texel(tri.v2, 0u).xyz;
                 float l = length(ns);
                 if (l > 0.0) s.ns = ns / l;
                 // Keep the shading normal on the side of the geometric one.
                 if (dot(s.ns, s.ng) < 0.0) s.ng = -s.ng;
             }
             if ((shape.flags & SHAPE_HAS_UVS) != 0u) {
+                Vertex a = vertex_load(tri.v0), b = vertex_load(tri.v1), c = vertex_load(tri.v2);
                 s.uv = w * vec2(a.u, a.v) + u * vec2(b.u, b.v) + v * vec2(c.u, c.v);
                 s.dpdu = w * vec3(a.tx, a.ty, a.tz) + u * vec3(b.tx, b.ty, b.tz) + v * vec3(c.tx, c.ty, c.tz);
             }

@@ -55,6 +55,13 @@ void path_store(uint i, PathState p) {
     path_words[3u * i + 2u] = uvec4(floatBitsToUint(p.bsdf_pdf), p.flags, floatBitsToUint(p.eta_scale), p.medium);
 }
 
+// Every word of path i but the radiance one: what a bounce changes when the radiance
+// was stored already (path_store_radiance) or did not change.
+void path_store_bounce(uint i, PathState p) {
+    path_words[3u * i] = uvec4(floatBitsToUint(p.throughput), p.pixel);
+    path_words[3u * i + 2u] = uvec4(floatBitsToUint(p.bsdf_pdf), p.flags, floatBitsToUint(p.eta_scale), p.medium);
+}
+
 // Only the radiance word (with the sample index it shares) of path i.
 void path_store_radiance(uint i, PathState p) {
     path_words[3u * i + 1u] = uvec4(floatBitsToUint(p.radiance), p.sample_index);
