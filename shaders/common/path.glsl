@@ -106,7 +106,9 @@ void path_shade(uint integrator, RayItem r, HitItem h) {
         paths[r.path].throughput = throughput;
         paths[r.path].bsdf_pdf = bs.pdf;
         paths[r.path].flags = (bs.flags & BSDF_FLAG_DELTA) != 0u ? PATH_DELTA : 0u;
-        paths[r.path].medium = path_medium_after(integrator, s.shape, path.medium, wi, s.ng);
+#ifdef MEDIUM_GLSL
+        if (MEDIA_ENABLED) paths[r.path].medium = path_medium_after(integrator, s.shape, path.medium, wi, s.ng);
+#endif
         queue_push_ray(surface_spawn_origin(s, dot(wi, s.ng) > 0.0 ? s.ng : -s.ng), r.path, wi, EMITTER_INFINITY);
     }
 }

@@ -85,6 +85,7 @@ vec3 vol_path_sigma_t(MediumRecord m, vec3 p) {
 // 1/2 for grids, 1 when nothing lies beyond.
 bool vol_path_equiangular(uint integrator, RayItem r, PathState path, uint medium, vec3 o,
                           float seg, inout vec3 throughput, inout MediumRng rng) {
+    if (!(seg > 0.0)) return true;
     MediumRecord m = media[medium];
     vec3 T_seg = isinf(seg) ? vec3(0.0) : medium_transmittance(medium, o, r.dir, seg, rng);
     float p_med = isinf(seg) ? 1.0
@@ -104,6 +105,7 @@ bool vol_path_equiangular(uint integrator, RayItem r, PathState path, uint mediu
     Equiangular eq = equiangular_setup(o, r.dir, c, 0.0, seg);
     float t = equiangular_sample(eq, 0.0, seg, u.y);
     float pdf = equiangular_pdf(eq, t);
+    if (!(pdf > 0.0) || isinf(pdf)) return false;
     vec3 x = o + t * r.dir;
     vec3 sigma_s = m.albedo * vol_path_sigma_t(m, x);
     vec3 Tr = medium_transmittance(medium, o, r.dir, t, rng);
