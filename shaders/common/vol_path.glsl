@@ -149,8 +149,9 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h) {
             if (!any(greaterThan(throughput, vec3(0.0)))) return false;
         }
         if (h.prim == NONE) break;
+        // A surface with a BSDF ends the stage (path_shade computes its geometry).
+        if ((shapes[prims[h.prim].shape].flags & SHAPE_NULL_BSDF) == 0u) break;
         Surface s = surface_at(h.prim, h.u, h.v, o, r.dir, h.t);
-        if ((shapes[s.shape].flags & SHAPE_NULL_BSDF) == 0u) break;
         if (crossing >= VOL_PATH_MAX_CROSSINGS) return false;
         if (vol) medium = medium_after(s.shape, medium, r.dir, s.ng);
         vec3 next = surface_spawn_origin(s, dot(r.dir, s.ng) > 0.0 ? s.ng : -s.ng);
