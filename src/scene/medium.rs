@@ -336,11 +336,20 @@ impl Medium {
             }
             props.ignore(&["majorant_factor"]);
             match grid {
-                Some(grid) => MediumKind::Grid {
-                    scale: check_color(&props, "sigma_t", Vec3::ONE, None)? * scale,
-                    grid,
-                    majorant_factor: factor as u32,
-                },
+                Some(grid) => {
+                    let top = (0..grid.channels).fold(0.0f32, |m, c| m.max(grid.max(c)));
+                    if !(top * scale).is_finite() {
+                        return Err(props.error(
+                            "scale",
+                            format!("scale {scale} times the grid's maximum {top} overflows"),
+                        ));
+                    }
+                    MediumKind::Grid {
+                        scale: check_color(&props, "sigma_t", Vec3::ONE, None)? * scale,
+                        grid,
+                        majorant_factor: factor as u32,
+                    }
+                }
                 // A constant sigma_t: the same as a homogeneous medium.
                 None => MediumKind::Homogeneous {
                     sigma_t: check_color(&props, "sigma_t", sigma_t.unwrap_or(Vec3::ONE), None)?
@@ -508,6 +517,16 @@ mod tests {
             let e = read_vol(&p).unwrap_err();
             assert!(e.contains(want), "{e}");
         }
+        // A scale that overflows the grid's extinction is refused.
+        std::fs::write(&p, vol_bytes([2, 3, 4], 1, [0.0; 6], &data)).unwrap();
+        let xml = mitsuba(
+            r#"<medium type="heterogeneous"><volume type="gridvolume" name="sigma_t"><string name="filename" value="g.vol"/></volume><float name="scale" value="1e38"/></medium>"#,
+        );
+        std::fs::write(dir.join("s.xml"), xml).unwrap();
+        let e = crate::scene::load(&dir.join("s.xml"), &[])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("overflows"), "{e}");
         // A wrong file never panics, at any truncation.
         let good = vol_bytes([2, 3, 4], 1, [0.0, 0.0, 0.0, 1.0, 1.0, 1.0], &data);
         for n in 0..good.len() {
