@@ -8,6 +8,12 @@
 #include "rng.glsl"
 
 #define MEDIUM_INF uintBitsToFloat(0x7f800000u)
+
+// Whether the scene has grid media; a kernel may define it as a specialization
+// constant so that homogeneous-only scenes compile the tracking loops away.
+#ifndef MEDIA_GRIDS
+#define MEDIA_GRIDS true
+#endif
 // Tentative collisions one tracking loop may take before it gives up (the path or
 // shadow ray then carries nothing): a guard against pathological grids, far above
 // what the majorant grid needs (optical depth of the majorants along the ray).
@@ -182,7 +188,7 @@ MediumEvent medium_sample(uint mi, vec3 o, vec3 d, float tmax, inout MediumRng r
     ev.t = tmax;
     ev.weight = vec3(1.0);
     MediumRecord m = media[mi];
-    if (m.kind == MEDIUM_HOMOGENEOUS) {
+    if (!MEDIA_GRIDS || m.kind == MEDIUM_HOMOGENEOUS) {
         vec3 st = m.sigma_t;
         if (all(equal(m.albedo, vec3(0.0)))) {
             ev.weight = medium_tr(st, tmax);
@@ -245,7 +251,7 @@ MediumEvent medium_sample(uint mi, vec3 o, vec3 d, float tmax, inout MediumRng r
 // MEDIUM_RR_THRESHOLD (survival probability = its largest channel).
 vec3 medium_transmittance(uint mi, vec3 o, vec3 d, float tmax, inout MediumRng rng) {
     MediumRecord m = media[mi];
-    if (m.kind == MEDIUM_HOMOGENEOUS) return medium_tr(m.sigma_t, tmax);
+    if (!MEDIA_GRIDS || m.kind == MEDIUM_HOMOGENEOUS) return medium_tr(m.sigma_t, tmax);
     vec3 T = vec3(1.0);
     MajorantWalk w;
     if (!medium_walk_begin(m, o, d, tmax, w)) return T;

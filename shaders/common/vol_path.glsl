@@ -67,7 +67,7 @@ void vol_path_scatter(uint integrator, RayItem r, PathState path, uint medium, v
 
 // Extinction of medium m at world point p.
 vec3 vol_path_sigma_t(MediumRecord m, vec3 p) {
-    if (m.kind == MEDIUM_HOMOGENEOUS) return m.sigma_t;
+    if (!MEDIA_GRIDS || m.kind == MEDIUM_HOMOGENEOUS) return m.sigma_t;
     return medium_grid_sigma_t(m, (m.world_to_grid * vec4(p, 1.0)).xyz);
 }
 

@@ -172,6 +172,12 @@ impl Renderer {
         // Media and null surfaces: the medium code of shade and shadow
         // (constant_id 4 of both; 2-3 belong to textures).
         let has_media = scene.needs_medium_code() as u32;
+        // Grid media (constant_id 6): homogeneous-only scenes compile tracking away.
+        let has_grids = scene
+            .media
+            .iter()
+            .any(|m| matches!(m.kind, crate::scene::medium::MediumKind::Grid { .. }))
+            as u32;
         let bsdf_kinds = records.bsdfs.iter().fold(0u32, |m, b| m | 1 << b.kind);
         let k = |name: &str, spirv: &[u8], spec: &[u32]| {
             Kernel::new(device, name, spirv, &layout, spec)
@@ -182,12 +188,20 @@ impl Renderer {
             shade: k(
                 "shade",
                 shaders::SHADE,
-                &[integrator.id(), bsdf_kinds, 0, 0, has_media, has_spheres],
+                &[
+                    integrator.id(),
+                    bsdf_kinds,
+                    0,
+                    0,
+                    has_media,
+                    has_spheres,
+                    has_grids,
+                ],
             )?,
             shadow: k(
                 "shadow",
                 shaders::SHADOW,
-                &[has_spheres, 0, 0, 0, has_media],
+                &[has_spheres, 0, 0, 0, has_media, 0, has_grids],
             )?,
             ray_args: k("queue_args", shaders::QUEUE_ARGS, &[0])?,
             shadow_args: k("queue_args", shaders::QUEUE_ARGS, &[1])?,
