@@ -712,3 +712,96 @@ fn stress_extreme_media_stay_finite_and_agree() {
     println!("spiky grid, majorant grid vs one majorant: {test}");
     assert!(test.passes(0.01), "majorant grid changes the image: {test}");
 }
+
+/// An albedo grid: a grid of 0.5 everywhere (three channels, on the smoke grid's
+/// voxels) gives the same image as the constant albedo 0.5 (the same random numbers
+/// and weights, to rounding); a grid of 1 keeps the white furnace exact.
+#[test]
+fn albedo_grid_matches_constant_albedo() {
+    let device = common::device();
+    let n = 32i32;
+    let vol = |name: &str, v: f32| {
+        let mut b = b"VOL\x03".to_vec();
+        for i in [1, n, n, n, 3] {
+            b.extend_from_slice(&i.to_le_bytes());
+        }
+        for f in [0f32, 0.0, 0.0, 1.0, 1.0, 1.0] {
+            b.extend_from_slice(&f.to_le_bytes());
+        }
+        for _ in 0..3 * n * n * n {
+            b.extend_from_slice(&v.to_le_bytes());
+        }
+        let path = std::env::temp_dir().join(format!(
+            "wavetrace-test-{}-albedo-{name}.vol",
+            std::process::id()
+        ));
+        std::fs::write(&path, b).expect("write vol");
+        path
+    };
+    let smoke = common::repo("scenes/media/smoke.vol");
+    let placement = r#"<transform name="to_world"><scale value="2"/><translate x="-1" y="-1" z="-1"/></transform>"#;
+    let scene = |albedo: &str, light: &str| {
+        format!(
+            r#"<scene version="3.0.0">
+<integrator type="volpath"><integer name="rr_depth" value="1000"/></integrator>
+<sensor type="perspective"><float name="fov" value="35"/>
+    <transform name="to_world"><lookat origin="0, 0.5, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/></film></sensor>
+{light}
+<shape type="cube"><bsdf type="null"/><medium type="heterogeneous" name="interior">
+    <volume type="gridvolume" name="sigma_t"><string name="filename" value="{}"/>{placement}</volume>
+    <float name="scale" value="5"/>{albedo}</medium></shape>
+</scene>"#,
+            smoke.display()
+        )
+    };
+    let lit = r#"<emitter type="constant"><rgb name="radiance" value="0.3"/></emitter>
+<shape type="sphere"><point name="center" x="2" y="2" z="1"/><float name="radius" value="0.3"/>
+    <emitter type="area"><rgb name="radiance" value="20"/></emitter></shape>"#;
+    let grid_albedo = |v: &str| {
+        format!(
+            r#"<volume type="gridvolume" name="albedo"><string name="filename" value="{}"/>{placement}</volume>"#,
+            vol(v, v.parse().expect("number")).display()
+        )
+    };
+    let render = |xml: String, name: &str, integrator: Option<&str>| {
+        let path = common::temp_file("albedo", &format!("{name}.xml"), &xml);
+        let (img, stats) = render_stats(&device, &common::load(&path), integrator, 8, 4);
+        assert_finite(name, &img, &stats);
+        img
+    };
+    let constant = render(
+        scene(r#"<rgb name="albedo" value="0.5"/>"#, lit),
+        "constant",
+        None,
+    );
+    let grid = render(scene(&grid_albedo("0.5"), lit), "grid", None);
+    let worst = constant
+        .rgb
+        .iter()
+        .zip(&grid.rgb)
+        .map(|(a, b)| (a - b).abs() / a.abs().max(1e-3))
+        .fold(0.0f32, f32::max);
+    println!("albedo grid of 0.5 against albedo 0.5: worst relative difference {worst:.2e}");
+    assert!(
+        worst < 1e-4,
+        "albedo grid differs from the constant albedo: {worst}"
+    );
+    let furnace = render(
+        scene(
+            &grid_albedo("1"),
+            r#"<emitter type="constant"><rgb name="radiance" value="1"/></emitter>"#,
+        ),
+        "furnace",
+        Some("vol_path_simple"),
+    );
+    let off = furnace
+        .rgb
+        .iter()
+        .map(|v| (v - 1.0).abs())
+        .fold(0.0f32, f32::max);
+    assert!(
+        off < 1e-4,
+        "albedo grid of 1 in a furnace: a pixel is off by {off}"
+    );
+}

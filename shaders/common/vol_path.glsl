@@ -65,10 +65,11 @@ void vol_path_scatter(uint integrator, RayItem r, PathState path, uint medium, v
     queue_push_ray(p, r.path, ps.wi, EMITTER_INFINITY);
 }
 
-// Extinction of medium m at world point p.
-vec3 vol_path_sigma_t(MediumRecord m, vec3 p) {
-    if (!MEDIA_GRIDS || m.kind == MEDIUM_HOMOGENEOUS) return m.sigma_t;
-    return medium_grid_sigma_t(m, (m.world_to_grid * vec4(p, 1.0)).xyz);
+// Scattering coefficient σs = albedo σt of medium m at world point p.
+vec3 vol_path_sigma_s(MediumRecord m, vec3 p) {
+    if (!MEDIA_GRIDS || m.kind == MEDIUM_HOMOGENEOUS) return m.albedo * m.sigma_t;
+    vec3 pl = (m.world_to_grid * vec4(p, 1.0)).xyz;
+    return medium_grid_albedo(m, pl) * medium_grid_sigma_t(m, pl);
 }
 
 // single_scatter with equiangular sampling, camera ray r in medium `medium` over
@@ -107,7 +108,7 @@ bool vol_path_equiangular(uint integrator, RayItem r, PathState path, uint mediu
     float pdf = equiangular_pdf(eq, t);
     if (!(pdf > 0.0) || isinf(pdf)) return false;
     vec3 x = o + t * r.dir;
-    vec3 sigma_s = m.albedo * vol_path_sigma_t(m, x);
+    vec3 sigma_s = vol_path_sigma_s(m, x);
     vec3 Tr = medium_transmittance(medium, o, r.dir, t, rng);
     path.throughput = throughput * Tr * sigma_s / (pdf * p_med);
     if (!same_point) {

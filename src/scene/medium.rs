@@ -10,7 +10,8 @@
 //! - `heterogeneous`: `sigma_t` a nested `<volume type="gridvolume">` (a Mitsuba `.vol`
 //!   file, 1 or 3 float32 channels; `to_world` places its unit cube, or its own bounding
 //!   box with `use_grid_bbox`; trilinear interpolation between voxel centres, as
-//!   Mitsuba 3's `gridvolume`) or a constant; `albedo` a constant color; `scale`;
+//!   Mitsuba 3's `gridvolume`) or a constant; `albedo` a constant color, or a
+//!   `gridvolume` on the same voxels (resolution and `to_world`) as `sigma_t`; `scale`;
 //!   `majorant_resolution_factor` (wavetrace default 8: a coarse grid of maxima, one
 //!   cell per 8³ voxels, lets delta tracking take long steps through thin regions; 0:
 //!   one majorant for the whole grid, as Mitsuba's default). Procedural `cloud` and
@@ -44,6 +45,9 @@ pub struct Medium {
     pub kind: MediumKind,
     /// Single-scattering albedo sigma_s / sigma_t, each channel in [0, 1].
     pub albedo: Vec3,
+    /// A grid of albedos (1 or 3 channels, values in [0, 1]) replacing `albedo`, on
+    /// the same voxels as the extinction grid of a `Grid` medium.
+    pub albedo_grid: Option<Grid>,
     /// Henyey-Greenstein asymmetry, 0 for the isotropic phase function.
     pub g: f32,
     pub sample_emitters: bool,
@@ -275,16 +279,26 @@ impl Medium {
         let mut sigma_t = props.color_opt("sigma_t")?;
         let mut albedo = props.color_opt("albedo")?;
         let mut grid = None;
+        let mut albedo_grid: Option<(Grid, &Element)> = None;
         for (name, v, n) in volumes {
             match (name, v) {
                 ("sigma_t", Volume::Constant(c)) => sigma_t = Some(c),
-                ("albedo", Volume::Constant(c)) => albedo = Some(c),
+                (_, Volume::Constant(c)) => albedo = Some(c),
                 ("sigma_t", Volume::Grid(gr)) => grid = Some(gr),
-                _ => {
-                    return Err(
-                        n.err("an albedo grid is not supported yet (give a constant albedo)")
-                    )
-                }
+                (_, Volume::Grid(gr)) => albedo_grid = Some((gr, n)),
+            }
+        }
+        if let Some((a, n)) = &albedo_grid {
+            let same = grid
+                .as_ref()
+                .is_some_and(|g| g.res == a.res && g.to_world.abs_diff_eq(a.to_world, 1e-6));
+            if t != "heterogeneous" || !same {
+                return Err(n.err(
+                    "an albedo grid needs a sigma_t grid with the same resolution and placement (to_world)",
+                ));
+            }
+            if a.data.iter().any(|&v| v > 1.0) {
+                return Err(n.err("albedo grid values must lie in [0, 1]"));
             }
         }
         let (sa, ss) = (props.color_opt("sigma_a")?, props.color_opt("sigma_s")?);
@@ -362,6 +376,7 @@ impl Medium {
             name: el.attr("id").unwrap_or(t).to_string(),
             kind,
             albedo,
+            albedo_grid: albedo_grid.map(|(a, _)| a),
             g: g.unwrap_or(0.0),
             sample_emitters,
         })
