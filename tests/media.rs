@@ -805,3 +805,45 @@ fn albedo_grid_matches_constant_albedo() {
         "albedo grid of 1 in a furnace: a pixel is off by {off}"
     );
 }
+
+/// Bad media input on the command line: an error naming the file and line, exit
+/// status 1, never a panic.
+#[test]
+fn bad_media_input_is_a_clear_error() {
+    let camera = r#"<sensor type="perspective"><film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>"#;
+    let cases = [
+        (
+            "missing_vol",
+            r#"<shape type="cube"><bsdf type="null"/><medium type="heterogeneous" name="interior">
+<volume type="gridvolume" name="sigma_t"><string name="filename" value="nope.vol"/></volume></medium></shape>"#,
+            vec!["missing_vol.xml:4", "nope.vol"],
+        ),
+        (
+            "bad_g",
+            r#"<medium type="homogeneous" id="m"><phase type="hg">
+<float name="g" value="-1.5"/></phase></medium>"#,
+            vec!["bad_g.xml:4", "g must lie in (-1, 1)"],
+        ),
+        (
+            "not_a_medium",
+            r#"<bsdf type="diffuse" id="b"/>
+<shape type="cube"><ref id="b" name="interior"/></shape>"#,
+            vec!["not_a_medium.xml:4"],
+        ),
+        (
+            "bad_sampling",
+            r#"<integrator type="single_scatter"><string name="sampling" value="fancy"/></integrator>"#,
+            vec!["bad_sampling.xml:3", "equiangular"],
+        ),
+    ];
+    for (name, body, needles) in cases {
+        let xml = format!("<scene version=\"3.0.0\">\n{camera}\n{body}\n</scene>\n");
+        let path = common::temp_file("bad_media", &format!("{name}.xml"), &xml);
+        let (code, _, err) = common::wavetrace(&["render", path.to_str().expect("path"), "-q"]);
+        assert_eq!(code, 1, "{name}: exit status; stderr: {err}");
+        assert!(!err.contains("panicked"), "{name}: panic: {err}");
+        for n in needles {
+            assert!(err.contains(n), "{name}: stderr lacks {n:?}:\n{err}");
+        }
+    }
+}
