@@ -248,12 +248,22 @@ fn check_color(props: &Properties, key: &str, c: Vec3, max: Option<f32>) -> Resu
 impl Medium {
     /// A Mitsuba `<medium>` element.
     pub fn from_mitsuba(el: &Element) -> Result<Medium, Error> {
+        Ok(Medium::read(el, Dialect::Mitsuba, |_| Ok(()))?.0)
+    }
+
+    /// A `<medium>` element of either dialect; `extra` reads the parameters a dialect
+    /// adds (Nori's bounds) before unknown ones are refused.
+    pub fn read<T>(
+        el: &Element,
+        dialect: Dialect,
+        extra: impl FnOnce(&Properties) -> Result<T, Error>,
+    ) -> Result<(Medium, T), Error> {
         el.check_attrs(&["type", "id", "name"])?;
         let t = el.require("type")?;
         if !matches!(t, "homogeneous" | "heterogeneous") {
             return Err(el.err(format!("unknown medium type '{t}'")));
         }
-        let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
+        let (props, nested) = Properties::read(el, dialect, false)?;
         let mut g = None;
         let mut volumes: Vec<(&str, Volume, &Element)> = Vec::new();
         for n in nested {
@@ -371,15 +381,17 @@ impl Medium {
                 },
             }
         };
+        let more = extra(&props)?;
         props.finish()?;
-        Ok(Medium {
+        let medium = Medium {
             name: el.attr("id").unwrap_or(t).to_string(),
             kind,
             albedo,
             albedo_grid: albedo_grid.map(|(a, _)| a),
             g: g.unwrap_or(0.0),
             sample_emitters,
-        })
+        };
+        Ok((medium, more))
     }
 }
 
