@@ -95,9 +95,10 @@ pub const UNBOUNDED_BOUNCES: u32 = 64;
 
 /// The same for the volumetric path tracers: a path in a dense, bright medium scatters
 /// hundreds of times (albedo 1 keeps Russian roulette's survival at 0.99, so 55% of
-/// such paths would outlive 64 bounces; 0.99^250 < 9%). The extra bounces of a batch
-/// whose paths have ended are empty indirect dispatches.
-pub const UNBOUNDED_VOLUME_BOUNCES: u32 = 256;
+/// such paths would outlive 64 bounces; 0.99^1019 < 4e-5). A batch stops recording
+/// bounces once its ray queue is empty (`Renderer::run_batch`), so the budget costs
+/// nothing where paths end sooner.
+pub const UNBOUNDED_VOLUME_BOUNCES: u32 = 1024;
 
 /// The parameters an integrator reads.
 fn parameter_names(name: &str) -> &'static [&'static str] {

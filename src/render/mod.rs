@@ -319,19 +319,17 @@ impl Renderer {
             // pixels of one sample.
             if pixels <= cap {
                 let k = (cap / pixels).min(end - sample);
-                self.record_batch(&mut cmd, sample, 0, k * pixels);
+                self.run_batch(&mut cmd, sample, 0, k * pixels, &mut stats)?;
                 sample += k;
                 done += k as u64 * pixels as u64;
-                self.finish_batch(&mut cmd, &mut stats)?;
                 progress(done, total);
             } else {
                 let mut base = 0;
                 while base < pixels {
                     let n = cap.min(pixels - base);
-                    self.record_batch(&mut cmd, sample, base, n);
+                    self.run_batch(&mut cmd, sample, base, n, &mut stats)?;
                     base += n;
                     done += n as u64;
-                    self.finish_batch(&mut cmd, &mut stats)?;
                     progress(done, total);
                 }
                 sample += 1;
@@ -354,15 +352,19 @@ impl Renderer {
         ))
     }
 
-    /// Records one batch: `path_count` paths starting at global sample
-    /// `sample_base * pixels + pixel_base`.
-    fn record_batch(
+    /// Renders one batch: `path_count` paths starting at global sample
+    /// `sample_base * pixels + pixel_base`. Bounces are recorded BOUNCE_CHUNK at a time;
+    /// between chunks the batch is submitted and stops early once no path is left in
+    /// the ray queue, so long bounce budgets (volumetric paths) cost nothing where paths
+    /// end sooner.
+    fn run_batch(
         &self,
         cmd: &mut CommandList,
         sample_base: u32,
         pixel_base: u32,
         path_count: u32,
-    ) {
+        stats: &mut RenderStats,
+    ) -> Result<()> {
         let wf = &self.wavefront;
         let counters = Counters {
             ray_count: [path_count, 0],
@@ -388,32 +390,46 @@ impl Renderer {
             groups_for(path_count),
         );
         cmd.barrier();
-        for depth in 0..self.integrator.bounces() {
-            push.depth = depth;
-            push.queue_in = depth % 2;
-            let p = bytemuck::bytes_of(&push);
-            cmd.dispatch(&k.ray_args, &sets, p, [1, 1, 1]);
-            cmd.barrier();
-            cmd.dispatch_indirect(
-                &k.intersect,
-                &sets,
-                p,
-                &wf.dispatch_args,
-                Wavefront::RAY_ARGS,
-            );
-            cmd.barrier();
-            cmd.dispatch_indirect(&k.shade, &sets, p, &wf.dispatch_args, Wavefront::RAY_ARGS);
-            cmd.barrier();
-            cmd.dispatch(&k.shadow_args, &sets, p, [1, 1, 1]);
-            cmd.barrier();
-            cmd.dispatch_indirect(
-                &k.shadow,
-                &sets,
-                p,
-                &wf.dispatch_args,
-                Wavefront::SHADOW_ARGS,
-            );
-            cmd.barrier();
+        let bounces = self.integrator.bounces();
+        let mut depth = 0;
+        while depth < bounces {
+            let end = (depth + BOUNCE_CHUNK).min(bounces);
+            for d in depth..end {
+                push.depth = d;
+                push.queue_in = d % 2;
+                let p = bytemuck::bytes_of(&push);
+                cmd.dispatch(&k.ray_args, &sets, p, [1, 1, 1]);
+                cmd.barrier();
+                cmd.dispatch_indirect(
+                    &k.intersect,
+                    &sets,
+                    p,
+                    &wf.dispatch_args,
+                    Wavefront::RAY_ARGS,
+                );
+                cmd.barrier();
+                cmd.dispatch_indirect(&k.shade, &sets, p, &wf.dispatch_args, Wavefront::RAY_ARGS);
+                cmd.barrier();
+                cmd.dispatch(&k.shadow_args, &sets, p, [1, 1, 1]);
+                cmd.barrier();
+                cmd.dispatch_indirect(
+                    &k.shadow,
+                    &sets,
+                    p,
+                    &wf.dispatch_args,
+                    Wavefront::SHADOW_ARGS,
+                );
+                cmd.barrier();
+            }
+            depth = end;
+            if depth < bounces {
+                // The rays of bounce `depth` are in queue depth % 2.
+                stats.kernel_times.add(&cmd.submit_and_wait_timed()?);
+                let c: Vec<Counters> = wf.counters.read(&self.device)?;
+                if c[0].ray_count[(depth % 2) as usize] == 0 {
+                    break;
+                }
+            }
         }
         cmd.dispatch(
             &k.accumulate,
@@ -422,6 +438,7 @@ impl Renderer {
             groups_for(path_count.min(self.width * self.height)),
         );
         cmd.barrier();
+        self.finish_batch(cmd, stats)
     }
 
     fn finish_batch(&self, cmd: &mut CommandList, stats: &mut RenderStats) -> Result<()> {
@@ -434,6 +451,9 @@ impl Renderer {
         Ok(())
     }
 }
+
+/// Bounces recorded per submission of a batch (see `Renderer::run_batch`).
+const BOUNCE_CHUNK: u32 = 64;
 
 /// Paths per batch: bounded by memory (about 40 MiB of path state on a CPU device,
 /// 300 MiB on a GPU) and large enough to fill a GPU.
