@@ -26,6 +26,9 @@ layout(constant_id = 5) const bool SCENE_HAS_SPHERES = true;
 #define BVH_HAS_SPHERES SCENE_HAS_SPHERES
 #include "bvh.glsl"
 #define MEDIA_ENABLED SCENE_HAS_MEDIA
+// Grid media in the scene; without them only the homogeneous code is compiled.
+layout(constant_id = 6) const bool SCENE_HAS_GRIDS = true;
+#define MEDIA_GRIDS SCENE_HAS_GRIDS
 #include "medium.glsl"
 #include "path.glsl"
 #include "vol_path.glsl"

@@ -18,6 +18,9 @@ layout(constant_id = 0) const bool SCENE_HAS_SPHERES = true;
 layout(constant_id = 4) const bool SCENE_HAS_MEDIA = false;
 #include "surface.glsl"
 #define MEDIA_ENABLED SCENE_HAS_MEDIA
+// Grid media in the scene; without them only the homogeneous code is compiled.
+layout(constant_id = 6) const bool SCENE_HAS_GRIDS = true;
+#define MEDIA_GRIDS SCENE_HAS_GRIDS
 #include "transmittance.glsl"
 
 void main() {

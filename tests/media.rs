@@ -307,9 +307,20 @@ fn render_stats(
 /// Bonferroni-corrected over the 192 tests; an unbiased render fails with probability
 /// below 1%. Also checks that a 5% bias would be seen.
 fn matches_reference(device: &Device, scene: &str, defines: &[(&str, &str)], reference: &str) {
+    matches_reference_with(device, scene, defines, reference, None);
+}
+
+/// As [`matches_reference`] with another integrator than the scene's.
+fn matches_reference_with(
+    device: &Device,
+    scene: &str,
+    defines: &[(&str, &str)],
+    reference: &str,
+    integrator: Option<&str>,
+) {
     let scene = load_with(&common::repo(scene), defines);
     let reference = Image::read_exr(common::repo(reference)).expect("reference EXR");
-    let (img, stats) = render_stats(device, &scene, None, 64, 0);
+    let (img, stats) = render_stats(device, &scene, integrator, 64, 0);
     assert_eq!(stats.discarded, 0, "NaN or infinite samples");
     let test = block_t_test(&img, &reference, 8).expect("t-test");
     println!(
@@ -333,13 +344,22 @@ fn reference_name(scene: &Scene, defines: &[(&str, &str)]) -> String {
 }
 
 /// The shipped homogeneous scenes against Mitsuba's volpath: a scattering cube
-/// (sigma_s = 1, sigma_a = 0) with isotropic, g = 0.7 and g = -0.7 phase functions, a
+/// (sigma_s = 1, sigma_a = 0; also by vol_path_simple) with isotropic, g = 0.7 and
+/// g = -0.7 phase functions, a
 /// pure absorber, and two coloured media inside fog that also holds the camera.
 #[test]
 fn homogeneous_media_match_mitsuba() {
     let device = common::device();
     let cube = "scenes/media/cube.xml";
     matches_reference(&device, cube, &[], "scenes/refs/media_cube.exr");
+    // Phase and BSDF sampling alone converge to the same image.
+    matches_reference_with(
+        &device,
+        cube,
+        &[],
+        "scenes/refs/media_cube.exr",
+        Some("vol_path_simple"),
+    );
     matches_reference(
         &device,
         cube,
@@ -583,7 +603,8 @@ fn slab_transmittance_is_beer_lambert() {
 /// White furnace: a non-absorbing medium (albedo 1) inside a null sphere, under a
 /// constant environment of radiance 1 and nothing else, returns exactly 1 along every
 /// ray. vol_path_simple with neither Russian roulette nor a depth limit within the 64
-/// bounces dispatched carries weight exactly 1 on every sample (grey homogeneous and
+/// bounces dispatched carries weight exactly 1 on every sample (so does vol_path_mis
+/// where the medium does not sample emitters; grey homogeneous and
 /// grid media, here the smoke grid and a procedural cloud: scattering weights are the
 /// albedo); vol_path_mis (emitter sampling with
 /// transmittance, MIS) and coloured extinction are right on average (z-test of the
@@ -594,6 +615,7 @@ fn furnace_non_absorbing_medium_returns_the_light() {
     let smoke = common::repo("scenes/media/smoke.vol");
     let media = [
         ("grey", r#"<medium type="homogeneous" name="interior"><rgb name="sigma_t" value="2"/><rgb name="albedo" value="1"/><phase type="hg"><float name="g" value="0.6"/></phase></medium>"#.to_string()),
+        ("grey, no emitter sampling", r#"<medium type="homogeneous" name="interior"><rgb name="sigma_t" value="2"/><rgb name="albedo" value="1"/><boolean name="sample_emitters" value="false"/></medium>"#.to_string()),
         ("coloured", r#"<medium type="homogeneous" name="interior"><rgb name="sigma_t" value="0.1, 0.5, 1"/><float name="scale" value="3"/><rgb name="albedo" value="1"/></medium>"#.to_string()),
         ("grid", format!(r#"<medium type="heterogeneous" name="interior"><volume type="gridvolume" name="sigma_t"><string name="filename" value="{}"/>
             <transform name="to_world"><scale value="2"/><translate x="-1" y="-1" z="-1"/></transform></volume>
@@ -613,7 +635,8 @@ fn furnace_non_absorbing_medium_returns_the_light() {
 <shape type="sphere"><bsdf type="null"/>{medium}</shape>
 </scene>"#
         );
-        let scene = common::load(&common::temp_file("furnace", &format!("{name}.xml"), &xml));
+        let file = format!("{}.xml", name.replace([' ', ','], "_"));
+        let scene = common::load(&common::temp_file("furnace", &file, &xml));
         for integrator in ["vol_path_simple", "vol_path_mis"] {
             let (img, stats) = render_stats(&device, &scene, Some(integrator), 32, 3);
             assert_eq!(stats.discarded, 0);
@@ -625,7 +648,10 @@ fn furnace_non_absorbing_medium_returns_the_light() {
                 .map(|&v| (v as f64 - 1.0).abs())
                 .fold(0.0, f64::max);
             println!("furnace {name}, {integrator}: mean {m:.5} ± {se:.5}, worst pixel off by {worst:.2e}");
-            if integrator == "vol_path_simple" && *name != "coloured" {
+            // Without emitter sampling in the medium vol_path_mis is exact too.
+            let exact = (integrator == "vol_path_simple" && *name != "coloured")
+                || name.ends_with("no emitter sampling");
+            if exact {
                 assert!(worst < 1e-4, "{name}: a pixel is off by {worst}");
             } else {
                 assert!(
@@ -705,4 +731,139 @@ fn stress_extreme_media_stay_finite_and_agree() {
     let test = block_t_test(&fine, &global, 8).expect("t-test");
     println!("spiky grid, majorant grid vs one majorant: {test}");
     assert!(test.passes(0.01), "majorant grid changes the image: {test}");
+}
+
+/// An albedo grid: a grid of 0.5 everywhere (three channels, on the smoke grid's
+/// voxels) gives the same image as the constant albedo 0.5 (the same random numbers
+/// and weights, to rounding); a grid of 1 keeps the white furnace exact.
+#[test]
+fn albedo_grid_matches_constant_albedo() {
+    let device = common::device();
+    let n = 32i32;
+    let vol = |name: &str, v: f32| {
+        let mut b = b"VOL\x03".to_vec();
+        for i in [1, n, n, n, 3] {
+            b.extend_from_slice(&i.to_le_bytes());
+        }
+        for f in [0f32, 0.0, 0.0, 1.0, 1.0, 1.0] {
+            b.extend_from_slice(&f.to_le_bytes());
+        }
+        for _ in 0..3 * n * n * n {
+            b.extend_from_slice(&v.to_le_bytes());
+        }
+        let path = std::env::temp_dir().join(format!(
+            "wavetrace-test-{}-albedo-{name}.vol",
+            std::process::id()
+        ));
+        std::fs::write(&path, b).expect("write vol");
+        path
+    };
+    let smoke = common::repo("scenes/media/smoke.vol");
+    let placement = r#"<transform name="to_world"><scale value="2"/><translate x="-1" y="-1" z="-1"/></transform>"#;
+    let scene = |albedo: &str, light: &str| {
+        format!(
+            r#"<scene version="3.0.0">
+<integrator type="volpath"><integer name="rr_depth" value="1000"/></integrator>
+<sensor type="perspective"><float name="fov" value="35"/>
+    <transform name="to_world"><lookat origin="0, 0.5, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+    <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/></film></sensor>
+{light}
+<shape type="cube"><bsdf type="null"/><medium type="heterogeneous" name="interior">
+    <volume type="gridvolume" name="sigma_t"><string name="filename" value="{}"/>{placement}</volume>
+    <float name="scale" value="5"/>{albedo}</medium></shape>
+</scene>"#,
+            smoke.display()
+        )
+    };
+    let lit = r#"<emitter type="constant"><rgb name="radiance" value="0.3"/></emitter>
+<shape type="sphere"><point name="center" x="2" y="2" z="1"/><float name="radius" value="0.3"/>
+    <emitter type="area"><rgb name="radiance" value="20"/></emitter></shape>"#;
+    let grid_albedo = |v: &str| {
+        format!(
+            r#"<volume type="gridvolume" name="albedo"><string name="filename" value="{}"/>{placement}</volume>"#,
+            vol(v, v.parse().expect("number")).display()
+        )
+    };
+    let render = |xml: String, name: &str, integrator: Option<&str>| {
+        let path = common::temp_file("albedo", &format!("{name}.xml"), &xml);
+        let (img, stats) = render_stats(&device, &common::load(&path), integrator, 8, 4);
+        assert_finite(name, &img, &stats);
+        img
+    };
+    let constant = render(
+        scene(r#"<rgb name="albedo" value="0.5"/>"#, lit),
+        "constant",
+        None,
+    );
+    let grid = render(scene(&grid_albedo("0.5"), lit), "grid", None);
+    let worst = constant
+        .rgb
+        .iter()
+        .zip(&grid.rgb)
+        .map(|(a, b)| (a - b).abs() / a.abs().max(1e-3))
+        .fold(0.0f32, f32::max);
+    println!("albedo grid of 0.5 against albedo 0.5: worst relative difference {worst:.2e}");
+    assert!(
+        worst < 1e-4,
+        "albedo grid differs from the constant albedo: {worst}"
+    );
+    let furnace = render(
+        scene(
+            &grid_albedo("1"),
+            r#"<emitter type="constant"><rgb name="radiance" value="1"/></emitter>"#,
+        ),
+        "furnace",
+        Some("vol_path_simple"),
+    );
+    let off = furnace
+        .rgb
+        .iter()
+        .map(|v| (v - 1.0).abs())
+        .fold(0.0f32, f32::max);
+    assert!(
+        off < 1e-4,
+        "albedo grid of 1 in a furnace: a pixel is off by {off}"
+    );
+}
+
+/// Bad media input on the command line: an error naming the file and line, exit
+/// status 1, never a panic.
+#[test]
+fn bad_media_input_is_a_clear_error() {
+    let camera = r#"<sensor type="perspective"><film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>"#;
+    let cases = [
+        (
+            "missing_vol",
+            r#"<shape type="cube"><bsdf type="null"/><medium type="heterogeneous" name="interior">
+<volume type="gridvolume" name="sigma_t"><string name="filename" value="nope.vol"/></volume></medium></shape>"#,
+            vec!["missing_vol.xml:4", "nope.vol"],
+        ),
+        (
+            "bad_g",
+            r#"<medium type="homogeneous" id="m"><phase type="hg">
+<float name="g" value="-1.5"/></phase></medium>"#,
+            vec!["bad_g.xml:4", "g must lie in (-1, 1)"],
+        ),
+        (
+            "not_a_medium",
+            r#"<bsdf type="diffuse" id="b"/>
+<shape type="cube"><ref id="b" name="interior"/></shape>"#,
+            vec!["not_a_medium.xml:4"],
+        ),
+        (
+            "bad_sampling",
+            r#"<integrator type="single_scatter"><string name="sampling" value="fancy"/></integrator>"#,
+            vec!["bad_sampling.xml:3", "equiangular"],
+        ),
+    ];
+    for (name, body, needles) in cases {
+        let xml = format!("<scene version=\"3.0.0\">\n{camera}\n{body}\n</scene>\n");
+        let path = common::temp_file("bad_media", &format!("{name}.xml"), &xml);
+        let (code, _, err) = common::wavetrace(&["render", path.to_str().expect("path"), "-q"]);
+        assert_eq!(code, 1, "{name}: exit status; stderr: {err}");
+        assert!(!err.contains("panicked"), "{name}: panic: {err}");
+        for n in needles {
+            assert!(err.contains(n), "{name}: stderr lacks {n:?}:\n{err}");
+        }
+    }
 }

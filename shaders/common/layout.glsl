@@ -247,6 +247,7 @@ struct ShadowItem {
 #define MEDIUM_HOMOGENEOUS 0u
 #define MEDIUM_GRID 1u
 #define MEDIUM_SAMPLE_EMITTERS 1u
+#define MEDIUM_ALBEDO_RGB 2u
 // A participating medium; see src/gpu/layout.rs. Homogeneous: sigma_t (scale applied)
 // and albedo. Grid: extinction = sigma_t (per-channel scale) x trilinear density at
 // `data` (res voxels, channels 1 or 3), world_to_grid maps to the grid's unit cube; a
@@ -265,7 +266,7 @@ struct MediumRecord {
     float majorant;
     uint channels;
     uint flags;
-    uint pad0;
+    uint albedo_data; // NONE, or an albedo grid on the density voxels at this offset
 };
 
 // Queue lengths and statistics.

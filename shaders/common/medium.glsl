@@ -8,6 +8,12 @@
 #include "rng.glsl"
 
 #define MEDIUM_INF uintBitsToFloat(0x7f800000u)
+
+// Whether the scene has grid media; a kernel may define it as a specialization
+// constant so that homogeneous-only scenes compile the tracking loops away.
+#ifndef MEDIA_GRIDS
+#define MEDIA_GRIDS true
+#endif
 // Tentative collisions one tracking loop may take before it gives up (the path or
 // shadow ray then carries nothing): a guard against pathological grids, far above
 // what the majorant grid needs (optical depth of the majorants along the ray).
@@ -56,10 +62,10 @@ vec3 medium_tr(vec3 sigma, float t) {
 
 float medium_avg(vec3 v) { return (v.x + v.y + v.z) * (1.0 / 3.0); }
 
-// Extinction at grid-local point pl (the grid's unit cube): the record's per-channel
-// scale times the density interpolated trilinearly between voxel centres, clamped at
-// the edges (as Mitsuba 3's gridvolume).
-vec3 medium_grid_sigma_t(MediumRecord m, vec3 pl) {
+// A grid on the record's voxels (res) with `channels` channels at `data`, at
+// grid-local point pl (the unit cube): trilinear interpolation between voxel centres,
+// clamped at the edges (as Mitsuba 3's gridvolume).
+vec3 medium_grid_lookup(MediumRecord m, uint data, uint channels, vec3 pl) {
     ivec3 res = ivec3(m.res);
     vec3 x = pl * vec3(m.res) - 0.5;
     vec3 f = floor(x);
@@ -73,14 +79,26 @@ vec3 medium_grid_sigma_t(MediumRecord m, vec3 pl) {
         vec3 wk = mix(1.0 - w, w, vec3(hi));
         float weight = wk.x * wk.y * wk.z;
         uint idx = uint((i.z * res.y + i.y) * res.x + i.x);
-        if (m.channels == 1u) {
-            d += vec3(weight * grid_value(m.data + idx));
+        if (channels == 1u) {
+            d += vec3(weight * grid_value(data + idx));
         } else {
-            uint b = m.data + 3u * idx;
+            uint b = data + 3u * idx;
             d += weight * vec3(grid_value(b), grid_value(b + 1u), grid_value(b + 2u));
         }
     }
-    return m.sigma_t * d;
+    return d;
+}
+
+// Extinction at grid-local point pl: the record's per-channel scale times the density.
+vec3 medium_grid_sigma_t(MediumRecord m, vec3 pl) {
+    return m.sigma_t * medium_grid_lookup(m, m.data, m.channels, pl);
+}
+
+// Single-scattering albedo at grid-local point pl of a grid medium.
+vec3 medium_grid_albedo(MediumRecord m, vec3 pl) {
+    if (m.albedo_data == NONE) return m.albedo;
+    uint channels = (m.flags & MEDIUM_ALBEDO_RGB) != 0u ? 3u : 1u;
+    return medium_grid_lookup(m, m.albedo_data, channels, pl);
 }
 
 // A walk through the cells of a grid medium's majorant grid along a ray (Amanatides
@@ -182,7 +200,7 @@ MediumEvent medium_sample(uint mi, vec3 o, vec3 d, float tmax, inout MediumRng r
     ev.t = tmax;
     ev.weight = vec3(1.0);
     MediumRecord m = medium_load(mi);
-    if (m.kind == MEDIUM_HOMOGENEOUS) {
+    if (!MEDIA_GRIDS || m.kind == MEDIUM_HOMOGENEOUS) {
         vec3 st = m.sigma_t;
         if (all(equal(m.albedo, vec3(0.0)))) {
             ev.weight = medium_tr(st, tmax);
@@ -220,12 +238,13 @@ MediumEvent medium_sample(uint mi, vec3 o, vec3 d, float tmax, inout MediumRng r
                 vec4 u = medium_rng_next(rng);
                 w.t -= log(1.0 - u.x) / mu;
                 if (w.t >= t_cell_end) break;
-                vec3 st = medium_grid_sigma_t(m, w.ol + w.t * w.dl);
+                vec3 pl = w.ol + w.t * w.dl;
+                vec3 st = medium_grid_sigma_t(m, pl);
                 float avg_t = medium_avg(st);
                 if (u.y * mu < avg_t) {
                     ev.scattered = true;
                     ev.t = w.t;
-                    ev.weight *= st * m.albedo / avg_t;
+                    ev.weight *= st * medium_grid_albedo(m, pl) / avg_t;
                     return ev;
                 }
                 vec3 sn = max(vec3(mu) - st, vec3(0.0));
@@ -245,7 +264,7 @@ MediumEvent medium_sample(uint mi, vec3 o, vec3 d, float tmax, inout MediumRng r
 // MEDIUM_RR_THRESHOLD (survival probability = its largest channel).
 vec3 medium_transmittance(uint mi, vec3 o, vec3 d, float tmax, inout MediumRng rng) {
     MediumRecord m = medium_load(mi);
-    if (m.kind == MEDIUM_HOMOGENEOUS) return medium_tr(m.sigma_t, tmax);
+    if (!MEDIA_GRIDS || m.kind == MEDIUM_HOMOGENEOUS) return medium_tr(m.sigma_t, tmax);
     vec3 T = vec3(1.0);
     MajorantWalk w;
     if (!medium_walk_begin(m, o, d, tmax, w)) return T;

@@ -19,13 +19,16 @@ vec3 transmittance_shadow(ShadowItem s) {
     float remaining = s.tmax;
     for (uint crossing = 0u; crossing < TRANSMITTANCE_MAX_CROSSINGS; crossing++) {
         Hit h = bvh_closest(o, s.dir, 0.0, remaining);
+        // An opaque surface blocks the ray whatever the media before it.
+        if (h.prim != NONE && (shape_load(prim_load(h.prim).shape).flags & SHAPE_NULL_BSDF) == 0u) {
+            return vec3(0.0);
+        }
         if (medium != NONE) {
             T *= medium_transmittance(medium, o, s.dir, h.prim == NONE ? remaining : h.t, rng);
             if (!any(greaterThan(T, vec3(0.0)))) return vec3(0.0);
         }
         if (h.prim == NONE) return T;
         Surface sf = surface_at(h.prim, h.u, h.v, o, s.dir, h.t);
-        if ((shape_load(sf.shape).flags & SHAPE_NULL_BSDF) == 0u) return vec3(0.0);
         medium = medium_after(sf.shape, medium, s.dir, sf.ng);
         vec3 next = surface_spawn_origin(sf, dot(s.dir, sf.ng) > 0.0 ? sf.ng : -sf.ng);
         remaining = max(remaining - dot(next - o, s.dir), 0.0);

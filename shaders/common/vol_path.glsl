@@ -66,10 +66,11 @@ void vol_path_scatter(uint integrator, RayItem r, PathState path, uint medium, v
     queue_push_ray(p, r.path, ps.wi, EMITTER_INFINITY);
 }
 
-// Extinction of medium m at world point p.
-vec3 vol_path_sigma_t(MediumRecord m, vec3 p) {
-    if (m.kind == MEDIUM_HOMOGENEOUS) return m.sigma_t;
-    return medium_grid_sigma_t(m, (m.world_to_grid * vec4(p, 1.0)).xyz);
+// Scattering coefficient σs = albedo σt of medium m at world point p.
+vec3 vol_path_sigma_s(MediumRecord m, vec3 p) {
+    if (!MEDIA_GRIDS || m.kind == MEDIUM_HOMOGENEOUS) return m.albedo * m.sigma_t;
+    vec3 pl = (m.world_to_grid * vec4(p, 1.0)).xyz;
+    return medium_grid_albedo(m, pl) * medium_grid_sigma_t(m, pl);
 }
 
 // single_scatter with equiangular sampling, camera ray r in medium `medium` over
@@ -86,6 +87,7 @@ vec3 vol_path_sigma_t(MediumRecord m, vec3 p) {
 // 1/2 for grids, 1 when nothing lies beyond.
 bool vol_path_equiangular(uint integrator, RayItem r, PathState path, uint medium, vec3 o,
                           float seg, inout vec3 throughput, inout MediumRng rng) {
+    if (!(seg > 0.0)) return true;
     MediumRecord m = medium_load(medium);
     vec3 T_seg = isinf(seg) ? vec3(0.0) : medium_transmittance(medium, o, r.dir, seg, rng);
     float p_med = isinf(seg) ? 1.0
@@ -105,8 +107,9 @@ bool vol_path_equiangular(uint integrator, RayItem r, PathState path, uint mediu
     Equiangular eq = equiangular_setup(o, r.dir, c, 0.0, seg);
     float t = equiangular_sample(eq, 0.0, seg, u.y);
     float pdf = equiangular_pdf(eq, t);
+    if (!(pdf > 0.0) || isinf(pdf)) return false;
     vec3 x = o + t * r.dir;
-    vec3 sigma_s = m.albedo * vol_path_sigma_t(m, x);
+    vec3 sigma_s = vol_path_sigma_s(m, x);
     vec3 Tr = medium_transmittance(medium, o, r.dir, t, rng);
     path.throughput = throughput * Tr * sigma_s / (pdf * p_med);
     if (!same_point) {
@@ -148,8 +151,9 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, inout PathSt
             if (!any(greaterThan(throughput, vec3(0.0)))) return false;
         }
         if (h.prim == NONE) break;
+        // A surface with a BSDF ends the stage (path_shade computes its geometry).
+        if ((shape_load(prim_load(h.prim).shape).flags & SHAPE_NULL_BSDF) == 0u) break;
         Surface s = surface_at(h.prim, h.u, h.v, o, r.dir, h.t);
-        if ((shape_load(s.shape).flags & SHAPE_NULL_BSDF) == 0u) break;
         if (crossing >= VOL_PATH_MAX_CROSSINGS) return false;
         if (vol) medium = medium_after(s.shape, medium, r.dir, s.ng);
         vec3 next = surface_spawn_origin(s, dot(r.dir, s.ng) > 0.0 ? s.ng : -s.ng);

@@ -90,6 +90,8 @@ pub const MEDIUM_GRID: u32 = 1;
 /// [`MediumRecord::flags`]: Mitsuba `sample_emitters` (next-event estimation at
 /// scattering points in the medium).
 pub const MEDIUM_SAMPLE_EMITTERS: u32 = 1;
+/// [`MediumRecord::flags`]: the albedo grid has three channels.
+pub const MEDIUM_ALBEDO_RGB: u32 = 2;
 
 /// A participating medium. Homogeneous: `sigma_t` is the extinction per unit length
 /// (scale applied), `albedo` the single-scattering albedo. Grid: the extinction at a
@@ -114,7 +116,9 @@ pub struct MediumRecord {
     pub majorant: f32,
     pub channels: u32,
     pub flags: u32,
-    pub pad0: u32,
+    /// `NONE`, or the offset in the grid buffer of an albedo grid on the density
+    /// grid's voxels ([`MEDIUM_ALBEDO_RGB`]: 3 channels, else 1).
+    pub albedo_data: u32,
 }
 
 /// A triangle's vertex indices into the [`Vertex`] array (global numbering), padded
@@ -668,7 +672,7 @@ mod tests {
                 majorant,
                 channels,
                 flags,
-                pad0
+                albedo_data
             ),
             rust_layout!(
                 Counters,

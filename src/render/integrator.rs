@@ -93,6 +93,13 @@ pub struct PathParams {
 /// long before (a path that survives 64 bounces carries < 0.99^59 of its weight).
 pub const UNBOUNDED_BOUNCES: u32 = 64;
 
+/// The same for the volumetric path tracers: a path in a dense, bright medium scatters
+/// hundreds of times (albedo 1 keeps Russian roulette's survival at 0.99, so 55% of
+/// such paths would outlive 64 bounces; 0.99^1019 < 4e-5). A batch stops recording
+/// bounces once its ray queue is empty (`Renderer::run_batch`), so the budget costs
+/// nothing where paths end sooner.
+pub const UNBOUNDED_VOLUME_BOUNCES: u32 = 1024;
+
 /// The parameters an integrator reads.
 fn parameter_names(name: &str) -> &'static [&'static str] {
     match name {
@@ -198,13 +205,14 @@ impl Integrator {
             Integrator::DirectMats { .. }
             | Integrator::DirectMis { .. }
             | Integrator::SingleScatter { .. } => 2,
-            Integrator::PathMats(p)
-            | Integrator::PathMis(p)
-            | Integrator::VolPathSimple(p)
-            | Integrator::VolPathMis(p) => p
+            Integrator::PathMats(p) | Integrator::PathMis(p) => p
                 .max_depth
                 .unwrap_or(UNBOUNDED_BOUNCES)
                 .min(UNBOUNDED_BOUNCES),
+            Integrator::VolPathSimple(p) | Integrator::VolPathMis(p) => p
+                .max_depth
+                .unwrap_or(UNBOUNDED_VOLUME_BOUNCES)
+                .min(UNBOUNDED_VOLUME_BOUNCES),
         }
     }
 

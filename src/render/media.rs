@@ -2,7 +2,9 @@
 
 use glam::{Mat4, Vec3};
 
-use crate::gpu::layout::{MediumRecord, MEDIUM_GRID, MEDIUM_HOMOGENEOUS, MEDIUM_SAMPLE_EMITTERS};
+use crate::gpu::layout::{
+    MediumRecord, MEDIUM_ALBEDO_RGB, MEDIUM_GRID, MEDIUM_HOMOGENEOUS, MEDIUM_SAMPLE_EMITTERS, NONE,
+};
 use crate::scene::medium::{Grid, Medium, MediumKind};
 
 /// Relative headroom of majorants over the largest extinction they bound, so that f32
@@ -24,8 +26,16 @@ pub fn record(m: &Medium, grid_data: &mut Vec<f32>, majorants: &mut Vec<f32>) ->
         res: [1, 1, 1],
         maj_res: [1, 1, 1],
         channels: 1,
+        albedo_data: NONE,
         ..Default::default()
     };
+    if let Some(a) = &m.albedo_grid {
+        rec.albedo_data = grid_data.len() as u32;
+        grid_data.extend_from_slice(&a.data);
+        if a.channels == 3 {
+            rec.flags |= MEDIUM_ALBEDO_RGB;
+        }
+    }
     match &m.kind {
         MediumKind::Homogeneous { sigma_t } => {
             rec.kind = MEDIUM_HOMOGENEOUS;

@@ -172,6 +172,12 @@ impl Renderer {
         // Media and null surfaces: the medium code of shade and shadow
         // (constant_id 4 of both; 2-3 belong to textures).
         let has_media = scene.needs_medium_code() as u32;
+        // Grid media (constant_id 6): homogeneous-only scenes compile tracking away.
+        let has_grids = scene
+            .media
+            .iter()
+            .any(|m| matches!(m.kind, crate::scene::medium::MediumKind::Grid { .. }))
+            as u32;
         let bsdf_kinds = records.bsdfs.iter().fold(0u32, |m, b| m | 1 << b.kind);
         let k = |name: &str, spirv: &[u8], spec: &[u32]| {
             Kernel::new(device, name, spirv, &layout, spec)
@@ -189,12 +195,13 @@ impl Renderer {
                     0,
                     has_media,
                     has_spheres,
+                    has_grids,
                 ],
             )?,
             shadow: k(
                 "shadow",
                 shaders::SHADOW,
-                &[has_spheres, 0, 0, 0, has_media],
+                &[has_spheres, 0, 0, 0, has_media, 0, has_grids],
             )?,
             ray_args: k("queue_args", shaders::QUEUE_ARGS, &[0])?,
             shadow_args: k("queue_args", shaders::QUEUE_ARGS, &[1])?,
@@ -312,19 +319,17 @@ impl Renderer {
             // pixels of one sample.
             if pixels <= cap {
                 let k = (cap / pixels).min(end - sample);
-                self.record_batch(&mut cmd, sample, 0, k * pixels);
+                self.run_batch(&mut cmd, sample, 0, k * pixels, &mut stats)?;
                 sample += k;
                 done += k as u64 * pixels as u64;
-                self.finish_batch(&mut cmd, &mut stats)?;
                 progress(done, total);
             } else {
                 let mut base = 0;
                 while base < pixels {
                     let n = cap.min(pixels - base);
-                    self.record_batch(&mut cmd, sample, base, n);
+                    self.run_batch(&mut cmd, sample, base, n, &mut stats)?;
                     base += n;
                     done += n as u64;
-                    self.finish_batch(&mut cmd, &mut stats)?;
                     progress(done, total);
                 }
                 sample += 1;
@@ -347,15 +352,19 @@ impl Renderer {
         ))
     }
 
-    /// Records one batch: `path_count` paths starting at global sample
-    /// `sample_base * pixels + pixel_base`.
-    fn record_batch(
+    /// Renders one batch: `path_count` paths starting at global sample
+    /// `sample_base * pixels + pixel_base`. Bounces are recorded BOUNCE_CHUNK at a time;
+    /// between chunks the batch is submitted and stops early once no path is left in
+    /// the ray queue, so long bounce budgets (volumetric paths) cost nothing where paths
+    /// end sooner.
+    fn run_batch(
         &self,
         cmd: &mut CommandList,
         sample_base: u32,
         pixel_base: u32,
         path_count: u32,
-    ) {
+        stats: &mut RenderStats,
+    ) -> Result<()> {
         let wf = &self.wavefront;
         let counters = Counters {
             ray_count: [path_count, 0],
@@ -381,32 +390,46 @@ impl Renderer {
             groups_for(path_count),
         );
         cmd.barrier();
-        for depth in 0..self.integrator.bounces() {
-            push.depth = depth;
-            push.queue_in = depth % 2;
-            let p = bytemuck::bytes_of(&push);
-            cmd.dispatch(&k.ray_args, &sets, p, [1, 1, 1]);
-            cmd.barrier();
-            cmd.dispatch_indirect(
-                &k.intersect,
-                &sets,
-                p,
-                &wf.dispatch_args,
-                Wavefront::RAY_ARGS,
-            );
-            cmd.barrier();
-            cmd.dispatch_indirect(&k.shade, &sets, p, &wf.dispatch_args, Wavefront::RAY_ARGS);
-            cmd.barrier();
-            cmd.dispatch(&k.shadow_args, &sets, p, [1, 1, 1]);
-            cmd.barrier();
-            cmd.dispatch_indirect(
-                &k.shadow,
-                &sets,
-                p,
-                &wf.dispatch_args,
-                Wavefront::SHADOW_ARGS,
-            );
-            cmd.barrier();
+        let bounces = self.integrator.bounces();
+        let mut depth = 0;
+        while depth < bounces {
+            let end = (depth + BOUNCE_CHUNK).min(bounces);
+            for d in depth..end {
+                push.depth = d;
+                push.queue_in = d % 2;
+                let p = bytemuck::bytes_of(&push);
+                cmd.dispatch(&k.ray_args, &sets, p, [1, 1, 1]);
+                cmd.barrier();
+                cmd.dispatch_indirect(
+                    &k.intersect,
+                    &sets,
+                    p,
+                    &wf.dispatch_args,
+                    Wavefront::RAY_ARGS,
+                );
+                cmd.barrier();
+                cmd.dispatch_indirect(&k.shade, &sets, p, &wf.dispatch_args, Wavefront::RAY_ARGS);
+                cmd.barrier();
+                cmd.dispatch(&k.shadow_args, &sets, p, [1, 1, 1]);
+                cmd.barrier();
+                cmd.dispatch_indirect(
+                    &k.shadow,
+                    &sets,
+                    p,
+                    &wf.dispatch_args,
+                    Wavefront::SHADOW_ARGS,
+                );
+                cmd.barrier();
+            }
+            depth = end;
+            if depth < bounces {
+                // The rays of bounce `depth` are in queue depth % 2.
+                stats.kernel_times.add(&cmd.submit_and_wait_timed()?);
+                let c: Vec<Counters> = wf.counters.read(&self.device)?;
+                if c[0].ray_count[(depth % 2) as usize] == 0 {
+                    break;
+                }
+            }
         }
         cmd.dispatch(
             &k.accumulate,
@@ -415,6 +438,7 @@ impl Renderer {
             groups_for(path_count.min(self.width * self.height)),
         );
         cmd.barrier();
+        self.finish_batch(cmd, stats)
     }
 
     fn finish_batch(&self, cmd: &mut CommandList, stats: &mut RenderStats) -> Result<()> {
@@ -427,6 +451,9 @@ impl Renderer {
         Ok(())
     }
 }
+
+/// Bounces recorded per submission of a batch (see `Renderer::run_batch`).
+const BOUNCE_CHUNK: u32 = 64;
 
 /// Paths per batch: bounded by memory (about 40 MiB of path state on a CPU device,
 /// 300 MiB on a GPU) and large enough to fill a GPU.

@@ -10,7 +10,8 @@
 //! - `heterogeneous`: `sigma_t` a nested `<volume type="gridvolume">` (a Mitsuba `.vol`
 //!   file, 1 or 3 float32 channels; `to_world` places its unit cube, or its own bounding
 //!   box with `use_grid_bbox`; trilinear interpolation between voxel centres, as
-//!   Mitsuba 3's `gridvolume`) or a constant; `albedo` a constant color; `scale`;
+//!   Mitsuba 3's `gridvolume`) or a constant; `albedo` a constant color, or a
+//!   `gridvolume` on the same voxels (resolution and `to_world`) as `sigma_t`; `scale`;
 //!   `majorant_resolution_factor` (wavetrace default 8: a coarse grid of maxima, one
 //!   cell per 8³ voxels, lets delta tracking take long steps through thin regions; 0:
 //!   one majorant for the whole grid, as Mitsuba's default). Procedural `cloud` and
@@ -44,6 +45,9 @@ pub struct Medium {
     pub kind: MediumKind,
     /// Single-scattering albedo sigma_s / sigma_t, each channel in [0, 1].
     pub albedo: Vec3,
+    /// A grid of albedos (1 or 3 channels, values in [0, 1]) replacing `albedo`, on
+    /// the same voxels as the extinction grid of a `Grid` medium.
+    pub albedo_grid: Option<Grid>,
     /// Henyey-Greenstein asymmetry, 0 for the isotropic phase function.
     pub g: f32,
     pub sample_emitters: bool,
@@ -244,12 +248,22 @@ fn check_color(props: &Properties, key: &str, c: Vec3, max: Option<f32>) -> Resu
 impl Medium {
     /// A Mitsuba `<medium>` element.
     pub fn from_mitsuba(el: &Element) -> Result<Medium, Error> {
+        Ok(Medium::read(el, Dialect::Mitsuba, |_| Ok(()))?.0)
+    }
+
+    /// A `<medium>` element of either dialect; `extra` reads the parameters a dialect
+    /// adds (Nori's bounds) before unknown ones are refused.
+    pub fn read<T>(
+        el: &Element,
+        dialect: Dialect,
+        extra: impl FnOnce(&Properties) -> Result<T, Error>,
+    ) -> Result<(Medium, T), Error> {
         el.check_attrs(&["type", "id", "name"])?;
         let t = el.require("type")?;
         if !matches!(t, "homogeneous" | "heterogeneous") {
             return Err(el.err(format!("unknown medium type '{t}'")));
         }
-        let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
+        let (props, nested) = Properties::read(el, dialect, false)?;
         let mut g = None;
         let mut volumes: Vec<(&str, Volume, &Element)> = Vec::new();
         for n in nested {
@@ -275,16 +289,26 @@ impl Medium {
         let mut sigma_t = props.color_opt("sigma_t")?;
         let mut albedo = props.color_opt("albedo")?;
         let mut grid = None;
+        let mut albedo_grid: Option<(Grid, &Element)> = None;
         for (name, v, n) in volumes {
             match (name, v) {
                 ("sigma_t", Volume::Constant(c)) => sigma_t = Some(c),
-                ("albedo", Volume::Constant(c)) => albedo = Some(c),
+                (_, Volume::Constant(c)) => albedo = Some(c),
                 ("sigma_t", Volume::Grid(gr)) => grid = Some(gr),
-                _ => {
-                    return Err(
-                        n.err("an albedo grid is not supported yet (give a constant albedo)")
-                    )
-                }
+                (_, Volume::Grid(gr)) => albedo_grid = Some((gr, n)),
+            }
+        }
+        if let Some((a, n)) = &albedo_grid {
+            let same = grid
+                .as_ref()
+                .is_some_and(|g| g.res == a.res && g.to_world.abs_diff_eq(a.to_world, 1e-6));
+            if t != "heterogeneous" || !same {
+                return Err(n.err(
+                    "an albedo grid needs a sigma_t grid with the same resolution and placement (to_world)",
+                ));
+            }
+            if a.data.iter().any(|&v| v > 1.0) {
+                return Err(n.err("albedo grid values must lie in [0, 1]"));
             }
         }
         let (sa, ss) = (props.color_opt("sigma_a")?, props.color_opt("sigma_s")?);
@@ -336,11 +360,20 @@ impl Medium {
             }
             props.ignore(&["majorant_factor"]);
             match grid {
-                Some(grid) => MediumKind::Grid {
-                    scale: check_color(&props, "sigma_t", Vec3::ONE, None)? * scale,
-                    grid,
-                    majorant_factor: factor as u32,
-                },
+                Some(grid) => {
+                    let top = (0..grid.channels).fold(0.0f32, |m, c| m.max(grid.max(c)));
+                    if !(top * scale).is_finite() {
+                        return Err(props.error(
+                            "scale",
+                            format!("scale {scale} times the grid's maximum {top} overflows"),
+                        ));
+                    }
+                    MediumKind::Grid {
+                        scale: check_color(&props, "sigma_t", Vec3::ONE, None)? * scale,
+                        grid,
+                        majorant_factor: factor as u32,
+                    }
+                }
                 // A constant sigma_t: the same as a homogeneous medium.
                 None => MediumKind::Homogeneous {
                     sigma_t: check_color(&props, "sigma_t", sigma_t.unwrap_or(Vec3::ONE), None)?
@@ -348,14 +381,17 @@ impl Medium {
                 },
             }
         };
+        let more = extra(&props)?;
         props.finish()?;
-        Ok(Medium {
+        let medium = Medium {
             name: el.attr("id").unwrap_or(t).to_string(),
             kind,
             albedo,
+            albedo_grid: albedo_grid.map(|(a, _)| a),
             g: g.unwrap_or(0.0),
             sample_emitters,
-        })
+        };
+        Ok((medium, more))
     }
 }
 
@@ -508,6 +544,16 @@ mod tests {
             let e = read_vol(&p).unwrap_err();
             assert!(e.contains(want), "{e}");
         }
+        // A scale that overflows the grid's extinction is refused.
+        std::fs::write(&p, vol_bytes([2, 3, 4], 1, [0.0; 6], &data)).unwrap();
+        let xml = mitsuba(
+            r#"<medium type="heterogeneous"><volume type="gridvolume" name="sigma_t"><string name="filename" value="g.vol"/></volume><float name="scale" value="1e38"/></medium>"#,
+        );
+        std::fs::write(dir.join("s.xml"), xml).unwrap();
+        let e = crate::scene::load(&dir.join("s.xml"), &[])
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("overflows"), "{e}");
         // A wrong file never panics, at any truncation.
         let good = vol_bytes([2, 3, 4], 1, [0.0, 0.0, 0.0, 1.0, 1.0, 1.0], &data);
         for n in 0..good.len() {

@@ -824,6 +824,16 @@ impl<'a> Loader<'a> {
             } else {
                 (n, false)
             };
+            if via_ref
+                && matches!(n.attr("name"), Some("interior" | "exterior"))
+                && target.tag != "medium"
+            {
+                return Err(n.err(format!(
+                    "'{}' is a <{}>, not a <medium>",
+                    n.attr("id").unwrap_or(""),
+                    target.tag
+                )));
+            }
             match target.tag.as_str() {
                 "bsdf" => {
                     if bsdf.is_some() {

@@ -9,6 +9,11 @@
 //! - `integrator`: any type; its parameters are kept unread in [`IntegratorSpec`].
 //! - `mesh type="obj"`: `filename`, `toWorld`, nested `bsdf` (`diffuse`, `mirror`,
 //!   `dielectric`, `microfacet`; parameters in [`Bsdf`]) and `emitter type="area"` (`radiance`). Nori does not flip texture v.
+//! - top-level `medium` (`homogeneous` or `heterogeneous`, parameters as Mitsuba's,
+//!   colors as `<color>`: `sigma_a` + `sigma_s` or `sigma_t` + `albedo`, `scale`,
+//!   nested `<phase>` and `<volume>`) filling the axis-aligned box `bounds_min` ..
+//!   `bounds_max` (points, required): an invisible index-matched box with the medium
+//!   inside, as the volume-with-bounding-box form of Nori course renderers.
 //! - top-level `emitter`: `point` (`position`, `power` in W; intensity = power / 4π)
 //!   and `distantdisk` with `thetaA` = 180 (a constant environment: `radiance`;
 //!   `toWorld` is read and has no effect).
@@ -19,7 +24,7 @@ use super::builder::{self, Builder, UNSUPPORTED_BSDFS, UNSUPPORTED_EMITTERS};
 use super::mitsuba::integrator_spec;
 use super::properties::Properties;
 use super::xml::{Dialect, Document, Element};
-use super::{obj, Bsdf, Camera, Emitter, Error, Scene};
+use super::{obj, Bsdf, Camera, Emitter, Error, Medium, Scene};
 
 /// Loads a Nori scene read by [`super::xml::read`].
 pub fn load(doc: &Document) -> Result<Scene, Error> {
@@ -50,7 +55,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
             "mesh" => mesh(el, &mut b)?,
             "emitter" => emitter(el, &mut b)?,
             "test" => return Err(el.err("Nori <test> scenes are not supported yet")),
-            "medium" => return Err(el.err("media are not supported yet")),
+            "medium" => medium(el, &mut b)?,
             t => return Err(el.err(format!("unexpected <{t}> in a Nori <scene>"))),
         }
     }
@@ -65,7 +70,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         spheres: b.spheres,
         bsdfs: b.bsdfs,
         emitters: b.emitters,
-        media: Vec::new(),
+        media: b.media,
         camera_medium: None,
         textures: b.textures,
     })
@@ -170,6 +175,40 @@ fn mesh(el: &Element, b: &mut Builder) -> Result<(), Error> {
     b.add_mesh(el, m, to_world, false, false, bsdf, emitter)
 }
 
+/// A medium filling an axis-aligned box: a null-BSDF cube with the medium inside.
+fn medium(el: &Element, b: &mut Builder) -> Result<(), Error> {
+    let (m, (lo, hi)) = Medium::read(el, Dialect::Nori, |props| {
+        let lo = props.point_opt("bounds_min")?;
+        let hi = props.point_opt("bounds_max")?;
+        match (lo, hi) {
+            (Some(lo), Some(hi)) if lo.cmplt(hi).all() && lo.is_finite() && hi.is_finite() => {
+                Ok((lo, hi))
+            }
+            (Some(_), Some(_)) => Err(props.error(
+                "bounds_max",
+                "the medium's bounds_max must exceed bounds_min on every axis",
+            )),
+            _ => Err(props.object_error(
+                "a Nori medium needs 'bounds_min' and 'bounds_max' (the box it fills)",
+            )),
+        }
+    })?;
+    if b.media.len() >= 0xfffe {
+        return Err(el.err("more than 65534 media"));
+    }
+    b.media.push(m);
+    let index = (b.media.len() - 1) as u32;
+    let to_world =
+        glam::Mat4::from_translation(0.5 * (lo + hi)) * glam::Mat4::from_scale(0.5 * (hi - lo));
+    let bsdf = b.default_bsdf();
+    b.add_mesh(el, super::mesh::cube(), to_world, false, false, bsdf, None)?;
+    if let Some(mesh) = b.meshes.last_mut() {
+        mesh.interior = Some(index);
+        mesh.null_bsdf = true;
+    }
+    Ok(())
+}
+
 fn nori_bsdf(el: &Element, b: &mut Builder) -> Result<u32, Error> {
     el.check_attrs(&["type"])?;
     let t = el.require("type")?;
@@ -248,6 +287,43 @@ mod tests {
   <emitter type="distantdisk"><color name="radiance" value="0.6,0.6,0.6"/><float name="thetaA" value="180"/>
     <transform name="toWorld"><rotate axis="1,0,0" angle="0"/></transform></emitter>
 </scene>"#;
+
+    /// Nori's volume-with-bounding-box form: the same medium and boundary as a Mitsuba
+    /// null cube with an interior medium.
+    #[test]
+    fn medium_in_a_box() {
+        let nori = r#"<scene>
+  <integrator type="vol_path_mis"/>
+  <camera type="perspective"/>
+  <medium type="homogeneous">
+    <color name="sigma_a" value="0.5"/><color name="sigma_s" value="1.5"/>
+    <point name="bounds_min" value="-1, 0, 2"/><point name="bounds_max" value="3, 1, 4"/>
+    <phase type="hg"><float name="g" value="0.4"/></phase>
+  </medium>
+</scene>"#;
+        let s = load(&[("s.xml", nori)], &[]).unwrap();
+        assert_eq!(s.media.len(), 1);
+        let m = &s.media[0];
+        assert_eq!((m.albedo, m.g), (Vec3::splat(0.75), 0.4));
+        let mesh = &s.meshes[0];
+        assert!(mesh.null_bsdf && mesh.interior == Some(0) && mesh.exterior.is_none());
+        let lo = mesh.positions.iter().fold(Vec3::INFINITY, |a, &p| a.min(p));
+        let hi = mesh
+            .positions
+            .iter()
+            .fold(Vec3::NEG_INFINITY, |a, &p| a.max(p));
+        assert!(
+            (lo - Vec3::new(-1.0, 0.0, 2.0)).abs().max_element() < 1e-6,
+            "{lo}"
+        );
+        assert!(
+            (hi - Vec3::new(3.0, 1.0, 4.0)).abs().max_element() < 1e-6,
+            "{hi}"
+        );
+        let bad = nori.replace(r#"<point name="bounds_max" value="3, 1, 4"/>"#, "");
+        let text = error_at(load(&[("s.xml", &bad)], &[]), "s.xml", 4);
+        assert!(text.contains("bounds_min' and 'bounds_max'"), "{text}");
+    }
 
     #[test]
     fn nori_scene() {

@@ -183,7 +183,7 @@ fn canonical(path: &Path) -> PathBuf {
 
 /// Tags only a Mitsuba 3 scene uses at the top level, and tags only Nori uses.
 const MITSUBA_TAGS: &[&str] = &[
-    "sensor", "shape", "default", "include", "film", "texture", "medium", "alias",
+    "sensor", "shape", "default", "include", "film", "texture", "alias",
 ];
 const NORI_TAGS: &[&str] = &["camera", "mesh"];
 
