@@ -795,6 +795,10 @@ impl<'a> Loader<'a> {
         }
         let bsdf = match bsdf {
             Some(b) => b,
+            // Mitsuba gives a light without a BSDF a black one (it reflects nothing).
+            None if radiance.is_some() => self.b.add_bsdf(Bsdf::Diffuse {
+                reflectance: Vec3::ZERO,
+            }),
             None => self.b.default_bsdf(),
         };
         let to_world = props.transform("to_world")?;
