@@ -402,7 +402,7 @@ fn environment_map_sampling_matches_its_pdf() {
     let Texture::Bitmap { texels, .. } = &s.textures[texture as usize] else {
         panic!()
     };
-    let dist = envmap::Distribution::build(w, h, texels);
+    let dist = envmap::Distribution::build(w, h, texels, true);
     let bvh = Bvh::build(prims_from_scene(&s));
     let records = SceneRecords::new(&s, &bvh);
     let probes = probe(&s, &bvh, &records, Vec3::ZERO);

@@ -170,6 +170,7 @@ fn gpu_envmap_lookups_equal_the_cpu_reference() {
         texture,
         scale,
         to_world,
+        ..
     } = scene.emitters[0].clone()
     else {
         panic!("not an envmap: {:?}", scene.emitters[0])

@@ -195,6 +195,7 @@ impl SceneRecords {
                     texture,
                     scale,
                     to_world,
+                    importance,
                 } => {
                     r.env_emitter = new as u32;
                     let Texture::Bitmap {
@@ -206,7 +207,7 @@ impl SceneRecords {
                     else {
                         unreachable!("the loader gives an envmap a bitmap")
                     };
-                    let dist = envmap::Distribution::build(*width, *height, texels);
+                    let dist = envmap::Distribution::build(*width, *height, texels, importance);
                     mean = dist.mean_luminance;
                     let offset = r.env_dist.len() as u32;
                     r.env_dist.extend_from_slice(&dist.cdf);

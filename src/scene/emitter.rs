@@ -46,5 +46,8 @@ pub enum Emitter {
         texture: u32,
         scale: f32,
         to_world: Mat3,
+        /// wavetrace's `sampling` parameter: `importance` (default) or `uniform`
+        /// (sin θ-weighted cells only: uniform over the sphere, for comparisons).
+        importance: bool,
     },
 }

@@ -70,7 +70,8 @@ pub struct Distribution {
 }
 
 impl Distribution {
-    pub fn build(width: u32, height: u32, texels: &[[f32; 3]]) -> Distribution {
+    /// `importance` false: every cell weighs sin θ alone (uniform over the sphere).
+    pub fn build(width: u32, height: u32, texels: &[[f32; 3]], importance: bool) -> Distribution {
         let (w, h) = (width as usize, height as usize);
         let lum: Vec<f32> = texels.iter().map(|t| luminance(Vec3::from(*t))).collect();
         let mut weights = vec![0f64; w * h];
@@ -89,7 +90,7 @@ impl Distribution {
                         m = m.max(lum[r * w + (i + di) % w]);
                     }
                 }
-                weights[j * w + i] = m.max(0.0) as f64 * sin;
+                weights[j * w + i] = if importance { m.max(0.0) as f64 } else { 1.0 } * sin;
                 let uv = Vec2::new((i as f32 + 0.5) / w as f32, (j as f32 + 0.5) / h as f32);
                 mean += luminance(eval(width, height, texels, uv)) as f64 * sin;
             }
@@ -216,7 +217,7 @@ mod tests {
     fn distribution_is_normalized_and_covers_the_map() {
         let mut texels = vec![[0.1f32; 3]; 16 * 8];
         texels[3 * 16 + 5] = [100.0; 3];
-        let d = Distribution::build(16, 8, &texels);
+        let d = Distribution::build(16, 8, &texels, true);
         let total: f64 = (0..8)
             .flat_map(|j| (0..16).map(move |i| (i, j)))
             .map(|(i, j)| d.cell_probability(i, j))

@@ -713,6 +713,16 @@ impl<'a> Loader<'a> {
             )
         })?;
         props.ignore(&["mis_compensation"]);
+        let importance = match props.string("sampling", "importance")?.as_str() {
+            "importance" => true,
+            "uniform" => false,
+            other => {
+                return Err(props.error(
+                    "sampling",
+                    format!("sampling must be importance or uniform, found '{other}'"),
+                ))
+            }
+        };
         let texture = self.b.add_texture(Texture::Bitmap {
             width,
             height,
@@ -725,6 +735,7 @@ impl<'a> Loader<'a> {
             texture,
             scale,
             to_world,
+            importance,
         })
     }
 
