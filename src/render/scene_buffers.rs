@@ -359,14 +359,7 @@ impl SceneRecords {
         let mut first_triangle = 0usize;
         for mesh in &scene.meshes {
             if let Some(e) = mesh.emitter {
-                let areas: Vec<f64> = mesh
-                    .indices
-                    .iter()
-                    .map(|t| {
-                        let p = t.map(|i| mesh.positions[i as usize]);
-                        0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length() as f64
-                    })
-                    .collect();
+                let areas: Vec<f64> = mesh.triangle_areas().map(f64::from).collect();
                 let prims: Vec<u32> = (0..mesh.indices.len())
                     .map(|k| slot[first_triangle + k])
                     .collect();

@@ -144,17 +144,19 @@ pub fn drop_degenerate(mesh: &mut Mesh) -> usize {
 }
 
 impl Mesh {
+    /// Area of each triangle, in index order.
+    pub fn triangle_areas(&self) -> impl Iterator<Item = f32> + '_ {
+        self.indices.iter().map(|&[a, b, c]| {
+            let p0 = self.positions[a as usize];
+            0.5 * (self.positions[b as usize] - p0)
+                .cross(self.positions[c as usize] - p0)
+                .length()
+        })
+    }
+
     /// Total surface area (sum of triangle areas).
     pub fn area(&self) -> f32 {
-        self.indices
-            .iter()
-            .map(|&[a, b, c]| {
-                let p0 = self.positions[a as usize];
-                0.5 * (self.positions[b as usize] - p0)
-                    .cross(self.positions[c as usize] - p0)
-                    .length()
-            })
-            .sum()
+        self.triangle_areas().sum()
     }
 }
 
