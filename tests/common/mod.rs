@@ -6,6 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use wavetrace::gpu::Device;
+use wavetrace::image::metrics::{block_t_test, rel_mse, BlockTest};
 use wavetrace::image::Image;
 use wavetrace::render::{RenderOptions, Renderer};
 use wavetrace::scene::Scene;
@@ -45,6 +46,28 @@ pub fn temp_file(test: &str, name: &str, text: &str) -> PathBuf {
 
 pub fn load(path: &Path) -> Scene {
     wavetrace::scene::load(path, &[]).unwrap_or_else(|e| panic!("loading {}: {e}", path.display()))
+}
+
+/// Block t-test of `img` against `reference` (image::metrics: per 8x8 block and channel
+/// a one-sample t-test of the pixel differences, the worst p-value Bonferroni-corrected
+/// over all blocks): prints `label` with the outcome and the relMSE, and panics unless
+/// the render passes at 1% and the same test rejects the render scaled by 0.95 (it
+/// must have the power to see a 5% bias).
+pub fn assert_matches_reference(img: &Image, reference: &Image, label: &str) -> BlockTest {
+    let test = block_t_test(img, reference, 8).expect("t-test");
+    println!(
+        "{label}: {test}; relMSE {:.3e}",
+        rel_mse(img, reference).expect("relMSE")
+    );
+    assert!(
+        test.passes(0.01),
+        "render disagrees with the Mitsuba reference: {test}"
+    );
+    let mut biased = img.clone();
+    biased.rgb.iter_mut().for_each(|v| *v *= 0.95);
+    let b = block_t_test(&biased, reference, 8).expect("t-test");
+    assert!(!b.passes(0.01), "the check cannot see a 5% bias: {b}");
+    test
 }
 
 /// Renders `spp` samples (samples `0..spp`) of a scene.
