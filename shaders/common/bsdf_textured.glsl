@@ -1,5 +1,5 @@
-// Textured BSDF parameters and normal maps: what the BSDF record holds at one
-// surface point. Needs scene_bindings.glsl, texture.glsl, surface.glsl, frame.glsl.
+// Textured BSDF parameters: what the BSDF record holds at one surface point (normal
+// maps: normal_map.glsl). Needs scene_bindings.glsl, texture.glsl.
 #ifndef BSDF_TEXTURED_GLSL
 #define BSDF_TEXTURED_GLSL
 
@@ -17,25 +17,6 @@ BsdfRecord bsdf_textured(BsdfRecord b, vec2 uv) {
     if (b.tex_alpha_u != 0u) b.alpha_u = max(texture_luminance(texture_eval(b.tex_alpha_u, uv)), 1e-4);
     if (b.tex_alpha_v != 0u) b.alpha_v = max(texture_luminance(texture_eval(b.tex_alpha_v, uv)), 1e-4);
     return b;
-}
-
-// The shading normal a normal map gives at s (Mitsuba's normalmap.cpp): the texture's
-// RGB c in [0, 1]³ is the tangent-space normal 2c − 1 in the frame
-// (t, n × t, n), n = s.ns and t = ∂p/∂u made orthogonal to n (Gram-Schmidt).
-vec3 bsdf_normal_mapped(uint map, Surface s) {
-    vec3 c = 2.0 * texture_eval(map, s.uv) - 1.0;
-    vec3 t = s.dpdu - s.ns * dot(s.ns, s.dpdu);
-    float len = length(t);
-    vec3 bx, by;
-    if (len > 1e-12) {
-        bx = t / len;
-        by = cross(s.ns, bx);
-    } else {
-        frame_basis(s.ns, bx, by);
-    }
-    vec3 n = c.x * bx + c.y * by + c.z * s.ns;
-    float l = length(n);
-    return l > 0.0 ? n / l : s.ns;
 }
 
 #endif

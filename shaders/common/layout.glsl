@@ -78,6 +78,8 @@ struct Vertex {
 // BsdfRecord.flags
 #define BSDF_TWOSIDED 1u
 #define BSDF_NONLINEAR 2u
+#define BSDF_NORMALMAP_FLIP 4u
+#define BSDF_NORMALMAP_SHADOWING 8u
 // BsdfRecord.distribution
 #define BSDF_BECKMANN 0u
 #define BSDF_GGX 1u

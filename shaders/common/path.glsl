@@ -18,6 +18,7 @@
 #include "rng.glsl"
 #include "queue.glsl"
 #include "bsdf_textured.glsl"
+#include "normal_map.glsl"
 
 // Balance heuristic weight of a strategy with density a against one with density b.
 float mis_balance(float a, float b) { return a / (a + b); }
@@ -76,19 +77,27 @@ void path_shade(uint integrator, RayItem r, HitItem h, PathState path) {
     if (depth + 2u > frame.max_depth) return;
 
     BsdfRecord bsdf = bsdf_textured(bsdf_load(shape.bsdf), s.uv);
-    // A normal map replaces the shading normal; directions on different sides of it
-    // and of the geometric normal carry no light (no leaks through the surface).
+    // A normal map (normal_map.glsl) replaces the shading normal and weighs the light
+    // of each direction wi by normal_map_weight: 0 on different sides of the old and
+    // the new normal, else its shadowing term. A twosided record mirrors the old
+    // normal towards the viewer there, so the nested model is one-sided, as in
+    // Mitsuba's twosided around a normalmap.
     bool mapped = TEXTURE_USES(TEXTURE_FEATURE_NORMALMAP) && bsdf.normal_map != 0u;
-    if (mapped) s.ns = bsdf_normal_mapped(bsdf.normal_map, s);
+    NormalMapFrame nm;
+    if (mapped) {
+        nm = normal_map_frame(bsdf, s, -r.dir);
+        s.ns = nm.n;
+        bsdf.flags &= ~BSDF_TWOSIDED;
+    }
     vec3 wo = frame_to_local(s.ns, -r.dir);
-    if (mapped && (wo.z > 0.0) != (dot(-r.dir, s.ng) > 0.0)) return;
 
     if (ems && !bsdf_is_delta(bsdf)) {
         vec4 u = rng_4d(path.pixel, path.sample_index, rng_dim_bounce(depth, 0u), frame.seed);
         EmitterSample es = emitter_sample(s.p, u);
         if (es.pdf > 0.0 && any(greaterThan(es.Le, vec3(0.0)))) {
             vec3 wi = frame_to_local(s.ns, es.wi);
-            vec3 f = (mapped && (wi.z > 0.0) != (dot(es.wi, s.ng) > 0.0)) ? vec3(0.0) : bsdf_eval(bsdf, wo, wi, s.uv);
+            float m = mapped ? normal_map_weight(nm, es.wi) : 1.0;
+            vec3 f = m > 0.0 ? m * bsdf_eval(bsdf, wo, wi, s.uv) : vec3(0.0);
             if (any(greaterThan(f, vec3(0.0)))) {
                 float w = (mis && !es.delta) ? mis_balance(es.pdf, bsdf_pdf(bsdf, wo, wi, s.uv)) : 1.0;
                 vec3 origin = surface_spawn_origin(s, dot(es.wi, s.ng) > 0.0 ? s.ng : -s.ng);
@@ -103,7 +112,8 @@ void path_shade(uint integrator, RayItem r, HitItem h, PathState path) {
     if (mats) {
         vec4 u = rng_4d(path.pixel, path.sample_index, rng_dim_bounce(depth, 1u), frame.seed);
         BsdfSample bs = bsdf_sample(bsdf, wo, u.xyz, s.uv);
-        vec3 throughput = path.throughput * bs.weight;
+        vec3 wi = frame_to_world(s.ns, bs.wi);
+        vec3 throughput = path.throughput * bs.weight * (mapped ? normal_map_weight(nm, wi) : 1.0);
         if (!any(greaterThan(throughput, vec3(0.0)))) return;
         // Refraction scaled the radiance by (η_i/η_t)² (dielectrics, rough or smooth).
         if ((bs.flags & BSDF_FLAG_TRANSMISSION) != 0u) {
@@ -117,8 +127,6 @@ void path_shade(uint integrator, RayItem r, HitItem h, PathState path) {
             if (u.w >= q) return;
             throughput /= q;
         }
-        vec3 wi = frame_to_world(s.ns, bs.wi);
-        if (mapped && (bs.wi.z > 0.0) != (dot(wi, s.ng) > 0.0)) return;
         path.throughput = throughput;
         path.bsdf_pdf = bs.pdf;
         path.flags = (bs.flags & BSDF_FLAG_DELTA) != 0u ? PATH_DELTA : 0u;

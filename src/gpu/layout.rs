@@ -161,6 +161,10 @@ pub const BSDF_NORI_MICROFACET: u32 = 7;
 pub const BSDF_TWOSIDED: u32 = 1;
 /// [`BsdfRecord::flags`]: plastics with `nonlinear` = true.
 pub const BSDF_NONLINEAR: u32 = 2;
+/// [`BsdfRecord::flags`]: `normalmap` with `flip_invalid_normals` = true (Mitsuba's default).
+pub const BSDF_NORMALMAP_FLIP: u32 = 4;
+/// [`BsdfRecord::flags`]: `normalmap` with `use_shadowing_function` = true (Mitsuba's default).
+pub const BSDF_NORMALMAP_SHADOWING: u32 = 8;
 /// [`BsdfRecord::distribution`] values.
 pub const BSDF_BECKMANN: u32 = 0;
 pub const BSDF_GGX: u32 = 1;
@@ -180,7 +184,8 @@ pub const BSDF_TABLE_SIZE: usize = 32;
 /// | roughplastic | + `distribution`, `alpha_u` (= `alpha_v`), `table` (coating transmittance at cos θ = i/31), `internal` (R_int) |
 /// | Nori microfacet | `reflectance` (kd), `specular_weight` (ks), `eta`, `alpha_u` |
 ///
-/// `flags`: [`BSDF_TWOSIDED`], [`BSDF_NONLINEAR`].
+/// `flags`: [`BSDF_TWOSIDED`], [`BSDF_NONLINEAR`], [`BSDF_NORMALMAP_FLIP`],
+/// [`BSDF_NORMALMAP_SHADOWING`].
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct BsdfRecord {
@@ -721,6 +726,23 @@ mod tests {
         let offsets: Vec<usize> = fields.iter().map(|f| f.1).collect();
         assert_eq!(offsets, vec![0, 16, 28, 40]);
         assert_eq!(*size, 48);
+    }
+
+    #[test]
+    fn bsdf_flags_match_glsl() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/common/layout.glsl");
+        let src = std::fs::read_to_string(path).expect("read layout.glsl");
+        for (name, value) in [
+            ("BSDF_TWOSIDED", BSDF_TWOSIDED),
+            ("BSDF_NONLINEAR", BSDF_NONLINEAR),
+            ("BSDF_NORMALMAP_FLIP", BSDF_NORMALMAP_FLIP),
+            ("BSDF_NORMALMAP_SHADOWING", BSDF_NORMALMAP_SHADOWING),
+        ] {
+            assert!(
+                src.contains(&format!("#define {name} {value}u\n")),
+                "{name} = {value} is not in layout.glsl"
+            );
+        }
     }
 
     #[test]

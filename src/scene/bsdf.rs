@@ -16,8 +16,9 @@ use super::properties::Properties;
 use super::Error;
 use crate::gpu::layout::{
     BsdfRecord, BSDF_BECKMANN, BSDF_CONDUCTOR, BSDF_DIELECTRIC, BSDF_DIFFUSE, BSDF_GGX,
-    BSDF_NONLINEAR, BSDF_NORI_MICROFACET, BSDF_PLASTIC, BSDF_ROUGHCONDUCTOR, BSDF_ROUGHDIELECTRIC,
-    BSDF_ROUGHPLASTIC, BSDF_TABLE_SIZE, BSDF_TWOSIDED,
+    BSDF_NONLINEAR, BSDF_NORI_MICROFACET, BSDF_NORMALMAP_FLIP, BSDF_NORMALMAP_SHADOWING,
+    BSDF_PLASTIC, BSDF_ROUGHCONDUCTOR, BSDF_ROUGHDIELECTRIC, BSDF_ROUGHPLASTIC, BSDF_TABLE_SIZE,
+    BSDF_TWOSIDED,
 };
 
 /// Microfacet normal distribution (`distribution` parameter).
@@ -116,13 +117,24 @@ pub enum Bsdf {
     /// `<ref name=... id=.../>` to one.
     /// `<bsdf type="diffuse"><texture type="checkerboard" name="reflectance"/></bsdf>`
     Textured { bsdf: Box<Bsdf>, maps: TextureMaps },
-    /// Mitsuba `normalmap`: the nested model shaded with the normal read from
-    /// `normalmap` (a texture, usually a `raw` bitmap; its RGB in [0, 1]³ maps to a
-    /// tangent-space normal 2c − 1 in the frame (∂p/∂u, n × ∂p/∂u, n)). Directions on
-    /// opposite sides of the geometric and the mapped normal get no light, so the
-    /// map never lets light through the surface.
+    /// Mitsuba `normalmap` (3.9's normalmap.cpp): the nested model shaded with the
+    /// normal read from `normalmap` (a texture, usually a `raw` bitmap; its RGB in
+    /// [0, 1]³ maps to a tangent-space normal 2c − 1 in the frame
+    /// (∂p/∂u, n × ∂p/∂u, n) of the shading normal n). Light from directions on
+    /// opposite sides of n and of the mapped normal is dropped, so the map never lets
+    /// light through the surface. Parameters (Mitsuba's, both default true):
+    /// `flip_invalid_normals` negates the tangential part of a mapped normal that
+    /// faces away from the viewer (Schüssler et al. 2017); `use_shadowing_function`
+    /// scales the value by the shadowing term of Estevez et al. 2019, which darkens
+    /// light from grazing directions on strongly tilted normals
+    /// (shaders/common/normal_map.glsl).
     /// `<bsdf type="normalmap"><texture type="bitmap" name="normalmap"><string name="filename" value="n.png"/><boolean name="raw" value="true"/></texture><bsdf type="diffuse"/></bsdf>`
-    NormalMap { bsdf: Box<Bsdf>, normal_map: u32 },
+    NormalMap {
+        bsdf: Box<Bsdf>,
+        normal_map: u32,
+        flip_invalid_normals: bool,
+        use_shadowing_function: bool,
+    },
 }
 
 /// Textures feeding parameters of a BSDF record (texture indices).
@@ -707,9 +719,20 @@ impl From<&Bsdf> for BsdfRecord {
                 r.tex_alpha_v = id(maps.alpha_v);
                 return r;
             }
-            Bsdf::NormalMap { bsdf, normal_map } => {
+            Bsdf::NormalMap {
+                bsdf,
+                normal_map,
+                flip_invalid_normals,
+                use_shadowing_function,
+            } => {
                 let mut r = BsdfRecord::from(bsdf.as_ref());
                 r.normal_map = normal_map + 1;
+                if *flip_invalid_normals {
+                    r.flags |= BSDF_NORMALMAP_FLIP;
+                }
+                if *use_shadowing_function {
+                    r.flags |= BSDF_NORMALMAP_SHADOWING;
+                }
                 return r;
             }
         }

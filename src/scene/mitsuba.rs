@@ -538,6 +538,8 @@ impl<'a> Loader<'a> {
                         props.object_error("normalmap needs a <texture name=\"normalmap\">")
                     })?;
                 props.ignore(&["normalmap"]);
+                let flip_invalid_normals = props.boolean("flip_invalid_normals", true)?;
+                let use_shadowing_function = props.boolean("use_shadowing_function", true)?;
                 props.finish()?;
                 let inner: Vec<&'a Element> = rest
                     .iter()
@@ -557,6 +559,8 @@ impl<'a> Loader<'a> {
                 Ok(self.b.add_bsdf(Bsdf::NormalMap {
                     bsdf: Box::new(nested_bsdf),
                     normal_map,
+                    flip_invalid_normals,
+                    use_shadowing_function,
                 }))
             }
             _ if !BSDFS.contains(&t) => Err(builder::unsupported(el, "bsdf", UNSUPPORTED_BSDFS)),
@@ -1502,6 +1506,35 @@ mod tests {
         assert!(
             matches!(&b[13], Bsdf::TwoSided(inner) if matches!(**inner, Bsdf::RoughPlastic { .. }))
         );
+    }
+
+    #[test]
+    fn normalmap_options_default_as_mitsuba_3_9() {
+        use crate::gpu::layout::{BsdfRecord, BSDF_NORMALMAP_FLIP, BSDF_NORMALMAP_SHADOWING};
+        let map = r#"<texture type="checkerboard" name="normalmap"/><bsdf type="diffuse"/>"#;
+        let body = format!(
+            r#"<bsdf type="normalmap" id="a">{map}</bsdf>
+<bsdf type="normalmap" id="b"><boolean name="flip_invalid_normals" value="false"/><boolean name="use_shadowing_function" value="false"/>{map}</bsdf>"#
+        );
+        let s = load(&[("s.xml", &mitsuba(&body))], &[]).unwrap();
+        let flags: Vec<(bool, bool, u32)> = s
+            .bsdfs
+            .iter()
+            .filter_map(|b| match b {
+                Bsdf::NormalMap {
+                    flip_invalid_normals,
+                    use_shadowing_function,
+                    ..
+                } => Some((
+                    *flip_invalid_normals,
+                    *use_shadowing_function,
+                    BsdfRecord::from(b).flags,
+                )),
+                _ => None,
+            })
+            .collect();
+        let both = BSDF_NORMALMAP_FLIP | BSDF_NORMALMAP_SHADOWING;
+        assert_eq!(flags, vec![(true, true, both), (false, false, 0)]);
     }
 
     #[test]
