@@ -30,6 +30,9 @@ layout(constant_id = 5) const bool SCENE_HAS_SPHERES = true;
 layout(constant_id = 6) const bool SCENE_HAS_GRIDS = true;
 #define MEDIA_GRIDS SCENE_HAS_GRIDS
 #include "medium.glsl"
+// MIS weights by the power heuristic instead of the balance heuristic.
+layout(constant_id = 7) const bool SCENE_MIS_POWER = false;
+#define MIS_POWER SCENE_MIS_POWER
 #include "path.glsl"
 #include "vol_path.glsl"
 

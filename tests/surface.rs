@@ -66,6 +66,29 @@ fn cornell_box_path_tracer_matches_mitsuba() {
     );
 }
 
+/// path_mis weighs by the power heuristic unless told otherwise; the balance heuristic
+/// (Nori's) must converge to the same image.
+#[test]
+fn cornell_box_path_tracer_with_the_balance_heuristic_matches_mitsuba() {
+    let mut s = wavetrace::scene::load(&repo("scenes/cbox/cbox_path.xml"), &[])
+        .unwrap_or_else(|e| panic!("{e}"));
+    s.integrator.params.insert(
+        "mis_heuristic".into(),
+        wavetrace::scene::integrator::Param::String("balance".into()),
+    );
+    let reference = Image::read_exr(repo("scenes/refs/cbox_path.exr")).expect("reference EXR");
+    let img = common::render(&device(), &s, &RenderOptions::default(), 64);
+    let test = block_t_test(&img, &reference, 8).unwrap();
+    println!(
+        "cbox path balance: relMSE {:.3e}; {test}",
+        rel_mse(&img, &reference).unwrap()
+    );
+    assert!(
+        test.passes(0.01),
+        "balance heuristic disagrees with Mitsuba: {test}"
+    );
+}
+
 #[test]
 fn veach_plates_direct_and_path_match_mitsuba() {
     let d = [("integrator", "direct")];

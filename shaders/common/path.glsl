@@ -4,7 +4,7 @@
 // integrator (specialization constants), so absent strategies compile away:
 //   direct_ems  : emitter sampling          direct_mats : BSDF sampling
 //   direct_mis  : both, balance heuristic    path_mats   : BSDF sampling, any depth
-//   path_mis    : both at every vertex, balance heuristic (Veach 1997, ch. 9)
+//   path_mis    : both at every vertex, power or balance heuristic (Veach 1997, ch. 9)
 //   vol_path_simple, vol_path_mis, single_scatter: as path_mats, path_mis and
 //                 direct_mis at surfaces; their
 //                 medium stage runs first (vol_path.glsl), and the rays they spawn
@@ -20,8 +20,23 @@
 #include "bsdf_textured.glsl"
 #include "normal_map.glsl"
 
-// Balance heuristic weight of a strategy with density a against one with density b.
-float mis_balance(float a, float b) { return a / (a + b); }
+// MIS weight of a strategy with density a against one with density b (Veach 1997,
+// sec. 9.2): the balance heuristic a / (a + b), or with MIS_POWER (a bool constant
+// defined before including this file) the power heuristic a² / (a² + b²).
+#ifndef MIS_POWER
+#define MIS_POWER false
+#endif
+float mis_weight(float a, float b) {
+    if (MIS_POWER) {
+        // a, b may exceed sqrt(FLT_MAX) (delta-like lobes): scale by the larger one.
+        float m = max(a, b);
+        if (!(m > 0.0)) return 0.0;
+        float x = a / m;
+        float y = b / m;
+        return x * x / (x * x + y * y);
+    }
+    return a / (a + b);
+}
 
 // The medium a ray leaving surface `shape` along d enters, for volumetric integrators
 // in scenes with media (MEDIA_ENABLED, set where medium.glsl is included); NONE
@@ -57,7 +72,7 @@ void path_shade(uint integrator, RayItem r, HitItem h, PathState path) {
 
     if (h.prim == NONE) {
         if (count_emission && frame.env_emitter != NONE) {
-            float w = weigh ? mis_balance(path.bsdf_pdf, emitter_pdf_env(r.dir)) : 1.0;
+            float w = weigh ? mis_weight(path.bsdf_pdf, emitter_pdf_env(r.dir)) : 1.0;
             path.radiance += path.throughput * emitter_env_radiance(emitter_load(frame.env_emitter), r.dir) * w;
             path_store_radiance(r.path, path);
         }
@@ -68,7 +83,7 @@ void path_shade(uint integrator, RayItem r, HitItem h, PathState path) {
     ShapeRecord shape = shape_load(s.shape);
     if (count_emission && shape.emitter != NONE) {
         vec3 Le = emitter_area_radiance(emitter_load(shape.emitter), s.ng, r.dir, s.uv);
-        float w = weigh ? mis_balance(path.bsdf_pdf, emitter_pdf_hit(shape.emitter, r.origin, r.dir, h.t, s.ng)) : 1.0;
+        float w = weigh ? mis_weight(path.bsdf_pdf, emitter_pdf_hit(shape.emitter, r.origin, r.dir, h.t, s.ng)) : 1.0;
         path.radiance += path.throughput * Le * w;
         path_store_radiance(r.path, path);
     }
@@ -99,7 +114,7 @@ void path_shade(uint integrator, RayItem r, HitItem h, PathState path) {
             float m = mapped ? normal_map_weight(nm, es.wi) : 1.0;
             vec3 f = m > 0.0 ? m * bsdf_eval(bsdf, wo, wi, s.uv) : vec3(0.0);
             if (any(greaterThan(f, vec3(0.0)))) {
-                float w = (mis && !es.delta) ? mis_balance(es.pdf, bsdf_pdf(bsdf, wo, wi, s.uv)) : 1.0;
+                float w = (mis && !es.delta) ? mis_weight(es.pdf, bsdf_pdf(bsdf, wo, wi, s.uv)) : 1.0;
                 vec3 origin = surface_spawn_origin(s, dot(es.wi, s.ng) > 0.0 ? s.ng : -s.ng);
                 // Stop short of the light's own surface (PBR's shadow epsilon).
                 float tmax = isinf(es.dist) ? es.dist : length(s.p + es.wi * es.dist - origin) * (1.0 - 1e-4);

@@ -42,7 +42,7 @@ void vol_path_scatter(uint integrator, RayItem r, PathState path, uint medium, v
         EmitterSample es = emitter_sample(p, u_light);
         if (es.pdf > 0.0 && any(greaterThan(es.Le, vec3(0.0)))) {
             float ph = phase_eval(m.g, wo, es.wi);
-            float w = (es.delta || single) ? 1.0 : mis_balance(es.pdf, ph);
+            float w = (es.delta || single) ? 1.0 : mis_weight(es.pdf, ph);
             float tmax = isinf(es.dist) ? es.dist : es.dist * (1.0 - 1e-4);
             queue_push_shadow_in(medium, p, r.path, es.wi, tmax, path.throughput * es.Le * (ph * w / es.pdf));
         }

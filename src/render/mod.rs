@@ -196,6 +196,7 @@ impl Renderer {
                     has_media,
                     has_spheres,
                     has_grids,
+                    integrator.power_heuristic() as u32,
                 ],
             )?,
             shadow: k(
