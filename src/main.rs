@@ -175,6 +175,14 @@ fn run(cli: Cli) -> Result<()> {
                 renderer.integrator().name(),
                 renderer.capacity()
             );
+            let needs_light = !matches!(renderer.integrator().name(), "normals" | "ao");
+            if needs_light && sc.emitters.is_empty() {
+                eprintln!(
+                    "warning: {} has no emitters: '{}' will render a black image",
+                    scene.scene.display(),
+                    renderer.integrator().name()
+                );
+            }
             let bar = if quiet {
                 ProgressBar::hidden()
             } else {

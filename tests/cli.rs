@@ -130,3 +130,23 @@ fn info_describes_the_scene() {
         assert!(out.contains(needle), "info lacks {needle}:\n{out}");
     }
 }
+
+#[test]
+fn a_scene_without_emitters_warns_of_a_black_image() {
+    let xml = format!(
+        r#"<scene version="3.0.0"><integrator type="path"/>{CAMERA}<shape type="sphere"/></scene>"#
+    );
+    let scene = temp_file("no_emitters", "scene.xml", &xml);
+    let out = scene.with_extension("exr");
+    let (code, _, err) = wavetrace(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--spp",
+        "1",
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("has no emitters"), "{err}");
+}
