@@ -11,6 +11,10 @@
 // Texture kinds and features the scene uses (TEXTURE_* kind bits, TEXTURE_FEATURE_*).
 layout(constant_id = 2) const uint SCENE_TEXTURES = 0xffffffffu;
 #define TEXTURE_KINDS SCENE_TEXTURES
+// The emitter kinds the scene has (a bit per EMITTER_* kind, EMITTER_KIND_BIT_SPHERE_AREA
+// for area lights on spheres): the others compile away.
+layout(constant_id = 8) const uint SCENE_EMITTER_KINDS = 0xffffffffu;
+#define EMITTER_KINDS SCENE_EMITTER_KINDS
 #include "emitter.glsl"
 
 // The BSDF kinds the scene uses (a bit per BSDF_* kind): the others compile away.

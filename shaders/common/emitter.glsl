@@ -11,6 +11,14 @@
 #ifndef EMITTER_GLSL
 #define EMITTER_GLSL
 
+// Kinds a scene does not use compile away (llvmpipe runs both sides of every branch
+// under a mask): define EMITTER_KINDS (a bit per EMITTER_* kind, area meaning on
+// meshes, and EMITTER_KIND_BIT_SPHERE_AREA) before including this file.
+#ifndef EMITTER_KINDS
+#define EMITTER_KINDS 0xffffffffu
+#endif
+#define EMITTER_HAS(k) ((EMITTER_KINDS & (1u << (k))) != 0u)
+
 #include "alias.glsl"
 #include "frame.glsl"
 #include "warp.glsl"
@@ -80,28 +88,29 @@ EmitterSample emitter_sample(vec3 x, vec4 u) {
     uint index = alias_sample(0u, frame.emitter_count, u.x, pmf);
     s.emitter = index;
     EmitterRecord e = emitter_load(index);
-    if (e.kind == EMITTER_POINT || e.kind == EMITTER_SPOT) {
+    if ((EMITTER_HAS(EMITTER_POINT) && e.kind == EMITTER_POINT)
+        || (EMITTER_HAS(EMITTER_SPOT) && e.kind == EMITTER_SPOT)) {
         vec3 d = e.position - x;
         float d2 = dot(d, d);
         s.dist = sqrt(d2);
         s.wi = d / s.dist;
         s.Le = e.radiance / d2;
-        if (e.kind == EMITTER_SPOT) s.Le *= emitter_spot_falloff(e, -s.wi);
+        if (EMITTER_HAS(EMITTER_SPOT) && e.kind == EMITTER_SPOT) s.Le *= emitter_spot_falloff(e, -s.wi);
         s.pdf = pmf;
         s.delta = true;
-    } else if (e.kind == EMITTER_CONSTANT) {
+    } else if (EMITTER_HAS(EMITTER_CONSTANT) && e.kind == EMITTER_CONSTANT) {
         s.wi = warp_uniform_sphere(u.yz);
         s.dist = EMITTER_INFINITY;
         s.Le = e.radiance;
         s.pdf = pmf * warp_uniform_sphere_pdf(s.wi);
-    } else if (e.kind == EMITTER_ENVMAP) {
+    } else if (EMITTER_HAS(EMITTER_ENVMAP) && e.kind == EMITTER_ENVMAP) {
         if (!TEXTURE_USES(TEXTURE_FEATURE_ENVMAP)) return s;
         float pdf;
         s.wi = envmap_sample(e, u.yz, pdf);
         s.dist = EMITTER_INFINITY;
         s.Le = envmap_eval(e, s.wi);
         s.pdf = pmf * pdf;
-    } else if (e.tri_count > 0u) {
+    } else if (EMITTER_HAS(EMITTER_AREA) && e.tri_count > 0u) {
         // A mesh: a triangle by area, then a uniform point on it.
         float tri_pmf;
         uint t = alias_sample(e.tri_first, e.tri_count, u.y, tri_pmf);
@@ -121,7 +130,7 @@ EmitterSample emitter_sample(vec3 x, vec4 u) {
         s.Le = emitter_area_radiance(e, ng, s.wi, ls.uv);
         // Area density 1/area, to solid angle: d² / cos.
         s.pdf = pmf * d2 / (e.area * cos_light);
-    } else {
+    } else if (EMITTER_HAS(EMITTER_KIND_BIT_SPHERE_AREA)) {
         // A sphere: directions uniform in the cone it subtends.
         float one_minus_cos_max = emitter_sphere_cone(x, e.position, e.radius);
         if (one_minus_cos_max <= 0.0) return s; // inside the light: it emits outwards
@@ -148,7 +157,7 @@ EmitterSample emitter_sample(vec3 x, vec4 u) {
 float emitter_pdf_hit(uint index, vec3 x_prev, vec3 d, float t, vec3 ng) {
     EmitterRecord e = emitter_load(index);
     float pmf = alias_load(index).pmf;
-    if (e.tri_count > 0u) {
+    if (!EMITTER_HAS(EMITTER_KIND_BIT_SPHERE_AREA) || e.tri_count > 0u) {
         float cos_light = abs(dot(ng, d));
         return cos_light > 0.0 ? pmf * t * t / (e.area * cos_light) : 0.0;
     }

@@ -116,6 +116,9 @@ struct BsdfRecord {
 #define EMITTER_CONSTANT 2u
 #define EMITTER_SPOT 3u
 #define EMITTER_ENVMAP 4u
+// Bit of the emitter-kinds mask (EMITTER_KINDS, emitter.glsl) for area emitters on
+// spheres; EMITTER_AREA's bit stands for area emitters on meshes.
+#define EMITTER_KIND_BIT_SPHERE_AREA 5u
 // radiance: intensity (W/sr) of point and spot lights, radiance of area and constant
 // ones. Spot: axis, cos_cutoff, cutoff (rad), inv_transition = 1/(cutoff - beam width).
 // Area: shape, total area; a mesh's triangles by area through alias entries

@@ -71,7 +71,8 @@ void path_shade(uint integrator, RayItem r, HitItem h, PathState path) {
     bool weigh = depth > 0u && mis && (path.flags & PATH_DELTA) == 0u;
 
     if (h.prim == NONE) {
-        if (count_emission && frame.env_emitter != NONE) {
+        if ((EMITTER_HAS(EMITTER_CONSTANT) || EMITTER_HAS(EMITTER_ENVMAP)) && count_emission
+            && frame.env_emitter != NONE) {
             float w = weigh ? mis_weight(path.bsdf_pdf, emitter_pdf_env(r.dir)) : 1.0;
             path.radiance += path.throughput * emitter_env_radiance(emitter_load(frame.env_emitter), r.dir) * w;
             path_store_radiance(r.path, path);

@@ -225,6 +225,10 @@ pub const EMITTER_CONSTANT: u32 = 2;
 pub const EMITTER_SPOT: u32 = 3;
 /// Mitsuba `envmap`: a lat-long image around the scene.
 pub const EMITTER_ENVMAP: u32 = 4;
+/// Bit of the emitter-kinds mask (specialization constant 8 of `shade`, a bit per
+/// kind above) that stands for area emitters on spheres; `EMITTER_AREA`'s bit then
+/// means area emitters on meshes.
+pub const EMITTER_KIND_BIT_SPHERE_AREA: u32 = 5;
 
 /// An emitter. `radiance` is the intensity (W/sr) of point and spot lights and the
 /// radiance of area and constant emitters.
@@ -726,6 +730,25 @@ mod tests {
         let offsets: Vec<usize> = fields.iter().map(|f| f.1).collect();
         assert_eq!(offsets, vec![0, 16, 28, 40]);
         assert_eq!(*size, 48);
+    }
+
+    #[test]
+    fn emitter_kinds_match_glsl() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/common/layout.glsl");
+        let src = std::fs::read_to_string(path).expect("read layout.glsl");
+        for (name, value) in [
+            ("EMITTER_POINT", EMITTER_POINT),
+            ("EMITTER_AREA", EMITTER_AREA),
+            ("EMITTER_CONSTANT", EMITTER_CONSTANT),
+            ("EMITTER_SPOT", EMITTER_SPOT),
+            ("EMITTER_ENVMAP", EMITTER_ENVMAP),
+            ("EMITTER_KIND_BIT_SPHERE_AREA", EMITTER_KIND_BIT_SPHERE_AREA),
+        ] {
+            assert!(
+                src.contains(&format!("#define {name} {value}u\n")),
+                "{name} = {value} is not in layout.glsl"
+            );
+        }
     }
 
     #[test]

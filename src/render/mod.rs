@@ -197,6 +197,7 @@ impl Renderer {
                     has_spheres,
                     has_grids,
                     integrator.power_heuristic() as u32,
+                    records.emitter_kinds(),
                 ],
             )?,
             shadow: k(

@@ -315,6 +315,19 @@ impl SceneRecords {
 impl SceneRecords {
     /// The shade kernel's texture mask (specialization constant 2): a bit per texture
     /// kind present, and `TEXTURE_FEATURE_*` for what reads textures.
+    /// The emitter kinds the scene has, a bit per `EMITTER_*` kind (area: on meshes)
+    /// plus `EMITTER_KIND_BIT_SPHERE_AREA`: `shade` compiles the others out.
+    pub fn emitter_kinds(&self) -> u32 {
+        use crate::gpu::layout::EMITTER_KIND_BIT_SPHERE_AREA;
+        self.emitters.iter().fold(0u32, |m, e| {
+            if e.kind == EMITTER_AREA && e.tri_count == 0 {
+                m | 1 << EMITTER_KIND_BIT_SPHERE_AREA
+            } else {
+                m | 1 << e.kind
+            }
+        })
+    }
+
     pub fn texture_mask(&self) -> u32 {
         use crate::gpu::layout::{
             TEXTURE_FEATURE_AREA, TEXTURE_FEATURE_BSDF, TEXTURE_FEATURE_ENVMAP,
