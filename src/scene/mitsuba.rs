@@ -10,6 +10,9 @@
 //!   `sampler` (independent, stratified, multijitter, orthogonal, ldsampler:
 //!   `sample_count` 4; `seed`, `jitter`, `strength` ignored).
 //! - `integrator`: any type; its parameters are kept unread in [`IntegratorSpec`].
+//!   `moment` around one nested integrator stands for that integrator (its mean).
+//! - `path value="DIR"`: a folder file names are also searched in (see
+//!   [`super::xml::SearchPath`]).
 //! - shapes `obj` (`filename`, `face_normals`, `flip_tex_coords` = true), `ply`
 //!   (`filename`, `face_normals`), `rectangle`, `cube`, `disk` (a 256-gon), `sphere`
 //!   (`center`, `radius`); all with `to_world` and `flip_normals`.
@@ -192,6 +195,18 @@ pub fn integrator_spec(el: &Element, dialect: Dialect) -> Result<IntegratorSpec,
     el.check_attrs(&["type", "id", "name"])?;
     let name = el.require("type")?.to_string();
     let (props, nested) = Properties::read(el, dialect, false)?;
+    if dialect == Dialect::Mitsuba && name == "moment" {
+        // Mitsuba's `moment` renders its nested integrators and adds each one's second
+        // moment as extra channels (for variance estimates); wavetrace renders the one
+        // nested integrator, and its image is the mean the wrapper reports.
+        props.finish()?;
+        return match nested.as_slice() {
+            [inner] if inner.tag == "integrator" => integrator_spec(inner, dialect),
+            _ => Err(el.err(
+                "a moment integrator needs exactly one nested <integrator> (wavetrace renders one)",
+            )),
+        };
+    }
     if let Some(n) = nested.first() {
         return Err(n.err(format!(
             "<{}> inside an <integrator> is not supported yet",
