@@ -29,6 +29,9 @@ layout(constant_id = 5) const bool SCENE_HAS_SPHERES = true;
 // Grid media in the scene; without them only the homogeneous code is compiled.
 layout(constant_id = 6) const bool SCENE_HAS_GRIDS = true;
 #define MEDIA_GRIDS SCENE_HAS_GRIDS
+// Thin dielectrics are null crossings (volumetric integrators in scenes with them).
+layout(constant_id = 7) const bool SCENE_THIN_NULL = false;
+#define THIN_NULL SCENE_THIN_NULL
 #include "medium.glsl"
 #include "path.glsl"
 #include "vol_path.glsl"

@@ -76,6 +76,10 @@ pub const SHAPE_NULL_BSDF: u32 = 8;
 /// The shape bounds media (Mitsuba `interior`/`exterior`): a ray leaving it towards
 /// its normal enters the exterior medium, against it the interior one.
 pub const SHAPE_MEDIUM_TRANSITION: u32 = 16;
+/// A `thindielectric` BSDF: the volumetric path tracers cross the surface as a null
+/// one with probability 1 - R' (Mitsuba's null transmission lobe), and shadow rays
+/// pass it attenuated by 1 - R'.
+pub const SHAPE_THIN_DIELECTRIC: u32 = 32;
 /// No medium in one half of [`ShapeRecord::media`].
 pub const MEDIUM_NONE16: u32 = 0xffff;
 
@@ -157,6 +161,7 @@ pub const BSDF_ROUGHDIELECTRIC: u32 = 4;
 pub const BSDF_PLASTIC: u32 = 5;
 pub const BSDF_ROUGHPLASTIC: u32 = 6;
 pub const BSDF_NORI_MICROFACET: u32 = 7;
+pub const BSDF_THINDIELECTRIC: u32 = 8;
 /// [`BsdfRecord::flags`]: Mitsuba `twosided` around the model.
 pub const BSDF_TWOSIDED: u32 = 1;
 /// [`BsdfRecord::flags`]: plastics with `nonlinear` = true.
@@ -375,6 +380,9 @@ pub struct PathState {
 
 /// The current ray was sampled from a delta lobe (no MIS on the emitter it hits).
 pub const PATH_DELTA: u32 = 1;
+/// Set by the medium stage for path_shade within one dispatch, never stored: the
+/// stage chose the reflection lobe of the thin dielectric the ray hit.
+pub const PATH_THIN_REFLECT: u32 = 2;
 
 /// A ray waiting for the `intersect` stage.
 #[repr(C)]

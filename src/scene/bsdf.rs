@@ -17,7 +17,7 @@ use super::Error;
 use crate::gpu::layout::{
     BsdfRecord, BSDF_BECKMANN, BSDF_CONDUCTOR, BSDF_DIELECTRIC, BSDF_DIFFUSE, BSDF_GGX,
     BSDF_NONLINEAR, BSDF_NORI_MICROFACET, BSDF_PLASTIC, BSDF_ROUGHCONDUCTOR, BSDF_ROUGHDIELECTRIC,
-    BSDF_ROUGHPLASTIC, BSDF_TABLE_SIZE, BSDF_TWOSIDED,
+    BSDF_ROUGHPLASTIC, BSDF_TABLE_SIZE, BSDF_THINDIELECTRIC, BSDF_TWOSIDED,
 };
 
 /// Microfacet normal distribution (`distribution` parameter).
@@ -66,6 +66,20 @@ pub enum Bsdf {
     /// `extIOR` (1.000277). `eta` = int / ext.
     /// `<bsdf type="dielectric"><string name="int_ior" value="water"/></bsdf>`
     Dielectric {
+        eta: f32,
+        specular_reflectance: Vec3,
+        specular_transmittance: Vec3,
+    },
+    /// Thin dielectric slab (a window pane modelled as one sheet): light is reflected
+    /// specularly with the slab's reflectance R' = 2R / (1 + R) (R: Fresnel
+    /// reflectance of one interface; the sum over inter-reflections R + T²R/(1 - R²),
+    /// T = 1 - R) and the rest passes straight through, undeflected. Mitsuba
+    /// `thindielectric`: `int_ior` (number or name, default `bk7` = 1.5046), `ext_ior`
+    /// (`air`), `specular_reflectance` (1), `specular_transmittance` (1), constants
+    /// only. The volumetric path tracers cross it as Mitsuba's volpath crosses a null
+    /// lobe (no path vertex; shadow rays pass it attenuated by 1 - R').
+    /// `<bsdf type="thindielectric"><string name="int_ior" value="water"/></bsdf>`
+    ThinDielectric {
         eta: f32,
         specular_reflectance: Vec3,
         specular_transmittance: Vec3,
@@ -233,11 +247,19 @@ impl Bsdf {
     /// Whether light can pass through (dielectrics).
     pub fn transmits(&self) -> bool {
         match self {
-            Bsdf::Dielectric { .. } | Bsdf::RoughDielectric { .. } => true,
+            Bsdf::Dielectric { .. } | Bsdf::RoughDielectric { .. } | Bsdf::ThinDielectric { .. } => {
+                true
+            }
             Bsdf::TwoSided(inner) => inner.transmits(),
             Bsdf::Textured { bsdf, .. } | Bsdf::NormalMap { bsdf, .. } => bsdf.transmits(),
             _ => false,
         }
+    }
+
+    /// Whether this is a thin dielectric (crossed as a null surface by the
+    /// volumetric path tracers).
+    pub fn is_thin_dielectric(&self) -> bool {
+        matches!(self, Bsdf::ThinDielectric { .. })
     }
 
     /// Reads a Mitsuba BSDF of type `t` that has no nested objects (all but
@@ -269,6 +291,11 @@ impl Bsdf {
                 }
             }
             "dielectric" => Bsdf::Dielectric {
+                eta: relative_ior(props, "int_ior", "ext_ior", "bk7", false)?,
+                specular_reflectance: props.color("specular_reflectance", one)?,
+                specular_transmittance: props.color("specular_transmittance", one)?,
+            },
+            "thindielectric" => Bsdf::ThinDielectric {
                 eta: relative_ior(props, "int_ior", "ext_ior", "bk7", false)?,
                 specular_reflectance: props.color("specular_reflectance", one)?,
                 specular_transmittance: props.color("specular_transmittance", one)?,
@@ -633,6 +660,16 @@ impl From<&Bsdf> for BsdfRecord {
                 r.specular = (*specular_reflectance).into();
                 r.transmittance = (*specular_transmittance).into();
             }
+            Bsdf::ThinDielectric {
+                eta,
+                specular_reflectance,
+                specular_transmittance,
+            } => {
+                r.kind = BSDF_THINDIELECTRIC;
+                r.eta = *eta;
+                r.specular = (*specular_reflectance).into();
+                r.transmittance = (*specular_transmittance).into();
+            }
             Bsdf::RoughDielectric {
                 distribution,
                 alpha_u,
@@ -741,6 +778,14 @@ pub fn fresnel_dielectric(cos_i: f64, eta: f64) -> f64 {
     let a_s = (cos_i - eta * ct) / (cos_i + eta * ct);
     let a_p = (eta * cos_i - ct) / (eta * cos_i + ct);
     0.5 * (a_s * a_s + a_p * a_p)
+}
+
+/// Reflectance R' = 2R / (1 + R) of a thin dielectric slab at cos_i (either side),
+/// R the Fresnel reflectance of one interface (see [`Bsdf::ThinDielectric`]). Same
+/// formula as `bsdf_thindielectric_reflectance` in bsdf/thindielectric.glsl.
+pub fn thin_dielectric_reflectance(cos_i: f64, eta: f64) -> f64 {
+    let r = fresnel_dielectric(cos_i.abs(), eta);
+    2.0 * r / (1.0 + r)
 }
 
 /// Diffuse Fresnel reflectance F_dr(η) = 2 ∫₀¹ F(μ, η) μ dμ (η = η_t / η_i), by the

@@ -17,7 +17,7 @@
 //!   (`filename`, `face_normals`), `rectangle`, `cube`, `disk` (a 256-gon), `sphere`
 //!   (`center`, `radius`); all with `to_world` and `flip_normals`.
 //! - `bsdf`: `diffuse`, `conductor`, `roughconductor`, `dielectric`, `roughdielectric`,
-//!   `plastic`, `roughplastic` (parameters in [`Bsdf`]), `twosided` around one BSDF
+//!   `plastic`, `roughplastic`, `thindielectric` (parameters in [`Bsdf`]), `twosided` around one BSDF
 //!   without transmission.
 //! - `emitter`: `area` (`radiance`, nested in or referenced by a shape), `point`
 //!   (`position` or `to_world`, `intensity` 1), `constant` (`radiance` 1).
@@ -63,6 +63,7 @@ const BSDFS: &[&str] = &[
     "conductor",
     "roughconductor",
     "dielectric",
+    "thindielectric",
     "roughdielectric",
     "plastic",
     "roughplastic",
@@ -1558,7 +1559,8 @@ mod tests {
             ("<shape type=\"sphere\">\n<float name=\"radius\" value=\"abc\"/></shape>", 4, "could not parse float \"abc\""),
             ("<shape type=\"sphere\">\n<float name=\"radius\" value=\"nan\"/></shape>", 4, "could not parse float \"nan\""),
             ("<shape type=\"sphere\"><float name=\"radius\" value=\"1\"/>\n<float name=\"radius\" value=\"2\"/></shape>", 4, "given twice"),
-            ("<bsdf type=\"thindielectric\"/>", 3, "bsdf type 'thindielectric' is not supported yet"),
+            ("<bsdf type=\"blendbsdf\"/>", 3, "bsdf type 'blendbsdf' is not supported yet"),
+            ("<bsdf type=\"thindielectric\"><texture type=\"checkerboard\" name=\"specular_transmittance\"/></bsdf>", 3, "cannot be a texture"),
             ("<bsdf type=\"velvet\"/>", 3, "unknown bsdf type 'velvet'"),
             ("<shape type=\"cylinder\"/>", 3, "shape type 'cylinder' is not supported yet"),
             ("<medium type=\"homogeneous\"><float name=\"albedo\" value=\"2\"/></medium>", 3, "albedo must be in [0, 1]"),
