@@ -697,7 +697,7 @@ impl From<&Bsdf> for BsdfRecord {
                 r.eta = *eta;
                 r.flags |= if *nonlinear { BSDF_NONLINEAR } else { 0 };
                 r.specular_weight = sampling_weight(*diffuse_reflectance, *specular_reflectance);
-                r.internal = diffuse_fresnel(1.0 / *eta as f64) as f32;
+                r.internal = fresnel_diffuse_reflectance_fit(1.0 / *eta as f64) as f32;
             }
             Bsdf::RoughPlastic {
                 distribution,
@@ -788,6 +788,22 @@ pub fn thin_dielectric_reflectance(cos_i: f64, eta: f64) -> f64 {
     2.0 * r / (1.0 + r)
 }
 
+/// Mitsuba's diffuse Fresnel reflectance (`fresnel_diffuse_reflectance` in
+/// include/mitsuba/render/fresnel.h), which its `plastic` uses for the internal
+/// reflectance: the fit of Egan and Hilgeman 1973 for η < 1, of d'Eon and Irving 2011
+/// above. Its error against [`diffuse_fresnel`] (-0.7% at η = 1/1.49) changes the
+/// diffuse term ρ / (1 - F_dr) by about 1%, which a comparison with Mitsuba at
+/// 1024 spp resolves, so the plastic uses Mitsuba's number.
+pub fn fresnel_diffuse_reflectance_fit(eta: f64) -> f64 {
+    if eta < 1.0 {
+        -1.4399 * eta * eta + 0.7099 * eta + 0.6681 + 0.0636 / eta
+    } else {
+        let i = 1.0 / eta;
+        0.919317 - 3.4793 * i + 6.75335 * i * i - 7.80989 * i.powi(3) + 4.98554 * i.powi(4)
+            - 1.36881 * i.powi(5)
+    }
+}
+
 /// Diffuse Fresnel reflectance F_dr(η) = 2 ∫₀¹ F(μ, η) μ dμ (η = η_t / η_i), by the
 /// midpoint rule with 4096 steps (error < 1e-5). Mitsuba's plastic uses a polynomial
 /// fit of this integral (`fresnel_diffuse_reflectance`, Egan and Hilgeman 1973 /
@@ -859,10 +875,18 @@ pub fn rough_reflectance(d: Distribution, alpha: f64, mu: f64, eta: f64) -> f64 
     sum / (N * N) as f64
 }
 
+/// Points Mitsuba's roughplastic.cpp tabulates the coating at
+/// (`MI_ROUGH_TRANSMITTANCE_RES`).
+const MITSUBA_ROUGH_RES: usize = 64;
+
 /// Rough plastic's tables (Mitsuba's roughplastic.cpp precomputes the same at 64
 /// points): the coating's transmittance T(μ_i) = 1 - R(μ_i, η) at μ_i = i / 31 (μ_0 =
-/// 1e-6 as Mitsuba), and the internal reflectance R_int = 2 ∫ R(μ, 1/η) μ dμ by the
-/// trapezoid rule on the same points.
+/// 1e-6 as Mitsuba), and the internal reflectance R_int ≈ 2 ∫ R(μ, 1/η) μ dμ computed
+/// exactly as Mitsuba does: 2 · mean of R(μ_j, 1/η) μ_j over its 64 points μ_j =
+/// max(j / 63, 1e-6). That sum weighs the end points fully and divides by 64, so it is
+/// 1.5% below the integral (0.59 vs 0.60 at α = 0.1, η = 1.49); the diffuse term
+/// ρ / (1 - R_int) is 2.3% darker for it, which Mitsuba's reference images show
+/// (test_surf_area_light of its media suite).
 pub fn rough_coating_tables(
     d: Distribution,
     alpha: f64,
@@ -870,13 +894,19 @@ pub fn rough_coating_tables(
 ) -> ([f64; BSDF_TABLE_SIZE], f64) {
     let n = BSDF_TABLE_SIZE;
     let mut table = [0.0; BSDF_TABLE_SIZE];
-    let mut internal = 0.0;
     for (i, t) in table.iter_mut().enumerate() {
         let mu = (i as f64 / (n - 1) as f64).max(1e-6);
         *t = 1.0 - rough_reflectance(d, alpha, mu, eta);
-        let w = if i == 0 || i == n - 1 { 0.5 } else { 1.0 } / (n - 1) as f64;
-        internal += 2.0 * w * rough_reflectance(d, alpha, mu, 1.0 / eta) * mu;
     }
+    let m = MITSUBA_ROUGH_RES;
+    let internal = (0..m)
+        .map(|j| {
+            let mu = (j as f64 / (m - 1) as f64).max(1e-6);
+            rough_reflectance(d, alpha, mu, 1.0 / eta) * mu
+        })
+        .sum::<f64>()
+        * 2.0
+        / m as f64;
     (table, internal)
 }
 
@@ -899,6 +929,11 @@ mod tests {
             diffuse_fresnel(1.5)
         );
         assert!((diffuse_fresnel(1.0 / 1.5) - 0.5963).abs() < 2e-3);
+        // Mitsuba's fit is within 0.7% of the integral for usual indices.
+        for eta in [1.0 / 1.49, 1.0 / 1.33, 1.33, 1.5] {
+            let (fit, exact) = (fresnel_diffuse_reflectance_fit(eta), diffuse_fresnel(eta));
+            assert!((fit - exact).abs() < 0.007 * exact, "η = {eta}: {fit} vs {exact}");
+        }
     }
 
     #[test]
