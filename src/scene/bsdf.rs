@@ -247,9 +247,9 @@ impl Bsdf {
     /// Whether light can pass through (dielectrics).
     pub fn transmits(&self) -> bool {
         match self {
-            Bsdf::Dielectric { .. } | Bsdf::RoughDielectric { .. } | Bsdf::ThinDielectric { .. } => {
-                true
-            }
+            Bsdf::Dielectric { .. }
+            | Bsdf::RoughDielectric { .. }
+            | Bsdf::ThinDielectric { .. } => true,
             Bsdf::TwoSided(inner) => inner.transmits(),
             Bsdf::Textured { bsdf, .. } | Bsdf::NormalMap { bsdf, .. } => bsdf.transmits(),
             _ => false,
@@ -932,7 +932,10 @@ mod tests {
         // Mitsuba's fit is within 0.7% of the integral for usual indices.
         for eta in [1.0 / 1.49, 1.0 / 1.33, 1.33, 1.5] {
             let (fit, exact) = (fresnel_diffuse_reflectance_fit(eta), diffuse_fresnel(eta));
-            assert!((fit - exact).abs() < 0.007 * exact, "η = {eta}: {fit} vs {exact}");
+            assert!(
+                (fit - exact).abs() < 0.007 * exact,
+                "η = {eta}: {fit} vs {exact}"
+            );
         }
     }
 

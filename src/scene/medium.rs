@@ -395,8 +395,10 @@ impl Medium {
                 None => {
                     let st = check_color(&props, "sigma_t", sigma_t.unwrap_or(Vec3::ONE), None)?;
                     if dialect == Dialect::Mitsuba {
-                        if const_to_world.determinant().abs() < 1e-30 || !const_to_world.is_finite() {
-                            return Err(props.object_error("the sigma_t volume's to_world is not invertible"));
+                        if const_to_world.determinant().abs() < 1e-30 || !const_to_world.is_finite()
+                        {
+                            return Err(props
+                                .object_error("the sigma_t volume's to_world is not invertible"));
                         }
                         MediumKind::Grid {
                             grid: Grid {
@@ -409,7 +411,9 @@ impl Medium {
                             majorant_factor: 0,
                         }
                     } else {
-                        MediumKind::Homogeneous { sigma_t: st * scale }
+                        MediumKind::Homogeneous {
+                            sigma_t: st * scale,
+                        }
                     }
                 }
             }

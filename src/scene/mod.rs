@@ -73,7 +73,11 @@ impl Scene {
 
     /// Whether some shape has a `thindielectric` BSDF.
     pub fn has_thin_dielectrics(&self) -> bool {
-        let thin = |b: u32| self.bsdfs.get(b as usize).is_some_and(|b| b.is_thin_dielectric());
+        let thin = |b: u32| {
+            self.bsdfs
+                .get(b as usize)
+                .is_some_and(|b| b.is_thin_dielectric())
+        };
         self.meshes.iter().any(|m| thin(m.bsdf)) || self.spheres.iter().any(|s| thin(s.bsdf))
     }
 

@@ -359,10 +359,7 @@ impl Expander {
         let value = el.require("value")?;
         let dir = el.dir().join(value);
         if !dir.is_dir() {
-            return Err(el.err(format!(
-                "<path>: folder '{}' not found",
-                dir.display()
-            )));
+            return Err(el.err(format!("<path>: folder '{}' not found", dir.display())));
         }
         self.search.paths.borrow_mut().push(dir);
         Ok(())
