@@ -508,6 +508,38 @@ mod tests {
     }
 
     #[test]
+    fn constant_heterogeneous_medium_fills_its_volume_box() {
+        // Mitsuba bounds a heterogeneous medium by its sigma_t volume's box: a plain
+        // value fills [0, 1]³, a constvolume the unit cube under its to_world.
+        let s = load(
+            &[(
+                "s.xml",
+                &mitsuba(
+                    r#"<medium type="heterogeneous" id="a"><rgb name="sigma_t" value="0.5, 0.4, 0.3"/><float name="scale" value="5"/></medium>
+<medium type="heterogeneous" id="b"><volume type="constvolume" name="sigma_t"><rgb name="value" value="2"/>
+    <transform name="to_world"><translate x="-0.5" y="-0.5" z="-0.5"/></transform></volume></medium>"#,
+                ),
+            )],
+            &[],
+        )
+        .unwrap();
+        let MediumKind::Grid { grid, scale, .. } = &s.media[0].kind else {
+            panic!("{:?}", s.media[0].kind)
+        };
+        assert_eq!((grid.res, grid.channels), ([1, 1, 1], 3));
+        assert_eq!(grid.data, vec![0.5, 0.4, 0.3]);
+        assert_eq!((*scale, grid.to_world), (Vec3::splat(5.0), Mat4::IDENTITY));
+        let MediumKind::Grid { grid, scale, .. } = &s.media[1].kind else {
+            panic!("{:?}", s.media[1].kind)
+        };
+        assert_eq!((grid.data[0], *scale), (2.0, Vec3::ONE));
+        assert_eq!(
+            grid.to_world.transform_point3(Vec3::ZERO),
+            Vec3::splat(-0.5)
+        );
+    }
+
+    #[test]
     fn sensor_medium_and_errors() {
         let xml = r#"<scene version="3.0.0">
 <medium type="homogeneous" id="fog"/>

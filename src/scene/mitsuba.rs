@@ -1610,6 +1610,92 @@ mod tests {
     }
 
     #[test]
+    fn search_paths_and_moment() {
+        // <path> adds a folder (relative to the scene file) that file names and
+        // includes are also searched in; the moment integrator stands for its inner one.
+        let main = r#"<scene version="2.0.0">
+  <path value="assets"/>
+  <include filename="frag.xml"/>
+  <integrator type="moment"><integrator type="volpathmis"><integer name="max_depth" value="16"/></integrator></integrator>
+  <sensor type="perspective"/>
+</scene>"#;
+        let frag = r#"<scene version="2.0.0">
+  <shape type="obj"><string name="filename" value="meshes/tri.obj"/></shape>
+</scene>"#;
+        let s = load(
+            &[
+                ("main.xml", main),
+                ("assets/frag.xml", frag),
+                ("assets/meshes/tri.obj", TRI_OBJ),
+            ],
+            &[],
+        )
+        .unwrap();
+        assert_eq!(s.meshes.len(), 1);
+        assert_eq!(s.integrator.name, "volpathmis");
+        assert_eq!(
+            s.integrator.params.get("max_depth"),
+            Some(&crate::scene::integrator::Param::Integer(16))
+        );
+        let e = error_at(
+            load(&[("s.xml", &mitsuba("<path value=\"nope\"/>"))], &[]),
+            "s.xml",
+            3,
+        );
+        assert!(e.contains("<path>: folder") && e.contains("nope"), "{e}");
+        for inner in [
+            "",
+            "<integrator type=\"path\"/><integrator type=\"direct\"/>",
+        ] {
+            let e = error_at(
+                load(
+                    &[(
+                        "s.xml",
+                        &mitsuba(&format!("<integrator type=\"moment\">{inner}</integrator>")),
+                    )],
+                    &[],
+                ),
+                "s.xml",
+                3,
+            );
+            assert!(e.contains("exactly one nested <integrator>"), "{e}");
+        }
+    }
+
+    #[test]
+    fn thindielectric_parameters() {
+        let s = load(
+            &[(
+                "s.xml",
+                &mitsuba(
+                    r#"<bsdf type="thindielectric" id="a"/>
+<bsdf type="thindielectric" id="b"><string name="int_ior" value="water"/><float name="ext_ior" value="1"/>
+<rgb name="specular_transmittance" value="0.5"/></bsdf>"#,
+                ),
+            )],
+            &[],
+        )
+        .unwrap();
+        assert_eq!(
+            s.bsdfs[0],
+            Bsdf::ThinDielectric {
+                eta: 1.5046 / 1.000277,
+                specular_reflectance: Vec3::ONE,
+                specular_transmittance: Vec3::ONE,
+            }
+        );
+        assert_eq!(
+            s.bsdfs[1],
+            Bsdf::ThinDielectric {
+                eta: 1.333,
+                specular_reflectance: Vec3::ONE,
+                specular_transmittance: Vec3::splat(0.5),
+            }
+        );
+        assert!(s.bsdfs[0].transmits() && s.bsdfs[0].is_thin_dielectric());
+    }
+
+    #[test]
     fn dialect_detection() {
         let e = error_at(
             load(
