@@ -13,7 +13,7 @@ layout(constant_id = 2) const uint SCENE_TEXTURES = 0xffffffffu;
 #define TEXTURE_KINDS SCENE_TEXTURES
 // The emitter kinds the scene has (a bit per EMITTER_* kind, EMITTER_KIND_BIT_SPHERE_AREA
 // for area lights on spheres): the others compile away.
-layout(constant_id = 8) const uint SCENE_EMITTER_KINDS = 0xffffffffu;
+layout(constant_id = 9) const uint SCENE_EMITTER_KINDS = 0xffffffffu;
 #define EMITTER_KINDS SCENE_EMITTER_KINDS
 #include "emitter.glsl"
 
@@ -33,9 +33,12 @@ layout(constant_id = 5) const bool SCENE_HAS_SPHERES = true;
 // Grid media in the scene; without them only the homogeneous code is compiled.
 layout(constant_id = 6) const bool SCENE_HAS_GRIDS = true;
 #define MEDIA_GRIDS SCENE_HAS_GRIDS
+// Thin dielectrics are null crossings (volumetric integrators in scenes with them).
+layout(constant_id = 7) const bool SCENE_THIN_NULL = false;
+#define THIN_NULL SCENE_THIN_NULL
 #include "medium.glsl"
 // MIS weights by the power heuristic instead of the balance heuristic.
-layout(constant_id = 7) const bool SCENE_MIS_POWER = false;
+layout(constant_id = 8) const bool SCENE_MIS_POWER = false;
 #define MIS_POWER SCENE_MIS_POWER
 #include "path.glsl"
 #include "vol_path.glsl"

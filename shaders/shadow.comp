@@ -21,6 +21,9 @@ layout(constant_id = 4) const bool SCENE_HAS_MEDIA = false;
 // Grid media in the scene; without them only the homogeneous code is compiled.
 layout(constant_id = 6) const bool SCENE_HAS_GRIDS = true;
 #define MEDIA_GRIDS SCENE_HAS_GRIDS
+// Thin dielectrics pass shadow rays (volumetric integrators in scenes with them).
+layout(constant_id = 7) const bool SCENE_THIN_NULL = false;
+#define THIN_NULL SCENE_THIN_NULL
 #include "transmittance.glsl"
 
 void main() {

@@ -9,10 +9,10 @@
 
 mod common;
 
-use common::stats::{BsdfProbe, FLAG_TRANSMISSION};
+use common::stats::{BsdfProbe, FLAG_DELTA, FLAG_NULL, FLAG_REFLECTION, FLAG_TRANSMISSION};
 use glam::Vec3;
 use wavetrace::gpu::layout::BsdfRecord;
-use wavetrace::scene::bsdf::{rough_reflectance, Bsdf, Distribution};
+use wavetrace::scene::bsdf::{rough_reflectance, thin_dielectric_reflectance, Bsdf, Distribution};
 
 const N: u32 = 100_000;
 
@@ -96,6 +96,18 @@ fn lossless_smooth_models() {
                 specular_transmittance: white,
             },
             1.5,
+            true,
+        ),
+        // A thin slab keeps all energy: R' reflected, 1 - R' passed undeflected (no
+        // radiance scaling, so its energy eta is 1), from either side.
+        (
+            "thindielectric 1.5",
+            Bsdf::ThinDielectric {
+                eta: 1.5,
+                specular_reflectance: white,
+                specular_transmittance: white,
+            },
+            1.0,
             true,
         ),
         (
@@ -220,5 +232,58 @@ fn microfacet_energy_loss_is_bounded() {
             1.0,
             false,
         );
+    }
+}
+
+/// The thin dielectric picks its lobes as Mitsuba's thindielectric.cpp: reflection
+/// (the mirror direction, flags reflection | delta) with probability R' = 2R / (1 + R)
+/// of the Fresnel reflectance R at |cos θo| (from either side alike), else straight
+/// through (wi = -wo, flags transmission | null | delta), each with weight 1 for white
+/// (f / P: the lobe's share over the probability of picking it); a tinted slab weighs
+/// its reflection by specular_reflectance and its transmission by
+/// specular_transmittance. The share of reflections must match R' within 5 binomial
+/// standard errors (a false failure has probability < 1e-6 per direction).
+#[test]
+fn thin_dielectric_lobes() {
+    let probe = BsdfProbe::new();
+    let (refl, trans) = (Vec3::new(0.9, 0.5, 0.2), Vec3::new(0.3, 0.6, 1.0));
+    for eta in [1.5f32, 1.333] {
+        let b = Bsdf::ThinDielectric {
+            eta,
+            specular_reflectance: refl,
+            specular_transmittance: trans,
+        };
+        for (i, &c) in COS.iter().enumerate() {
+            for sign in [1.0f32, -1.0] {
+                let wo = wo_at(c, 0.7 * i as f32) * Vec3::new(1.0, 1.0, sign);
+                let samples = probe.sample(&BsdfRecord::from(&b), wo, N, 5);
+                let want = thin_dielectric_reflectance(wo.z as f64, eta as f64);
+                let mut reflected = 0usize;
+                for s in &samples {
+                    if s.flags & FLAG_REFLECTION != 0 {
+                        reflected += 1;
+                        assert_eq!(s.flags, FLAG_REFLECTION | FLAG_DELTA);
+                        assert!((s.wi - Vec3::new(-wo.x, -wo.y, wo.z)).length() < 1e-6);
+                        assert!((s.weight - refl).length() < 1e-6, "{}", s.weight);
+                    } else {
+                        assert_eq!(s.flags, FLAG_TRANSMISSION | FLAG_NULL | FLAG_DELTA);
+                        assert!((s.wi + wo).length() < 1e-6);
+                        assert!((s.weight - trans).length() < 1e-6, "{}", s.weight);
+                    }
+                    assert_eq!(s.pdf, 0.0);
+                }
+                let share = reflected as f64 / N as f64;
+                let se = (want * (1.0 - want) / N as f64).sqrt().max(1e-6);
+                println!(
+                    "thindielectric η = {eta}, cos θo = {:+.2}: R' = {want:.4}, sampled {share:.4}",
+                    wo.z
+                );
+                assert!(
+                    (share - want).abs() < 5.0 * se,
+                    "η = {eta}, cos θo = {}: reflected {share}, R' = {want}",
+                    wo.z
+                );
+            }
+        }
     }
 }

@@ -9,8 +9,13 @@ spikes of density 40 (the stress test's grid; the shipped one has none, since a
 single global majorant of 40 makes Mitsuba's reference 40 times slower). Format: Mitsuba's .vol version 3 (b"VOL",
 3, int32 encoding 1 = float32, int32 xres, yres, zres, channels, 6 float32 bounding
 box, float32 data with x fastest), bounding box the unit cube. Deterministic (seeded).
+`--zero-border` sets the outermost layer of voxels to 0 (smoke_border.vol, the grid of
+smoke_rotated.xml: a
+rotated grid whose border is empty is the same medium in wavetrace, which confines it to
+the rotated box, and in Mitsuba 3.9, which fills the box's world-space bounding box
+with the border values clamped outwards).
 
-    python3 tools/make_smoke.py [-o scenes/media/smoke.vol] [--res 32] [--spikes 0]
+    python3 tools/make_smoke.py [-o scenes/media/smoke.vol] [--res 32] [--spikes 0] [--zero-border]
 """
 
 import argparse
@@ -76,8 +81,13 @@ def main():
     ap.add_argument("-o", default="scenes/media/smoke.vol")
     ap.add_argument("--res", type=int, default=32)
     ap.add_argument("--spikes", type=int, default=0)
+    ap.add_argument("--zero-border", action="store_true")
     args = ap.parse_args()
     grid = plume(args.res, args.spikes)
+    if args.zero_border:
+        grid[[0, -1], :, :] = 0
+        grid[:, [0, -1], :] = 0
+        grid[:, :, [0, -1]] = 0
     write_vol(args.o, grid)
     empty = (grid == 0).mean()
     print(f"{args.o}: {args.res}^3, max {grid.max():.1f}, {100 * empty:.0f}% empty voxels")

@@ -39,6 +39,8 @@
 #define BSDF_FLAG_REFLECTION 1u
 #define BSDF_FLAG_TRANSMISSION 2u
 #define BSDF_FLAG_DELTA 4u
+// Transmission straight through without bending (thin dielectric): no (η_i/η_t)².
+#define BSDF_FLAG_NULL 8u
 
 struct BsdfSample {
     vec3 wi;
@@ -57,6 +59,7 @@ BsdfSample bsdf_sample_none() { return BsdfSample(vec3(0.0, 0.0, 1.0), vec3(0.0)
 #include "bsdf/plastic.glsl"
 #include "bsdf/roughplastic.glsl"
 #include "bsdf/nori_microfacet.glsl"
+#include "bsdf/thindielectric.glsl"
 
 // Twosided: mirror the frame so that wo lies above (Mitsuba src/bsdfs/twosided.cpp).
 bool bsdf_flip(BsdfRecord b, vec3 wo) { return (b.flags & BSDF_TWOSIDED) != 0u && wo.z < 0.0; }
@@ -74,7 +77,7 @@ vec3 bsdf_eval(BsdfRecord b, vec3 wo, vec3 wi, vec2 uv) {
     case BSDF_PLASTIC: if (BSDF_HAS(BSDF_PLASTIC)) return bsdf_plastic_eval(b, wo, wi); break;
     case BSDF_ROUGHPLASTIC: if (BSDF_HAS(BSDF_ROUGHPLASTIC)) return bsdf_roughplastic_eval(b, wo, wi); break;
     case BSDF_NORI_MICROFACET: if (BSDF_HAS(BSDF_NORI_MICROFACET)) return bsdf_nori_microfacet_eval(b, wo, wi); break;
-    default: return vec3(0.0); // conductor, dielectric: delta lobes only
+    default: return vec3(0.0); // conductor, dielectric, thindielectric: delta lobes only
     }
 }
 
@@ -107,12 +110,15 @@ BsdfSample bsdf_sample(BsdfRecord b, vec3 wo, vec3 u, vec2 uv) {
     case BSDF_PLASTIC: s = BSDF_HAS(BSDF_PLASTIC) ? bsdf_plastic_sample(b, wo, u) : bsdf_sample_none(); break;
     case BSDF_ROUGHPLASTIC: s = BSDF_HAS(BSDF_ROUGHPLASTIC) ? bsdf_roughplastic_sample(b, wo, u) : bsdf_sample_none(); break;
     case BSDF_NORI_MICROFACET: s = BSDF_HAS(BSDF_NORI_MICROFACET) ? bsdf_nori_microfacet_sample(b, wo, u) : bsdf_sample_none(); break;
+    case BSDF_THINDIELECTRIC: s = BSDF_HAS(BSDF_THINDIELECTRIC) ? bsdf_thindielectric_sample(b, wo, u) : bsdf_sample_none(); break;
     default: s = bsdf_sample_none(); break;
     }
     if (flip) s.wi = bsdf_mirror(s.wi);
     return s;
 }
 
-bool bsdf_is_delta(BsdfRecord b) { return b.kind == BSDF_CONDUCTOR || b.kind == BSDF_DIELECTRIC; }
+bool bsdf_is_delta(BsdfRecord b) {
+    return b.kind == BSDF_CONDUCTOR || b.kind == BSDF_DIELECTRIC || b.kind == BSDF_THINDIELECTRIC;
+}
 
 #endif

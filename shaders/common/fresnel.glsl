@@ -36,6 +36,15 @@ float fresnel_dielectric_f(float cos_i, float eta) {
     return fresnel_dielectric(cos_i, eta, cos_t, eta_it, eta_ti);
 }
 
+// Reflectance R' = 2R / (1 + R) of a thin dielectric slab (two parallel interfaces,
+// light leaves undeflected) at cosine cos_i from either side: R, the Fresnel
+// reflectance of one interface taken as from outside, with T = 1 - R summed over the
+// inter-reflections, R' = R + T² R / (1 - R²) (Mitsuba's thindielectric.cpp).
+float fresnel_thin_slab(float cos_i, float eta) {
+    float r = fresnel_dielectric_f(abs(cos_i), eta);
+    return 2.0 * r / (1.0 + r);
+}
+
 // Complex arithmetic on vec2 = (re, im).
 vec2 fresnel_cmul(vec2 a, vec2 b) { return vec2(a.x * b.x - a.y * b.y, a.x * b.y + a.y * b.x); }
 vec2 fresnel_cdiv(vec2 a, vec2 b) { return vec2(a.x * b.x + a.y * b.y, a.y * b.x - a.x * b.y) / dot(b, b); }

@@ -38,6 +38,7 @@ struct Prim {
 #define SHAPE_FLIP_NORMALS 4u
 #define SHAPE_NULL_BSDF 8u
 #define SHAPE_MEDIUM_TRANSITION 16u
+#define SHAPE_THIN_DIELECTRIC 32u
 #define MEDIUM_NONE16 0xffffu
 struct ShapeRecord {
     uint bsdf;
@@ -75,6 +76,7 @@ struct Vertex {
 #define BSDF_PLASTIC 5u
 #define BSDF_ROUGHPLASTIC 6u
 #define BSDF_NORI_MICROFACET 7u
+#define BSDF_THINDIELECTRIC 8u
 // BsdfRecord.flags
 #define BSDF_TWOSIDED 1u
 #define BSDF_NONLINEAR 2u
@@ -212,13 +214,15 @@ struct Frame {
 
 // One path of the wavefront, by path slot.
 #define PATH_DELTA 1u
+#define PATH_THIN_REFLECT 2u
 struct PathState {
     vec3 throughput;
     uint pixel;
     vec3 radiance;
     uint sample_index;
     float bsdf_pdf; // solid-angle pdf of the current ray's direction (for MIS)
-    uint flags;     // PATH_DELTA: the current ray came from a delta lobe
+    uint flags;     // PATH_DELTA: the current ray came from a delta lobe;
+                    // PATH_THIN_REFLECT: transient, from the medium stage to path_shade
     float eta_scale; // product of (η_t/η_i)² over refractions (for Russian roulette)
     uint medium;    // medium the current ray travels in, or NONE
 };

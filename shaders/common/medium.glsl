@@ -23,7 +23,11 @@
 
 // Random numbers for the unbounded loops of tracking: one stream per path, bounce and
 // purpose (0: free flight, 1: shadow transmittance), indexed by a counter. Their
-// dimensions have the top bit set, so they never meet those of rng_dim_bounce.
+// dimensions have the top bit set, so they never meet those of rng_dim_bounce; below
+// it, the purpose (2 bits), the bounce (11 bits: distinct for all of the 1024 bounces
+// a path may take, integrator.rs UNBOUNDED_VOLUME_BOUNCES; with 7 bits, bounces 128
+// apart drew the same numbers) and the counter (18 bits: 262144 draws per bounce, four
+// times MEDIUM_MAX_STEPS).
 struct MediumRng {
     uint pixel;
     uint sample_index;
@@ -33,12 +37,12 @@ struct MediumRng {
 };
 
 MediumRng medium_rng(uint pixel, uint sample_index, uint depth, uint stream, uint seed) {
-    uint base = 0x80000000u | ((depth & 0x7fu) << 24) | ((stream & 3u) << 22);
+    uint base = 0x80000000u | ((stream & 3u) << 29) | ((depth & 0x7ffu) << 18);
     return MediumRng(pixel, sample_index, base, seed, 0u);
 }
 
 vec4 medium_rng_next(inout MediumRng r) {
-    vec4 u = rng_4d(r.pixel, r.sample_index, r.base | (r.n & 0x3fffffu), r.seed);
+    vec4 u = rng_4d(r.pixel, r.sample_index, r.base | (r.n & 0x3ffffu), r.seed);
     r.n += 1u;
     return u;
 }

@@ -127,12 +127,16 @@ void path_shade(uint integrator, RayItem r, HitItem h, PathState path) {
 
     if (mats) {
         vec4 u = rng_4d(path.pixel, path.sample_index, rng_dim_bounce(depth, 1u), frame.seed);
+        // The medium stage already chose a thin dielectric's reflection (probability
+        // R', vol_path_traverse): u.x = 0 selects that lobe, weight f/P = specular.
+        if ((path.flags & PATH_THIN_REFLECT) != 0u) u.x = 0.0;
         BsdfSample bs = bsdf_sample(bsdf, wo, u.xyz, s.uv);
         vec3 wi = frame_to_world(s.ns, bs.wi);
         vec3 throughput = path.throughput * bs.weight * (mapped ? normal_map_weight(nm, wi) : 1.0);
         if (!any(greaterThan(throughput, vec3(0.0)))) return;
-        // Refraction scaled the radiance by (η_i/η_t)² (dielectrics, rough or smooth).
-        if ((bs.flags & BSDF_FLAG_TRANSMISSION) != 0u) {
+        // Refraction scaled the radiance by (η_i/η_t)² (dielectrics, rough or smooth;
+        // not a thin dielectric's undeflected transmission).
+        if ((bs.flags & (BSDF_FLAG_TRANSMISSION | BSDF_FLAG_NULL)) == BSDF_FLAG_TRANSMISSION) {
             path.eta_scale *= wo.z > 0.0 ? bsdf.eta * bsdf.eta : 1.0 / (bsdf.eta * bsdf.eta);
         }
         // Russian roulette: survive with probability min(max throughput, 0.99), the

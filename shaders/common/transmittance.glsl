@@ -1,11 +1,19 @@
 // Transmittance of a shadow ray through media and null surfaces: the ray passes every
 // null surface (switching medium there as Mitsuba's target_medium does) and is blocked
-// by any other; each medium segment contributes its transmittance (medium.glsl).
+// by any other; each medium segment contributes its transmittance (medium.glsl). With
+// THIN_NULL (volumetric integrators), a thin dielectric without emission is passed too,
+// attenuated by its null transmission (1 - R') specular_transmittance, as Mitsuba's
+// volpath weighs shadow rays by eval_null_transmission.
 // Needs wavefront.glsl, scene_bindings.glsl, bvh.glsl, surface.glsl, medium.glsl.
 #ifndef TRANSMITTANCE_GLSL
 #define TRANSMITTANCE_GLSL
 
 #include "medium.glsl"
+#include "fresnel.glsl"
+
+#ifndef THIN_NULL
+#define THIN_NULL false
+#endif
 
 // Surfaces one shadow ray may pass before it counts as blocked.
 #define TRANSMITTANCE_MAX_CROSSINGS 64u
@@ -19,9 +27,13 @@ vec3 transmittance_shadow(ShadowItem s) {
     float remaining = s.tmax;
     for (uint crossing = 0u; crossing < TRANSMITTANCE_MAX_CROSSINGS; crossing++) {
         Hit h = bvh_closest(o, s.dir, 0.0, remaining);
-        // An opaque surface blocks the ray whatever the media before it.
-        if (h.prim != NONE && (shape_load(prim_load(h.prim).shape).flags & SHAPE_NULL_BSDF) == 0u) {
-            return vec3(0.0);
+        ShapeRecord shape;
+        bool thin = false;
+        if (h.prim != NONE) {
+            shape = shape_load(prim_load(h.prim).shape);
+            thin = THIN_NULL && (shape.flags & SHAPE_THIN_DIELECTRIC) != 0u && shape.emitter == NONE;
+            // An opaque surface blocks the ray whatever the media before it.
+            if ((shape.flags & SHAPE_NULL_BSDF) == 0u && !thin) return vec3(0.0);
         }
         if (medium != NONE) {
             T *= medium_transmittance(medium, o, s.dir, h.prim == NONE ? remaining : h.t, rng);
@@ -29,6 +41,11 @@ vec3 transmittance_shadow(ShadowItem s) {
         }
         if (h.prim == NONE) return T;
         Surface sf = surface_at(h.prim, h.u, h.v, o, s.dir, h.t);
+        if (thin) {
+            BsdfRecord b = bsdf_load(shape.bsdf);
+            T *= b.transmittance * (1.0 - fresnel_thin_slab(dot(s.dir, sf.ns), b.eta));
+            if (!any(greaterThan(T, vec3(0.0)))) return vec3(0.0);
+        }
         medium = medium_after(sf.shape, medium, s.dir, sf.ng);
         vec3 next = surface_spawn_origin(sf, dot(s.dir, sf.ng) > 0.0 ? sf.ng : -sf.ng);
         remaining = max(remaining - dot(next - o, s.dir), 0.0);

@@ -25,6 +25,12 @@
 // degenerate geometry; a closed boundary is crossed twice).
 #define VOL_PATH_MAX_CROSSINGS 64u
 
+// Thin dielectrics are null crossings with probability 1 - R' (set where the
+// integrator is volumetric and the scene has them; see vol_path_traverse).
+#ifndef THIN_NULL
+#define THIN_NULL false
+#endif
+
 // A real scattering event in medium `medium` at p for the path of ray r (its state
 // `path` with the throughput up to p): emitter sampling through a shadow ray
 // (vol_path_mis and single_scatter, where the medium asks for it) with the uniform
@@ -125,6 +131,13 @@ bool vol_path_equiangular(uint integrator, RayItem r, PathState path, uint mediu
 // updated in `path` (for path_shade to store). Returns false when the path scattered
 // in a medium (handled and stored here) or ended. Integrators that are not volumetric
 // ignore media and only pass through null surfaces.
+// A thin dielectric (THIN_NULL) is crossed as Mitsuba's volpath crosses its null lobe:
+// with probability 1 - R' the ray goes on undeflected, weight specular_transmittance,
+// with no path vertex (depth, MIS state and Russian roulette unchanged); otherwise the
+// stage ends there with PATH_THIN_REFLECT set, and path_shade takes the reflection
+// lobe (probability R', weight specular_reflectance). A thin dielectric that emits
+// light always goes to path_shade (its emission is counted there), which samples
+// both lobes as an ordinary BSDF.
 bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, inout PathState path) {
     bool vol = integrator_is_volumetric(integrator);
     uint medium = vol ? path.medium : NONE;
@@ -151,9 +164,20 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, inout PathSt
             if (!any(greaterThan(throughput, vec3(0.0)))) return false;
         }
         if (h.prim == NONE) break;
+        ShapeRecord shape = shape_load(prim_load(h.prim).shape);
+        bool thin = THIN_NULL && (shape.flags & SHAPE_THIN_DIELECTRIC) != 0u && shape.emitter == NONE;
         // A surface with a BSDF ends the stage (path_shade computes its geometry).
-        if ((shape_load(prim_load(h.prim).shape).flags & SHAPE_NULL_BSDF) == 0u) break;
+        if ((shape.flags & SHAPE_NULL_BSDF) == 0u && !thin) break;
         Surface s = surface_at(h.prim, h.u, h.v, o, r.dir, h.t);
+        if (thin) {
+            BsdfRecord b = bsdf_load(shape.bsdf);
+            if (medium_rng_next(rng).x < fresnel_thin_slab(dot(r.dir, s.ns), b.eta)) {
+                path.flags |= PATH_THIN_REFLECT;
+                break;
+            }
+            throughput *= b.transmittance;
+            if (!any(greaterThan(throughput, vec3(0.0)))) return false;
+        }
         if (crossing >= VOL_PATH_MAX_CROSSINGS) return false;
         if (vol) medium = medium_after(s.shape, medium, r.dir, s.ng);
         vec3 next = surface_spawn_origin(s, dot(r.dir, s.ng) > 0.0 ? s.ng : -s.ng);

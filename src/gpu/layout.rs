@@ -76,6 +76,10 @@ pub const SHAPE_NULL_BSDF: u32 = 8;
 /// The shape bounds media (Mitsuba `interior`/`exterior`): a ray leaving it towards
 /// its normal enters the exterior medium, against it the interior one.
 pub const SHAPE_MEDIUM_TRANSITION: u32 = 16;
+/// A `thindielectric` BSDF: the volumetric path tracers cross the surface as a null
+/// one with probability 1 - R' (Mitsuba's null transmission lobe), and shadow rays
+/// pass it attenuated by 1 - R'.
+pub const SHAPE_THIN_DIELECTRIC: u32 = 32;
 /// No medium in one half of [`ShapeRecord::media`].
 pub const MEDIUM_NONE16: u32 = 0xffff;
 
@@ -157,6 +161,7 @@ pub const BSDF_ROUGHDIELECTRIC: u32 = 4;
 pub const BSDF_PLASTIC: u32 = 5;
 pub const BSDF_ROUGHPLASTIC: u32 = 6;
 pub const BSDF_NORI_MICROFACET: u32 = 7;
+pub const BSDF_THINDIELECTRIC: u32 = 8;
 /// [`BsdfRecord::flags`]: Mitsuba `twosided` around the model.
 pub const BSDF_TWOSIDED: u32 = 1;
 /// [`BsdfRecord::flags`]: plastics with `nonlinear` = true.
@@ -225,7 +230,7 @@ pub const EMITTER_CONSTANT: u32 = 2;
 pub const EMITTER_SPOT: u32 = 3;
 /// Mitsuba `envmap`: a lat-long image around the scene.
 pub const EMITTER_ENVMAP: u32 = 4;
-/// Bit of the emitter-kinds mask (specialization constant 8 of `shade`, a bit per
+/// Bit of the emitter-kinds mask (specialization constant 9 of `shade`, a bit per
 /// kind above) that stands for area emitters on spheres; `EMITTER_AREA`'s bit then
 /// means area emitters on meshes.
 pub const EMITTER_KIND_BIT_SPHERE_AREA: u32 = 5;
@@ -384,6 +389,9 @@ pub struct PathState {
 
 /// The current ray was sampled from a delta lobe (no MIS on the emitter it hits).
 pub const PATH_DELTA: u32 = 1;
+/// Set by the medium stage for path_shade within one dispatch, never stored: the
+/// stage chose the reflection lobe of the thin dielectric the ray hit.
+pub const PATH_THIN_REFLECT: u32 = 2;
 
 /// A ray waiting for the `intersect` stage.
 #[repr(C)]

@@ -171,7 +171,10 @@ impl Renderer {
         let has_spheres = !scene.spheres.is_empty() as u32;
         // Media and null surfaces: the medium code of shade and shadow
         // (constant_id 4 of both; 2-3 belong to textures).
-        let has_media = scene.needs_medium_code() as u32;
+        // Thin dielectrics are null crossings for the volumetric path tracers
+        // (constant_id 7 of shade and shadow), which need the medium code for them.
+        let thin_null = (scene.has_thin_dielectrics() && integrator.is_volumetric()) as u32;
+        let has_media = (scene.needs_medium_code() || thin_null != 0) as u32;
         // Grid media (constant_id 6): homogeneous-only scenes compile tracking away.
         let has_grids = scene
             .media
@@ -196,6 +199,7 @@ impl Renderer {
                     has_media,
                     has_spheres,
                     has_grids,
+                    thin_null,
                     integrator.power_heuristic() as u32,
                     records.emitter_kinds(),
                 ],
@@ -203,7 +207,7 @@ impl Renderer {
             shadow: k(
                 "shadow",
                 shaders::SHADOW,
-                &[has_spheres, 0, 0, 0, has_media, 0, has_grids],
+                &[has_spheres, 0, 0, 0, has_media, 0, has_grids, thin_null],
             )?,
             ray_args: k("queue_args", shaders::QUEUE_ARGS, &[0])?,
             shadow_args: k("queue_args", shaders::QUEUE_ARGS, &[1])?,

@@ -8,7 +8,7 @@ use crate::gpu::layout::{
     shape_media, AliasEntry, BsdfRecord, EmitterRecord, MediumRecord, ShapeRecord, TextureRecord,
     TriangleRecord, Vertex, EMITTER_AREA, EMITTER_CONSTANT, EMITTER_ENVMAP, EMITTER_POINT,
     EMITTER_SPOT, NONE, PRIM_TRIANGLE, SHAPE_FLIP_NORMALS, SHAPE_HAS_NORMALS, SHAPE_HAS_UVS,
-    SHAPE_MEDIUM_TRANSITION, SHAPE_NULL_BSDF,
+    SHAPE_MEDIUM_TRANSITION, SHAPE_NULL_BSDF, SHAPE_THIN_DIELECTRIC,
 };
 use crate::gpu::{BindingKind, BindingLayout, Buffer, DescriptorSet, Device};
 use crate::scene::envmap;
@@ -74,6 +74,14 @@ fn medium_flags(interior: Option<u32>, exterior: Option<u32>, null_bsdf: bool) -
         flags |= SHAPE_MEDIUM_TRANSITION;
     }
     (flags, shape_media(interior, exterior))
+}
+
+/// [`SHAPE_THIN_DIELECTRIC`] for a shape whose BSDF is a thin dielectric.
+fn thin_flag(scene: &Scene, bsdf: u32) -> u32 {
+    match scene.bsdfs.get(bsdf as usize) {
+        Some(b) if b.is_thin_dielectric() => SHAPE_THIN_DIELECTRIC,
+        _ => 0,
+    }
 }
 
 /// Luminance of linear sRGB (Rec. 709 weights).
@@ -276,7 +284,7 @@ impl SceneRecords {
             r.shapes.push(ShapeRecord {
                 bsdf: mesh.bsdf,
                 emitter: emitter_of(mesh.emitter),
-                flags: flags | mflags,
+                flags: flags | mflags | thin_flag(scene, mesh.bsdf),
                 media,
             });
         }
@@ -294,6 +302,7 @@ impl SceneRecords {
                 bsdf: sphere.bsdf,
                 emitter: emitter_of(sphere.emitter),
                 flags: mflags
+                    | thin_flag(scene, sphere.bsdf)
                     | if sphere.flip_normals {
                         SHAPE_FLIP_NORMALS
                     } else {

@@ -13,7 +13,6 @@ use super::{Bsdf, Emitter, Error, Medium, Mesh, Sphere, Texture};
 
 /// BSDF types of Mitsuba 3 or Nori that wavetrace does not implement yet.
 pub const UNSUPPORTED_BSDFS: &[&str] = &[
-    "thindielectric",
     "principled",
     "principledthin",
     "blendbsdf",

@@ -12,6 +12,9 @@
 //!   box with `use_grid_bbox`; trilinear interpolation between voxel centres, as
 //!   Mitsuba 3's `gridvolume`) or a constant; `albedo` a constant color, or a
 //!   `gridvolume` on the same voxels (resolution and `to_world`) as `sigma_t`; `scale`;
+//!   a constant `sigma_t` (value or `constvolume`) fills only the unit cube under the
+//!   constvolume's `to_world` ([0, 1]³ by default), as in Mitsuba, where a
+//!   heterogeneous medium ends at its sigma_t volume's bounding box;
 //!   `majorant_resolution_factor` (wavetrace default 8: a coarse grid of maxima, one
 //!   cell per 8³ voxels, lets delta tracking take long steps through thin regions; 0:
 //!   one majorant for the whole grid, as Mitsuba's default). Procedural `cloud` and
@@ -182,9 +185,10 @@ fn phase(el: &Element) -> Result<f32, Error> {
     Ok(g)
 }
 
-/// A nested `<volume name=...>`: a constant color or a grid.
+/// A nested `<volume name=...>`: a constant color (with the `to_world` that places
+/// its unit cube) or a grid.
 enum Volume {
-    Constant(Vec3),
+    Constant(Vec3, Mat4),
     Grid(Grid),
 }
 
@@ -196,7 +200,10 @@ fn volume(el: &Element) -> Result<Volume, Error> {
         return Err(n.err(format!("unexpected <{}> in a <volume>", n.tag)));
     }
     let v = match t {
-        "constvolume" => Volume::Constant(props.color("value", Vec3::ONE)?),
+        "constvolume" => Volume::Constant(
+            props.color("value", Vec3::ONE)?,
+            props.transform("to_world")?,
+        ),
         "gridvolume" => {
             let name = props
                 .string_opt("filename")?
@@ -290,10 +297,16 @@ impl Medium {
         let mut albedo = props.color_opt("albedo")?;
         let mut grid = None;
         let mut albedo_grid: Option<(Grid, &Element)> = None;
+        // Where a constant sigma_t lives in a Mitsuba heterogeneous medium: the unit
+        // cube under the constvolume's to_world (identity for a plain value).
+        let mut const_to_world = Mat4::IDENTITY;
         for (name, v, n) in volumes {
             match (name, v) {
-                ("sigma_t", Volume::Constant(c)) => sigma_t = Some(c),
-                (_, Volume::Constant(c)) => albedo = Some(c),
+                ("sigma_t", Volume::Constant(c, m)) => {
+                    sigma_t = Some(c);
+                    const_to_world = m;
+                }
+                (_, Volume::Constant(c, _)) => albedo = Some(c),
                 ("sigma_t", Volume::Grid(gr)) => grid = Some(gr),
                 (_, Volume::Grid(gr)) => albedo_grid = Some((gr, n)),
             }
@@ -374,11 +387,35 @@ impl Medium {
                         majorant_factor: factor as u32,
                     }
                 }
-                // A constant sigma_t: the same as a homogeneous medium.
-                None => MediumKind::Homogeneous {
-                    sigma_t: check_color(&props, "sigma_t", sigma_t.unwrap_or(Vec3::ONE), None)?
-                        * scale,
-                },
+                // A constant sigma_t. Mitsuba bounds a heterogeneous medium by its
+                // sigma_t volume's box, for a constant too (a constvolume's unit cube
+                // under its to_world, [0, 1]³ for a plain value): outside it the medium
+                // is empty. So it is a grid of one voxel there. Nori's form fills the
+                // box it is given: a homogeneous medium.
+                None => {
+                    let st = check_color(&props, "sigma_t", sigma_t.unwrap_or(Vec3::ONE), None)?;
+                    if dialect == Dialect::Mitsuba {
+                        if const_to_world.determinant().abs() < 1e-30 || !const_to_world.is_finite()
+                        {
+                            return Err(props
+                                .object_error("the sigma_t volume's to_world is not invertible"));
+                        }
+                        MediumKind::Grid {
+                            grid: Grid {
+                                res: [1, 1, 1],
+                                channels: 3,
+                                data: st.to_array().to_vec(),
+                                to_world: const_to_world,
+                            },
+                            scale: Vec3::splat(scale),
+                            majorant_factor: 0,
+                        }
+                    } else {
+                        MediumKind::Homogeneous {
+                            sigma_t: st * scale,
+                        }
+                    }
+                }
             }
         };
         let more = extra(&props)?;
@@ -468,6 +505,38 @@ mod tests {
         );
         // Without a BSDF a medium's shape is diffuse, as in Mitsuba 3.9.
         assert!(!s.spheres[0].null_bsdf);
+    }
+
+    #[test]
+    fn constant_heterogeneous_medium_fills_its_volume_box() {
+        // Mitsuba bounds a heterogeneous medium by its sigma_t volume's box: a plain
+        // value fills [0, 1]³, a constvolume the unit cube under its to_world.
+        let s = load(
+            &[(
+                "s.xml",
+                &mitsuba(
+                    r#"<medium type="heterogeneous" id="a"><rgb name="sigma_t" value="0.5, 0.4, 0.3"/><float name="scale" value="5"/></medium>
+<medium type="heterogeneous" id="b"><volume type="constvolume" name="sigma_t"><rgb name="value" value="2"/>
+    <transform name="to_world"><translate x="-0.5" y="-0.5" z="-0.5"/></transform></volume></medium>"#,
+                ),
+            )],
+            &[],
+        )
+        .unwrap();
+        let MediumKind::Grid { grid, scale, .. } = &s.media[0].kind else {
+            panic!("{:?}", s.media[0].kind)
+        };
+        assert_eq!((grid.res, grid.channels), ([1, 1, 1], 3));
+        assert_eq!(grid.data, vec![0.5, 0.4, 0.3]);
+        assert_eq!((*scale, grid.to_world), (Vec3::splat(5.0), Mat4::IDENTITY));
+        let MediumKind::Grid { grid, scale, .. } = &s.media[1].kind else {
+            panic!("{:?}", s.media[1].kind)
+        };
+        assert_eq!((grid.data[0], *scale), (2.0, Vec3::ONE));
+        assert_eq!(
+            grid.to_world.transform_point3(Vec3::ZERO),
+            Vec3::splat(-0.5)
+        );
     }
 
     #[test]

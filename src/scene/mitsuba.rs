@@ -10,11 +10,14 @@
 //!   `sampler` (independent, stratified, multijitter, orthogonal, ldsampler:
 //!   `sample_count` 4; `seed`, `jitter`, `strength` ignored).
 //! - `integrator`: any type; its parameters are kept unread in [`IntegratorSpec`].
+//!   `moment` around one nested integrator stands for that integrator (its mean).
+//! - `path value="DIR"`: a folder file names are also searched in (see
+//!   [`super::xml::SearchPath`]).
 //! - shapes `obj` (`filename`, `face_normals`, `flip_tex_coords` = true), `ply`
 //!   (`filename`, `face_normals`), `rectangle`, `cube`, `disk` (a 256-gon), `sphere`
 //!   (`center`, `radius`); all with `to_world` and `flip_normals`.
 //! - `bsdf`: `diffuse`, `conductor`, `roughconductor`, `dielectric`, `roughdielectric`,
-//!   `plastic`, `roughplastic` (parameters in [`Bsdf`]), `twosided` around one BSDF
+//!   `plastic`, `roughplastic`, `thindielectric` (parameters in [`Bsdf`]), `twosided` around one BSDF
 //!   without transmission.
 //! - `emitter`: `area` (`radiance`, nested in or referenced by a shape), `point`
 //!   (`position` or `to_world`, `intensity` 1), `constant` (`radiance` 1).
@@ -60,6 +63,7 @@ const BSDFS: &[&str] = &[
     "conductor",
     "roughconductor",
     "dielectric",
+    "thindielectric",
     "roughdielectric",
     "plastic",
     "roughplastic",
@@ -192,6 +196,18 @@ pub fn integrator_spec(el: &Element, dialect: Dialect) -> Result<IntegratorSpec,
     el.check_attrs(&["type", "id", "name"])?;
     let name = el.require("type")?.to_string();
     let (props, nested) = Properties::read(el, dialect, false)?;
+    if dialect == Dialect::Mitsuba && name == "moment" {
+        // Mitsuba's `moment` renders its nested integrators and adds each one's second
+        // moment as extra channels (for variance estimates); wavetrace renders the one
+        // nested integrator, and its image is the mean the wrapper reports.
+        props.finish()?;
+        return match nested.as_slice() {
+            [inner] if inner.tag == "integrator" => integrator_spec(inner, dialect),
+            _ => Err(el.err(
+                "a moment integrator needs exactly one nested <integrator> (wavetrace renders one)",
+            )),
+        };
+    }
     if let Some(n) = nested.first() {
         return Err(n.err(format!(
             "<{}> inside an <integrator> is not supported yet",
@@ -1576,7 +1592,8 @@ mod tests {
             ("<shape type=\"sphere\">\n<float name=\"radius\" value=\"abc\"/></shape>", 4, "could not parse float \"abc\""),
             ("<shape type=\"sphere\">\n<float name=\"radius\" value=\"nan\"/></shape>", 4, "could not parse float \"nan\""),
             ("<shape type=\"sphere\"><float name=\"radius\" value=\"1\"/>\n<float name=\"radius\" value=\"2\"/></shape>", 4, "given twice"),
-            ("<bsdf type=\"thindielectric\"/>", 3, "bsdf type 'thindielectric' is not supported yet"),
+            ("<bsdf type=\"blendbsdf\"/>", 3, "bsdf type 'blendbsdf' is not supported yet"),
+            ("<bsdf type=\"thindielectric\"><texture type=\"checkerboard\" name=\"specular_transmittance\"/></bsdf>", 3, "cannot be a texture"),
             ("<bsdf type=\"velvet\"/>", 3, "unknown bsdf type 'velvet'"),
             ("<shape type=\"cylinder\"/>", 3, "shape type 'cylinder' is not supported yet"),
             ("<medium type=\"homogeneous\"><float name=\"albedo\" value=\"2\"/></medium>", 3, "albedo must be in [0, 1]"),
@@ -1623,6 +1640,92 @@ mod tests {
             1,
         );
         assert!(e.contains("no <sensor>"), "{e}");
+    }
+
+    #[test]
+    fn search_paths_and_moment() {
+        // <path> adds a folder (relative to the scene file) that file names and
+        // includes are also searched in; the moment integrator stands for its inner one.
+        let main = r#"<scene version="2.0.0">
+  <path value="assets"/>
+  <include filename="frag.xml"/>
+  <integrator type="moment"><integrator type="volpathmis"><integer name="max_depth" value="16"/></integrator></integrator>
+  <sensor type="perspective"/>
+</scene>"#;
+        let frag = r#"<scene version="2.0.0">
+  <shape type="obj"><string name="filename" value="meshes/tri.obj"/></shape>
+</scene>"#;
+        let s = load(
+            &[
+                ("main.xml", main),
+                ("assets/frag.xml", frag),
+                ("assets/meshes/tri.obj", TRI_OBJ),
+            ],
+            &[],
+        )
+        .unwrap();
+        assert_eq!(s.meshes.len(), 1);
+        assert_eq!(s.integrator.name, "volpathmis");
+        assert_eq!(
+            s.integrator.params.get("max_depth"),
+            Some(&crate::scene::integrator::Param::Integer(16))
+        );
+        let e = error_at(
+            load(&[("s.xml", &mitsuba("<path value=\"nope\"/>"))], &[]),
+            "s.xml",
+            3,
+        );
+        assert!(e.contains("<path>: folder") && e.contains("nope"), "{e}");
+        for inner in [
+            "",
+            "<integrator type=\"path\"/><integrator type=\"direct\"/>",
+        ] {
+            let e = error_at(
+                load(
+                    &[(
+                        "s.xml",
+                        &mitsuba(&format!("<integrator type=\"moment\">{inner}</integrator>")),
+                    )],
+                    &[],
+                ),
+                "s.xml",
+                3,
+            );
+            assert!(e.contains("exactly one nested <integrator>"), "{e}");
+        }
+    }
+
+    #[test]
+    fn thindielectric_parameters() {
+        let s = load(
+            &[(
+                "s.xml",
+                &mitsuba(
+                    r#"<bsdf type="thindielectric" id="a"/>
+<bsdf type="thindielectric" id="b"><string name="int_ior" value="water"/><float name="ext_ior" value="1"/>
+<rgb name="specular_transmittance" value="0.5"/></bsdf>"#,
+                ),
+            )],
+            &[],
+        )
+        .unwrap();
+        assert_eq!(
+            s.bsdfs[0],
+            Bsdf::ThinDielectric {
+                eta: 1.5046 / 1.000277,
+                specular_reflectance: Vec3::ONE,
+                specular_transmittance: Vec3::ONE,
+            }
+        );
+        assert_eq!(
+            s.bsdfs[1],
+            Bsdf::ThinDielectric {
+                eta: 1.333,
+                specular_reflectance: Vec3::ONE,
+                specular_transmittance: Vec3::splat(0.5),
+            }
+        );
+        assert!(s.bsdfs[0].transmits() && s.bsdfs[0].is_thin_dielectric());
     }
 
     #[test]

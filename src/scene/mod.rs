@@ -71,6 +71,16 @@ impl Scene {
         self.meshes.iter().any(|m| m.null_bsdf) || self.spheres.iter().any(|s| s.null_bsdf)
     }
 
+    /// Whether some shape has a `thindielectric` BSDF.
+    pub fn has_thin_dielectrics(&self) -> bool {
+        let thin = |b: u32| {
+            self.bsdfs
+                .get(b as usize)
+                .is_some_and(|b| b.is_thin_dielectric())
+        };
+        self.meshes.iter().any(|m| thin(m.bsdf)) || self.spheres.iter().any(|s| thin(s.bsdf))
+    }
+
     /// Whether the kernels need their medium code: media or null surfaces.
     pub fn needs_medium_code(&self) -> bool {
         !self.media.is_empty() || self.has_null_surfaces()

@@ -518,8 +518,9 @@ fn color(el: &Element) -> Result<Vec3, Error> {
     }
 }
 
-/// `<spectrum value="0.5">` (constant) or `value="400:0.1, 500:0.2, ..."` (linear sRGB
-/// via [`spectrum::spectrum_to_srgb`]).
+/// `<spectrum value="0.5">` (constant: [`spectrum::constant_to_srgb`]) or
+/// `value="400:0.1, 500:0.2, ..."` (linear sRGB via [`spectrum::spectrum_to_srgb`]),
+/// as Mitsuba's RGB variants read them (emitters differ from everything else).
 fn spectrum_value(el: &Element, within_emitter: bool) -> Result<Vec3, Error> {
     if el.attr("filename").is_some() {
         return Err(el.err("spectrum files (<spectrum filename=...>) are not supported yet"));
@@ -529,7 +530,7 @@ fn spectrum_value(el: &Element, within_emitter: bool) -> Result<Vec3, Error> {
     if toks.len() == 1 && !toks[0].contains(':') {
         let v = parse_number(toks[0])
             .ok_or_else(|| el.err(format!("could not parse constant spectrum \"{s}\"")))?;
-        return Ok(Vec3::splat(v as f32));
+        return Ok(spectrum::constant_to_srgb(v, within_emitter));
     }
     let mut wavelengths = Vec::with_capacity(toks.len());
     let mut values = Vec::with_capacity(toks.len());
@@ -552,6 +553,11 @@ fn spectrum_value(el: &Element, within_emitter: bool) -> Result<Vec3, Error> {
         return Err(el.err("<spectrum> has an empty value"));
     }
     let name = el.attr("name").unwrap_or("");
-    let bounded = !(within_emitter || UNBOUNDED.contains(&name));
-    Ok(spectrum::spectrum_to_srgb(&wavelengths, &values, bounded))
+    let bounded = !UNBOUNDED.contains(&name);
+    Ok(spectrum::spectrum_to_srgb(
+        &wavelengths,
+        &values,
+        within_emitter,
+        bounded,
+    ))
 }

@@ -5,6 +5,7 @@
 //! The dialect loaders (`mitsuba`, `nori`) walk the [`Element`] tree this produces; they
 //! never see roxmltree.
 
+use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
@@ -31,9 +32,37 @@ pub struct Element {
     /// The file this element was read from (an included file, for included elements).
     pub file: Rc<PathBuf>,
     pub line: u32,
-    /// The folder of the scene file `load` was given (Mitsuba's file resolver also
-    /// searches it, so included fragments may name files relative to the main scene).
-    pub base: Rc<PathBuf>,
+    /// Where relative file names are searched besides the element's own folder: the
+    /// scene's `<path>` folders and the folder of the scene file `load` was given.
+    pub search: Rc<SearchPath>,
+}
+
+/// Mitsuba's file resolver for one scene: the folder of the main scene file, and the
+/// folders its `<path value="..."/>` tags add (each relative to the file holding the
+/// tag, as Mitsuba's parser makes them). Later `<path>`s are searched first, as
+/// Mitsuba prepends them. File names are resolved after the whole scene is read (as
+/// Mitsuba's plugins resolve them when they are built), so a `<path>` applies to
+/// every file the scene names; an `<include>` sees the `<path>`s above it.
+#[derive(Debug)]
+pub struct SearchPath {
+    /// The main scene file's folder.
+    pub base: PathBuf,
+    /// `<path>` folders, in document order.
+    paths: RefCell<Vec<PathBuf>>,
+}
+
+impl SearchPath {
+    fn new(base: PathBuf) -> SearchPath {
+        SearchPath {
+            base,
+            paths: RefCell::new(Vec::new()),
+        }
+    }
+
+    /// The `<path>` folders, most recent first.
+    pub fn paths(&self) -> Vec<PathBuf> {
+        self.paths.borrow().iter().rev().cloned().collect()
+    }
 }
 
 impl Element {
@@ -71,26 +100,37 @@ impl Element {
         self.file.parent().unwrap_or(Path::new(""))
     }
 
-    /// Resolves a file name written in this element: relative to the file holding the
-    /// element, else (as Mitsuba's file resolver does) relative to the main scene's
-    /// folder. On failure, the paths tried.
+    /// Resolves a file name written in this element as Mitsuba's file resolver does:
+    /// an absolute name as is; a relative one in the scene's `<path>` folders (most
+    /// recent first), then the folder of the file holding the element, then the main
+    /// scene's folder. On failure, the paths tried.
     pub fn resolve(&self, name: &str) -> Result<PathBuf, String> {
-        let first = self.dir().join(name);
-        if first.is_file() {
-            return Ok(first);
-        }
-        let second = self.base.join(name);
-        if second != first && second.is_file() {
-            return Ok(second);
-        }
-        if second != first && Path::new(name).is_relative() {
-            Err(format!(
-                "'{}' (nor '{}')",
-                first.display(),
-                second.display()
-            ))
+        let mut tried: Vec<PathBuf> = Vec::new();
+        let dirs = if Path::new(name).is_absolute() {
+            vec![PathBuf::new()]
         } else {
-            Err(format!("'{}'", first.display()))
+            let mut dirs = self.search.paths();
+            dirs.push(self.dir().to_path_buf());
+            dirs.push(self.search.base.clone());
+            dirs
+        };
+        for dir in dirs {
+            let candidate = dir.join(name);
+            if tried.contains(&candidate) {
+                continue;
+            }
+            if candidate.is_file() {
+                return Ok(candidate);
+            }
+            tried.push(candidate);
+        }
+        let mut tried = tried.iter().map(|p| format!("'{}'", p.display()));
+        let first = tried.next().unwrap_or_default();
+        let rest: Vec<String> = tried.collect();
+        if rest.is_empty() {
+            Err(first)
+        } else {
+            Err(format!("{first} (nor {})", rest.join(", ")))
         }
     }
 }
@@ -120,10 +160,12 @@ pub fn read(path: &Path, defines: &[(String, String)]) -> Result<Document, Error
         ));
     }
     let file = Rc::new(path.to_path_buf());
-    let base = Rc::new(path.parent().unwrap_or(Path::new("")).to_path_buf());
+    let search = Rc::new(SearchPath::new(
+        path.parent().unwrap_or(Path::new("")).to_path_buf(),
+    ));
     let mut expander = Expander {
         dialect,
-        base: base.clone(),
+        search: search.clone(),
         params: defines.to_vec(),
         stack: vec![canonical(path)],
     };
@@ -141,7 +183,7 @@ pub fn read(path: &Path, defines: &[(String, String)]) -> Result<Document, Error
             children,
             file,
             line,
-            base,
+            search,
         },
     })
 }
@@ -183,7 +225,7 @@ fn canonical(path: &Path) -> PathBuf {
 
 /// Tags only a Mitsuba 3 scene uses at the top level, and tags only Nori uses.
 const MITSUBA_TAGS: &[&str] = &[
-    "sensor", "shape", "default", "include", "film", "texture", "alias",
+    "sensor", "shape", "default", "include", "film", "texture", "alias", "path",
 ];
 const NORI_TAGS: &[&str] = &["camera", "mesh"];
 
@@ -239,7 +281,7 @@ fn detect(path: &Path, doc: &roxmltree::Document, root: roxmltree::Node) -> Resu
 
 struct Expander {
     dialect: Dialect,
-    base: Rc<PathBuf>,
+    search: Rc<SearchPath>,
     /// `$name` substitutions: `-D` defines first, then `<default>`s in document order.
     params: Vec<(String, String)>,
     /// Canonical paths of the files being read, outermost first (include cycle guard).
@@ -281,7 +323,7 @@ impl Expander {
                 children: Vec::new(),
                 file: file.clone(),
                 line,
-                base: self.base.clone(),
+                search: self.search.clone(),
             };
             if self.dialect == Dialect::Mitsuba && el.tag == "default" {
                 el.check_attrs(&["name", "value"])?;
@@ -295,6 +337,10 @@ impl Expander {
                 }
                 continue;
             }
+            if self.dialect == Dialect::Mitsuba && el.tag == "path" {
+                self.path(&el)?;
+                continue;
+            }
             if self.dialect == Dialect::Mitsuba && el.tag == "include" {
                 out.extend(self.include(&el)?);
                 continue;
@@ -303,6 +349,20 @@ impl Expander {
             out.push(el);
         }
         Ok(out)
+    }
+
+    /// `<path value="DIR"/>`: adds DIR (relative to the file holding the tag) to the
+    /// folders file names are searched in; a folder that does not exist is an error,
+    /// as in Mitsuba.
+    fn path(&mut self, el: &Element) -> Result<(), Error> {
+        el.check_attrs(&["value"])?;
+        let value = el.require("value")?;
+        let dir = el.dir().join(value);
+        if !dir.is_dir() {
+            return Err(el.err(format!("<path>: folder '{}' not found", dir.display())));
+        }
+        self.search.paths.borrow_mut().push(dir);
+        Ok(())
     }
 
     fn include(&mut self, el: &Element) -> Result<Vec<Element>, Error> {
@@ -347,7 +407,7 @@ impl Expander {
                 children,
                 file: file.clone(),
                 line,
-                base: self.base.clone(),
+                search: self.search.clone(),
             }])
         };
         self.stack.pop();

@@ -70,6 +70,71 @@ pub fn assert_matches_reference(img: &Image, reference: &Image, label: &str) -> 
     test
 }
 
+/// Outcome of [`compare_with_reference`]: the worst 8x8 block and the whole image.
+pub struct Comparison {
+    pub blocks: BlockTest,
+    pub whole: BlockTest,
+}
+
+impl Comparison {
+    /// Passes at family-wise level `alpha`: half of it for the blocks, half for the
+    /// whole image (Bonferroni).
+    pub fn passes(&self, alpha: f64) -> bool {
+        self.blocks.passes(0.5 * alpha) && self.whole.passes(0.5 * alpha)
+    }
+}
+
+/// Two t-tests of the per-pixel differences (image::metrics::block_t_test): per 8x8
+/// block and channel (a local error), and over the whole image per channel (a small
+/// global bias, which the whole image resolves far better than any one block). Both
+/// take the noise from the spread of the differences, so a noisy reference's own
+/// variance is part of it.
+pub fn compare_with_reference(img: &Image, reference: &Image) -> Comparison {
+    let whole_side = img.width.max(img.height);
+    Comparison {
+        blocks: block_t_test(img, reference, 8).expect("t-test"),
+        whole: block_t_test(img, reference, whole_side).expect("t-test"),
+    }
+}
+
+/// [`compare_with_reference`] at family-wise level `alpha`: prints `label` with both
+/// outcomes and the relMSE, and panics unless the render passes and the same tests
+/// reject the render scaled by 0.95 (they must have the power to see a 5% bias).
+pub fn assert_matches_reference_at(
+    img: &Image,
+    reference: &Image,
+    label: &str,
+    alpha: f64,
+) -> Comparison {
+    let c = compare_with_reference(img, reference);
+    println!(
+        "{label}: blocks {}; whole image {}; relMSE {:.3e}",
+        c.blocks,
+        c.whole,
+        rel_mse(img, reference).expect("relMSE")
+    );
+    assert!(
+        c.passes(alpha),
+        "{label}: render disagrees with the reference at level {alpha:.1e}: blocks {}; whole image {}",
+        c.blocks,
+        c.whole
+    );
+    let mut biased = img.clone();
+    biased.rgb.iter_mut().for_each(|v| *v *= 0.95);
+    let b = compare_with_reference(&biased, reference);
+    println!(
+        "{label} x 0.95: blocks p = {:.2e}, whole image p = {:.2e}",
+        b.blocks.p_bonferroni, b.whole.p_bonferroni
+    );
+    assert!(
+        !b.passes(alpha),
+        "{label}: the check cannot see a 5% bias: blocks {}; whole image {}",
+        b.blocks,
+        b.whole
+    );
+    c
+}
+
 /// Renders `spp` samples (samples `0..spp`) of a scene.
 pub fn render(device: &Device, scene: &Scene, options: &RenderOptions, spp: u32) -> Image {
     let mut r =

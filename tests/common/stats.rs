@@ -265,6 +265,8 @@ pub struct Sampled {
 pub const FLAG_REFLECTION: u32 = 1;
 pub const FLAG_TRANSMISSION: u32 = 2;
 pub const FLAG_DELTA: u32 = 4;
+/// Straight through without bending (thin dielectric).
+pub const FLAG_NULL: u32 = 8;
 
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
