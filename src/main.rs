@@ -175,8 +175,7 @@ fn run(cli: Cli) -> Result<()> {
                 renderer.integrator().name(),
                 renderer.capacity()
             );
-            let needs_light = !matches!(renderer.integrator().name(), "normals" | "ao");
-            if needs_light && sc.emitters.is_empty() {
+            if renderer.integrator().needs_emitters() && sc.emitters.is_empty() {
                 eprintln!(
                     "warning: {} has no emitters: '{}' will render a black image",
                     scene.scene.display(),

@@ -35,14 +35,21 @@ fn check(
     };
     let img = common::render(&device(), &s, &opts, spp);
     assert_eq!(img.non_finite_count(), 0);
-    let test = block_t_test(&img, &reference, block).unwrap();
+    let label = format!("{scene} {integrator} {spp} spp");
+    assert_blocks_agree(&img, &reference, block, &label, "Mitsuba");
+}
+
+/// The block t-test of `check`: prints the relMSE and the test of `img` against
+/// `reference` (`against` names its renderer) and fails below p = 0.01.
+fn assert_blocks_agree(img: &Image, reference: &Image, block: u32, label: &str, against: &str) {
+    let test = block_t_test(img, reference, block).unwrap();
     println!(
-        "{scene} {integrator} {spp} spp: relMSE {:.3e}; {test}",
-        rel_mse(&img, &reference).unwrap()
+        "{label}: relMSE {:.3e}; {test}",
+        rel_mse(img, reference).unwrap()
     );
     assert!(
         test.passes(0.01),
-        "{scene} {integrator}: disagrees with Mitsuba: {test}"
+        "{label}: disagrees with {against}: {test}"
     );
 }
 
@@ -78,14 +85,12 @@ fn cornell_box_path_tracer_with_the_balance_heuristic_matches_mitsuba() {
     );
     let reference = Image::read_exr(repo("scenes/refs/cbox_path.exr")).expect("reference EXR");
     let img = common::render(&device(), &s, &RenderOptions::default(), 64);
-    let test = block_t_test(&img, &reference, 8).unwrap();
-    println!(
-        "cbox path balance: relMSE {:.3e}; {test}",
-        rel_mse(&img, &reference).unwrap()
-    );
-    assert!(
-        test.passes(0.01),
-        "balance heuristic disagrees with Mitsuba: {test}"
+    assert_blocks_agree(
+        &img,
+        &reference,
+        8,
+        "cbox path_mis balance heuristic",
+        "Mitsuba",
     );
 }
 
@@ -241,15 +246,8 @@ fn check_nori(scene: &str, integrator: &str, spp: u32, reference: &str) {
         ..Default::default()
     };
     let img = common::render(&device(), &s, &opts, spp);
-    let test = block_t_test(&img, &reference, 16).unwrap();
-    println!(
-        "{scene} {integrator}: relMSE {:.3e}; {test}",
-        rel_mse(&img, &reference).unwrap()
-    );
-    assert!(
-        test.passes(0.01),
-        "{scene} {integrator}: disagrees with Nori's reference: {test}"
-    );
+    let label = format!("{scene} {integrator}");
+    assert_blocks_agree(&img, &reference, 16, &label, "Nori's reference");
 }
 
 #[test]

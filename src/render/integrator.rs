@@ -233,6 +233,12 @@ impl Integrator {
         }
     }
 
+    /// Whether the image comes from emitters (everything but the `normals` and `ao`
+    /// views): a scene without any renders black.
+    pub fn needs_emitters(&self) -> bool {
+        !matches!(self, Integrator::Normals | Integrator::Ao { .. })
+    }
+
     /// Whether MIS weighs by the power heuristic (else the balance heuristic).
     pub fn power_heuristic(&self) -> bool {
         match self {
