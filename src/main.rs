@@ -48,6 +48,10 @@ struct RunArgs {
     /// Most paths in flight per batch.
     #[arg(long)]
     batch: Option<u32>,
+    /// Most bounces a path may take before it is cut short, with a warning
+    /// (default 65536; a max_depth ends paths sooner).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    max_bounces: Option<u32>,
 }
 
 impl RunArgs {
@@ -57,6 +61,7 @@ impl RunArgs {
             seed: self.seed,
             max_batch_paths: self.batch,
             timestamps,
+            max_bounces: self.max_bounces,
         };
         (options, self.device)
     }
@@ -213,6 +218,15 @@ fn run(cli: Cli) -> Result<()> {
                 eprintln!(
                     "warning: {} samples were NaN or infinite and were discarded",
                     stats.discarded
+                );
+            }
+            if stats.cut_paths > 0 {
+                eprintln!(
+                    "warning: {} paths were still going after {} bounces and were cut short \
+                     (the image misses their later light): give the integrator a max_depth, \
+                     or a smaller rr_depth",
+                    stats.cut_paths,
+                    renderer.bounce_budget()
                 );
             }
             if profile {

@@ -112,6 +112,86 @@ fn emissive_box_gives_the_geometric_series_for_every_estimator() {
     }
 }
 
+/// The emissive box again, with walls of albedo 0.97: unbounded paths converge to
+/// 1 / (1 - 0.97) = 33.3 radiance. Paths cut at 64 bounces (the budget wavetrace once
+/// had) would give (1 - 0.97^64) / 0.03 = 28.8, 13% low; Russian roulette must end the
+/// paths instead, without bias.
+#[test]
+fn unbounded_paths_are_never_truncated() {
+    let body = r#"
+    <integrator type="path"><integer name="max_depth" value="-1"/></integrator>
+    <shape type="cube"><boolean name="flip_normals" value="true"/>
+        <transform name="to_world"><scale value="2, 1, 3"/></transform>
+        <bsdf type="diffuse"><rgb name="reflectance" value="0.97"/></bsdf>
+        <emitter type="area"><rgb name="radiance" value="1"/></emitter>
+    </shape>"#;
+    let xml = scene(
+        r#"<lookat origin="0.3, 0.1, -1" target="0, 0, 1" up="0, 1, 0"/>"#,
+        20.0,
+        body,
+    );
+    for (integrator, spp) in [("path_mis", 64), ("path_mats", 64), ("vol_path_mis", 64)] {
+        render_with(&xml, "bright_box", integrator, spp, &[]).check(
+            1.0 / 0.03,
+            0.01,
+            &format!("{integrator}, unbounded"),
+        );
+    }
+}
+
+/// Paths that never end (walls of albedo 1, Russian roulette never starting) are cut
+/// at the bounce budget, counted, and what they gathered until then is kept: radiance
+/// 1 per segment, so the budget of 40 bounces reads 40 to 41. Without the budget the
+/// render would never end.
+#[test]
+fn endless_paths_are_cut_at_the_budget_and_counted() {
+    let body = r#"
+    <integrator type="path"><integer name="max_depth" value="-1"/>
+        <integer name="rr_depth" value="1000000"/></integrator>
+    <shape type="cube"><boolean name="flip_normals" value="true"/>
+        <bsdf type="diffuse"><rgb name="reflectance" value="1"/></bsdf>
+        <emitter type="area"><rgb name="radiance" value="1"/></emitter>
+    </shape>"#;
+    let xml = scene(
+        r#"<lookat origin="0, 0, 0" target="0, 0, 1" up="0, 1, 0"/>"#,
+        40.0,
+        body,
+    );
+    let path = temp_file("transport", "endless.xml", &xml);
+    let s = wavetrace::scene::load(&path, &[]).unwrap_or_else(|e| panic!("{e}"));
+    let dev = device();
+    for (max_bounces, cut) in [(Some(40), 32 * 32 * 2), (None, 0)] {
+        let opts = RenderOptions {
+            integrator: Some("path_mis".into()),
+            max_bounces,
+            ..Default::default()
+        };
+        let mut r = wavetrace::render::Renderer::new(&dev, &s, &opts).expect("setup");
+        if max_bounces.is_none() {
+            // The default budget is far beyond what this test can afford to run.
+            assert_eq!(
+                r.bounce_budget(),
+                wavetrace::render::integrator::MAX_BOUNCES
+            );
+            continue;
+        }
+        let (img, stats) = r.render(2, &mut |_, _| {}).expect("render");
+        // All but the odd path that a grazing sample ends (a zero pdf).
+        assert!(
+            stats.cut_paths <= cut && stats.cut_paths >= cut - cut / 100,
+            "{} of {cut} paths cut at {max_bounces:?} bounces",
+            stats.cut_paths
+        );
+        let m = mean(&img);
+        // 40 segments, plus the emitter-sampled (MIS) share of the 41st, whose BSDF-sampled
+        // share the cut drops.
+        assert!(
+            (40.0..41.0).contains(&m),
+            "cut paths keep their light: mean {m}"
+        );
+    }
+}
+
 /// A diffuse plane (albedo 1/2) under a sphere light of radiance 10, radius 1/2, whose
 /// centre is 2 above the point seen: irradiance π L sin²α with sin α = r/d, so the
 /// plane's radiance is ρ L (r/d)² = 0.3125.

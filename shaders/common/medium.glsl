@@ -24,10 +24,11 @@
 // Random numbers for the unbounded loops of tracking: one stream per path, bounce and
 // purpose (0: free flight, 1: shadow transmittance), indexed by a counter. Their
 // dimensions have the top bit set, so they never meet those of rng_dim_bounce; below
-// it, the purpose (2 bits), the bounce (11 bits: distinct for all of the 1024 bounces
-// a path may take, integrator.rs UNBOUNDED_VOLUME_BOUNCES; with 7 bits, bounces 128
+// it, the purpose (2 bits), the bounce modulo 2048 (11 bits; with 7 bits, bounces 128
 // apart drew the same numbers) and the counter (18 bits: 262144 draws per bounce, four
-// times MEDIUM_MAX_STEPS).
+// times MEDIUM_MAX_STEPS). Bounces past 2048 (paths may take up to
+// integrator.rs MAX_BOUNCES) also change the seed word, so no two bounces of a path
+// share a stream.
 struct MediumRng {
     uint pixel;
     uint sample_index;
@@ -38,7 +39,7 @@ struct MediumRng {
 
 MediumRng medium_rng(uint pixel, uint sample_index, uint depth, uint stream, uint seed) {
     uint base = 0x80000000u | ((stream & 3u) << 29) | ((depth & 0x7ffu) << 18);
-    return MediumRng(pixel, sample_index, base, seed, 0u);
+    return MediumRng(pixel, sample_index, base, seed ^ ((depth >> 11) * 0x9e3779b9u), 0u);
 }
 
 vec4 medium_rng_next(inout MediumRng r) {

@@ -95,16 +95,15 @@ pub struct PathParams {
     pub power_heuristic: bool,
 }
 
-/// Bounces dispatched for an unbounded path: Russian roulette ends almost every path
-/// long before (a path that survives 64 bounces carries < 0.99^59 of its weight).
-pub const UNBOUNDED_BOUNCES: u32 = 64;
-
-/// The same for the volumetric path tracers: a path in a dense, bright medium scatters
-/// hundreds of times (albedo 1 keeps Russian roulette's survival at 0.99, so 55% of
-/// such paths would outlive 64 bounces; 0.99^1019 < 4e-5). A batch stops recording
-/// bounces once its ray queue is empty (`Renderer::run_batch`), so the budget costs
-/// nothing where paths end sooner.
-pub const UNBOUNDED_VOLUME_BOUNCES: u32 = 1024;
+/// Most bounces the host records for one batch: a safety net for paths that would
+/// never end (a closed mirror box with Russian roulette put off by a huge `rr_depth`).
+/// Unbounded paths (`max_depth` -1) and longer `max_depth`s stop here; paths still
+/// alive then are cut, counted in [`RenderStats::cut_paths`](super::RenderStats) and
+/// reported by `render`. Below it nothing is truncated: a batch records bounces 64 at a
+/// time and stops once its ray queue is empty (`Renderer::run_batch`), so the budget
+/// costs nothing where Russian roulette ends paths sooner (with survival capped at
+/// 0.99, a path outlives 2000 bounces past `rr_depth` with probability < 2e-9).
+pub const MAX_BOUNCES: u32 = 1 << 16;
 
 /// The parameters an integrator reads.
 fn parameter_names(name: &str) -> &'static [&'static str] {
@@ -211,14 +210,10 @@ impl Integrator {
             Integrator::DirectMats { .. }
             | Integrator::DirectMis { .. }
             | Integrator::SingleScatter { .. } => 2,
-            Integrator::PathMats(p) | Integrator::PathMis(p) => p
-                .max_depth
-                .unwrap_or(UNBOUNDED_BOUNCES)
-                .min(UNBOUNDED_BOUNCES),
-            Integrator::VolPathSimple(p) | Integrator::VolPathMis(p) => p
-                .max_depth
-                .unwrap_or(UNBOUNDED_VOLUME_BOUNCES)
-                .min(UNBOUNDED_VOLUME_BOUNCES),
+            Integrator::PathMats(p)
+            | Integrator::PathMis(p)
+            | Integrator::VolPathSimple(p)
+            | Integrator::VolPathMis(p) => p.max_depth.unwrap_or(MAX_BOUNCES).min(MAX_BOUNCES),
         }
     }
 
@@ -551,7 +546,7 @@ mod tests {
             }
         );
         let u = Integrator::from_spec(&spec("path_mats", &[]), None, Path::new("a")).unwrap();
-        assert_eq!((u.max_depth(), u.bounces()), (u32::MAX, UNBOUNDED_BOUNCES));
+        assert_eq!((u.max_depth(), u.bounces()), (u32::MAX, MAX_BOUNCES));
     }
 
     #[test]

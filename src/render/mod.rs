@@ -39,6 +39,10 @@ pub struct RenderOptions {
     pub max_batch_paths: Option<u32>,
     /// Record GPU timestamps around every kernel.
     pub timestamps: bool,
+    /// Most bounces a path may take before it is cut (and counted in
+    /// [`RenderStats::cut_paths`]); `None`: [`integrator::MAX_BOUNCES`]. Paths the
+    /// integrator's `max_depth` ends sooner are never cut.
+    pub max_bounces: Option<u32>,
 }
 
 /// Time spent before the first sample, in seconds.
@@ -63,6 +67,9 @@ pub struct RenderStats {
     /// Samples dropped because they were NaN or infinite.
     pub discarded: u64,
     pub batches: u32,
+    /// Paths still going when the bounce budget ([`integrator::MAX_BOUNCES`]) ran out:
+    /// their later vertices are missing from the image.
+    pub cut_paths: u64,
     pub kernel_times: KernelTimes,
 }
 
@@ -80,6 +87,8 @@ struct Kernels {
 pub struct Renderer {
     device: Device,
     integrator: Integrator,
+    /// Bounces a batch may run: the integrator's, within RenderOptions::max_bounces.
+    bounces: u32,
     kernels: Kernels,
     scene_buffers: SceneBuffers,
     wavefront: Wavefront,
@@ -216,8 +225,13 @@ impl Renderer {
         device.save_pipeline_cache();
         let pipeline_seconds = t.elapsed().as_secs_f64();
 
+        let bounces = integrator
+            .bounces()
+            .min(options.max_bounces.unwrap_or(u32::MAX))
+            .max(1);
         let mut renderer = Renderer {
             device: device.clone(),
+            bounces,
             integrator,
             kernels,
             scene_buffers,
@@ -238,6 +252,11 @@ impl Renderer {
 
     pub fn integrator(&self) -> &Integrator {
         &self.integrator
+    }
+
+    /// Most bounces a path runs before it is cut (see [`RenderStats::cut_paths`]).
+    pub fn bounce_budget(&self) -> u32 {
+        self.bounces
     }
 
     pub fn capacity(&self) -> u32 {
@@ -396,7 +415,7 @@ impl Renderer {
             groups_for(path_count),
         );
         cmd.barrier();
-        let bounces = self.integrator.bounces();
+        let bounces = self.bounces;
         let mut depth = 0;
         while depth < bounces {
             let end = (depth + BOUNCE_CHUNK).min(bounces);
@@ -444,13 +463,24 @@ impl Renderer {
             groups_for(path_count.min(self.width * self.height)),
         );
         cmd.barrier();
-        self.finish_batch(cmd, stats)
+        self.finish_batch(cmd, stats, depth)
     }
 
-    fn finish_batch(&self, cmd: &mut CommandList, stats: &mut RenderStats) -> Result<()> {
+    /// Submits the rest of a batch that ran `depth` bounces and adds its counters.
+    fn finish_batch(
+        &self,
+        cmd: &mut CommandList,
+        stats: &mut RenderStats,
+        depth: u32,
+    ) -> Result<()> {
         let times = cmd.submit_and_wait_timed()?;
         stats.kernel_times.add(&times);
         let c: Vec<Counters> = self.wavefront.counters.read(&self.device)?;
+        // Rays queued for a bounce past the budget: paths cut short (none for a
+        // max_depth within it, whose last bounce queues nothing).
+        if depth == self.bounces {
+            stats.cut_paths += c[0].ray_count[(depth % 2) as usize] as u64;
+        }
         stats.rays += c[0].rays_traced as u64;
         stats.discarded += c[0].discarded as u64;
         stats.batches += 1;
