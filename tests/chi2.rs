@@ -8,8 +8,7 @@
 mod common;
 
 use common::stats::{
-    chi2, sidak, BsdfProbe, Sampled, SphereGrid, Warp, WarpProbe, FLAG_DELTA, FLAG_REFLECTION,
-    FLAG_TRANSMISSION,
+    BsdfProbe, Sampled, SphereGrid, Warp, WarpProbe, FLAG_DELTA, FLAG_REFLECTION, FLAG_TRANSMISSION,
 };
 use glam::{Vec2, Vec3};
 use wavetrace::gpu::layout::BsdfRecord;
@@ -25,20 +24,7 @@ const ALPHA: f64 = 0.01;
 const N: u32 = 400_000;
 
 fn assert_fit(name: &str, observed: &[f64], expected: &[f64]) {
-    let r = chi2(observed, expected);
-    let level = sidak(ALPHA, TESTS_IN_FILE);
-    println!(
-        "{name}: X² = {:.1}, dof = {}, p = {:.4}",
-        r.statistic, r.dof, r.p_value
-    );
-    assert!(
-        r.p_value > level,
-        "{name}: sampling does not match the pdf: X² = {:.1} with {} dof, p = {:.3e} < {:.3e}",
-        r.statistic,
-        r.dof,
-        r.p_value,
-        level
-    );
+    common::stats::assert_fit(name, observed, expected, ALPHA, TESTS_IN_FILE);
 }
 
 /// Coordinates on [0, 1]² for a planar domain, chosen so that the domain's edge is the

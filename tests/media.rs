@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::stats::{chi2, sidak, SphereGrid};
+use common::stats::SphereGrid;
 use glam::Vec3;
 use wavetrace::gpu::{
     shaders, BindingLayout, Buffer, CommandList, DescriptorSet, Device, Kernel, Location,
@@ -17,20 +17,7 @@ const ALPHA: f64 = 0.01;
 const N: u32 = 400_000;
 
 fn assert_fit(name: &str, observed: &[f64], expected: &[f64]) {
-    let r = chi2(observed, expected);
-    let level = sidak(ALPHA, TESTS_IN_FILE);
-    println!(
-        "{name}: X² = {:.1}, dof = {}, p = {:.4}",
-        r.statistic, r.dof, r.p_value
-    );
-    assert!(
-        r.p_value > level,
-        "{name}: sampling does not match the pdf: X² = {:.1} with {} dof, p = {:.3e} < {:.3e}",
-        r.statistic,
-        r.dof,
-        r.p_value,
-        level
-    );
+    common::stats::assert_fit(name, observed, expected, ALPHA, TESTS_IN_FILE);
 }
 
 /// GPU runner for `shaders/tests/phase.comp`.

@@ -97,8 +97,14 @@ impl Grid {
 pub fn read_vol(path: &Path) -> Result<Grid, String> {
     let bytes = std::fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
     let bad = |what: &str| format!("{}: not a Mitsuba .vol grid: {what}", path.display());
-    if bytes.len() < 48 || &bytes[0..3] != b"VOL" {
+    if bytes.len() < 3 || &bytes[0..3] != b"VOL" {
         return Err(bad("missing the 'VOL' header"));
+    }
+    if bytes.len() < 48 {
+        return Err(bad(&format!(
+            "truncated: {} bytes, shorter than the 48-byte header",
+            bytes.len()
+        )));
     }
     if bytes[3] != 3 {
         return Err(bad(&format!(
@@ -627,7 +633,13 @@ mod tests {
         let good = vol_bytes([2, 3, 4], 1, [0.0, 0.0, 0.0, 1.0, 1.0, 1.0], &data);
         for n in 0..good.len() {
             std::fs::write(&p, &good[..n]).unwrap();
-            assert!(read_vol(&p).is_err());
+            let e = read_vol(&p).unwrap_err();
+            let want = match n {
+                0..3 => "'VOL' header",
+                3..48 => "truncated",
+                _ => "need",
+            };
+            assert!(e.contains(want), "{n} bytes: {e}");
         }
     }
 }

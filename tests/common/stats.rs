@@ -74,6 +74,26 @@ pub fn sidak(alpha: f64, m: usize) -> f64 {
     1.0 - (1.0 - alpha).powf(1.0 / m as f64)
 }
 
+/// Chi-square test of sampled `observed` counts against the pdf's `expected` counts,
+/// failing at the Šidák level for `alpha` over `tests` tests (the number of such tests
+/// in the calling file, or more).
+pub fn assert_fit(name: &str, observed: &[f64], expected: &[f64], alpha: f64, tests: usize) {
+    let r = chi2(observed, expected);
+    let level = sidak(alpha, tests);
+    println!(
+        "{name}: X² = {:.1}, dof = {}, p = {:.4}",
+        r.statistic, r.dof, r.p_value
+    );
+    assert!(
+        r.p_value > level,
+        "{name}: sampling does not match the pdf: X² = {:.1} with {} dof, p = {:.3e} < {:.3e}",
+        r.statistic,
+        r.dof,
+        r.p_value,
+        level
+    );
+}
+
 /// Outcome of a chi-square test.
 #[derive(Debug, Clone, Copy)]
 pub struct Chi2 {
