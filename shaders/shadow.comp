@@ -9,6 +9,12 @@
 
 #include "wavefront.glsl"
 #include "scene_bindings.glsl"
+// Texture kinds and features the scene uses: textured thin dielectrics attenuate
+// shadow rays by their textured transmittance.
+layout(constant_id = 2) const uint SCENE_TEXTURES = 0xffffffffu;
+#define TEXTURE_KINDS SCENE_TEXTURES
+#include "texture.glsl"
+#include "bsdf_textured.glsl"
 
 // Scenes without spheres compile the sphere test out of the traversal.
 layout(constant_id = 0) const bool SCENE_HAS_SPHERES = true;

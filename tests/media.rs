@@ -391,6 +391,23 @@ fn grid_medium_matches_mitsuba() {
     );
 }
 
+/// A thin dielectric pane with a checkerboard specular_transmittance (and fog) against
+/// Mitsuba: volpath crosses the pane as a null surface, its textured transmittance
+/// weighting camera paths and shadow rays (vol_path.glsl, transmittance.glsl); path
+/// samples it as a delta transmission lobe (bsdf_textured).
+#[test]
+fn textured_thin_dielectric_matches_mitsuba() {
+    let device = common::device();
+    let scene = "scenes/media/thin_textured.xml";
+    matches_reference(&device, scene, &[], "scenes/refs/media_thin_textured.exr");
+    matches_reference(
+        &device,
+        scene,
+        &[("integrator", "path")],
+        "scenes/refs/media_thin_textured_path.exr",
+    );
+}
+
 /// A Mitsuba .vol file's bytes (float32, bounding box the unit cube).
 fn vol_bytes(res: [i32; 3], data: &[f32]) -> Vec<u8> {
     let mut b = b"VOL\x03".to_vec();

@@ -4,7 +4,8 @@
 // THIN_NULL (volumetric integrators), a thin dielectric without emission is passed too,
 // attenuated by its null transmission (1 - R') specular_transmittance, as Mitsuba's
 // volpath weighs shadow rays by eval_null_transmission.
-// Needs wavefront.glsl, scene_bindings.glsl, bvh.glsl, surface.glsl, medium.glsl.
+// Needs wavefront.glsl, scene_bindings.glsl, bvh.glsl, surface.glsl, medium.glsl,
+// bsdf_textured.glsl.
 #ifndef TRANSMITTANCE_GLSL
 #define TRANSMITTANCE_GLSL
 
@@ -42,7 +43,7 @@ vec3 transmittance_shadow(ShadowItem s) {
         if (h.prim == NONE) return T;
         Surface sf = surface_at(h.prim, h.u, h.v, o, s.dir, h.t);
         if (thin) {
-            BsdfRecord b = bsdf_load(shape.bsdf);
+            BsdfRecord b = bsdf_textured(bsdf_load(shape.bsdf), sf.uv);
             T *= b.transmittance * (1.0 - fresnel_thin_slab(dot(s.dir, sf.ns), b.eta));
             if (!any(greaterThan(T, vec3(0.0)))) return vec3(0.0);
         }

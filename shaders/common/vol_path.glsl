@@ -170,7 +170,7 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, inout PathSt
         if ((shape.flags & SHAPE_NULL_BSDF) == 0u && !thin) break;
         Surface s = surface_at(h.prim, h.u, h.v, o, r.dir, h.t);
         if (thin) {
-            BsdfRecord b = bsdf_load(shape.bsdf);
+            BsdfRecord b = bsdf_textured(bsdf_load(shape.bsdf), s.uv);
             if (medium_rng_next(rng).x < fresnel_thin_slab(dot(r.dir, s.ns), b.eta)) {
                 path.flags |= PATH_THIN_REFLECT;
                 break;

@@ -216,7 +216,16 @@ impl Renderer {
             shadow: k(
                 "shadow",
                 shaders::SHADOW,
-                &[has_spheres, 0, 0, 0, has_media, 0, has_grids, thin_null],
+                &[
+                    has_spheres,
+                    0,
+                    records.texture_mask(),
+                    0,
+                    has_media,
+                    0,
+                    has_grids,
+                    thin_null,
+                ],
             )?,
             ray_args: k("queue_args", shaders::QUEUE_ARGS, &[0])?,
             shadow_args: k("queue_args", shaders::QUEUE_ARGS, &[1])?,

@@ -186,7 +186,7 @@ pub fn texture_slots(t: &str) -> &'static [(&'static str, Slot)] {
             ("alpha_u", Slot::AlphaU),
             ("alpha_v", Slot::AlphaV),
         ],
-        "dielectric" => &[
+        "dielectric" | "thindielectric" => &[
             ("specular_reflectance", Slot::Specular),
             ("specular_transmittance", Slot::Transmittance),
         ],

@@ -1593,7 +1593,7 @@ mod tests {
             ("<shape type=\"sphere\">\n<float name=\"radius\" value=\"nan\"/></shape>", 4, "could not parse float \"nan\""),
             ("<shape type=\"sphere\"><float name=\"radius\" value=\"1\"/>\n<float name=\"radius\" value=\"2\"/></shape>", 4, "given twice"),
             ("<bsdf type=\"blendbsdf\"/>", 3, "bsdf type 'blendbsdf' is not supported yet"),
-            ("<bsdf type=\"thindielectric\"><texture type=\"checkerboard\" name=\"specular_transmittance\"/></bsdf>", 3, "cannot be a texture"),
+            ("<bsdf type=\"thindielectric\"><texture type=\"checkerboard\" name=\"int_ior\"/></bsdf>", 3, "'int_ior' of bsdf 'thindielectric' cannot be a texture"),
             ("<bsdf type=\"velvet\"/>", 3, "unknown bsdf type 'velvet'"),
             ("<shape type=\"cylinder\"/>", 3, "shape type 'cylinder' is not supported yet"),
             ("<medium type=\"homogeneous\"><float name=\"albedo\" value=\"2\"/></medium>", 3, "albedo must be in [0, 1]"),
