@@ -348,6 +348,12 @@ fn bench(
             r.discarded, r.spp
         );
     }
+    for r in report.rows.iter().filter(|r| r.cut_paths > 0) {
+        eprintln!(
+            "warning: {} paths at {} spp were still going at the bounce budget and were cut short",
+            r.cut_paths, r.spp
+        );
+    }
     if let Some(path) = json {
         let text = serde_json::to_string_pretty(&report.to_json())?;
         std::fs::write(path, text + "\n").with_context(|| format!("writing {}", path.display()))?;

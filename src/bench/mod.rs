@@ -100,6 +100,8 @@ pub struct Row {
     pub rays: u64,
     /// Samples discarded as NaN or infinite.
     pub discarded: u64,
+    /// Paths cut at the bounce budget ([`RenderStats::cut_paths`](crate::render::RenderStats)).
+    pub cut_paths: u64,
     pub rmse: f64,
     pub rel_mse: f64,
     /// GPU time per kernel (empty when the device has no timestamps).
@@ -226,6 +228,7 @@ pub fn run(
             seconds: stats.seconds,
             rays: stats.rays,
             discarded: stats.discarded,
+            cut_paths: stats.cut_paths,
             rmse: metrics::rmse(&image, &reference).map_err(Error::Metrics)?,
             rel_mse: metrics::rel_mse(&image, &reference).map_err(Error::Metrics)?,
             kernel_times: stats.kernel_times,
@@ -314,7 +317,7 @@ impl Report {
     ///                "pipeline_seconds": ..., "first_dispatch_seconds": ...,
     ///                "warmup_seconds": ... },
     ///   "rows": [ { "spp": 1, "seconds": ..., "rays": ..., "mrays_per_second": ...,
-    ///               "rmse": ..., "rel_mse": ..., "efficiency": ..., "discarded": 0,
+    ///               "rmse": ..., "rel_mse": ..., "efficiency": ..., "discarded": 0, "cut_paths": 0,
     ///               "kernels": { "intersect": { "seconds": ..., "dispatches": 4 }, ... } },
     ///             ... ] }
     /// ```
@@ -341,6 +344,7 @@ impl Report {
                     "rel_mse": r.rel_mse,
                     "efficiency": finite(r.efficiency()),
                     "discarded": r.discarded,
+                    "cut_paths": r.cut_paths,
                     "kernels": kernels,
                 })
             })
@@ -416,6 +420,7 @@ mod tests {
             seconds,
             rays: 2_000_000,
             discarded: 0,
+            cut_paths: 0,
             rmse: rel_mse.sqrt(),
             rel_mse,
             kernel_times: KernelTimes::default(),
