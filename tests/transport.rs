@@ -78,26 +78,34 @@ fn render_with(
     Estimate { mean: m, se }
 }
 
+/// A closed box (2 x 1 x 3) whose walls all emit radiance 1 and reflect diffusely with
+/// `albedo`, seen from inside; `max_depth` a scene default (2).
+fn emissive_box(albedo: f32) -> String {
+    let body = format!(
+        r#"
+    <default name="max_depth" value="2"/>
+    <integrator type="path"><integer name="max_depth" value="$max_depth"/></integrator>
+    <shape type="cube"><boolean name="flip_normals" value="true"/>
+        <transform name="to_world"><scale value="2, 1, 3"/></transform>
+        <bsdf type="diffuse"><rgb name="reflectance" value="{albedo}"/></bsdf>
+        <emitter type="area"><rgb name="radiance" value="1"/></emitter>
+    </shape>"#
+    );
+    // Looking at the middle of the far wall, away from edges, where emitter sampling
+    // of an adjacent wall would have a heavy tail (1/d² at the corner).
+    scene(
+        r#"<lookat origin="0.3, 0.1, -1" target="0, 0, 1" up="0, 1, 0"/>"#,
+        20.0,
+        &body,
+    )
+}
+
 /// Inside a closed box whose walls all emit radiance 1 and reflect diffusely with
 /// albedo 1/2, the radiance of paths of at most D segments is 1 + 1/2 + ... + 1/2^(D-1)
 /// everywhere, and 2 for unbounded paths.
 #[test]
 fn emissive_box_gives_the_geometric_series_for_every_estimator() {
-    let body = r#"
-    <default name="max_depth" value="2"/>
-    <integrator type="path"><integer name="max_depth" value="$max_depth"/></integrator>
-    <shape type="cube"><boolean name="flip_normals" value="true"/>
-        <transform name="to_world"><scale value="2, 1, 3"/></transform>
-        <bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf>
-        <emitter type="area"><rgb name="radiance" value="1"/></emitter>
-    </shape>"#;
-    // Looking at the middle of the far wall, away from edges, where emitter sampling
-    // of an adjacent wall would have a heavy tail (1/d² at the corner).
-    let xml = scene(
-        r#"<lookat origin="0.3, 0.1, -1" target="0, 0, 1" up="0, 1, 0"/>"#,
-        20.0,
-        body,
-    );
+    let xml = emissive_box(0.5);
     for (integrator, depth, spp, expected) in [
         ("direct_ems", "2", 16, 1.5),
         ("direct_mats", "2", 16, 1.5),
@@ -118,20 +126,9 @@ fn emissive_box_gives_the_geometric_series_for_every_estimator() {
 /// paths instead, without bias.
 #[test]
 fn unbounded_paths_are_never_truncated() {
-    let body = r#"
-    <integrator type="path"><integer name="max_depth" value="-1"/></integrator>
-    <shape type="cube"><boolean name="flip_normals" value="true"/>
-        <transform name="to_world"><scale value="2, 1, 3"/></transform>
-        <bsdf type="diffuse"><rgb name="reflectance" value="0.97"/></bsdf>
-        <emitter type="area"><rgb name="radiance" value="1"/></emitter>
-    </shape>"#;
-    let xml = scene(
-        r#"<lookat origin="0.3, 0.1, -1" target="0, 0, 1" up="0, 1, 0"/>"#,
-        20.0,
-        body,
-    );
+    let xml = emissive_box(0.97);
     for (integrator, spp) in [("path_mis", 64), ("path_mats", 64), ("vol_path_mis", 64)] {
-        render_with(&xml, "bright_box", integrator, spp, &[]).check(
+        render_with(&xml, "bright_box", integrator, spp, &[("max_depth", "-1")]).check(
             1.0 / 0.03,
             0.01,
             &format!("{integrator}, unbounded"),
