@@ -740,18 +740,11 @@ mod tests {
         assert_eq!(*size, 48);
     }
 
-    #[test]
-    fn emitter_kinds_match_glsl() {
+    /// Asserts that layout.glsl defines each `name` as `value` (`#define NAME 4u`).
+    fn assert_glsl_defines(defines: &[(&str, u32)]) {
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/common/layout.glsl");
         let src = std::fs::read_to_string(path).expect("read layout.glsl");
-        for (name, value) in [
-            ("EMITTER_POINT", EMITTER_POINT),
-            ("EMITTER_AREA", EMITTER_AREA),
-            ("EMITTER_CONSTANT", EMITTER_CONSTANT),
-            ("EMITTER_SPOT", EMITTER_SPOT),
-            ("EMITTER_ENVMAP", EMITTER_ENVMAP),
-            ("EMITTER_KIND_BIT_SPHERE_AREA", EMITTER_KIND_BIT_SPHERE_AREA),
-        ] {
+        for (name, value) in defines {
             assert!(
                 src.contains(&format!("#define {name} {value}u\n")),
                 "{name} = {value} is not in layout.glsl"
@@ -760,20 +753,25 @@ mod tests {
     }
 
     #[test]
+    fn emitter_kinds_match_glsl() {
+        assert_glsl_defines(&[
+            ("EMITTER_POINT", EMITTER_POINT),
+            ("EMITTER_AREA", EMITTER_AREA),
+            ("EMITTER_CONSTANT", EMITTER_CONSTANT),
+            ("EMITTER_SPOT", EMITTER_SPOT),
+            ("EMITTER_ENVMAP", EMITTER_ENVMAP),
+            ("EMITTER_KIND_BIT_SPHERE_AREA", EMITTER_KIND_BIT_SPHERE_AREA),
+        ]);
+    }
+
+    #[test]
     fn bsdf_flags_match_glsl() {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/common/layout.glsl");
-        let src = std::fs::read_to_string(path).expect("read layout.glsl");
-        for (name, value) in [
+        assert_glsl_defines(&[
             ("BSDF_TWOSIDED", BSDF_TWOSIDED),
             ("BSDF_NONLINEAR", BSDF_NONLINEAR),
             ("BSDF_NORMALMAP_FLIP", BSDF_NORMALMAP_FLIP),
             ("BSDF_NORMALMAP_SHADOWING", BSDF_NORMALMAP_SHADOWING),
-        ] {
-            assert!(
-                src.contains(&format!("#define {name} {value}u\n")),
-                "{name} = {value} is not in layout.glsl"
-            );
-        }
+        ]);
     }
 
     #[test]

@@ -322,8 +322,6 @@ impl SceneRecords {
 }
 
 impl SceneRecords {
-    /// The shade kernel's texture mask (specialization constant 2): a bit per texture
-    /// kind present, and `TEXTURE_FEATURE_*` for what reads textures.
     /// The emitter kinds the scene has, a bit per `EMITTER_*` kind (area: on meshes)
     /// plus `EMITTER_KIND_BIT_SPHERE_AREA`: `shade` compiles the others out.
     pub fn emitter_kinds(&self) -> u32 {
@@ -337,6 +335,8 @@ impl SceneRecords {
         })
     }
 
+    /// The texture mask of `shade` and `shadow` (specialization constant 2): a bit per
+    /// texture kind present, and `TEXTURE_FEATURE_*` for what reads textures.
     pub fn texture_mask(&self) -> u32 {
         use crate::gpu::layout::{
             TEXTURE_FEATURE_AREA, TEXTURE_FEATURE_BSDF, TEXTURE_FEATURE_ENVMAP,
