@@ -3,6 +3,7 @@
 
 mod common;
 
+use common::stats::SplitMix64;
 use glam::{Vec2, Vec3};
 use wavetrace::accel::{brute_force_closest, prims_from_shapes, Bvh};
 use wavetrace::gpu::layout::HitItem;
@@ -54,19 +55,9 @@ fn gpu_queries(bvh: &Bvh, rays: &[QueryRay]) -> (Vec<HitItem>, Vec<u32>) {
     (c, a)
 }
 
-/// A small deterministic generator (SplitMix64) so failures reproduce.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f32 {
-        self.0 = self.0.wrapping_add(0x9e3779b97f4a7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58476d1ce4e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d049bb133111eb);
-        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn in_box(&mut self, lo: Vec3, hi: Vec3) -> Vec3 {
-        lo + (hi - lo) * Vec3::new(self.next(), self.next(), self.next())
-    }
+/// A uniform point in the box lo..hi.
+fn in_box(rng: &mut SplitMix64, lo: Vec3, hi: Vec3) -> Vec3 {
+    lo + (hi - lo) * Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32())
 }
 
 /// Compares GPU results with the CPU brute force and CPU traversal for every ray.
@@ -155,16 +146,16 @@ fn gpu_closest_and_any_hit_equal_brute_force_on_bunny_and_spheres() {
         })
         .collect();
     let bvh = Bvh::build(prims_from_shapes(&[bunny], &spheres));
-    let mut rng = Rng(7);
+    let mut rng = SplitMix64(7);
     let pad = (hi - lo) * 0.5;
     let rays: Vec<QueryRay> = (0..40_000)
         .map(|i| {
-            let o = rng.in_box(lo - pad, hi + pad);
+            let o = in_box(&mut rng, lo - pad, hi + pad);
             // Half the rays aim at the mesh's box, half point anywhere.
             let target = if i % 2 == 0 {
-                rng.in_box(lo, hi)
+                in_box(&mut rng, lo, hi)
             } else {
-                rng.in_box(lo - pad, hi + pad)
+                in_box(&mut rng, lo - pad, hi + pad)
             };
             let d = (target - o).normalize();
             QueryRay {
@@ -210,7 +201,7 @@ fn gpu_rays_through_shared_edges_and_vertices_never_leak() {
         }
     }
     let bvh = Bvh::build(prims_from_shapes(&[grid], &[]));
-    let mut rng = Rng(3);
+    let mut rng = SplitMix64(3);
     let mut rays = Vec::new();
     for j in 1..n {
         for i in 1..n {
@@ -221,7 +212,7 @@ fn gpu_rays_through_shared_edges_and_vertices_never_leak() {
                 (i as f32 + 0.5, j as f32 + 0.5),
             ] {
                 let target = Vec3::new(x / n as f32, y / n as f32, 0.0);
-                let o = target + Vec3::new(rng.next() - 0.5, rng.next() - 0.5, 1.0);
+                let o = target + Vec3::new(rng.next_f32() - 0.5, rng.next_f32() - 0.5, 1.0);
                 rays.push(QueryRay {
                     origin: o.into(),
                     tmin: 0.0,

@@ -818,19 +818,6 @@ fn stress_media_match_mitsuba() {
     assert!(test.passes(0.01), "majorant grid changes the image: {test}");
 }
 
-/// splitmix64 (Steele, Lea, Flood 2014): the random numbers of the CPU random walk.
-struct SplitMix(u64);
-
-impl SplitMix {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-}
-
 /// The white-furnace sphere of `dense_scattering_matches_a_float64_random_walk` by an
 /// independent random walk in f64: camera rays through uniform points of the image
 /// plane (pinhole at z = 5 looking down -z, 20° field of view), free flights of rate
@@ -839,7 +826,7 @@ impl SplitMix {
 /// mean and its standard error.
 fn furnace_walk(sigma_t: f64, g: f64, max_depth: u32, paths: u32, seed: u64) -> (f64, f64) {
     use glam::DVec3;
-    let mut rng = SplitMix(seed);
+    let mut rng = common::stats::SplitMix64(seed);
     let tan = 10f64.to_radians().tan();
     let exit = |x: DVec3, w: DVec3| {
         let b = x.dot(w);
@@ -848,8 +835,8 @@ fn furnace_walk(sigma_t: f64, g: f64, max_depth: u32, paths: u32, seed: u64) -> 
     let (mut sum, mut sum2) = (0.0, 0.0);
     for _ in 0..paths {
         let (px, py) = (
-            (2.0 * rng.next() - 1.0) * tan,
-            (2.0 * rng.next() - 1.0) * tan,
+            (2.0 * rng.next_f64() - 1.0) * tan,
+            (2.0 * rng.next_f64() - 1.0) * tan,
         );
         let mut w = DVec3::new(px, py, -1.0).normalize();
         let o = DVec3::new(0.0, 0.0, 5.0);
@@ -861,7 +848,7 @@ fn furnace_walk(sigma_t: f64, g: f64, max_depth: u32, paths: u32, seed: u64) -> 
             let mut x = o + (-b - disc.sqrt()) * w;
             for k in 0..max_depth {
                 let s = exit(x, w);
-                let t = -(1.0 - rng.next()).ln() / sigma_t;
+                let t = -(1.0 - rng.next_f64()).ln() / sigma_t;
                 if t >= s {
                     value = 1.0;
                     break;
@@ -870,7 +857,7 @@ fn furnace_walk(sigma_t: f64, g: f64, max_depth: u32, paths: u32, seed: u64) -> 
                     break;
                 }
                 x += t * w;
-                let (u1, u2) = (rng.next(), rng.next());
+                let (u1, u2) = (rng.next_f64(), rng.next_f64());
                 let cos = if g == 0.0 {
                     1.0 - 2.0 * u1
                 } else {

@@ -69,6 +69,30 @@ pub fn gamma_q(a: f64, x: f64) -> f64 {
     }
 }
 
+/// SplitMix64 (Steele, Lea, Flood 2014): a small deterministic generator for test
+/// inputs and CPU random walks, so failures reproduce.
+pub struct SplitMix64(pub u64);
+
+impl SplitMix64 {
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1) with 53 random bits.
+    pub fn next_f64(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+
+    /// Uniform in [0, 1) with 24 random bits.
+    pub fn next_f32(&mut self) -> f32 {
+        (self.next_u64() >> 40) as f32 / (1u64 << 24) as f32
+    }
+}
+
 /// Per-test significance for `m` tests at family-wise level `alpha` (Šidák).
 pub fn sidak(alpha: f64, m: usize) -> f64 {
     1.0 - (1.0 - alpha).powf(1.0 / m as f64)
