@@ -30,9 +30,10 @@ layout(constant_id = 5) const bool SCENE_HAS_SPHERES = true;
 #define BVH_HAS_SPHERES SCENE_HAS_SPHERES
 #include "bvh.glsl"
 #define MEDIA_ENABLED SCENE_HAS_MEDIA
-// Grid media in the scene; without them only the homogeneous code is compiled.
-layout(constant_id = 6) const bool SCENE_HAS_GRIDS = true;
-#define MEDIA_GRIDS SCENE_HAS_GRIDS
+// The medium kinds and grid layouts in the scene (MEDIUM_FEATURE_* bits); the code of
+// the others compiles away (without grids, only the homogeneous code is compiled).
+layout(constant_id = 6) const uint SCENE_MEDIUM_FEATURES = 0xffffffffu;
+#define MEDIUM_FEATURES SCENE_MEDIUM_FEATURES
 // Thin dielectrics are null crossings (volumetric integrators in scenes with them).
 layout(constant_id = 7) const bool SCENE_THIN_NULL = false;
 #define THIN_NULL SCENE_THIN_NULL

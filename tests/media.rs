@@ -1072,3 +1072,135 @@ fn bad_media_input_is_a_clear_error() {
         }
     }
 }
+
+/// Trilinear interpolation between voxel centres, clamped at the edges (Mitsuba's
+/// gridvolume), of channel `c` of a grid of `res` voxels with `ch` channels, in f64.
+fn trilinear(res: [usize; 3], ch: usize, data: &[f32], p: [f64; 3], c: usize) -> f64 {
+    let mut v = 0.0;
+    for k in 0..8 {
+        let mut idx = [0usize; 3];
+        let mut w = 1.0;
+        for a in 0..3 {
+            let x = p[a] * res[a] as f64 - 0.5;
+            let f = x.floor();
+            let hi = (k >> a) & 1 == 1;
+            let i = (f as i64 + hi as i64).clamp(0, res[a] as i64 - 1) as usize;
+            let t = x - f;
+            w *= if hi { t } else { 1.0 - t };
+            idx[a] = i;
+        }
+        v += w * data[((idx[2] * res[1] + idx[1]) * res[0] + idx[0]) * ch + c] as f64;
+    }
+    v
+}
+
+/// The GPU's grid lookups (medium.glsl, packed layouts of src/render/media.rs) equal
+/// trilinear interpolation, for one and three channels, odd resolutions, and points
+/// beyond the grid's first and last voxel centres and outside the grid, where the
+/// lookup clamps.
+#[test]
+fn gpu_grid_lookups_equal_trilinear_interpolation() {
+    use wavetrace::accel::{prims_from_scene, Bvh};
+    use wavetrace::gpu::layout::MEDIUM_DENSITY_PACKED;
+    use wavetrace::gpu::BindingKind;
+    use wavetrace::render::scene_buffers::{scene_binding_kinds, SceneBuffers, SceneRecords};
+
+    let mut rng = common::stats::SplitMix64(7);
+    let grids: [([usize; 3], usize); 3] = [([5, 3, 4], 1), ([1, 6, 2], 1), ([4, 5, 3], 3)];
+    let mut shapes = String::new();
+    let mut data = Vec::new();
+    for (g, (res, ch)) in grids.iter().enumerate() {
+        let d: Vec<f32> = (0..res.iter().product::<usize>() * ch)
+            .map(|_| (rng.next_f64() * 4.0) as f32)
+            .collect();
+        let path = std::env::temp_dir().join(format!(
+            "wavetrace-test-{}-lookup-{g}.vol",
+            std::process::id()
+        ));
+        let mut bytes = vol_bytes([res[0] as i32, res[1] as i32, res[2] as i32], &d);
+        bytes[20..24].copy_from_slice(&(*ch as i32).to_le_bytes());
+        std::fs::write(&path, bytes).expect("write vol");
+        shapes += &format!(
+            r#"<shape type="cube"><bsdf type="null"/><transform name="to_world"><translate x="{}"/></transform>
+            <medium type="heterogeneous" name="interior"><volume type="gridvolume" name="sigma_t">
+            <string name="filename" value="{}"/></volume></medium></shape>"#,
+            3 * g,
+            path.display()
+        );
+        data.push(d);
+    }
+    let xml = format!(
+        r#"<scene version="3.0.0"><integrator type="volpath"/><sensor type="perspective">
+        <film type="hdrfilm"><integer name="width" value="4"/><integer name="height" value="4"/></film></sensor>
+        {shapes}</scene>"#
+    );
+    let dir =
+        std::env::temp_dir().join(format!("wavetrace-test-{}-lookup.xml", std::process::id()));
+    std::fs::write(&dir, xml).expect("write scene");
+    let scene = wavetrace::scene::load(&dir, &[]).unwrap_or_else(|e| panic!("{e}"));
+
+    let device = common::device();
+    let bvh = Bvh::build(prims_from_scene(&scene));
+    let records = SceneRecords::new(&scene, &bvh);
+    assert_eq!(records.media.len(), grids.len());
+    let layout = BindingLayout::with_kinds(
+        &device,
+        &[scene_binding_kinds(), vec![BindingKind::Storage; 2]],
+        8,
+    )
+    .unwrap();
+    let buffers = SceneBuffers::upload(&device, &layout, &bvh, &records).unwrap();
+    let kernel = Kernel::new(&device, "grid_eval", shaders::TESTS_GRID_EVAL, &layout, &[]).unwrap();
+    for (m, (res, ch)) in grids.iter().enumerate() {
+        assert_ne!(
+            records.media[m].flags & MEDIUM_DENSITY_PACKED,
+            0,
+            "grid {m} not packed"
+        );
+        // Points over [-0.2, 1.2]^3, and on every voxel centre and cell boundary.
+        let mut points: Vec<[f32; 4]> = (0..4000)
+            .map(|_| {
+                let mut p = [0f32; 4];
+                for v in p.iter_mut().take(3) {
+                    *v = (rng.next_f64() * 1.4 - 0.2) as f32;
+                }
+                p
+            })
+            .collect();
+        for z in 0..=2 * res[2] {
+            for y in 0..=2 * res[1] {
+                for x in 0..=2 * res[0] {
+                    let q = [x, y, z];
+                    let mut p = [0f32; 4];
+                    for a in 0..3 {
+                        p[a] = q[a] as f32 / (2 * res[a]) as f32;
+                    }
+                    points.push(p);
+                }
+            }
+        }
+        let input = Buffer::from_slice(&device, "queries", &points).unwrap();
+        let out = Buffer::new(&device, "results", points.len() as u64 * 16, Location::Gpu).unwrap();
+        let set = DescriptorSet::new(&layout, 1, &[&input, &out]).unwrap();
+        let push = [points.len() as u32, m as u32];
+        let mut cmd = CommandList::new(&device).unwrap();
+        cmd.dispatch(
+            &kernel,
+            &[&buffers.set, &set],
+            bytemuck::cast_slice(&push),
+            [(points.len() as u32).div_ceil(64), 1, 1],
+        );
+        cmd.submit_and_wait().unwrap();
+        let got: Vec<[f32; 4]> = out.read(&device).unwrap();
+        for (p, g) in points.iter().zip(&got) {
+            let q = [p[0] as f64, p[1] as f64, p[2] as f64];
+            for (c, &v) in g.iter().enumerate().take(3) {
+                let want = trilinear(*res, *ch, &data[m], q, c.min(ch - 1));
+                assert!(
+                    (v as f64 - want).abs() <= 1e-5 * (1.0 + want),
+                    "grid {m} ({ch} channels, {res:?}) at {q:?}, channel {c}: GPU {v} against {want}"
+                );
+            }
+        }
+    }
+}

@@ -257,6 +257,16 @@ struct ShadowItem {
 #define MEDIUM_GRID 1u
 #define MEDIUM_SAMPLE_EMITTERS 1u
 #define MEDIUM_ALBEDO_RGB 2u
+#define MEDIUM_DENSITY_PACKED 4u
+// Medium features of a scene (a specialization constant; see src/gpu/layout.rs).
+#define MEDIUM_FEATURE_HOMOGENEOUS 1u
+#define MEDIUM_FEATURE_PACKED1 2u
+#define MEDIUM_FEATURE_PACKED3 4u
+#define MEDIUM_FEATURE_DENSITY_WORDS 8u
+#define MEDIUM_FEATURE_WORDS1 16u
+#define MEDIUM_FEATURE_WORDS3 32u
+#define MEDIUM_FEATURE_ALBEDO_GRID 64u
+#define MEDIUM_FEATURE_GRIDS 14u
 // A participating medium; see src/gpu/layout.rs. Homogeneous: sigma_t (scale applied)
 // and albedo. Grid: extinction = sigma_t (per-channel scale) x trilinear density at
 // `data` (res voxels, channels 1 or 3), world_to_grid maps to the grid's unit cube; a

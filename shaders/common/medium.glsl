@@ -9,11 +9,18 @@
 
 #define MEDIUM_INF uintBitsToFloat(0x7f800000u)
 
-// Whether the scene has grid media; a kernel may define it as a specialization
-// constant so that homogeneous-only scenes compile the tracking loops away.
-#ifndef MEDIA_GRIDS
-#define MEDIA_GRIDS true
+// The medium features of the scene (MEDIUM_FEATURE_* bits); a kernel may define it as
+// a specialization constant so that the code of absent features compiles away (on
+// llvmpipe a runtime branch costs both sides whatever its lanes take).
+#ifndef MEDIUM_FEATURES
+#define MEDIUM_FEATURES 0xffffffffu
 #endif
+#define MEDIUM_HAS(f) ((MEDIUM_FEATURES & (f)) != 0u)
+// Whether the scene has grid media (without them the tracking loops compile away).
+#define MEDIA_GRIDS MEDIUM_HAS(MEDIUM_FEATURE_GRIDS)
+// Whether medium record m is homogeneous (in a scene with grids).
+#define MEDIUM_IS_HOMOGENEOUS(m) \
+    (!MEDIA_GRIDS || (MEDIUM_HAS(MEDIUM_FEATURE_HOMOGENEOUS) && (m).kind == MEDIUM_HOMOGENEOUS))
 // Tentative collisions one tracking loop may take before it gives up (the path or
 // shadow ray then carries nothing): a guard against pathological grids, far above
 // what the majorant grid needs (optical depth of the majorants along the ray).
@@ -84,9 +91,10 @@ vec3 medium_grid_lookup(MediumRecord m, uint data, uint channels, vec3 pl) {
         vec3 wk = mix(1.0 - w, w, vec3(hi));
         float weight = wk.x * wk.y * wk.z;
         uint idx = uint((i.z * res.y + i.y) * res.x + i.x);
-        if (channels == 1u) {
+        if (MEDIUM_HAS(MEDIUM_FEATURE_WORDS1) && channels == 1u) {
             d += vec3(weight * grid_value(data + idx));
-        } else {
+        }
+        if (MEDIUM_HAS(MEDIUM_FEATURE_WORDS3) && channels != 1u) {
             uint b = data + 3u * idx;
             d += weight * vec3(grid_value(b), grid_value(b + 1u), grid_value(b + 2u));
         }
@@ -94,14 +102,48 @@ vec3 medium_grid_lookup(MediumRecord m, uint data, uint channels, vec3 pl) {
     return d;
 }
 
+// The density of grid medium m at grid-local point pl, as medium_grid_lookup, read
+// from its packed texels where the record has them (MEDIUM_DENSITY_PACKED;
+// src/render/media.rs pack_density): 2 fetches for one channel, 8 for three.
+vec3 medium_grid_density(MediumRecord m, vec3 pl) {
+    if (MEDIUM_HAS(MEDIUM_FEATURE_DENSITY_WORDS) && (m.flags & MEDIUM_DENSITY_PACKED) == 0u) {
+        return medium_grid_lookup(m, m.data, m.channels, pl);
+    }
+    ivec3 res = ivec3(m.res);
+    vec3 x = pl * vec3(m.res) - 0.5;
+    vec3 f = floor(x);
+    vec3 w = clamp(x - f, 0.0, 1.0);
+    ivec3 i0 = clamp(ivec3(f), ivec3(0), res - 1);
+    ivec3 i1 = clamp(ivec3(f) + 1, ivec3(0), res - 1);
+    if (MEDIUM_HAS(MEDIUM_FEATURE_PACKED1) && m.channels == 1u) {
+        // Texel (x, y, z) holds the values at (x, y), (x+1, y), (x, y+1), (x+1, y+1)
+        // of slice z. Before the first voxel centre of an axis both corners are voxel
+        // 0, but its texel pairs it with voxel 1: weight that one 0 there.
+        w = mix(w, vec3(0.0), lessThan(f, vec3(0.0)));
+        vec4 a = grid_packed(m.data + uint((i0.z * res.y + i0.y) * res.x + i0.x));
+        vec4 b = grid_packed(m.data + uint((i1.z * res.y + i0.y) * res.x + i0.x));
+        vec2 ra = mix(a.xz, a.yw, w.x); // along x, rows y and y+1 of slice z
+        vec2 rb = mix(b.xz, b.yw, w.x); // of slice z+1
+        return vec3(mix(mix(ra.x, ra.y, w.y), mix(rb.x, rb.y, w.y), w.z));
+    }
+    vec3 d = vec3(0.0);
+    for (uint k = 0u; MEDIUM_HAS(MEDIUM_FEATURE_PACKED3) && k < 8u; k++) {
+        bvec3 hi = bvec3((k & 1u) != 0u, (k & 2u) != 0u, (k & 4u) != 0u);
+        ivec3 i = ivec3(hi.x ? i1.x : i0.x, hi.y ? i1.y : i0.y, hi.z ? i1.z : i0.z);
+        vec3 wk = mix(1.0 - w, w, vec3(hi));
+        d += (wk.x * wk.y * wk.z) * grid_packed(m.data + uint((i.z * res.y + i.y) * res.x + i.x)).xyz;
+    }
+    return d;
+}
+
 // Extinction at grid-local point pl: the record's per-channel scale times the density.
 vec3 medium_grid_sigma_t(MediumRecord m, vec3 pl) {
-    return m.sigma_t * medium_grid_lookup(m, m.data, m.channels, pl);
+    return m.sigma_t * medium_grid_density(m, pl);
 }
 
 // Single-scattering albedo at grid-local point pl of a grid medium.
 vec3 medium_grid_albedo(MediumRecord m, vec3 pl) {
-    if (m.albedo_data == NONE) return m.albedo;
+    if (!MEDIUM_HAS(MEDIUM_FEATURE_ALBEDO_GRID) || m.albedo_data == NONE) return m.albedo;
     uint channels = (m.flags & MEDIUM_ALBEDO_RGB) != 0u ? 3u : 1u;
     return medium_grid_lookup(m, m.albedo_data, channels, pl);
 }
@@ -205,7 +247,7 @@ MediumEvent medium_sample(uint mi, vec3 o, vec3 d, float tmax, inout MediumRng r
     ev.t = tmax;
     ev.weight = vec3(1.0);
     MediumRecord m = medium_load(mi);
-    if (!MEDIA_GRIDS || m.kind == MEDIUM_HOMOGENEOUS) {
+    if (MEDIUM_IS_HOMOGENEOUS(m)) {
         vec3 st = m.sigma_t;
         if (all(equal(m.albedo, vec3(0.0)))) {
             ev.weight = medium_tr(st, tmax);
@@ -269,7 +311,7 @@ MediumEvent medium_sample(uint mi, vec3 o, vec3 d, float tmax, inout MediumRng r
 // MEDIUM_RR_THRESHOLD (survival probability = its largest channel).
 vec3 medium_transmittance(uint mi, vec3 o, vec3 d, float tmax, inout MediumRng rng) {
     MediumRecord m = medium_load(mi);
-    if (!MEDIA_GRIDS || m.kind == MEDIUM_HOMOGENEOUS) return medium_tr(m.sigma_t, tmax);
+    if (MEDIUM_IS_HOMOGENEOUS(m)) return medium_tr(m.sigma_t, tmax);
     vec3 T = vec3(1.0);
     MajorantWalk w;
     if (!medium_walk_begin(m, o, d, tmax, w)) return T;

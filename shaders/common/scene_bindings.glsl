@@ -28,16 +28,19 @@ layout(set = 0, binding = 8) uniform usamplerBuffer texture_texels;
 layout(set = 0, binding = 9) uniform usamplerBuffer texel_words;
 // Environment map sampling distributions (envmap.glsl; env_dist).
 layout(set = 0, binding = 10) uniform usamplerBuffer env_dist_words;
-// Media (shaders/common/medium.glsl): records (medium_load), density grids (grid_value),
-// majorant grids (majorant_value).
+// Media (shaders/common/medium.glsl): records (medium_load), density and albedo grids
+// (grid_value), majorant grids (majorant_value), and density grids packed a texel per
+// voxel (grid_packed; MEDIUM_DENSITY_PACKED).
 layout(set = 0, binding = 11) uniform usamplerBuffer medium_texels;
 layout(set = 0, binding = 12) uniform usamplerBuffer grid_words;
 layout(set = 0, binding = 13) uniform usamplerBuffer majorant_words;
+layout(set = 0, binding = 14) uniform usamplerBuffer grid_packed_texels;
 
 float texel_value(uint k) { return uintBitsToFloat(texelFetch(texel_words, int(k)).x); }
 float env_dist(uint k) { return uintBitsToFloat(texelFetch(env_dist_words, int(k)).x); }
 float grid_value(uint k) { return uintBitsToFloat(texelFetch(grid_words, int(k)).x); }
 float majorant_value(uint k) { return uintBitsToFloat(texelFetch(majorant_words, int(k)).x); }
+vec4 grid_packed(uint k) { return uintBitsToFloat(texelFetch(grid_packed_texels, int(k))); }
 
 // TextureRecord: 6 texels.
 TextureRecord texture_load(uint i) {

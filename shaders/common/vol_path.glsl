@@ -74,7 +74,7 @@ void vol_path_scatter(uint integrator, RayItem r, PathState path, uint medium, v
 
 // Scattering coefficient σs = albedo σt of medium m at world point p.
 vec3 vol_path_sigma_s(MediumRecord m, vec3 p) {
-    if (!MEDIA_GRIDS || m.kind == MEDIUM_HOMOGENEOUS) return m.albedo * m.sigma_t;
+    if (MEDIUM_IS_HOMOGENEOUS(m)) return m.albedo * m.sigma_t;
     vec3 pl = (m.world_to_grid * vec4(p, 1.0)).xyz;
     return medium_grid_albedo(m, pl) * medium_grid_sigma_t(m, pl);
 }

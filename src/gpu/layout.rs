@@ -96,11 +96,37 @@ pub const MEDIUM_GRID: u32 = 1;
 pub const MEDIUM_SAMPLE_EMITTERS: u32 = 1;
 /// [`MediumRecord::flags`]: the albedo grid has three channels.
 pub const MEDIUM_ALBEDO_RGB: u32 = 2;
+/// [`MediumRecord::flags`]: the density grid is in the packed-density buffer at
+/// `data`, one 16-byte texel per voxel (`render::media::pack_density`), instead of
+/// the grid buffer.
+pub const MEDIUM_DENSITY_PACKED: u32 = 4;
+
+/// Medium features a scene uses (`SceneRecords::medium_features`): a specialization
+/// constant of the kernels with medium code, so the code of the others compiles away.
+/// That matters on llvmpipe, which runs the code of a branch whatever its lanes decide.
+/// Homogeneous media:
+pub const MEDIUM_FEATURE_HOMOGENEOUS: u32 = 1;
+/// A packed one-channel density grid ([`MEDIUM_DENSITY_PACKED`]).
+pub const MEDIUM_FEATURE_PACKED1: u32 = 2;
+/// A packed three-channel density grid.
+pub const MEDIUM_FEATURE_PACKED3: u32 = 4;
+/// A density grid left in the grid buffer (too large to pack).
+pub const MEDIUM_FEATURE_DENSITY_WORDS: u32 = 8;
+/// A one-channel grid (density or albedo) in the grid buffer.
+pub const MEDIUM_FEATURE_WORDS1: u32 = 16;
+/// A three-channel grid (density or albedo) in the grid buffer.
+pub const MEDIUM_FEATURE_WORDS3: u32 = 32;
+/// An albedo grid.
+pub const MEDIUM_FEATURE_ALBEDO_GRID: u32 = 64;
+/// Every grid feature: the scene has grid media.
+pub const MEDIUM_FEATURE_GRIDS: u32 =
+    MEDIUM_FEATURE_PACKED1 | MEDIUM_FEATURE_PACKED3 | MEDIUM_FEATURE_DENSITY_WORDS;
 
 /// A participating medium. Homogeneous: `sigma_t` is the extinction per unit length
 /// (scale applied), `albedo` the single-scattering albedo. Grid: the extinction at a
 /// point is `sigma_t` (the scale, per channel) times the trilinearly interpolated
-/// density grid of `res` voxels and `channels` channels at `data` in the grid buffer;
+/// density grid of `res` voxels and `channels` channels at `data` in the grid buffer
+/// (in the packed-density buffer with [`MEDIUM_DENSITY_PACKED`]);
 /// `world_to_grid` maps world space to the grid's unit cube. A coarse grid of
 /// `maj_res` cells at `maj_data` in the majorant buffer bounds the extinction (max
 /// over channels) within each cell; `majorant` bounds it everywhere. `g`: the
@@ -761,6 +787,25 @@ mod tests {
             ("EMITTER_SPOT", EMITTER_SPOT),
             ("EMITTER_ENVMAP", EMITTER_ENVMAP),
             ("EMITTER_KIND_BIT_SPHERE_AREA", EMITTER_KIND_BIT_SPHERE_AREA),
+        ]);
+    }
+
+    #[test]
+    fn medium_flags_match_glsl() {
+        assert_glsl_defines(&[
+            ("MEDIUM_HOMOGENEOUS", MEDIUM_HOMOGENEOUS),
+            ("MEDIUM_GRID", MEDIUM_GRID),
+            ("MEDIUM_SAMPLE_EMITTERS", MEDIUM_SAMPLE_EMITTERS),
+            ("MEDIUM_ALBEDO_RGB", MEDIUM_ALBEDO_RGB),
+            ("MEDIUM_DENSITY_PACKED", MEDIUM_DENSITY_PACKED),
+            ("MEDIUM_FEATURE_HOMOGENEOUS", MEDIUM_FEATURE_HOMOGENEOUS),
+            ("MEDIUM_FEATURE_PACKED1", MEDIUM_FEATURE_PACKED1),
+            ("MEDIUM_FEATURE_PACKED3", MEDIUM_FEATURE_PACKED3),
+            ("MEDIUM_FEATURE_DENSITY_WORDS", MEDIUM_FEATURE_DENSITY_WORDS),
+            ("MEDIUM_FEATURE_WORDS1", MEDIUM_FEATURE_WORDS1),
+            ("MEDIUM_FEATURE_WORDS3", MEDIUM_FEATURE_WORDS3),
+            ("MEDIUM_FEATURE_ALBEDO_GRID", MEDIUM_FEATURE_ALBEDO_GRID),
+            ("MEDIUM_FEATURE_GRIDS", MEDIUM_FEATURE_GRIDS),
         ]);
     }
 

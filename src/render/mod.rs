@@ -184,12 +184,9 @@ impl Renderer {
         // (constant_id 7 of shade and shadow), which need the medium code for them.
         let thin_null = (scene.has_thin_dielectrics() && integrator.is_volumetric()) as u32;
         let has_media = (scene.needs_medium_code() || thin_null != 0) as u32;
-        // Grid media (constant_id 6): homogeneous-only scenes compile tracking away.
-        let has_grids = scene
-            .media
-            .iter()
-            .any(|m| matches!(m.kind, crate::scene::medium::MediumKind::Grid { .. }))
-            as u32;
+        // Medium features (constant_id 6): the kinds and grid layouts the scene's media
+        // use; homogeneous-only scenes compile tracking away.
+        let medium_features = records.medium_features();
         let bsdf_kinds = records.bsdfs.iter().fold(0u32, |m, b| m | 1 << b.kind);
         let k = |name: &str, spirv: &[u8], spec: &[u32]| {
             Kernel::new(device, name, spirv, &layout, spec)
@@ -207,7 +204,7 @@ impl Renderer {
                     0,
                     has_media,
                     has_spheres,
-                    has_grids,
+                    medium_features,
                     thin_null,
                     integrator.power_heuristic() as u32,
                     records.emitter_kinds(),
@@ -223,7 +220,7 @@ impl Renderer {
                     0,
                     has_media,
                     0,
-                    has_grids,
+                    medium_features,
                     thin_null,
                 ],
             )?,

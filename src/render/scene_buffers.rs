@@ -7,8 +7,11 @@ use crate::accel::Bvh;
 use crate::gpu::layout::{
     shape_media, AliasEntry, BsdfRecord, EmitterRecord, MediumRecord, ShapeRecord, TextureRecord,
     TriangleRecord, Vertex, EMITTER_AREA, EMITTER_CONSTANT, EMITTER_ENVMAP, EMITTER_POINT,
-    EMITTER_SPOT, NONE, PRIM_TRIANGLE, SHAPE_FLIP_NORMALS, SHAPE_HAS_NORMALS, SHAPE_HAS_UVS,
-    SHAPE_MEDIUM_TRANSITION, SHAPE_NULL_BSDF, SHAPE_THIN_DIELECTRIC,
+    EMITTER_SPOT, MEDIUM_ALBEDO_RGB, MEDIUM_DENSITY_PACKED, MEDIUM_FEATURE_ALBEDO_GRID,
+    MEDIUM_FEATURE_DENSITY_WORDS, MEDIUM_FEATURE_HOMOGENEOUS, MEDIUM_FEATURE_PACKED1,
+    MEDIUM_FEATURE_PACKED3, MEDIUM_FEATURE_WORDS1, MEDIUM_FEATURE_WORDS3, MEDIUM_HOMOGENEOUS, NONE,
+    PRIM_TRIANGLE, SHAPE_FLIP_NORMALS, SHAPE_HAS_NORMALS, SHAPE_HAS_UVS, SHAPE_MEDIUM_TRANSITION,
+    SHAPE_NULL_BSDF, SHAPE_THIN_DIELECTRIC,
 };
 use crate::gpu::{BindingKind, BindingLayout, Buffer, DescriptorSet, Device};
 use crate::scene::envmap;
@@ -18,8 +21,9 @@ use crate::scene::{Mesh, Texture};
 use super::error::Result;
 
 /// Bindings of set 0, in order: 0-7 geometry, materials and emitters, 8-10
-/// textures (records, texels, environment-map distributions), 11-13 media (records, density grids, majorant grids).
-pub const SCENE_BINDINGS: u32 = 14;
+/// textures (records, texels, environment-map distributions), 11-14 media (records, density
+/// and albedo grids, majorant grids, packed density grids).
+pub const SCENE_BINDINGS: u32 = 15;
 
 /// The kind of each binding of set 0. Every record is read at scattered addresses
 /// (traversal steps, hits, texture and grid lookups), so all are texel buffers (see
@@ -62,6 +66,8 @@ pub struct SceneRecords {
     pub media: Vec<MediumRecord>,
     pub grid_data: Vec<f32>,
     pub majorants: Vec<f32>,
+    /// Density grids packed one texel per voxel (`media::pack_density`).
+    pub packed_density: Vec<[f32; 4]>,
 }
 
 /// `SHAPE_*` medium flags and packed media of a shape.
@@ -312,7 +318,8 @@ impl SceneRecords {
             });
         }
         for m in &scene.media {
-            let rec = super::media::record(m, &mut r.grid_data, &mut r.majorants);
+            let rec =
+                super::media::record(m, &mut r.grid_data, &mut r.packed_density, &mut r.majorants);
             r.media.push(rec);
         }
         r.build_alias_tables(scene, bvh, &remap);
@@ -322,6 +329,39 @@ impl SceneRecords {
 }
 
 impl SceneRecords {
+    /// The medium features the scene's media use (`MEDIUM_FEATURE_*` bits): the
+    /// kernels compile the code of the others away.
+    pub fn medium_features(&self) -> u32 {
+        let mut f = 0;
+        for m in &self.media {
+            if m.kind == MEDIUM_HOMOGENEOUS {
+                f |= MEDIUM_FEATURE_HOMOGENEOUS;
+            } else if m.flags & MEDIUM_DENSITY_PACKED != 0 {
+                f |= if m.channels == 1 {
+                    MEDIUM_FEATURE_PACKED1
+                } else {
+                    MEDIUM_FEATURE_PACKED3
+                };
+            } else {
+                f |= MEDIUM_FEATURE_DENSITY_WORDS
+                    | if m.channels == 1 {
+                        MEDIUM_FEATURE_WORDS1
+                    } else {
+                        MEDIUM_FEATURE_WORDS3
+                    };
+            }
+            if m.albedo_data != NONE {
+                f |= MEDIUM_FEATURE_ALBEDO_GRID
+                    | if m.flags & MEDIUM_ALBEDO_RGB != 0 {
+                        MEDIUM_FEATURE_WORDS3
+                    } else {
+                        MEDIUM_FEATURE_WORDS1
+                    };
+            }
+        }
+        f
+    }
+
     /// The emitter kinds the scene has, a bit per `EMITTER_*` kind (area: on meshes)
     /// plus `EMITTER_KIND_BIT_SPHERE_AREA`: `shade` compiles the others out.
     pub fn emitter_kinds(&self) -> u32 {
@@ -512,6 +552,12 @@ impl SceneBuffers {
             "majorant grids",
             &or_one(&records.majorants),
         )?);
+        let packed = if records.packed_density.is_empty() {
+            vec![[0.0f32; 4]]
+        } else {
+            records.packed_density.clone()
+        };
+        buffers.push(Buffer::from_slice(device, "packed density grids", &packed)?);
         debug_assert_eq!(buffers.len() as u32, SCENE_BINDINGS);
         let refs: Vec<&Buffer> = buffers.iter().collect();
         let set = DescriptorSet::new(layout, 0, &refs)?;
