@@ -145,6 +145,11 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, inout PathSt
     vec3 throughput = path.throughput;
     vec3 o = r.origin;
     float t_base = 0.0; // distance from r.origin to o
+    // A real scattering event ends the loop and is shaded after it, once: llvmpipe
+    // runs a branch's code whatever its lanes decide, so a vol_path_scatter inside
+    // the loop would cost every crossing of every lane.
+    bool scattered = false;
+    vec3 scatter_p;
     for (uint crossing = 0u;; crossing++) {
         float seg = h.prim == NONE ? r.tmax - t_base : h.t;
         if (medium != NONE && integrator == INTEGRATOR_SINGLE_EQUIANGULAR && push.depth == 0u) {
@@ -156,10 +161,9 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, inout PathSt
             MediumEvent ev = medium_sample(medium, o, r.dir, seg, rng);
             throughput *= ev.weight;
             if (ev.scattered) {
-                path.throughput = throughput;
-                vec4 u_light = rng_4d(path.pixel, path.sample_index, rng_dim_bounce(push.depth, 0u), frame.seed);
-                vol_path_scatter(integrator, r, path, medium, o + ev.t * r.dir, u_light);
-                return false;
+                scattered = true;
+                scatter_p = o + ev.t * r.dir;
+                break;
             }
             if (!any(greaterThan(throughput, vec3(0.0)))) return false;
         }
@@ -185,6 +189,12 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, inout PathSt
         o = next;
         Hit nh = bvh_closest(o, r.dir, 0.0, max(r.tmax - t_base, 0.0));
         h = HitItem(nh.t, nh.u, nh.v, nh.prim);
+    }
+    if (scattered) {
+        path.throughput = throughput;
+        vec4 u_light = rng_4d(path.pixel, path.sample_index, rng_dim_bounce(push.depth, 0u), frame.seed);
+        vol_path_scatter(integrator, r, path, medium, scatter_p, u_light);
+        return false;
     }
     if (h.prim != NONE) h.t += t_base;
     path.throughput = throughput;
