@@ -8,6 +8,10 @@
 
 #include "wavefront.glsl"
 #include "scene_bindings.glsl"
+// The primitive and vertex features of the scene (SURFACE_FEATURE_* bits): hit geometry
+// compiles the others away (surface.glsl).
+layout(constant_id = 10) const uint SCENE_SURFACE_FEATURES = 0xffffffffu;
+#define SURFACE_FEATURES SCENE_SURFACE_FEATURES
 // Texture kinds and features the scene uses (TEXTURE_* kind bits, TEXTURE_FEATURE_*).
 layout(constant_id = 2) const uint SCENE_TEXTURES = 0xffffffffu;
 #define TEXTURE_KINDS SCENE_TEXTURES

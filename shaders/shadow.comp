@@ -9,6 +9,10 @@
 
 #include "wavefront.glsl"
 #include "scene_bindings.glsl"
+// The primitive and vertex features of the scene (SURFACE_FEATURE_* bits): hit geometry
+// compiles the others away (surface.glsl).
+layout(constant_id = 10) const uint SCENE_SURFACE_FEATURES = 0xffffffffu;
+#define SURFACE_FEATURES SCENE_SURFACE_FEATURES
 // Texture kinds and features the scene uses: textured thin dielectrics attenuate
 // shadow rays by their textured transmittance.
 layout(constant_id = 2) const uint SCENE_TEXTURES = 0xffffffffu;

@@ -258,6 +258,10 @@ struct ShadowItem {
 #define MEDIUM_SAMPLE_EMITTERS 1u
 #define MEDIUM_ALBEDO_RGB 2u
 #define MEDIUM_DENSITY_PACKED 4u
+// Surface features of a scene (a specialization constant; see src/gpu/layout.rs).
+#define SURFACE_FEATURE_SPHERES 1u
+#define SURFACE_FEATURE_NORMALS 2u
+#define SURFACE_FEATURE_UVS 4u
 // Medium features of a scene (a specialization constant; see src/gpu/layout.rs).
 #define MEDIUM_FEATURE_HOMOGENEOUS 1u
 #define MEDIUM_FEATURE_PACKED1 2u

@@ -5,6 +5,16 @@
 #include "warp.glsl"
 #include "ray_offset.glsl"
 
+// The primitive and vertex features of the scene (SURFACE_FEATURE_* bits of
+// layout.glsl); a kernel may define it as a specialization constant so that the code
+// of absent ones compiles away (llvmpipe runs a branch's code whatever its lanes
+// decide: without this, every hit paid the sphere's trigonometry and ten fetches of
+// vertex normals and uvs).
+#ifndef SURFACE_FEATURES
+#define SURFACE_FEATURES 0xffffffffu
+#endif
+#define SURFACE_HAS(f) ((SURFACE_FEATURES & (f)) != 0u)
+
 // γ(n) = n ε / (1 - n ε) with ε = 2^-24 (PBR 4th ed., sec. 6.8.1), rounded up.
 #define SURFACE_GAMMA5 2.9802326e-7
 #define SURFACE_GAMMA7 4.1723283e-7
@@ -35,7 +45,7 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
     ShapeRecord shape = shape_load(prim.shape);
     Surface s;
     s.shape = prim.shape;
-    if (prim.kind == PRIM_SPHERE) {
+    if (SURFACE_HAS(SURFACE_FEATURE_SPHERES) && prim.kind == PRIM_SPHERE) {
         vec3 local = ray_o + t * ray_d - prim.p0;
         s.ng = normalize(local);
         s.p = prim.p0 + prim.p1.x * s.ng;
@@ -57,10 +67,11 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
         s.ns = s.ng;
         s.uv = vec2(u, v);
         s.dpdu = vec3(0.0);
-        if ((shape.flags & (SHAPE_HAS_NORMALS | SHAPE_HAS_UVS)) != 0u) {
+        if (SURFACE_HAS(SURFACE_FEATURE_NORMALS | SURFACE_FEATURE_UVS)
+            && (shape.flags & (SHAPE_HAS_NORMALS | SHAPE_HAS_UVS)) != 0u) {
             TriangleRecord tri = triangle_load(prim.index);
             // Each half of a vertex is fetched only where it is used (vertex_texel).
-            if ((shape.flags & SHAPE_HAS_NORMALS) != 0u) {
+            if (SURFACE_HAS(SURFACE_FEATURE_NORMALS) && (shape.flags & SHAPE_HAS_NORMALS) != 0u) {
                 vec3 ns = w * vertex_texel(tri.v0, 0u).xyz + u * vertex_texel(tri.v1, 0u).xyz
                     + v * vertex_texel(tri.v2, 0u).xyz;
                 float l = length(ns);
@@ -68,7 +79,7 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
                 // Keep the shading normal on the side of the geometric one.
                 if (dot(s.ns, s.ng) < 0.0) s.ng = -s.ng;
             }
-            if ((shape.flags & SHAPE_HAS_UVS) != 0u) {
+            if (SURFACE_HAS(SURFACE_FEATURE_UVS) && (shape.flags & SHAPE_HAS_UVS) != 0u) {
                 Vertex a = vertex_load(tri.v0), b = vertex_load(tri.v1), c = vertex_load(tri.v2);
                 s.uv = w * vec2(a.u, a.v) + u * vec2(b.u, b.v) + v * vec2(c.u, c.v);
                 s.dpdu = w * vec3(a.tx, a.ty, a.tz) + u * vec3(b.tx, b.ty, b.tz) + v * vec3(c.tx, c.ty, c.tz);

@@ -101,6 +101,15 @@ pub const MEDIUM_ALBEDO_RGB: u32 = 2;
 /// the grid buffer.
 pub const MEDIUM_DENSITY_PACKED: u32 = 4;
 
+/// Surface features a scene uses (`SceneRecords::surface_features`): a specialization
+/// constant of the kernels that compute hit geometry (surface.glsl), so the code of
+/// absent ones compiles away. Spheres:
+pub const SURFACE_FEATURE_SPHERES: u32 = 1;
+/// Meshes with vertex normals ([`SHAPE_HAS_NORMALS`]).
+pub const SURFACE_FEATURE_NORMALS: u32 = 2;
+/// Meshes with vertex uvs (and tangents; [`SHAPE_HAS_UVS`]).
+pub const SURFACE_FEATURE_UVS: u32 = 4;
+
 /// Medium features a scene uses (`SceneRecords::medium_features`): a specialization
 /// constant of the kernels with medium code, so the code of the others compiles away.
 /// That matters on llvmpipe, which runs the code of a branch whatever its lanes decide.
@@ -791,8 +800,11 @@ mod tests {
     }
 
     #[test]
-    fn medium_flags_match_glsl() {
+    fn medium_and_surface_flags_match_glsl() {
         assert_glsl_defines(&[
+            ("SURFACE_FEATURE_SPHERES", SURFACE_FEATURE_SPHERES),
+            ("SURFACE_FEATURE_NORMALS", SURFACE_FEATURE_NORMALS),
+            ("SURFACE_FEATURE_UVS", SURFACE_FEATURE_UVS),
             ("MEDIUM_HOMOGENEOUS", MEDIUM_HOMOGENEOUS),
             ("MEDIUM_GRID", MEDIUM_GRID),
             ("MEDIUM_SAMPLE_EMITTERS", MEDIUM_SAMPLE_EMITTERS),

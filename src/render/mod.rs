@@ -187,6 +187,14 @@ impl Renderer {
         // Medium features (constant_id 6): the kinds and grid layouts the scene's media
         // use; homogeneous-only scenes compile tracking away.
         let medium_features = records.medium_features();
+        // Surface features (constant_id 10 of shade and shadow): spheres, vertex
+        // normals and uvs; hit geometry compiles the absent ones away.
+        let surface_features = records.surface_features()
+            | if has_spheres != 0 {
+                crate::gpu::layout::SURFACE_FEATURE_SPHERES
+            } else {
+                0
+            };
         let bsdf_kinds = records.bsdfs.iter().fold(0u32, |m, b| m | 1 << b.kind);
         let k = |name: &str, spirv: &[u8], spec: &[u32]| {
             Kernel::new(device, name, spirv, &layout, spec)
@@ -208,6 +216,7 @@ impl Renderer {
                     thin_null,
                     integrator.power_heuristic() as u32,
                     records.emitter_kinds(),
+                    surface_features,
                 ],
             )?,
             shadow: k(
@@ -222,6 +231,9 @@ impl Renderer {
                     0,
                     medium_features,
                     thin_null,
+                    0,
+                    0,
+                    surface_features,
                 ],
             )?,
             ray_args: k("queue_args", shaders::QUEUE_ARGS, &[0])?,

@@ -11,7 +11,7 @@ use crate::gpu::layout::{
     MEDIUM_FEATURE_DENSITY_WORDS, MEDIUM_FEATURE_HOMOGENEOUS, MEDIUM_FEATURE_PACKED1,
     MEDIUM_FEATURE_PACKED3, MEDIUM_FEATURE_WORDS1, MEDIUM_FEATURE_WORDS3, MEDIUM_HOMOGENEOUS, NONE,
     PRIM_TRIANGLE, SHAPE_FLIP_NORMALS, SHAPE_HAS_NORMALS, SHAPE_HAS_UVS, SHAPE_MEDIUM_TRANSITION,
-    SHAPE_NULL_BSDF, SHAPE_THIN_DIELECTRIC,
+    SHAPE_NULL_BSDF, SHAPE_THIN_DIELECTRIC, SURFACE_FEATURE_NORMALS, SURFACE_FEATURE_UVS,
 };
 use crate::gpu::{BindingKind, BindingLayout, Buffer, DescriptorSet, Device};
 use crate::scene::envmap;
@@ -329,6 +329,21 @@ impl SceneRecords {
 }
 
 impl SceneRecords {
+    /// The surface features the scene's shapes use (`SURFACE_FEATURE_*` bits): the
+    /// kernels compile the code of the others away.
+    pub fn surface_features(&self) -> u32 {
+        let mut f = 0;
+        for s in &self.shapes {
+            if s.flags & SHAPE_HAS_NORMALS != 0 {
+                f |= SURFACE_FEATURE_NORMALS;
+            }
+            if s.flags & SHAPE_HAS_UVS != 0 {
+                f |= SURFACE_FEATURE_UVS;
+            }
+        }
+        f
+    }
+
     /// The medium features the scene's media use (`MEDIUM_FEATURE_*` bits): the
     /// kernels compile the code of the others away.
     pub fn medium_features(&self) -> u32 {
