@@ -74,23 +74,47 @@ vec3 medium_tr(vec3 sigma, float t) {
 
 float medium_avg(vec3 v) { return (v.x + v.y + v.z) * (1.0 / 3.0); }
 
+// The cell of a trilinear lookup at grid-local point pl (the unit cube) in a grid of
+// `res` voxels: interpolation between voxel centres, clamped at the edges (as
+// Mitsuba 3's gridvolume). f: floor of the voxel coordinate; w: weights of the upper
+// voxels; i0, i1: the lower and upper voxels, clamped.
+struct GridCell {
+    ivec3 res;
+    vec3 f;
+    vec3 w;
+    ivec3 i0;
+    ivec3 i1;
+};
+
+GridCell medium_grid_cell(uvec3 res, vec3 pl) {
+    GridCell c;
+    c.res = ivec3(res);
+    vec3 x = pl * vec3(res) - 0.5;
+    c.f = floor(x);
+    c.w = clamp(x - c.f, 0.0, 1.0);
+    c.i0 = clamp(ivec3(c.f), ivec3(0), c.res - 1);
+    c.i1 = clamp(ivec3(c.f) + 1, ivec3(0), c.res - 1);
+    return c;
+}
+
+// Corner k of cell c (bit a of k: the upper voxel along axis a): its voxel index, and
+// its interpolation weight in `weight`.
+uint medium_grid_corner(GridCell c, uint k, out float weight) {
+    bvec3 hi = bvec3((k & 1u) != 0u, (k & 2u) != 0u, (k & 4u) != 0u);
+    ivec3 i = ivec3(hi.x ? c.i1.x : c.i0.x, hi.y ? c.i1.y : c.i0.y, hi.z ? c.i1.z : c.i0.z);
+    vec3 wk = mix(1.0 - c.w, c.w, vec3(hi));
+    weight = wk.x * wk.y * wk.z;
+    return uint((i.z * c.res.y + i.y) * c.res.x + i.x);
+}
+
 // A grid on the record's voxels (res) with `channels` channels at `data`, at
-// grid-local point pl (the unit cube): trilinear interpolation between voxel centres,
-// clamped at the edges (as Mitsuba 3's gridvolume).
+// grid-local point pl: trilinear interpolation (medium_grid_cell).
 vec3 medium_grid_lookup(MediumRecord m, uint data, uint channels, vec3 pl) {
-    ivec3 res = ivec3(m.res);
-    vec3 x = pl * vec3(m.res) - 0.5;
-    vec3 f = floor(x);
-    vec3 w = clamp(x - f, 0.0, 1.0);
-    ivec3 i0 = clamp(ivec3(f), ivec3(0), res - 1);
-    ivec3 i1 = clamp(ivec3(f) + 1, ivec3(0), res - 1);
+    GridCell c = medium_grid_cell(m.res, pl);
     vec3 d = vec3(0.0);
     for (uint k = 0u; k < 8u; k++) {
-        bvec3 hi = bvec3((k & 1u) != 0u, (k & 2u) != 0u, (k & 4u) != 0u);
-        ivec3 i = ivec3(hi.x ? i1.x : i0.x, hi.y ? i1.y : i0.y, hi.z ? i1.z : i0.z);
-        vec3 wk = mix(1.0 - w, w, vec3(hi));
-        float weight = wk.x * wk.y * wk.z;
-        uint idx = uint((i.z * res.y + i.y) * res.x + i.x);
+        float weight;
+        uint idx = medium_grid_corner(c, k, weight);
         if (MEDIUM_HAS(MEDIUM_FEATURE_WORDS1) && channels == 1u) {
             d += vec3(weight * grid_value(data + idx));
         }
@@ -109,29 +133,23 @@ vec3 medium_grid_density(MediumRecord m, vec3 pl) {
     if (MEDIUM_HAS(MEDIUM_FEATURE_DENSITY_WORDS) && (m.flags & MEDIUM_DENSITY_PACKED) == 0u) {
         return medium_grid_lookup(m, m.data, m.channels, pl);
     }
-    ivec3 res = ivec3(m.res);
-    vec3 x = pl * vec3(m.res) - 0.5;
-    vec3 f = floor(x);
-    vec3 w = clamp(x - f, 0.0, 1.0);
-    ivec3 i0 = clamp(ivec3(f), ivec3(0), res - 1);
-    ivec3 i1 = clamp(ivec3(f) + 1, ivec3(0), res - 1);
+    GridCell c = medium_grid_cell(m.res, pl);
     if (MEDIUM_HAS(MEDIUM_FEATURE_PACKED1) && m.channels == 1u) {
         // Texel (x, y, z) holds the values at (x, y), (x+1, y), (x, y+1), (x+1, y+1)
         // of slice z. Before the first voxel centre of an axis both corners are voxel
         // 0, but its texel pairs it with voxel 1: weight that one 0 there.
-        w = mix(w, vec3(0.0), lessThan(f, vec3(0.0)));
-        vec4 a = grid_packed(m.data + uint((i0.z * res.y + i0.y) * res.x + i0.x));
-        vec4 b = grid_packed(m.data + uint((i1.z * res.y + i0.y) * res.x + i0.x));
+        vec3 w = mix(c.w, vec3(0.0), lessThan(c.f, vec3(0.0)));
+        vec4 a = grid_packed(m.data + uint((c.i0.z * c.res.y + c.i0.y) * c.res.x + c.i0.x));
+        vec4 b = grid_packed(m.data + uint((c.i1.z * c.res.y + c.i0.y) * c.res.x + c.i0.x));
         vec2 ra = mix(a.xz, a.yw, w.x); // along x, rows y and y+1 of slice z
         vec2 rb = mix(b.xz, b.yw, w.x); // of slice z+1
         return vec3(mix(mix(ra.x, ra.y, w.y), mix(rb.x, rb.y, w.y), w.z));
     }
     vec3 d = vec3(0.0);
     for (uint k = 0u; MEDIUM_HAS(MEDIUM_FEATURE_PACKED3) && k < 8u; k++) {
-        bvec3 hi = bvec3((k & 1u) != 0u, (k & 2u) != 0u, (k & 4u) != 0u);
-        ivec3 i = ivec3(hi.x ? i1.x : i0.x, hi.y ? i1.y : i0.y, hi.z ? i1.z : i0.z);
-        vec3 wk = mix(1.0 - w, w, vec3(hi));
-        d += (wk.x * wk.y * wk.z) * grid_packed(m.data + uint((i.z * res.y + i.y) * res.x + i.x)).xyz;
+        float weight;
+        uint idx = medium_grid_corner(c, k, weight);
+        d += weight * grid_packed(m.data + idx).xyz;
     }
     return d;
 }
