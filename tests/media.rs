@@ -1179,19 +1179,14 @@ fn gpu_grid_lookups_equal_trilinear_interpolation() {
                 }
             }
         }
-        let input = Buffer::from_slice(&device, "queries", &points).unwrap();
-        let out = Buffer::new(&device, "results", points.len() as u64 * 16, Location::Gpu).unwrap();
-        let set = DescriptorSet::new(&layout, 1, &[&input, &out]).unwrap();
-        let push = [points.len() as u32, m as u32];
-        let mut cmd = CommandList::new(&device).unwrap();
-        cmd.dispatch(
+        let got = common::run_query_kernel(
+            &device,
+            &layout,
             &kernel,
-            &[&buffers.set, &set],
-            bytemuck::cast_slice(&push),
-            [(points.len() as u32).div_ceil(64), 1, 1],
+            &buffers.set,
+            &points,
+            &[points.len() as u32, m as u32],
         );
-        cmd.submit_and_wait().unwrap();
-        let got: Vec<[f32; 4]> = out.read(&device).unwrap();
         for (p, g) in points.iter().zip(&got) {
             let q = [p[0] as f64, p[1] as f64, p[2] as f64];
             for (c, &v) in g.iter().enumerate().take(3) {

@@ -7,9 +7,7 @@ mod common;
 use glam::{Mat3, Vec2, Vec3};
 use wavetrace::accel::{prims_from_scene, Bvh};
 use wavetrace::gpu::layout::EMITTER_ENVMAP;
-use wavetrace::gpu::{
-    shaders, BindingKind, BindingLayout, Buffer, CommandList, DescriptorSet, Kernel, Location,
-};
+use wavetrace::gpu::{shaders, BindingKind, BindingLayout, Kernel};
 use wavetrace::image::Image;
 use wavetrace::render::scene_buffers::{scene_binding_kinds, SceneBuffers, SceneRecords};
 use wavetrace::scene::{envmap, Emitter, Scene, Texture};
@@ -39,9 +37,6 @@ fn lookup(scene: &Scene, queries: &[[f32; 4]], id: u32, mode: u32) -> Vec<Vec3> 
     )
     .unwrap();
     let buffers = SceneBuffers::upload(&device, &layout, &bvh, &records).unwrap();
-    let input = Buffer::from_slice(&device, "queries", queries).unwrap();
-    let out = Buffer::new(&device, "results", queries.len() as u64 * 16, Location::Gpu).unwrap();
-    let set = DescriptorSet::new(&layout, 1, &[&input, &out]).unwrap();
     let kernel = Kernel::new(
         &device,
         "texture_eval",
@@ -50,20 +45,15 @@ fn lookup(scene: &Scene, queries: &[[f32; 4]], id: u32, mode: u32) -> Vec<Vec3> 
         &[],
     )
     .unwrap();
-    let push = [queries.len() as u32, id, mode];
-    let mut cmd = CommandList::new(&device).unwrap();
-    cmd.dispatch(
+    let raw = common::run_query_kernel(
+        &device,
+        &layout,
         &kernel,
-        &[&buffers.set, &set],
-        bytemuck::cast_slice(&push),
-        [(queries.len() as u32).div_ceil(64), 1, 1],
+        &buffers.set,
+        queries,
+        &[queries.len() as u32, id, mode],
     );
-    cmd.submit_and_wait().unwrap();
-    let raw: Vec<[f32; 4]> = out.read(&device).unwrap();
-    raw[..queries.len()]
-        .iter()
-        .map(|v| Vec3::new(v[0], v[1], v[2]))
-        .collect()
+    raw.iter().map(|v| Vec3::new(v[0], v[1], v[2])).collect()
 }
 
 /// Writes a `w` x `h` test image whose texels all differ (a smooth ramp plus a hash),

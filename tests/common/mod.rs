@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use wavetrace::gpu::Device;
+use wavetrace::gpu::{BindingLayout, Buffer, CommandList, DescriptorSet, Device, Kernel, Location};
 use wavetrace::image::metrics::{block_t_test, rel_mse, BlockTest};
 use wavetrace::image::Image;
 use wavetrace::render::{RenderOptions, Renderer};
@@ -14,6 +14,34 @@ use wavetrace::scene::Scene;
 pub fn device() -> Device {
     Device::new(std::env::var("WAVETRACE_DEVICE").ok().as_deref())
         .expect("a Vulkan device (run tools/setup.sh)")
+}
+
+/// Runs a test kernel that reads the scene (set 0, `scene_set`) and, in set 1, the
+/// `queries` (binding 0) and writes one vec4 per query (binding 1), in workgroups of
+/// 64 with push constants `push`; returns the results.
+pub fn run_query_kernel(
+    device: &Device,
+    layout: &BindingLayout,
+    kernel: &Kernel,
+    scene_set: &DescriptorSet,
+    queries: &[[f32; 4]],
+    push: &[u32],
+) -> Vec<[f32; 4]> {
+    let input = Buffer::from_slice(device, "queries", queries).expect("queries buffer");
+    let out = Buffer::new(device, "results", queries.len() as u64 * 16, Location::Gpu)
+        .expect("results buffer");
+    let set = DescriptorSet::new(layout, 1, &[&input, &out]).expect("query set");
+    let mut cmd = CommandList::new(device).expect("command list");
+    cmd.dispatch(
+        kernel,
+        &[scene_set, &set],
+        bytemuck::cast_slice(push),
+        [(queries.len() as u32).div_ceil(64), 1, 1],
+    );
+    cmd.submit_and_wait().expect("query kernel");
+    let mut raw: Vec<[f32; 4]> = out.read(device).expect("read results");
+    raw.truncate(queries.len());
+    raw
 }
 
 /// Runs the `wavetrace` binary in the repository root: (exit status, stdout, stderr).
