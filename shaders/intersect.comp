@@ -9,6 +9,9 @@
 // Scenes without spheres compile the sphere test out of the traversal.
 layout(constant_id = 0) const bool SCENE_HAS_SPHERES = true;
 #define BVH_HAS_SPHERES SCENE_HAS_SPHERES
+// Entries of the traversal stack: the scene BVH's deepest leaf (bvh.glsl).
+layout(constant_id = 1) const int SCENE_BVH_DEPTH = 32;
+#define BVH_STACK_DEPTH SCENE_BVH_DEPTH
 #include "bvh.glsl"
 
 void main() {

@@ -32,6 +32,9 @@ layout(constant_id = 1) const uint SCENE_BSDF_KINDS = 0xffffffffu;
 layout(constant_id = 4) const bool SCENE_HAS_MEDIA = false;
 layout(constant_id = 5) const bool SCENE_HAS_SPHERES = true;
 #define BVH_HAS_SPHERES SCENE_HAS_SPHERES
+// Entries of the traversal stack: the scene BVH's deepest leaf (bvh.glsl).
+layout(constant_id = 11) const int SCENE_BVH_DEPTH = 32;
+#define BVH_STACK_DEPTH SCENE_BVH_DEPTH
 #include "bvh.glsl"
 #define MEDIA_ENABLED SCENE_HAS_MEDIA
 // The medium kinds and grid layouts in the scene (MEDIUM_FEATURE_* bits); the code of

@@ -23,6 +23,9 @@ layout(constant_id = 2) const uint SCENE_TEXTURES = 0xffffffffu;
 // Scenes without spheres compile the sphere test out of the traversal.
 layout(constant_id = 0) const bool SCENE_HAS_SPHERES = true;
 #define BVH_HAS_SPHERES SCENE_HAS_SPHERES
+// Entries of the traversal stack: the scene BVH's deepest leaf (bvh.glsl).
+layout(constant_id = 11) const int SCENE_BVH_DEPTH = 32;
+#define BVH_STACK_DEPTH SCENE_BVH_DEPTH
 #include "bvh.glsl"
 // Media or null surfaces in the scene; without them the code below compiles away.
 layout(constant_id = 4) const bool SCENE_HAS_MEDIA = false;

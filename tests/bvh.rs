@@ -23,8 +23,18 @@ struct QueryRay {
     tmax: f32,
 }
 
-/// Runs closest- and any-hit queries for `rays` on the GPU.
+/// Runs closest- and any-hit queries for `rays` on the GPU, with the traversal stack
+/// specialized to the tree's depth as the renderer does.
 fn gpu_queries(bvh: &Bvh, rays: &[QueryRay]) -> (Vec<HitItem>, Vec<u32>) {
+    gpu_queries_with_stack(bvh, rays, bvh.stats.stack_depth())
+}
+
+/// `gpu_queries` with a traversal stack of `stack_depth` entries.
+fn gpu_queries_with_stack(
+    bvh: &Bvh,
+    rays: &[QueryRay],
+    stack_depth: u32,
+) -> (Vec<HitItem>, Vec<u32>) {
     let device = common::device();
     let layout = BindingLayout::with_kinds(
         &device,
@@ -37,7 +47,14 @@ fn gpu_queries(bvh: &Bvh, rays: &[QueryRay]) -> (Vec<HitItem>, Vec<u32>) {
     let closest = Buffer::new(&device, "closest", (rays.len() * 16) as u64, Location::Gpu).unwrap();
     let any = Buffer::new(&device, "any", (rays.len() * 4) as u64, Location::Gpu).unwrap();
     let set = DescriptorSet::new(&layout, 1, &[&queries, &closest, &any]).unwrap();
-    let kernel = Kernel::new(&device, "bvh_query", shaders::TESTS_BVH_QUERY, &layout, &[]).unwrap();
+    let kernel = Kernel::new(
+        &device,
+        "bvh_query",
+        shaders::TESTS_BVH_QUERY,
+        &layout,
+        &[stack_depth],
+    )
+    .unwrap();
     let mut cmd = CommandList::new(&device).unwrap();
     let n = rays.len() as u32;
     cmd.dispatch(
@@ -246,4 +263,89 @@ fn gpu_traversal_of_an_empty_scene_misses() {
     let (c, a) = gpu_queries(&bvh, &rays);
     assert_eq!(c[0].prim, u32::MAX);
     assert_eq!(a[0], 0);
+}
+
+/// A ladder of exponentially spaced and sized rungs builds a tree as deep as the build
+/// allows (SAH splits off a few of the largest rungs per level). Each rung's box spans
+/// the x axis but the rung itself misses it, except the last and largest, which is in
+/// the root's far subtree: a ray along the axis descends the whole spine, deferring a
+/// subtree at every level, and finds its hit in the bottom entry. The GPU traversal,
+/// its register stack specialized to the tree's depth, must agree with brute force on
+/// every ray, and the same rays must lose hits with a stack two entries short.
+#[test]
+fn gpu_traversal_of_a_tree_at_full_stack_depth_equals_brute_force() {
+    let mut mesh = Mesh {
+        name: "ladder".into(),
+        ..Default::default()
+    };
+    let rungs = 600;
+    for i in 0..rungs {
+        let s = 1.09f32.powi(i - 300);
+        let (a, b, c) = if i + 1 < rungs {
+            // Box y in [-s, s], z in [-s/2, s]; the edge from a to c passes above the
+            // axis (z = s/4 at y = 0).
+            (Vec2::new(-s, s), Vec2::new(s, s), Vec2::new(s, -0.5 * s))
+        } else {
+            (
+                Vec2::new(-s, -s),
+                Vec2::new(3.0 * s, -s),
+                Vec2::new(-s, 3.0 * s),
+            )
+        };
+        let base = mesh.positions.len() as u32;
+        mesh.positions
+            .extend([a, b, c].map(|p| Vec3::new(s, p.x, p.y)));
+        mesh.uvs.extend([Vec2::ZERO; 3]);
+        mesh.indices.push([base, base + 1, base + 2]);
+    }
+    let bvh = Bvh::build(prims_from_shapes(&[mesh], &[]));
+    assert!(
+        bvh.stats.max_depth >= 24,
+        "the ladder built only {} levels deep",
+        bvh.stats.max_depth
+    );
+    let mut rng = SplitMix64(11);
+    let smallest = 1.09f32.powi(-300);
+    let rays: Vec<QueryRay> = (0..20_000)
+        .map(|i| {
+            if i % 2 == 0 {
+                // Along the axis from before the first rung: the deep case.
+                let o = smallest
+                    * Vec3::new(0.5, rng.next_f32() * 0.2 - 0.1, rng.next_f32() * 0.2 - 0.1);
+                QueryRay {
+                    origin: o.into(),
+                    tmin: 0.0,
+                    dir: [1.0, 0.0, 0.0],
+                    tmax: f32::INFINITY,
+                }
+            } else {
+                let x = 1.09f32.powf(rng.next_f32() * 610.0 - 305.0);
+                let o = x * Vec3::new(1.0, rng.next_f32() * 2.0 - 1.0, rng.next_f32() * 2.0 - 1.0);
+                let d = Vec3::new(
+                    rng.next_f32() - 0.5,
+                    rng.next_f32() - 0.5,
+                    rng.next_f32() - 0.5,
+                );
+                QueryRay {
+                    origin: o.into(),
+                    tmin: 0.0,
+                    dir: d.normalize().into(),
+                    tmax: f32::INFINITY,
+                }
+            }
+        })
+        .collect();
+    let hits = check(&bvh, &rays);
+    assert!(hits > 10_000, "too few rays hit ({hits})");
+    // The axial rays do need that depth: with two entries fewer they miss.
+    let (short, _) = gpu_queries_with_stack(&bvh, &rays, bvh.stats.stack_depth() - 2);
+    let lost = short
+        .iter()
+        .step_by(2)
+        .filter(|h| h.prim == u32::MAX)
+        .count();
+    assert!(
+        lost > 1000,
+        "a stack 2 entries short lost only {lost} axial hits"
+    );
 }

@@ -33,6 +33,13 @@
 #define BVH_HAS_SPHERES true
 #endif
 
+// Entries of the traversal stack: the tree's deepest leaf depth bounds them, so the
+// including kernel may #define BVH_STACK_DEPTH to a specialization constant holding
+// the scene's (BvhStats::max_depth, at least 1); at most BVH_STACK_SIZE.
+#ifndef BVH_STACK_DEPTH
+#define BVH_STACK_DEPTH BVH_STACK_SIZE
+#endif
+
 // t: distance (tmax on a miss); u, v: triangle barycentrics, p = (1-u-v) p0 + u p1 + v p2
 // (0 for spheres); prim: index into prims[], HIT_NONE on a miss.
 struct Hit {
@@ -74,6 +81,25 @@ bool bvh_slab(BvhRay r, vec3 bmin, vec3 bmax, float tmin, float tmax, out float 
     return tn <= tf * BVH_TFAR_SCALE;
 }
 
+// The traversal stack lives in registers and shifts on every push and pop: stack[0]
+// is the top, and popping an empty stack yields BVH_DONE. Once the loops unroll every
+// index is a constant, so a push or a pop is BVH_STACK_DEPTH selects per SIMD vector.
+// An array indexed by a per-lane stack pointer is a scatter or a gather across the
+// lanes instead, which llvmpipe runs as a loop over the lanes that branches on each
+// lane's mask: on lavapipe the shifting stack rendered the Cornell box (depth 6) 28%
+// faster and Nori's table scene (depth 19) 25% faster, and at depth 32 it still wins.
+#define BVH_STACK_PUSH(stack, x)                                                         \
+    {                                                                                    \
+        for (int k_ = BVH_STACK_DEPTH - 1; k_ > 0; k_--) stack[k_] = stack[k_ - 1];      \
+        stack[0] = (x);                                                                  \
+    }
+#define BVH_STACK_POP(stack, x)                                                          \
+    {                                                                                    \
+        x = stack[0];                                                                    \
+        for (int k_ = 0; k_ < BVH_STACK_DEPTH - 1; k_++) stack[k_] = stack[k_ + 1];      \
+        stack[BVH_STACK_DEPTH - 1] = BVH_DONE;                                           \
+    }
+
 // Stack traversal visiting the nearer child first; with any_hit, returns at the first
 // hit found. Requires 0 <= tmin and d != 0.
 Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, bool any_hit) {
@@ -83,8 +109,8 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, bool any_hit) {
     r.neg = lessThan(r.inv, vec3(0.0));
     TriangleRay tr = triangle_ray_make(d);
     Hit hit = Hit(tmax, 0.0, 0.0, HIT_NONE);
-    uint stack[BVH_STACK_SIZE];
-    uint sp = 0u;
+    uint stack[BVH_STACK_DEPTH];
+    for (int k = 0; k < BVH_STACK_DEPTH; k++) stack[k] = BVH_DONE;
     uint item = 0u; // current child reference: inner node 0
     // "While-while" order (Aila, Laine 2009): descend through inner nodes until a leaf
     // is found, then test its primitives. SIMD lanes (llvmpipe, GPU warps) step
@@ -100,14 +126,12 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, bool any_hit) {
             uint right = (n.right_index << BVH_COUNT_BITS) | n.right_count;
             if (hit_l && hit_r) { // go to the nearer, push the other
                 bool left_near = tl <= tr_;
-                stack[sp++] = left_near ? right : left;
+                BVH_STACK_PUSH(stack, left_near ? right : left);
                 item = left_near ? left : right;
             } else if (hit_l || hit_r) {
                 item = hit_l ? left : right;
-            } else if (sp == 0u) {
-                item = BVH_DONE;
             } else {
-                item = stack[--sp];
+                BVH_STACK_POP(stack, item);
             }
         }
         if (item == BVH_DONE) {
@@ -133,10 +157,7 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, bool any_hit) {
                 }
             }
         }
-        if (sp == 0u) {
-            break;
-        }
-        item = stack[--sp];
+        BVH_STACK_POP(stack, item);
     }
     return hit;
 }

@@ -4,6 +4,9 @@
 // can compare the GLSL traversal with the CPU brute force.
 
 #include "scene_bindings.glsl"
+// The traversal stack is specialized to the tree's depth, as in the renderer's kernels.
+layout(constant_id = 0) const int BVH_DEPTH = 32;
+#define BVH_STACK_DEPTH BVH_DEPTH
 #include "bvh.glsl"
 
 layout(local_size_x = 64) in;

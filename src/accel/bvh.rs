@@ -91,6 +91,16 @@ pub struct BvhStats {
     pub sah_cost: f64,
 }
 
+impl BvhStats {
+    /// Entries a traversal stack of this tree needs: one per level above the deepest
+    /// leaf (a node at depth d has at most d deferred siblings), at least 1 and at
+    /// most [`BVH_STACK_SIZE`]. The GLSL traversal is specialized to it (bvh.glsl's
+    /// `BVH_STACK_DEPTH`), since its stack shifts through every entry.
+    pub fn stack_depth(&self) -> u32 {
+        self.max_depth.clamp(1, BVH_STACK_SIZE) as u32
+    }
+}
+
 /// A ray hit from [`Bvh::closest`]: distance, barycentrics (`p = (1-u-v) p0 + u p1 +
 /// v p2` for a triangle; 0 for a sphere) and the primitive, an index into
 /// [`Bvh::prims`].

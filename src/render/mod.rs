@@ -196,12 +196,15 @@ impl Renderer {
                 0
             };
         let bsdf_kinds = records.bsdfs.iter().fold(0u32, |m, b| m | 1 << b.kind);
+        // The traversal stack holds at most one entry per level above the deepest
+        // leaf (constant_id 1 of intersect, 11 of shade and shadow; bvh.glsl).
+        let bvh_depth = bvh.stats.stack_depth();
         let k = |name: &str, spirv: &[u8], spec: &[u32]| {
             Kernel::new(device, name, spirv, &layout, spec)
         };
         let kernels = Kernels {
             generate: k("generate", shaders::GENERATE, &[])?,
-            intersect: k("intersect", shaders::INTERSECT, &[has_spheres])?,
+            intersect: k("intersect", shaders::INTERSECT, &[has_spheres, bvh_depth])?,
             shade: k(
                 "shade",
                 shaders::SHADE,
@@ -217,6 +220,7 @@ impl Renderer {
                     integrator.power_heuristic() as u32,
                     records.emitter_kinds(),
                     surface_features,
+                    bvh_depth,
                 ],
             )?,
             shadow: k(
@@ -234,6 +238,7 @@ impl Renderer {
                     0,
                     0,
                     surface_features,
+                    bvh_depth,
                 ],
             )?,
             ray_args: k("queue_args", shaders::QUEUE_ARGS, &[0])?,
