@@ -12,10 +12,10 @@ layout(local_size_x = WORKGROUP_SIZE) in;
 // layout.glsl).
 layout(std140, set = 1, binding = 0) uniform FrameBuffer { Frame frame; };
 // Path states and queues are written through 16-byte words, one store per word, and
-// read through texel views of the same buffers (bindings 8-11): llvmpipe turns each
-// divergent storage-buffer access into a loop over the SIMD lanes, a texel fetch into
-// one gather (see BindingKind::Texels in src/gpu/kernel.rs). Use the *_load and
-// *_store functions below, never the arrays.
+// read through texel views of the same buffers (bindings 8-11, imageLoad): llvmpipe
+// turns each divergent storage-buffer access into a loop over the SIMD lanes, an image
+// load into one inline gather (see BindingKind::Texels in src/gpu/kernel.rs). Use the
+// *_load and *_store functions below, never the arrays.
 layout(std430, set = 1, binding = 1) writeonly buffer PathBuffer { uvec4 path_words[]; };
 layout(std430, set = 1, binding = 2) writeonly buffer RayBuffer { uvec4 ray_words[]; };
 layout(std430, set = 1, binding = 3) writeonly buffer HitBuffer { uvec4 hit_words[]; };
@@ -23,10 +23,10 @@ layout(std430, set = 1, binding = 4) writeonly buffer ShadowBuffer { uvec4 shado
 layout(std430, set = 1, binding = 5) buffer CounterBuffer { Counters counters; };
 layout(std430, set = 1, binding = 6) buffer DispatchBuffer { DispatchArgs dispatch_args; };
 layout(std430, set = 1, binding = 7) buffer FilmBuffer { vec4 film[]; };
-layout(set = 1, binding = 8) uniform usamplerBuffer path_texels;
-layout(set = 1, binding = 9) uniform usamplerBuffer ray_texels;
-layout(set = 1, binding = 10) uniform usamplerBuffer hit_texels;
-layout(set = 1, binding = 11) uniform usamplerBuffer shadow_texels;
+layout(set = 1, binding = 8, rgba32ui) uniform readonly uimageBuffer path_texels;
+layout(set = 1, binding = 9, rgba32ui) uniform readonly uimageBuffer ray_texels;
+layout(set = 1, binding = 10, rgba32ui) uniform readonly uimageBuffer hit_texels;
+layout(set = 1, binding = 11, rgba32ui) uniform readonly uimageBuffer shadow_texels;
 
 layout(push_constant) uniform PushBlock { Push push; };
 
@@ -42,9 +42,9 @@ uint ray_slot(uint q, uint i) { return q * push.capacity + i; }
 // PathState: 3 words; RayItem: 2; HitItem: 1; ShadowItem: 3 (layout.glsl).
 PathState path_load(uint i) {
     int b = int(3u * i);
-    uvec4 w0 = texelFetch(path_texels, b);
-    uvec4 w1 = texelFetch(path_texels, b + 1);
-    uvec4 w2 = texelFetch(path_texels, b + 2);
+    uvec4 w0 = imageLoad(path_texels, b);
+    uvec4 w1 = imageLoad(path_texels, b + 1);
+    uvec4 w2 = imageLoad(path_texels, b + 2);
     return PathState(uintBitsToFloat(w0.xyz), w0.w, uintBitsToFloat(w1.xyz), w1.w,
                      uintBitsToFloat(w2.x), w2.y, uintBitsToFloat(w2.z), w2.w);
 }
@@ -68,8 +68,8 @@ void path_store_radiance(uint i, PathState p) {
 }
 
 RayItem ray_load(uint slot) {
-    uvec4 w0 = texelFetch(ray_texels, int(2u * slot));
-    uvec4 w1 = texelFetch(ray_texels, int(2u * slot + 1u));
+    uvec4 w0 = imageLoad(ray_texels, int(2u * slot));
+    uvec4 w1 = imageLoad(ray_texels, int(2u * slot + 1u));
     return RayItem(uintBitsToFloat(w0.xyz), w0.w, uintBitsToFloat(w1.xyz), uintBitsToFloat(w1.w));
 }
 
@@ -79,7 +79,7 @@ void ray_store(uint slot, RayItem r) {
 }
 
 HitItem hit_load(uint i) {
-    uvec4 w = texelFetch(hit_texels, int(i));
+    uvec4 w = imageLoad(hit_texels, int(i));
     return HitItem(uintBitsToFloat(w.x), uintBitsToFloat(w.y), uintBitsToFloat(w.z), w.w);
 }
 
@@ -89,9 +89,9 @@ void hit_store(uint i, HitItem h) {
 
 ShadowItem shadow_load(uint i) {
     int b = int(3u * i);
-    uvec4 w0 = texelFetch(shadow_texels, b);
-    uvec4 w1 = texelFetch(shadow_texels, b + 1);
-    uvec4 w2 = texelFetch(shadow_texels, b + 2);
+    uvec4 w0 = imageLoad(shadow_texels, b);
+    uvec4 w1 = imageLoad(shadow_texels, b + 1);
+    uvec4 w2 = imageLoad(shadow_texels, b + 2);
     return ShadowItem(uintBitsToFloat(w0.xyz), w0.w, uintBitsToFloat(w1.xyz), uintBitsToFloat(w1.w),
                       uintBitsToFloat(w2.xyz), w2.w);
 }

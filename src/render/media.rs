@@ -86,8 +86,8 @@ pub fn record(
 
 /// The density grid as one 16-byte texel per voxel, so that a trilinear lookup
 /// fetches 2 texels (one channel) or 8 (three) instead of 8 or 24 single values: a
-/// texel fetch costs about the same for one value as for four, on llvmpipe (a call per
-/// fetch) as on GPUs (a memory transaction). One channel: voxel (x, y, z) holds the
+/// texel load costs about the same for one value as for four, on llvmpipe (a gather
+/// of the lanes' addresses) as on GPUs (a memory transaction). One channel: voxel (x, y, z) holds the
 /// values at (x, y), (x+1, y), (x, y+1) and (x+1, y+1) of slice z, clamped to the grid
 /// as the lookup clamps; three channels: its RGB and a 0. `None` for grids of more than
 /// [`PACKED_DENSITY_MAX_VOXELS`] voxels (or another channel count), which the lookup
