@@ -1,0 +1,179 @@
+#!/usr/bin/env python3
+"""The speed comparison of the surface and media issues, in one command.
+
+    python3 tools/bench_suite.py [--scenes cbox,veach,...] [--variants scalar_rgb,llvm_ad_rgb]
+        [--seeds 11,12,13,14] [--spp 16,64] [--refs DIR] [--wavetrace BIN] [--json OUT]
+
+For every scene of the suite (256 x 256, the resolution the issues measure at), every
+Mitsuba variant and every seed, runs tools/bench_compare.py (wavetrace and Mitsuba on
+the same scene file, the same sample counts and the same reference) and prints the
+efficiency ratio (t x relMSE) wavetrace / (t x relMSE) Mitsuba at each sample count:
+per seed, and their geometric mean. Below 1, wavetrace reaches a given error sooner.
+
+References are Mitsuba renders, made once and kept in --refs (default
+target/bench-refs/, outside version control: about 0.8 MB each): with the LLVM variant
+when Debian's libLLVM-19 is installed (see tools/README.md), else scalar_rgb. A
+reference's own noise adds to both renderers' relMSE alike and pulls the ratios
+towards 1; the suite's sample counts (4096, 1024 for the slow Cornell-box smoke) keep
+that under 2 % at 64 spp.
+
+Timings on a shared 2-core machine swing by 10-20 % from run to run and the relMSE of
+one seed by as much again: read the geometric means over several seeds, and run
+nothing else meanwhile.
+"""
+
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+
+TOOLS = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.normpath(os.path.join(TOOLS, ".."))
+LIBLLVM = "/usr/lib/x86_64-linux-gnu/libLLVM-19.so"
+
+# name -> (scene, defines for both renderers, wavetrace integrator or None for the
+# scene's own, reference spp)
+SUITE = {
+    "cbox": ("scenes/cbox/cbox_path.xml", ["res=256"], None, 4096),
+    "veach": ("scenes/veach/veach.xml", ["res=256", "integrator=path", "max_depth=4"], None, 4096),
+    "glass": ("scenes/glass/glass.xml", ["res=256"], None, 4096),
+    "cube": ("scenes/media/cube.xml", ["res=256"], None, 4096),
+    "two_media": ("scenes/media/two_media.xml", ["res=256"], None, 4096),
+    "smoke": ("scenes/media/smoke.xml", ["res=256"], None, 4096),
+    "cbox_smoke": ("scenes/media/cbox_smoke.xml", ["res=256"], None, 1024),
+}
+SURFACES = ["cbox", "veach", "glass"]
+MEDIA = ["cube", "two_media", "smoke", "cbox_smoke"]
+
+
+def die(msg):
+    sys.exit("bench_suite.py: " + msg)
+
+
+def ints(text, what):
+    try:
+        values = [int(t) for t in text.split(",")]
+    except ValueError:
+        values = []
+    if not values:
+        die("%s expects integers separated by commas, got %r" % (what, text))
+    return values
+
+
+def reference(name, refs, seed_base=1000):
+    """The scene's reference EXR, rendered by Mitsuba if missing."""
+    scene, defines, _, spp = SUITE[name]
+    out = os.path.join(refs, name + ".exr")
+    if os.path.isfile(out):
+        return out
+    os.makedirs(refs, exist_ok=True)
+    variant = "llvm_ad_rgb" if os.path.isfile(LIBLLVM) else "scalar_rgb"
+    env = dict(os.environ)
+    if variant.startswith("llvm"):
+        env.setdefault("DRJIT_LIBLLVM_PATH", LIBLLVM)
+    cmd = [sys.executable, os.path.join(TOOLS, "mitsuba_ref.py"), os.path.join(ROOT, scene),
+           "-o", out, "--spp", str(spp), "--variant", variant, "--pass-spp", "256",
+           "--seed", str(seed_base)]
+    for d in defines:
+        cmd += ["-D", d]
+    print("$ " + " ".join(cmd), file=sys.stderr)
+    if subprocess.run(cmd, env=env).returncode != 0:
+        die("reference for %s failed" % name)
+    return out
+
+
+def compare(name, ref, variant, seed, spp, wavetrace):
+    scene, defines, integrator, _ = SUITE[name]
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "cmp.json")
+        cmd = [sys.executable, os.path.join(TOOLS, "bench_compare.py"), os.path.join(ROOT, scene),
+               "--ref", ref, "--spp", ",".join(map(str, spp)), "--variant", variant,
+               "--seed", str(seed), "--json", out]
+        for d in defines:
+            cmd += ["-D", d]
+        if integrator:
+            cmd += ["--integrator", integrator]
+        if wavetrace:
+            cmd += ["--wavetrace", wavetrace]
+        print("$ " + " ".join(cmd), file=sys.stderr)
+        proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        if proc.returncode != 0:
+            die("bench_compare failed for %s:\n%s" % (name, proc.stderr))
+        with open(out) as f:
+            return json.load(f)
+
+
+def geomean(xs):
+    xs = [x for x in xs if x > 0 and math.isfinite(x)]
+    return math.exp(sum(map(math.log, xs)) / len(xs)) if xs else float("nan")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--scenes", default=",".join(SUITE),
+                    help="comma-separated subset of: %s (or 'surfaces', 'media')" % ", ".join(SUITE))
+    ap.add_argument("--variants", default="scalar_rgb", help="Mitsuba variants (default scalar_rgb)")
+    ap.add_argument("--seeds", default="11,12,13,14", help="seeds (default 11,12,13,14)")
+    ap.add_argument("--spp", default="16,64", help="sample counts (default 16,64)")
+    ap.add_argument("--refs", default=os.path.join(ROOT, "target", "bench-refs"),
+                    help="folder of the references (default target/bench-refs)")
+    ap.add_argument("--wavetrace", help="wavetrace binary (default: bench_compare.py's)")
+    ap.add_argument("--json", help="write every run and the summary here")
+    args = ap.parse_args()
+
+    names = []
+    for n in args.scenes.split(","):
+        names += SURFACES if n == "surfaces" else MEDIA if n == "media" else [n]
+    for n in names:
+        if n not in SUITE:
+            die("no scene %r in the suite (%s)" % (n, ", ".join(SUITE)))
+    variants = [v for v in args.variants.split(",") if v]
+    seeds = ints(args.seeds, "--seeds")
+    spp = ints(args.spp, "--spp")
+
+    runs = []
+    summary = []
+    for name in names:
+        ref = reference(name, args.refs)
+        for variant in variants:
+            per_seed = []
+            for seed in seeds:
+                result = compare(name, ref, variant, seed, spp, args.wavetrace)
+                runs.append({"scene": name, "variant": variant, "seed": seed, "result": result})
+                per_seed.append(result["comparison"])
+            for i, n in enumerate(spp):
+                rows = [c[i] for c in per_seed if i < len(c)]
+                ratios = [r["efficiency_ratio"] for r in rows]
+                summary.append({
+                    "scene": name, "variant": variant, "spp": n,
+                    "efficiency_ratio": geomean(ratios), "per_seed": ratios,
+                    "wavetrace_seconds": sum(r["wavetrace_seconds"] for r in rows) / len(rows),
+                    "mitsuba_seconds": sum(r["mitsuba_seconds"] for r in rows) / len(rows),
+                    "wavetrace_rel_mse": geomean([r["wavetrace_rel_mse"] for r in rows]),
+                    "mitsuba_rel_mse": geomean([r["mitsuba_rel_mse"] for r in rows]),
+                })
+                s = summary[-1]
+                print("%-11s %-12s %4d spp: ratio %.3f  (seeds %s)  wt %.2f s %.3e  mi %.2f s %.3e" % (
+                    name, variant, n, s["efficiency_ratio"], " ".join("%.2f" % r for r in ratios),
+                    s["wavetrace_seconds"], s["wavetrace_rel_mse"], s["mitsuba_seconds"],
+                    s["mitsuba_rel_mse"]), flush=True)
+
+    print("\nefficiency ratio (t x relMSE) wavetrace / Mitsuba, geometric mean over seeds %s;"
+          " below 1: wavetrace ahead" % ",".join(map(str, seeds)))
+    print("%-11s %-12s " % ("scene", "variant") + " ".join("%8s" % ("%d spp" % n) for n in spp))
+    for name in names:
+        for variant in variants:
+            cells = [s["efficiency_ratio"] for s in summary if s["scene"] == name and s["variant"] == variant]
+            print("%-11s %-12s " % (name, variant) + " ".join("%8.3f" % c for c in cells))
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump({"summary": summary, "runs": runs}, f, indent=2)
+            f.write("\n")
+        print("wrote %s" % args.json, file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()
