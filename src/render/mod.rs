@@ -282,6 +282,11 @@ impl Renderer {
         self.bounces
     }
 
+    /// Whether later renders record GPU timestamps around every kernel.
+    pub fn set_timestamps(&mut self, on: bool) {
+        self.timestamps = on;
+    }
+
     pub fn capacity(&self) -> u32 {
         self.wavefront.capacity
     }
