@@ -1,13 +1,14 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// queue_args: one thread turns a queue length into indirect dispatch arguments and
-// counts the rays traced. MODE 0 (before `intersect`): the ray queue `queue_in`;
-// also empties the other ray queue and the shadow queue for this bounce.
-// MODE 1 (before `shadow`): the shadow queue.
+// queue_args: one thread, between `shade` and `shadow` of a bounce, turns the queue
+// lengths into indirect dispatch arguments and counts the rays traced: the shadow
+// queue `shade` filled (its length moves to shadow_traced, for the `shadow` kernel)
+// and the ray queue it filled, for the next bounce's `intersect` and `shade`. It
+// empties the shadow queue and the ray queue this bounce read, which the next
+// bounce's `shade` appends to. One dispatch per bounce: on lavapipe each dispatch
+// costs some 100 microseconds however little it does.
 
 #include "wavefront.glsl"
-
-layout(constant_id = 0) const uint MODE = 0u;
 
 // Workgroups for n items on a 2D grid of at most 65535 x 65535 groups.
 uvec3 groups_for(uint n) {
@@ -19,21 +20,20 @@ uvec3 groups_for(uint n) {
 
 void main() {
     if (gl_GlobalInvocationID.x != 0u) return;
-    if (MODE == 0u) {
-        uint n = counters.ray_count[push.queue_in];
-        uvec3 g = groups_for(n);
-        dispatch_args.rays[0] = g.x;
-        dispatch_args.rays[1] = g.y;
-        dispatch_args.rays[2] = g.z;
-        counters.ray_count[1u - push.queue_in] = 0u;
-        counters.shadow_count = 0u;
-        counters.rays_traced += n;
-    } else {
-        uint n = counters.shadow_count;
-        uvec3 g = groups_for(n);
-        dispatch_args.shadows[0] = g.x;
-        dispatch_args.shadows[1] = g.y;
-        dispatch_args.shadows[2] = g.z;
-        counters.rays_traced += n;
-    }
+    uint q = push.queue_in;
+    uint shadows = counters.shadow_count;
+    uvec3 g = groups_for(shadows);
+    dispatch_args.shadows[0] = g.x;
+    dispatch_args.shadows[1] = g.y;
+    dispatch_args.shadows[2] = g.z;
+    counters.shadow_traced = shadows;
+    counters.shadow_count = 0u;
+
+    uint next = counters.ray_count[1u - q];
+    g = groups_for(next);
+    dispatch_args.rays[0] = g.x;
+    dispatch_args.rays[1] = g.y;
+    dispatch_args.rays[2] = g.z;
+    counters.rays_traced += counters.ray_count[q] + shadows;
+    counters.ray_count[q] = 0u;
 }

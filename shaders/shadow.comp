@@ -42,7 +42,7 @@ layout(constant_id = 7) const bool SCENE_THIN_NULL = false;
 
 void main() {
     uint i = thread_index();
-    if (i >= counters.shadow_count) return;
+    if (i >= counters.shadow_traced) return;
     ShadowItem s = shadow_load(i);
     if (SCENE_HAS_MEDIA) {
         vec3 T = transmittance_shadow(s);

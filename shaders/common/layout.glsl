@@ -295,10 +295,10 @@ struct MediumRecord {
 // Queue lengths and statistics.
 struct Counters {
     uint ray_count[2];
-    uint shadow_count;
+    uint shadow_count;  // the shadow queue shade appends to
     uint rays_traced;
     uint discarded;
-    uint pad0;
+    uint shadow_traced; // length of the shadow queue the shadow kernel traces
     uint pad1;
     uint pad2;
 };

@@ -468,12 +468,15 @@ pub struct ShadowItem {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Counters {
     pub ray_count: [u32; 2],
+    /// The shadow queue `shade` appends to.
     pub shadow_count: u32,
     /// Rays traced in this batch (extension and shadow rays).
     pub rays_traced: u32,
     /// Samples dropped at accumulation because they were NaN or infinite.
     pub discarded: u32,
-    pub pad0: u32,
+    /// Length of the shadow queue the `shadow` kernel traces: `queue_args` moves
+    /// `shadow_count` here and empties it for the next bounce's `shade`.
+    pub shadow_traced: u32,
     pub pad1: u32,
     pub pad2: u32,
 }
@@ -732,7 +735,7 @@ mod tests {
                 shadow_count,
                 rays_traced,
                 discarded,
-                pad0,
+                shadow_traced,
                 pad1,
                 pad2
             ),

@@ -1,7 +1,7 @@
 //! The wavefront renderer: queues, per-bounce dispatch, integrators, film.
 //!
-//! A batch of paths runs as `generate -> (queue_args -> intersect -> shade ->
-//! queue_args -> shadow) per bounce -> accumulate`, every stage one dispatch over a
+//! A batch of paths runs as `generate -> (intersect -> shade -> queue_args -> shadow)
+//! per bounce -> accumulate`, every stage one dispatch over a
 //! queue in GPU memory. Queue lengths stay on the GPU and drive indirect dispatch, so
 //! a whole batch is one submission with no read-back between bounces (Laine, Karras
 //! and Aila 2013, "Megakernels Considered Harmful").
@@ -19,7 +19,7 @@ pub use integrator::Integrator;
 use std::time::Instant;
 
 use crate::accel::{self, Bvh, BvhStats};
-use crate::gpu::layout::{Counters, Frame, Push, WORKGROUP_SIZE};
+use crate::gpu::layout::{Counters, DispatchArgs, Frame, Push, WORKGROUP_SIZE};
 use crate::gpu::{shaders, BindingLayout, CommandList, Device, Kernel, KernelTimes};
 use crate::image::Image;
 use crate::scene::Scene;
@@ -78,8 +78,7 @@ struct Kernels {
     intersect: Kernel,
     shade: Kernel,
     shadow: Kernel,
-    ray_args: Kernel,
-    shadow_args: Kernel,
+    queue_args: Kernel,
     accumulate: Kernel,
 }
 
@@ -241,8 +240,7 @@ impl Renderer {
                     bvh_depth,
                 ],
             )?,
-            ray_args: k("queue_args", shaders::QUEUE_ARGS, &[0])?,
-            shadow_args: k("queue_args", shaders::QUEUE_ARGS, &[1])?,
+            queue_args: k("queue_args", shaders::QUEUE_ARGS, &[])?,
             accumulate: k("accumulate", shaders::ACCUMULATE, &[])?,
         };
         device.save_pipeline_cache();
@@ -308,10 +306,9 @@ impl Renderer {
         let k = &self.kernels;
         for kernel in [
             &k.generate,
-            &k.ray_args,
             &k.intersect,
             &k.shade,
-            &k.shadow_args,
+            &k.queue_args,
             &k.shadow,
             &k.accumulate,
         ] {
@@ -424,6 +421,13 @@ impl Renderer {
             ..Default::default()
         };
         cmd.update(&wf.counters, 0, bytemuck::bytes_of(&counters));
+        // The first bounce's dispatch; queue_args writes the later ones.
+        let [x, y, z] = groups_for(path_count);
+        let args = DispatchArgs {
+            rays: [x, y, z],
+            shadows: [0, 1, 1],
+        };
+        cmd.update(&wf.dispatch_args, 0, bytemuck::bytes_of(&args));
         cmd.barrier();
         let sets = [&self.scene_buffers.set, &wf.set];
         let mut push = Push {
@@ -451,8 +455,6 @@ impl Renderer {
                 push.depth = d;
                 push.queue_in = d % 2;
                 let p = bytemuck::bytes_of(&push);
-                cmd.dispatch(&k.ray_args, &sets, p, [1, 1, 1]);
-                cmd.barrier();
                 cmd.dispatch_indirect(
                     &k.intersect,
                     &sets,
@@ -463,7 +465,7 @@ impl Renderer {
                 cmd.barrier();
                 cmd.dispatch_indirect(&k.shade, &sets, p, &wf.dispatch_args, Wavefront::RAY_ARGS);
                 cmd.barrier();
-                cmd.dispatch(&k.shadow_args, &sets, p, [1, 1, 1]);
+                cmd.dispatch(&k.queue_args, &sets, p, [1, 1, 1]);
                 cmd.barrier();
                 cmd.dispatch_indirect(
                     &k.shadow,
