@@ -60,8 +60,9 @@ void main() {
     HitItem h = hit_load(i);
     if (INTEGRATOR >= INTEGRATOR_DIRECT_EMS) {
         PathState path = path_load(r.path);
-        if (SCENE_HAS_MEDIA && !vol_path_traverse(INTEGRATOR, r, h, path)) return;
-        path_shade(INTEGRATOR, r, h, path);
+        PathVertex v = path_vertex_surface();
+        if (SCENE_HAS_MEDIA && !vol_path_traverse(INTEGRATOR, r, h, path, v)) return;
+        path_shade(INTEGRATOR, r, h, path, v);
     } else {
         first_hit_shade(INTEGRATOR, r, h);
     }

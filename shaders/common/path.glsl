@@ -19,6 +19,9 @@
 #include "queue.glsl"
 #include "bsdf_textured.glsl"
 #include "normal_map.glsl"
+#ifdef MEDIUM_GLSL
+#include "phase.glsl"
+#endif
 
 // MIS weight of a strategy with density a against one with density b (Veach 1997,
 // sec. 9.2): the balance heuristic a / (a + b), or with MIS_POWER (a bool constant
@@ -50,27 +53,61 @@ uint path_medium_after(uint integrator, uint shape, uint current, vec3 d, vec3 n
     return NONE;
 }
 
-// Shades ray r (path vertex number push.depth + 1) with its hit h; `path` is the
-// state of r's path (path_load(r.path), as the medium stage may have left it: a path
-// state written in this dispatch is passed on, never read back through the texel view).
-void path_shade(uint integrator, RayItem r, HitItem h, PathState path) {
+// What a path's ray reached, for path_shade: the surface of its hit (or nothing, on a
+// miss), or, with medium != NONE, a real scattering event at p in that medium (the
+// medium stage, vol_path.glsl). Emitter sampling there uses the numbers of bounce
+// dimension light_dim (0, as at surfaces, unless equiangular sampling already chose
+// the light point with them).
+struct PathVertex {
+    uint medium;
+    vec3 p;
+    uint light_dim;
+};
+
+PathVertex path_vertex_surface() {
+    return PathVertex(NONE, vec3(0.0), 0u);
+}
+
+// Shades path vertex v, reached by ray r (path vertex number push.depth + 1) with hit
+// h; `path` is the state of r's path (path_load(r.path), as the medium stage may have
+// left it: a path state written in this dispatch is passed on, never read back
+// through the texel view). At a surface: emission, emitter sampling against the BSDF
+// and BSDF sampling; in a medium: emitter sampling against the phase function and
+// phase sampling. Both kinds of vertex share one emitter-sampling step and one
+// continuation step, each with its shadow or ray push: llvmpipe runs a branch's code
+// whatever its lanes decide, so separate steps would cost every lane both.
+void path_shade(uint integrator, RayItem r, HitItem h, PathState path, PathVertex v) {
+    bool single = integrator_is_single_scatter(integrator);
     bool ems = integrator == INTEGRATOR_DIRECT_EMS || integrator == INTEGRATOR_DIRECT_MIS
-        || integrator == INTEGRATOR_PATH_MIS || integrator == INTEGRATOR_VOL_PATH_MIS
-        || integrator_is_single_scatter(integrator);
+        || integrator == INTEGRATOR_PATH_MIS || integrator == INTEGRATOR_VOL_PATH_MIS || single;
     bool mats = integrator != INTEGRATOR_DIRECT_EMS;
     bool mis = integrator == INTEGRATOR_DIRECT_MIS || integrator == INTEGRATOR_PATH_MIS
-        || integrator == INTEGRATOR_VOL_PATH_MIS || integrator_is_single_scatter(integrator);
+        || integrator == INTEGRATOR_VOL_PATH_MIS || single;
     bool path_tracer = integrator == INTEGRATOR_PATH_MATS || integrator == INTEGRATOR_PATH_MIS
         || integrator_is_volumetric(integrator);
 
     uint depth = push.depth;
+    bool in_medium = false;
+#ifdef MEDIUM_GLSL
+    in_medium = MEDIA_ENABLED && v.medium != NONE;
+    float g = 0.0;
+    if (in_medium) {
+        MediumRecord m = medium_load(v.medium);
+        g = m.g;
+        // Emitter sampling in a medium: vol_path_mis and single_scatter, where the
+        // medium asks for it; a medium vertex of single_scatter ends its path.
+        ems = (integrator == INTEGRATOR_VOL_PATH_MIS || single)
+            && (m.flags & MEDIUM_SAMPLE_EMITTERS) != 0u;
+        mats = !single;
+    }
+#endif
     // Emission found by this ray counts for camera rays (unless hidden) and for rays
     // that BSDF sampling chose; with MIS it is weighted against emitter sampling,
     // except after a delta lobe, which emitter sampling cannot reproduce.
     bool count_emission = depth == 0u ? frame.hide_emitters == 0u : mats;
     bool weigh = depth > 0u && mis && (path.flags & PATH_DELTA) == 0u;
 
-    if (h.prim == NONE) {
+    if (!in_medium && h.prim == NONE) {
         if ((EMITTER_HAS(EMITTER_CONSTANT) || EMITTER_HAS(EMITTER_ENVMAP)) && count_emission
             && frame.env_emitter != NONE) {
             float w = weigh ? mis_weight(path.bsdf_pdf, emitter_pdf_env(r.dir)) : 1.0;
@@ -80,46 +117,74 @@ void path_shade(uint integrator, RayItem r, HitItem h, PathState path) {
         return;
     }
 
-    Surface s = surface_at(h.prim, h.u, h.v, r.origin, r.dir, h.t);
-    ShapeRecord shape = shape_load(s.shape);
-    if (count_emission && shape.emitter != NONE) {
-        vec3 Le = emitter_area_radiance(emitter_load(shape.emitter), s.ng, r.dir, s.uv);
-        float w = weigh ? mis_weight(path.bsdf_pdf, emitter_pdf_hit(shape.emitter, r.origin, r.dir, h.t, s.ng)) : 1.0;
-        path.radiance += path.throughput * Le * w;
-        path_store_radiance(r.path, path);
+    Surface s;
+    BsdfRecord bsdf;
+    bool mapped = false;
+    NormalMapFrame nm;
+    vec3 wo;
+    if (in_medium) {
+        s.p = v.p;
+        wo = -r.dir; // world frame, as the phase function takes it
+    } else {
+        s = surface_at(h.prim, h.u, h.v, r.origin, r.dir, h.t);
+        ShapeRecord shape = shape_load(s.shape);
+        if (count_emission && shape.emitter != NONE) {
+            vec3 Le = emitter_area_radiance(emitter_load(shape.emitter), s.ng, r.dir, s.uv);
+            float w = weigh ? mis_weight(path.bsdf_pdf, emitter_pdf_hit(shape.emitter, r.origin, r.dir, h.t, s.ng)) : 1.0;
+            path.radiance += path.throughput * Le * w;
+            path_store_radiance(r.path, path);
+        }
+        bsdf = bsdf_textured(bsdf_load(shape.bsdf), s.uv);
+        // A normal map (normal_map.glsl) replaces the shading normal and weighs the
+        // light of each direction wi by normal_map_weight: 0 on different sides of the
+        // old and the new normal, else its shadowing term. A twosided record mirrors
+        // the old normal towards the viewer there, so the nested model is one-sided,
+        // as in Mitsuba's twosided around a normalmap.
+        mapped = TEXTURE_USES(TEXTURE_FEATURE_NORMALMAP) && bsdf.normal_map != 0u;
+        if (mapped) {
+            nm = normal_map_frame(bsdf, s, -r.dir);
+            s.ns = nm.n;
+            bsdf.flags &= ~BSDF_TWOSIDED;
+        }
+        wo = frame_to_local(s.ns, -r.dir);
+        ems = ems && !bsdf_is_delta(bsdf);
     }
 
     // A longer path must fit in max_depth segments (this vertex ends segment depth+1).
     if (depth + 2u > frame.max_depth) return;
 
-    BsdfRecord bsdf = bsdf_textured(bsdf_load(shape.bsdf), s.uv);
-    // A normal map (normal_map.glsl) replaces the shading normal and weighs the light
-    // of each direction wi by normal_map_weight: 0 on different sides of the old and
-    // the new normal, else its shadowing term. A twosided record mirrors the old
-    // normal towards the viewer there, so the nested model is one-sided, as in
-    // Mitsuba's twosided around a normalmap.
-    bool mapped = TEXTURE_USES(TEXTURE_FEATURE_NORMALMAP) && bsdf.normal_map != 0u;
-    NormalMapFrame nm;
-    if (mapped) {
-        nm = normal_map_frame(bsdf, s, -r.dir);
-        s.ns = nm.n;
-        bsdf.flags &= ~BSDF_TWOSIDED;
-    }
-    vec3 wo = frame_to_local(s.ns, -r.dir);
-
-    if (ems && !bsdf_is_delta(bsdf)) {
-        vec4 u = rng_4d(path.pixel, path.sample_index, rng_dim_bounce(depth, 0u), frame.seed);
+    if (ems) {
+        vec4 u = rng_4d(path.pixel, path.sample_index, rng_dim_bounce(depth, v.light_dim), frame.seed);
         EmitterSample es = emitter_sample(s.p, u);
         if (es.pdf > 0.0 && any(greaterThan(es.Le, vec3(0.0)))) {
-            vec3 wi = frame_to_local(s.ns, es.wi);
-            float m = mapped ? normal_map_weight(nm, es.wi) : 1.0;
-            vec3 f = m > 0.0 ? m * bsdf_eval(bsdf, wo, wi, s.uv) : vec3(0.0);
-            if (any(greaterThan(f, vec3(0.0)))) {
-                float w = (mis && !es.delta) ? mis_weight(es.pdf, bsdf_pdf(bsdf, wo, wi, s.uv)) : 1.0;
-                vec3 origin = surface_spawn_origin(s, dot(es.wi, s.ng) > 0.0 ? s.ng : -s.ng);
+            vec3 f;
+            float pdf;
+            vec3 origin;
+            float tmax;
+            uint medium;
+#ifdef MEDIUM_GLSL
+            if (in_medium) {
+                float ph = phase_eval(g, wo, es.wi);
+                f = vec3(ph);
+                pdf = ph;
+                origin = s.p;
+                tmax = isinf(es.dist) ? es.dist : es.dist * (1.0 - 1e-4);
+                medium = v.medium;
+            } else
+#endif
+            {
+                vec3 wi = frame_to_local(s.ns, es.wi);
+                float m = mapped ? normal_map_weight(nm, es.wi) : 1.0;
+                f = m > 0.0 ? m * bsdf_eval(bsdf, wo, wi, s.uv) : vec3(0.0);
+                pdf = bsdf_pdf(bsdf, wo, wi, s.uv);
+                origin = surface_spawn_origin(s, dot(es.wi, s.ng) > 0.0 ? s.ng : -s.ng);
                 // Stop short of the light's own surface (PBR's shadow epsilon).
-                float tmax = isinf(es.dist) ? es.dist : length(s.p + es.wi * es.dist - origin) * (1.0 - 1e-4);
-                uint medium = path_medium_after(integrator, s.shape, path.medium, es.wi, s.ng);
+                tmax = isinf(es.dist) ? es.dist : length(s.p + es.wi * es.dist - origin) * (1.0 - 1e-4);
+                medium = path_medium_after(integrator, s.shape, path.medium, es.wi, s.ng);
+            }
+            if (any(greaterThan(f, vec3(0.0)))) {
+                // single_scatter's in-scattering is emitter sampling alone.
+                float w = (mis && !es.delta && !(single && in_medium)) ? mis_weight(es.pdf, pdf) : 1.0;
                 queue_push_shadow_in(medium, origin, r.path, es.wi, tmax, path.throughput * f * es.Le * (w / es.pdf));
             }
         }
@@ -127,18 +192,45 @@ void path_shade(uint integrator, RayItem r, HitItem h, PathState path) {
 
     if (mats) {
         vec4 u = rng_4d(path.pixel, path.sample_index, rng_dim_bounce(depth, 1u), frame.seed);
-        // The medium stage already chose a thin dielectric's reflection (probability
-        // R', vol_path_traverse): u.x = 0 selects that lobe, weight f/P = specular.
-        if ((path.flags & PATH_THIN_REFLECT) != 0u) u.x = 0.0;
-        BsdfSample bs = bsdf_sample(bsdf, wo, u.xyz, s.uv);
-        vec3 wi = frame_to_world(s.ns, bs.wi);
-        vec3 throughput = path.throughput * bs.weight * (mapped ? normal_map_weight(nm, wi) : 1.0);
-        if (!any(greaterThan(throughput, vec3(0.0)))) return;
-        // Refraction scaled the radiance by (η_i/η_t)² (dielectrics, rough or smooth;
-        // not a thin dielectric's undeflected transmission).
-        if ((bs.flags & (BSDF_FLAG_TRANSMISSION | BSDF_FLAG_NULL)) == BSDF_FLAG_TRANSMISSION) {
-            path.eta_scale *= wo.z > 0.0 ? bsdf.eta * bsdf.eta : 1.0 / (bsdf.eta * bsdf.eta);
+        vec3 wi;
+        vec3 weight;
+        float pdf;
+        uint flags;
+        vec3 origin;
+        uint medium;
+#ifdef MEDIUM_GLSL
+        if (in_medium) {
+            // The phase function is sampled exactly: its weight is 1.
+            PhaseSample ps = phase_sample(g, wo, u.xy);
+            wi = ps.wi;
+            weight = vec3(1.0);
+            pdf = ps.pdf;
+            // Without emitter sampling here, emitters the next ray finds count in full.
+            flags = ems ? 0u : PATH_DELTA;
+            origin = s.p;
+            medium = v.medium;
+        } else
+#endif
+        {
+            // The medium stage already chose a thin dielectric's reflection
+            // (probability R', vol_path_traverse): u.x = 0 selects that lobe, weight
+            // f/P = specular.
+            if ((path.flags & PATH_THIN_REFLECT) != 0u) u.x = 0.0;
+            BsdfSample bs = bsdf_sample(bsdf, wo, u.xyz, s.uv);
+            wi = frame_to_world(s.ns, bs.wi);
+            weight = bs.weight * (mapped ? normal_map_weight(nm, wi) : 1.0);
+            pdf = bs.pdf;
+            flags = (bs.flags & BSDF_FLAG_DELTA) != 0u ? PATH_DELTA : 0u;
+            // Refraction scaled the radiance by (η_i/η_t)² (dielectrics, rough or
+            // smooth; not a thin dielectric's undeflected transmission).
+            if ((bs.flags & (BSDF_FLAG_TRANSMISSION | BSDF_FLAG_NULL)) == BSDF_FLAG_TRANSMISSION) {
+                path.eta_scale *= wo.z > 0.0 ? bsdf.eta * bsdf.eta : 1.0 / (bsdf.eta * bsdf.eta);
+            }
+            origin = surface_spawn_origin(s, dot(wi, s.ng) > 0.0 ? s.ng : -s.ng);
+            medium = path_medium_after(integrator, s.shape, path.medium, wi, s.ng);
         }
+        vec3 throughput = path.throughput * weight;
+        if (!any(greaterThan(throughput, vec3(0.0)))) return;
         // Russian roulette: survive with probability min(max throughput, 0.99), the
         // throughput taken without the refractions' radiance scaling.
         if (path_tracer && depth + 1u >= frame.rr_depth) {
@@ -148,11 +240,11 @@ void path_shade(uint integrator, RayItem r, HitItem h, PathState path) {
             throughput /= q;
         }
         path.throughput = throughput;
-        path.bsdf_pdf = bs.pdf;
-        path.flags = (bs.flags & BSDF_FLAG_DELTA) != 0u ? PATH_DELTA : 0u;
-        path.medium = path_medium_after(integrator, s.shape, path.medium, wi, s.ng);
+        path.bsdf_pdf = pdf;
+        path.flags = flags;
+        path.medium = medium;
         path_store_bounce(r.path, path); // the radiance word is stored where it changed
-        queue_push_ray(surface_spawn_origin(s, dot(wi, s.ng) > 0.0 ? s.ng : -s.ng), r.path, wi, EMITTER_INFINITY);
+        queue_push_ray(origin, r.path, wi, EMITTER_INFINITY);
     }
 }
 

@@ -2,8 +2,9 @@
 // path_shade (Mitsuba's volpath; Pharr, Jakob, Humphreys, PBR 4th ed., sec. 14.2).
 // The ray of a path is followed through its medium and through every null surface
 // (index-matched medium boundaries) it meets, until it scatters in a medium, is
-// absorbed, reaches a surface with a BSDF, or escapes; the last two go on to
-// path_shade with the distance measured from the ray's origin (the last scattering
+// absorbed, reaches a surface with a BSDF, or escapes. All but absorption go on to
+// path_shade: a scattering event as a medium vertex (PathVertex), a surface or an
+// escape with the distance measured from the ray's origin (the last scattering
 // vertex), so MIS weights of emitters found behind null surfaces stay right.
 //   vol_path_simple: phase and BSDF sampling only.
 //   vol_path_mis   : emitter sampling with transmittance at medium and surface
@@ -31,47 +32,6 @@
 #define THIN_NULL false
 #endif
 
-// A real scattering event in medium `medium` at p for the path of ray r (its state
-// `path` with the throughput up to p): emitter sampling through a shadow ray
-// (vol_path_mis and single_scatter, where the medium asks for it) with the uniform
-// numbers u_light, then phase sampling for the next ray (not for single_scatter).
-void vol_path_scatter(uint integrator, RayItem r, PathState path, uint medium, vec3 p, vec4 u_light) {
-    uint depth = push.depth;
-    // This vertex ends segment depth + 1; a longer path must fit in max_depth.
-    if (depth + 2u > frame.max_depth) return;
-    MediumRecord m = medium_load(medium);
-    vec3 wo = -r.dir;
-    bool single = integrator_is_single_scatter(integrator);
-    bool nee = (integrator == INTEGRATOR_VOL_PATH_MIS || single)
-        && (m.flags & MEDIUM_SAMPLE_EMITTERS) != 0u;
-    if (nee) {
-        EmitterSample es = emitter_sample(p, u_light);
-        if (es.pdf > 0.0 && any(greaterThan(es.Le, vec3(0.0)))) {
-            float ph = phase_eval(m.g, wo, es.wi);
-            float w = (es.delta || single) ? 1.0 : mis_weight(es.pdf, ph);
-            float tmax = isinf(es.dist) ? es.dist : es.dist * (1.0 - 1e-4);
-            queue_push_shadow_in(medium, p, r.path, es.wi, tmax, path.throughput * es.Le * (ph * w / es.pdf));
-        }
-    }
-    if (single) return;
-    vec4 u = rng_4d(path.pixel, path.sample_index, rng_dim_bounce(depth, 1u), frame.seed);
-    PhaseSample ps = phase_sample(m.g, wo, u.xy);
-    // The phase function is sampled exactly: its weight is 1.
-    vec3 throughput = path.throughput;
-    if (depth + 1u >= frame.rr_depth) {
-        float q = min(max(throughput.x, max(throughput.y, throughput.z)), 0.99);
-        if (u.w >= q) return;
-        throughput /= q;
-    }
-    path.throughput = throughput;
-    path.bsdf_pdf = ps.pdf;
-    // Without emitter sampling here, emitters the next ray finds count in full.
-    path.flags = nee ? 0u : PATH_DELTA;
-    path.medium = medium;
-    path_store(r.path, path);
-    queue_push_ray(p, r.path, ps.wi, EMITTER_INFINITY);
-}
-
 // Scattering coefficient σs = albedo σt of medium m at world point p.
 vec3 vol_path_sigma_s(MediumRecord m, vec3 p) {
     if (MEDIUM_IS_HOMOGENEOUS(m)) return m.albedo * m.sigma_t;
@@ -79,21 +39,28 @@ vec3 vol_path_sigma_s(MediumRecord m, vec3 p) {
     return medium_grid_albedo(m, pl) * medium_grid_sigma_t(m, pl);
 }
 
+// Outcomes of vol_path_equiangular.
+#define VOL_PATH_BEYOND 0
+#define VOL_PATH_SCATTERED 1
+#define VOL_PATH_DEAD 2
+
 // single_scatter with equiangular sampling, camera ray r in medium `medium` over
 // [0, seg) from o (distance t_base from r.origin). One sample chooses between the
 // medium segment (probability p_med) and what lies beyond it:
 // - beyond: the throughput times the segment's transmittance / (1 - p_med);
-//   returns true (go on to the surface);
+//   returns VOL_PATH_BEYOND (go on to the surface);
 // - medium: a light point y is chosen (emitter_sample from o), t equiangular towards
-//   y (Kulla and Fajardo 2012), weight T(0, t) σs(t) / (pdf(t) p_med), then emitter
-//   sampling at o + t d with the same numbers, which pick the same point y of a point,
-//   spot or mesh light (the pair (y, t) is sampled jointly); a sphere light or the
-//   environment is sampled afresh. Returns false.
+//   y (Kulla and Fajardo 2012), weight T(0, t) σs(t) / (pdf(t) p_med); returns
+//   VOL_PATH_SCATTERED with the medium vertex at o + t d in v and its throughput in
+//   path. Emitter sampling there (path_shade) uses the same numbers, which pick the
+//   same point y of a point, spot or mesh light (the pair (y, t) is sampled jointly);
+//   a sphere light or the environment is sampled afresh.
 // p_med = 1 - avg transmittance of a homogeneous segment (clamped to [0.05, 0.95]),
 // 1/2 for grids, 1 when nothing lies beyond.
-bool vol_path_equiangular(uint integrator, RayItem r, PathState path, uint medium, vec3 o,
-                          float seg, inout vec3 throughput, inout MediumRng rng) {
-    if (!(seg > 0.0)) return true;
+int vol_path_equiangular(uint integrator, RayItem r, inout PathState path, uint medium, vec3 o,
+                         float seg, inout vec3 throughput, inout MediumRng rng, out PathVertex v) {
+    v = path_vertex_surface();
+    if (!(seg > 0.0)) return VOL_PATH_BEYOND;
     MediumRecord m = medium_load(medium);
     vec3 T_seg = isinf(seg) ? vec3(0.0) : medium_transmittance(medium, o, r.dir, seg, rng);
     float p_med = isinf(seg) ? 1.0
@@ -101,7 +68,7 @@ bool vol_path_equiangular(uint integrator, RayItem r, PathState path, uint mediu
     vec4 u = medium_rng_next(rng);
     if (u.x >= p_med) {
         throughput *= T_seg / (1.0 - p_med);
-        return true;
+        return VOL_PATH_BEYOND;
     }
     uint depth = push.depth;
     vec4 u_light = rng_4d(path.pixel, path.sample_index, rng_dim_bounce(depth, 0u), frame.seed);
@@ -113,24 +80,23 @@ bool vol_path_equiangular(uint integrator, RayItem r, PathState path, uint mediu
     Equiangular eq = equiangular_setup(o, r.dir, c, 0.0, seg);
     float t = equiangular_sample(eq, 0.0, seg, u.y);
     float pdf = equiangular_pdf(eq, t);
-    if (!(pdf > 0.0) || isinf(pdf)) return false;
+    if (!(pdf > 0.0) || isinf(pdf)) return VOL_PATH_DEAD;
     vec3 x = o + t * r.dir;
     vec3 sigma_s = vol_path_sigma_s(m, x);
     vec3 Tr = medium_transmittance(medium, o, r.dir, t, rng);
     path.throughput = throughput * Tr * sigma_s / (pdf * p_med);
-    if (!same_point) {
-        u_light = rng_4d(path.pixel, path.sample_index, rng_dim_bounce(depth, 2u), frame.seed);
-    }
-    vol_path_scatter(integrator, r, path, medium, x, u_light);
-    return false;
+    path.medium = medium;
+    v = PathVertex(medium, x, same_point ? 0u : 2u);
+    return VOL_PATH_SCATTERED;
 }
 
 // The medium stage of ray r with closest hit h and path state `path`. Returns true
-// when path_shade should shade (r, h): h is then the surface the ray reaches (or a
-// miss), h.t its distance from r.origin, and the path's throughput and medium are
-// updated in `path` (for path_shade to store). Returns false when the path scattered
-// in a medium (handled and stored here) or ended. Integrators that are not volumetric
-// ignore media and only pass through null surfaces.
+// when path_shade should shade vertex v: a scattering event in a medium, or the
+// surface h the ray reaches (or a miss), h.t then its distance from r.origin; the
+// path's throughput and medium are updated in `path` (for path_shade to store).
+// Returns false when the path ended (absorbed, or stopped by the guards below).
+// Integrators that are not volumetric ignore media and only pass through null
+// surfaces.
 // A thin dielectric (THIN_NULL) is crossed as Mitsuba's volpath crosses its null lobe:
 // with probability 1 - R' the ray goes on undeflected, weight specular_transmittance,
 // with no path vertex (depth, MIS state and Russian roulette unchanged); otherwise the
@@ -138,24 +104,24 @@ bool vol_path_equiangular(uint integrator, RayItem r, PathState path, uint mediu
 // lobe (probability R', weight specular_reflectance). A thin dielectric that emits
 // light always goes to path_shade (its emission is counted there), which samples
 // both lobes as an ordinary BSDF.
-bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, inout PathState path) {
+bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, inout PathState path,
+                       out PathVertex v) {
+    v = path_vertex_surface();
     bool vol = integrator_is_volumetric(integrator);
     uint medium = vol ? path.medium : NONE;
     MediumRng rng = medium_rng(path.pixel, path.sample_index, push.depth, 0u, frame.seed);
     vec3 throughput = path.throughput;
     vec3 o = r.origin;
     float t_base = 0.0; // distance from r.origin to o
-    // A real scattering event ends the loop and is shaded after it, once: llvmpipe
-    // runs a branch's code whatever its lanes decide, so a vol_path_scatter inside
-    // the loop would cost every crossing of every lane.
+    // A real scattering event ends the loop (path_shade shades it).
     bool scattered = false;
     vec3 scatter_p;
     for (uint crossing = 0u;; crossing++) {
         float seg = h.prim == NONE ? r.tmax - t_base : h.t;
         if (medium != NONE && integrator == INTEGRATOR_SINGLE_EQUIANGULAR && push.depth == 0u) {
-            if (!vol_path_equiangular(integrator, r, path, medium, o, seg, throughput, rng)) {
-                return false;
-            }
+            int e = vol_path_equiangular(integrator, r, path, medium, o, seg, throughput, rng, v);
+            if (e == VOL_PATH_SCATTERED) return true;
+            if (e == VOL_PATH_DEAD) return false;
             if (!any(greaterThan(throughput, vec3(0.0)))) return false;
         } else if (medium != NONE) {
             MediumEvent ev = medium_sample(medium, o, r.dir, seg, rng);
@@ -190,15 +156,13 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, inout PathSt
         Hit nh = bvh_closest(o, r.dir, 0.0, max(r.tmax - t_base, 0.0));
         h = HitItem(nh.t, nh.u, nh.v, nh.prim);
     }
-    if (scattered) {
-        path.throughput = throughput;
-        vec4 u_light = rng_4d(path.pixel, path.sample_index, rng_dim_bounce(push.depth, 0u), frame.seed);
-        vol_path_scatter(integrator, r, path, medium, scatter_p, u_light);
-        return false;
-    }
-    if (h.prim != NONE) h.t += t_base;
     path.throughput = throughput;
     path.medium = medium;
+    if (scattered) {
+        v = PathVertex(medium, scatter_p, 0u);
+    } else if (h.prim != NONE) {
+        h.t += t_base;
+    }
     return true;
 }
 
