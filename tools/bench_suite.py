@@ -44,9 +44,17 @@ SUITE = {
     "two_media": ("scenes/media/two_media.xml", ["res=256"], None, 4096),
     "smoke": ("scenes/media/smoke.xml", ["res=256"], None, 4096),
     "cbox_smoke": ("scenes/media/cbox_smoke.xml", ["res=256"], None, 1024),
+    "cube_g07": ("scenes/media/cube.xml", ["res=256", "g=0.7"], None, 1024),
+    "cube_gm07": ("scenes/media/cube.xml", ["res=256", "g=-0.7"], None, 1024),
+    "cube_absorber": ("scenes/media/cube.xml", ["res=256", "albedo=0"], None, 1024),
+    "thin_textured": ("scenes/media/thin_textured.xml", ["res=256"], None, 1024),
+    "smoke_rotated": ("scenes/media/smoke_rotated.xml", ["res=256"], None, 1024),
 }
 SURFACES = ["cbox", "veach", "glass"]
 MEDIA = ["cube", "two_media", "smoke", "cbox_smoke"]
+# The other shipped media scenes with a Mitsuba twin (fog_point's single_scatter has
+# none): phase functions, an absorber, a textured thin dielectric, a rotated spiky grid.
+MEDIA_MORE = ["cube_g07", "cube_gm07", "cube_absorber", "thin_textured", "smoke_rotated"]
 
 
 def die(msg):
@@ -113,8 +121,9 @@ def geomean(xs):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--scenes", default=",".join(SUITE),
-                    help="comma-separated subset of: %s (or 'surfaces', 'media')" % ", ".join(SUITE))
+    ap.add_argument("--scenes", default="surfaces,media",
+                    help="comma-separated subset of: %s (or 'surfaces', 'media', 'media_more')"
+                    % ", ".join(SUITE))
     ap.add_argument("--variants", default="scalar_rgb", help="Mitsuba variants (default scalar_rgb)")
     ap.add_argument("--seeds", default="11,12,13,14", help="seeds (default 11,12,13,14)")
     ap.add_argument("--spp", default="16,64", help="sample counts (default 16,64)")
@@ -126,7 +135,8 @@ def main():
 
     names = []
     for n in args.scenes.split(","):
-        names += SURFACES if n == "surfaces" else MEDIA if n == "media" else [n]
+        groups = {"surfaces": SURFACES, "media": MEDIA, "media_more": MEDIA_MORE}
+        names += groups.get(n, [n])
     for n in names:
         if n not in SUITE:
             die("no scene %r in the suite (%s)" % (n, ", ".join(SUITE)))
