@@ -35,7 +35,8 @@
 
 // Entries of the traversal stack: the tree's deepest leaf depth bounds them, so the
 // including kernel may #define BVH_STACK_DEPTH to a specialization constant holding
-// the scene's (BvhStats::max_depth, at least 1); at most BVH_STACK_SIZE.
+// the scene's (BvhStats::stack_depth: the deepest leaf's depth, at least 1, at most
+// BVH_STACK_SIZE).
 #ifndef BVH_STACK_DEPTH
 #define BVH_STACK_DEPTH BVH_STACK_SIZE
 #endif
