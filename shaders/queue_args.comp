@@ -23,17 +23,13 @@ void main() {
     uint q = push.queue_in;
     uint shadows = counters.shadow_count;
     uvec3 g = groups_for(shadows);
-    dispatch_args.shadows[0] = g.x;
-    dispatch_args.shadows[1] = g.y;
-    dispatch_args.shadows[2] = g.z;
+    dispatch_args.shadows = uint[3](g.x, g.y, g.z);
     counters.shadow_traced = shadows;
     counters.shadow_count = 0u;
 
     uint next = counters.ray_count[1u - q];
     g = groups_for(next);
-    dispatch_args.rays[0] = g.x;
-    dispatch_args.rays[1] = g.y;
-    dispatch_args.rays[2] = g.z;
+    dispatch_args.rays = uint[3](g.x, g.y, g.z);
     counters.rays_traced += counters.ray_count[q] + shadows;
     counters.ray_count[q] = 0u;
 }

@@ -171,7 +171,7 @@ pub struct Report {
 /// Each sample count is rendered and timed without GPU timestamps; the largest is
 /// then rendered once more with them, for its row's per-kernel times. Timestamps
 /// are not free: lavapipe flushes its context for each, which made renders with
-/// volumetric paths of some 70 bounces (5 dispatches each) about 7% slower.
+/// volumetric paths of some 70 bounces (of 5 dispatches each, then) about 7% slower.
 pub fn run(
     device: &Device,
     scene_path: &Path,
@@ -242,7 +242,7 @@ pub fn run(
             kernel_times: stats.kernel_times,
         });
     }
-    let has_timestamps = device.info().timestamp_period_ns.is_some();
+    let has_timestamps = info.timestamp_period_ns.is_some();
     if let (true, Some(largest)) = (has_timestamps, rows.iter().map(|r| r.spp).max()) {
         renderer.set_timestamps(true);
         let (_, stats) =
@@ -264,7 +264,7 @@ pub fn run(
         height,
         seed: options.render.seed,
         batch_paths: renderer.capacity(),
-        timestamps: info.timestamp_period_ns.is_some(),
+        timestamps: has_timestamps,
         startup,
         rows,
     })

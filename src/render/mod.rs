@@ -422,9 +422,8 @@ impl Renderer {
         };
         cmd.update(&wf.counters, 0, bytemuck::bytes_of(&counters));
         // The first bounce's dispatch; queue_args writes the later ones.
-        let [x, y, z] = groups_for(path_count);
         let args = DispatchArgs {
-            rays: [x, y, z],
+            rays: groups_for(path_count),
             shadows: [0, 1, 1],
         };
         cmd.update(&wf.dispatch_args, 0, bytemuck::bytes_of(&args));
