@@ -187,6 +187,12 @@ fn run(cli: Cli) -> Result<()> {
                 renderer.integrator().name(),
                 renderer.capacity()
             );
+            if renderer.integrator().name() == "sppm" {
+                eprintln!(
+                    "note: sppm estimates every pixel on its own (its visible point, radius and \
+                     flux), from camera rays spread uniformly over the pixel: a box filter"
+                );
+            }
             if renderer.integrator().needs_emitters() && sc.emitters.is_empty() {
                 eprintln!(
                     "warning: {} has no emitters: '{}' will render a black image",
@@ -221,6 +227,23 @@ fn run(cli: Cli) -> Result<()> {
                 stats.rays,
                 stats.batches
             );
+            if let Some(p) = &stats.photons {
+                eprintln!(
+                    "photons: {} paths emitted, {} photons stored in {} pass(es) of at most {} \
+                     ({:.2} M emitted/s, {:.2} M stored/s); tracing {:.3} s, grids {:.3} s, \
+                     gathers {:.3} s; {:.0} bytes per photon",
+                    p.emitted,
+                    p.stored,
+                    p.passes,
+                    p.capacity,
+                    p.emitted_per_second() / 1e6,
+                    p.stored_per_second() / 1e6,
+                    p.trace_seconds,
+                    p.grid_seconds,
+                    p.gather_seconds,
+                    p.bytes_per_photon
+                );
+            }
             if stats.discarded > 0 {
                 eprintln!(
                     "warning: {} samples were NaN or infinite and were discarded",
@@ -348,6 +371,7 @@ fn bench(
         report.reference.display()
     );
     print!("{}", report.table());
+    print!("{}", report.photon_table());
     print!("{}", report.kernel_table());
     for r in report.rows.iter().filter(|r| r.discarded > 0) {
         eprintln!(

@@ -12,7 +12,10 @@
 //! - `efficiency` = 1 / (seconds × relMSE), the usual figure of merit of Monte Carlo
 //!   rendering (larger is better; for an unbiased estimator it is roughly constant in
 //!   spp, so two renderers or integrators compare by it at any sample count);
-//! - GPU time per kernel from timestamp queries.
+//! - GPU time per kernel from timestamp queries;
+//! - for the photon mappers (`photonmapper`, `sppm`): photon paths emitted and photons
+//!   stored per second of photon tracing, the wall time of grid builds and of gathers,
+//!   passes, and GPU memory per photon slot ([`PhotonStats`]).
 //!
 //! Timestamps stay on for every render. Measured on lavapipe (ao scene, 256 spp, 16
 //! batches, three alternating runs each way): 7.03, 7.02, 6.95 s without, 9.44,
@@ -32,6 +35,7 @@ use serde_json::{json, Value};
 
 use crate::gpu::{Device, KernelTimes};
 use crate::image::{self, metrics, Image};
+use crate::render::photon::PhotonStats;
 use crate::render::{self, RenderOptions, Renderer};
 use crate::scene;
 
@@ -109,6 +113,8 @@ pub struct Row {
     /// GPU time per kernel: for the largest sample count only, from a render of its
     /// own (see [`run`]); empty otherwise and where the device has no timestamps.
     pub kernel_times: KernelTimes,
+    /// Photon mappers: photons, passes and where their time went.
+    pub photons: Option<PhotonStats>,
 }
 
 impl Row {
@@ -240,6 +246,7 @@ pub fn run(
             rmse: metrics::rmse(&image, &reference).map_err(Error::Metrics)?,
             rel_mse: metrics::rel_mse(&image, &reference).map_err(Error::Metrics)?,
             kernel_times: stats.kernel_times,
+            photons: stats.photons,
         });
     }
     let has_timestamps = info.timestamp_period_ns.is_some();
@@ -296,6 +303,35 @@ impl Report {
         s
     }
 
+    /// Photon statistics per row, as text (empty but for the photon mappers): photon
+    /// paths emitted and photons stored per second of photon tracing, grid build and
+    /// gather wall times, passes, memory per photon slot.
+    pub fn photon_table(&self) -> String {
+        if self.rows.iter().all(|r| r.photons.is_none()) {
+            return String::new();
+        }
+        let mut s = format!(
+            "{:>6} {:>12} {:>12} {:>11} {:>11} {:>11} {:>7} {:>10}\n",
+            "spp", "emitted/s", "stored/s", "trace s", "grid s", "gather s", "passes", "B/photon"
+        );
+        for r in &self.rows {
+            if let Some(p) = &r.photons {
+                s += &format!(
+                    "{:>6} {:>12.4e} {:>12.4e} {:>11.4} {:>11.4} {:>11.4} {:>7} {:>10.1}\n",
+                    r.spp,
+                    p.emitted_per_second(),
+                    p.stored_per_second(),
+                    p.trace_seconds,
+                    p.grid_seconds,
+                    p.gather_seconds,
+                    p.passes,
+                    p.bytes_per_photon
+                );
+            }
+        }
+        s
+    }
+
     /// GPU time per kernel of the largest render, as text (empty without timestamps).
     pub fn kernel_table(&self) -> String {
         let Some(r) = self.largest() else {
@@ -340,7 +376,10 @@ impl Report {
     ///             ... ] }
     /// ```
     ///
-    /// `kernels` is empty but in the row of the largest sample count.
+    /// `kernels` is empty but in the row of the largest sample count. `photons` is
+    /// `null` but for the photon mappers: `{ "emitted", "stored", "retraced", "passes",
+    /// "trace_seconds", "grid_seconds", "gather_seconds", "emitted_per_second",
+    /// "stored_per_second", "capacity", "bytes_per_photon" }` (see [`PhotonStats`]).
     ///
     /// Times are seconds. A non-finite number (efficiency of an exact image) is `null`.
     pub fn to_json(&self) -> Value {
@@ -366,6 +405,7 @@ impl Report {
                     "discarded": r.discarded,
                     "cut_paths": r.cut_paths,
                     "kernels": kernels,
+                    "photons": r.photons.as_ref().map(photon_json),
                 })
             })
             .collect();
@@ -402,6 +442,23 @@ impl Report {
             "rows": rows,
         })
     }
+}
+
+/// A row's photon statistics as JSON (see [`Report::to_json`]).
+fn photon_json(p: &PhotonStats) -> Value {
+    json!({
+        "emitted": p.emitted,
+        "stored": p.stored,
+        "retraced": p.retraced,
+        "passes": p.passes,
+        "trace_seconds": p.trace_seconds,
+        "grid_seconds": p.grid_seconds,
+        "gather_seconds": p.gather_seconds,
+        "emitted_per_second": finite(p.emitted_per_second()),
+        "stored_per_second": finite(p.stored_per_second()),
+        "capacity": p.capacity,
+        "bytes_per_photon": finite(p.bytes_per_photon),
+    })
 }
 
 /// `x` as a JSON number, or `null` when it is NaN or infinite (JSON has neither).
@@ -444,6 +501,7 @@ mod tests {
             rmse: rel_mse.sqrt(),
             rel_mse,
             kernel_times: KernelTimes::default(),
+            photons: None,
         }
     }
 
@@ -503,5 +561,26 @@ mod tests {
         assert!(t.lines().next().unwrap().contains("relMSE"));
         assert_eq!(rep.largest().unwrap().spp, 4);
         assert_eq!(rep.kernel_table(), "");
+        assert_eq!(rep.photon_table(), "");
+    }
+
+    #[test]
+    fn photon_rows_print_rates_and_json() {
+        let mut r = row(16, 2.0, 0.1);
+        r.photons = Some(PhotonStats {
+            emitted: 1000,
+            stored: 500,
+            trace_seconds: 0.5,
+            passes: 2,
+            bytes_per_photon: 80.0,
+            ..Default::default()
+        });
+        let rep = report(vec![r]);
+        let t = rep.photon_table();
+        assert_eq!(t.lines().count(), 2);
+        assert!(t.contains("2.0000e3") && t.contains("1.0000e3"), "{t}");
+        let v = rep.to_json();
+        assert_eq!(v["rows"][0]["photons"]["emitted_per_second"], json!(2000.0));
+        assert_eq!(v["rows"][0]["photons"]["passes"], json!(2));
     }
 }

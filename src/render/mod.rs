@@ -355,6 +355,16 @@ impl Renderer {
         self.bounces
     }
 
+    /// Makes later renders use `seed` (RenderOptions::seed) without setting the scene
+    /// up again.
+    pub fn set_seed(&mut self, seed: u32) -> Result<()> {
+        let offset = std::mem::offset_of!(Frame, seed) as u64;
+        self.wavefront
+            .frame
+            .write(&self.device, offset, bytemuck::bytes_of(&seed))?;
+        Ok(())
+    }
+
     /// Whether later renders record GPU timestamps around every kernel.
     pub fn set_timestamps(&mut self, on: bool) {
         self.timestamps = on;
@@ -545,9 +555,11 @@ impl Renderer {
     }
 
     /// Records bounces `0 .. bounces` of a batch whose first rays are in ray queue 0,
-    /// each a dispatch of every stage in order. Bounces are recorded `chunk` at a time;
-    /// between chunks the batch is submitted and stops early once no path is left in
-    /// the ray queue, so long bounce budgets cost nothing where paths end sooner.
+    /// each a dispatch of every stage in order. Bounces are recorded in chunks, the
+    /// first of `chunks.0`, each next one twice as long up to `chunks.1`; between chunks
+    /// the batch is submitted and stops early once no path is left in the ray queue, so
+    /// long bounce budgets cost nothing where paths end sooner (an empty dispatch still
+    /// costs some 100 us on lavapipe; a check, a submission and a read-back).
     /// Returns the bounces recorded.
     #[allow(clippy::too_many_arguments)]
     fn run_bounces(
@@ -557,13 +569,15 @@ impl Renderer {
         push: &mut Push,
         stages: &[(&Kernel, Over)],
         bounces: u32,
-        chunk: u32,
+        chunks: (u32, u32),
         stats: &mut RenderStats,
     ) -> Result<u32> {
         let wf = &self.wavefront;
         let mut depth = 0;
+        let mut chunk = chunks.0;
         while depth < bounces {
             let end = (depth + chunk).min(bounces);
+            chunk = (2 * chunk).min(chunks.1);
             for d in depth..end {
                 push.depth = d;
                 push.queue_in = d % 2;
@@ -638,7 +652,7 @@ impl Renderer {
             &mut push,
             &stages,
             self.bounces,
-            BOUNCE_CHUNK,
+            (BOUNCE_CHUNK, BOUNCE_CHUNK),
             stats,
         )?;
         cmd.dispatch(
@@ -680,6 +694,11 @@ type BatchFn<'a> =
 
 /// Bounces recorded per submission of a batch (see `Renderer::run_bounces`).
 const BOUNCE_CHUNK: u32 = 64;
+
+/// The chunks of bounces of the photon mappers' batches (`Renderer::run_bounces`):
+/// photon and SPPM camera batches are small and many (one per iteration), and their
+/// paths mostly end within a few bounces, so their first chunk is short.
+const SHORT_BOUNCE_CHUNKS: (u32, u32) = (4, BOUNCE_CHUNK);
 
 /// Paths per batch: bounded by memory (about 40 MiB of path state on a CPU device,
 /// 300 MiB on a GPU) and large enough to fill a GPU.

@@ -26,7 +26,7 @@ use crate::image::Image;
 use crate::render::integrator::{PhotonMapperParams, MAX_BOUNCES};
 
 use super::super::error::Result;
-use super::super::{groups_for, Over, RenderStats, Renderer, BOUNCE_CHUNK};
+use super::super::{groups_for, Over, RenderStats, Renderer, SHORT_BOUNCE_CHUNKS};
 use super::{Budget, IntegratorKernels, PhotonStats};
 
 impl Renderer {
@@ -129,7 +129,7 @@ impl Renderer {
             &mut push,
             &stages,
             self.bounces,
-            BOUNCE_CHUNK,
+            SHORT_BOUNCE_CHUNKS,
             stats,
         )?;
         stats.kernel_times.add(&cmd.submit_and_wait_timed()?);

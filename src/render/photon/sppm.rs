@@ -36,7 +36,7 @@ use crate::image::Image;
 use crate::render::integrator::{PhotonBudget, SppmParams, MAX_BOUNCES};
 
 use super::super::error::{Error, Result};
-use super::super::{groups_for, Over, RenderStats, Renderer, BOUNCE_CHUNK};
+use super::super::{groups_for, Over, RenderStats, Renderer, SHORT_BOUNCE_CHUNKS};
 use super::{Budget, IntegratorKernels, PhotonStats};
 
 /// Mitsuba 0.6's automatic initial radius: 5 × the scene's bounding-sphere radius /
@@ -222,7 +222,7 @@ impl Renderer {
             &mut push,
             &stages,
             self.bounces,
-            BOUNCE_CHUNK,
+            SHORT_BOUNCE_CHUNKS,
             stats,
         )?;
         cmd.dispatch(
