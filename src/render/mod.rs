@@ -11,6 +11,7 @@ pub mod error;
 pub mod integrator;
 pub mod media;
 pub mod scene_buffers;
+pub mod scene_parts;
 pub mod wavefront;
 
 pub use error::{Error, Result};
@@ -24,7 +25,8 @@ use crate::gpu::{shaders, BindingLayout, CommandList, Device, Kernel, KernelTime
 use crate::image::Image;
 use crate::scene::Scene;
 
-use scene_buffers::{scene_binding_kinds, SceneBuffers, SceneRecords};
+use scene_buffers::{SceneBuffers, SceneRecords};
+use scene_parts::{scene_arrays, scene_binding_kinds, ScenePlan};
 use wavefront::{wavefront_binding_kinds, Wavefront, BYTES_PER_PATH};
 
 /// How to render, beyond what the scene says.
@@ -43,6 +45,10 @@ pub struct RenderOptions {
     /// [`RenderStats::cut_paths`]); `None`: [`integrator::MAX_BOUNCES`]. Paths the
     /// integrator's `max_depth` ends sooner are never cut.
     pub max_bounces: Option<u32>,
+    /// log2 of the most texels in one part of a scene array (`scene_parts`); `None`:
+    /// as large as the device allows. Smaller parts split even small scenes over
+    /// several bindings, which is how tests and benchmarks exercise that path.
+    pub scene_part_shift: Option<u32>,
 }
 
 /// Time spent before the first sample, in seconds.
@@ -131,16 +137,29 @@ impl Renderer {
                 ))
             })?;
 
+        let prims = scene.triangle_count() + scene.spheres.len();
+        if prims > accel::BVH_MAX_PRIMS {
+            return Err(Error::Options(format!(
+                "the scene has {prims} primitives, more than one BVH holds ({}): use fewer \
+                 triangles (decimate the largest meshes)",
+                accel::BVH_MAX_PRIMS
+            )));
+        }
         let bvh = Bvh::build(accel::prims_from_scene(scene));
         let records = SceneRecords::new(scene, &bvh);
 
         let t = Instant::now();
-        let layout = BindingLayout::with_kinds(
+        let arrays = scene_arrays(&bvh, &records);
+        let plan = ScenePlan::for_device(device.info(), &arrays, options.scene_part_shift)?;
+        let layout = BindingLayout::with_spec(
             device,
             &[scene_binding_kinds(), wavefront_binding_kinds()],
             std::mem::size_of::<Push>() as u32,
+            &plan.spec(),
+            plan.is_split(),
         )?;
-        let scene_buffers = SceneBuffers::upload(device, &layout, &bvh, &records)?;
+        let scene_buffers = SceneBuffers::upload_planned(device, &layout, &arrays, plan)?;
+        drop(arrays);
         let tan_x = (cam.fov_x_deg.to_radians() * 0.5).tan();
         let frame = Frame {
             camera_to_world: cam.to_world.to_cols_array_2d(),
@@ -273,6 +292,11 @@ impl Renderer {
 
     pub fn integrator(&self) -> &Integrator {
         &self.integrator
+    }
+
+    /// How the scene's arrays lie on the device: sizes and parts.
+    pub fn scene_plan(&self) -> &ScenePlan {
+        &self.scene_buffers.plan
     }
 
     /// Most bounces a path runs before it is cut (see [`RenderStats::cut_paths`]).
