@@ -37,7 +37,7 @@ fn main() {
         // arrays split over several bindings (scene_bindings.glsl, SCENE_SPLIT); the
         // renderer uses it only for scenes that need it, so the common case keeps the
         // plain loads and the pipeline-creation time they cost.
-        let reads_scene = includes(kernel, &shader_dir.join("common"), "scene_bindings.glsl");
+        let reads_scene = includes(kernel, &shader_dir, "scene_bindings.glsl");
         let variants: &[(&str, &[&str])] = if reads_scene {
             &[("", &[]), ("_SCENE_SPLIT", &["-DSCENE_SPLIT"])]
         } else {
@@ -52,6 +52,8 @@ fn main() {
                 .arg("vulkan1.2")
                 .args(*defines)
                 .arg(format!("-I{}", shader_dir.join("common").display()))
+                // Includes of a topic folder beside common/: "photon/grid.glsl".
+                .arg(format!("-I{}", shader_dir.display()))
                 .arg("-o")
                 .arg(&spv)
                 .arg(kernel)
@@ -106,8 +108,9 @@ fn main() {
 }
 
 /// Whether `file` includes `target`, directly or through the files it includes
-/// (resolved beside it, then in `common`).
-fn includes(file: &Path, common: &Path, target: &str) -> bool {
+/// (resolved beside it, then in `shaders/common`, then in `shaders`, as glslang's
+/// include paths say).
+fn includes(file: &Path, shader_dir: &Path, target: &str) -> bool {
     let mut todo = vec![file.to_path_buf()];
     let mut seen = std::collections::HashSet::new();
     while let Some(f) = todo.pop() {
@@ -127,10 +130,13 @@ fn includes(file: &Path, common: &Path, target: &str) -> bool {
             if inc == target || inc.ends_with(&format!("/{target}")) {
                 return true;
             }
-            let beside = f.parent().map(|d| d.join(inc));
-            match beside.filter(|p| p.exists()) {
-                Some(p) => todo.push(p),
-                None => todo.push(common.join(inc)),
+            let candidates = [
+                f.parent().map(|d| d.join(inc)),
+                Some(shader_dir.join("common").join(inc)),
+                Some(shader_dir.join(inc)),
+            ];
+            if let Some(p) = candidates.into_iter().flatten().find(|p| p.exists()) {
+                todo.push(p);
             }
         }
     }
