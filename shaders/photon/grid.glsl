@@ -3,17 +3,16 @@
 // photon_params.cell_size, each hashed to one of table_mask + 1 buckets. Buckets are
 // built on the GPU by a counting sort (photon_grid_count, photon_grid_scan,
 // photon_grid_place): afterwards bucket b holds grid photons cells[b] .. cells[b + 1].
-// The cell side is at least the largest gather radius (src/render/photon/grid.rs), so
-// a gather visits the 2 or 3 cells per axis that the cube around its sphere meets, at
-// most 27 (the sphere's 4/3 π r³ against 27 r³ of cells; cells of twice the radius,
-// 2 x 2 x 2 of them, would hold 64 r³). Needs bindings.glsl and rng.glsl.
+// The cell side is at least twice the largest gather radius (src/render/photon/grid.rs),
+// so a gather visits the 1 or 2 cells per axis that the cube around its sphere meets,
+// at most 8. Needs bindings.glsl and rng.glsl.
 #ifndef PHOTON_GRID_GLSL
 #define PHOTON_GRID_GLSL
 
 #include "rng.glsl"
 
 // Most buckets a gather visits.
-#define GRID_MAX_BUCKETS 27
+#define GRID_MAX_BUCKETS 8
 
 ivec3 grid_cell(vec3 p) { return ivec3(floor(p * photon_params.inv_cell_size)); }
 
@@ -27,11 +26,11 @@ uint grid_bucket(ivec3 c) {
 // operations grid_cell applies to a photon, which round monotonically: a photon that
 // photon_in_radius accepts lies within r (1 + 1e-6) of x however its squared distance
 // rounded, so inside that cube, so in those cells. The host makes the side at least
-// r (1 + 1e-4): the cube then meets at most 3 cells per axis.
+// 2 r (1 + 1e-4): the cube then meets at most 2 cells per axis.
 void grid_cell_range(vec3 x, float r, out ivec3 lo, out ivec3 hi) {
     float reach = r * (1.0 + 1e-5);
     lo = grid_cell(x - vec3(reach));
-    hi = min(grid_cell(x + vec3(reach)), lo + ivec3(2));
+    hi = min(grid_cell(x + vec3(reach)), lo + ivec3(1));
 }
 
 // The buckets of the cells around x (grid_cell_range), each once, in buckets[0 .. n);
