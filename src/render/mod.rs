@@ -55,6 +55,10 @@ pub struct RenderOptions {
     /// device's memory and binding limits allow. A photon map with more photons is
     /// split into passes.
     pub max_photons_per_pass: Option<u32>,
+    /// SPPM: most pixels whose visible points and states are held at once; `None`:
+    /// as many as one storage binding holds (the whole film but for huge ones). A film
+    /// with more is rendered in tiles of pixels, each through all its iterations.
+    pub max_sppm_pixels: Option<u32>,
 }
 
 /// Time spent before the first sample, in seconds.
@@ -332,6 +336,7 @@ impl Renderer {
                 pixels,
                 capacity,
                 options.max_photons_per_pass,
+                options.max_sppm_pixels,
             )?)
         } else {
             None

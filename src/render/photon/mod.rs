@@ -298,7 +298,9 @@ pub struct Photons {
 
 impl Photons {
     /// Kernels and buffers for `integrator` (a photon mapper) in a scene with
-    /// `features` and `bounds`; `pixels` of film, `paths` path slots per batch.
+    /// `features` and `bounds`; `pixels` of film, `paths` path slots per batch; at most
+    /// `max_photons` photons per pass and `max_sppm_pixels` SPPM pixels held at once
+    /// (see [`RenderOptions`](super::RenderOptions)).
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         device: &Device,
@@ -309,6 +311,7 @@ impl Photons {
         pixels: u32,
         paths: u32,
         max_photons: Option<u32>,
+        max_sppm_pixels: Option<u32>,
     ) -> Result<Photons> {
         let k =
             |name: &str, spirv: &[u8], spec: &[u32]| Kernel::new(device, name, spirv, layout, spec);
@@ -334,7 +337,9 @@ impl Photons {
                 let binding = device.info().max_storage_buffer_range;
                 let tile = (binding / size_of::<VisiblePoint>() as u64)
                     .min(binding / size_of::<SppmPixel>() as u64)
-                    .min(pixels as u64) as u32;
+                    .min(pixels as u64)
+                    .min(max_sppm_pixels.unwrap_or(u32::MAX).max(1) as u64)
+                    as u32;
                 let kernels = IntegratorKernels::Sppm {
                     shade: k(
                         "sppm_shade",
