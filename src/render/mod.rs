@@ -1,13 +1,14 @@
 //! The wavefront renderer: queues, per-bounce dispatch, integrators, film.
 //!
 //! A batch of paths runs as `generate -> (intersect -> shade -> queue_args -> shadow)
-//! per bounce -> accumulate`, every stage one dispatch over a
+//! per bounce -> accumulate -> film_gather`, every stage one dispatch over a
 //! queue in GPU memory. Queue lengths stay on the GPU and drive indirect dispatch, so
 //! a whole batch is one submission with no read-back between bounces (Laine, Karras
 //! and Aila 2013, "Megakernels Considered Harmful").
 
 pub mod alias;
 pub mod error;
+pub mod film;
 pub mod integrator;
 pub mod media;
 pub mod scene_buffers;
@@ -19,10 +20,12 @@ pub use integrator::Integrator;
 use std::time::Instant;
 
 use crate::accel::{self, Bvh, BvhStats};
-use crate::gpu::layout::{Counters, DispatchArgs, Frame, Push, WORKGROUP_SIZE};
+use crate::gpu::layout::{Counters, DispatchArgs, Frame, Push};
 use crate::gpu::{shaders, BindingLayout, CommandList, Device, Kernel, KernelTimes};
 use crate::image::Image;
 use crate::scene::Scene;
+
+use film::{film_binding_kinds, groups_for, Film, FilmGeometry, FilmSums, BYTES_PER_SAMPLE_SLOT};
 
 use scene_buffers::{scene_binding_kinds, SceneBuffers, SceneRecords};
 use wavefront::{wavefront_binding_kinds, Wavefront, BYTES_PER_PATH};
@@ -80,6 +83,7 @@ struct Kernels {
     shadow: Kernel,
     queue_args: Kernel,
     accumulate: Kernel,
+    film_gather: Kernel,
 }
 
 /// A scene prepared on a device, ready to render any number of samples.
@@ -91,19 +95,9 @@ pub struct Renderer {
     kernels: Kernels,
     scene_buffers: SceneBuffers,
     wavefront: Wavefront,
-    width: u32,
-    height: u32,
+    film: Film,
     timestamps: bool,
     pub setup: SetupStats,
-}
-
-/// Workgroups for `n` threads on a 2D grid (at most 65535 per dimension); the same
-/// rule as `groups_for` in queue_args.comp.
-fn groups_for(n: u32) -> [u32; 3] {
-    let groups = n.div_ceil(WORKGROUP_SIZE);
-    let x = groups.min(65535);
-    let y = if x == 0 { 1 } else { groups.div_ceil(x) };
-    [x, y, 1]
 }
 
 impl Renderer {
@@ -114,22 +108,13 @@ impl Renderer {
             &scene.path,
         )?;
         let cam = &scene.camera;
-        if cam.width == 0 || cam.height == 0 {
-            return Err(Error::Options(format!(
-                "film of {}x{} pixels is empty",
-                cam.width, cam.height
-            )));
-        }
-        let pixels = cam
-            .width
-            .checked_mul(cam.height)
-            .filter(|&p| p < u32::MAX / 2)
-            .ok_or_else(|| {
-                Error::Options(format!(
-                    "film of {}x{} pixels is too large",
-                    cam.width, cam.height
-                ))
-            })?;
+        let geometry = FilmGeometry::new(
+            cam.width,
+            cam.height,
+            scene.film.crop,
+            &scene.film.filter,
+            scene.film.sample_border,
+        )?;
 
         let bvh = Bvh::build(accel::prims_from_scene(scene));
         let records = SceneRecords::new(scene, &bvh);
@@ -137,7 +122,11 @@ impl Renderer {
         let t = Instant::now();
         let layout = BindingLayout::with_kinds(
             device,
-            &[scene_binding_kinds(), wavefront_binding_kinds()],
+            &[
+                scene_binding_kinds(),
+                wavefront_binding_kinds(),
+                film_binding_kinds(),
+            ],
             std::mem::size_of::<Push>() as u32,
         )?;
         let scene_buffers = SceneBuffers::upload(device, &layout, &bvh, &records)?;
@@ -170,8 +159,27 @@ impl Renderer {
         // Keep every queue inside one storage-buffer binding.
         let limit = device.info().max_storage_buffer_range
             / (2 * std::mem::size_of::<crate::gpu::layout::RayItem>() as u64);
-        let capacity = capacity.min(limit as u32);
-        let wavefront = Wavefront::new(device, &layout, capacity, pixels, &frame)?;
+        let capacity = capacity
+            .min(limit as u32)
+            .min(Film::max_batch_paths(device, &geometry))
+            .max(1);
+        let wavefront = Wavefront::new(device, &layout, capacity, &frame)?;
+        // Alpha: the film keeps covered weights and shade marks covered camera paths;
+        // a visible environment covers every path of the integrators where Mitsuba
+        // counts it (`valid_ray` of path and volpath).
+        let has_alpha = scene.film.pixel_format.has_alpha();
+        let covered = integrator.counts_environment_coverage()
+            && !integrator.hide_emitters()
+            && records.env_emitter != crate::gpu::layout::NONE;
+        let film = Film::new(
+            device,
+            &layout,
+            geometry,
+            scene.film.filter,
+            has_alpha,
+            covered,
+            capacity,
+        )?;
         let upload_seconds = t.elapsed().as_secs_f64();
 
         let t = Instant::now();
@@ -220,6 +228,7 @@ impl Renderer {
                     records.emitter_kinds(),
                     surface_features,
                     bvh_depth,
+                    has_alpha as u32,
                 ],
             )?,
             shadow: k(
@@ -242,6 +251,11 @@ impl Renderer {
             )?,
             queue_args: k("queue_args", shaders::QUEUE_ARGS, &[])?,
             accumulate: k("accumulate", shaders::ACCUMULATE, &[])?,
+            film_gather: k(
+                "film_gather",
+                shaders::FILM_GATHER,
+                &film.gather_constants(),
+            )?,
         };
         device.save_pipeline_cache();
         let pipeline_seconds = t.elapsed().as_secs_f64();
@@ -257,8 +271,7 @@ impl Renderer {
             kernels,
             scene_buffers,
             wavefront,
-            width: cam.width,
-            height: cam.height,
+            film,
             timestamps: options.timestamps,
             setup: SetupStats {
                 bvh: bvh.stats,
@@ -280,6 +293,15 @@ impl Renderer {
         self.bounces
     }
 
+    /// The seed of later renders' random numbers (as `RenderOptions::seed`).
+    pub fn set_seed(&mut self, seed: u32) -> Result<()> {
+        let offset = std::mem::offset_of!(Frame, seed) as u64;
+        self.wavefront
+            .frame
+            .write(&self.device, offset, bytemuck::bytes_of(&seed))?;
+        Ok(())
+    }
+
     /// Whether later renders record GPU timestamps around every kernel.
     pub fn set_timestamps(&mut self, on: bool) {
         self.timestamps = on;
@@ -287,6 +309,11 @@ impl Renderer {
 
     pub fn capacity(&self) -> u32 {
         self.wavefront.capacity
+    }
+
+    /// Which pixels are sampled and which kept.
+    pub fn film_geometry(&self) -> &FilmGeometry {
+        &self.film.geometry
     }
 
     /// Dispatches every kernel once with empty queues: llvmpipe compiles a kernel at
@@ -302,7 +329,7 @@ impl Renderer {
             ..Default::default()
         };
         let push = bytemuck::bytes_of(&push);
-        let sets = [&self.scene_buffers.set, &wf.set];
+        let sets = [&self.scene_buffers.set, &wf.set, &self.film.set];
         let k = &self.kernels;
         for kernel in [
             &k.generate,
@@ -311,6 +338,7 @@ impl Renderer {
             &k.queue_args,
             &k.shadow,
             &k.accumulate,
+            &k.film_gather,
         ] {
             cmd.dispatch(kernel, &sets, push, [1, 1, 1]);
             cmd.barrier();
@@ -329,22 +357,35 @@ impl Renderer {
         self.render_range(0, spp, progress)
     }
 
-    /// Renders samples `first .. first + count` of every pixel. Sample `s` of a pixel
-    /// is the same whatever range it is rendered in, so ranges can be rendered apart
-    /// and averaged.
+    /// Renders samples `first .. first + count` of every pixel and returns the image.
+    /// Sample `s` of a pixel is the same whatever range it is rendered in; to combine
+    /// ranges exactly, merge their [`FilmSums`] ([`Self::render_film`]).
     pub fn render_range(
         &mut self,
         first: u32,
         count: u32,
         progress: &mut dyn FnMut(u64, u64),
     ) -> Result<(Image, RenderStats)> {
+        let (film, stats) = self.render_film(first, count, progress)?;
+        Ok((film.develop(), stats))
+    }
+
+    /// Renders samples `first .. first + count` of every sampled pixel and returns
+    /// the film's sums: renders of disjoint ranges merge into the render of their
+    /// union ([`FilmSums::merge`]).
+    pub fn render_film(
+        &mut self,
+        first: u32,
+        count: u32,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<(FilmSums, RenderStats)> {
         if count == 0 {
             return Err(Error::Options(
                 "samples per pixel must be at least 1".into(),
             ));
         }
         let start = Instant::now();
-        let pixels = self.width * self.height;
+        let pixels = self.film.geometry.region_pixels();
         let cap = self.wavefront.capacity;
         let total = pixels as u64 * count as u64;
         let mut stats = RenderStats {
@@ -356,11 +397,13 @@ impl Renderer {
         } else {
             CommandList::new(&self.device)?
         };
-        cmd.fill(&self.wavefront.film, 0, self.wavefront.film.size(), 0);
+        self.film.clear(&mut cmd);
         cmd.barrier();
 
         let mut done = 0u64;
         let mut sample = first;
+        // The film's sample slot of the next batch's first path.
+        let mut slot = 0;
         let end = first
             .checked_add(count)
             .ok_or_else(|| Error::Options("sample range overflows".into()))?;
@@ -369,7 +412,8 @@ impl Renderer {
             // pixels of one sample.
             if pixels <= cap {
                 let k = (cap / pixels).min(end - sample);
-                self.run_batch(&mut cmd, sample, 0, k * pixels, &mut stats)?;
+                self.run_batch(&mut cmd, sample, 0, k * pixels, slot, &mut stats)?;
+                slot = self.film.next_slot(slot, k * pixels);
                 sample += k;
                 done += k as u64 * pixels as u64;
                 progress(done, total);
@@ -377,7 +421,8 @@ impl Renderer {
                 let mut base = 0;
                 while base < pixels {
                     let n = cap.min(pixels - base);
-                    self.run_batch(&mut cmd, sample, base, n, &mut stats)?;
+                    self.run_batch(&mut cmd, sample, base, n, slot, &mut stats)?;
+                    slot = self.film.next_slot(slot, n);
                     base += n;
                     done += n as u64;
                     progress(done, total);
@@ -385,25 +430,14 @@ impl Renderer {
                 sample += 1;
             }
         }
-        let film: Vec<[f32; 4]> = self.wavefront.film.read(&self.device)?;
-        let mut rgb = Vec::with_capacity(pixels as usize * 3);
-        for px in &film {
-            let n = if px[3] > 0.0 { px[3] } else { 1.0 };
-            rgb.extend_from_slice(&[px[0] / n, px[1] / n, px[2] / n]);
-        }
+        let film = self.film.read(&self.device)?;
         stats.seconds = start.elapsed().as_secs_f64();
-        Ok((
-            Image {
-                width: self.width,
-                height: self.height,
-                rgb,
-            },
-            stats,
-        ))
+        Ok((film, stats))
     }
 
     /// Renders one batch: `path_count` paths starting at global sample
-    /// `sample_base * pixels + pixel_base`. Bounces are recorded BOUNCE_CHUNK at a time;
+    /// `sample_base * pixels + pixel_base` (pixels of the film's sampled region), the
+    /// first in film sample slot `slot`. Bounces are recorded BOUNCE_CHUNK at a time;
     /// between chunks the batch is submitted and stops early once no path is left in
     /// the ray queue, so long bounce budgets (volumetric paths) cost nothing where paths
     /// end sooner.
@@ -413,6 +447,7 @@ impl Renderer {
         sample_base: u32,
         pixel_base: u32,
         path_count: u32,
+        slot: u32,
         stats: &mut RenderStats,
     ) -> Result<()> {
         let wf = &self.wavefront;
@@ -428,7 +463,7 @@ impl Renderer {
         };
         cmd.update(&wf.dispatch_args, 0, bytemuck::bytes_of(&args));
         cmd.barrier();
-        let sets = [&self.scene_buffers.set, &wf.set];
+        let sets = [&self.scene_buffers.set, &wf.set, &self.film.set];
         let mut push = Push {
             path_count,
             pixel_base,
@@ -436,6 +471,7 @@ impl Renderer {
             depth: 0,
             queue_in: 0,
             capacity: wf.capacity,
+            sample_slot: slot,
             ..Default::default()
         };
         let k = &self.kernels;
@@ -489,9 +525,10 @@ impl Renderer {
             &k.accumulate,
             &sets,
             bytemuck::bytes_of(&push),
-            groups_for(path_count.min(self.width * self.height)),
+            groups_for(path_count),
         );
         cmd.barrier();
+        self.film.record_gather(cmd, &k.film_gather, &sets, &push);
         self.finish_batch(cmd, stats, depth)
     }
 
@@ -520,12 +557,12 @@ impl Renderer {
 /// Bounces recorded per submission of a batch (see `Renderer::run_batch`).
 const BOUNCE_CHUNK: u32 = 64;
 
-/// Paths per batch: bounded by memory (about 40 MiB of path state on a CPU device,
-/// 300 MiB on a GPU) and large enough to fill a GPU.
+/// Paths per batch: bounded by memory (about 40 MiB of path state and film samples
+/// on a CPU device, 300 MiB on a GPU) and large enough to fill a GPU.
 fn default_capacity(device: &Device) -> u32 {
     let budget: u64 = match device.info().kind {
         crate::gpu::DeviceKind::Cpu => 40 << 20,
         _ => 300 << 20,
     };
-    (budget / BYTES_PER_PATH) as u32
+    (budget / (BYTES_PER_PATH + BYTES_PER_SAMPLE_SLOT)) as u32
 }
