@@ -38,7 +38,8 @@ fn main() {
             .arg("--target-env")
             .arg("vulkan1.2")
             .arg(format!("-I{}", shader_dir.join("common").display()))
-            // Includes outside common/ are named by folder: "film/filter.glsl".
+            // Includes of a topic folder beside common/: "photon/grid.glsl",
+            // "film/filter.glsl".
             .arg(format!("-I{}", shader_dir.display()))
             .arg("-o")
             .arg(&spv)

@@ -1,4 +1,4 @@
-// The film (descriptor set 2, mirrored in src/render/film.rs): the per-pixel sums of
+// The film (descriptor set 3, mirrored in src/render/film.rs): the per-pixel sums of
 // the crop window and the ring of samples they are gathered from.
 //
 // accumulate puts every finished path's sample into a slot of the ring: its value,
@@ -15,15 +15,15 @@
 #include "layout.glsl"
 #include "film/sample_offset.glsl"
 
-layout(std140, set = 2, binding = 0) uniform FilmBlock { FilmParams film; };
+layout(std140, set = 3, binding = 0) uniform FilmBlock { FilmParams film; };
 // Per crop pixel, row-major: (Σ w r, Σ w g, Σ w b, Σ w) over the samples w weighs.
-layout(std430, set = 2, binding = 1) buffer FilmSumBuffer { vec4 film_sums[]; };
+layout(std430, set = 3, binding = 1) buffer FilmSumBuffer { vec4 film_sums[]; };
 // Per crop pixel: Σ w over the covered samples (the alpha channel's numerator).
-layout(std430, set = 2, binding = 2) buffer FilmAlphaBuffer { float film_alpha_sums[]; };
+layout(std430, set = 3, binding = 2) buffer FilmAlphaBuffer { float film_alpha_sums[]; };
 // The sample ring, one texel a slot: (r, g, b, position and flags, film_sample_pack).
 // Written here, read through the texel view (one gather per neighbour on llvmpipe).
-layout(std430, set = 2, binding = 3) writeonly buffer FilmSampleBuffer { uvec4 film_sample_words[]; };
-layout(set = 2, binding = 4, rgba32ui) uniform readonly uimageBuffer film_sample_texels;
+layout(std430, set = 3, binding = 3) writeonly buffer FilmSampleBuffer { uvec4 film_sample_words[]; };
+layout(set = 3, binding = 4, rgba32ui) uniform readonly uimageBuffer film_sample_texels;
 
 // The ring slot of path p of this batch.
 uint film_slot(uint p) { return (push.sample_slot + p) % film.slots; }

@@ -29,18 +29,18 @@
 
 use crate::gpu::layout::{
     FilmParams, Push, FILTER_BOX, FILTER_GAUSSIAN, FILTER_LANCZOS, FILTER_MITCHELL, FILTER_TENT,
-    WORKGROUP_SIZE,
 };
 use crate::gpu::{BindingKind, BindingLayout, Buffer, CommandList, DescriptorSet, Device, Kernel};
 use crate::image::{self, Image};
 use crate::scene::film::{ComponentFormat, Crop, FileFormat, Filter, PixelFormat};
 
 use super::error::{Error, Result};
+use super::groups_for;
 
 /// Bytes of one slot of the sample ring: value, position and flags.
 pub const BYTES_PER_SAMPLE_SLOT: u64 = 16;
 
-/// The kinds of the film's bindings (descriptor set 2, `shaders/film/film.glsl`):
+/// The kinds of the film's bindings (descriptor set 3, `shaders/film/film.glsl`):
 /// parameters, sums, alpha sums, the sample ring written as a storage buffer and
 /// read through a texel view.
 pub fn film_binding_kinds() -> Vec<BindingKind> {
@@ -53,8 +53,8 @@ pub fn film_binding_kinds() -> Vec<BindingKind> {
     ]
 }
 
-/// The descriptor set of the film.
-pub const FILM_SET: u32 = 2;
+/// The descriptor set of the film (after the photon mappers' set 2).
+pub const FILM_SET: u32 = 3;
 
 /// Which pixels a render samples and which it keeps, in full-film pixel coordinates
 /// (the top-left pixel is (0, 0); a sampled border lies at negative coordinates and
@@ -378,15 +378,6 @@ impl Film {
     }
 }
 
-/// Workgroups for `n` threads on a 2D grid (at most 65535 per dimension); the same
-/// rule as `groups_for` in queue_args.comp.
-pub(crate) fn groups_for(n: u32) -> [u32; 3] {
-    let groups = n.div_ceil(WORKGROUP_SIZE);
-    let x = groups.min(65535);
-    let y = if x == 0 { 1 } else { groups.div_ceil(x) };
-    [x, y, 1]
-}
-
 /// A film read back: per pixel of the crop window the filter-weighted sums.
 /// Renders of disjoint sample ranges of the same film add up ([`FilmSums::merge`]) to
 /// the film of their union.
@@ -413,6 +404,27 @@ const SRGB_TO_XYZ: [[f32; 3]; 3] = [
 ];
 
 impl FilmSums {
+    /// The sums of a finished image of a whole film, each pixel weight 1 (an
+    /// integrator that keeps its own per-pixel estimate, as SPPM does).
+    pub fn from_image(image: &Image) -> FilmSums {
+        FilmSums {
+            film_width: image.width,
+            film_height: image.height,
+            crop: Crop {
+                x: 0,
+                y: 0,
+                width: image.width,
+                height: image.height,
+            },
+            sums: image
+                .rgb
+                .chunks_exact(3)
+                .map(|p| [p[0], p[1], p[2], 1.0])
+                .collect(),
+            alpha: None,
+        }
+    }
+
     pub fn width(&self) -> u32 {
         self.crop.width
     }

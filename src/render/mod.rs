@@ -11,6 +11,7 @@ pub mod error;
 pub mod film;
 pub mod integrator;
 pub mod media;
+pub mod photon;
 pub mod scene_buffers;
 pub mod wavefront;
 
@@ -20,13 +21,13 @@ pub use integrator::Integrator;
 use std::time::Instant;
 
 use crate::accel::{self, Bvh, BvhStats};
-use crate::gpu::layout::{Counters, DispatchArgs, Frame, Push};
-use crate::gpu::{shaders, BindingLayout, CommandList, Device, Kernel, KernelTimes};
+use crate::gpu::layout::{Counters, DispatchArgs, Frame, Push, WORKGROUP_SIZE};
+use crate::gpu::{shaders, BindingLayout, CommandList, DescriptorSet, Device, Kernel, KernelTimes};
 use crate::image::Image;
 use crate::scene::Scene;
 
-use film::{film_binding_kinds, groups_for, Film, FilmGeometry, FilmSums, BYTES_PER_SAMPLE_SLOT};
-
+use film::{film_binding_kinds, Film, FilmGeometry, FilmSums, BYTES_PER_SAMPLE_SLOT};
+use photon::{photon_binding_kinds, PhotonStats, Photons};
 use scene_buffers::{scene_binding_kinds, SceneBuffers, SceneRecords};
 use wavefront::{wavefront_binding_kinds, Wavefront, BYTES_PER_PATH};
 
@@ -46,6 +47,10 @@ pub struct RenderOptions {
     /// [`RenderStats::cut_paths`]); `None`: [`integrator::MAX_BOUNCES`]. Paths the
     /// integrator's `max_depth` ends sooner are never cut.
     pub max_bounces: Option<u32>,
+    /// Photon mappers: most photons a photon pass holds; `None` picks what the
+    /// device's memory and binding limits allow. A photon map with more photons is
+    /// split into passes.
+    pub max_photons_per_pass: Option<u32>,
 }
 
 /// Time spent before the first sample, in seconds.
@@ -74,6 +79,8 @@ pub struct RenderStats {
     /// their later vertices are missing from the image.
     pub cut_paths: u64,
     pub kernel_times: KernelTimes,
+    /// Photon mappers: photons emitted and stored, passes, where the time went.
+    pub photons: Option<PhotonStats>,
 }
 
 struct Kernels {
@@ -95,9 +102,35 @@ pub struct Renderer {
     kernels: Kernels,
     scene_buffers: SceneBuffers,
     wavefront: Wavefront,
+    /// The photon mappers' kernels and buffers (descriptor set 2).
+    photon: Option<Photons>,
+    /// The film (descriptor set 3).
     film: Film,
+    /// The full film's size.
+    width: u32,
+    height: u32,
     timestamps: bool,
     pub setup: SetupStats,
+}
+
+/// Which queue a stage of a bounce runs over (see [`Renderer::run_bounces`]).
+#[derive(Clone, Copy)]
+enum Over {
+    /// The ray queue of the bounce (indirect dispatch).
+    Rays,
+    /// The shadow queue (indirect dispatch).
+    Shadows,
+    /// One workgroup.
+    One,
+}
+
+/// Workgroups for `n` threads on a 2D grid (at most 65535 per dimension); the same
+/// rule as `groups_for` in queue_args.comp.
+pub(crate) fn groups_for(n: u32) -> [u32; 3] {
+    let groups = n.div_ceil(WORKGROUP_SIZE);
+    let x = groups.min(65535);
+    let y = if x == 0 { 1 } else { groups.div_ceil(x) };
+    [x, y, 1]
 }
 
 impl Renderer {
@@ -108,23 +141,59 @@ impl Renderer {
             &scene.path,
         )?;
         let cam = &scene.camera;
+        // SPPM keeps one estimate per pixel (its radius and flux): a box filter over
+        // the whole film, whatever the scene's film asks for (see `film_overridden`).
+        let film_spec = if matches!(integrator, Integrator::Sppm(_)) {
+            crate::scene::Film {
+                filter: crate::scene::film::Filter::Box,
+                crop: None,
+                sample_border: false,
+                ..scene.film.clone()
+            }
+        } else {
+            scene.film.clone()
+        };
         let geometry = FilmGeometry::new(
             cam.width,
             cam.height,
-            scene.film.crop,
-            &scene.film.filter,
-            scene.film.sample_border,
+            film_spec.crop,
+            &film_spec.filter,
+            film_spec.sample_border,
         )?;
+        let pixels = cam.width * cam.height;
 
         let bvh = Bvh::build(accel::prims_from_scene(scene));
         let records = SceneRecords::new(scene, &bvh);
 
         let t = Instant::now();
+        if integrator.is_photon_mapper() && scene.needs_medium_code() {
+            return Err(Error::Integrator {
+                file: scene.path.clone(),
+                line: scene.integrator.line,
+                message: format!(
+                    "integrator '{}' traces light between surfaces only: the scene has \
+                     participating media or null (index-matched) surfaces; render it with \
+                     vol_path_mis",
+                    integrator.name()
+                ),
+            });
+        }
+        if integrator.is_photon_mapper() && scene.emitters.is_empty() {
+            return Err(Error::Integrator {
+                file: scene.path.clone(),
+                line: scene.integrator.line,
+                message: format!(
+                    "integrator '{}' needs an emitter to shoot photons from; the scene has none",
+                    integrator.name()
+                ),
+            });
+        }
         let layout = BindingLayout::with_kinds(
             device,
             &[
                 scene_binding_kinds(),
                 wavefront_binding_kinds(),
+                photon_binding_kinds(),
                 film_binding_kinds(),
             ],
             std::mem::size_of::<Push>() as u32,
@@ -166,8 +235,9 @@ impl Renderer {
         let wavefront = Wavefront::new(device, &layout, capacity, &frame)?;
         // Alpha: the film keeps covered weights and shade marks covered camera paths;
         // a visible environment covers every path of the integrators where Mitsuba
-        // counts it (`valid_ray` of path and volpath).
-        let has_alpha = scene.film.pixel_format.has_alpha();
+        // counts it (`valid_ray` of path and volpath). The photon mappers' camera
+        // kernels mark none: no alpha there (see `film_overridden`).
+        let has_alpha = film_spec.pixel_format.has_alpha() && !integrator.is_photon_mapper();
         let covered = integrator.counts_environment_coverage()
             && !integrator.hide_emitters()
             && records.env_emitter != crate::gpu::layout::NONE;
@@ -175,11 +245,22 @@ impl Renderer {
             device,
             &layout,
             geometry,
-            scene.film.filter,
+            film_spec.filter,
             has_alpha,
             covered,
             capacity,
         )?;
+        let features = photon::SceneFeatures {
+            surface: records.surface_features()
+                | if scene.spheres.is_empty() {
+                    0
+                } else {
+                    crate::gpu::layout::SURFACE_FEATURE_SPHERES
+                },
+            textures: records.texture_mask(),
+            emitters: records.emitter_kinds(),
+            bsdfs: records.bsdfs.iter().fold(0u32, |m, b| m | 1 << b.kind),
+        };
         let upload_seconds = t.elapsed().as_secs_f64();
 
         let t = Instant::now();
@@ -257,6 +338,22 @@ impl Renderer {
                 &film.gather_constants(),
             )?,
         };
+        // The photon mappers' kernels and buffers (their buffers are small until a
+        // photon map needs more).
+        let photon = if integrator.is_photon_mapper() {
+            Some(Photons::new(
+                device,
+                &layout,
+                &integrator,
+                features,
+                photon::SceneBounds::of(&bvh),
+                pixels,
+                capacity,
+                options.max_photons_per_pass,
+            )?)
+        } else {
+            None
+        };
         device.save_pipeline_cache();
         let pipeline_seconds = t.elapsed().as_secs_f64();
 
@@ -271,7 +368,10 @@ impl Renderer {
             kernels,
             scene_buffers,
             wavefront,
+            photon,
             film,
+            width: cam.width,
+            height: cam.height,
             timestamps: options.timestamps,
             setup: SetupStats {
                 bvh: bvh.stats,
@@ -316,6 +416,39 @@ impl Renderer {
         &self.film.geometry
     }
 
+    /// What of the scene's film this integrator does not render, in words (`None`:
+    /// all of it): SPPM keeps one estimate per pixel (a box filter over the whole
+    /// film, no alpha), the photon mappers compute no alpha (it is written as 1).
+    pub fn film_overridden(&self, film: &crate::scene::Film) -> Option<String> {
+        let mut lost = Vec::new();
+        if matches!(self.integrator, Integrator::Sppm(_)) {
+            if film.filter != crate::scene::film::Filter::Box {
+                lost.push(format!(
+                    "its {} filter (sppm keeps one estimate per pixel: a box)",
+                    film.filter.name()
+                ));
+            }
+            if film.crop.is_some() {
+                lost.push("its crop window (sppm renders the whole film)".to_string());
+            }
+            if film.sample_border {
+                lost.push("sample_border".to_string());
+            }
+        }
+        if self.integrator.is_photon_mapper() && film.pixel_format.has_alpha() {
+            lost.push(format!(
+                "alpha ('{}' computes none: written as 1)",
+                self.integrator.name()
+            ));
+        }
+        (!lost.is_empty()).then(|| lost.join(", "))
+    }
+
+    /// The descriptor sets of the path-tracing kernels: scene, wavefront, film.
+    fn path_sets(&self) -> [&DescriptorSet; 3] {
+        [&self.scene_buffers.set, &self.wavefront.set, &self.film.set]
+    }
+
     /// Dispatches every kernel once with empty queues: llvmpipe compiles a kernel at
     /// its first dispatch, and this keeps that cost out of the render's timing.
     fn warm_up(&mut self) -> Result<f64> {
@@ -329,9 +462,8 @@ impl Renderer {
             ..Default::default()
         };
         let push = bytemuck::bytes_of(&push);
-        let sets = [&self.scene_buffers.set, &wf.set, &self.film.set];
         let k = &self.kernels;
-        for kernel in [
+        let mut kernels = vec![
             &k.generate,
             &k.intersect,
             &k.shade,
@@ -339,7 +471,13 @@ impl Renderer {
             &k.shadow,
             &k.accumulate,
             &k.film_gather,
-        ] {
+        ];
+        let mut sets = vec![&self.scene_buffers.set, &wf.set, &self.film.set];
+        if let Some(p) = &self.photon {
+            kernels.extend(p.kernels());
+            sets.push(&p.map.set);
+        }
+        for kernel in kernels {
             cmd.dispatch(kernel, &sets, push, [1, 1, 1]);
             cmd.barrier();
         }
@@ -384,35 +522,71 @@ impl Renderer {
                 "samples per pixel must be at least 1".into(),
             ));
         }
+        match self.integrator {
+            Integrator::PhotonMapper(p) => {
+                return self.render_photonmapper(p, first, count, progress)
+            }
+            Integrator::Sppm(p) => return self.render_sppm(p, first, count, progress),
+            _ => {}
+        }
         let start = Instant::now();
-        let pixels = self.film.geometry.region_pixels();
-        let cap = self.wavefront.capacity;
-        let total = pixels as u64 * count as u64;
         let mut stats = RenderStats {
             spp: count,
             ..Default::default()
         };
-        let mut cmd = if self.timestamps {
+        let mut cmd = self.command_list()?;
+        self.film.clear(&mut cmd);
+        cmd.barrier();
+        self.for_each_batch(
+            &mut cmd,
+            first,
+            count,
+            &mut stats,
+            progress,
+            &mut |r, cmd, sample, base, n, slot, stats| {
+                r.run_batch(cmd, sample, base, n, slot, stats)
+            },
+        )?;
+        let film = self.film.read(&self.device)?;
+        stats.seconds = start.elapsed().as_secs_f64();
+        Ok((film, stats))
+    }
+
+    /// A command list, with timestamps if the renderer records them.
+    fn command_list(&self) -> Result<CommandList> {
+        Ok(if self.timestamps {
             CommandList::with_timestamps(&self.device)?
         } else {
             CommandList::new(&self.device)?
-        };
-        self.film.clear(&mut cmd);
-        cmd.barrier();
+        })
+    }
 
+    /// Calls `batch(self, cmd, sample_base, pixel_base, path_count, slot, stats)` for
+    /// batches covering samples `first .. first + count` of every pixel the film
+    /// samples: whole samples of every pixel per batch where they fit, else runs of
+    /// pixels of one sample. `slot`: the film's sample slot of the batch's first path.
+    fn for_each_batch(
+        &self,
+        cmd: &mut CommandList,
+        first: u32,
+        count: u32,
+        stats: &mut RenderStats,
+        progress: &mut dyn FnMut(u64, u64),
+        batch: BatchFn,
+    ) -> Result<()> {
+        let pixels = self.film.geometry.region_pixels();
+        let cap = self.wavefront.capacity;
+        let total = pixels as u64 * count as u64;
         let mut done = 0u64;
         let mut sample = first;
-        // The film's sample slot of the next batch's first path.
         let mut slot = 0;
         let end = first
             .checked_add(count)
             .ok_or_else(|| Error::Options("sample range overflows".into()))?;
         while sample < end {
-            // Whole samples of every pixel per batch where they fit, else a run of
-            // pixels of one sample.
             if pixels <= cap {
                 let k = (cap / pixels).min(end - sample);
-                self.run_batch(&mut cmd, sample, 0, k * pixels, slot, &mut stats)?;
+                batch(self, cmd, sample, 0, k * pixels, slot, stats)?;
                 slot = self.film.next_slot(slot, k * pixels);
                 sample += k;
                 done += k as u64 * pixels as u64;
@@ -421,7 +595,7 @@ impl Renderer {
                 let mut base = 0;
                 while base < pixels {
                     let n = cap.min(pixels - base);
-                    self.run_batch(&mut cmd, sample, base, n, slot, &mut stats)?;
+                    batch(self, cmd, sample, base, n, slot, stats)?;
                     slot = self.film.next_slot(slot, n);
                     base += n;
                     done += n as u64;
@@ -430,27 +604,14 @@ impl Renderer {
                 sample += 1;
             }
         }
-        let film = self.film.read(&self.device)?;
-        stats.seconds = start.elapsed().as_secs_f64();
-        Ok((film, stats))
+        Ok(())
     }
 
-    /// Renders one batch: `path_count` paths starting at global sample
-    /// `sample_base * pixels + pixel_base` (pixels of the film's sampled region), the
-    /// first in film sample slot `slot`. Bounces are recorded BOUNCE_CHUNK at a time;
-    /// between chunks the batch is submitted and stops early once no path is left in
-    /// the ray queue, so long bounce budgets (volumetric paths) cost nothing where paths
-    /// end sooner.
-    fn run_batch(
-        &self,
-        cmd: &mut CommandList,
-        sample_base: u32,
-        pixel_base: u32,
-        path_count: u32,
-        slot: u32,
-        stats: &mut RenderStats,
-    ) -> Result<()> {
+    /// Records the start of a batch of camera paths (`push`: its paths): the queues
+    /// and the first bounce's dispatch set for `push.path_count` rays, and `generate`.
+    fn start_batch(&self, cmd: &mut CommandList, sets: &[&DescriptorSet], push: &Push) {
         let wf = &self.wavefront;
+        let path_count = push.path_count;
         let counters = Counters {
             ray_count: [path_count, 0],
             ..Default::default()
@@ -463,53 +624,59 @@ impl Renderer {
         };
         cmd.update(&wf.dispatch_args, 0, bytemuck::bytes_of(&args));
         cmd.barrier();
-        let sets = [&self.scene_buffers.set, &wf.set, &self.film.set];
-        let mut push = Push {
-            path_count,
-            pixel_base,
-            sample_base,
-            depth: 0,
-            queue_in: 0,
-            capacity: wf.capacity,
-            sample_slot: slot,
-            ..Default::default()
-        };
-        let k = &self.kernels;
         cmd.dispatch(
-            &k.generate,
-            &sets,
-            bytemuck::bytes_of(&push),
+            &self.kernels.generate,
+            sets,
+            bytemuck::bytes_of(push),
             groups_for(path_count),
         );
         cmd.barrier();
-        let bounces = self.bounces;
+    }
+
+    /// Records bounces `0 .. bounces` of a batch whose first rays are in ray queue 0,
+    /// each a dispatch of every stage in order. Bounces are recorded `chunk` at a time;
+    /// between chunks the batch is submitted and stops early once no path is left in
+    /// the ray queue, so long bounce budgets cost nothing where paths end sooner.
+    /// Returns the bounces recorded.
+    #[allow(clippy::too_many_arguments)]
+    fn run_bounces(
+        &self,
+        cmd: &mut CommandList,
+        sets: &[&DescriptorSet],
+        push: &mut Push,
+        stages: &[(&Kernel, Over)],
+        bounces: u32,
+        chunk: u32,
+        stats: &mut RenderStats,
+    ) -> Result<u32> {
+        let wf = &self.wavefront;
         let mut depth = 0;
         while depth < bounces {
-            let end = (depth + BOUNCE_CHUNK).min(bounces);
+            let end = (depth + chunk).min(bounces);
             for d in depth..end {
                 push.depth = d;
                 push.queue_in = d % 2;
-                let p = bytemuck::bytes_of(&push);
-                cmd.dispatch_indirect(
-                    &k.intersect,
-                    &sets,
-                    p,
-                    &wf.dispatch_args,
-                    Wavefront::RAY_ARGS,
-                );
-                cmd.barrier();
-                cmd.dispatch_indirect(&k.shade, &sets, p, &wf.dispatch_args, Wavefront::RAY_ARGS);
-                cmd.barrier();
-                cmd.dispatch(&k.queue_args, &sets, p, [1, 1, 1]);
-                cmd.barrier();
-                cmd.dispatch_indirect(
-                    &k.shadow,
-                    &sets,
-                    p,
-                    &wf.dispatch_args,
-                    Wavefront::SHADOW_ARGS,
-                );
-                cmd.barrier();
+                let p = bytemuck::bytes_of(push);
+                for (kernel, over) in stages {
+                    match over {
+                        Over::Rays => cmd.dispatch_indirect(
+                            kernel,
+                            sets,
+                            p,
+                            &wf.dispatch_args,
+                            Wavefront::RAY_ARGS,
+                        ),
+                        Over::Shadows => cmd.dispatch_indirect(
+                            kernel,
+                            sets,
+                            p,
+                            &wf.dispatch_args,
+                            Wavefront::SHADOW_ARGS,
+                        ),
+                        Over::One => cmd.dispatch(kernel, sets, p, [1, 1, 1]),
+                    }
+                    cmd.barrier();
+                }
             }
             depth = end;
             if depth < bounces {
@@ -521,15 +688,67 @@ impl Renderer {
                 }
             }
         }
+        Ok(depth)
+    }
+
+    /// Renders one batch: `path_count` paths starting at global sample
+    /// `sample_base * pixels + pixel_base` (pixels the film samples), the first in film
+    /// sample slot `slot`, `BOUNCE_CHUNK` bounces per submission (see
+    /// [`Self::run_bounces`]).
+    fn run_batch(
+        &self,
+        cmd: &mut CommandList,
+        sample_base: u32,
+        pixel_base: u32,
+        path_count: u32,
+        slot: u32,
+        stats: &mut RenderStats,
+    ) -> Result<()> {
+        let wf = &self.wavefront;
+        let sets = self.path_sets();
+        let mut push = Push {
+            path_count,
+            pixel_base,
+            sample_base,
+            depth: 0,
+            queue_in: 0,
+            capacity: wf.capacity,
+            sample_slot: slot,
+            ..Default::default()
+        };
+        self.start_batch(cmd, &sets, &push);
+        let k = &self.kernels;
+        let stages = [
+            (&k.intersect, Over::Rays),
+            (&k.shade, Over::Rays),
+            (&k.queue_args, Over::One),
+            (&k.shadow, Over::Shadows),
+        ];
+        let depth = self.run_bounces(
+            cmd,
+            &sets,
+            &mut push,
+            &stages,
+            self.bounces,
+            BOUNCE_CHUNK,
+            stats,
+        )?;
+        self.record_film(cmd, &sets, &push);
+        self.finish_batch(cmd, stats, depth)
+    }
+
+    /// Records `accumulate` and `film_gather` after the batch `push` describes: its
+    /// finished paths go to the film (`sets` must hold the film's).
+    fn record_film(&self, cmd: &mut CommandList, sets: &[&DescriptorSet], push: &Push) {
+        let k = &self.kernels;
         cmd.dispatch(
             &k.accumulate,
-            &sets,
-            bytemuck::bytes_of(&push),
-            groups_for(path_count),
+            sets,
+            bytemuck::bytes_of(push),
+            groups_for(push.path_count),
         );
         cmd.barrier();
-        self.film.record_gather(cmd, &k.film_gather, &sets, &push);
-        self.finish_batch(cmd, stats, depth)
+        self.film.record_gather(cmd, &k.film_gather, sets, push);
     }
 
     /// Submits the rest of a batch that ran `depth` bounces and adds its counters.
@@ -554,7 +773,19 @@ impl Renderer {
     }
 }
 
-/// Bounces recorded per submission of a batch (see `Renderer::run_batch`).
+/// A batch of [`Renderer::for_each_batch`]: (renderer, commands, sample base, pixel
+/// base, paths, the film's sample slot of its first path, statistics).
+type BatchFn<'a> = &'a mut dyn FnMut(
+    &Renderer,
+    &mut CommandList,
+    u32,
+    u32,
+    u32,
+    u32,
+    &mut RenderStats,
+) -> Result<()>;
+
+/// Bounces recorded per submission of a batch (see `Renderer::run_bounces`).
 const BOUNCE_CHUNK: u32 = 64;
 
 /// Paths per batch: bounded by memory (about 40 MiB of path state and film samples

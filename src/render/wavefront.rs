@@ -1,6 +1,6 @@
 //! The wavefront's GPU state: path states, ray, hit and shadow queues, counters and
 //! dispatch arguments — descriptor set 1 (`shaders/common/wavefront.glsl`). The film
-//! is set 2 ([`super::film`]).
+//! is set 3 ([`super::film`]), the photon mappers' set 2.
 
 use std::mem::size_of;
 
