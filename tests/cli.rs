@@ -14,6 +14,19 @@ fn assert_error(args: &[&str], needles: &[&str]) {
     }
 }
 
+/// Renders `scene` at `spp` to `out`, quietly: (exit status, stdout, stderr).
+fn render_to(scene: &std::path::Path, out: &std::path::Path, spp: &str) -> (i32, String, String) {
+    wavetrace(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--spp",
+        spp,
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+    ])
+}
+
 const CAMERA: &str = r#"<sensor type="perspective"><float name="fov" value="40"/>
     <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>"#;
 
@@ -98,15 +111,7 @@ fn renders_writes_exr_and_png_and_reports_speed() {
     std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join("ao.exr");
     let scene = repo("scenes/ao/ao.xml");
-    let (code, _, err) = wavetrace(&[
-        "render",
-        scene.to_str().unwrap(),
-        "--spp",
-        "2",
-        "-o",
-        out.to_str().unwrap(),
-        "-q",
-    ]);
+    let (code, _, err) = render_to(&scene, &out, "2");
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("device:"), "{err}");
     assert!(err.contains("rays/s"), "{err}");
@@ -199,15 +204,7 @@ fn render_writes_the_films_formats() {
     for (name, extra, ext, channels, half) in cases {
         let scene = temp_file("cli_formats", &format!("{name}.xml"), &film(extra));
         let out = scene.with_file_name(format!("{name}-out.exr"));
-        let (code, _, err) = wavetrace(&[
-            "render",
-            scene.to_str().unwrap(),
-            "--spp",
-            "1",
-            "-o",
-            out.to_str().unwrap(),
-            "-q",
-        ]);
+        let (code, _, err) = render_to(&scene, &out, "1");
         assert_eq!(code, 0, "{name}: {err}");
         let written = out.with_extension(ext);
         assert!(

@@ -82,20 +82,7 @@ pub fn load(path: &Path) -> Scene {
 /// the render passes at 1% and the same test rejects the render scaled by 0.95 (it
 /// must have the power to see a 5% bias).
 pub fn assert_matches_reference(img: &Image, reference: &Image, label: &str) -> BlockTest {
-    let test = block_t_test(img, reference, 8).expect("t-test");
-    println!(
-        "{label}: {test}; relMSE {:.3e}",
-        rel_mse(img, reference).expect("relMSE")
-    );
-    assert!(
-        test.passes(0.01),
-        "render disagrees with the Mitsuba reference: {test}"
-    );
-    let mut biased = img.clone();
-    biased.rgb.iter_mut().for_each(|v| *v *= 0.95);
-    let b = block_t_test(&biased, reference, 8).expect("t-test");
-    assert!(!b.passes(0.01), "the check cannot see a 5% bias: {b}");
-    test
+    assert_matches_filtered_reference(img, reference, label, &wavetrace::scene::film::Filter::Box)
 }
 
 /// [`assert_matches_reference`] for an image made with a reconstruction filter wider
