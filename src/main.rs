@@ -10,6 +10,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use wavetrace::bench;
 use wavetrace::gpu::Device;
 use wavetrace::render::{RenderOptions, Renderer};
+use wavetrace::scene::film::{FileFormat, Filter, PixelFormat};
 use wavetrace::scene::{self, Scene};
 
 #[derive(Parser)]
@@ -77,11 +78,14 @@ impl RunArgs {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Render a scene to a linear EXR and an sRGB PNG beside it.
+    /// Render a scene to a linear EXR (or the film's file format) and an sRGB PNG
+    /// beside it.
     Render {
         #[command(flatten)]
         scene: SceneArgs,
-        /// Output EXR (default: the scene's name in the current folder).
+        /// Output file (default: the scene's name in the current folder); its
+        /// extension becomes the film's file format's (exr, rgbe or pfm), as in
+        /// Mitsuba.
         #[arg(short, long)]
         output: Option<PathBuf>,
         /// Samples per pixel (default: the scene's sampler).
@@ -164,7 +168,16 @@ fn run(cli: Cli) -> Result<()> {
             if spp == 0 {
                 bail!("--spp must be at least 1");
             }
-            let output = output.unwrap_or_else(|| default_output(&scene.scene));
+            let format = sc.film.file_format;
+            let requested = output.unwrap_or_else(|| default_output(&scene.scene));
+            let output = output_path(&requested, format);
+            if output != requested {
+                eprintln!(
+                    "note: the film's file format is {}: writing {}",
+                    format.extension(),
+                    output.display()
+                );
+            }
             let (options, device) = run.options(profile);
             let device = Device::new(device.as_deref())?;
             eprintln!("device: {}", device.info());
@@ -182,16 +195,18 @@ fn run(cli: Cli) -> Result<()> {
                 s.pipeline_seconds * 1e3,
                 s.first_dispatch_seconds * 1e3,
             );
-            let (w, h) = (sc.camera.width, sc.camera.height);
+            let g = *renderer.film_geometry();
+            let (w, h) = (g.crop.width, g.crop.height);
             eprintln!(
-                "rendering {w}x{h} at {spp} spp with '{}' ({} paths per batch)",
+                "rendering {w}x{h} at {spp} spp with '{}', {} ({} paths per batch)",
                 renderer.integrator().name(),
+                describe_film(&sc),
                 renderer.capacity()
             );
-            if renderer.integrator().name() == "sppm" {
+            if let Some(lost) = renderer.film_overridden(&sc.film) {
                 eprintln!(
-                    "note: sppm estimates every pixel on its own (its visible point, radius and \
-                     flux), from camera rays spread uniformly over the pixel: a box filter"
+                    "warning: '{}' does not render this film's {lost}",
+                    renderer.integrator().name()
                 );
             }
             if renderer.integrator().needs_emitters() && sc.emitters.is_empty() {
@@ -204,7 +219,7 @@ fn run(cli: Cli) -> Result<()> {
             let bar = if quiet {
                 ProgressBar::hidden()
             } else {
-                let bar = ProgressBar::new(w as u64 * h as u64 * spp as u64);
+                let bar = ProgressBar::new(g.region_pixels() as u64 * spp as u64);
                 bar.set_style(
                     ProgressStyle::with_template(
                         "{bar:40} {percent:>3}% {msg} [{elapsed_precise} < {eta_precise}]",
@@ -213,8 +228,8 @@ fn run(cli: Cli) -> Result<()> {
                 );
                 bar
             };
-            let pixels = w as u64 * h as u64;
-            let (image, stats) = renderer.render(spp, &mut |done, _total| {
+            let pixels = g.region_pixels() as u64;
+            let (film, stats) = renderer.render_film(0, spp, &mut |done, _total| {
                 bar.set_position(done);
                 bar.set_message(format!("{}/{spp} spp", done / pixels));
             })?;
@@ -265,13 +280,15 @@ fn run(cli: Cli) -> Result<()> {
                     eprintln!("  {name:<12} {:>9.2} ms over {n} dispatches", secs * 1e3);
                 }
             }
-            image
-                .write_exr(&output)
-                .with_context(|| format!("writing {}", output.display()))?;
             let png = output.with_extension("png");
-            image
-                .write_png(&png, 0.0)
-                .with_context(|| format!("writing {}", png.display()))?;
+            film.write(
+                &output,
+                sc.film.pixel_format,
+                sc.film.component_format,
+                format,
+                Some(&png),
+            )
+            .with_context(|| format!("writing {}", output.display()))?;
             eprintln!("wrote {} and {}", output.display(), png.display());
             Ok(())
         }
@@ -395,6 +412,51 @@ fn bench(
     Ok(())
 }
 
+/// `path` with the extension of `format` (Mitsuba replaces any other; `.hdr` is
+/// kept for RGBE, its usual name).
+fn output_path(path: &Path, format: FileFormat) -> PathBuf {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_lowercase())
+        .unwrap_or_default();
+    match (format, ext.as_str()) {
+        (FileFormat::OpenExr, "exr")
+        | (FileFormat::Rgbe, "rgbe" | "hdr")
+        | (FileFormat::Pfm, "pfm") => path.to_path_buf(),
+        _ => path.with_extension(format.extension()),
+    }
+}
+
+/// The film in words: filter, crop window, sampled border, pixel format.
+fn describe_film(sc: &Scene) -> String {
+    let f = &sc.film;
+    let filter = match f.filter {
+        Filter::Box => "box filter".to_string(),
+        Filter::Tent { radius } => format!("tent filter (radius {radius})"),
+        Filter::Gaussian { stddev, radius } => {
+            format!("gaussian filter (stddev {stddev}, radius {radius})")
+        }
+        Filter::Mitchell { b, c, radius } => {
+            format!("mitchell filter (B {b}, C {c}, radius {radius})")
+        }
+        Filter::Lanczos { lobes } => format!("lanczos filter ({lobes} lobes)"),
+    };
+    let mut parts = vec![filter];
+    if let Some(c) = f.crop {
+        parts.push(format!(
+            "crop {}x{} at ({}, {}) of {}x{}",
+            c.width, c.height, c.x, c.y, sc.camera.width, sc.camera.height
+        ));
+    }
+    if f.sample_border {
+        parts.push("sampled border".into());
+    }
+    if f.pixel_format != PixelFormat::Rgb {
+        parts.push(f.pixel_format.name().to_string());
+    }
+    parts.join(", ")
+}
+
 fn default_output(scene: &Path) -> PathBuf {
     let stem = scene
         .file_stem()
@@ -416,6 +478,7 @@ fn print_info(sc: &Scene, load_seconds: f64) {
         "camera:      {}x{}, horizontal fov {:.2}°, clip [{}, {}]",
         c.width, c.height, c.fov_x_deg, c.near_clip, c.far_clip
     );
+    println!("film:        {}", describe_film(sc));
     println!("samples:     {} per pixel", sc.spp);
     println!(
         "integrator:  {} {:?}",

@@ -510,7 +510,7 @@ fn slab_transmittance_is_beer_lambert() {
         format!(
             r#"<sensor type="perspective"><float name="fov" value="{fov}"/>
     <transform name="to_world"><lookat origin="0, 0, {z}" target="0, 0, -10" up="0, 1, 0"/></transform>
-    <film type="hdrfilm"><integer name="width" value="{res}"/><integer name="height" value="{res}"/></film></sensor>"#
+    <film type="hdrfilm"><integer name="width" value="{res}"/><integer name="height" value="{res}"/><rfilter type="box"/></film></sensor>"#
         )
     };
     // Camera rays: the slab at z in [0, 0.5], an emitter at z = -2 facing the camera.
@@ -625,7 +625,7 @@ fn furnace_non_absorbing_medium_returns_the_light() {
 <integrator type="vol_path_mis"><integer name="rr_depth" value="1000"/></integrator>
 <sensor type="perspective"><float name="fov" value="30"/>
     <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
-    <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/></film></sensor>
+    <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/><rfilter type="box"/></film></sensor>
 <emitter type="constant"><rgb name="radiance" value="1"/></emitter>
 <shape type="sphere"><bsdf type="null"/>{medium}</shape>
 </scene>"#
@@ -902,7 +902,7 @@ fn dense_scattering_matches_a_float64_random_walk() {
 <integrator type="volpath"><integer name="max_depth" value="256"/><integer name="rr_depth" value="100000"/></integrator>
 <sensor type="perspective"><float name="fov" value="20"/>
     <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
-    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film></sensor>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film></sensor>
 <emitter type="constant"/>
 <shape type="sphere"><bsdf type="null"/><medium type="homogeneous" name="interior">
     <rgb name="sigma_t" value="1"/><float name="scale" value="10000"/><rgb name="albedo" value="1"/></medium></shape>
@@ -971,7 +971,7 @@ fn albedo_grid_matches_constant_albedo() {
 <integrator type="volpath"><integer name="rr_depth" value="1000"/></integrator>
 <sensor type="perspective"><float name="fov" value="35"/>
     <transform name="to_world"><lookat origin="0, 0.5, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
-    <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/></film></sensor>
+    <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/><rfilter type="box"/></film></sensor>
 {light}
 <shape type="cube"><bsdf type="null"/><medium type="heterogeneous" name="interior">
     <volume type="gridvolume" name="sigma_t"><string name="filename" value="{}"/>{placement}</volume>

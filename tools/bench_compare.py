@@ -13,9 +13,10 @@ wavetrace: runs `wavetrace bench SCENE --ref REF --spp ... --json` and reads its
 (times exclude scene loading, BVH, pipelines and kernel compilation: a 1-spp warm-up
 render precedes the measurements).
 
-Mitsuba: the scene is prepared as tools/mitsuba_ref.py prepares references (forced
-box filter, RGB float32 film; `ao` scenes rewritten to Mitsuba's `direct` under a
-constant environment), loaded once, and rendered once at 1 spp untimed (for the LLVM
+Mitsuba: the scene is prepared as tools/mitsuba_ref.py --keep-filter prepares
+references (the scene's own reconstruction filter, crop window and sample_border, as
+wavetrace renders them; RGB float32 film; `ao` scenes rewritten to Mitsuba's `direct`
+under a constant environment), loaded once, and rendered once at 1 spp untimed (for the LLVM
 variants this also JIT-compiles the kernels; Dr.Jit caches them). The wall time of each
 `mi.render` call is then measured, including the conversion of the result to a NumPy
 array (which forces evaluation of the lazy LLVM variants). With `--variant
@@ -158,7 +159,7 @@ def prepare_mitsuba_xml(args, defines):
         described = " ".join([kind] + ["%s=%s" % (c.get("name"), c.get("value")) for c in new])
     else:
         described = " ".join([own] + ["%s=%s" % (c.get("name"), resolve(c.get("value", ""))) for c in el])
-    mitsuba_ref.prepare(root, None)
+    mitsuba_ref.prepare(root, None, keep_filter=True)
     return ET.tostring(root, encoding="unicode"), described
 
 

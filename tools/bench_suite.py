@@ -84,7 +84,7 @@ def reference(name, refs, seed_base=1000):
         env.setdefault("DRJIT_LIBLLVM_PATH", LIBLLVM)
     cmd = [sys.executable, os.path.join(TOOLS, "mitsuba_ref.py"), os.path.join(ROOT, scene),
            "-o", out, "--spp", str(spp), "--variant", variant, "--pass-spp", "256",
-           "--seed", str(seed_base)]
+           "--seed", str(seed_base), "--keep-filter"]
     for d in defines:
         cmd += ["-D", d]
     print("$ " + " ".join(cmd), file=sys.stderr)

@@ -68,6 +68,24 @@ PathVertex path_vertex_surface() {
     return PathVertex(NONE, vec3(0.0), 0u);
 }
 
+// For a film with alpha: marks path i covered (PATH_COVERED, in `path` and stored),
+// as Mitsuba's integrators set `valid_ray`, once its camera ray (past null surfaces)
+// found a surface with a BSDF or scattered in a medium; with max_depth 1, only when
+// it sees an emitter. (generate marks every path covered where Mitsuba's path and
+// volpath count a visible environment.) Called by shade at depth 0 with the medium
+// stage's outcome.
+void path_mark_covered(uint i, inout PathState path, HitItem h, PathVertex v) {
+    bool covered = v.medium != NONE || h.prim != NONE;
+    if (frame.max_depth <= 1u && v.medium == NONE && h.prim != NONE) {
+        covered = frame.hide_emitters == 0u && shape_load(prim_load(h.prim).shape).emitter != NONE;
+    }
+    if (!covered || (path.flags & PATH_COVERED) != 0u) return;
+    path.flags |= PATH_COVERED;
+    PathState stored = path;
+    stored.flags &= ~PATH_THIN_REFLECT;
+    path_store_flags(i, stored);
+}
+
 // Shades path vertex v, reached by ray r (path vertex number push.depth + 1) with hit
 // h; `path` is the state of r's path (path_load(r.path), as the medium stage may have
 // left it: a path state written in this dispatch is passed on, never read back
@@ -243,7 +261,7 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
         }
         path.throughput = throughput;
         path.bsdf_pdf = pdf;
-        path.flags = flags;
+        path.flags = flags | (path.flags & PATH_COVERED);
         path.medium = medium;
         path_store_bounce(r.path, path); // the radiance word is stored where it changed
         queue_push_ray(origin, r.path, wi, EMITTER_INFINITY);

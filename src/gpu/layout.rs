@@ -405,6 +405,8 @@ pub struct Frame {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct PathState {
     pub throughput: [f32; 3],
+    /// The pixel key the path's random numbers are drawn with (the full film's pixel,
+    /// `render::film::FilmGeometry::key`).
     pub pixel: u32,
     pub radiance: [f32; 3],
     pub sample_index: u32,
@@ -427,6 +429,10 @@ pub const PATH_DELTA: u32 = 1;
 /// Set by the medium stage for path_shade within one dispatch, never stored: the
 /// stage chose the reflection lobe of the thin dielectric the ray hit.
 pub const PATH_THIN_REFLECT: u32 = 2;
+/// The camera path counts for the film's alpha (Mitsuba's `valid_ray`): it found a
+/// surface or scattered in a medium, or it sees a visible environment. Set by
+/// `generate` and by `shade` at depth 0, kept through the path.
+pub const PATH_COVERED: u32 = 4;
 
 /// A ray waiting for the `intersect` stage.
 #[repr(C)]
@@ -505,8 +511,57 @@ pub struct Push {
     pub queue_in: u32,
     /// Path slots allocated: ray queue `q` starts at item `q * capacity`.
     pub capacity: u32,
+    /// The film's sample slot of path 0 of this batch (`render::film`).
+    pub sample_slot: u32,
+    /// `film_gather`: the first crop row it gathers, and how many.
+    pub film_row: u32,
+    pub film_rows: u32,
+    pub pad0: u32,
     pub pad1: u32,
     pub pad2: u32,
+}
+
+/// Reconstruction filters: specialization constant 0 of `film_gather`
+/// (`scene::film::Filter`).
+pub const FILTER_BOX: u32 = 0;
+pub const FILTER_TENT: u32 = 1;
+pub const FILTER_GAUSSIAN: u32 = 2;
+pub const FILTER_MITCHELL: u32 = 3;
+pub const FILTER_LANCZOS: u32 = 4;
+/// A film sample's flags: the sample is finite (NaN and infinite ones are dropped) ...
+pub const FILM_SAMPLE_VALID: u32 = 1;
+/// ... and its camera path was covered ([`PATH_COVERED`]).
+pub const FILM_SAMPLE_COVERED: u32 = 2;
+
+/// The film's parameters (`render::film::FilmGeometry`): the sampled region (the
+/// crop window and the pixels around it whose samples its filter reaches, within the
+/// film or, with `sample_border`, the film and its border), the crop window kept, the
+/// pixel keys of the random numbers (the full sampled film's row-major index, so a
+/// crop draws the same numbers as the full render), the filter's reach in pixels,
+/// the sample slots of the ring, whether every camera path counts as covered, and the
+/// filter's parameters (`shaders/film/filter.glsl`): tent (1 / radius); Gaussian
+/// (-1 / 2σ², exp(-r² / 2σ²)); Mitchell (B, C, 2 / radius); Lanczos (lobes).
+/// Pixel coordinates are the full film's, the top-left pixel (0, 0).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct FilmParams {
+    pub region_x: i32,
+    pub region_y: i32,
+    pub region_width: u32,
+    pub region_height: u32,
+    pub crop_x: u32,
+    pub crop_y: u32,
+    pub crop_width: u32,
+    pub crop_height: u32,
+    pub key_x: i32,
+    pub key_y: i32,
+    pub key_width: u32,
+    pub reach: u32,
+    pub slots: u32,
+    pub coverage: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub filter_params: [f32; 4],
 }
 
 /// Photon mapping (`src/render/photon`, `shaders/photon/`): one photon stored where a
@@ -868,8 +923,32 @@ mod tests {
                 depth,
                 queue_in,
                 capacity,
+                sample_slot,
+                film_row,
+                film_rows,
+                pad0,
                 pad1,
                 pad2
+            ),
+            rust_layout!(
+                FilmParams,
+                region_x,
+                region_y,
+                region_width,
+                region_height,
+                crop_x,
+                crop_y,
+                crop_width,
+                crop_height,
+                key_x,
+                key_y,
+                key_width,
+                reach,
+                slots,
+                coverage,
+                pad0,
+                pad1,
+                filter_params
             ),
             rust_layout!(Photon, position, path, power, wi),
             rust_layout!(PhotonPath, power, index, start_power, stored, pad0, pad1),
@@ -963,6 +1042,22 @@ mod tests {
             ("MEDIUM_FEATURE_WORDS3", MEDIUM_FEATURE_WORDS3),
             ("MEDIUM_FEATURE_ALBEDO_GRID", MEDIUM_FEATURE_ALBEDO_GRID),
             ("MEDIUM_FEATURE_GRIDS", MEDIUM_FEATURE_GRIDS),
+        ]);
+    }
+
+    #[test]
+    fn film_constants_match_glsl() {
+        assert_glsl_defines(&[
+            ("PATH_DELTA", PATH_DELTA),
+            ("PATH_THIN_REFLECT", PATH_THIN_REFLECT),
+            ("PATH_COVERED", PATH_COVERED),
+            ("FILTER_BOX", FILTER_BOX),
+            ("FILTER_TENT", FILTER_TENT),
+            ("FILTER_GAUSSIAN", FILTER_GAUSSIAN),
+            ("FILTER_MITCHELL", FILTER_MITCHELL),
+            ("FILTER_LANCZOS", FILTER_LANCZOS),
+            ("FILM_SAMPLE_VALID", FILM_SAMPLE_VALID),
+            ("FILM_SAMPLE_COVERED", FILM_SAMPLE_COVERED),
         ]);
     }
 

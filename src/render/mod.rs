@@ -1,13 +1,14 @@
 //! The wavefront renderer: queues, per-bounce dispatch, integrators, film.
 //!
 //! A batch of paths runs as `generate -> (intersect -> shade -> queue_args -> shadow)
-//! per bounce -> accumulate`, every stage one dispatch over a
+//! per bounce -> accumulate -> film_gather`, every stage one dispatch over a
 //! queue in GPU memory. Queue lengths stay on the GPU and drive indirect dispatch, so
 //! a whole batch is one submission with no read-back between bounces (Laine, Karras
 //! and Aila 2013, "Megakernels Considered Harmful").
 
 pub mod alias;
 pub mod error;
+pub mod film;
 pub mod integrator;
 pub mod media;
 pub mod photon;
@@ -26,6 +27,7 @@ use crate::gpu::{shaders, BindingLayout, CommandList, DescriptorSet, Device, Ker
 use crate::image::Image;
 use crate::scene::Scene;
 
+use film::{film_binding_kinds, Film, FilmGeometry, FilmSums, BYTES_PER_SAMPLE_SLOT};
 use photon::{photon_binding_kinds, PhotonStats, Photons};
 use scene_buffers::{SceneBuffers, SceneRecords};
 use scene_parts::{scene_arrays, scene_binding_kinds, ScenePlan};
@@ -98,6 +100,7 @@ struct Kernels {
     shadow: Kernel,
     queue_args: Kernel,
     accumulate: Kernel,
+    film_gather: Kernel,
 }
 
 /// A scene prepared on a device, ready to render any number of samples.
@@ -111,6 +114,9 @@ pub struct Renderer {
     wavefront: Wavefront,
     /// The photon mappers' kernels and buffers (descriptor set 2).
     photon: Option<Photons>,
+    /// The film (descriptor set 3).
+    film: Film,
+    /// The full film's size.
     width: u32,
     height: u32,
     timestamps: bool,
@@ -145,22 +151,26 @@ impl Renderer {
             &scene.path,
         )?;
         let cam = &scene.camera;
-        if cam.width == 0 || cam.height == 0 {
-            return Err(Error::Options(format!(
-                "film of {}x{} pixels is empty",
-                cam.width, cam.height
-            )));
-        }
-        let pixels = cam
-            .width
-            .checked_mul(cam.height)
-            .filter(|&p| p < u32::MAX / 2)
-            .ok_or_else(|| {
-                Error::Options(format!(
-                    "film of {}x{} pixels is too large",
-                    cam.width, cam.height
-                ))
-            })?;
+        // SPPM keeps one estimate per pixel (its radius and flux): a box filter over
+        // the whole film, whatever the scene's film asks for (see `film_overridden`).
+        let film_spec = if matches!(integrator, Integrator::Sppm(_)) {
+            crate::scene::Film {
+                filter: crate::scene::film::Filter::Box,
+                crop: None,
+                sample_border: false,
+                ..scene.film.clone()
+            }
+        } else {
+            scene.film.clone()
+        };
+        let geometry = FilmGeometry::new(
+            cam.width,
+            cam.height,
+            film_spec.crop,
+            &film_spec.filter,
+            film_spec.sample_border,
+        )?;
+        let pixels = cam.width * cam.height;
 
         if integrator.is_photon_mapper() && scene.needs_medium_code() {
             return Err(Error::Integrator {
@@ -204,6 +214,7 @@ impl Renderer {
                 scene_binding_kinds(),
                 wavefront_binding_kinds(),
                 photon_binding_kinds(),
+                film_binding_kinds(),
             ],
             std::mem::size_of::<Push>() as u32,
             &plan.spec(),
@@ -240,8 +251,28 @@ impl Renderer {
         // Keep every queue inside one storage-buffer binding.
         let limit = device.info().max_storage_buffer_range
             / (2 * std::mem::size_of::<crate::gpu::layout::RayItem>() as u64);
-        let capacity = capacity.min(limit as u32);
-        let wavefront = Wavefront::new(device, &layout, capacity, pixels, &frame)?;
+        let capacity = capacity
+            .min(limit as u32)
+            .min(Film::max_batch_paths(device, &geometry))
+            .max(1);
+        let wavefront = Wavefront::new(device, &layout, capacity, &frame)?;
+        // Alpha: the film keeps covered weights and shade marks covered camera paths;
+        // a visible environment covers every path of the integrators where Mitsuba
+        // counts it (`valid_ray` of path and volpath). The photon mappers' camera
+        // kernels mark none: no alpha there (see `film_overridden`).
+        let has_alpha = film_spec.pixel_format.has_alpha() && !integrator.is_photon_mapper();
+        let covered = integrator.counts_environment_coverage()
+            && !integrator.hide_emitters()
+            && records.env_emitter != crate::gpu::layout::NONE;
+        let film = Film::new(
+            device,
+            &layout,
+            geometry,
+            film_spec.filter,
+            has_alpha,
+            covered,
+            capacity,
+        )?;
         let features = photon::SceneFeatures {
             surface: records.surface_features()
                 | if scene.spheres.is_empty() {
@@ -301,6 +332,7 @@ impl Renderer {
                     records.emitter_kinds(),
                     surface_features,
                     bvh_depth,
+                    has_alpha as u32,
                 ],
             )?,
             shadow: k(
@@ -323,6 +355,11 @@ impl Renderer {
             )?,
             queue_args: k("queue_args", shaders::QUEUE_ARGS, &[])?,
             accumulate: k("accumulate", shaders::ACCUMULATE, &[])?,
+            film_gather: k(
+                "film_gather",
+                shaders::FILM_GATHER,
+                &film.gather_constants(),
+            )?,
         };
         // The photon mappers' kernels and buffers (their buffers are small until a
         // photon map needs more).
@@ -356,6 +393,7 @@ impl Renderer {
             scene_buffers,
             wavefront,
             photon,
+            film,
             width: cam.width,
             height: cam.height,
             timestamps: options.timestamps,
@@ -403,6 +441,44 @@ impl Renderer {
         self.wavefront.capacity
     }
 
+    /// Which pixels are sampled and which kept.
+    pub fn film_geometry(&self) -> &FilmGeometry {
+        &self.film.geometry
+    }
+
+    /// What of the scene's film this integrator does not render, in words (`None`:
+    /// all of it): SPPM keeps one estimate per pixel (a box filter over the whole
+    /// film, no alpha), the photon mappers compute no alpha (it is written as 1).
+    pub fn film_overridden(&self, film: &crate::scene::Film) -> Option<String> {
+        let mut lost = Vec::new();
+        if matches!(self.integrator, Integrator::Sppm(_)) {
+            if film.filter != crate::scene::film::Filter::Box {
+                lost.push(format!(
+                    "its {} filter (sppm keeps one estimate per pixel: a box)",
+                    film.filter.name()
+                ));
+            }
+            if film.crop.is_some() {
+                lost.push("its crop window (sppm renders the whole film)".to_string());
+            }
+            if film.sample_border {
+                lost.push("sample_border".to_string());
+            }
+        }
+        if self.integrator.is_photon_mapper() && film.pixel_format.has_alpha() {
+            lost.push(format!(
+                "alpha ('{}' computes none: written as 1)",
+                self.integrator.name()
+            ));
+        }
+        (!lost.is_empty()).then(|| lost.join(", "))
+    }
+
+    /// The descriptor sets of the path-tracing kernels: scene, wavefront, film.
+    fn path_sets(&self) -> [&DescriptorSet; 3] {
+        [&self.scene_buffers.set, &self.wavefront.set, &self.film.set]
+    }
+
     /// Dispatches every kernel once with empty queues: llvmpipe compiles a kernel at
     /// its first dispatch, and this keeps that cost out of the render's timing.
     fn warm_up(&mut self) -> Result<f64> {
@@ -424,8 +500,9 @@ impl Renderer {
             &k.queue_args,
             &k.shadow,
             &k.accumulate,
+            &k.film_gather,
         ];
-        let mut sets = vec![&self.scene_buffers.set, &wf.set];
+        let mut sets = vec![&self.scene_buffers.set, &wf.set, &self.film.set];
         if let Some(p) = &self.photon {
             kernels.extend(p.kernels());
             sets.push(&p.map.set);
@@ -448,15 +525,28 @@ impl Renderer {
         self.render_range(0, spp, progress)
     }
 
-    /// Renders samples `first .. first + count` of every pixel. Sample `s` of a pixel
-    /// is the same whatever range it is rendered in, so ranges can be rendered apart
-    /// and averaged.
+    /// Renders samples `first .. first + count` of every pixel and returns the image.
+    /// Sample `s` of a pixel is the same whatever range it is rendered in; to combine
+    /// ranges exactly, merge their [`FilmSums`] ([`Self::render_film`]).
     pub fn render_range(
         &mut self,
         first: u32,
         count: u32,
         progress: &mut dyn FnMut(u64, u64),
     ) -> Result<(Image, RenderStats)> {
+        let (film, stats) = self.render_film(first, count, progress)?;
+        Ok((film.develop(), stats))
+    }
+
+    /// Renders samples `first .. first + count` of every sampled pixel and returns
+    /// the film's sums: renders of disjoint ranges merge into the render of their
+    /// union ([`FilmSums::merge`]).
+    pub fn render_film(
+        &mut self,
+        first: u32,
+        count: u32,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<(FilmSums, RenderStats)> {
         if count == 0 {
             return Err(Error::Options(
                 "samples per pixel must be at least 1".into(),
@@ -475,7 +565,7 @@ impl Renderer {
             ..Default::default()
         };
         let mut cmd = self.command_list()?;
-        cmd.fill(&self.wavefront.film, 0, self.wavefront.film.size(), 0);
+        self.film.clear(&mut cmd);
         cmd.barrier();
         self.for_each_batch(
             &mut cmd,
@@ -483,11 +573,13 @@ impl Renderer {
             count,
             &mut stats,
             progress,
-            &mut |r, cmd, sample, base, n, stats| r.run_batch(cmd, sample, base, n, stats),
+            &mut |r, cmd, sample, base, n, slot, stats| {
+                r.run_batch(cmd, sample, base, n, slot, stats)
+            },
         )?;
-        let image = self.film_image()?;
+        let film = self.film.read(&self.device)?;
         stats.seconds = start.elapsed().as_secs_f64();
-        Ok((image, stats))
+        Ok((film, stats))
     }
 
     /// A command list, with timestamps if the renderer records them.
@@ -499,9 +591,10 @@ impl Renderer {
         })
     }
 
-    /// Calls `batch(self, cmd, sample_base, pixel_base, path_count, stats)` for batches
-    /// covering samples `first .. first + count` of every pixel: whole samples of every
-    /// pixel per batch where they fit, else runs of pixels of one sample.
+    /// Calls `batch(self, cmd, sample_base, pixel_base, path_count, slot, stats)` for
+    /// batches covering samples `first .. first + count` of every pixel the film
+    /// samples: whole samples of every pixel per batch where they fit, else runs of
+    /// pixels of one sample. `slot`: the film's sample slot of the batch's first path.
     fn for_each_batch(
         &self,
         cmd: &mut CommandList,
@@ -511,18 +604,20 @@ impl Renderer {
         progress: &mut dyn FnMut(u64, u64),
         batch: BatchFn,
     ) -> Result<()> {
-        let pixels = self.width * self.height;
+        let pixels = self.film.geometry.region_pixels();
         let cap = self.wavefront.capacity;
         let total = pixels as u64 * count as u64;
         let mut done = 0u64;
         let mut sample = first;
+        let mut slot = 0;
         let end = first
             .checked_add(count)
             .ok_or_else(|| Error::Options("sample range overflows".into()))?;
         while sample < end {
             if pixels <= cap {
                 let k = (cap / pixels).min(end - sample);
-                batch(self, cmd, sample, 0, k * pixels, stats)?;
+                batch(self, cmd, sample, 0, k * pixels, slot, stats)?;
+                slot = self.film.next_slot(slot, k * pixels);
                 sample += k;
                 done += k as u64 * pixels as u64;
                 progress(done, total);
@@ -530,7 +625,8 @@ impl Renderer {
                 let mut base = 0;
                 while base < pixels {
                     let n = cap.min(pixels - base);
-                    batch(self, cmd, sample, base, n, stats)?;
+                    batch(self, cmd, sample, base, n, slot, stats)?;
+                    slot = self.film.next_slot(slot, n);
                     base += n;
                     done += n as u64;
                     progress(done, total);
@@ -539,22 +635,6 @@ impl Renderer {
             }
         }
         Ok(())
-    }
-
-    /// The film's image: each pixel's sum over its sample count.
-    fn film_image(&self) -> Result<Image> {
-        let pixels = self.width * self.height;
-        let film: Vec<[f32; 4]> = self.wavefront.film.read(&self.device)?;
-        let mut rgb = Vec::with_capacity(pixels as usize * 3);
-        for px in &film[..pixels as usize] {
-            let n = if px[3] > 0.0 { px[3] } else { 1.0 };
-            rgb.extend_from_slice(&[px[0] / n, px[1] / n, px[2] / n]);
-        }
-        Ok(Image {
-            width: self.width,
-            height: self.height,
-            rgb,
-        })
     }
 
     /// Records the start of a batch of camera paths (`push`: its paths): the queues
@@ -646,7 +726,8 @@ impl Renderer {
     }
 
     /// Renders one batch: `path_count` paths starting at global sample
-    /// `sample_base * pixels + pixel_base`, `BOUNCE_CHUNK` bounces per submission (see
+    /// `sample_base * pixels + pixel_base` (pixels the film samples), the first in film
+    /// sample slot `slot`, `BOUNCE_CHUNK` bounces per submission (see
     /// [`Self::run_bounces`]).
     fn run_batch(
         &self,
@@ -654,10 +735,11 @@ impl Renderer {
         sample_base: u32,
         pixel_base: u32,
         path_count: u32,
+        slot: u32,
         stats: &mut RenderStats,
     ) -> Result<()> {
         let wf = &self.wavefront;
-        let sets = [&self.scene_buffers.set, &wf.set];
+        let sets = self.path_sets();
         let mut push = Push {
             path_count,
             pixel_base,
@@ -665,6 +747,7 @@ impl Renderer {
             depth: 0,
             queue_in: 0,
             capacity: wf.capacity,
+            sample_slot: slot,
             ..Default::default()
         };
         self.start_batch(cmd, &sets, &push);
@@ -684,14 +767,22 @@ impl Renderer {
             (BOUNCE_CHUNK, BOUNCE_CHUNK),
             stats,
         )?;
+        self.record_film(cmd, &sets, &push);
+        self.finish_batch(cmd, stats, depth)
+    }
+
+    /// Records `accumulate` and `film_gather` after the batch `push` describes: its
+    /// finished paths go to the film (`sets` must hold the film's).
+    fn record_film(&self, cmd: &mut CommandList, sets: &[&DescriptorSet], push: &Push) {
+        let k = &self.kernels;
         cmd.dispatch(
             &k.accumulate,
-            &sets,
-            bytemuck::bytes_of(&push),
-            groups_for(path_count.min(self.width * self.height)),
+            sets,
+            bytemuck::bytes_of(push),
+            groups_for(push.path_count),
         );
         cmd.barrier();
-        self.finish_batch(cmd, stats, depth)
+        self.film.record_gather(cmd, &k.film_gather, sets, push);
     }
 
     /// Submits the rest of a batch that ran `depth` bounces and adds its counters.
@@ -717,9 +808,16 @@ impl Renderer {
 }
 
 /// A batch of [`Renderer::for_each_batch`]: (renderer, commands, sample base, pixel
-/// base, paths, statistics).
-type BatchFn<'a> =
-    &'a mut dyn FnMut(&Renderer, &mut CommandList, u32, u32, u32, &mut RenderStats) -> Result<()>;
+/// base, paths, the film's sample slot of its first path, statistics).
+type BatchFn<'a> = &'a mut dyn FnMut(
+    &Renderer,
+    &mut CommandList,
+    u32,
+    u32,
+    u32,
+    u32,
+    &mut RenderStats,
+) -> Result<()>;
 
 /// Bounces recorded per submission of a batch (see `Renderer::run_bounces`).
 const BOUNCE_CHUNK: u32 = 64;
@@ -729,12 +827,12 @@ const BOUNCE_CHUNK: u32 = 64;
 /// paths mostly end within a few bounces, so their first chunk is short.
 const SHORT_BOUNCE_CHUNKS: (u32, u32) = (4, BOUNCE_CHUNK);
 
-/// Paths per batch: bounded by memory (about 40 MiB of path state on a CPU device,
-/// 300 MiB on a GPU) and large enough to fill a GPU.
+/// Paths per batch: bounded by memory (about 40 MiB of path state and film samples
+/// on a CPU device, 300 MiB on a GPU) and large enough to fill a GPU.
 fn default_capacity(device: &Device) -> u32 {
     let budget: u64 = match device.info().kind {
         crate::gpu::DeviceKind::Cpu => 40 << 20,
         _ => 300 << 20,
     };
-    (budget / BYTES_PER_PATH) as u32
+    (budget / (BYTES_PER_PATH + BYTES_PER_SAMPLE_SLOT)) as u32
 }

@@ -9,6 +9,7 @@ pub mod camera;
 pub mod emitter;
 pub mod envmap;
 pub mod error;
+pub mod film;
 pub mod integrator;
 pub mod medium;
 pub mod mesh;
@@ -29,6 +30,7 @@ pub use bsdf::Bsdf;
 pub use camera::Camera;
 pub use emitter::Emitter;
 pub use error::Error;
+pub use film::Film;
 pub use integrator::IntegratorSpec;
 pub use medium::Medium;
 pub use shape::{Mesh, Sphere};
@@ -42,6 +44,8 @@ pub struct Scene {
     /// The file it was read from (relative paths inside it resolve against its folder).
     pub path: PathBuf,
     pub camera: Camera,
+    /// Reconstruction filter, crop window and output formats (the size is the camera's).
+    pub film: Film,
     /// Samples per pixel the scene asks for (Mitsuba `sample_count`, Nori `sampleCount`).
     pub spp: u32,
     /// The integrator the scene names, with its parameters still unread.

@@ -3,7 +3,8 @@
 //!
 //! Supported objects (anything else is "not supported yet" or "unknown"):
 //! - `camera type="perspective"`: `toWorld`, `fov` (horizontal degrees, 30), `width`
-//!   1280, `height` 720, `nearClip` 1e-4, `farClip` 1e4; a nested `rfilter` is ignored.
+//!   1280, `height` 720, `nearClip` 1e-4, `farClip` 1e4; a nested `rfilter`
+//!   (`gaussian`, the default, `mitchell`, `tent`, `box`: [`super::film`]).
 //!   Nori's camera looks down +z like Mitsuba's but puts image column 0 at camera -x.
 //!   `lookat` is orthonormal, as in Nori since its commit 981dfb2 (2015-08-18); before
 //!   that Nori left its `left` and `up` axes unnormalised, of length sin θ (θ between
@@ -26,10 +27,11 @@
 use glam::Vec3;
 
 use super::builder::{self, Builder, UNSUPPORTED_BSDFS, UNSUPPORTED_EMITTERS};
+use super::film::Filter;
 use super::mitsuba::integrator_spec;
 use super::properties::Properties;
 use super::xml::{Dialect, Document, Element};
-use super::{obj, Bsdf, Camera, Emitter, Error, Medium, Scene};
+use super::{obj, Bsdf, Camera, Emitter, Error, Film, Medium, Scene};
 
 /// Loads a Nori scene read by [`super::xml::read`].
 pub fn load(doc: &Document) -> Result<Scene, Error> {
@@ -64,11 +66,12 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
             t => return Err(el.err(format!("unexpected <{t}> in a Nori <scene>"))),
         }
     }
-    let camera = camera.ok_or_else(|| doc.root.err("the scene has no <camera>"))?;
+    let (camera, film) = camera.ok_or_else(|| doc.root.err("the scene has no <camera>"))?;
     let integrator = integrator.ok_or_else(|| doc.root.err("the scene has no <integrator>"))?;
     Ok(Scene {
         path: doc.root.file.as_ref().clone(),
         camera,
+        film,
         spp: spp.unwrap_or(1),
         integrator,
         meshes: b.meshes,
@@ -81,17 +84,20 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
     })
 }
 
-fn perspective(el: &Element) -> Result<Camera, Error> {
+/// The camera and its film (Nori's reconstruction filter sits in the camera).
+fn perspective(el: &Element) -> Result<(Camera, Film), Error> {
     el.check_attrs(&["type"])?;
     if el.require("type")? != "perspective" {
         return Err(builder::unsupported(el, "camera", &[]));
     }
     let (props, nested) = Properties::read(el, Dialect::Nori, false)?;
+    let mut filter = None;
     for n in nested {
-        if n.tag != "rfilter" {
-            return Err(n.err(format!("unexpected <{}> in <camera>", n.tag)));
+        match n.tag.as_str() {
+            "rfilter" if filter.is_none() => filter = Some(Filter::from_nori(n)?),
+            "rfilter" => return Err(n.err("the camera has more than one reconstruction filter")),
+            _ => return Err(n.err(format!("unexpected <{}> in <camera>", n.tag))),
         }
-        Properties::read(n, Dialect::Nori, false)?; // accepted and ignored
     }
     let fov = props.float("fov", 30.0)?;
     if !(fov > 0.0 && fov < 180.0) {
@@ -116,7 +122,7 @@ fn perspective(el: &Element) -> Result<Camera, Error> {
         return Err(props.object_error("need 0 < nearClip < farClip"));
     }
     props.finish()?;
-    Ok(camera)
+    Ok((camera, Film::nori(filter.unwrap_or(Filter::DEFAULT))))
 }
 
 fn sampler(el: &Element) -> Result<u32, Error> {
