@@ -38,6 +38,7 @@ fn main() {
             .arg("--target-env")
             .arg("vulkan1.2")
             .arg(format!("-I{}", shader_dir.join("common").display()))
+            .arg(format!("-I{}", shader_dir.join("sampler").display()))
             .arg("-o")
             .arg(&spv)
             .arg(kernel)

@@ -4,7 +4,10 @@
 // Writes: paths[p], ray queue 0 item p. The host sets ray_count[0] = path_count.
 
 #include "wavefront.glsl"
-#include "rng.glsl"
+// The sampler kind (SAMPLER_*): the other kinds compile away.
+layout(constant_id = 0) const uint SCENE_SAMPLER_KIND = 0u;
+#define SAMPLER_KIND SCENE_SAMPLER_KIND
+#include "sampler_frame.glsl"
 #include "camera.glsl"
 
 void main() {
@@ -16,7 +19,7 @@ void main() {
     uint sample_index = push.sample_base + g / pixels;
 
     // Box filter: a uniform position inside the pixel.
-    vec2 jitter = rng_4d(pixel, sample_index, RNG_DIM_CAMERA, frame.seed).xy;
+    vec2 jitter = sample_2d(pixel, sample_index, RNG_DIM_CAMERA);
     vec2 film_pos = vec2(pixel % frame.width, pixel / frame.width) + jitter;
     vec3 origin, dir;
     float tmax;

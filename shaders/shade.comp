@@ -8,6 +8,9 @@
 
 #include "wavefront.glsl"
 #include "scene_bindings.glsl"
+// The sampler kind (SAMPLER_*): the other kinds compile away.
+layout(constant_id = 12) const uint SCENE_SAMPLER_KIND = 0u;
+#define SAMPLER_KIND SCENE_SAMPLER_KIND
 // The primitive and vertex features of the scene (SURFACE_FEATURE_* bits): hit geometry
 // compiles the others away (surface.glsl).
 layout(constant_id = 10) const uint SCENE_SURFACE_FEATURES = 0xffffffffu;

@@ -18,6 +18,7 @@ mod obj;
 mod ply;
 pub mod procedural;
 pub mod properties;
+pub mod sampler;
 pub mod shape;
 pub mod spectrum;
 pub mod texture;
@@ -30,6 +31,7 @@ pub use emitter::Emitter;
 pub use error::Error;
 pub use integrator::IntegratorSpec;
 pub use medium::Medium;
+pub use sampler::Sampler;
 pub use shape::{Mesh, Sphere};
 pub use texture::Texture;
 
@@ -41,8 +43,11 @@ pub struct Scene {
     /// The file it was read from (relative paths inside it resolve against its folder).
     pub path: PathBuf,
     pub camera: Camera,
-    /// Samples per pixel the scene asks for (Mitsuba `sample_count`, Nori `sampleCount`).
+    /// Samples per pixel the scene asks for (Mitsuba `sample_count`, Nori `sampleCount`),
+    /// before the sampler rounds it ([`Sampler::sample_count`]).
     pub spp: u32,
+    /// The sampler the scene names.
+    pub sampler: Sampler,
     /// The integrator the scene names, with its parameters still unread.
     pub integrator: IntegratorSpec,
     pub meshes: Vec<Mesh>,
