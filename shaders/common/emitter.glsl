@@ -75,9 +75,9 @@ float emitter_sphere_cone(vec3 x, vec3 c, float r) {
 }
 
 // Samples light arriving at x from one 2-D sample u: the emitter is chosen by u.x, which
-// is then reused (alias_sample_reuse), and a mesh's triangle by u.y likewise, so that
-// the point on the emitter is drawn from a 2-D sample (as Mitsuba does), which a
-// stratified sampler stratifies.
+// is then reused (alias_sample_cdf), and a mesh's triangle by u.y likewise
+// (alias_sample_reuse), so that the point on the emitter is drawn from a 2-D sample (as
+// Mitsuba does), which a stratified sampler stratifies.
 EmitterSample emitter_sample(vec3 x, vec2 u) {
     EmitterSample s;
     s.delta = false;
@@ -88,7 +88,7 @@ EmitterSample emitter_sample(vec3 x, vec2 u) {
     s.emitter = NONE;
     if (frame.emitter_count == 0u) return s;
     float pmf;
-    uint index = alias_sample_reuse(0u, frame.emitter_count, u.x, pmf);
+    uint index = alias_sample_cdf(0u, frame.emitter_count, u.x, pmf);
     s.emitter = index;
     EmitterRecord e = emitter_load(index);
     if ((EMITTER_HAS(EMITTER_POINT) && e.kind == EMITTER_POINT)

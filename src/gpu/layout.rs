@@ -358,7 +358,8 @@ pub struct TextureRecord {
 /// One entry of an alias table (Walker 1977; Vose 1991): pick `i` uniformly, keep it
 /// with probability `prob`, else take `alias`. `pmf` is the probability of choosing
 /// entry `i` in the end; `prim` is the BVH primitive of a light triangle (tables of
-/// mesh emitters) and unused in the emitter table.
+/// mesh emitters), and in the emitter table the cumulative pmf of the entries before
+/// (f32 bits, `render::alias::set_cdf`), for sampling by inversion.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct AliasEntry {
