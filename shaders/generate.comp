@@ -7,7 +7,7 @@
 // The sampler kind (SAMPLER_*): the other kinds compile away.
 layout(constant_id = 0) const uint SCENE_SAMPLER_KIND = 0u;
 #define SAMPLER_KIND SCENE_SAMPLER_KIND
-#include "sampler_frame.glsl"
+#include "sampler/sampler_frame.glsl"
 #include "camera.glsl"
 
 void main() {

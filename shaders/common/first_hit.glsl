@@ -8,7 +8,7 @@
 
 #include "integrator.glsl"
 #include "queue.glsl"
-#include "sampler_frame.glsl"
+#include "sampler/sampler_frame.glsl"
 #include "surface.glsl"
 #include "ao.glsl"
 

@@ -9,7 +9,7 @@
 // The kind under test, as the renderer's kernels specialize it.
 layout(constant_id = 0) const uint TEST_SAMPLER_KIND = 0u;
 #define SAMPLER_KIND TEST_SAMPLER_KIND
-#include "sampler.glsl"
+#include "sampler/sampler.glsl"
 
 layout(local_size_x = 64) in;
 
