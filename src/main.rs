@@ -295,8 +295,9 @@ fn run(cli: Cli) -> Result<()> {
             spp,
             sampler,
         } => {
+            let t = Instant::now();
             let sc = load(&scene)?;
-            print_info(&sc, spp, sampler.as_deref())?;
+            print_info(&sc, t.elapsed().as_secs_f64(), spp, sampler.as_deref())?;
             Ok(())
         }
         Command::Devices => {
@@ -408,9 +409,19 @@ fn default_output(scene: &Path) -> PathBuf {
     PathBuf::from(stem).with_extension("exr")
 }
 
-fn print_info(sc: &Scene, spp: Option<u32>, sampler: Option<&str>) -> Result<()> {
-    use wavetrace::accel::{prims_from_scene, Bvh};
-    println!("scene:       {}", sc.path.display());
+fn print_info(
+    sc: &Scene,
+    load_seconds: f64,
+    spp: Option<u32>,
+    sampler: Option<&str>,
+) -> Result<()> {
+    use wavetrace::accel::Bvh;
+    use wavetrace::bench::memory::PeakMeter;
+    println!(
+        "scene:       {} (loaded in {:.1} ms)",
+        sc.path.display(),
+        load_seconds * 1e3
+    );
     let c = &sc.camera;
     println!(
         "camera:      {}x{}, horizontal fov {:.2}°, clip [{}, {}]",
@@ -469,10 +480,23 @@ fn print_info(sc: &Scene, spp: Option<u32>, sampler: Option<&str>) -> Result<()>
     for e in &sc.emitters {
         println!("  {e:?}");
     }
-    let bvh = Bvh::build(prims_from_scene(sc));
+    let meter = PeakMeter::start();
+    let bvh = Bvh::for_shapes(&sc.meshes, &sc.spheres);
     let s = &bvh.stats;
+    // The build's peak above the loaded scene, where the OS tells it.
+    let peak = meter
+        .extra()
+        .map(|b| {
+            let prims = bvh.prims.len().max(1) as f64;
+            format!(
+                ", build peak {:.1} MiB ({:.0} bytes a primitive)",
+                b as f64 / (1u64 << 20) as f64,
+                b as f64 / prims
+            )
+        })
+        .unwrap_or_default();
     println!(
-        "bvh:         {} nodes, {} leaves, depth {}, largest leaf {}, SAH cost {:.2}, built in {:.1} ms",
+        "bvh:         {} nodes, {} leaves, depth {}, largest leaf {}, SAH cost {:.2}, built in {:.1} ms{peak}",
         s.node_count,
         s.leaf_count,
         s.max_depth,

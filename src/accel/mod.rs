@@ -1,13 +1,15 @@
 //! Acceleration structures: the BVH built on the host and flattened for the kernels.
 //!
 //! [`prims_from_scene`] turns a [`Scene`] into [`Prim`]s, [`Bvh::build`] sorts them
-//! into a binned-SAH tree of [`BvhNode`](crate::gpu::layout::BvhNode)s, and
+//! into a binned-SAH tree of [`BvhNode`](crate::gpu::layout::BvhNode)s
+//! ([`bvh_build`]; [`Bvh::for_shapes`] builds a scene's without the copy), and
 //! [`Bvh::closest`] / [`Bvh::any`] traverse it on the CPU exactly as
 //! `shaders/common/bvh.glsl` does on the GPU. [`triangle`] and [`sphere`] hold the
 //! intersection routines, mirrored by `intersect_triangle.glsl` and
 //! `intersect_sphere.glsl`.
 
 pub mod bvh;
+pub mod bvh_build;
 pub mod sphere;
 pub mod triangle;
 

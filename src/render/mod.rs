@@ -220,7 +220,7 @@ impl Renderer {
                 accel::BVH_MAX_PRIMS
             )));
         }
-        let bvh = Bvh::build(accel::prims_from_scene(scene));
+        let bvh = Bvh::for_shapes(&scene.meshes, &scene.spheres);
         let records = SceneRecords::new(scene, &bvh);
 
         let t = Instant::now();
