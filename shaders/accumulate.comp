@@ -6,6 +6,9 @@
 // Reads: paths. Writes: the film's sample ring, counters.discarded.
 
 #include "wavefront.glsl"
+// The sampler kind (SAMPLER_*), which draws the samples' positions in their pixels.
+layout(constant_id = 0) const uint SCENE_SAMPLER_KIND = 0u;
+#define SAMPLER_KIND SCENE_SAMPLER_KIND
 #include "film/film.glsl"
 
 void main() {

@@ -6,6 +6,9 @@
 // ray_count[0] = path_count.
 
 #include "wavefront.glsl"
+// The sampler kind (SAMPLER_*): the other kinds compile away.
+layout(constant_id = 0) const uint SCENE_SAMPLER_KIND = 0u;
+#define SAMPLER_KIND SCENE_SAMPLER_KIND
 #include "film/film.glsl"
 #include "camera.glsl"
 

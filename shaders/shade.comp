@@ -8,6 +8,9 @@
 
 #include "wavefront.glsl"
 #include "scene_bindings.glsl"
+// The sampler kind (SAMPLER_*): the other kinds compile away.
+layout(constant_id = 12) const uint SCENE_SAMPLER_KIND = 0u;
+#define SAMPLER_KIND SCENE_SAMPLER_KIND
 // The primitive and vertex features of the scene (SURFACE_FEATURE_* bits): hit geometry
 // compiles the others away (surface.glsl).
 layout(constant_id = 10) const uint SCENE_SURFACE_FEATURES = 0xffffffffu;
@@ -53,7 +56,7 @@ layout(constant_id = 8) const bool SCENE_MIS_POWER = false;
 
 layout(constant_id = 0) const uint INTEGRATOR = INTEGRATOR_AO;
 // The film keeps an alpha channel: camera paths record whether they cover their pixel.
-layout(constant_id = 12) const bool SCENE_FILM_ALPHA = false;
+layout(constant_id = 13) const bool SCENE_FILM_ALPHA = false;
 
 void main() {
     uint i = thread_index();

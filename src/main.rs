@@ -11,6 +11,7 @@ use wavetrace::bench;
 use wavetrace::gpu::Device;
 use wavetrace::render::{RenderOptions, Renderer};
 use wavetrace::scene::film::{FileFormat, Filter, PixelFormat};
+use wavetrace::scene::sampler::SamplerKind;
 use wavetrace::scene::{self, Scene};
 
 #[derive(Parser)]
@@ -36,9 +37,13 @@ struct SceneArgs {
 /// How to run a render, shared by `render` and `bench`.
 #[derive(clap::Args)]
 struct RunArgs {
-    /// Seed of the random numbers.
+    /// Seed of the random numbers (added to the sampler's `seed`).
     #[arg(long, default_value_t = 0)]
     seed: u32,
+    /// Sampler, overriding the scene's type (its parameters carry over): independent,
+    /// stratified, multijitter, orthogonal, ldsampler, zsobol.
+    #[arg(long)]
+    sampler: Option<String>,
     /// Integrator, overriding the scene's: normals, ao, simple, direct_ems,
     /// direct_mats, direct_mis (direct), path_mats, path_mis (path), vol_path_simple,
     /// vol_path_mis (volpath), single_scatter, photonmapper (Nori's photon mapper),
@@ -66,6 +71,7 @@ impl RunArgs {
         let options = RenderOptions {
             integrator: self.integrator,
             seed: self.seed,
+            sampler: self.sampler,
             max_batch_paths: self.batch,
             timestamps,
             max_bounces: self.max_bounces,
@@ -120,10 +126,17 @@ enum Command {
         #[arg(short, long)]
         quiet: bool,
     },
-    /// Print what a scene holds: shapes, triangles, BVH, emitters, integrator.
+    /// Print what a scene holds: shapes, triangles, BVH, emitters, integrator,
+    /// sampler and the sample count it renders.
     Info {
         #[command(flatten)]
         scene: SceneArgs,
+        /// Samples per pixel to round as the sampler would (default: the scene's).
+        #[arg(long)]
+        spp: Option<u32>,
+        /// Sampler overriding the scene's type, as for `render`.
+        #[arg(long)]
+        sampler: Option<String>,
     },
     /// List the Vulkan devices wavetrace can use.
     Devices,
@@ -164,14 +177,14 @@ fn run(cli: Cli) -> Result<()> {
             let t_load = Instant::now();
             let sc = load(&scene)?;
             let load_seconds = t_load.elapsed().as_secs_f64();
-            let spp = spp.unwrap_or(sc.spp);
-            if spp == 0 {
+            let requested = spp.unwrap_or(sc.spp);
+            if requested == 0 {
                 bail!("--spp must be at least 1");
             }
             let format = sc.film.file_format;
-            let requested = output.unwrap_or_else(|| default_output(&scene.scene));
-            let output = output_path(&requested, format);
-            if output != requested {
+            let asked_output = output.unwrap_or_else(|| default_output(&scene.scene));
+            let output = output_path(&asked_output, format);
+            if output != asked_output {
                 eprintln!(
                     "note: the film's file format is {}: writing {}",
                     format.extension(),
@@ -182,6 +195,11 @@ fn run(cli: Cli) -> Result<()> {
             let device = Device::new(device.as_deref())?;
             eprintln!("device: {}", device.info());
             let mut renderer = Renderer::new(&device, &sc, &options)?;
+            let count = renderer.round_sample_count(requested)?;
+            if let Some(w) = &count.warning {
+                eprintln!("warning: {w}");
+            }
+            let spp = count.count;
             let s = &renderer.setup;
             eprintln!(
                 "start-up: scene {:.0} ms, vulkan {:.0} ms, bvh {:.0} ms ({} nodes, SAH {:.1}), upload {:.0} ms, \
@@ -198,8 +216,9 @@ fn run(cli: Cli) -> Result<()> {
             let g = *renderer.film_geometry();
             let (w, h) = (g.crop.width, g.crop.height);
             eprintln!(
-                "rendering {w}x{h} at {spp} spp with '{}', {} ({} paths per batch)",
+                "rendering {w}x{h} at {spp} spp with '{}', sampler '{}', {} ({} paths per batch)",
                 renderer.integrator().name(),
+                renderer.sampler().kind.name(),
                 describe_film(&sc),
                 renderer.capacity()
             );
@@ -311,10 +330,14 @@ fn run(cli: Cli) -> Result<()> {
                 quiet,
             )
         }
-        Command::Info { scene } => {
+        Command::Info {
+            scene,
+            spp,
+            sampler,
+        } => {
             let t = Instant::now();
             let sc = load(&scene)?;
-            print_info(&sc, t.elapsed().as_secs_f64());
+            print_info(&sc, t.elapsed().as_secs_f64(), spp, sampler.as_deref())?;
             Ok(())
         }
         Command::Devices => {
@@ -380,12 +403,19 @@ fn bench(
         s.first_dispatch_seconds * 1e3,
         s.warmup_seconds * 1e3,
     );
+    for r in report.rows.iter().filter(|r| r.spp != r.requested_spp) {
+        eprintln!(
+            "note: sampler '{}' rounds {} spp to {} (Mitsuba's rule)",
+            report.sampler, r.requested_spp, r.spp
+        );
+    }
     println!(
-        "{} ({}x{}, integrator {}, seed {}) against {}",
+        "{} ({}x{}, integrator {}, sampler {}, seed {}) against {}",
         report.scene.display(),
         report.width,
         report.height,
         report.integrator,
+        report.sampler,
         report.seed,
         report.reference.display()
     );
@@ -465,7 +495,12 @@ fn default_output(scene: &Path) -> PathBuf {
     PathBuf::from(stem).with_extension("exr")
 }
 
-fn print_info(sc: &Scene, load_seconds: f64) {
+fn print_info(
+    sc: &Scene,
+    load_seconds: f64,
+    spp: Option<u32>,
+    sampler: Option<&str>,
+) -> Result<()> {
     use wavetrace::accel::Bvh;
     use wavetrace::bench::memory::PeakMeter;
     println!(
@@ -479,7 +514,31 @@ fn print_info(sc: &Scene, load_seconds: f64) {
         c.width, c.height, c.fov_x_deg, c.near_clip, c.far_clip
     );
     println!("film:        {}", describe_film(sc));
-    println!("samples:     {} per pixel", sc.spp);
+    let s = wavetrace::render::choose_sampler(sc, sampler)?;
+    let requested = spp.unwrap_or(sc.spp);
+    let count = s
+        .sample_count(requested, c.width, c.height)
+        .map_err(anyhow::Error::msg)?;
+    let mut params = format!("seed {}", s.seed);
+    match s.kind {
+        SamplerKind::Stratified | SamplerKind::Multijitter => {
+            params += &format!(", jitter {}", s.jitter)
+        }
+        SamplerKind::Orthogonal => {
+            params += &format!(", jitter {}, strength {}", s.jitter, s.strength)
+        }
+        SamplerKind::ZSobol => params += &format!(", randomization {}", s.randomization.name()),
+        SamplerKind::Independent | SamplerKind::LdSampler => {}
+    }
+    println!("sampler:     {} ({params})", s.kind.name());
+    if count.count == requested {
+        println!("samples:     {} per pixel", count.count);
+    } else {
+        println!(
+            "samples:     {} per pixel ({requested} asked for, rounded by the sampler)",
+            count.count
+        );
+    }
     println!(
         "integrator:  {} {:?}",
         sc.integrator.name, sc.integrator.params
@@ -533,6 +592,7 @@ fn print_info(sc: &Scene, load_seconds: f64) {
         s.build_seconds * 1e3
     );
     print_device_memory(sc, &bvh);
+    Ok(())
 }
 
 /// The memory each scene buffer takes on the device, and how it is split over

@@ -134,6 +134,59 @@ fn info_describes_the_scene() {
     ] {
         assert!(out.contains(needle), "info lacks {needle}:\n{out}");
     }
+    assert!(out.contains("sampler:     independent (seed 0)"), "{out}");
+    // The sample count a sampler renders, rounded as Mitsuba rounds it.
+    let (code, out, err) = wavetrace(&[
+        "info",
+        scene.to_str().unwrap(),
+        "--sampler",
+        "orthogonal",
+        "--spp",
+        "64",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("sampler:     orthogonal (seed 0, jitter true, strength 2)"),
+        "{out}"
+    );
+    assert!(
+        out.contains("samples:     121 per pixel (64 asked for, rounded by the sampler)"),
+        "{out}"
+    );
+}
+
+#[test]
+fn render_reports_the_rounded_sample_count() {
+    let dir = std::env::temp_dir().join(format!("wavetrace-cli-round-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("ao.exr");
+    let scene = repo("scenes/ao/ao.xml");
+    let (code, _, err) = wavetrace(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--spp",
+        "3",
+        "--sampler",
+        "stratified",
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains(
+            "warning: stratified: Sample count should be square and power of two, rounding to 4"
+        ),
+        "{err}"
+    );
+    assert!(
+        err.contains("at 4 spp with 'ao', sampler 'stratified'"),
+        "{err}"
+    );
+    assert_error(
+        &["render", scene.to_str().unwrap(), "--sampler", "halton"],
+        &["unknown sampler 'halton'", "zsobol"],
+    );
 }
 
 #[test]

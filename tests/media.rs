@@ -297,6 +297,17 @@ fn matches_reference(device: &Device, scene: &str, defines: &[(&str, &str)], ref
     matches_reference_with(device, scene, defines, reference, None);
 }
 
+/// As [`matches_reference`] at `spp` samples.
+fn matches_reference_at(
+    device: &Device,
+    scene: &str,
+    defines: &[(&str, &str)],
+    reference: &str,
+    spp: u32,
+) {
+    matches_reference_spp(device, scene, defines, reference, None, spp);
+}
+
 /// As [`matches_reference`] with another integrator than the scene's.
 fn matches_reference_with(
     device: &Device,
@@ -305,9 +316,20 @@ fn matches_reference_with(
     reference: &str,
     integrator: Option<&str>,
 ) {
+    matches_reference_spp(device, scene, defines, reference, integrator, 64);
+}
+
+fn matches_reference_spp(
+    device: &Device,
+    scene: &str,
+    defines: &[(&str, &str)],
+    reference: &str,
+    integrator: Option<&str>,
+    spp: u32,
+) {
     let scene = load_with(&common::repo(scene), defines);
     let reference = Image::read_exr(common::repo(reference)).expect("reference EXR");
-    let (img, stats) = render_stats(device, &scene, integrator, 64, 0);
+    let (img, stats) = render_stats(device, &scene, integrator, spp, 0);
     assert_eq!(stats.discarded, 0, "NaN or infinite samples");
     let label = format!(
         "{} ({:.2} s)",
@@ -338,17 +360,24 @@ fn homogeneous_media_match_mitsuba() {
         "scenes/refs/media_cube.exr",
         Some("vol_path_simple"),
     );
-    matches_reference(
+    // The anisotropic cubes at 256 spp: under the small area light their samples are
+    // heavy-tailed, and at 64 spp the block means are far enough from normal that an
+    // unbiased render fails the t-test for 2 of 5 seeds (t down to -5.6, the sign of
+    // rare bright samples missing); 1024-spp renders of seeds 0 and 3 show no block
+    // above |t| = 2.8, so nothing is biased.
+    matches_reference_at(
         &device,
         cube,
         &[("g", "0.7")],
         "scenes/refs/media_cube_g07.exr",
+        256,
     );
-    matches_reference(
+    matches_reference_at(
         &device,
         cube,
         &[("g", "-0.7")],
         "scenes/refs/media_cube_gm07.exr",
+        256,
     );
     matches_reference(
         &device,

@@ -210,7 +210,34 @@ struct Frame {
     uint env_emitter;   // constant environment emitter or NONE
     uint hide_emitters; // 1: camera rays do not see emitters
     uint camera_medium; // medium camera rays start in, or NONE
+    uint sampler_kind;  // SAMPLER_* (shaders/sampler/sampler.glsl)
+    uint sample_count;  // samples of one pass of the sampler
+    uint sampler_res_x; // the sampler's strata (see struct Sampler)
+    uint sampler_res_y;
+    uint sampler_flags; // SAMPLER_JITTER, strength, scrambling
+    uint sampler_width;  // the pixel keys' grid (film with its sampled border)
+    uint sampler_height;
+    uint pad0;
 };
+
+// Sampler kinds (Frame::sampler_kind) and flags (Frame::sampler_flags).
+#define SAMPLER_INDEPENDENT 0u
+#define SAMPLER_STRATIFIED 1u
+#define SAMPLER_MULTIJITTER 2u
+#define SAMPLER_ORTHOGONAL 3u
+#define SAMPLER_LDSAMPLER 4u
+#define SAMPLER_ZSOBOL 5u
+#define SAMPLER_SOBOL 6u
+#define SAMPLER_PMJ02BN 7u
+// orthogonal of strength > 2 (Bush's construction; SAMPLER_ORTHOGONAL is Bose's).
+#define SAMPLER_ORTHOGONAL_BUSH 8u
+#define SAMPLER_JITTER 1u
+#define SAMPLER_STRENGTH_SHIFT 8u
+#define SAMPLER_SCRAMBLE_SHIFT 16u
+#define SAMPLER_SCRAMBLE_NONE 0u
+#define SAMPLER_SCRAMBLE_XOR 1u
+#define SAMPLER_SCRAMBLE_FAST_OWEN 2u
+#define SAMPLER_SCRAMBLE_OWEN 3u
 
 // One path of the wavefront, by path slot.
 #define PATH_DELTA 1u

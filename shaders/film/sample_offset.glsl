@@ -3,14 +3,15 @@
 #define FILM_SAMPLE_OFFSET_GLSL
 
 #include "rng.glsl"
+#include "sampler/sampler_frame.glsl"
 
 // The film position of sample `sample_index` of the pixel with key `pixel` (see
 // film_pixel_key in film/film.glsl), relative to the pixel's top-left corner, in
 // [0, 1)², as the sampler draws it: the camera's sampler dimension, RNG_DIM_CAMERA
 // (rng.glsl). Use film_sample_position, which both the camera (generate) and the film
-// (accumulate) call.
+// (accumulate) call; both define SAMPLER_KIND alike (sampler/sampler.glsl).
 vec2 film_sample_offset(uint pixel, uint sample_index) {
-    return rng_4d(pixel, sample_index, RNG_DIM_CAMERA, frame.seed).xy;
+    return sample_2d(pixel, sample_index, RNG_DIM_CAMERA);
 }
 
 // Film positions are kept to 1/32768 of a pixel: two 15-bit cells fit beside a

@@ -101,7 +101,10 @@ pub const DEFAULT_SPP: &[u32] = &[1, 4, 16, 64, 256];
 /// One render of the benchmark.
 #[derive(Debug, Clone)]
 pub struct Row {
+    /// Samples per pixel rendered: the requested count as the sampler rounds it.
     pub spp: u32,
+    /// Samples per pixel asked for.
+    pub requested_spp: u32,
     /// Wall time of the render, seconds.
     pub seconds: f64,
     /// Rays traced (camera, extension and shadow rays).
@@ -110,6 +113,8 @@ pub struct Row {
     pub discarded: u64,
     /// Paths cut at the bounce budget ([`RenderStats::cut_paths`](crate::render::RenderStats)).
     pub cut_paths: u64,
+    /// Mean squared error over pixels and channels (the issue tables' MSE).
+    pub mse: f64,
     pub rmse: f64,
     pub rel_mse: f64,
     /// GPU time per kernel: for the largest sample count only, from a render of its
@@ -162,6 +167,8 @@ pub struct Report {
     pub device_kind: String,
     pub driver: String,
     pub integrator: String,
+    /// The sampler's type.
+    pub sampler: String,
     pub width: u32,
     pub height: u32,
     pub seed: u32,
@@ -240,11 +247,13 @@ pub fn run(
     for &spp in &options.spp {
         let (image, stats) = renderer.render(spp, &mut |done, total| progress(spp, done, total))?;
         rows.push(Row {
-            spp,
+            spp: stats.spp,
+            requested_spp: spp,
             seconds: stats.seconds,
             rays: stats.rays,
             discarded: stats.discarded,
             cut_paths: stats.cut_paths,
+            mse: metrics::mse(&image, &reference).map_err(Error::Metrics)?,
             rmse: metrics::rmse(&image, &reference).map_err(Error::Metrics)?,
             rel_mse: metrics::rel_mse(&image, &reference).map_err(Error::Metrics)?,
             kernel_times: stats.kernel_times,
@@ -256,7 +265,7 @@ pub fn run(
         renderer.set_timestamps(true);
         let (_, stats) =
             renderer.render(largest, &mut |done, total| progress(largest, done, total))?;
-        if let Some(row) = rows.iter_mut().rev().find(|r| r.spp == largest) {
+        if let Some(row) = rows.iter_mut().rev().find(|r| r.spp == stats.spp) {
             row.kernel_times = stats.kernel_times;
         }
     }
@@ -269,6 +278,7 @@ pub fn run(
         device_kind: info.kind.name().to_string(),
         driver: info.driver.clone(),
         integrator: renderer.integrator().name().to_string(),
+        sampler: renderer.sampler().kind.name().to_string(),
         width,
         height,
         seed: options.render.seed,
@@ -288,14 +298,15 @@ impl Report {
     /// The table `wavetrace bench` prints: one line per sample count.
     pub fn table(&self) -> String {
         let mut s = format!(
-            "{:>6} {:>10} {:>12} {:>12} {:>9} {:>12}\n",
-            "spp", "seconds", "RMSE", "relMSE", "Mrays/s", "efficiency"
+            "{:>6} {:>10} {:>12} {:>12} {:>12} {:>9} {:>12}\n",
+            "spp", "seconds", "MSE", "RMSE", "relMSE", "Mrays/s", "efficiency"
         );
         for r in &self.rows {
             s += &format!(
-                "{:>6} {:>10.4} {:>12.4e} {:>12.4e} {:>9.3} {:>12.4e}\n",
+                "{:>6} {:>10.4} {:>12.4e} {:>12.4e} {:>12.4e} {:>9.3} {:>12.4e}\n",
                 r.spp,
                 r.seconds,
+                r.mse,
                 r.rmse,
                 r.rel_mse,
                 r.mrays_per_second(),
@@ -365,15 +376,16 @@ impl Report {
     /// ```json
     /// { "scene": "...", "reference": "...", "defines": {"res": "128"},
     ///   "device": "llvmpipe (LLVM 15.0.6, 256 bits)", "device_kind": "cpu",
-    ///   "driver": "...", "integrator": "ao", "width": 128, "height": 128, "seed": 0,
+    ///   "driver": "...", "integrator": "ao", "sampler": "independent", "width": 128,
+    ///   "height": 128, "seed": 0,
     ///   "batch_paths": 262144, "timestamps": true,
     ///   "startup": { "scene_seconds": ..., "reference_seconds": ...,
     ///                "vulkan_seconds": ..., "bvh_seconds": ..., "bvh_nodes": ...,
     ///                "bvh_sah_cost": ..., "upload_seconds": ...,
     ///                "pipeline_seconds": ..., "first_dispatch_seconds": ...,
     ///                "warmup_seconds": ... },
-    ///   "rows": [ { "spp": 1, "seconds": ..., "rays": ..., "mrays_per_second": ...,
-    ///               "rmse": ..., "rel_mse": ..., "efficiency": ..., "discarded": 0, "cut_paths": 0,
+    ///   "rows": [ { "spp": 1, "requested_spp": 1, "seconds": ..., "rays": ...,
+    ///               "mrays_per_second": ..., "mse": ..., "rmse": ..., "rel_mse": ..., "efficiency": ..., "discarded": 0, "cut_paths": 0,
     ///               "kernels": { "intersect": { "seconds": ..., "dispatches": 4 }, ... } },
     ///             ... ] }
     /// ```
@@ -398,9 +410,11 @@ impl Report {
                     .collect();
                 json!({
                     "spp": r.spp,
+                    "requested_spp": r.requested_spp,
                     "seconds": r.seconds,
                     "rays": r.rays,
                     "mrays_per_second": finite(r.mrays_per_second()),
+                    "mse": r.mse,
                     "rmse": r.rmse,
                     "rel_mse": r.rel_mse,
                     "efficiency": finite(r.efficiency()),
@@ -424,6 +438,7 @@ impl Report {
             "device_kind": self.device_kind,
             "driver": self.driver,
             "integrator": self.integrator,
+            "sampler": self.sampler,
             "width": self.width,
             "height": self.height,
             "seed": self.seed,
@@ -496,10 +511,12 @@ mod tests {
     fn row(spp: u32, seconds: f64, rel_mse: f64) -> Row {
         Row {
             spp,
+            requested_spp: spp,
             seconds,
             rays: 2_000_000,
             discarded: 0,
             cut_paths: 0,
+            mse: rel_mse,
             rmse: rel_mse.sqrt(),
             rel_mse,
             kernel_times: KernelTimes::default(),
@@ -516,6 +533,7 @@ mod tests {
             device_kind: "cpu".into(),
             driver: "drv".into(),
             integrator: "ao".into(),
+            sampler: "independent".into(),
             width: 8,
             height: 8,
             seed: 0,

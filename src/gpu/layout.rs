@@ -358,7 +358,8 @@ pub struct TextureRecord {
 /// One entry of an alias table (Walker 1977; Vose 1991): pick `i` uniformly, keep it
 /// with probability `prob`, else take `alias`. `pmf` is the probability of choosing
 /// entry `i` in the end; `prim` is the BVH primitive of a light triangle (tables of
-/// mesh emitters) and unused in the emitter table.
+/// mesh emitters), and in the emitter table the cumulative pmf of the entries before
+/// (f32 bits, `render::alias::set_cdf`), for sampling by inversion.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct AliasEntry {
@@ -398,7 +399,44 @@ pub struct Frame {
     pub hide_emitters: u32,
     /// The medium camera rays start in (Mitsuba's sensor `<medium>`), or `NONE`.
     pub camera_medium: u32,
+    /// `SAMPLER_*`: which sampler draws the random numbers (shaders/sampler/).
+    pub sampler_kind: u32,
+    /// Samples of one pass of the sampler (its pattern's size; later sample indices
+    /// start new passes).
+    pub sample_count: u32,
+    /// The sampler's strata: see [`crate::scene::sampler::SampleCount`].
+    pub sampler_res_x: u32,
+    pub sampler_res_y: u32,
+    /// `SAMPLER_JITTER`, strength << `SAMPLER_STRENGTH_SHIFT`, `SAMPLER_SCRAMBLE_*` <<
+    /// `SAMPLER_SCRAMBLE_SHIFT`.
+    pub sampler_flags: u32,
+    /// The grid the sampler's pixel keys index (the film with its sampled border,
+    /// `film_pixel_key`): zsobol reads a key as (key % width, key / width).
+    pub sampler_width: u32,
+    pub sampler_height: u32,
+    pub pad0: u32,
 }
+
+/// Sampler kinds ([`Frame::sampler_kind`]), mirrored in layout.glsl.
+pub const SAMPLER_INDEPENDENT: u32 = 0;
+pub const SAMPLER_STRATIFIED: u32 = 1;
+pub const SAMPLER_MULTIJITTER: u32 = 2;
+pub const SAMPLER_ORTHOGONAL: u32 = 3;
+pub const SAMPLER_LDSAMPLER: u32 = 4;
+pub const SAMPLER_ZSOBOL: u32 = 5;
+pub const SAMPLER_SOBOL: u32 = 6;
+pub const SAMPLER_PMJ02BN: u32 = 7;
+/// `orthogonal` of strength above 2 (Bush's construction; Bose's for strength 2).
+pub const SAMPLER_ORTHOGONAL_BUSH: u32 = 8;
+/// [`Frame::sampler_flags`]: jitter within strata.
+pub const SAMPLER_JITTER: u32 = 1;
+pub const SAMPLER_STRENGTH_SHIFT: u32 = 8;
+pub const SAMPLER_SCRAMBLE_SHIFT: u32 = 16;
+/// Randomizations of base-2 digits (Sobol' samplers).
+pub const SAMPLER_SCRAMBLE_NONE: u32 = 0;
+pub const SAMPLER_SCRAMBLE_XOR: u32 = 1;
+pub const SAMPLER_SCRAMBLE_FAST_OWEN: u32 = 2;
+pub const SAMPLER_SCRAMBLE_OWEN: u32 = 3;
 
 /// The state of one path of the wavefront, indexed by path slot.
 #[repr(C)]
@@ -872,7 +910,15 @@ mod tests {
                 rr_depth,
                 env_emitter,
                 hide_emitters,
-                camera_medium
+                camera_medium,
+                sampler_kind,
+                sample_count,
+                sampler_res_x,
+                sampler_res_y,
+                sampler_flags,
+                sampler_width,
+                sampler_height,
+                pad0
             ),
             rust_layout!(
                 PathState,
@@ -1058,6 +1104,28 @@ mod tests {
             ("FILTER_LANCZOS", FILTER_LANCZOS),
             ("FILM_SAMPLE_VALID", FILM_SAMPLE_VALID),
             ("FILM_SAMPLE_COVERED", FILM_SAMPLE_COVERED),
+        ]);
+    }
+
+    #[test]
+    fn sampler_constants_match_glsl() {
+        assert_glsl_defines(&[
+            ("SAMPLER_INDEPENDENT", SAMPLER_INDEPENDENT),
+            ("SAMPLER_STRATIFIED", SAMPLER_STRATIFIED),
+            ("SAMPLER_MULTIJITTER", SAMPLER_MULTIJITTER),
+            ("SAMPLER_ORTHOGONAL", SAMPLER_ORTHOGONAL),
+            ("SAMPLER_LDSAMPLER", SAMPLER_LDSAMPLER),
+            ("SAMPLER_ZSOBOL", SAMPLER_ZSOBOL),
+            ("SAMPLER_SOBOL", SAMPLER_SOBOL),
+            ("SAMPLER_PMJ02BN", SAMPLER_PMJ02BN),
+            ("SAMPLER_ORTHOGONAL_BUSH", SAMPLER_ORTHOGONAL_BUSH),
+            ("SAMPLER_JITTER", SAMPLER_JITTER),
+            ("SAMPLER_STRENGTH_SHIFT", SAMPLER_STRENGTH_SHIFT),
+            ("SAMPLER_SCRAMBLE_SHIFT", SAMPLER_SCRAMBLE_SHIFT),
+            ("SAMPLER_SCRAMBLE_NONE", SAMPLER_SCRAMBLE_NONE),
+            ("SAMPLER_SCRAMBLE_XOR", SAMPLER_SCRAMBLE_XOR),
+            ("SAMPLER_SCRAMBLE_FAST_OWEN", SAMPLER_SCRAMBLE_FAST_OWEN),
+            ("SAMPLER_SCRAMBLE_OWEN", SAMPLER_SCRAMBLE_OWEN),
         ]);
     }
 

@@ -81,6 +81,13 @@ pub struct FilmGeometry {
 const MAX_REGION_PIXELS: u64 = 1 << 30;
 
 impl FilmGeometry {
+    /// The grid of pixel keys (`film_pixel_key` in shaders/film/film.glsl): the full
+    /// film with its sampled border on every side. The sampler draws each key's
+    /// numbers, so a crop window draws those of the full render.
+    pub fn key_size(&self) -> (u32, u32) {
+        (self.width + 2 * self.border, self.height + 2 * self.border)
+    }
+
     /// The geometry of a `width` x `height` film rendering `crop` (`None`: all of it)
     /// with `filter`, sampling the border if `sample_border`.
     pub fn new(

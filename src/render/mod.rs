@@ -12,6 +12,7 @@ pub mod film;
 pub mod integrator;
 pub mod media;
 pub mod photon;
+pub mod sampler;
 pub mod scene_buffers;
 pub mod scene_parts;
 pub mod wavefront;
@@ -25,6 +26,7 @@ use crate::accel::{self, Bvh, BvhStats};
 use crate::gpu::layout::{Counters, DispatchArgs, Frame, Push, WORKGROUP_SIZE};
 use crate::gpu::{shaders, BindingLayout, CommandList, DescriptorSet, Device, Kernel, KernelTimes};
 use crate::image::Image;
+use crate::scene::sampler::{SampleCount, Sampler, SamplerKind};
 use crate::scene::Scene;
 
 use film::{film_binding_kinds, Film, FilmGeometry, FilmSums, BYTES_PER_SAMPLE_SLOT};
@@ -38,9 +40,12 @@ use wavefront::{wavefront_binding_kinds, Wavefront, BYTES_PER_PATH};
 pub struct RenderOptions {
     /// Integrator name overriding the scene's (`--integrator`).
     pub integrator: Option<String>,
-    /// Seed of the random-number hash; a render is a function of scene, seed and
-    /// sample range.
+    /// Seed of the random numbers, added to the sampler's `seed`; a render is a
+    /// function of scene, seed and sample range.
     pub seed: u32,
+    /// Sampler type overriding the scene's (`--sampler`); the scene's sampler
+    /// parameters carry over where the type has them.
+    pub sampler: Option<String>,
     /// Most paths in flight per batch; `None` picks a size for the device.
     pub max_batch_paths: Option<u32>,
     /// Record GPU timestamps around every kernel.
@@ -93,6 +98,22 @@ pub struct RenderStats {
     pub photons: Option<PhotonStats>,
 }
 
+/// The sampler a render uses: the scene's, or its type replaced by `name`
+/// (`--sampler`).
+pub fn choose_sampler(scene: &Scene, name: Option<&str>) -> Result<Sampler> {
+    match name {
+        None => Ok(scene.sampler),
+        Some(n) => SamplerKind::from_name(n)
+            .map(|k| scene.sampler.with_kind(k))
+            .ok_or_else(|| {
+                Error::Options(format!(
+                    "unknown sampler '{n}' (expected one of {})",
+                    SamplerKind::NAMES.join(", ")
+                ))
+            }),
+    }
+}
+
 struct Kernels {
     generate: Kernel,
     intersect: Kernel,
@@ -119,7 +140,15 @@ pub struct Renderer {
     /// The full film's size.
     width: u32,
     height: u32,
+    /// The sampler's grid of pixel keys ([`FilmGeometry::key_size`]).
+    key_size: (u32, u32),
     timestamps: bool,
+    /// The frame as uploaded; its sampler fields change with the sample count.
+    frame: Frame,
+    sampler: Sampler,
+    /// The render's seed (before the sampler's is added).
+    seed: u32,
+    sample_count: SampleCount,
     pub setup: SetupStats,
 }
 
@@ -172,6 +201,12 @@ impl Renderer {
         )?;
         let pixels = cam.width * cam.height;
 
+        let sampler = choose_sampler(scene, options.sampler.as_deref())?;
+        let key_size = geometry.key_size();
+        let sample_count = sampler
+            .sample_count(scene.spp, key_size.0, key_size.1)
+            .map_err(Error::Options)?;
+
         if integrator.is_photon_mapper() && scene.needs_medium_code() {
             return Err(Error::Integrator {
                 file: scene.path.clone(),
@@ -223,7 +258,7 @@ impl Renderer {
         let scene_buffers = SceneBuffers::upload_planned(device, &layout, &arrays, plan)?;
         drop(arrays);
         let tan_x = (cam.fov_x_deg.to_radians() * 0.5).tan();
-        let frame = Frame {
+        let mut frame = Frame {
             camera_to_world: cam.to_world.to_cols_array_2d(),
             tan_half_fov: [tan_x, tan_x * cam.height as f32 / cam.width as f32],
             near_clip: cam.near_clip,
@@ -243,7 +278,9 @@ impl Renderer {
             env_emitter: records.env_emitter,
             hide_emitters: integrator.hide_emitters() as u32,
             camera_medium: scene.camera_medium.unwrap_or(crate::gpu::layout::NONE),
+            ..Default::default()
         };
+        sampler::set_frame(&mut frame, &sampler, &sample_count, options.seed, key_size);
         let capacity = options
             .max_batch_paths
             .unwrap_or_else(|| default_capacity(device))
@@ -283,6 +320,7 @@ impl Renderer {
             textures: records.texture_mask(),
             emitters: records.emitter_kinds(),
             bsdfs: records.bsdfs.iter().fold(0u32, |m, b| m | 1 << b.kind),
+            sampler: sampler::kind_id(&sampler),
         };
         let upload_seconds = t.elapsed().as_secs_f64();
 
@@ -314,7 +352,7 @@ impl Renderer {
             Kernel::new(device, name, spirv, &layout, spec)
         };
         let kernels = Kernels {
-            generate: k("generate", shaders::GENERATE, &[])?,
+            generate: k("generate", shaders::GENERATE, &[sampler::kind_id(&sampler)])?,
             intersect: k("intersect", shaders::INTERSECT, &[has_spheres, bvh_depth])?,
             shade: k(
                 "shade",
@@ -332,6 +370,7 @@ impl Renderer {
                     records.emitter_kinds(),
                     surface_features,
                     bvh_depth,
+                    sampler::kind_id(&sampler),
                     has_alpha as u32,
                 ],
             )?,
@@ -354,7 +393,11 @@ impl Renderer {
                 ],
             )?,
             queue_args: k("queue_args", shaders::QUEUE_ARGS, &[])?,
-            accumulate: k("accumulate", shaders::ACCUMULATE, &[])?,
+            accumulate: k(
+                "accumulate",
+                shaders::ACCUMULATE,
+                &[sampler::kind_id(&sampler)],
+            )?,
             film_gather: k(
                 "film_gather",
                 shaders::FILM_GATHER,
@@ -396,7 +439,12 @@ impl Renderer {
             film,
             width: cam.width,
             height: cam.height,
+            key_size,
             timestamps: options.timestamps,
+            frame,
+            sampler,
+            seed: options.seed,
+            sample_count,
             setup: SetupStats {
                 bvh: bvh.stats,
                 upload_seconds,
@@ -515,19 +563,62 @@ impl Renderer {
         Ok(t.elapsed().as_secs_f64())
     }
 
-    /// Renders samples `0..spp` of every pixel and returns the image. `progress` is
+    /// The sampler the render draws its random numbers from.
+    pub fn sampler(&self) -> &Sampler {
+        &self.sampler
+    }
+
+    /// The sample count of the sampler's pattern (one pass): what [`Renderer::render`]
+    /// last rendered, or the scene's count as the sampler rounds it.
+    pub fn sample_count(&self) -> &SampleCount {
+        &self.sample_count
+    }
+
+    /// The count the sampler renders when asked for `spp` samples per pixel (rounded
+    /// as it rounds, e.g. to a square for `stratified`), or why it cannot.
+    pub fn round_sample_count(&self, spp: u32) -> Result<SampleCount> {
+        self.sampler
+            .sample_count(spp, self.key_size.0, self.key_size.1)
+            .map_err(Error::Options)
+    }
+
+    /// Makes the sampler's pattern `count` samples (one pass); sample indices past it
+    /// belong to later passes. [`Renderer::render`] does this itself; renders of sample
+    /// ranges of a whole (resumed, split) render set the whole's count first.
+    pub fn set_sample_count(&mut self, count: SampleCount) -> Result<()> {
+        sampler::set_frame(
+            &mut self.frame,
+            &self.sampler,
+            &count,
+            self.seed,
+            self.key_size,
+        );
+        self.wavefront
+            .frame
+            .write(&self.device, 0, bytemuck::bytes_of(&self.frame))?;
+        self.sample_count = count;
+        Ok(())
+    }
+
+    /// Renders `spp` samples per pixel as the sampler rounds them (see
+    /// [`Renderer::round_sample_count`]: samples `0..count` of a pattern of `count`)
+    /// and returns the image; the stats say how many were rendered. `progress` is
     /// called after each batch with (samples done, samples in all).
     pub fn render(
         &mut self,
         spp: u32,
         progress: &mut dyn FnMut(u64, u64),
     ) -> Result<(Image, RenderStats)> {
-        self.render_range(0, spp, progress)
+        let count = self.round_sample_count(spp)?;
+        let n = count.count;
+        self.set_sample_count(count)?;
+        self.render_range(0, n, progress)
     }
 
     /// Renders samples `first .. first + count` of every pixel and returns the image.
-    /// Sample `s` of a pixel is the same whatever range it is rendered in; to combine
-    /// ranges exactly, merge their [`FilmSums`] ([`Self::render_film`]).
+    /// Sample `s` of a pixel is the same whatever range it is rendered in (for the same
+    /// [`Renderer::set_sample_count`]); to combine ranges exactly, merge their
+    /// [`FilmSums`] ([`Self::render_film`]).
     pub fn render_range(
         &mut self,
         first: u32,

@@ -7,8 +7,8 @@
 //!   `far_clip` (10000), `to_world`, `focus_distance` (read, unused); nested
 //!   `film type="hdrfilm"` (`width` 768, `height` 576, crop window, `sample_border`,
 //!   pixel, component and file formats, `rfilter`: see [`super::film`]) and
-//!   `sampler` (independent, stratified, multijitter, orthogonal, ldsampler:
-//!   `sample_count` 4; `seed`, `jitter`, `strength` ignored).
+//!   `sampler` (independent, stratified, multijitter, orthogonal, ldsampler and
+//!   pbrt-v4's zsobol, with their parameters: [`super::sampler`]).
 //! - `integrator`: any type; its parameters are kept unread in [`IntegratorSpec`].
 //!   `moment` around one nested integrator stands for that integrator (its mean).
 //! - `path value="DIR"`: a folder file names are also searched in (see
@@ -32,6 +32,7 @@ use super::bsdf::TextureMaps;
 use super::builder::{self, Builder, UNSUPPORTED_BSDFS, UNSUPPORTED_EMITTERS};
 use super::mesh;
 use super::properties::Properties;
+use super::sampler::{self, Sampler};
 use super::xml::{Dialect, Document, Element};
 use super::{
     envmap, obj, ply, Bsdf, Camera, Emitter, Error, Film, IntegratorSpec, Medium, Scene, Texture,
@@ -68,13 +69,6 @@ const BSDFS: &[&str] = &[
     "plastic",
     "roughplastic",
 ];
-const SAMPLERS: &[&str] = &[
-    "independent",
-    "stratified",
-    "multijitter",
-    "orthogonal",
-    "ldsampler",
-];
 /// Default `<film>` size.
 const FILM_WIDTH: u32 = 768;
 const FILM_HEIGHT: u32 = 576;
@@ -93,7 +87,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         texture_ids: HashMap::new(),
         building: HashSet::new(),
     };
-    let mut camera: Option<(Camera, u32, Film)> = None;
+    let mut camera: Option<(Camera, (Sampler, u32), Film)> = None;
     let mut camera_medium = None;
     let mut integrator: Option<IntegratorSpec> = None;
     for el in &doc.root.children {
@@ -133,7 +127,8 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
             _ => return Err(l.unexpected(el, "<scene>")),
         }
     }
-    let (camera, spp, film) = camera.ok_or_else(|| doc.root.err("the scene has no <sensor>"))?;
+    let (camera, (sampler, spp), film) =
+        camera.ok_or_else(|| doc.root.err("the scene has no <sensor>"))?;
     let environments =
         l.b.emitters
             .iter()
@@ -153,6 +148,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         camera,
         film,
         spp,
+        sampler,
         integrator,
         meshes: l.b.meshes,
         spheres: l.b.spheres,
@@ -244,9 +240,11 @@ pub fn fov_x(fov_deg: f64, axis: &str, width: u32, height: u32) -> Option<f64> {
     Some((2.0 * tx.atan()).to_degrees())
 }
 
-/// The camera, its sample count, its film and the `<medium>` (or `<ref>` to one) it
-/// sits in.
-fn sensor(el: &Element) -> Result<(Camera, u32, Film, Option<&Element>), Error> {
+/// What a `<sensor>` says: the camera, its sampler and sample count, its film and the
+/// `<medium>` (or `<ref>` to one) it sits in.
+type SensorParts<'a> = (Camera, (Sampler, u32), Film, Option<&'a Element>);
+
+fn sensor(el: &Element) -> Result<SensorParts<'_>, Error> {
     el.check_attrs(&["type", "id", "name"])?;
     if el.require("type")? != "perspective" {
         return Err(builder::unsupported(el, "sensor", SENSORS));
@@ -335,7 +333,7 @@ fn sensor(el: &Element) -> Result<(Camera, u32, Film, Option<&Element>), Error> 
             width,
             height,
         },
-        spp.unwrap_or(4),
+        spp.unwrap_or((Sampler::default(), 4)),
         film,
         medium,
     ))
@@ -350,20 +348,8 @@ fn film(el: &Element) -> Result<(u32, u32, Film), Error> {
     Film::from_mitsuba(el, FILM_WIDTH, FILM_HEIGHT)
 }
 
-fn sampler(el: &Element) -> Result<u32, Error> {
-    el.check_attrs(&["type", "id", "name"])?;
-    let t = el.require("type")?;
-    if !SAMPLERS.contains(&t) {
-        return Err(el.err(format!("unknown sampler type '{t}'")));
-    }
-    let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
-    if let Some(n) = nested.first() {
-        return Err(n.err(format!("unexpected <{}> in <sampler>", n.tag)));
-    }
-    let spp = props.positive("sample_count", 4)?;
-    props.ignore(&["seed", "jitter", "strength"]);
-    props.finish()?;
-    Ok(spp)
+fn sampler(el: &Element) -> Result<(Sampler, u32), Error> {
+    sampler::read(el, Dialect::Mitsuba, "sample_count", 4)
 }
 
 struct Loader<'a> {

@@ -20,6 +20,7 @@ mod ply;
 mod ply_binary;
 pub mod procedural;
 pub mod properties;
+pub mod sampler;
 pub mod shape;
 pub mod spectrum;
 pub mod texture;
@@ -33,6 +34,7 @@ pub use error::Error;
 pub use film::Film;
 pub use integrator::IntegratorSpec;
 pub use medium::Medium;
+pub use sampler::Sampler;
 pub use shape::{Mesh, Sphere};
 pub use texture::Texture;
 
@@ -46,8 +48,11 @@ pub struct Scene {
     pub camera: Camera,
     /// Reconstruction filter, crop window and output formats (the size is the camera's).
     pub film: Film,
-    /// Samples per pixel the scene asks for (Mitsuba `sample_count`, Nori `sampleCount`).
+    /// Samples per pixel the scene asks for (Mitsuba `sample_count`, Nori `sampleCount`),
+    /// before the sampler rounds it ([`Sampler::sample_count`]).
     pub spp: u32,
+    /// The sampler the scene names.
+    pub sampler: Sampler,
     /// The integrator the scene names, with its parameters still unread.
     pub integrator: IntegratorSpec,
     pub meshes: Vec<Mesh>,

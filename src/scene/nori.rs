@@ -11,7 +11,8 @@
 //!   `up` and the view direction), which narrows tan(fov / 2) by that factor: the 2015
 //!   course references (veach_mi, odyssey, sphere) are 1-4.4% zoomed in against
 //!   these files (`tests/nori_scenes.rs`).
-//! - `sampler type="independent"`: `sampleCount` (1).
+//! - `sampler` of any type wavetrace knows (`super::sampler`; Nori itself has only
+//!   `independent`): `sampleCount` (1), `seed` and the type's parameters.
 //! - `integrator`: any type; its parameters are kept unread in [`IntegratorSpec`].
 //! - `mesh type="obj"`: `filename`, `toWorld`, nested `bsdf` (`diffuse`, `mirror`,
 //!   `dielectric`, `microfacet`; parameters in [`Bsdf`]) and `emitter type="area"` (`radiance`). Nori does not flip texture v.
@@ -31,13 +32,13 @@ use super::film::Filter;
 use super::mitsuba::integrator_spec;
 use super::properties::Properties;
 use super::xml::{Dialect, Document, Element};
-use super::{obj, Bsdf, Camera, Emitter, Error, Film, Medium, Scene};
+use super::{obj, Bsdf, Camera, Emitter, Error, Film, Medium, Sampler, Scene};
 
 /// Loads a Nori scene read by [`super::xml::read`].
 pub fn load(doc: &Document) -> Result<Scene, Error> {
     let mut b = Builder::default();
     let mut camera = None;
-    let mut spp = None;
+    let mut sampler_spp = None;
     let mut integrator = None;
     for el in &doc.root.children {
         match el.tag.as_str() {
@@ -48,10 +49,10 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
                 camera = Some(perspective(el)?);
             }
             "sampler" => {
-                if spp.is_some() {
+                if sampler_spp.is_some() {
                     return Err(el.err("more than one <sampler>"));
                 }
-                spp = Some(sampler(el)?);
+                sampler_spp = Some(sampler(el)?);
             }
             "integrator" => {
                 if integrator.is_some() {
@@ -68,11 +69,13 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
     }
     let (camera, film) = camera.ok_or_else(|| doc.root.err("the scene has no <camera>"))?;
     let integrator = integrator.ok_or_else(|| doc.root.err("the scene has no <integrator>"))?;
+    let (sampler, spp) = sampler_spp.unwrap_or((Sampler::default(), 1));
     Ok(Scene {
         path: doc.root.file.as_ref().clone(),
         camera,
         film,
-        spp: spp.unwrap_or(1),
+        spp,
+        sampler,
         integrator,
         meshes: b.meshes,
         spheres: b.spheres,
@@ -125,19 +128,8 @@ fn perspective(el: &Element) -> Result<(Camera, Film), Error> {
     Ok((camera, Film::nori(filter.unwrap_or(Filter::DEFAULT))))
 }
 
-fn sampler(el: &Element) -> Result<u32, Error> {
-    el.check_attrs(&["type"])?;
-    let t = el.require("type")?;
-    if t != "independent" {
-        return Err(el.err(format!("unknown sampler type '{t}'")));
-    }
-    let (props, nested) = Properties::read(el, Dialect::Nori, false)?;
-    if let Some(n) = nested.first() {
-        return Err(n.err(format!("unexpected <{}> in <sampler>", n.tag)));
-    }
-    let spp = props.positive("sampleCount", 1)?;
-    props.finish()?;
-    Ok(spp)
+fn sampler(el: &Element) -> Result<(Sampler, u32), Error> {
+    super::sampler::read(el, Dialect::Nori, "sampleCount", 1)
 }
 
 fn mesh(el: &Element, b: &mut Builder) -> Result<(), Error> {

@@ -266,6 +266,8 @@ pub struct SceneFeatures {
     pub textures: u32,
     pub emitters: u32,
     pub bsdfs: u32,
+    /// The sampler's `SAMPLER_*` kind (camera paths draw from it).
+    pub sampler: u32,
 }
 
 /// The kernels only one of the photon mappers runs.
@@ -369,7 +371,7 @@ impl Photons {
                     camera: k(
                         "photon_camera",
                         shaders::KERNELS_PHOTON_CAMERA,
-                        &[f.surface, f.textures, f.emitters, f.bsdfs],
+                        &[f.surface, f.textures, f.emitters, f.bsdfs, f.sampler],
                     )?,
                     gather: k(
                         "photon_gather",
