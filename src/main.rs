@@ -9,7 +9,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use wavetrace::bench;
 use wavetrace::gpu::Device;
-use wavetrace::render::{RenderOptions, Renderer};
+use wavetrace::render::RenderOptions;
 use wavetrace::scene::film::{FileFormat, Filter, PixelFormat};
 use wavetrace::scene::sampler::SamplerKind;
 use wavetrace::scene::{self, Scene};
@@ -37,9 +37,9 @@ struct SceneArgs {
 /// How to run a render, shared by `render` and `bench`.
 #[derive(clap::Args)]
 struct RunArgs {
-    /// Seed of the random numbers (added to the sampler's `seed`).
-    #[arg(long, default_value_t = 0)]
-    seed: u32,
+    /// Seed of the random numbers (added to the sampler's `seed`; default 0).
+    #[arg(long)]
+    seed: Option<u32>,
     /// Sampler, overriding the scene's type (its parameters carry over): independent,
     /// stratified, multijitter, orthogonal, ldsampler, zsobol.
     #[arg(long)]
@@ -50,7 +50,9 @@ struct RunArgs {
     /// sppm (stochastic progressive photon mapping: caustics, converging).
     #[arg(long)]
     integrator: Option<String>,
-    /// Vulkan device: index or part of its name (see `wavetrace devices`).
+    /// Vulkan device: index or part of its name (see `wavetrace devices`); for
+    /// `render`, also a comma-separated list or `all`: the samples are spread over
+    /// those devices and merged (the same device may be named twice).
     #[arg(long)]
     device: Option<String>,
     /// Most paths in flight per batch.
@@ -70,7 +72,7 @@ impl RunArgs {
     fn options(self, timestamps: bool) -> (RenderOptions, Option<String>) {
         let options = RenderOptions {
             integrator: self.integrator,
-            seed: self.seed,
+            seed: self.seed.unwrap_or(0),
             sampler: self.sampler,
             max_batch_paths: self.batch,
             timestamps,
@@ -85,18 +87,37 @@ impl RunArgs {
 #[derive(Subcommand)]
 enum Command {
     /// Render a scene to a linear EXR (or the film's file format) and an sRGB PNG
-    /// beside it.
+    /// beside it; or some of its samples to a partial EXR (`--samples`), or the rest
+    /// of an interrupted or partial render (`--resume`). A first Ctrl-C (SIGINT or
+    /// SIGTERM) stops at the next sample boundary and writes a partial EXR to resume
+    /// from; a second aborts at once.
     Render {
-        #[command(flatten)]
-        scene: SceneArgs,
+        /// Scene file (Mitsuba 3 or Nori XML); not with --resume.
+        #[arg(required_unless_present = "resume")]
+        scene: Option<PathBuf>,
+        /// Override a scene default: -D spp=64 (Mitsuba `<default name= value=>`).
+        #[arg(short = 'D', value_name = "NAME=VALUE")]
+        define: Vec<String>,
         /// Output file (default: the scene's name in the current folder); its
         /// extension becomes the film's file format's (exr, rgbe or pfm), as in
-        /// Mitsuba.
+        /// Mitsuba. Partial renders are always EXR.
         #[arg(short, long)]
         output: Option<PathBuf>,
-        /// Samples per pixel (default: the scene's sampler).
+        /// Samples per pixel of the whole render (default: the scene's sampler).
         #[arg(long)]
         spp: Option<u32>,
+        /// Render only samples A to B-1 of every pixel (of the whole render's --spp)
+        /// into a partial EXR for `wavetrace merge`.
+        #[arg(long, value_name = "A..B")]
+        samples: Option<String>,
+        /// Render the samples a partial EXR lacks and write the whole image (scene,
+        /// seed and options come from the partial; default output: the partial).
+        #[arg(long, value_name = "PARTIAL.exr", conflicts_with_all = ["spp", "samples"])]
+        resume: Option<PathBuf>,
+        /// Write the partial EXR of the samples done so far every SECONDS (at the
+        /// next sample boundary; atomically: a crash leaves the previous one).
+        #[arg(long, value_name = "SECONDS")]
+        checkpoint: Option<f64>,
         #[command(flatten)]
         run: RunArgs,
         /// Print GPU time per kernel (timestamp queries).
@@ -105,6 +126,20 @@ enum Command {
         /// No progress bar.
         #[arg(short, long)]
         quiet: bool,
+    },
+    /// Merge partial EXRs of one render (`render --samples`) into the image of their
+    /// samples, written in the film's formats as `render` writes it.
+    Merge {
+        /// The partial EXRs.
+        #[arg(required = true)]
+        parts: Vec<PathBuf>,
+        /// Output file.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Merge parts that do not hold every sample of the render: the image is
+        /// then a partial EXR of the samples there are (its header says which).
+        #[arg(long)]
+        allow_gaps: bool,
     },
     /// Time against error: render at increasing sample counts and compare each image
     /// with a reference (RMSE, relMSE, rays/s, efficiency, GPU time per kernel).
@@ -157,6 +192,8 @@ fn load(args: &SceneArgs) -> Result<Scene> {
     Ok(scene::load(&args.scene, &defines)?)
 }
 
+mod cli;
+
 fn main() {
     if let Err(e) = run(Cli::parse()) {
         eprintln!("error: {e:#}");
@@ -168,149 +205,32 @@ fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Render {
             scene,
+            define,
             output,
             spp,
+            samples,
+            resume,
+            checkpoint,
             run,
             profile,
             quiet,
-        } => {
-            let t_load = Instant::now();
-            let sc = load(&scene)?;
-            let load_seconds = t_load.elapsed().as_secs_f64();
-            let requested = spp.unwrap_or(sc.spp);
-            if requested == 0 {
-                bail!("--spp must be at least 1");
-            }
-            let format = sc.film.file_format;
-            let asked_output = output.unwrap_or_else(|| default_output(&scene.scene));
-            let output = output_path(&asked_output, format);
-            if output != asked_output {
-                eprintln!(
-                    "note: the film's file format is {}: writing {}",
-                    format.extension(),
-                    output.display()
-                );
-            }
-            let (options, device) = run.options(profile);
-            let device = Device::new(device.as_deref())?;
-            eprintln!("device: {}", device.info());
-            let mut renderer = Renderer::new(&device, &sc, &options)?;
-            let count = renderer.round_sample_count(requested)?;
-            if let Some(w) = &count.warning {
-                eprintln!("warning: {w}");
-            }
-            let spp = count.count;
-            let s = &renderer.setup;
-            eprintln!(
-                "start-up: scene {:.0} ms, vulkan {:.0} ms, bvh {:.0} ms ({} nodes, SAH {:.1}), upload {:.0} ms, \
-                 pipelines {:.0} ms, first dispatch (kernel compile) {:.0} ms",
-                load_seconds * 1e3,
-                device.info().startup_seconds * 1e3,
-                s.bvh.build_seconds * 1e3,
-                s.bvh.node_count,
-                s.bvh.sah_cost,
-                s.upload_seconds * 1e3,
-                s.pipeline_seconds * 1e3,
-                s.first_dispatch_seconds * 1e3,
-            );
-            let g = *renderer.film_geometry();
-            let (w, h) = (g.crop.width, g.crop.height);
-            eprintln!(
-                "rendering {w}x{h} at {spp} spp with '{}', sampler '{}', {} ({} paths per batch)",
-                renderer.integrator().name(),
-                renderer.sampler().kind.name(),
-                describe_film(&sc),
-                renderer.capacity()
-            );
-            if let Some(lost) = renderer.film_overridden(&sc.film) {
-                eprintln!(
-                    "warning: '{}' does not render this film's {lost}",
-                    renderer.integrator().name()
-                );
-            }
-            if renderer.integrator().needs_emitters() && sc.emitters.is_empty() {
-                eprintln!(
-                    "warning: {} has no emitters: '{}' will render a black image",
-                    scene.scene.display(),
-                    renderer.integrator().name()
-                );
-            }
-            let bar = if quiet {
-                ProgressBar::hidden()
-            } else {
-                let bar = ProgressBar::new(g.region_pixels() as u64 * spp as u64);
-                bar.set_style(
-                    ProgressStyle::with_template(
-                        "{bar:40} {percent:>3}% {msg} [{elapsed_precise} < {eta_precise}]",
-                    )
-                    .unwrap_or_else(|_| ProgressStyle::default_bar()),
-                );
-                bar
-            };
-            let pixels = g.region_pixels() as u64;
-            let (film, stats) = renderer.render_film(0, spp, &mut |done, _total| {
-                bar.set_position(done);
-                bar.set_message(format!("{}/{spp} spp", done / pixels));
-            })?;
-            bar.finish_and_clear();
-            let samples = pixels * spp as u64;
-            eprintln!(
-                "rendered in {:.3} s: {:.2} M samples/s, {:.2} M rays/s ({} rays, {} batches)",
-                stats.seconds,
-                samples as f64 / stats.seconds / 1e6,
-                stats.rays as f64 / stats.seconds / 1e6,
-                stats.rays,
-                stats.batches
-            );
-            if let Some(p) = &stats.photons {
-                eprintln!(
-                    "photons: {} paths emitted, {} photons stored in {} pass(es) of at most {} \
-                     ({:.2} M emitted/s, {:.2} M stored/s); tracing {:.3} s, grids {:.3} s, \
-                     gathers {:.3} s; {:.0} bytes per photon",
-                    p.emitted,
-                    p.stored,
-                    p.passes,
-                    p.capacity,
-                    p.emitted_per_second() / 1e6,
-                    p.stored_per_second() / 1e6,
-                    p.trace_seconds,
-                    p.grid_seconds,
-                    p.gather_seconds,
-                    p.bytes_per_photon
-                );
-            }
-            if stats.discarded > 0 {
-                eprintln!(
-                    "warning: {} samples were NaN or infinite and were discarded",
-                    stats.discarded
-                );
-            }
-            if stats.cut_paths > 0 {
-                eprintln!(
-                    "warning: {} paths were still going after {} bounces and were cut short \
-                     (the image misses their later light): give the integrator a max_depth, \
-                     or a smaller rr_depth",
-                    stats.cut_paths,
-                    renderer.bounce_budget()
-                );
-            }
-            if profile {
-                for (name, (secs, n)) in &stats.kernel_times.by_kernel {
-                    eprintln!("  {name:<12} {:>9.2} ms over {n} dispatches", secs * 1e3);
-                }
-            }
-            let png = output.with_extension("png");
-            film.write(
-                &output,
-                sc.film.pixel_format,
-                sc.film.component_format,
-                format,
-                Some(&png),
-            )
-            .with_context(|| format!("writing {}", output.display()))?;
-            eprintln!("wrote {} and {}", output.display(), png.display());
-            Ok(())
-        }
+        } => crate::cli::render::run(crate::cli::render::RenderArgs {
+            scene,
+            define,
+            output,
+            spp,
+            samples,
+            resume,
+            checkpoint,
+            run,
+            profile,
+            quiet,
+        }),
+        Command::Merge {
+            parts,
+            output,
+            allow_gaps,
+        } => crate::cli::render::merge(&parts, &output, allow_gaps),
         Command::Bench {
             scene,
             reference,

@@ -13,8 +13,9 @@
 use std::path::Path;
 
 use ::exr::prelude::{
-    f16, read_first_rgba_layer_from_file, AnyChannel, AnyChannels, Encoding, FlatSamples,
-    Image as ExrImage, Layer, LayerAttributes, SmallVec, SpecificChannels, Vec2, WritableImage,
+    f16, read_first_rgba_layer_from_file, AnyChannel, AnyChannels, AttributeValue, Encoding,
+    FlatSamples, Image as ExrImage, Layer, LayerAttributes, SmallVec, SpecificChannels, Text, Vec2,
+    WritableImage,
 };
 
 use super::{Error, Image};
@@ -83,6 +84,20 @@ pub fn write_channels(
     data: &[f32],
     precision: Precision,
 ) -> Result<(), Error> {
+    write_channels_with_text(path, width, height, names, data, precision, &[])
+}
+
+/// [`write_channels`], with text attributes `(name, value)` in the header (UTF-8;
+/// OpenEXR's `string` type, which readers that do not know them skip).
+pub fn write_channels_with_text(
+    path: impl AsRef<Path>,
+    width: u32,
+    height: u32,
+    names: &[&str],
+    data: &[f32],
+    precision: Precision,
+    text: &[(&str, &str)],
+) -> Result<(), Error> {
     let path = path.as_ref();
     let n = names.len();
     if n == 0 || data.len() != n * width as usize * height as usize {
@@ -103,9 +118,16 @@ pub fn write_channels(
         };
         channels.push(AnyChannel::new(*name, samples));
     }
+    let mut attributes = LayerAttributes::default();
+    for (name, value) in text {
+        attributes.other.insert(
+            Text::from_slice_unchecked(name.as_bytes()),
+            AttributeValue::Text(Text::from_slice_unchecked(value.as_bytes())),
+        );
+    }
     let layer = Layer::new(
         (width as usize, height as usize),
-        LayerAttributes::default(),
+        attributes,
         Encoding::SMALL_LOSSLESS,
         AnyChannels::sort(channels),
     );
@@ -131,6 +153,17 @@ pub struct Channel {
 /// Reads every channel of the first layer of an EXR file: (width, height, channels
 /// in the file's order, which is by name).
 pub fn read_channels(path: impl AsRef<Path>) -> Result<(u32, u32, Vec<Channel>), Error> {
+    read_channels_with_text(path).map(|(w, h, channels, _)| (w, h, channels))
+}
+
+/// The text attributes of an EXR header (name, value; UTF-8, lossily), as
+/// [`write_channels_with_text`] writes them.
+pub type TextAttributes = Vec<(String, String)>;
+
+/// [`read_channels`], and the text attributes of the image's and the layer's header.
+pub fn read_channels_with_text(
+    path: impl AsRef<Path>,
+) -> Result<(u32, u32, Vec<Channel>, TextAttributes), Error> {
     use ::exr::prelude::traits::*;
     let path = path.as_ref();
     let image = ::exr::prelude::read()
@@ -145,6 +178,19 @@ pub fn read_channels(path: impl AsRef<Path>) -> Result<(u32, u32, Vec<Channel>),
             source,
         })?;
     let layer = image.layer_data;
+    let text = image
+        .attributes
+        .other
+        .iter()
+        .chain(&layer.attributes.other)
+        .filter_map(|(name, value)| match value {
+            AttributeValue::Text(t) => Some((
+                String::from_utf8_lossy(name.as_slice()).into_owned(),
+                String::from_utf8_lossy(t.as_slice()).into_owned(),
+            )),
+            _ => None,
+        })
+        .collect();
     let channels = layer
         .channel_data
         .list
@@ -159,6 +205,7 @@ pub fn read_channels(path: impl AsRef<Path>) -> Result<(u32, u32, Vec<Channel>),
         layer.size.width() as u32,
         layer.size.height() as u32,
         channels,
+        text,
     ))
 }
 
