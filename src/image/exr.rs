@@ -87,8 +87,11 @@ pub fn write_channels(
     write_channels_with_text(path, width, height, names, data, precision, &[])
 }
 
-/// [`write_channels`], with text attributes `(name, value)` in the header (UTF-8;
-/// OpenEXR's `string` type, which readers that do not know them skip).
+/// [`write_channels`], with up to two text attributes `(name, value)` in the header
+/// (UTF-8; OpenEXR's `string` type, which readers that do not know them skip). The exr
+/// crate keeps a header's own attributes in hash maps, written in their (random)
+/// iteration order; with at most one in each of its two maps (the layer's and the
+/// image's) the same image is always the same bytes.
 pub fn write_channels_with_text(
     path: impl AsRef<Path>,
     width: u32,
@@ -118,26 +121,35 @@ pub fn write_channels_with_text(
         };
         channels.push(AnyChannel::new(*name, samples));
     }
-    let mut attributes = LayerAttributes::default();
-    for (name, value) in text {
-        attributes.other.insert(
+    if text.len() > 2 {
+        return Err(Error::Format {
+            path: path.to_owned(),
+            message: format!(
+                "{} text attributes, at most 2 keep a file's bytes fixed",
+                text.len()
+            ),
+        });
+    }
+    let attribute = |(name, value): &(&str, &str)| {
+        (
             Text::from_slice_unchecked(name.as_bytes()),
             AttributeValue::Text(Text::from_slice_unchecked(value.as_bytes())),
-        );
-    }
+        )
+    };
+    let mut attributes = LayerAttributes::default();
+    attributes.other.extend(text.first().map(attribute));
     let layer = Layer::new(
         (width as usize, height as usize),
         attributes,
         Encoding::SMALL_LOSSLESS,
         AnyChannels::sort(channels),
     );
-    ExrImage::from_layer(layer)
-        .write()
-        .to_file(path)
-        .map_err(|source| Error::Exr {
-            path: path.to_owned(),
-            source,
-        })
+    let mut image = ExrImage::from_layer(layer);
+    image.attributes.other.extend(text.get(1).map(attribute));
+    image.write().to_file(path).map_err(|source| Error::Exr {
+        path: path.to_owned(),
+        source,
+    })
 }
 
 /// One channel of an EXR file read by [`read_channels`].
@@ -320,6 +332,26 @@ mod tests {
         assert_eq!(read(&path).unwrap().pixel(0, 0), [1.0, 2.0, 3.0]);
         std::fs::remove_file(&path).ok();
         assert!(write_channels(&path, 2, 2, &["Y"], &[0.0; 3], Precision::Float).is_err());
+    }
+
+    #[test]
+    fn text_attributes_round_trip_and_keep_the_bytes_fixed() {
+        let (a, b) = (temp_path("text_a.exr"), temp_path("text_b.exr"));
+        let text = [
+            ("wavetrace.one", "{\"x\": 1}"),
+            ("wavetrace.two", "2 of 3 ü"),
+        ];
+        for p in [&a, &b] {
+            write_channels_with_text(p, 1, 1, &["Y"], &[0.5], Precision::Float, &text).unwrap();
+        }
+        let (_, _, channels, read) = read_channels_with_text(&a).unwrap();
+        assert_eq!(channels[0].values, [0.5]);
+        for (k, v) in text {
+            assert!(read.iter().any(|(rk, rv)| rk == k && rv == v), "{read:?}");
+        }
+        assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+        std::fs::remove_file(&a).ok();
+        std::fs::remove_file(&b).ok();
     }
 
     #[test]
