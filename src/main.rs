@@ -110,9 +110,14 @@ enum Command {
         /// into a partial EXR for `wavetrace merge`.
         #[arg(long, value_name = "A..B")]
         samples: Option<String>,
+        /// Render part I of N equal parts of the samples (0 <= I < N: samples
+        /// I*S/N to (I+1)*S/N - 1 of the whole render's S), into a partial EXR: what a
+        /// Slurm array task renders (tools/slurm).
+        #[arg(long, value_name = "I/N", conflicts_with = "samples")]
+        part: Option<String>,
         /// Render the samples a partial EXR lacks and write the whole image (scene,
         /// seed and options come from the partial; default output: the partial).
-        #[arg(long, value_name = "PARTIAL.exr", conflicts_with_all = ["spp", "samples"])]
+        #[arg(long, value_name = "PARTIAL.exr", conflicts_with_all = ["spp", "samples", "part"])]
         resume: Option<PathBuf>,
         /// Write the partial EXR of the samples done so far every SECONDS (at the
         /// next sample boundary; atomically: a crash leaves the previous one).
@@ -209,6 +214,7 @@ fn run(cli: Cli) -> Result<()> {
             output,
             spp,
             samples,
+            part,
             resume,
             checkpoint,
             run,
@@ -220,6 +226,7 @@ fn run(cli: Cli) -> Result<()> {
             output,
             spp,
             samples,
+            part,
             resume,
             checkpoint,
             run,

@@ -225,6 +225,18 @@ fn parts_merge_into_the_unsplit_render_and_bad_merges_are_refused() {
     ]);
     assert_eq!(code, 1);
     assert!(err.contains("reaches past the render's 9 samples"), "{err}");
+    // --part I/N (what a Slurm array task renders: tools/slurm) needs 0 <= I < N and
+    // at most one part per sample.
+    for (part, needle) in [
+        ("3/3", "0 <= I < N"),
+        ("2/10", "cannot be cut into 10 parts"),
+    ] {
+        let (code, _, err) = wavetrace(&[
+            "render", SCENE, "-D", "res=20", "--spp", "9", "--part", part, "-o", s(&out),
+        ]);
+        assert_eq!(code, 1, "{err}");
+        assert!(err.contains(needle), "--part {part}: {err}");
+    }
 
     std::fs::remove_dir_all(&d).ok();
 }

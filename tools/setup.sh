@@ -3,6 +3,9 @@
 #   libvulkan1           the Vulkan loader (ash loads libvulkan.so.1 at run time)
 #   mesa-vulkan-drivers  lavapipe, the CPU Vulkan driver tests run on without a GPU
 #   glslang-tools        glslangValidator, which build.rs runs to compile shaders
+# and, for the Slurm test of tools/slurm (tools/slurm/test_slurm.sh, run by .ci/run),
+#   slurmctld slurmd slurm-client munge
+# which are optional: without root or sudo, their absence is only reported.
 # Idempotent and quiet when everything is present. Missing packages are installed with
 # apt-get when running as root (or with sudo when it works without a password);
 # otherwise the exact command to run is printed and the script exits with status 1.
@@ -25,9 +28,25 @@ if ! command -v glslangValidator >/dev/null 2>&1; then
     missing+=(glslang-tools)
 fi
 
-if [ ${#missing[@]} -eq 0 ]; then
+# Slurm's controller, node daemon and commands, and munge (its authentication).
+optional=()
+command -v slurmctld >/dev/null 2>&1 || optional+=(slurmctld)
+command -v slurmd >/dev/null 2>&1 || optional+=(slurmd)
+command -v sbatch >/dev/null 2>&1 || optional+=(slurm-client)
+command -v munged >/dev/null 2>&1 || optional+=(munge)
+
+can_install() {
+    command -v apt-get >/dev/null 2>&1 \
+        && { [ "$(id -u)" -eq 0 ] || { command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; }; }
+}
+if [ ${#missing[@]} -eq 0 ] && [ ${#optional[@]} -gt 0 ] && ! can_install; then
+    echo "setup.sh: note: ${optional[*]} missing (only tools/slurm/test_slurm.sh needs them)" >&2
+    optional=()
+fi
+if [ ${#missing[@]} -eq 0 ] && [ ${#optional[@]} -eq 0 ]; then
     exit 0
 fi
+missing+=("${optional[@]}")
 
 install="apt-get update && apt-get install -y --no-install-recommends ${missing[*]}"
 echo "setup.sh: missing ${missing[*]}" >&2

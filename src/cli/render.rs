@@ -26,6 +26,7 @@ pub struct RenderArgs {
     pub output: Option<PathBuf>,
     pub spp: Option<u32>,
     pub samples: Option<String>,
+    pub part: Option<String>,
     pub resume: Option<PathBuf>,
     pub checkpoint: Option<f64>,
     pub run: RunArgs,
@@ -75,6 +76,8 @@ struct Plan {
     spp: u32,
     /// `--samples`.
     samples: Option<std::ops::Range<u32>>,
+    /// `--part I/N`.
+    part: Option<(u32, u32)>,
     /// The samples a resumed render was asked for (`None`: all).
     target: SampleRanges,
     /// A resumed partial.
@@ -94,6 +97,7 @@ fn plan(args: &mut RenderArgs) -> Result<Plan> {
             .transpose()
             .map_err(anyhow::Error::msg)
             .context("--samples")?;
+        let part = args.part.as_deref().map(parse_part).transpose()?;
         let target = samples.clone().map(SampleRanges::of).unwrap_or_default();
         return Ok(Plan {
             scene,
@@ -101,6 +105,7 @@ fn plan(args: &mut RenderArgs) -> Result<Plan> {
             defines,
             spp,
             samples,
+            part,
             target,
             resumed: None,
         });
@@ -158,9 +163,24 @@ fn plan(args: &mut RenderArgs) -> Result<Plan> {
         defines: rec.defines.clone(),
         spp: rec.spp,
         samples: None,
+        part: None,
         target: rec.target.clone(),
         resumed: Some((resume, p)),
     })
+}
+
+/// Parses `--part I/N` (0 <= I < N).
+fn parse_part(text: &str) -> Result<(u32, u32)> {
+    let bad = || anyhow::anyhow!("--part expects I/N with 0 <= I < N (part I of N), got '{text}'");
+    let (i, n) = text.split_once('/').ok_or_else(bad)?;
+    let (i, n): (u32, u32) = (
+        i.trim().parse().map_err(|_| bad())?,
+        n.trim().parse().map_err(|_| bad())?,
+    );
+    if i >= n {
+        return Err(bad());
+    }
+    Ok((i, n))
 }
 
 /// The devices `--device` names: one selector, or several (a comma list, `all`).
@@ -198,16 +218,18 @@ pub fn run(mut args: RenderArgs) -> Result<()> {
     // A render of some samples (now or when the resumed partial was started) writes a
     // partial; an empty target is the whole render.
     let partial_mode = plan.samples.is_some()
+        || plan.part.is_some()
         || plan
             .resumed
             .as_ref()
             .is_some_and(|(_, p)| p.record.target != SampleRanges::of(0..p.record.spp));
-    let asked_output = args.output.clone().unwrap_or_else(|| match &plan.samples {
-        Some(r) => {
-            let stem = crate::default_output(&plan.scene_path).with_extension("");
-            PathBuf::from(format!("{}_{}-{}.exr", stem.display(), r.start, r.end))
+    let asked_output = args.output.clone().unwrap_or_else(|| {
+        let stem = crate::default_output(&plan.scene_path).with_extension("");
+        match (&plan.samples, plan.part) {
+            (Some(r), _) => PathBuf::from(format!("{}_{}-{}.exr", stem.display(), r.start, r.end)),
+            (_, Some((i, n))) => PathBuf::from(format!("{}_part{i}of{n}.exr", stem.display())),
+            _ => crate::default_output(&plan.scene_path),
         }
-        None => crate::default_output(&plan.scene_path),
     });
     // Partials are EXRs; the whole image is in the film's format, its partial (when
     // interrupted, or checkpoints) an EXR beside it when that is another format.
@@ -273,7 +295,22 @@ pub fn run(mut args: RenderArgs) -> Result<()> {
         }
         STOPPABLE.store(false, Ordering::SeqCst);
     }
-    if let Some(r) = &plan.samples {
+    // --part I/N: its share of the rounded count.
+    let (samples, target) = match plan.part {
+        Some((i, n)) => {
+            if n > spp {
+                bail!(
+                    "--part {i}/{n}: the render's {spp} samples per pixel cannot be cut into \
+                     {n} parts (at most one part per sample)"
+                );
+            }
+            let at = |k: u32| (u64::from(k) * u64::from(spp) / u64::from(n)) as u32;
+            let r = at(i)..at(i + 1);
+            (Some(r.clone()), SampleRanges::of(r))
+        }
+        None => (plan.samples.clone(), plan.target.clone()),
+    };
+    if let Some(r) = &samples {
         if r.end > spp {
             bail!(
                 "--samples {}..{} reaches past the render's {spp} samples per pixel (--spp, \
@@ -342,10 +379,10 @@ pub fn run(mut args: RenderArgs) -> Result<()> {
         component_format: component_name,
         file_format: file_name,
         samples: SampleRanges::default(),
-        target: if plan.target.is_empty() {
+        target: if target.is_empty() {
             SampleRanges::of(0..spp)
         } else {
-            plan.target.clone()
+            target.clone()
         },
     };
     if let Some((path, p)) = &plan.resumed {
