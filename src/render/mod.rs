@@ -474,11 +474,9 @@ impl Renderer {
     /// Makes later renders use `seed` (RenderOptions::seed) without setting the scene
     /// up again.
     pub fn set_seed(&mut self, seed: u32) -> Result<()> {
-        let offset = std::mem::offset_of!(Frame, seed) as u64;
-        self.wavefront
-            .frame
-            .write(&self.device, offset, bytemuck::bytes_of(&seed))?;
-        Ok(())
+        // The frame's seed is the render's plus the sampler's (sampler::set_frame).
+        self.seed = seed;
+        self.set_sample_count(self.sample_count.clone())
     }
 
     /// Whether later renders record GPU timestamps around every kernel.
