@@ -9,6 +9,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use wavetrace::bench;
 use wavetrace::gpu::Device;
+use wavetrace::image::tev;
 use wavetrace::render::RenderOptions;
 use wavetrace::scene::film::{FileFormat, Filter, PixelFormat};
 use wavetrace::scene::sampler::SamplerKind;
@@ -131,6 +132,30 @@ enum Command {
         /// No progress bar.
         #[arg(short, long)]
         quiet: bool,
+        /// Stream the image in progress to tev (the HDR viewer) listening at HOST:PORT
+        /// (default 127.0.0.1:14158); without tev the render goes on, with a warning.
+        #[arg(long, value_name = "HOST:PORT", num_args = 0..=1,
+              default_missing_value = tev::DEFAULT_ADDRESS)]
+        tev: Option<String>,
+    },
+    /// Watch a scene converge in a window and move its camera (needs a display):
+    /// WASDQE move, arrow keys turn, mouse drag orbits, scroll zooms, =/- move speed,
+    /// [/] exposure, R resets the camera, P or F12 saves EXR + PNG, Esc quits.
+    View {
+        #[command(flatten)]
+        scene: SceneArgs,
+        /// Stop at this many samples per pixel (default: render until closed).
+        #[arg(long)]
+        spp: Option<u32>,
+        /// Exposure of the display in stops (the saved EXR is not changed).
+        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+        exposure: f32,
+        /// Render --spp samples (the scene's count without it), save what the window
+        /// shows to this PNG, and exit.
+        #[arg(long, value_name = "FILE.png")]
+        screenshot: Option<PathBuf>,
+        #[command(flatten)]
+        run: RunArgs,
     },
     /// Merge partial EXRs of one render (`render --samples`) into the image of their
     /// samples, written in the film's formats as `render` writes it.
@@ -220,6 +245,7 @@ fn run(cli: Cli) -> Result<()> {
             run,
             profile,
             quiet,
+            tev: tev_address,
         } => crate::cli::render::run(crate::cli::render::RenderArgs {
             scene,
             define,
@@ -232,12 +258,20 @@ fn run(cli: Cli) -> Result<()> {
             run,
             profile,
             quiet,
+            tev: tev_address,
         }),
         Command::Merge {
             parts,
             output,
             allow_gaps,
         } => crate::cli::render::merge(&parts, &output, allow_gaps),
+        Command::View {
+            scene,
+            spp,
+            exposure,
+            screenshot,
+            run,
+        } => view(&scene, spp, exposure, screenshot, run),
         Command::Bench {
             scene,
             reference,
@@ -274,6 +308,63 @@ fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
     }
+}
+
+#[cfg(feature = "viewer")]
+fn view(
+    scene: &SceneArgs,
+    spp: Option<u32>,
+    exposure: f32,
+    screenshot: Option<PathBuf>,
+    run: RunArgs,
+) -> Result<()> {
+    let started = Instant::now();
+    if spp == Some(0) {
+        bail!("--spp must be at least 1");
+    }
+    if !exposure.is_finite() {
+        bail!("--exposure must be a finite number of stops");
+    }
+    // Say there is no display before loading a large scene.
+    if let Some(reason) = wavetrace::viewer::window::missing_display() {
+        return Err(wavetrace::viewer::Error::NoDisplay(reason).into());
+    }
+    let sc = load(scene)?;
+    let (render, device) = run.options(false);
+    let options = wavetrace::viewer::ViewOptions {
+        spp,
+        exposure,
+        screenshot,
+        device,
+        render,
+        save_dir: PathBuf::from("."),
+    };
+    let report = wavetrace::viewer::run(&sc, &options, started, &mut |line| eprintln!("{line}"))?;
+    eprintln!(
+        "viewer: first frame {:.2} s after start; while rendering {:.1} frames/s, \
+         {:.2} M samples/s ({} frames, {:.1} s); last image {} spp",
+        report.first_frame_seconds,
+        report.frames_per_second(),
+        report.samples_per_second() / 1e6,
+        report.render_frames,
+        report.render_seconds,
+        report.spp
+    );
+    Ok(())
+}
+
+#[cfg(not(feature = "viewer"))]
+fn view(
+    _scene: &SceneArgs,
+    _spp: Option<u32>,
+    _exposure: f32,
+    _screenshot: Option<PathBuf>,
+    _run: RunArgs,
+) -> Result<()> {
+    bail!(
+        "this wavetrace was built without the viewer (cargo feature `viewer`); \
+         render with `wavetrace render SCENE.xml`, or watch it in tev with --tev"
+    )
 }
 
 fn bench(

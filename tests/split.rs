@@ -232,7 +232,16 @@ fn parts_merge_into_the_unsplit_render_and_bad_merges_are_refused() {
         ("2/10", "cannot be cut into 10 parts"),
     ] {
         let (code, _, err) = wavetrace(&[
-            "render", SCENE, "-D", "res=20", "--spp", "9", "--part", part, "-o", s(&out),
+            "render",
+            SCENE,
+            "-D",
+            "res=20",
+            "--spp",
+            "9",
+            "--part",
+            part,
+            "-o",
+            s(&out),
         ]);
         assert_eq!(code, 1, "{err}");
         assert!(err.contains(needle), "--part {part}: {err}");
@@ -321,6 +330,7 @@ fn range_sums_fold_resume_and_spread_over_devices_as_documented() {
         checkpoint: &|_, _| Ok(()),
         boundary: &|_, _| {},
         progress: &|_, _| {},
+        preview: None,
     };
     let all = SampleRanges::of(0..9);
     let count = r.round_sample_count(9).expect("count");

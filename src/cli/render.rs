@@ -11,10 +11,11 @@ use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use wavetrace::gpu::Device;
+use wavetrace::image::tev::TevStream;
 use wavetrace::render::job::{self, JobControl, JobResult};
 use wavetrace::render::partial::{self, Partial, RenderRecord, SampleRanges};
 use wavetrace::render::{FilmSums, RenderStats, Renderer};
-use wavetrace::scene::film::FileFormat;
+use wavetrace::scene::film::{FileFormat, PixelFormat};
 use wavetrace::scene::{self, Scene};
 
 use crate::{describe_film, output_path, parse_defines, RunArgs};
@@ -32,6 +33,8 @@ pub struct RenderArgs {
     pub run: RunArgs,
     pub profile: bool,
     pub quiet: bool,
+    /// `--tev HOST:PORT`: stream the image in progress to tev.
+    pub tev: Option<String>,
 }
 
 /// Set by the first SIGINT/SIGTERM: stop at the next sample boundary.
@@ -482,12 +485,43 @@ pub fn run(mut args: RenderArgs) -> Result<()> {
         }
         s => s.map(Duration::from_secs_f64),
     };
+    // tev: the image at sample boundaries, every TEV_INTERVAL, and at the end.
+    let tev = args.tev.as_ref().and_then(|address| {
+        let name = output.file_name().map_or_else(
+            || "wavetrace".to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        let names = sc.film.pixel_format.channel_names();
+        match TevStream::create(address, &name, w, h, &names) {
+            Ok(t) => {
+                eprintln!("streaming to tev at {address} as '{name}'");
+                Some(Mutex::new(t))
+            }
+            Err(e) => {
+                eprintln!("warning: {e}; rendering without it");
+                None
+            }
+        }
+    });
+    let pixel_format = sc.film.pixel_format;
+    let show = |sums: &FilmSums| {
+        if let Some(t) = &tev {
+            send_to_tev(
+                &mut t.lock().unwrap_or_else(|e| e.into_inner()),
+                sums,
+                pixel_format,
+            );
+        }
+    };
     let control = JobControl {
         stop: &STOP,
         checkpoint_every: every,
         checkpoint: &checkpoint,
         boundary: &boundary,
         progress: &progress,
+        preview: tev
+            .is_some()
+            .then_some((TEV_INTERVAL, &show as &job::Preview<'_>)),
     };
     let result: JobResult = match single.as_mut() {
         Some(renderer) => {
@@ -511,6 +545,9 @@ pub fn run(mut args: RenderArgs) -> Result<()> {
     let rendered = result.done.count() - start_done.count();
     report_stats(stats, rendered * pixels, args.profile, single.as_ref());
 
+    if let Some(sums) = &result.sums {
+        show(sums);
+    }
     let Some(sums) = result.sums else {
         eprintln!("interrupted before the first sample was done: nothing written");
         std::process::exit(130);
@@ -563,6 +600,22 @@ pub fn run(mut args: RenderArgs) -> Result<()> {
     }
     eprintln!("wrote {} and {}", output.display(), png.display());
     Ok(())
+}
+
+/// Time between the images a render sends to tev.
+const TEV_INTERVAL: Duration = Duration::from_millis(500);
+
+/// Sends the film to tev; a failure (tev closed) is a warning, once: later sends
+/// are skipped.
+fn send_to_tev(tev: &mut TevStream, film: &FilmSums, format: PixelFormat) {
+    if tev.is_closed() {
+        return;
+    }
+    let (_, data) = film.channels(format);
+    if let Err(e) = tev.update(&data) {
+        eprintln!("warning: {e}; no more updates go to tev");
+        tev.close();
+    }
 }
 
 /// Writes the image of a partial in its film's formats (with its record in an

@@ -42,7 +42,13 @@ pub struct JobControl<'a> {
     pub boundary: &'a (dyn Fn(u64, u64) + Sync),
     /// Called after every batch with (paths done, paths in all).
     pub progress: &'a (dyn Fn(u64, u64) + Sync),
+    /// On one device: shown the sums of the samples done at the first sample boundary
+    /// after every this long (an image in progress, e.g. for tev).
+    pub preview: Option<(Duration, &'a Preview<'a>)>,
 }
+
+/// What [`JobControl::preview`] calls with the sums of the samples done.
+pub type Preview<'a> = dyn Fn(&FilmSums) + Sync + 'a;
 
 /// What a job rendered.
 pub struct JobResult {
@@ -87,6 +93,7 @@ pub fn render_on_one(
     let mut stats = RenderStats::default();
     let mut stopped = false;
     let mut last_checkpoint = Instant::now();
+    let mut last_preview = Instant::now();
     let mut finished = 0u64;
     for r in ranges.ranges() {
         if control.stop.load(Ordering::SeqCst) {
@@ -104,6 +111,12 @@ pub fn render_on_one(
                     d.add(r.start..r.start + n);
                     (control.checkpoint)(&rr.read_film()?, &d)?;
                     last_checkpoint = Instant::now();
+                }
+            }
+            if let Some((every, show)) = control.preview {
+                if last_preview.elapsed() >= every {
+                    show(&rr.read_film()?);
+                    last_preview = Instant::now();
                 }
             }
             Ok(control.stop.load(Ordering::SeqCst))

@@ -14,6 +14,7 @@ pub mod job;
 pub mod media;
 pub mod partial;
 pub mod photon;
+pub mod progressive;
 pub mod sampler;
 pub mod scene_buffers;
 pub mod scene_parts;
@@ -672,7 +673,8 @@ impl Renderer {
     /// boundary: after a batch of whole samples, or after the last batch of a sample
     /// that is split over batches). If it returns true, rendering stops there and
     /// [`RenderStats::spp`] says how many samples the returned sums hold (`done`).
-    /// [`Self::read_film`] reads the sums at a boundary (a checkpoint).
+    /// [`Self::read_film`] reads the sums at a boundary (the samples done so far: a
+    /// checkpoint).
     /// SPPM cannot stop early or start from sums (its radii shrink over
     /// iterations); the photon mapper stops only where its photon map is one pass.
     pub fn render_film_controlled(
@@ -738,12 +740,6 @@ impl Renderer {
             }
             Some(sums) => self.film.load(&self.device, sums),
         }
-    }
-
-    /// The film's sums as they are between batches (at a sample boundary of
-    /// [`Self::render_film_controlled`]: the samples done so far).
-    pub fn read_film(&self) -> Result<FilmSums> {
-        self.film.read(&self.device)
     }
 
     /// A command list, with timestamps if the renderer records them.

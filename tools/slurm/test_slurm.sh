@@ -61,7 +61,7 @@ chmod 400 "$tmp/munge/munge.key"
 socket="$tmp/munge/munge.socket"
 munged --force --key-file="$tmp/munge/munge.key" --socket="$socket" \
     --pid-file="$tmp/munge/munged.pid" --log-file="$tmp/log/munged.log" \
-    --seed-file="$tmp/munge/munged.seed" --foreground &
+    --seed-file="$tmp/munge/munged.seed" --foreground >"$tmp/log/munged.out" 2>&1 &
 pids+=($!)
 for _ in $(seq 100); do [ -S "$socket" ] && break; sleep 0.1; done
 [ -S "$socket" ] || fail "munged did not start"
