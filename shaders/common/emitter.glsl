@@ -74,8 +74,11 @@ float emitter_sphere_cone(vec3 x, vec3 c, float r) {
     return sin2 / (1.0 + sqrt(1.0 - sin2));
 }
 
-// Samples light arriving at x. u: four uniform numbers.
-EmitterSample emitter_sample(vec3 x, vec4 u) {
+// Samples light arriving at x from one 2-D sample u: the emitter is chosen by u.x, which
+// is then reused (alias_sample_cdf), and a mesh's triangle by u.y likewise
+// (alias_sample_reuse), so that the point on the emitter is drawn from a 2-D sample (as
+// Mitsuba does), which a stratified sampler stratifies.
+EmitterSample emitter_sample(vec3 x, vec2 u) {
     EmitterSample s;
     s.delta = false;
     s.Le = vec3(0.0);
@@ -85,7 +88,7 @@ EmitterSample emitter_sample(vec3 x, vec4 u) {
     s.emitter = NONE;
     if (frame.emitter_count == 0u) return s;
     float pmf;
-    uint index = alias_sample(0u, frame.emitter_count, u.x, pmf);
+    uint index = alias_sample_cdf(0u, frame.emitter_count, u.x, pmf);
     s.emitter = index;
     EmitterRecord e = emitter_load(index);
     if ((EMITTER_HAS(EMITTER_POINT) && e.kind == EMITTER_POINT)
@@ -99,22 +102,22 @@ EmitterSample emitter_sample(vec3 x, vec4 u) {
         s.pdf = pmf;
         s.delta = true;
     } else if (EMITTER_HAS(EMITTER_CONSTANT) && e.kind == EMITTER_CONSTANT) {
-        s.wi = warp_uniform_sphere(u.yz);
+        s.wi = warp_uniform_sphere(u);
         s.dist = EMITTER_INFINITY;
         s.Le = e.radiance;
         s.pdf = pmf * warp_uniform_sphere_pdf(s.wi);
     } else if (EMITTER_HAS(EMITTER_ENVMAP) && e.kind == EMITTER_ENVMAP) {
         if (!TEXTURE_USES(TEXTURE_FEATURE_ENVMAP)) return s;
         float pdf;
-        s.wi = envmap_sample(e, u.yz, pdf);
+        s.wi = envmap_sample(e, u, pdf);
         s.dist = EMITTER_INFINITY;
         s.Le = envmap_eval(e, s.wi);
         s.pdf = pmf * pdf;
     } else if (EMITTER_HAS(EMITTER_AREA) && e.tri_count > 0u) {
         // A mesh: a triangle by area, then a uniform point on it.
         float tri_pmf;
-        uint t = alias_sample(e.tri_first, e.tri_count, u.y, tri_pmf);
-        vec2 b = warp_uniform_triangle(u.zw);
+        uint t = alias_sample_reuse(e.tri_first, e.tri_count, u.y, tri_pmf);
+        vec2 b = warp_uniform_triangle(u);
         // The same surface a ray would find there: its front side follows the vertex
         // normals where the mesh has them (as in Mitsuba and Nori), so a mirroring
         // to_world does not turn a light around.
@@ -135,7 +138,7 @@ EmitterSample emitter_sample(vec3 x, vec4 u) {
         float one_minus_cos_max = emitter_sphere_cone(x, e.position, e.radius);
         if (one_minus_cos_max <= 0.0) return s; // inside the light: it emits outwards
         vec3 wc = normalize(e.position - x);
-        s.wi = frame_to_world(wc, warp_uniform_cone(u.yz, one_minus_cos_max));
+        s.wi = frame_to_world(wc, warp_uniform_cone(u, one_minus_cos_max));
         float t;
         if (!intersect_sphere(x, s.wi, e.position, e.radius, 0.0, EMITTER_INFINITY, t)) {
             t = dot(e.position - x, s.wi); // grazing the rim: the closest approach
