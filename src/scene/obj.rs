@@ -8,10 +8,11 @@
 //! is shared by position, normal and uv (each distinct position/uv/normal triple of the
 //! faces becomes a vertex, over the whole file as in Mitsuba's loader; faces of
 //! positions alone index the positions directly, unused ones kept). Uvs and normals are
-//! kept when every face corner has one. Errors name the line: non-finite `v`/`vn`/`vt` values, index 0, relative
-//! (negative) indices reaching before the first vertex, positive indices past the last
-//! one, and faces with fewer than three vertices. Groups, objects, materials
-//! (`mtllib`, `usemtl`), smoothing groups, points and lines are not read.
+//! kept when every face corner has one. Errors name the line: non-finite `v`/`vn`/`vt`
+//! values, index 0, relative (negative) indices reaching before the first vertex,
+//! positive indices past the last one, and faces with fewer than three vertices.
+//! Groups, objects, materials (`mtllib`, `usemtl`), smoothing groups, points and lines
+//! are not read.
 
 use std::collections::HashMap;
 use std::path::Path;
