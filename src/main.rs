@@ -203,7 +203,7 @@ fn run(cli: Cli) -> Result<()> {
             let s = &renderer.setup;
             eprintln!(
                 "start-up: scene {:.0} ms, vulkan {:.0} ms, bvh {:.0} ms ({} nodes, SAH {:.1}), upload {:.0} ms, \
-                 pipelines {:.0} ms, first dispatch (kernel compile) {:.0} ms",
+                 pipelines {:.0} ms ({}), first dispatch (kernel compile) {:.0} ms",
                 load_seconds * 1e3,
                 device.info().startup_seconds * 1e3,
                 s.bvh.build_seconds * 1e3,
@@ -211,8 +211,12 @@ fn run(cli: Cli) -> Result<()> {
                 s.bvh.sah_cost,
                 s.upload_seconds * 1e3,
                 s.pipeline_seconds * 1e3,
+                specialization_summary(),
                 s.first_dispatch_seconds * 1e3,
             );
+            if let Some(why) = wavetrace::gpu::specialize::stats().unavailable {
+                eprintln!("note: kernels were specialized by the driver (slower start-up): {why}");
+            }
             let g = *renderer.film_geometry();
             let (w, h) = (g.crop.width, g.crop.height);
             eprintln!(
@@ -624,4 +628,19 @@ fn print_device_memory(sc: &Scene, bvh: &wavetrace::accel::Bvh) {
         }
         Err(e) => println!("  the scene does not fit: {e}"),
     }
+}
+
+/// How the kernels' modules were specialized, for the start-up line: "7 kernels
+/// specialized, 7 from cache" (see `gpu::specialize`).
+fn specialization_summary() -> String {
+    let st = wavetrace::gpu::specialize::stats();
+    let mut parts = vec![format!(
+        "{} kernels specialized, {} from cache",
+        st.cached + st.optimized,
+        st.cached
+    )];
+    if st.driver > 0 {
+        parts.push(format!("{} by the driver", st.driver));
+    }
+    parts.join(", ")
 }

@@ -3,6 +3,8 @@
 #   libvulkan1           the Vulkan loader (ash loads libvulkan.so.1 at run time)
 #   mesa-vulkan-drivers  lavapipe, the CPU Vulkan driver tests run on without a GPU
 #   glslang-tools        glslangValidator, which build.rs runs to compile shaders
+#   spirv-tools          spirv-opt, which specializes kernels before pipeline creation
+#                        (src/gpu/specialize.rs; without it start-up is seconds slower)
 # Idempotent and quiet when everything is present. Missing packages are installed with
 # apt-get when running as root (or with sudo when it works without a password);
 # otherwise the exact command to run is printed and the script exits with status 1.
@@ -25,6 +27,10 @@ if ! command -v glslangValidator >/dev/null 2>&1; then
     missing+=(glslang-tools)
 fi
 
+if ! command -v spirv-opt >/dev/null 2>&1; then
+    missing+=(spirv-tools)
+fi
+
 if [ ${#missing[@]} -eq 0 ]; then
     exit 0
 fi
@@ -34,7 +40,7 @@ echo "setup.sh: missing ${missing[*]}" >&2
 
 if ! command -v apt-get >/dev/null 2>&1; then
     echo "setup.sh: no apt-get here; install the Vulkan loader, Mesa's lavapipe driver" \
-        "and glslangValidator with your package manager" >&2
+        "glslangValidator and spirv-opt with your package manager" >&2
     exit 1
 fi
 

@@ -211,7 +211,7 @@ fn largest_device_heap(memory: &vk::PhysicalDeviceMemoryProperties) -> u64 {
         .unwrap_or(0)
 }
 
-fn cache_dir() -> Option<PathBuf> {
+pub(crate) fn cache_dir() -> Option<PathBuf> {
     if let Some(dir) = std::env::var_os("XDG_CACHE_HOME") {
         return Some(PathBuf::from(dir).join("wavetrace"));
     }
