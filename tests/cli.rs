@@ -346,6 +346,9 @@ fn specialized_kernels_render_what_the_driver_renders() {
             .map(|(x, y)| (x - y).abs() / x.abs().max(y.abs()).max(1e-3))
             .fold(0.0f32, f32::max);
         assert!(worst < 1e-4, "{scene}: relative difference {worst}");
-        assert!(wavetrace::image::metrics::mean(a)[0] > 0.0, "{scene} rendered black");
+        assert!(
+            wavetrace::image::metrics::mean(a)[0] > 0.0,
+            "{scene} rendered black"
+        );
     }
 }
