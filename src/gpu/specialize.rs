@@ -236,7 +236,9 @@ fn optimize(module: &[u32]) -> Result<Vec<u32>, String> {
     let output = child
         .wait_with_output()
         .map_err(|e| format!("`{program}` failed: {e}"))?;
-    let written = writer.join().map_err(|_| "writer thread panicked".to_string())?;
+    let written = writer
+        .join()
+        .map_err(|_| "writer thread panicked".to_string())?;
     if !output.status.success() {
         return Err(format!(
             "`{program}` failed ({}): {}",
