@@ -252,7 +252,7 @@ fn optimize(module: &[u32]) -> Result<Vec<u32>, String> {
 
 /// The bytes as SPIR-V words, if they hold a module.
 fn words(bytes: &[u8]) -> Option<Vec<u32>> {
-    if bytes.len() % 4 != 0 || bytes.len() < 20 {
+    if !bytes.len().is_multiple_of(4) || bytes.len() < 20 {
         return None;
     }
     let words: Vec<u32> = bytes
