@@ -770,21 +770,20 @@ fn print_info(
 /// bindings there (on the default device, or as on lavapipe without one).
 fn print_device_memory(sc: &Scene, bvh: &wavetrace::accel::Bvh) {
     use wavetrace::render::scene_buffers::SceneRecords;
-    use wavetrace::render::scene_parts::{scene_arrays, ScenePlan, DEFAULT_PART_SHIFT};
+    use wavetrace::render::scene_parts::{
+        array_sizes, scene_arrays, ScenePlan, DEFAULT_PART_SHIFT,
+    };
     let records = SceneRecords::new(sc, bvh);
-    let arrays = scene_arrays(bvh, &records);
+    let bytes = array_sizes(&scene_arrays(bvh, &records));
     let (plan, on) = match Device::new(None) {
         Ok(device) => (
-            ScenePlan::for_device(device.info(), &arrays, None),
+            ScenePlan::for_device(device.info(), bytes, None),
             device.info().to_string(),
         ),
-        Err(e) => {
-            let bytes = std::array::from_fn(|a| arrays[a].len() as u64);
-            (
-                ScenePlan::new(bytes, DEFAULT_PART_SHIFT),
-                format!("no Vulkan device ({e}); bindings as on lavapipe"),
-            )
-        }
+        Err(e) => (
+            ScenePlan::new(bytes, DEFAULT_PART_SHIFT),
+            format!("no Vulkan device ({e}); bindings as on lavapipe"),
+        ),
     };
     println!("device memory of the scene buffers, on {on}:");
     match plan {

@@ -18,6 +18,8 @@ pub use bvh::{
     BVH_STACK_SIZE,
 };
 
+use bvh_build::PrimSource;
+
 use crate::gpu::layout::{Prim, PRIM_SPHERE, PRIM_TRIANGLE};
 use crate::scene::{Mesh, Scene, Sphere};
 
@@ -34,34 +36,33 @@ pub fn prims_from_scene(scene: &Scene) -> Vec<Prim> {
 
 /// [`prims_from_scene`] over the shape lists alone.
 pub fn prims_from_shapes(meshes: &[Mesh], spheres: &[Sphere]) -> Vec<Prim> {
-    let triangles: usize = meshes.iter().map(|m| m.indices.len()).sum();
-    let mut prims = Vec::with_capacity(triangles + spheres.len());
-    let mut tri = 0u32;
-    for (shape, mesh) in meshes.iter().enumerate() {
-        for ix in &mesh.indices {
-            let p = ix.map(|i| mesh.positions[i as usize].to_array());
-            prims.push(Prim {
-                p0: p[0],
-                shape: shape as u32,
-                p1: p[1],
-                index: tri,
-                p2: p[2],
-                kind: PRIM_TRIANGLE,
-            });
-            tri += 1;
-        }
+    let source = bvh_build::ShapePrims::new(meshes, spheres);
+    (0..source.len()).map(|i| source.prim(i)).collect()
+}
+
+/// Triangle `k` of `mesh`, shape `shape`, global triangle number `index`.
+pub fn triangle_prim(mesh: &Mesh, k: usize, shape: u32, index: u32) -> Prim {
+    let p = mesh.indices[k].map(|v| mesh.positions[v as usize].to_array());
+    Prim {
+        p0: p[0],
+        shape,
+        p1: p[1],
+        index,
+        p2: p[2],
+        kind: PRIM_TRIANGLE,
     }
-    for (k, s) in spheres.iter().enumerate() {
-        prims.push(Prim {
-            p0: s.center.to_array(),
-            shape: (meshes.len() + k) as u32,
-            p1: [s.radius, 0.0, 0.0],
-            index: k as u32,
-            p2: [0.0; 3],
-            kind: PRIM_SPHERE,
-        });
+}
+
+/// The primitive of sphere number `index`, shape `shape`.
+pub fn sphere_prim(s: &Sphere, shape: u32, index: u32) -> Prim {
+    Prim {
+        p0: s.center.to_array(),
+        shape,
+        p1: [s.radius, 0.0, 0.0],
+        index,
+        p2: [0.0; 3],
+        kind: PRIM_SPHERE,
     }
-    prims
 }
 
 #[cfg(test)]

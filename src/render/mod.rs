@@ -33,7 +33,7 @@ use crate::scene::Scene;
 use film::{film_binding_kinds, Film, FilmGeometry, FilmSums, BYTES_PER_SAMPLE_SLOT};
 use photon::{photon_binding_kinds, PhotonStats, Photons};
 use scene_buffers::{SceneBuffers, SceneRecords};
-use scene_parts::{scene_arrays, scene_binding_kinds, ScenePlan};
+use scene_parts::{array_sizes, scene_binding_kinds, take_scene_arrays, ScenePlan};
 use wavefront::{wavefront_binding_kinds, Wavefront, BYTES_PER_PATH};
 
 /// How to render, beyond what the scene says.
@@ -239,11 +239,19 @@ impl Renderer {
             )));
         }
         let bvh = Bvh::for_shapes(&scene.meshes, &scene.spheres);
-        let records = SceneRecords::new(scene, &bvh);
+        let mut records = SceneRecords::new(scene, &bvh);
+        let bvh_stats = bvh.stats;
+        let scene_bounds = photon::SceneBounds::of(&bvh);
 
         let t = Instant::now();
-        let arrays = scene_arrays(&bvh, &records);
-        let plan = ScenePlan::for_device(device.info(), &arrays, options.scene_part_shift)?;
+        // The BVH and the large records are moved into the upload, which frees each
+        // once it is on the device.
+        let arrays = take_scene_arrays(bvh, &mut records);
+        let plan = ScenePlan::for_device(
+            device.info(),
+            array_sizes(&arrays),
+            options.scene_part_shift,
+        )?;
         let layout = BindingLayout::with_spec(
             device,
             &[
@@ -256,8 +264,7 @@ impl Renderer {
             &plan.spec(),
             plan.is_split(),
         )?;
-        let scene_buffers = SceneBuffers::upload_planned(device, &layout, &arrays, plan)?;
-        drop(arrays);
+        let scene_buffers = SceneBuffers::upload_planned(device, &layout, arrays, plan)?;
         let tan_x = (cam.fov_x_deg.to_radians() * 0.5).tan();
         let mut frame = Frame {
             camera_to_world: cam.to_world.to_cols_array_2d(),
@@ -348,7 +355,7 @@ impl Renderer {
         let bsdf_kinds = records.bsdfs.iter().fold(0u32, |m, b| m | 1 << b.kind);
         // The traversal stack holds at most one entry per level above the deepest
         // leaf (constant_id 1 of intersect, 11 of shade and shadow; bvh.glsl).
-        let bvh_depth = bvh.stats.stack_depth();
+        let bvh_depth = bvh_stats.stack_depth();
         let k = |name: &str, spirv: &[u8], spec: &[u32]| {
             Kernel::new(device, name, spirv, &layout, spec)
         };
@@ -413,7 +420,7 @@ impl Renderer {
                 &layout,
                 &integrator,
                 features,
-                photon::SceneBounds::of(&bvh),
+                scene_bounds,
                 pixels,
                 capacity,
                 options.max_photons_per_pass,
@@ -447,7 +454,7 @@ impl Renderer {
             seed: options.seed,
             sample_count,
             setup: SetupStats {
-                bvh: bvh.stats,
+                bvh: bvh_stats,
                 upload_seconds,
                 pipeline_seconds,
                 first_dispatch_seconds: 0.0,
