@@ -642,3 +642,18 @@ fn print_device_memory(sc: &Scene, bvh: &wavetrace::accel::Bvh) {
         Err(e) => println!("  the scene does not fit: {e}"),
     }
 }
+
+/// How the kernels' modules were specialized, for the start-up line: "7 kernels
+/// specialized, 7 from cache" (see `gpu::specialize`).
+fn specialization_summary() -> String {
+    let st = wavetrace::gpu::specialize::stats();
+    let mut parts = vec![format!(
+        "{} kernels specialized, {} from cache",
+        st.cached + st.optimized,
+        st.cached
+    )];
+    if st.driver > 0 {
+        parts.push(format!("{} by the driver", st.driver));
+    }
+    parts.join(", ")
+}

@@ -3,6 +3,8 @@
 #   libvulkan1           the Vulkan loader (ash loads libvulkan.so.1 at run time)
 #   mesa-vulkan-drivers  lavapipe, the CPU Vulkan driver tests run on without a GPU
 #   glslang-tools        glslangValidator, which build.rs runs to compile shaders
+#   spirv-tools          spirv-opt, which specializes kernels before pipeline creation
+#                        (src/gpu/specialize.rs; without it start-up is seconds slower)
 #   cmake, pkg-config, libx11-dev, libxrandr-dev, libxinerama-dev, libxcursor-dev,
 #   libxi-dev            to build the viewer's GLFW from its bundled source (the `glfw`
 #                        crate; GLFW loads libX11 at run time, only when `view` opens a
@@ -33,6 +35,9 @@ if ! command -v glslangValidator >/dev/null 2>&1; then
     missing+=(glslang-tools)
 fi
 
+if ! command -v spirv-opt >/dev/null 2>&1; then
+    missing+=(spirv-tools)
+fi
 command -v cmake >/dev/null 2>&1 || missing+=(cmake)
 command -v pkg-config >/dev/null 2>&1 || missing+=(pkg-config)
 # X11 headers GLFW's X11 backend compiles against, each with its pkg-config file.
@@ -70,7 +75,7 @@ echo "setup.sh: missing ${missing[*]}" >&2
 
 if ! command -v apt-get >/dev/null 2>&1; then
     echo "setup.sh: no apt-get here; install the Vulkan loader, Mesa's lavapipe driver," \
-        "glslangValidator, cmake, pkg-config, the X11 development headers (X11, Xrandr," \
+        "glslangValidator, spirv-opt, cmake, pkg-config, the X11 development headers (X11, Xrandr," \
         "Xinerama, Xcursor, Xi), Xvfb and xdotool with your package manager" >&2
     exit 1
 fi

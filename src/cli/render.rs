@@ -333,7 +333,7 @@ pub fn run(mut args: RenderArgs) -> Result<()> {
         let s = &renderer.setup;
         eprintln!(
             "start-up: scene {:.0} ms, vulkan {:.0} ms, bvh {:.0} ms ({} nodes, SAH {:.1}), upload {:.0} ms, \
-             pipelines {:.0} ms, first dispatch (kernel compile) {:.0} ms",
+             pipelines {:.0} ms ({}), first dispatch (kernel compile) {:.0} ms",
             load_seconds * 1e3,
             device.info().startup_seconds * 1e3,
             s.bvh.build_seconds * 1e3,
@@ -341,8 +341,12 @@ pub fn run(mut args: RenderArgs) -> Result<()> {
             s.bvh.sah_cost,
             s.upload_seconds * 1e3,
             s.pipeline_seconds * 1e3,
+            crate::specialization_summary(),
             s.first_dispatch_seconds * 1e3,
         );
+        if let Some(why) = wavetrace::gpu::specialize::stats().unavailable {
+            eprintln!("note: kernels were specialized by the driver (slower start-up): {why}");
+        }
         if let Some(lost) = renderer.film_overridden(&sc.film) {
             eprintln!(
                 "warning: '{}' does not render this film's {lost}",
