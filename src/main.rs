@@ -9,7 +9,6 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use wavetrace::bench;
 use wavetrace::gpu::Device;
-use wavetrace::image::tev;
 use wavetrace::render::RenderOptions;
 use wavetrace::scene::film::{FileFormat, Filter, PixelFormat};
 use wavetrace::scene::sampler::SamplerKind;
@@ -92,52 +91,7 @@ enum Command {
     /// of an interrupted or partial render (`--resume`). A first Ctrl-C (SIGINT or
     /// SIGTERM) stops at the next sample boundary and writes a partial EXR to resume
     /// from; a second aborts at once.
-    Render {
-        /// Scene file (Mitsuba 3 or Nori XML); not with --resume.
-        #[arg(required_unless_present = "resume")]
-        scene: Option<PathBuf>,
-        /// Override a scene default: -D spp=64 (Mitsuba `<default name= value=>`).
-        #[arg(short = 'D', value_name = "NAME=VALUE")]
-        define: Vec<String>,
-        /// Output file (default: the scene's name in the current folder); its
-        /// extension becomes the film's file format's (exr, rgbe or pfm), as in
-        /// Mitsuba. Partial renders are always EXR.
-        #[arg(short, long)]
-        output: Option<PathBuf>,
-        /// Samples per pixel of the whole render (default: the scene's sampler).
-        #[arg(long)]
-        spp: Option<u32>,
-        /// Render only samples A to B-1 of every pixel (of the whole render's --spp)
-        /// into a partial EXR for `wavetrace merge`.
-        #[arg(long, value_name = "A..B")]
-        samples: Option<String>,
-        /// Render part I of N equal parts of the samples (0 <= I < N: samples
-        /// I*S/N to (I+1)*S/N - 1 of the whole render's S), into a partial EXR: what a
-        /// Slurm array task renders (tools/slurm).
-        #[arg(long, value_name = "I/N", conflicts_with = "samples")]
-        part: Option<String>,
-        /// Render the samples a partial EXR lacks and write the whole image (scene,
-        /// seed and options come from the partial; default output: the partial).
-        #[arg(long, value_name = "PARTIAL.exr", conflicts_with_all = ["spp", "samples", "part"])]
-        resume: Option<PathBuf>,
-        /// Write the partial EXR of the samples done so far every SECONDS (at the
-        /// next sample boundary; atomically: a crash leaves the previous one).
-        #[arg(long, value_name = "SECONDS")]
-        checkpoint: Option<f64>,
-        #[command(flatten)]
-        run: RunArgs,
-        /// Print GPU time per kernel (timestamp queries).
-        #[arg(long)]
-        profile: bool,
-        /// No progress bar.
-        #[arg(short, long)]
-        quiet: bool,
-        /// Stream the image in progress to tev (the HDR viewer) listening at HOST:PORT
-        /// (default 127.0.0.1:14158); without tev the render goes on, with a warning.
-        #[arg(long, value_name = "HOST:PORT", num_args = 0..=1,
-              default_missing_value = tev::DEFAULT_ADDRESS)]
-        tev: Option<String>,
-    },
+    Render(cli::render::RenderArgs),
     /// Watch a scene converge in a window and move its camera (needs a display):
     /// WASDQE move, arrow keys turn, mouse drag orbits, scroll zooms, =/- move speed,
     /// [/] exposure, R resets the camera, P or F12 saves EXR + PNG, Esc quits.
@@ -233,33 +187,7 @@ fn main() {
 
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
-        Command::Render {
-            scene,
-            define,
-            output,
-            spp,
-            samples,
-            part,
-            resume,
-            checkpoint,
-            run,
-            profile,
-            quiet,
-            tev: tev_address,
-        } => crate::cli::render::run(crate::cli::render::RenderArgs {
-            scene,
-            define,
-            output,
-            spp,
-            samples,
-            part,
-            resume,
-            checkpoint,
-            run,
-            profile,
-            quiet,
-            tev: tev_address,
-        }),
+        Command::Render(args) => cli::render::run(args),
         Command::Merge {
             parts,
             output,

@@ -11,7 +11,7 @@ use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use wavetrace::gpu::Device;
-use wavetrace::image::tev::TevStream;
+use wavetrace::image::tev::{self, TevStream};
 use wavetrace::render::job::{self, JobControl, JobResult};
 use wavetrace::render::partial::{self, Partial, RenderRecord, SampleRanges};
 use wavetrace::render::{FilmSums, RenderStats, Renderer};
@@ -20,20 +20,52 @@ use wavetrace::scene::{self, Scene};
 
 use crate::{describe_film, output_path, parse_defines, RunArgs};
 
-/// The arguments of `wavetrace render` (see `Command::Render` in main.rs).
+/// The arguments of `wavetrace render`.
+#[derive(clap::Args)]
 pub struct RenderArgs {
+    /// Scene file (Mitsuba 3 or Nori XML); not with --resume.
+    #[arg(required_unless_present = "resume")]
     pub scene: Option<PathBuf>,
+    /// Override a scene default: -D spp=64 (Mitsuba `<default name= value=>`).
+    #[arg(short = 'D', value_name = "NAME=VALUE")]
     pub define: Vec<String>,
+    /// Output file (default: the scene's name in the current folder); its
+    /// extension becomes the film's file format's (exr, rgbe or pfm), as in
+    /// Mitsuba. Partial renders are always EXR.
+    #[arg(short, long)]
     pub output: Option<PathBuf>,
+    /// Samples per pixel of the whole render (default: the scene's sampler).
+    #[arg(long)]
     pub spp: Option<u32>,
+    /// Render only samples A to B-1 of every pixel (of the whole render's --spp)
+    /// into a partial EXR for `wavetrace merge`.
+    #[arg(long, value_name = "A..B")]
     pub samples: Option<String>,
+    /// Render part I of N equal parts of the samples (0 <= I < N: samples
+    /// I*S/N to (I+1)*S/N - 1 of the whole render's S), into a partial EXR: what a
+    /// Slurm array task renders (tools/slurm).
+    #[arg(long, value_name = "I/N", conflicts_with = "samples")]
     pub part: Option<String>,
+    /// Render the samples a partial EXR lacks and write the whole image (scene,
+    /// seed and options come from the partial; default output: the partial).
+    #[arg(long, value_name = "PARTIAL.exr", conflicts_with_all = ["spp", "samples", "part"])]
     pub resume: Option<PathBuf>,
+    /// Write the partial EXR of the samples done so far every SECONDS (at the
+    /// next sample boundary; atomically: a crash leaves the previous one).
+    #[arg(long, value_name = "SECONDS")]
     pub checkpoint: Option<f64>,
+    #[command(flatten)]
     pub run: RunArgs,
+    /// Print GPU time per kernel (timestamp queries).
+    #[arg(long)]
     pub profile: bool,
+    /// No progress bar.
+    #[arg(short, long)]
     pub quiet: bool,
-    /// `--tev HOST:PORT`: stream the image in progress to tev.
+    /// Stream the image in progress to tev (the HDR viewer) listening at HOST:PORT
+    /// (default 127.0.0.1:14158); without tev the render goes on, with a warning.
+    #[arg(long, value_name = "HOST:PORT", num_args = 0..=1,
+          default_missing_value = tev::DEFAULT_ADDRESS)]
     pub tev: Option<String>,
 }
 
