@@ -120,8 +120,19 @@ pub fn load_image(path: &Path, raw: bool) -> Result<(u32, u32, Vec<[f32; 3]>), S
         let texels = img.rgb.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
         (img.width, img.height, texels, true)
     } else {
-        let img = image::open(path)
-            .map_err(|e| format!("cannot read image '{}': {e}", path.display()))?;
+        let cannot = |e: &dyn std::fmt::Display| format!("cannot read image '{}': {e}", path.display());
+        // The header first: the decoders allocate from its size, and the float RGB
+        // texels below take up to 12 bytes per 1-byte pixel of the file's format.
+        let (w, h) = image::ImageReader::open(path)
+            .map_err(|e| cannot(&e))?
+            .into_dimensions()
+            .map_err(|e| cannot(&e))?;
+        crate::image::check_texels(w.into(), h.into())
+            .map_err(|e| format!("image '{}': {e}", path.display()))?;
+        let img = image::ImageReader::open(path)
+            .map_err(|e| cannot(&e))?
+            .decode()
+            .map_err(|e| cannot(&e))?;
         let linear = matches!(
             img,
             image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_)
