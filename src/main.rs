@@ -399,7 +399,15 @@ fn print_info(sc: &Scene) {
             if m.emitter.is_some() { ", emitter" } else { "" },
         );
     }
-    println!("spheres:     {}", sc.spheres.len());
+    println!("quadrics:    {}", sc.quadrics.len());
+    for q in &sc.quadrics {
+        println!(
+            "  {:?}, area {}{}",
+            q.kind,
+            q.area(),
+            if q.emitter.is_some() { ", emitter" } else { "" }
+        );
+    }
     println!("triangles:   {}", sc.triangle_count());
     println!("features:    {}", sc.features().join(", "));
     println!("bsdfs:       {}", sc.bsdfs.len());

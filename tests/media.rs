@@ -294,7 +294,7 @@ fn render_stats(
 /// Bonferroni-corrected over the 192 tests; an unbiased render fails with probability
 /// below 1%. Also checks that a 5% bias would be seen.
 fn matches_reference(device: &Device, scene: &str, defines: &[(&str, &str)], reference: &str) {
-    matches_reference_with(device, scene, defines, reference, None);
+    matches_reference_at(device, scene, defines, reference, None, 64);
 }
 
 /// As [`matches_reference`] with another integrator than the scene's.
@@ -305,9 +305,21 @@ fn matches_reference_with(
     reference: &str,
     integrator: Option<&str>,
 ) {
+    matches_reference_at(device, scene, defines, reference, integrator, 64);
+}
+
+/// As [`matches_reference_with`] at `spp` samples per pixel.
+fn matches_reference_at(
+    device: &Device,
+    scene: &str,
+    defines: &[(&str, &str)],
+    reference: &str,
+    integrator: Option<&str>,
+    spp: u32,
+) {
     let scene = load_with(&common::repo(scene), defines);
     let reference = Image::read_exr(common::repo(reference)).expect("reference EXR");
-    let (img, stats) = render_stats(device, &scene, integrator, 64, 0);
+    let (img, stats) = render_stats(device, &scene, integrator, spp, 0);
     assert_eq!(stats.discarded, 0, "NaN or infinite samples");
     let label = format!(
         "{} ({:.2} s)",
@@ -396,13 +408,19 @@ fn grid_medium_matches_mitsuba() {
 /// weighting camera paths and shadow rays (vol_path.glsl, transmittance.glsl); path
 /// samples it as a delta transmission lobe (bsdf_textured).
 #[test]
+///
+/// At 128 spp: the fog and the dim floor corner are noisy in the 4096-spp references
+/// too (±5-10% per pixel), and at 64 spp the bottom-left block sat near the test's
+/// threshold (t = -4.2 to -4.4 for different triangulations of the same rectangles,
+/// where 1024 spp agrees with the reference to within its noise).
 fn textured_thin_dielectric_matches_mitsuba() {
     let device = common::device();
     let scene = "scenes/media/thin_textured.xml";
-    matches_reference(&device, scene, &[], "scenes/refs/media_thin_textured.exr");
-    matches_reference(
-        &device,
-        scene,
+    let at = |defines: &[(&str, &str)], reference: &str| {
+        matches_reference_at(&device, scene, defines, reference, None, 128)
+    };
+    at(&[], "scenes/refs/media_thin_textured.exr");
+    at(
         &[("integrator", "path")],
         "scenes/refs/media_thin_textured_path.exr",
     );

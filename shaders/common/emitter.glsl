@@ -4,7 +4,9 @@
 //
 // An emitter is chosen in proportion to its power through the alias table at
 // alias table entries [0, emitter_count); a mesh emitter then picks a triangle by area and a
-// uniform point on it, so points are uniform over its whole surface; a sphere
+// uniform point on it, so points are uniform over its whole surface; a disk or
+// cylinder a uniform point of its surface (as Mitsuba's sample_position: the
+// concentric map on the disk, uniform angle and height on the cylinder); a sphere
 // emitter samples the cone of directions it subtends (PBR 4th ed., sec. 6.2.4).
 // Every pdf here is per unit solid angle at the shading point and includes the
 // probability of choosing the emitter.
@@ -13,7 +15,8 @@
 
 // Kinds a scene does not use compile away (llvmpipe runs both sides of every branch
 // under a mask): define EMITTER_KINDS (a bit per EMITTER_* kind, area meaning on
-// meshes, and EMITTER_KIND_BIT_SPHERE_AREA) before including this file.
+// meshes, EMITTER_KIND_BIT_SPHERE_AREA and EMITTER_KIND_BIT_QUADRIC_AREA) before
+// including this file.
 #ifndef EMITTER_KINDS
 #define EMITTER_KINDS 0xffffffffu
 #endif
@@ -110,15 +113,30 @@ EmitterSample emitter_sample(vec3 x, vec4 u) {
         s.dist = EMITTER_INFINITY;
         s.Le = envmap_eval(e, s.wi);
         s.pdf = pmf * pdf;
-    } else if (EMITTER_HAS(EMITTER_AREA) && e.tri_count > 0u) {
-        // A mesh: a triangle by area, then a uniform point on it.
-        float tri_pmf;
-        uint t = alias_sample(e.tri_first, e.tri_count, u.y, tri_pmf);
-        vec2 b = warp_uniform_triangle(u.zw);
+    } else if ((EMITTER_HAS(EMITTER_AREA) && e.tri_count > 0u)
+               || (EMITTER_HAS(EMITTER_KIND_BIT_QUADRIC_AREA) && e.tri_count == 0u
+                   && e.prim_kind != PRIM_SPHERE)) {
         // The same surface a ray would find there: its front side follows the vertex
-        // normals where the mesh has them (as in Mitsuba and Nori), so a mirroring
+        // normals where a mesh has them (as in Mitsuba and Nori), so a mirroring
         // to_world does not turn a light around.
-        Surface ls = surface_at(alias_load(e.tri_first + t).prim, b.x, b.y, x, vec3(0.0), 0.0);
+        Surface ls;
+        if (EMITTER_HAS(EMITTER_AREA) && e.tri_count > 0u) {
+            // A mesh: a triangle by area, then a uniform point on it.
+            float tri_pmf;
+            uint t = alias_sample(e.tri_first, e.tri_count, u.y, tri_pmf);
+            vec2 b = warp_uniform_triangle(u.zw);
+            ls = surface_at(alias_load(e.tri_first + t).prim, b.x, b.y, x, vec3(0.0), 0.0);
+        } else if (e.prim_kind == PRIM_DISK) {
+            vec2 xy = warp_square_to_disk(u.yz);
+            ls = surface_at(e.prim, xy.x, xy.y, x, vec3(0.0), 0.0);
+        } else {
+            // Cylinder: angle and height uniform (its area element is constant).
+            Prim p = prim_load(e.prim);
+            float phi = 2.0 * PI * u.z;
+            vec3 a2 = cross(normalize(p.p2), p.p1);
+            vec3 y = p.p0 + cos(phi) * p.p1 + sin(phi) * a2 + u.y * p.p2;
+            ls = surface_at(e.prim, 0.0, 0.0, y, vec3(0.0), 0.0);
+        }
         vec3 y = ls.p;
         vec3 ng = ls.ng;
         vec3 d = y - x;
@@ -143,8 +161,7 @@ EmitterSample emitter_sample(vec3 x, vec4 u) {
         s.dist = t;
         s.Le = e.radiance;
         if (TEXTURE_USES(TEXTURE_FEATURE_AREA) && e.texture != 0u) {
-            vec3 n = normalize(x + t * s.wi - e.position);
-            s.Le *= texture_eval(e.texture, surface_sphere_uv(n));
+            s.Le *= texture_eval(e.texture, surface_at(e.prim, 0.0, 0.0, x, s.wi, t).uv);
         }
         s.pdf = pmf * warp_uniform_cone_pdf(one_minus_cos_max);
     }
@@ -157,7 +174,7 @@ EmitterSample emitter_sample(vec3 x, vec4 u) {
 float emitter_pdf_hit(uint index, vec3 x_prev, vec3 d, float t, vec3 ng) {
     EmitterRecord e = emitter_load(index);
     float pmf = alias_load(index).pmf;
-    if (!EMITTER_HAS(EMITTER_KIND_BIT_SPHERE_AREA) || e.tri_count > 0u) {
+    if (!EMITTER_HAS(EMITTER_KIND_BIT_SPHERE_AREA) || e.tri_count > 0u || e.prim_kind != PRIM_SPHERE) {
         float cos_light = abs(dot(ng, d));
         return cos_light > 0.0 ? pmf * t * t / (e.area * cos_light) : 0.0;
     }

@@ -176,7 +176,9 @@ impl Renderer {
 
         let t = Instant::now();
         // Specialization: code for features the scene lacks is compiled out.
-        let has_spheres = !scene.spheres.is_empty() as u32;
+        // The quadric kinds (SURFACE_FEATURE_* bits): the traversal and the hit
+        // geometry compile the others away.
+        let prim_kinds = records.prim_kinds();
         // Media and null surfaces: the medium code of shade and shadow
         // (constant_id 4 of both; 2-3 belong to textures).
         // Thin dielectrics are null crossings for the volumetric path tracers
@@ -186,14 +188,9 @@ impl Renderer {
         // Medium features (constant_id 6): the kinds and grid layouts the scene's media
         // use; homogeneous-only scenes compile tracking away.
         let medium_features = records.medium_features();
-        // Surface features (constant_id 10 of shade and shadow): spheres, vertex
-        // normals and uvs; hit geometry compiles the absent ones away.
-        let surface_features = records.surface_features()
-            | if has_spheres != 0 {
-                crate::gpu::layout::SURFACE_FEATURE_SPHERES
-            } else {
-                0
-            };
+        // Surface features (constant_id 10 of shade and shadow): quadric kinds,
+        // vertex normals and uvs; hit geometry compiles the absent ones away.
+        let surface_features = records.surface_features() | prim_kinds;
         let bsdf_kinds = records.bsdfs.iter().fold(0u32, |m, b| m | 1 << b.kind);
         // The traversal stack holds at most one entry per level above the deepest
         // leaf (constant_id 1 of intersect, 11 of shade and shadow; bvh.glsl).
@@ -203,7 +200,7 @@ impl Renderer {
         };
         let kernels = Kernels {
             generate: k("generate", shaders::GENERATE, &[])?,
-            intersect: k("intersect", shaders::INTERSECT, &[has_spheres, bvh_depth])?,
+            intersect: k("intersect", shaders::INTERSECT, &[prim_kinds, bvh_depth])?,
             shade: k(
                 "shade",
                 shaders::SHADE,
@@ -213,7 +210,7 @@ impl Renderer {
                     records.texture_mask(),
                     0,
                     has_media,
-                    has_spheres,
+                    prim_kinds,
                     medium_features,
                     thin_null,
                     integrator.power_heuristic() as u32,
@@ -226,7 +223,7 @@ impl Renderer {
                 "shadow",
                 shaders::SHADOW,
                 &[
-                    has_spheres,
+                    prim_kinds,
                     0,
                     records.texture_mask(),
                     0,
