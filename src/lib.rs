@@ -10,3 +10,4 @@ pub mod gpu;
 pub mod image;
 pub mod render;
 pub mod scene;
+pub mod warptest;
