@@ -38,6 +38,8 @@ fn main() {
             .arg("--target-env")
             .arg("vulkan1.2")
             .arg(format!("-I{}", shader_dir.join("common").display()))
+            // Includes of a topic folder beside common/: "photon/grid.glsl".
+            .arg(format!("-I{}", shader_dir.display()))
             .arg("-o")
             .arg(&spv)
             .arg(kernel)

@@ -40,7 +40,9 @@ struct RunArgs {
     #[arg(long, default_value_t = 0)]
     seed: u32,
     /// Integrator, overriding the scene's: normals, ao, simple, direct_ems,
-    /// direct_mats, direct_mis (direct), path_mats, path_mis (path).
+    /// direct_mats, direct_mis (direct), path_mats, path_mis (path), vol_path_simple,
+    /// vol_path_mis (volpath), single_scatter, photonmapper (Nori's photon mapper),
+    /// sppm (stochastic progressive photon mapping: caustics, converging).
     #[arg(long)]
     integrator: Option<String>,
     /// Vulkan device: index or part of its name (see `wavetrace devices`).
@@ -53,6 +55,10 @@ struct RunArgs {
     /// (default 65536; a max_depth ends paths sooner).
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     max_bounces: Option<u32>,
+    /// Photon mappers: most photons one photon-map pass holds (default: what the
+    /// device's memory and binding limits allow); larger maps are gathered in passes.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
+    photons_per_pass: Option<u32>,
 }
 
 impl RunArgs {
@@ -63,6 +69,7 @@ impl RunArgs {
             max_batch_paths: self.batch,
             timestamps,
             max_bounces: self.max_bounces,
+            max_photons_per_pass: self.photons_per_pass,
         };
         (options, self.device)
     }

@@ -14,6 +14,9 @@
 #define INTEGRATOR_VOL_PATH_MIS 9u
 #define INTEGRATOR_SINGLE_DISTANCE 10u
 #define INTEGRATOR_SINGLE_EQUIANGULAR 11u
+// The photon mappers run kernels of their own (shaders/kernels/photon_*, sppm_*).
+#define INTEGRATOR_PHOTONMAPPER 12u
+#define INTEGRATOR_SPPM 13u
 
 bool integrator_is_single_scatter(uint integrator) {
     return integrator == INTEGRATOR_SINGLE_DISTANCE || integrator == INTEGRATOR_SINGLE_EQUIANGULAR;

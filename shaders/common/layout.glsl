@@ -332,4 +332,75 @@ struct Push {
     uint pad2;
 };
 
+// Photon mapping (src/gpu/layout.rs, shaders/photon/): a stored photon. wi: the
+// direction it arrived from, octahedral in two snorm16 (photon/record.glsl); path: its
+// photon path's index in the emission sequence.
+struct Photon {
+    vec3 position;
+    uint path;
+    vec3 power;
+    uint wi;
+};
+
+// A photon path in flight, by path slot (in the path-state buffer).
+struct PhotonPath {
+    vec3 power;
+    uint index;
+    float start_power; // largest channel of the power at emission (Russian roulette)
+    uint stored;       // photons stored so far
+    uint pad0;
+    uint pad1;
+};
+
+// Parameters of a photon pass (uniform block; see src/gpu/layout.rs).
+struct PhotonParams {
+    vec3 scene_center;
+    float scene_radius;
+    float cell_size;
+    float inv_cell_size;
+    uint table_mask;
+    uint capacity;      // photon slots; photons appended past them are only counted
+    float radius;       // photonmapper: gather radius
+    float gather_scale; // photonmapper: factor of the photon sum
+    float emission_scale; // photonmapper: factor of emission camera paths find
+    uint path_limit;    // photons of paths at or above this index stay out of the grid
+    uint store_first;   // 1: store at a photon path's first surface too
+    uint max_bounces;   // surfaces a photon path meets at most
+    uint iteration;     // stream of photon random numbers
+    uint first_pixel;   // sppm: the tile's first pixel (visible points, pixel states)
+};
+
+// Counters of photon passes.
+struct PhotonCounters {
+    uint stored;     // photons appended (the excess over capacity was dropped)
+    uint max_radius; // sppm: largest radius, as float bits (atomicMax)
+    uint pad0;
+    uint pad1;
+};
+
+// Where a camera path meets its first non-delta surface (bsdf == NONE: none).
+#define VISIBLE_POINT_NORMAL_MAP 1u
+struct VisiblePoint {
+    vec3 p;
+    uint bsdf;
+    vec3 wo;   // towards the camera
+    float u;
+    vec3 n;    // shading normal, after a normal map
+    float v;
+    vec3 beta; // camera path throughput
+    float alpha2; // normal map shadowing roughness
+    vec3 n0;   // shading normal before the normal map
+    uint flags;
+};
+
+// One pixel of SPPM (pbrt-v4's SPPMPixel).
+struct SppmPixel {
+    vec3 tau;
+    float radius;
+    vec3 ld;   // sum of directly found light over iterations
+    float n;   // photon count N
+    vec3 phi;  // this iteration's Φ_i
+    uint m;    // this iteration's M
+};
+
 #endif

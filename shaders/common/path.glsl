@@ -76,7 +76,9 @@ PathVertex path_vertex_surface() {
 // phase sampling. Both kinds of vertex share one emitter-sampling step and one
 // continuation step, each with its shadow or ray push: llvmpipe runs a branch's code
 // whatever its lanes decide, so separate steps would cost every lane both.
-void path_shade(uint integrator, RayItem r, HitItem h, PathState path, PathVertex v) {
+// `max_depth` bounds the path's length in segments (frame.max_depth in path_shade; the
+// photon mappers' camera paths end sooner, shaders/kernels/sppm_shade.comp).
+void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVertex v, uint max_depth) {
     bool single = integrator_is_single_scatter(integrator);
     bool ems = integrator == INTEGRATOR_DIRECT_EMS || integrator == INTEGRATOR_DIRECT_MIS
         || integrator == INTEGRATOR_PATH_MIS || integrator == INTEGRATOR_VOL_PATH_MIS || single;
@@ -155,7 +157,7 @@ void path_shade(uint integrator, RayItem r, HitItem h, PathState path, PathVerte
     }
 
     // A longer path must fit in max_depth segments (this vertex ends segment depth+1).
-    if (depth + 2u > frame.max_depth) return;
+    if (depth + 2u > max_depth) return;
 
     if (ems) {
         vec4 u = rng_4d(path.pixel, path.sample_index, rng_dim_bounce(depth, v.light_dim), frame.seed);
@@ -250,6 +252,10 @@ void path_shade(uint integrator, RayItem r, HitItem h, PathState path, PathVerte
         path_store_bounce(r.path, path); // the radiance word is stored where it changed
         queue_push_ray(origin, r.path, wi, EMITTER_INFINITY);
     }
+}
+
+void path_shade(uint integrator, RayItem r, HitItem h, PathState path, PathVertex v) {
+    path_shade_to(integrator, r, h, path, v, frame.max_depth);
 }
 
 #endif

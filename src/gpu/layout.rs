@@ -536,6 +536,126 @@ pub struct Push {
     pub pad2: u32,
 }
 
+/// Photon mapping (`src/render/photon`, `shaders/photon/`): one photon stored where a
+/// photon path met a non-delta surface. `power` is the flux it carries (W, RGB) and
+/// `wi` the unit direction it arrived from (towards its previous vertex), octahedral
+/// in two 16-bit snorms (`photon_dir_encode`, Cigolle et al. 2014, "A Survey of
+/// Efficient Representations for Independent Unit Vectors"). `path`: the index of
+/// its photon path in the emission sequence, which leaves out the photons of paths
+/// past the budget's cut ([`PhotonParams::path_limit`]).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct Photon {
+    pub position: [f32; 3],
+    pub path: u32,
+    pub power: [f32; 3],
+    pub wi: u32,
+}
+
+/// The state of one photon path, by path slot of the wavefront (in the path-state
+/// buffer, which photon passes share with camera paths). `power`: the flux it carries
+/// now; `index`: its index in the emission sequence; `start_power`: the largest
+/// channel of its power at emission, against which Russian roulette weighs it;
+/// `stored`: photons it has stored (or, counting, would have stored).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct PhotonPath {
+    pub power: [f32; 3],
+    pub index: u32,
+    pub start_power: f32,
+    pub stored: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+}
+
+/// Parameters of a photon pass (uniform block of descriptor set 2), written by the
+/// host before each pass.
+///
+/// The hash grid: a photon at p lies in cell floor(p × `inv_cell_size`), hashed into
+/// `table_mask` + 1 buckets. `capacity`: photon slots in the photon buffer (photons
+/// appended past it are counted but not written; 0 counts only). `path_limit`: photons
+/// of paths with an index at or above it stay out of the grid. `radius`, `gather_scale`,
+/// `emission_scale`: the photon mapper's density estimate (see
+/// `shaders/kernels/photon_gather.comp`). `scene_center`, `scene_radius`: a sphere
+/// bounding the scene, for photons from environment emitters. `store_first`: store
+/// photons at the first surface a photon path meets (photonmapper) or from the second
+/// on (sppm, whose camera paths sample direct light). `max_bounces`: surfaces a photon
+/// path meets at most. `iteration`: the stream of photon random numbers.
+/// `first_pixel`: SPPM's visible points and pixel states hold the pixels from this one
+/// on (a tile of the image).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct PhotonParams {
+    pub scene_center: [f32; 3],
+    pub scene_radius: f32,
+    pub cell_size: f32,
+    pub inv_cell_size: f32,
+    pub table_mask: u32,
+    pub capacity: u32,
+    pub radius: f32,
+    pub gather_scale: f32,
+    pub emission_scale: f32,
+    pub path_limit: u32,
+    pub store_first: u32,
+    pub max_bounces: u32,
+    pub iteration: u32,
+    pub first_pixel: u32,
+}
+
+/// Counters of photon passes (descriptor set 2). `stored`: photons appended to the
+/// photon buffer (may exceed its capacity: the excess was dropped); `max_radius`:
+/// sppm's largest radius after an update, as the bits of a positive float (they order
+/// as the floats do, so `atomicMax` on them takes the largest).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct PhotonCounters {
+    pub stored: u32,
+    pub max_radius: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+}
+
+/// Where a camera path ends in a photon mapper: the first surface whose BSDF is not a
+/// delta, as the density estimate needs it. `bsdf` is its BSDF record ([`NONE`]: no
+/// visible point), `uv` where its textures are read; `wo` the unit direction towards
+/// the camera, `n` the shading normal (after a normal map) and `beta` the camera
+/// path's throughput, all world space. With [`VISIBLE_POINT_NORMAL_MAP`] in `flags`,
+/// `n0` is the unmapped shading normal and `alpha2` the normal map's shadowing
+/// roughness (`normal_map.glsl`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct VisiblePoint {
+    pub p: [f32; 3],
+    pub bsdf: u32,
+    pub wo: [f32; 3],
+    pub u: f32,
+    pub n: [f32; 3],
+    pub v: f32,
+    pub beta: [f32; 3],
+    pub alpha2: f32,
+    pub n0: [f32; 3],
+    pub flags: u32,
+}
+
+/// [`VisiblePoint::flags`]: the BSDF has a normal map.
+pub const VISIBLE_POINT_NORMAL_MAP: u32 = 1;
+
+/// The state of one pixel of stochastic progressive photon mapping (pbrt-v4's
+/// `SPPMPixel`): `radius` of its visible points' gathers, `n` the photon count N of
+/// Hachisuka and Jensen 2009, `tau` the flux gathered so far (rescaled as the radius
+/// shrinks), `ld` the sum of the light its camera paths found directly (emission and
+/// emitter sampling), and `phi`, `m` what this iteration's photons added (Φ_i, M).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct SppmPixel {
+    pub tau: [f32; 3],
+    pub radius: f32,
+    pub ld: [f32; 3],
+    pub n: f32,
+    pub phi: [f32; 3],
+    pub m: u32,
+}
+
 /// Threads per workgroup of every wavefront kernel (`WORKGROUP_SIZE` in GLSL).
 pub const WORKGROUP_SIZE: u32 = 128;
 
@@ -778,6 +898,28 @@ mod tests {
                 pad1,
                 pad2
             ),
+            rust_layout!(Photon, position, path, power, wi),
+            rust_layout!(PhotonPath, power, index, start_power, stored, pad0, pad1),
+            rust_layout!(
+                PhotonParams,
+                scene_center,
+                scene_radius,
+                cell_size,
+                inv_cell_size,
+                table_mask,
+                capacity,
+                radius,
+                gather_scale,
+                emission_scale,
+                path_limit,
+                store_first,
+                max_bounces,
+                iteration,
+                first_pixel
+            ),
+            rust_layout!(PhotonCounters, stored, max_radius, pad0, pad1),
+            rust_layout!(VisiblePoint, p, bsdf, wo, u, n, v, beta, alpha2, n0, flags),
+            rust_layout!(SppmPixel, tau, radius, ld, n, phi, m),
         ];
         for (name, fields, size) in &rust {
             let (gfields, gsize) = glsl
@@ -866,6 +1008,11 @@ mod tests {
             ("MEDIUM_FEATURE_ALBEDO_GRID", MEDIUM_FEATURE_ALBEDO_GRID),
             ("MEDIUM_FEATURE_GRIDS", MEDIUM_FEATURE_GRIDS),
         ]);
+    }
+
+    #[test]
+    fn photon_flags_match_glsl() {
+        assert_glsl_defines(&[("VISIBLE_POINT_NORMAL_MAP", VISIBLE_POINT_NORMAL_MAP)]);
     }
 
     #[test]

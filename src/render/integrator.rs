@@ -82,6 +82,79 @@ pub enum Integrator {
         equiangular: bool,
         hide_emitters: bool,
     },
+    /// Nori's photon mapper (`photonmapper`; Jensen 1996, "Global Illumination using
+    /// Photon Maps"): photon paths leave the emitters (one chosen uniformly, as Nori's
+    /// `Scene::getRandomEmitter`), travel by BSDF sampling with Russian roulette and
+    /// store a photon at every surface whose BSDF is not a delta, the first included,
+    /// until `photonCount` photons are stored. Camera paths add the emission they
+    /// find, follow delta BSDFs (mirror, dielectric) by sampling, and at the first
+    /// other surface return the density estimate Σ f(wo, wi_p) Φ_p / (π r² N) over the
+    /// photons within r, N the photon paths emitted. Photons are stored in a hash grid
+    /// built on the GPU (`render::photon`).
+    ///
+    /// Parameters: `photonCount` (integer, default 1,000,000: photons stored),
+    /// `photonRadius` (float, default 0 = automatic: the scene's bounding-box diagonal
+    /// / 500, as Nori).
+    ///
+    /// ```xml
+    /// <integrator type="photonmapper"><integer name="photonCount" value="2000000"/></integrator>
+    /// ```
+    PhotonMapper(PhotonMapperParams),
+    /// Stochastic progressive photon mapping (Hachisuka and Jensen 2009, "Stochastic
+    /// Progressive Photon Mapping"), as pbrt-v4's `SPPMIntegrator`: each iteration (one
+    /// per sample per pixel) traces one camera path per pixel, adding the light it
+    /// finds by emitter and BSDF sampling (power heuristic) to the pixel, to a visible
+    /// point at the first surface with a diffuse part (or any non-delta one at the last
+    /// depth); then photon paths leave the emitters (chosen by power) and the photons
+    /// they store from their second surface on are gathered at each pixel's visible
+    /// point within the pixel's radius r; then N' = N + αM, r' = r √(N'/(N+M)),
+    /// τ' = (τ + Φ)(r'/r)². The pixel is Ld / iterations + τ / (N_p π r²), N_p the photon
+    /// paths emitted in all. Consistent: the error keeps falling with iterations.
+    ///
+    /// Parameters, by pbrt-v4's names or Mitsuba 0.6's: `maxdepth` / `maxDepth`
+    /// (integer, default 5; -1 unbounded): camera vertices that sample light and photon
+    /// bounces; `radius` / `initialRadius` (float, default automatic, Mitsuba's rule:
+    /// 5 × the scene's bounding-sphere radius / the film's larger side); photons per
+    /// iteration, either `photonsperiteration` (integer, photon paths emitted; default
+    /// and -1: the pixel count) or `photonCount` (integer, photons stored, as Mitsuba
+    /// 0.6 counts them); `alpha` (float in (0, 1), default 2/3).
+    ///
+    /// ```xml
+    /// <integrator type="sppm"><integer name="maxdepth" value="8"/><float name="radius" value="0.05"/></integrator>
+    /// ```
+    Sppm(SppmParams),
+}
+
+/// Parameters of the photon mapper.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PhotonMapperParams {
+    /// Photons to store.
+    pub photon_count: u32,
+    /// Gather radius; `None`: the scene's bounding-box diagonal / 500.
+    pub radius: Option<f32>,
+}
+
+/// How many photons an iteration of SPPM shoots.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum PhotonBudget {
+    /// Photon paths emitted (pbrt-v4's `photonsperiteration`); `None`: the pixel count.
+    Emitted(Option<u32>),
+    /// Photons stored (Mitsuba 0.6's `photonCount`): paths are emitted until that many
+    /// photons are stored.
+    Stored(u32),
+}
+
+/// Parameters of SPPM.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SppmParams {
+    /// pbrt-v4's `maxdepth`: camera vertices that sample light and photon bounces;
+    /// `None`: unbounded.
+    pub max_depth: Option<u32>,
+    /// Initial gather radius; `None`: automatic.
+    pub radius: Option<f32>,
+    pub photons: PhotonBudget,
+    /// Fraction of new photons kept per iteration (α).
+    pub alpha: f32,
 }
 
 /// Parameters of the path tracers.
@@ -105,6 +178,10 @@ pub struct PathParams {
 /// 0.99, a path outlives 2000 bounces past `rr_depth` with probability < 2e-9).
 pub const MAX_BOUNCES: u32 = 1 << 16;
 
+/// Camera paths of the photon mappers play Russian roulette from this depth on, as
+/// the path tracers do by default.
+pub const PHOTON_CAMERA_RR_DEPTH: u32 = 5;
+
 /// The parameters an integrator reads.
 fn parameter_names(name: &str) -> &'static [&'static str] {
     match name {
@@ -115,6 +192,16 @@ fn parameter_names(name: &str) -> &'static [&'static str] {
         "path_mats" | "path_mis" | "path" | "vol_path_simple" | "vol_path_mis" | "volpath"
         | "volpathmis" => &["max_depth", "rr_depth", "hide_emitters", "mis_heuristic"],
         "single_scatter" => &["sampling", "hide_emitters"],
+        "photonmapper" => &["photonCount", "photonRadius"],
+        "sppm" => &[
+            "maxdepth",
+            "maxDepth",
+            "radius",
+            "initialRadius",
+            "photonsperiteration",
+            "photonCount",
+            "alpha",
+        ],
         _ => &[],
     }
 }
@@ -136,6 +223,8 @@ pub const NAMES: &[&str] = &[
     "volpath",
     "volpathmis",
     "single_scatter",
+    "photonmapper",
+    "sppm",
 ];
 
 impl Integrator {
@@ -156,6 +245,8 @@ impl Integrator {
                 equiangular: false, ..
             } => 10,
             Integrator::SingleScatter { .. } => 11,
+            Integrator::PhotonMapper(_) => 12,
+            Integrator::Sppm(_) => 13,
         }
     }
 
@@ -182,6 +273,8 @@ impl Integrator {
             Integrator::VolPathSimple(_) => "vol_path_simple",
             Integrator::VolPathMis(_) => "vol_path_mis",
             Integrator::SingleScatter { .. } => "single_scatter",
+            Integrator::PhotonMapper(_) => "photonmapper",
+            Integrator::Sppm(_) => "sppm",
         }
     }
 
@@ -197,6 +290,9 @@ impl Integrator {
             | Integrator::PathMis(p)
             | Integrator::VolPathSimple(p)
             | Integrator::VolPathMis(p) => p.max_depth.unwrap_or(u32::MAX),
+            Integrator::PhotonMapper(_) => u32::MAX,
+            // pbrt's maxdepth d samples light at camera vertices 0 .. d-1: d + 1 segments.
+            Integrator::Sppm(p) => p.max_depth.map_or(u32::MAX, |d| d + 1),
         }
     }
 
@@ -214,7 +310,16 @@ impl Integrator {
             | Integrator::PathMis(p)
             | Integrator::VolPathSimple(p)
             | Integrator::VolPathMis(p) => p.max_depth.unwrap_or(MAX_BOUNCES).min(MAX_BOUNCES),
+            Integrator::PhotonMapper(_) => MAX_BOUNCES,
+            Integrator::Sppm(p) => p
+                .max_depth
+                .map_or(MAX_BOUNCES, |d| (d + 1).min(MAX_BOUNCES)),
         }
+    }
+
+    /// Whether the integrator is a photon mapper (`render::photon` runs it).
+    pub fn is_photon_mapper(&self) -> bool {
+        matches!(self, Integrator::PhotonMapper(_) | Integrator::Sppm(_))
     }
 
     /// Russian roulette start depth (segments); never for non-path integrators.
@@ -224,6 +329,7 @@ impl Integrator {
             | Integrator::PathMis(p)
             | Integrator::VolPathSimple(p)
             | Integrator::VolPathMis(p) => p.rr_depth,
+            Integrator::PhotonMapper(_) | Integrator::Sppm(_) => PHOTON_CAMERA_RR_DEPTH,
             _ => u32::MAX,
         }
     }
@@ -238,6 +344,8 @@ impl Integrator {
     pub fn power_heuristic(&self) -> bool {
         match self {
             Integrator::PathMis(p) | Integrator::VolPathMis(p) => p.power_heuristic,
+            // pbrt-v4's SPPM weighs emitter and BSDF sampling by the power heuristic.
+            Integrator::Sppm(_) => true,
             _ => false,
         }
     }
@@ -416,6 +524,115 @@ impl Integrator {
                     hide_emitters,
                 }
             }
+            "photonmapper" => {
+                let photon_count = match take("photonCount") {
+                    None => 1_000_000,
+                    Some(Param::Integer(n)) if n >= 1 && n <= u32::MAX as i64 => n as u32,
+                    Some(p) => {
+                        return Err(err(
+                            line,
+                            format!("integrator 'photonmapper': photonCount must be a positive integer (photons to store), got {p:?}"),
+                        ))
+                    }
+                };
+                let radius = match take("photonRadius") {
+                    None | Some(Param::Integer(0)) => None,
+                    Some(Param::Float(0.0)) => None,
+                    Some(Param::Float(r)) if r > 0.0 && r.is_finite() => Some(r as f32),
+                    Some(Param::Integer(r)) if r > 0 => Some(r as f32),
+                    Some(p) => {
+                        return Err(err(
+                            line,
+                            format!("integrator 'photonmapper': photonRadius must be positive, or 0 for automatic, got {p:?}"),
+                        ))
+                    }
+                };
+                Integrator::PhotonMapper(PhotonMapperParams {
+                    photon_count,
+                    radius,
+                })
+            }
+            "sppm" => {
+                // pbrt-v4 and Mitsuba 0.6 name the same parameters differently; a scene
+                // may use either name, not both.
+                let mut either = |a: &str, b: &str| -> Result<Option<(String, Param)>> {
+                    match (take(a), take(b)) {
+                        (Some(_), Some(_)) => Err(err(
+                            line,
+                            format!("integrator 'sppm': give either {a} or {b}, not both"),
+                        )),
+                        (Some(p), None) => Ok(Some((a.to_string(), p))),
+                        (None, Some(p)) => Ok(Some((b.to_string(), p))),
+                        (None, None) => Ok(None),
+                    }
+                };
+                let depth = either("maxdepth", "maxDepth")?;
+                let radius = either("radius", "initialRadius")?;
+                let photons = either("photonsperiteration", "photonCount")?;
+                let alpha = take("alpha");
+                let max_depth = match depth {
+                    None => Some(5),
+                    Some((_, Param::Integer(-1))) => None,
+                    Some((_, Param::Integer(d))) if d >= 1 && d < MAX_BOUNCES as i64 => Some(d as u32),
+                    Some((k, p)) => {
+                        return Err(err(
+                            line,
+                            format!("integrator 'sppm': {k} must be -1 (unbounded) or at least 1, got {p:?}"),
+                        ))
+                    }
+                };
+                let radius = match radius {
+                    None => None,
+                    // Mitsuba's initialRadius 0: decide automatically.
+                    Some((k, Param::Float(r))) if r == 0.0 && k == "initialRadius" => None,
+                    Some((k, Param::Integer(0))) if k == "initialRadius" => None,
+                    Some((_, Param::Float(r))) if r > 0.0 && r.is_finite() => Some(r as f32),
+                    Some((_, Param::Integer(r))) if r > 0 => Some(r as f32),
+                    Some((k, p)) => {
+                        return Err(err(
+                            line,
+                            format!("integrator 'sppm': {k} must be positive, got {p:?}"),
+                        ))
+                    }
+                };
+                let photons = match photons {
+                    None => PhotonBudget::Emitted(None),
+                    Some((k, Param::Integer(-1))) if k == "photonsperiteration" => {
+                        PhotonBudget::Emitted(None)
+                    }
+                    Some((k, Param::Integer(n))) if n >= 1 && n <= u32::MAX as i64 => {
+                        if k == "photonCount" {
+                            PhotonBudget::Stored(n as u32)
+                        } else {
+                            PhotonBudget::Emitted(Some(n as u32))
+                        }
+                    }
+                    Some((k, p)) => {
+                        return Err(err(
+                            line,
+                            format!("integrator 'sppm': {k} must be a positive integer, got {p:?}"),
+                        ))
+                    }
+                };
+                let alpha = match alpha {
+                    None => 2.0 / 3.0,
+                    Some(Param::Float(a)) if a > 0.0 && a < 1.0 => a as f32,
+                    Some(p) => {
+                        return Err(err(
+                            line,
+                            format!(
+                            "integrator 'sppm': alpha must lie strictly between 0 and 1, got {p:?}"
+                        ),
+                        ))
+                    }
+                };
+                Integrator::Sppm(SppmParams {
+                    max_depth,
+                    radius,
+                    photons,
+                    alpha,
+                })
+            }
             "" => {
                 return Err(err(
                     line,
@@ -586,5 +803,127 @@ mod tests {
         // A path tracer keeps the depth of the scene's path tracer.
         let p = Integrator::from_spec(&s, Some("path_mats"), Path::new("s.xml")).unwrap();
         assert_eq!(p.max_depth(), 5);
+    }
+
+    #[test]
+    fn reads_the_photon_mappers_parameters_by_either_name() {
+        let read = |name: &str, params: &[(&str, Param)]| {
+            Integrator::from_spec(&spec(name, params), None, Path::new("s.xml"))
+        };
+        assert_eq!(
+            read("photonmapper", &[]).unwrap(),
+            Integrator::PhotonMapper(PhotonMapperParams {
+                photon_count: 1_000_000,
+                radius: None
+            })
+        );
+        let pm = read(
+            "photonmapper",
+            &[
+                ("photonCount", Param::Integer(5_000_000)),
+                ("photonRadius", Param::Float(1.0)),
+            ],
+        )
+        .unwrap();
+        assert_eq!(
+            pm,
+            Integrator::PhotonMapper(PhotonMapperParams {
+                photon_count: 5_000_000,
+                radius: Some(1.0)
+            })
+        );
+        assert!(pm.is_photon_mapper());
+        assert_eq!((pm.max_depth(), pm.bounces()), (u32::MAX, MAX_BOUNCES));
+        assert_eq!(
+            read("photonmapper", &[("photonRadius", Param::Float(0.0))]).unwrap(),
+            read("photonmapper", &[]).unwrap()
+        );
+        for bad in [
+            ("photonCount", Param::Integer(0)),
+            ("photonRadius", Param::Float(-1.0)),
+            ("photonRadius", Param::String("big".into())),
+        ] {
+            let e = read("photonmapper", &[bad.clone()]).unwrap_err();
+            assert!(e.to_string().contains(bad.0), "{e}");
+        }
+
+        let d = read("sppm", &[]).unwrap();
+        assert_eq!(
+            d,
+            Integrator::Sppm(SppmParams {
+                max_depth: Some(5),
+                radius: None,
+                photons: PhotonBudget::Emitted(None),
+                alpha: 2.0 / 3.0,
+            })
+        );
+        // pbrt's maxdepth 5: light sampled at camera vertices 0-4, 6 segments.
+        assert_eq!((d.max_depth(), d.bounces()), (6, 6));
+        assert!(d.power_heuristic());
+        let pbrt = read(
+            "sppm",
+            &[
+                ("maxdepth", Param::Integer(8)),
+                ("radius", Param::Float(0.25)),
+                ("photonsperiteration", Param::Integer(10_000)),
+                ("alpha", Param::Float(0.7)),
+            ],
+        )
+        .unwrap();
+        let mitsuba = read(
+            "sppm",
+            &[
+                ("maxDepth", Param::Integer(8)),
+                ("initialRadius", Param::Float(0.25)),
+                ("photonCount", Param::Integer(10_000)),
+                ("alpha", Param::Float(0.7)),
+            ],
+        )
+        .unwrap();
+        let Integrator::Sppm(p) = pbrt else {
+            panic!("sppm")
+        };
+        let Integrator::Sppm(m) = mitsuba else {
+            panic!("sppm")
+        };
+        assert_eq!(
+            (p.max_depth, p.radius, p.alpha),
+            (m.max_depth, m.radius, m.alpha)
+        );
+        assert_eq!(p.photons, PhotonBudget::Emitted(Some(10_000)));
+        assert_eq!(m.photons, PhotonBudget::Stored(10_000));
+        // Mitsuba's initialRadius 0 is automatic; pbrt's radius must be positive.
+        assert!(matches!(
+            read("sppm", &[("initialRadius", Param::Float(0.0))]).unwrap(),
+            Integrator::Sppm(SppmParams { radius: None, .. })
+        ));
+        assert!(read("sppm", &[("radius", Param::Float(0.0))]).is_err());
+        let both = read(
+            "sppm",
+            &[
+                ("maxdepth", Param::Integer(3)),
+                ("maxDepth", Param::Integer(4)),
+            ],
+        )
+        .unwrap_err();
+        assert!(
+            both.to_string().contains("either maxdepth or maxDepth"),
+            "{both}"
+        );
+        for bad in [
+            ("alpha", Param::Float(1.0)),
+            ("maxdepth", Param::Integer(0)),
+            ("photonsperiteration", Param::Integer(0)),
+            ("granularity", Param::Integer(100)),
+        ] {
+            let e = read("sppm", &[bad.clone()]).unwrap_err();
+            assert!(e.to_string().contains(bad.0), "{e}");
+        }
+        assert!(
+            read("sppm", &[("maxdepth", Param::Integer(-1))])
+                .unwrap()
+                .max_depth()
+                == u32::MAX
+        );
     }
 }

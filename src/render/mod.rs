@@ -10,6 +10,7 @@ pub mod alias;
 pub mod error;
 pub mod integrator;
 pub mod media;
+pub mod photon;
 pub mod scene_buffers;
 pub mod wavefront;
 
@@ -20,10 +21,11 @@ use std::time::Instant;
 
 use crate::accel::{self, Bvh, BvhStats};
 use crate::gpu::layout::{Counters, DispatchArgs, Frame, Push, WORKGROUP_SIZE};
-use crate::gpu::{shaders, BindingLayout, CommandList, Device, Kernel, KernelTimes};
+use crate::gpu::{shaders, BindingLayout, CommandList, DescriptorSet, Device, Kernel, KernelTimes};
 use crate::image::Image;
 use crate::scene::Scene;
 
+use photon::{photon_binding_kinds, PhotonStats, Photons};
 use scene_buffers::{scene_binding_kinds, SceneBuffers, SceneRecords};
 use wavefront::{wavefront_binding_kinds, Wavefront, BYTES_PER_PATH};
 
@@ -43,6 +45,10 @@ pub struct RenderOptions {
     /// [`RenderStats::cut_paths`]); `None`: [`integrator::MAX_BOUNCES`]. Paths the
     /// integrator's `max_depth` ends sooner are never cut.
     pub max_bounces: Option<u32>,
+    /// Photon mappers: most photons a photon pass holds; `None` picks what the
+    /// device's memory and binding limits allow. A photon map with more photons is
+    /// split into passes.
+    pub max_photons_per_pass: Option<u32>,
 }
 
 /// Time spent before the first sample, in seconds.
@@ -71,6 +77,8 @@ pub struct RenderStats {
     /// their later vertices are missing from the image.
     pub cut_paths: u64,
     pub kernel_times: KernelTimes,
+    /// Photon mappers: photons emitted and stored, passes, where the time went.
+    pub photons: Option<PhotonStats>,
 }
 
 struct Kernels {
@@ -91,15 +99,28 @@ pub struct Renderer {
     kernels: Kernels,
     scene_buffers: SceneBuffers,
     wavefront: Wavefront,
+    /// The photon mappers' kernels and buffers (descriptor set 2).
+    photon: Option<Photons>,
     width: u32,
     height: u32,
     timestamps: bool,
     pub setup: SetupStats,
 }
 
+/// Which queue a stage of a bounce runs over (see [`Renderer::run_bounces`]).
+#[derive(Clone, Copy)]
+enum Over {
+    /// The ray queue of the bounce (indirect dispatch).
+    Rays,
+    /// The shadow queue (indirect dispatch).
+    Shadows,
+    /// One workgroup.
+    One,
+}
+
 /// Workgroups for `n` threads on a 2D grid (at most 65535 per dimension); the same
 /// rule as `groups_for` in queue_args.comp.
-fn groups_for(n: u32) -> [u32; 3] {
+pub(crate) fn groups_for(n: u32) -> [u32; 3] {
     let groups = n.div_ceil(WORKGROUP_SIZE);
     let x = groups.min(65535);
     let y = if x == 0 { 1 } else { groups.div_ceil(x) };
@@ -135,9 +156,35 @@ impl Renderer {
         let records = SceneRecords::new(scene, &bvh);
 
         let t = Instant::now();
+        if integrator.is_photon_mapper() && scene.needs_medium_code() {
+            return Err(Error::Integrator {
+                file: scene.path.clone(),
+                line: scene.integrator.line,
+                message: format!(
+                    "integrator '{}' traces light between surfaces only: the scene has \
+                     participating media or null (index-matched) surfaces; render it with \
+                     vol_path_mis",
+                    integrator.name()
+                ),
+            });
+        }
+        if integrator.is_photon_mapper() && scene.emitters.is_empty() {
+            return Err(Error::Integrator {
+                file: scene.path.clone(),
+                line: scene.integrator.line,
+                message: format!(
+                    "integrator '{}' needs an emitter to shoot photons from; the scene has none",
+                    integrator.name()
+                ),
+            });
+        }
         let layout = BindingLayout::with_kinds(
             device,
-            &[scene_binding_kinds(), wavefront_binding_kinds()],
+            &[
+                scene_binding_kinds(),
+                wavefront_binding_kinds(),
+                photon_binding_kinds(),
+            ],
             std::mem::size_of::<Push>() as u32,
         )?;
         let scene_buffers = SceneBuffers::upload(device, &layout, &bvh, &records)?;
@@ -172,6 +219,17 @@ impl Renderer {
             / (2 * std::mem::size_of::<crate::gpu::layout::RayItem>() as u64);
         let capacity = capacity.min(limit as u32);
         let wavefront = Wavefront::new(device, &layout, capacity, pixels, &frame)?;
+        let features = photon::SceneFeatures {
+            surface: records.surface_features()
+                | if scene.spheres.is_empty() {
+                    0
+                } else {
+                    crate::gpu::layout::SURFACE_FEATURE_SPHERES
+                },
+            textures: records.texture_mask(),
+            emitters: records.emitter_kinds(),
+            bsdfs: records.bsdfs.iter().fold(0u32, |m, b| m | 1 << b.kind),
+        };
         let upload_seconds = t.elapsed().as_secs_f64();
 
         let t = Instant::now();
@@ -240,6 +298,22 @@ impl Renderer {
             queue_args: k("queue_args", shaders::QUEUE_ARGS, &[])?,
             accumulate: k("accumulate", shaders::ACCUMULATE, &[])?,
         };
+        // The photon mappers' kernels and buffers (their buffers are small until a
+        // photon map needs more).
+        let photon = if integrator.is_photon_mapper() {
+            Some(Photons::new(
+                device,
+                &layout,
+                &integrator,
+                features,
+                photon::SceneBounds::of(&bvh),
+                pixels,
+                capacity,
+                options.max_photons_per_pass,
+            )?)
+        } else {
+            None
+        };
         device.save_pipeline_cache();
         let pipeline_seconds = t.elapsed().as_secs_f64();
 
@@ -254,6 +328,7 @@ impl Renderer {
             kernels,
             scene_buffers,
             wavefront,
+            photon,
             width: cam.width,
             height: cam.height,
             timestamps: options.timestamps,
@@ -299,16 +374,21 @@ impl Renderer {
             ..Default::default()
         };
         let push = bytemuck::bytes_of(&push);
-        let sets = [&self.scene_buffers.set, &wf.set];
         let k = &self.kernels;
-        for kernel in [
+        let mut kernels = vec![
             &k.generate,
             &k.intersect,
             &k.shade,
             &k.queue_args,
             &k.shadow,
             &k.accumulate,
-        ] {
+        ];
+        let mut sets = vec![&self.scene_buffers.set, &wf.set];
+        if let Some(p) = &self.photon {
+            kernels.extend(p.kernels());
+            sets.push(&p.map.set);
+        }
+        for kernel in kernels {
             cmd.dispatch(kernel, &sets, push, [1, 1, 1]);
             cmd.barrier();
         }
@@ -340,33 +420,67 @@ impl Renderer {
                 "samples per pixel must be at least 1".into(),
             ));
         }
+        match self.integrator {
+            Integrator::PhotonMapper(p) => {
+                return self.render_photonmapper(p, first, count, progress)
+            }
+            Integrator::Sppm(p) => return self.render_sppm(p, first, count, progress),
+            _ => {}
+        }
         let start = Instant::now();
-        let pixels = self.width * self.height;
-        let cap = self.wavefront.capacity;
-        let total = pixels as u64 * count as u64;
         let mut stats = RenderStats {
             spp: count,
             ..Default::default()
         };
-        let mut cmd = if self.timestamps {
+        let mut cmd = self.command_list()?;
+        cmd.fill(&self.wavefront.film, 0, self.wavefront.film.size(), 0);
+        cmd.barrier();
+        self.for_each_batch(
+            &mut cmd,
+            first,
+            count,
+            &mut stats,
+            progress,
+            &mut |r, cmd, sample, base, n, stats| r.run_batch(cmd, sample, base, n, stats),
+        )?;
+        let image = self.film_image()?;
+        stats.seconds = start.elapsed().as_secs_f64();
+        Ok((image, stats))
+    }
+
+    /// A command list, with timestamps if the renderer records them.
+    fn command_list(&self) -> Result<CommandList> {
+        Ok(if self.timestamps {
             CommandList::with_timestamps(&self.device)?
         } else {
             CommandList::new(&self.device)?
-        };
-        cmd.fill(&self.wavefront.film, 0, self.wavefront.film.size(), 0);
-        cmd.barrier();
+        })
+    }
 
+    /// Calls `batch(self, cmd, sample_base, pixel_base, path_count, stats)` for batches
+    /// covering samples `first .. first + count` of every pixel: whole samples of every
+    /// pixel per batch where they fit, else runs of pixels of one sample.
+    fn for_each_batch(
+        &self,
+        cmd: &mut CommandList,
+        first: u32,
+        count: u32,
+        stats: &mut RenderStats,
+        progress: &mut dyn FnMut(u64, u64),
+        batch: BatchFn,
+    ) -> Result<()> {
+        let pixels = self.width * self.height;
+        let cap = self.wavefront.capacity;
+        let total = pixels as u64 * count as u64;
         let mut done = 0u64;
         let mut sample = first;
         let end = first
             .checked_add(count)
             .ok_or_else(|| Error::Options("sample range overflows".into()))?;
         while sample < end {
-            // Whole samples of every pixel per batch where they fit, else a run of
-            // pixels of one sample.
             if pixels <= cap {
                 let k = (cap / pixels).min(end - sample);
-                self.run_batch(&mut cmd, sample, 0, k * pixels, &mut stats)?;
+                batch(self, cmd, sample, 0, k * pixels, stats)?;
                 sample += k;
                 done += k as u64 * pixels as u64;
                 progress(done, total);
@@ -374,7 +488,7 @@ impl Renderer {
                 let mut base = 0;
                 while base < pixels {
                     let n = cap.min(pixels - base);
-                    self.run_batch(&mut cmd, sample, base, n, &mut stats)?;
+                    batch(self, cmd, sample, base, n, stats)?;
                     base += n;
                     done += n as u64;
                     progress(done, total);
@@ -382,37 +496,30 @@ impl Renderer {
                 sample += 1;
             }
         }
+        Ok(())
+    }
+
+    /// The film's image: each pixel's sum over its sample count.
+    fn film_image(&self) -> Result<Image> {
+        let pixels = self.width * self.height;
         let film: Vec<[f32; 4]> = self.wavefront.film.read(&self.device)?;
         let mut rgb = Vec::with_capacity(pixels as usize * 3);
-        for px in &film {
+        for px in &film[..pixels as usize] {
             let n = if px[3] > 0.0 { px[3] } else { 1.0 };
             rgb.extend_from_slice(&[px[0] / n, px[1] / n, px[2] / n]);
         }
-        stats.seconds = start.elapsed().as_secs_f64();
-        Ok((
-            Image {
-                width: self.width,
-                height: self.height,
-                rgb,
-            },
-            stats,
-        ))
+        Ok(Image {
+            width: self.width,
+            height: self.height,
+            rgb,
+        })
     }
 
-    /// Renders one batch: `path_count` paths starting at global sample
-    /// `sample_base * pixels + pixel_base`. Bounces are recorded BOUNCE_CHUNK at a time;
-    /// between chunks the batch is submitted and stops early once no path is left in
-    /// the ray queue, so long bounce budgets (volumetric paths) cost nothing where paths
-    /// end sooner.
-    fn run_batch(
-        &self,
-        cmd: &mut CommandList,
-        sample_base: u32,
-        pixel_base: u32,
-        path_count: u32,
-        stats: &mut RenderStats,
-    ) -> Result<()> {
+    /// Records the start of a batch of camera paths (`push`: its paths): the queues
+    /// and the first bounce's dispatch set for `push.path_count` rays, and `generate`.
+    fn start_batch(&self, cmd: &mut CommandList, sets: &[&DescriptorSet], push: &Push) {
         let wf = &self.wavefront;
+        let path_count = push.path_count;
         let counters = Counters {
             ray_count: [path_count, 0],
             ..Default::default()
@@ -425,52 +532,59 @@ impl Renderer {
         };
         cmd.update(&wf.dispatch_args, 0, bytemuck::bytes_of(&args));
         cmd.barrier();
-        let sets = [&self.scene_buffers.set, &wf.set];
-        let mut push = Push {
-            path_count,
-            pixel_base,
-            sample_base,
-            depth: 0,
-            queue_in: 0,
-            capacity: wf.capacity,
-            ..Default::default()
-        };
-        let k = &self.kernels;
         cmd.dispatch(
-            &k.generate,
-            &sets,
-            bytemuck::bytes_of(&push),
+            &self.kernels.generate,
+            sets,
+            bytemuck::bytes_of(push),
             groups_for(path_count),
         );
         cmd.barrier();
-        let bounces = self.bounces;
+    }
+
+    /// Records bounces `0 .. bounces` of a batch whose first rays are in ray queue 0,
+    /// each a dispatch of every stage in order. Bounces are recorded `chunk` at a time;
+    /// between chunks the batch is submitted and stops early once no path is left in
+    /// the ray queue, so long bounce budgets cost nothing where paths end sooner.
+    /// Returns the bounces recorded.
+    #[allow(clippy::too_many_arguments)]
+    fn run_bounces(
+        &self,
+        cmd: &mut CommandList,
+        sets: &[&DescriptorSet],
+        push: &mut Push,
+        stages: &[(&Kernel, Over)],
+        bounces: u32,
+        chunk: u32,
+        stats: &mut RenderStats,
+    ) -> Result<u32> {
+        let wf = &self.wavefront;
         let mut depth = 0;
         while depth < bounces {
-            let end = (depth + BOUNCE_CHUNK).min(bounces);
+            let end = (depth + chunk).min(bounces);
             for d in depth..end {
                 push.depth = d;
                 push.queue_in = d % 2;
-                let p = bytemuck::bytes_of(&push);
-                cmd.dispatch_indirect(
-                    &k.intersect,
-                    &sets,
-                    p,
-                    &wf.dispatch_args,
-                    Wavefront::RAY_ARGS,
-                );
-                cmd.barrier();
-                cmd.dispatch_indirect(&k.shade, &sets, p, &wf.dispatch_args, Wavefront::RAY_ARGS);
-                cmd.barrier();
-                cmd.dispatch(&k.queue_args, &sets, p, [1, 1, 1]);
-                cmd.barrier();
-                cmd.dispatch_indirect(
-                    &k.shadow,
-                    &sets,
-                    p,
-                    &wf.dispatch_args,
-                    Wavefront::SHADOW_ARGS,
-                );
-                cmd.barrier();
+                let p = bytemuck::bytes_of(push);
+                for (kernel, over) in stages {
+                    match over {
+                        Over::Rays => cmd.dispatch_indirect(
+                            kernel,
+                            sets,
+                            p,
+                            &wf.dispatch_args,
+                            Wavefront::RAY_ARGS,
+                        ),
+                        Over::Shadows => cmd.dispatch_indirect(
+                            kernel,
+                            sets,
+                            p,
+                            &wf.dispatch_args,
+                            Wavefront::SHADOW_ARGS,
+                        ),
+                        Over::One => cmd.dispatch(kernel, sets, p, [1, 1, 1]),
+                    }
+                    cmd.barrier();
+                }
             }
             depth = end;
             if depth < bounces {
@@ -482,6 +596,48 @@ impl Renderer {
                 }
             }
         }
+        Ok(depth)
+    }
+
+    /// Renders one batch: `path_count` paths starting at global sample
+    /// `sample_base * pixels + pixel_base`, `BOUNCE_CHUNK` bounces per submission (see
+    /// [`Self::run_bounces`]).
+    fn run_batch(
+        &self,
+        cmd: &mut CommandList,
+        sample_base: u32,
+        pixel_base: u32,
+        path_count: u32,
+        stats: &mut RenderStats,
+    ) -> Result<()> {
+        let wf = &self.wavefront;
+        let sets = [&self.scene_buffers.set, &wf.set];
+        let mut push = Push {
+            path_count,
+            pixel_base,
+            sample_base,
+            depth: 0,
+            queue_in: 0,
+            capacity: wf.capacity,
+            ..Default::default()
+        };
+        self.start_batch(cmd, &sets, &push);
+        let k = &self.kernels;
+        let stages = [
+            (&k.intersect, Over::Rays),
+            (&k.shade, Over::Rays),
+            (&k.queue_args, Over::One),
+            (&k.shadow, Over::Shadows),
+        ];
+        let depth = self.run_bounces(
+            cmd,
+            &sets,
+            &mut push,
+            &stages,
+            self.bounces,
+            BOUNCE_CHUNK,
+            stats,
+        )?;
         cmd.dispatch(
             &k.accumulate,
             &sets,
@@ -514,7 +670,12 @@ impl Renderer {
     }
 }
 
-/// Bounces recorded per submission of a batch (see `Renderer::run_batch`).
+/// A batch of [`Renderer::for_each_batch`]: (renderer, commands, sample base, pixel
+/// base, paths, statistics).
+type BatchFn<'a> =
+    &'a mut dyn FnMut(&Renderer, &mut CommandList, u32, u32, u32, &mut RenderStats) -> Result<()>;
+
+/// Bounces recorded per submission of a batch (see `Renderer::run_bounces`).
 const BOUNCE_CHUNK: u32 = 64;
 
 /// Paths per batch: bounded by memory (about 40 MiB of path state on a CPU device,

@@ -1,0 +1,71 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// photon_camera: one vertex of the photon mapper's camera paths (Nori's photonmapper):
+// the emission the ray finds (times photon_params.emission_scale), then at a delta BSDF
+// (mirror, dielectric) the next ray by BSDF sampling with Russian roulette, and at any
+// other surface the path's visible point, where photon_gather ends it.
+// Reads: ray queue `queue_in`, hits, paths. Writes: paths, visible points (by path
+// slot), next ray queue.
+
+#include "wavefront.glsl"
+#include "scene_bindings.glsl"
+layout(constant_id = 0) const uint SCENE_SURFACE_FEATURES = 0xffffffffu;
+#define SURFACE_FEATURES SCENE_SURFACE_FEATURES
+layout(constant_id = 1) const uint SCENE_TEXTURES = 0xffffffffu;
+#define TEXTURE_KINDS SCENE_TEXTURES
+layout(constant_id = 2) const uint SCENE_EMITTER_KINDS = 0xffffffffu;
+#define EMITTER_KINDS SCENE_EMITTER_KINDS
+#include "emitter.glsl"
+layout(constant_id = 3) const uint SCENE_BSDF_KINDS = 0xffffffffu;
+#define BSDF_KINDS SCENE_BSDF_KINDS
+#include "bsdf.glsl"
+#include "bsdf_textured.glsl"
+#include "queue.glsl"
+#include "rng.glsl"
+#include "photon/bindings.glsl"
+#include "photon/record.glsl"
+#include "photon/scatter.glsl"
+#include "photon/visible_point.glsl"
+
+void main() {
+    uint i = thread_index();
+    if (i >= counters.ray_count[push.queue_in]) return;
+    RayItem r = ray_load(ray_slot(push.queue_in, i));
+    HitItem h = hit_load(i);
+    PathState path = path_load(r.path);
+    float emission = photon_params.emission_scale;
+
+    if (h.prim == NONE) {
+        if ((EMITTER_HAS(EMITTER_CONSTANT) || EMITTER_HAS(EMITTER_ENVMAP)) && frame.env_emitter != NONE
+            && emission > 0.0) {
+            path.radiance += path.throughput * emitter_env_radiance(emitter_load(frame.env_emitter), r.dir) * emission;
+            path_store_radiance(r.path, path);
+        }
+        return;
+    }
+    ScatterSurface x = scatter_surface(r, h);
+    if (x.emitter != NONE && emission > 0.0) {
+        vec3 Le = emitter_area_radiance(emitter_load(x.emitter), x.s.ng, r.dir, x.s.uv);
+        path.radiance += path.throughput * Le * emission;
+        path_store_radiance(r.path, path);
+    }
+    if (!bsdf_is_delta(x.bsdf)) {
+        vp_store(r.path, visible_point_at(x, -r.dir, path.throughput));
+        return;
+    }
+    vec4 u = rng_4d(path.pixel, path.sample_index, rng_dim_bounce(push.depth, 1u), frame.seed);
+    ScatterSample ss = scatter_sample(x, -r.dir, u.xyz, false, path.eta_scale);
+    vec3 throughput = path.throughput * ss.weight;
+    if (!any(greaterThan(throughput, vec3(0.0)))) return;
+    // Russian roulette as the path tracers play it (path.glsl).
+    if (push.depth + 1u >= frame.rr_depth) {
+        vec3 rr = throughput * path.eta_scale;
+        float q = min(max(rr.x, max(rr.y, rr.z)), 0.99);
+        if (u.w >= q) return;
+        throughput /= q;
+    }
+    path.throughput = throughput;
+    path.flags = PATH_DELTA;
+    path_store_bounce(r.path, path);
+    queue_push_ray(scatter_origin(x, ss.wi), r.path, ss.wi, EMITTER_INFINITY);
+}

@@ -1,0 +1,37 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// photon_emit: the first ray of photon paths push.pixel_base .. + path_count of stream
+// photon_params.iteration, one per path slot.
+// Writes: photon paths (path-state buffer), ray queue 0 (appended; the host empties it).
+
+#include "wavefront.glsl"
+#include "scene_bindings.glsl"
+layout(constant_id = 0) const uint SCENE_SURFACE_FEATURES = 0xffffffffu;
+#define SURFACE_FEATURES SCENE_SURFACE_FEATURES
+layout(constant_id = 1) const uint SCENE_TEXTURES = 0xffffffffu;
+#define TEXTURE_KINDS SCENE_TEXTURES
+layout(constant_id = 2) const uint SCENE_EMITTER_KINDS = 0xffffffffu;
+#define EMITTER_KINDS SCENE_EMITTER_KINDS
+#include "emitter.glsl"
+// Choose the emitter uniformly (the photonmapper, as Nori) instead of by power.
+layout(constant_id = 3) const bool UNIFORM_EMITTER_CHOICE = false;
+#include "photon/bindings.glsl"
+#include "photon/record.glsl"
+#include "photon/random.glsl"
+#include "photon/emit.glsl"
+
+void main() {
+    uint p = thread_index();
+    if (p >= push.path_count) return;
+    uint index = push.pixel_base + p;
+    uint it = photon_params.iteration;
+    PhotonEmission em = photon_emit_sample(UNIFORM_EMITTER_CHOICE,
+                                           photon_rng(index, it, PHOTON_RNG_DIM_EMIT),
+                                           photon_rng(index, it, PHOTON_RNG_DIM_EMIT + 1u));
+    float start = max(em.power.x, max(em.power.y, em.power.z));
+    photon_path_store(p, PhotonPath(em.power, index, start, 0u, 0u, 0u));
+    if (start > 0.0 && !isinf(start) && !isnan(start)) {
+        uint slot = atomicAdd(counters.ray_count[0], 1u);
+        ray_store(ray_slot(0u, slot), RayItem(em.origin, p, em.dir, EMITTER_INFINITY));
+    }
+}

@@ -1,0 +1,34 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// sppm_gather: at each pixel's visible point, the photons of the grid within the
+// pixel's radius add β Σ f(wo, wi_p) Φ_p to its Φ and their count to its M (pbrt-v4's
+// SPPM; one thread per pixel, so no atomics). An iteration whose photons took several
+// passes gathers once per pass; sppm_update then applies them.
+// Reads: visible points (by pixel), grid. Writes: SPPM pixels (phi, m).
+
+#include "wavefront.glsl"
+#include "scene_bindings.glsl"
+layout(constant_id = 0) const uint SCENE_TEXTURES = 0xffffffffu;
+#define TEXTURE_KINDS SCENE_TEXTURES
+layout(constant_id = 1) const uint SCENE_BSDF_KINDS = 0xffffffffu;
+#define BSDF_KINDS SCENE_BSDF_KINDS
+#include "surface.glsl"
+#include "texture.glsl"
+#include "bsdf.glsl"
+#include "bsdf_textured.glsl"
+#include "frame.glsl"
+#include "normal_map.glsl"
+#include "photon/bindings.glsl"
+#include "photon/record.glsl"
+#include "photon/grid.glsl"
+#include "photon/density.glsl"
+
+void main() {
+    uint q = thread_index();
+    if (q >= push.path_count || vp_bsdf(q) == NONE) return;
+    VisiblePoint v = vp_load(q);
+    PhotonGather g = photon_gather(v, sppm_pixels[q].radius);
+    if (g.count == 0u) return;
+    sppm_pixels[q].phi += v.beta * g.sum;
+    sppm_pixels[q].m += g.count;
+}

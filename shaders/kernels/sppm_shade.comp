@@ -1,0 +1,47 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// sppm_shade: one vertex of SPPM's camera paths (pbrt-v4's SPPMIntegrator): the
+// vertex of a path tracer with emitter and BSDF sampling under the power heuristic
+// (path.glsl, path_mis), which adds the light found directly to the path, and, at the
+// first surface sppm_visible_point_here accepts, the pixel's visible point for this
+// iteration. The ray after the visible point only adds the emission it finds (its MIS
+// share), then the path ends.
+// Reads: ray queue `queue_in`, hits, paths, visible points. Writes: paths, shadow
+// queue, next ray queue, visible points (by pixel of the tile).
+
+#include "wavefront.glsl"
+#include "scene_bindings.glsl"
+layout(constant_id = 0) const uint SCENE_SURFACE_FEATURES = 0xffffffffu;
+#define SURFACE_FEATURES SCENE_SURFACE_FEATURES
+layout(constant_id = 1) const uint SCENE_TEXTURES = 0xffffffffu;
+#define TEXTURE_KINDS SCENE_TEXTURES
+layout(constant_id = 2) const uint SCENE_EMITTER_KINDS = 0xffffffffu;
+#define EMITTER_KINDS SCENE_EMITTER_KINDS
+#include "emitter.glsl"
+layout(constant_id = 3) const uint SCENE_BSDF_KINDS = 0xffffffffu;
+#define BSDF_KINDS SCENE_BSDF_KINDS
+#include "bsdf.glsl"
+#include "bsdf_textured.glsl"
+#define MIS_POWER true
+#include "path.glsl"
+#include "photon/bindings.glsl"
+#include "photon/record.glsl"
+#include "photon/scatter.glsl"
+#include "photon/visible_point.glsl"
+
+void main() {
+    uint i = thread_index();
+    if (i >= counters.ray_count[push.queue_in]) return;
+    RayItem r = ray_load(ray_slot(push.queue_in, i));
+    HitItem h = hit_load(i);
+    PathState path = path_load(r.path);
+    uint vp = path.pixel - photon_params.first_pixel;
+    bool has_vp = vp_bsdf(vp) != NONE;
+    path_shade_to(INTEGRATOR_PATH_MIS, r, h, path, path_vertex_surface(),
+                  has_vp ? push.depth + 1u : frame.max_depth);
+    if (has_vp || h.prim == NONE || push.depth + 2u > frame.max_depth) return;
+    ScatterSurface x = scatter_surface(r, h);
+    if (sppm_visible_point_here(x.bsdf, push.depth + 2u == frame.max_depth)) {
+        vp_store(vp, visible_point_at(x, -r.dir, path.throughput));
+    }
+}

@@ -1,0 +1,96 @@
+// Photon emission: a ray leaving an emitter and the flux it carries (pbrt-v4's
+// Light::SampleLe; Pharr, Jakob, Humphreys, PBR 4th ed., sec. 12.x), as
+// power = L |cos θ| / (P(emitter) p(position) p(direction)) for one photon path.
+// Needs wavefront.glsl, scene_bindings.glsl, emitter.glsl, bindings.glsl.
+#ifndef PHOTON_EMIT_GLSL
+#define PHOTON_EMIT_GLSL
+
+struct PhotonEmission {
+    vec3 origin;
+    vec3 dir;
+    vec3 power; // zero: no photon
+};
+
+// Samples a photon path's first ray. The emitter is chosen uniformly with
+// `uniform_choice` (Nori's Scene::getRandomEmitter, the photonmapper) or by power
+// through the emitter alias table (sppm, as pbrt-v4's power light sampler); u0, u1:
+// eight uniform numbers.
+PhotonEmission photon_emit_sample(bool uniform_choice, vec4 u0, vec4 u1) {
+    PhotonEmission em;
+    em.origin = vec3(0.0);
+    em.dir = vec3(0.0, 0.0, 1.0);
+    em.power = vec3(0.0);
+    uint n = frame.emitter_count;
+    if (n == 0u) return em;
+    uint index;
+    float pmf;
+    if (uniform_choice) {
+        index = min(uint(u0.x * float(n)), n - 1u);
+        pmf = 1.0 / float(n);
+    } else {
+        index = alias_sample(0u, n, u0.x, pmf);
+    }
+    EmitterRecord e = emitter_load(index);
+    if ((EMITTER_HAS(EMITTER_POINT) && e.kind == EMITTER_POINT)
+        || (EMITTER_HAS(EMITTER_SPOT) && e.kind == EMITTER_SPOT)) {
+        em.origin = e.position;
+        if (EMITTER_HAS(EMITTER_SPOT) && e.kind == EMITTER_SPOT) {
+            // Uniform in the cone of the cutoff angle, weighted by the falloff.
+            float one_minus_cos = 1.0 - e.cos_cutoff;
+            em.dir = frame_to_world(e.axis, warp_uniform_cone(u0.yz, one_minus_cos));
+            em.power = e.radiance * emitter_spot_falloff(e, em.dir) / (warp_uniform_cone_pdf(one_minus_cos) * pmf);
+        } else {
+            // Intensity I in every direction: flux 4π I.
+            em.dir = warp_uniform_sphere(u0.yz);
+            em.power = e.radiance * (4.0 * PI / pmf);
+        }
+    } else if ((EMITTER_HAS(EMITTER_CONSTANT) && e.kind == EMITTER_CONSTANT)
+               || (EMITTER_HAS(EMITTER_ENVMAP) && e.kind == EMITTER_ENVMAP)) {
+        // Light from infinity along -d crosses a disk of the scene's bounding-sphere
+        // radius R facing d, placed tangent to that sphere on the side of d: flux
+        // L(d) π R² per unit solid angle of d (PBR 4th ed., sec. 12.5, infinite lights'
+        // SampleLe).
+        vec3 d;
+        float pdf_dir;
+        if (EMITTER_HAS(EMITTER_ENVMAP) && e.kind == EMITTER_ENVMAP) {
+            if (!TEXTURE_USES(TEXTURE_FEATURE_ENVMAP)) return em;
+            d = envmap_sample(e, u0.yz, pdf_dir);
+        } else {
+            d = warp_uniform_sphere(u0.yz);
+            pdf_dir = warp_uniform_sphere_pdf(d);
+        }
+        if (!(pdf_dir > 0.0)) return em;
+        float R = photon_params.scene_radius;
+        vec3 s, t;
+        frame_basis(d, s, t);
+        vec2 disk = warp_square_to_disk(u1.xy) * R;
+        em.origin = photon_params.scene_center + R * d + disk.x * s + disk.y * t;
+        em.dir = -d;
+        em.power = emitter_env_radiance(e, d) * (PI * R * R / (pdf_dir * pmf));
+    } else if (EMITTER_HAS(EMITTER_AREA) && e.tri_count > 0u) {
+        // A point uniform over the mesh (a triangle by area, then a uniform point on
+        // it: density 1/A) and a cosine-weighted direction around its normal (density
+        // cos θ / π): power = L π A / P(emitter).
+        float tri_pmf;
+        uint tri = alias_sample(e.tri_first, e.tri_count, u0.y, tri_pmf);
+        vec2 b = warp_uniform_triangle(u0.zw);
+        Surface ls = surface_at(alias_load(e.tri_first + tri).prim, b.x, b.y, vec3(0.0), vec3(0.0), 0.0);
+        em.dir = frame_to_world(ls.ng, warp_cosine_hemisphere(u1.xy));
+        em.origin = surface_spawn_origin(ls, ls.ng);
+        em.power = emitter_area_radiance(e, ls.ng, -em.dir, ls.uv) * (PI * e.area / pmf);
+    } else if (EMITTER_HAS(EMITTER_KIND_BIT_SPHERE_AREA)) {
+        // A sphere: a point uniform over its surface, then as a mesh.
+        vec3 n = warp_uniform_sphere(u0.yz);
+        Surface ls;
+        ls.p = e.position + e.radius * n;
+        ls.p_error = SURFACE_GAMMA5 * abs(ls.p);
+        ls.ng = (shape_load(e.shape).flags & SHAPE_FLIP_NORMALS) != 0u ? -n : n;
+        ls.uv = surface_sphere_uv(n);
+        em.dir = frame_to_world(ls.ng, warp_cosine_hemisphere(u1.xy));
+        em.origin = surface_spawn_origin(ls, ls.ng);
+        em.power = emitter_area_radiance(e, ls.ng, -em.dir, ls.uv) * (PI * e.area / pmf);
+    }
+    return em;
+}
+
+#endif
