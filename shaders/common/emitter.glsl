@@ -21,6 +21,11 @@
 #define EMITTER_KINDS 0xffffffffu
 #endif
 #define EMITTER_HAS(k) ((EMITTER_KINDS & (1u << (k))) != 0u)
+// Any of the kinds of mask m (one test: glslang 11 emits invalid SPIR-V for a chain
+// of || over specialization constants).
+#define EMITTER_HAS_ANY(m) ((EMITTER_KINDS & (m)) != 0u)
+// Area emitters on meshes, spheres, disks and cylinders.
+#define EMITTER_AREA_BITS ((1u << EMITTER_AREA) | (1u << EMITTER_KIND_BIT_SPHERE_AREA) | (1u << EMITTER_KIND_BIT_QUADRIC_AREA))
 
 #include "alias.glsl"
 #include "frame.glsl"
@@ -77,6 +82,35 @@ float emitter_sphere_cone(vec3 x, vec3 c, float r) {
     return sin2 / (1.0 + sqrt(1.0 - sin2));
 }
 
+// A point uniform over the surface of area emitter e (density 1 / e.area per unit
+// area), as the Surface a ray finds there: a mesh picks a triangle by area, then a
+// uniform point on it; a sphere a uniform direction from its centre; a disk the
+// concentric map of the unit disk; a cylinder a uniform angle and height (Mitsuba's
+// sample_position of each; their area elements are constant). u: three uniform
+// numbers.
+Surface emitter_area_point(EmitterRecord e, vec3 u) {
+    if (EMITTER_HAS(EMITTER_AREA) && e.tri_count > 0u) {
+        float tri_pmf;
+        uint t = alias_sample(e.tri_first, e.tri_count, u.x, tri_pmf);
+        vec2 b = warp_uniform_triangle(u.yz);
+        return surface_at(alias_load(e.tri_first + t).prim, b.x, b.y, vec3(0.0), vec3(0.0), 0.0);
+    }
+    if (e.prim_kind == PRIM_DISK) {
+        vec2 xy = warp_square_to_disk(u.xy);
+        return surface_at(e.prim, xy.x, xy.y, vec3(0.0), vec3(0.0), 0.0);
+    }
+    Prim p = prim_load(e.prim);
+    vec3 y;
+    if (e.prim_kind == PRIM_SPHERE) {
+        y = p.p0 + length(p.p1) * warp_uniform_sphere(u.xy);
+    } else {
+        float phi = 2.0 * PI * u.y;
+        vec3 a2 = cross(normalize(p.p2), p.p1);
+        y = p.p0 + cos(phi) * p.p1 + sin(phi) * a2 + u.x * p.p2;
+    }
+    return surface_at(e.prim, 0.0, 0.0, y, vec3(0.0), 0.0);
+}
+
 // Samples light arriving at x. u: four uniform numbers.
 EmitterSample emitter_sample(vec3 x, vec4 u) {
     EmitterSample s;
@@ -116,27 +150,10 @@ EmitterSample emitter_sample(vec3 x, vec4 u) {
     } else if ((EMITTER_HAS(EMITTER_AREA) && e.tri_count > 0u)
                || (EMITTER_HAS(EMITTER_KIND_BIT_QUADRIC_AREA) && e.tri_count == 0u
                    && e.prim_kind != PRIM_SPHERE)) {
-        // The same surface a ray would find there: its front side follows the vertex
-        // normals where a mesh has them (as in Mitsuba and Nori), so a mirroring
-        // to_world does not turn a light around.
-        Surface ls;
-        if (EMITTER_HAS(EMITTER_AREA) && e.tri_count > 0u) {
-            // A mesh: a triangle by area, then a uniform point on it.
-            float tri_pmf;
-            uint t = alias_sample(e.tri_first, e.tri_count, u.y, tri_pmf);
-            vec2 b = warp_uniform_triangle(u.zw);
-            ls = surface_at(alias_load(e.tri_first + t).prim, b.x, b.y, x, vec3(0.0), 0.0);
-        } else if (e.prim_kind == PRIM_DISK) {
-            vec2 xy = warp_square_to_disk(u.yz);
-            ls = surface_at(e.prim, xy.x, xy.y, x, vec3(0.0), 0.0);
-        } else {
-            // Cylinder: angle and height uniform (its area element is constant).
-            Prim p = prim_load(e.prim);
-            float phi = 2.0 * PI * u.z;
-            vec3 a2 = cross(normalize(p.p2), p.p1);
-            vec3 y = p.p0 + cos(phi) * p.p1 + sin(phi) * a2 + u.y * p.p2;
-            ls = surface_at(e.prim, 0.0, 0.0, y, vec3(0.0), 0.0);
-        }
+        // A point uniform over the shape's area, as the surface a ray finds there: its
+        // front side follows the vertex normals where a mesh has them (as in Mitsuba
+        // and Nori), so a mirroring to_world does not turn a light around.
+        Surface ls = emitter_area_point(e, u.yzw);
         vec3 y = ls.p;
         vec3 ng = ls.ng;
         vec3 d = y - x;

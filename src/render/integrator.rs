@@ -843,7 +843,7 @@ mod tests {
             ("photonRadius", Param::Float(-1.0)),
             ("photonRadius", Param::String("big".into())),
         ] {
-            let e = read("photonmapper", &[bad.clone()]).unwrap_err();
+            let e = read("photonmapper", std::slice::from_ref(&bad)).unwrap_err();
             assert!(e.to_string().contains(bad.0), "{e}");
         }
 
@@ -916,7 +916,7 @@ mod tests {
             ("photonsperiteration", Param::Integer(0)),
             ("granularity", Param::Integer(100)),
         ] {
-            let e = read("sppm", &[bad.clone()]).unwrap_err();
+            let e = read("sppm", std::slice::from_ref(&bad)).unwrap_err();
             assert!(e.to_string().contains(bad.0), "{e}");
         }
         assert!(

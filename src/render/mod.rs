@@ -220,12 +220,7 @@ impl Renderer {
         let capacity = capacity.min(limit as u32);
         let wavefront = Wavefront::new(device, &layout, capacity, pixels, &frame)?;
         let features = photon::SceneFeatures {
-            surface: records.surface_features()
-                | if scene.spheres.is_empty() {
-                    0
-                } else {
-                    crate::gpu::layout::SURFACE_FEATURE_SPHERES
-                },
+            surface: records.surface_features() | records.prim_kinds(),
             textures: records.texture_mask(),
             emitters: records.emitter_kinds(),
             bsdfs: records.bsdfs.iter().fold(0u32, |m, b| m | 1 << b.kind),
