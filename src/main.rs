@@ -70,6 +70,7 @@ impl RunArgs {
             timestamps,
             max_bounces: self.max_bounces,
             max_photons_per_pass: self.photons_per_pass,
+            ..RenderOptions::default()
         };
         (options, self.device)
     }
@@ -559,4 +560,36 @@ fn print_info(sc: &Scene) {
         s.sah_cost,
         s.build_seconds * 1e3
     );
+    print_device_memory(sc, &bvh);
+}
+
+/// The memory each scene buffer takes on the device, and how it is split over
+/// bindings there (on the default device, or as on lavapipe without one).
+fn print_device_memory(sc: &Scene, bvh: &wavetrace::accel::Bvh) {
+    use wavetrace::render::scene_buffers::SceneRecords;
+    use wavetrace::render::scene_parts::{scene_arrays, ScenePlan, DEFAULT_PART_SHIFT};
+    let records = SceneRecords::new(sc, bvh);
+    let arrays = scene_arrays(bvh, &records);
+    let (plan, on) = match Device::new(None) {
+        Ok(device) => (
+            ScenePlan::for_device(device.info(), &arrays, None),
+            device.info().to_string(),
+        ),
+        Err(e) => {
+            let bytes = std::array::from_fn(|a| arrays[a].len() as u64);
+            (
+                ScenePlan::new(bytes, DEFAULT_PART_SHIFT),
+                format!("no Vulkan device ({e}); bindings as on lavapipe"),
+            )
+        }
+    };
+    println!("device memory of the scene buffers, on {on}:");
+    match plan {
+        Ok(plan) => {
+            for line in plan.describe() {
+                println!("  {line}");
+            }
+        }
+        Err(e) => println!("  the scene does not fit: {e}"),
+    }
 }

@@ -44,6 +44,10 @@ pub const BVH_COUNT_BITS: u32 = 4;
 
 const _: () = assert!(BVH_MAX_LEAF_SIZE < 1 << BVH_COUNT_BITS);
 
+/// Most primitives a BVH may hold: packed child references keep indices in
+/// `32 - BVH_COUNT_BITS` bits.
+pub const BVH_MAX_PRIMS: usize = (1 << (32 - BVH_COUNT_BITS)) - 1;
+
 /// Bins per axis of the SAH build (Wald 2007 finds 16 to 32 as good as a full sweep).
 pub const SAH_BINS: usize = 16;
 
@@ -432,8 +436,8 @@ impl Bvh {
         let start = Instant::now();
         let n = prims.len();
         assert!(
-            n < 1 << (32 - BVH_COUNT_BITS),
-            "BVH over {n} primitives: at most 2^28 supported"
+            n <= BVH_MAX_PRIMS,
+            "BVH over {n} primitives: at most {BVH_MAX_PRIMS} supported"
         );
         let bounds: Vec<Aabb> = prims.iter().map(prim_bounds).collect();
         // Box centers, not vertex means: 0.5 min + 0.5 max cannot overflow.

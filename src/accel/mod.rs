@@ -13,7 +13,8 @@ pub mod sphere;
 pub mod triangle;
 
 pub use bvh::{
-    brute_force_closest, Bvh, BvhStats, Hit, SplitMethod, BVH_MAX_LEAF_SIZE, BVH_STACK_SIZE,
+    brute_force_closest, Bvh, BvhStats, Hit, SplitMethod, BVH_MAX_LEAF_SIZE, BVH_MAX_PRIMS,
+    BVH_STACK_SIZE,
 };
 
 use crate::gpu::layout::{Prim, PRIM_CYLINDER, PRIM_DISK, PRIM_SPHERE, PRIM_TRIANGLE};

@@ -36,7 +36,9 @@ unsafe impl Sync for Buffer {}
 
 impl Buffer {
     /// Creates a buffer of `size` bytes (at least 16) usable as a storage, texel or uniform buffer, for
-    /// indirect dispatch arguments, and as a copy source and destination.
+    /// indirect dispatch arguments, and as a copy source and destination. It must fit
+    /// one storage-buffer binding (`maxStorageBufferRange`); see [`Buffer::texels`] for
+    /// buffers read only through texel views.
     pub fn new(device: &Device, label: &str, size: u64, location: Location) -> Result<Buffer> {
         let size = size.max(16).next_multiple_of(4);
         let limit = device.info().max_storage_buffer_range;
@@ -47,6 +49,37 @@ impl Buffer {
                 limit,
             });
         }
+        Buffer::allocate(device, label, size, location)
+    }
+
+    /// A device buffer holding `data` that kernels read only through texel views of
+    /// `texel_bytes`-byte texels (scene arrays): it may exceed one storage-buffer
+    /// binding, up to `maxTexelBufferElements` texels and the largest allocation.
+    pub fn texels<T: Pod>(
+        device: &Device,
+        label: &str,
+        data: &[T],
+        texel_bytes: u64,
+    ) -> Result<Buffer> {
+        let bytes: &[u8] = bytemuck::cast_slice(data);
+        let size = (bytes.len() as u64).max(16).next_multiple_of(16);
+        let info = device.info();
+        let limit =
+            (info.max_texel_buffer_elements * texel_bytes).min(info.max_memory_allocation_size);
+        if size > limit {
+            return Err(Error::TexelBufferTooLarge {
+                label: label.into(),
+                size,
+                limit,
+            });
+        }
+        let buffer = Buffer::allocate(device, label, size, Location::Gpu)?;
+        buffer.write(device, 0, bytes)?;
+        Ok(buffer)
+    }
+
+    /// Creates the buffer and its memory; `size` is checked against the caller's limit.
+    fn allocate(device: &Device, label: &str, size: u64, location: Location) -> Result<Buffer> {
         let raw_dev = device.raw();
         let info = vk::BufferCreateInfo::default()
             .size(size)
@@ -95,9 +128,17 @@ impl Buffer {
             Err(result) => {
                 // SAFETY: unused buffer of this device.
                 unsafe { raw_dev.destroy_buffer(raw, None) };
-                return Err(Error::Vk {
-                    call: "vkAllocateMemory",
-                    result,
+                return Err(match result {
+                    vk::Result::ERROR_OUT_OF_DEVICE_MEMORY
+                    | vk::Result::ERROR_OUT_OF_HOST_MEMORY => Error::OutOfMemory {
+                        label: label.into(),
+                        size,
+                        heap: device.info().device_memory,
+                    },
+                    result => Error::Vk {
+                        call: "vkAllocateMemory",
+                        result,
+                    },
                 });
             }
         };
@@ -206,5 +247,49 @@ impl Drop for Buffer {
             self.device.raw.destroy_buffer(self.raw, None);
             self.device.raw.free_memory(self.memory, None);
         }
+    }
+}
+
+/// A byte count printed for people: `512 B`, `12.3 KiB`, `1.50 GiB`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ByteSize(pub u64);
+
+impl std::fmt::Display for ByteSize {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        const UNITS: [&str; 4] = ["KiB", "MiB", "GiB", "TiB"];
+        let b = self.0;
+        if b < 1024 {
+            return write!(f, "{b} B");
+        }
+        let mut v = b as f64 / 1024.0;
+        let mut unit = 0;
+        while v >= 1024.0 && unit + 1 < UNITS.len() {
+            v /= 1024.0;
+            unit += 1;
+        }
+        let digits = if v < 10.0 {
+            2
+        } else if v < 100.0 {
+            1
+        } else {
+            0
+        };
+        write!(f, "{v:.digits$} {}", UNITS[unit])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ByteSize;
+
+    #[test]
+    fn byte_sizes_read_well() {
+        let s = |b| ByteSize(b).to_string();
+        assert_eq!(s(0), "0 B");
+        assert_eq!(s(1023), "1023 B");
+        assert_eq!(s(1536), "1.50 KiB");
+        assert_eq!(s(128 << 20), "128 MiB");
+        assert_eq!(s(2 << 30), "2.00 GiB");
+        assert_eq!(s(45 << 30), "45.0 GiB");
     }
 }

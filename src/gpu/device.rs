@@ -52,7 +52,17 @@ pub struct DeviceInfo {
     pub device_id: u32,
     /// Nanoseconds per timestamp tick; `None` if the queue has no timestamps.
     pub timestamp_period_ns: Option<f64>,
+    /// Largest storage-buffer binding (`maxStorageBufferRange`): bounds the wavefront's
+    /// queues and film, which kernels write.
     pub max_storage_buffer_range: u64,
+    /// Most texels one texel-buffer view addresses (`maxTexelBufferElements`): with
+    /// [`DeviceInfo::max_memory_allocation_size`], bounds one part of a scene array
+    /// (`render::scene_parts`).
+    pub max_texel_buffer_elements: u64,
+    /// Largest single memory allocation (`maxMemoryAllocationSize`, Vulkan 1.1).
+    pub max_memory_allocation_size: u64,
+    /// Size of the largest device-local memory heap, bytes.
+    pub device_memory: u64,
     pub max_workgroups_x: u32,
     /// Time to load Vulkan, create the instance and the device.
     pub startup_seconds: f64,
@@ -188,6 +198,19 @@ fn pick(devices: &[Physical], selector: Option<&str>) -> Result<usize> {
     })
 }
 
+/// Size of the largest device-local heap (any heap if none is device-local).
+fn largest_device_heap(memory: &vk::PhysicalDeviceMemoryProperties) -> u64 {
+    let heaps = &memory.memory_heaps[..memory.memory_heap_count as usize];
+    let local = heaps
+        .iter()
+        .filter(|h| h.flags.contains(vk::MemoryHeapFlags::DEVICE_LOCAL))
+        .map(|h| h.size)
+        .max();
+    local
+        .or_else(|| heaps.iter().map(|h| h.size).max())
+        .unwrap_or(0)
+}
+
 fn cache_dir() -> Option<PathBuf> {
     if let Some(dir) = std::env::var_os("XDG_CACHE_HOME") {
         return Some(PathBuf::from(dir).join("wavetrace"));
@@ -249,7 +272,10 @@ impl Device {
         // SAFETY: physical device from this instance.
         let props = unsafe { instance.get_physical_device_properties(phys.handle) };
         let mut driver_props = vk::PhysicalDeviceDriverProperties::default();
-        let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver_props);
+        let mut maintenance3 = vk::PhysicalDeviceMaintenance3Properties::default();
+        let mut props2 = vk::PhysicalDeviceProperties2::default()
+            .push_next(&mut driver_props)
+            .push_next(&mut maintenance3);
         // SAFETY: as above; Vulkan 1.2 core.
         unsafe { instance.get_physical_device_properties2(phys.handle, &mut props2) };
         let driver = driver_props
@@ -322,6 +348,9 @@ impl Device {
             device_id: props.device_id,
             timestamp_period_ns,
             max_storage_buffer_range: props.limits.max_storage_buffer_range as u64,
+            max_texel_buffer_elements: props.limits.max_texel_buffer_elements as u64,
+            max_memory_allocation_size: maintenance3.max_memory_allocation_size,
+            device_memory: largest_device_heap(&memory),
             max_workgroups_x: props.limits.max_compute_work_group_count[0],
             startup_seconds: start.elapsed().as_secs_f64(),
         };

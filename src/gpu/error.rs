@@ -2,6 +2,8 @@
 
 use ash::vk;
 
+use super::buffer::ByteSize;
+
 /// Something the GPU layer could not do.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
@@ -38,6 +40,20 @@ pub enum Error {
         size: u64,
         limit: u64,
     },
+    #[error(
+        "buffer '{label}' needs {}, more than this device allows in one texel-buffer view \
+         ({})", ByteSize(*size), ByteSize(*limit)
+    )]
+    TexelBufferTooLarge {
+        label: String,
+        size: u64,
+        limit: u64,
+    },
+    #[error(
+        "the device ran out of memory allocating buffer '{label}' ({}; its largest memory \
+         heap holds {})", ByteSize(*size), ByteSize(*heap)
+    )]
+    OutOfMemory { label: String, size: u64, heap: u64 },
     #[error("invalid SPIR-V for kernel '{0}'")]
     BadSpirv(String),
     #[error("descriptor set {set} has {expected} bindings but {got} buffers were given")]

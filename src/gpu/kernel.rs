@@ -54,6 +54,10 @@ struct LayoutInner {
     kinds: Vec<Vec<BindingKind>>,
     pipeline_layout: vk::PipelineLayout,
     push_bytes: u32,
+    /// Specialization constants `(constant_id, value)` every kernel of this layout gets.
+    spec: Vec<(u32, u32)>,
+    /// Kernels run their SCENE_SPLIT variant where they have one.
+    scene_split: bool,
 }
 
 impl Drop for LayoutInner {
@@ -92,6 +96,22 @@ impl BindingLayout {
         device: &Device,
         kinds: &[Vec<BindingKind>],
         push_bytes: u32,
+    ) -> Result<BindingLayout> {
+        BindingLayout::with_spec(device, kinds, push_bytes, &[], false)
+    }
+
+    /// [`BindingLayout::with_kinds`], plus specialization constants `(constant_id,
+    /// value)` that every [`Kernel`] made with this layout gets: facts about the bound
+    /// data that all kernels reading it must agree on (how the scene's arrays are split
+    /// over bindings, `render::scene_parts`). Their ids must lie above those kernels
+    /// number themselves. With `scene_split`, kernels that read the scene run their
+    /// `SCENE_SPLIT` variant ([`super::shaders::scene_split_variant`]).
+    pub fn with_spec(
+        device: &Device,
+        kinds: &[Vec<BindingKind>],
+        push_bytes: u32,
+        spec: &[(u32, u32)],
+        scene_split: bool,
     ) -> Result<BindingLayout> {
         let raw = device.raw();
         let mut set_layouts = Vec::new();
@@ -151,12 +171,24 @@ impl BindingLayout {
                 kinds: kinds.to_vec(),
                 pipeline_layout,
                 push_bytes,
+                spec: spec.to_vec(),
+                scene_split,
             }),
         })
     }
 
     pub fn push_bytes(&self) -> u32 {
         self.inner.push_bytes
+    }
+
+    /// The specialization constants every kernel of this layout gets.
+    pub fn spec(&self) -> &[(u32, u32)] {
+        &self.inner.spec
+    }
+
+    /// Whether kernels of this layout run their SCENE_SPLIT variants.
+    pub fn scene_split(&self) -> bool {
+        self.inner.scene_split
     }
 }
 
@@ -291,7 +323,9 @@ pub struct Kernel {
 }
 
 impl Kernel {
-    /// `spec[i]` becomes specialization constant `constant_id = i` (32-bit each).
+    /// `spec[i]` becomes specialization constant `constant_id = i` (32-bit each), and
+    /// the layout's own constants ([`BindingLayout::with_spec`]) are added. On a layout
+    /// for a split scene, a kernel that reads the scene runs its SCENE_SPLIT variant.
     pub fn new(
         device: &Device,
         name: &str,
@@ -299,6 +333,10 @@ impl Kernel {
         layout: &BindingLayout,
         spec: &[u32],
     ) -> Result<Kernel> {
+        let spirv = match layout.inner.scene_split {
+            true => super::shaders::scene_split_variant(spirv).unwrap_or(spirv),
+            false => spirv,
+        };
         let code = ash::util::read_spv(&mut std::io::Cursor::new(spirv))
             .map_err(|_| Error::BadSpirv(name.into()))?;
         let raw = device.raw();
@@ -306,15 +344,27 @@ impl Kernel {
         // SAFETY: SPIR-V produced by glslang at build time.
         let module =
             unsafe { raw.create_shader_module(&module_info, None) }.vk("vkCreateShaderModule")?;
-        let entries: Vec<_> = (0..spec.len())
-            .map(|i| {
+        let shared = &layout.inner.spec;
+        debug_assert!(
+            shared.iter().all(|&(id, _)| id as usize >= spec.len()),
+            "kernel '{name}': its specialization constants overlap the layout's"
+        );
+        let ids = (0..spec.len() as u32).chain(shared.iter().map(|&(id, _)| id));
+        let values: Vec<u32> = spec
+            .iter()
+            .copied()
+            .chain(shared.iter().map(|&(_, v)| v))
+            .collect();
+        let entries: Vec<_> = ids
+            .enumerate()
+            .map(|(i, id)| {
                 vk::SpecializationMapEntry::default()
-                    .constant_id(i as u32)
+                    .constant_id(id)
                     .offset(4 * i as u32)
                     .size(4)
             })
             .collect();
-        let data: &[u8] = bytemuck::cast_slice(spec);
+        let data: &[u8] = bytemuck::cast_slice(&values);
         let spec_info = vk::SpecializationInfo::default()
             .map_entries(&entries)
             .data(data);

@@ -11,7 +11,7 @@ pub mod kernel;
 pub mod layout;
 pub mod shaders;
 
-pub use buffer::{Buffer, Location};
+pub use buffer::{Buffer, ByteSize, Location};
 pub use command::{CommandList, KernelTimes};
 pub use device::{Device, DeviceInfo, DeviceKind};
 pub use error::{Error, Result};

@@ -2,6 +2,8 @@
 
 use std::path::PathBuf;
 
+use crate::gpu::ByteSize;
+
 /// Why a render could not be set up or run.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
@@ -13,6 +15,33 @@ pub enum Error {
         file: PathBuf,
         line: Option<u32>,
         message: String,
+    },
+    /// A scene array larger than every binding the device lets it use.
+    #[error(
+        "scene buffer '{label}' needs {}, more than this device can address for it ({} in \
+         {bindings} binding{}): {remedy}",
+        ByteSize(*size),
+        ByteSize(*limit),
+        if *bindings == 1 { "" } else { "s" }
+    )]
+    SceneTooLarge {
+        label: &'static str,
+        size: u64,
+        limit: u64,
+        bindings: u32,
+        remedy: &'static str,
+    },
+    /// The scene's buffers exceed the device's memory.
+    #[error(
+        "the scene needs {} of device memory, more than the device has ({}); the largest \
+         buffer is {largest}: use fewer triangles, or smaller textures and grids",
+        ByteSize(*needed),
+        ByteSize(*available)
+    )]
+    SceneMemory {
+        needed: u64,
+        available: u64,
+        largest: String,
     },
     /// Render options that cannot work (zero samples, an empty film, ...).
     #[error("{0}")]

@@ -12,6 +12,7 @@ pub mod integrator;
 pub mod media;
 pub mod photon;
 pub mod scene_buffers;
+pub mod scene_parts;
 pub mod wavefront;
 
 pub use error::{Error, Result};
@@ -26,7 +27,8 @@ use crate::image::Image;
 use crate::scene::Scene;
 
 use photon::{photon_binding_kinds, PhotonStats, Photons};
-use scene_buffers::{scene_binding_kinds, SceneBuffers, SceneRecords};
+use scene_buffers::{SceneBuffers, SceneRecords};
+use scene_parts::{scene_arrays, scene_binding_kinds, ScenePlan};
 use wavefront::{wavefront_binding_kinds, Wavefront, BYTES_PER_PATH};
 
 /// How to render, beyond what the scene says.
@@ -45,6 +47,10 @@ pub struct RenderOptions {
     /// [`RenderStats::cut_paths`]); `None`: [`integrator::MAX_BOUNCES`]. Paths the
     /// integrator's `max_depth` ends sooner are never cut.
     pub max_bounces: Option<u32>,
+    /// log2 of the most texels in one part of a scene array (`scene_parts`); `None`:
+    /// as large as the device allows. Smaller parts split even small scenes over
+    /// several bindings, which is how tests and benchmarks exercise that path.
+    pub scene_part_shift: Option<u32>,
     /// Photon mappers: most photons a photon pass holds; `None` picks what the
     /// device's memory and binding limits allow. A photon map with more photons is
     /// split into passes.
@@ -152,10 +158,6 @@ impl Renderer {
                 ))
             })?;
 
-        let bvh = Bvh::build(accel::prims_from_scene(scene));
-        let records = SceneRecords::new(scene, &bvh);
-
-        let t = Instant::now();
         if integrator.is_photon_mapper() && scene.needs_medium_code() {
             return Err(Error::Integrator {
                 file: scene.path.clone(),
@@ -178,7 +180,21 @@ impl Renderer {
                 ),
             });
         }
-        let layout = BindingLayout::with_kinds(
+        let prims = scene.triangle_count() + scene.spheres.len();
+        if prims > accel::BVH_MAX_PRIMS {
+            return Err(Error::Options(format!(
+                "the scene has {prims} primitives, more than one BVH holds ({}): use fewer \
+                 triangles (decimate the largest meshes)",
+                accel::BVH_MAX_PRIMS
+            )));
+        }
+        let bvh = Bvh::build(accel::prims_from_scene(scene));
+        let records = SceneRecords::new(scene, &bvh);
+
+        let t = Instant::now();
+        let arrays = scene_arrays(&bvh, &records);
+        let plan = ScenePlan::for_device(device.info(), &arrays, options.scene_part_shift)?;
+        let layout = BindingLayout::with_spec(
             device,
             &[
                 scene_binding_kinds(),
@@ -186,8 +202,11 @@ impl Renderer {
                 photon_binding_kinds(),
             ],
             std::mem::size_of::<Push>() as u32,
+            &plan.spec(),
+            plan.is_split(),
         )?;
-        let scene_buffers = SceneBuffers::upload(device, &layout, &bvh, &records)?;
+        let scene_buffers = SceneBuffers::upload_planned(device, &layout, &arrays, plan)?;
+        drop(arrays);
         let tan_x = (cam.fov_x_deg.to_radians() * 0.5).tan();
         let frame = Frame {
             camera_to_world: cam.to_world.to_cols_array_2d(),
@@ -340,6 +359,11 @@ impl Renderer {
 
     pub fn integrator(&self) -> &Integrator {
         &self.integrator
+    }
+
+    /// How the scene's arrays lie on the device: sizes and parts.
+    pub fn scene_plan(&self) -> &ScenePlan {
+        &self.scene_buffers.plan
     }
 
     /// Most bounces a path runs before it is cut (see [`RenderStats::cut_paths`]).

@@ -1,6 +1,8 @@
 //! The scene in GPU buffers: descriptor set 0 of every kernel that reads the scene
 //! (`shaders/common/scene_bindings.glsl`).
 
+use std::borrow::Cow;
+
 use glam::Vec3;
 
 use crate::accel::Bvh;
@@ -17,31 +19,15 @@ use crate::gpu::layout::{
 use crate::gpu::layout::{
     surface_feature_of_prim, EMITTER_KIND_BIT_QUADRIC_AREA, EMITTER_KIND_BIT_SPHERE_AREA,
 };
-use crate::gpu::{BindingKind, BindingLayout, Buffer, DescriptorSet, Device};
+use crate::gpu::{BindingLayout, Buffer, DescriptorSet, Device};
 use crate::scene::envmap;
 use crate::scene::Texture;
 use crate::scene::{Emitter, QuadricKind, Scene};
 
-use super::error::Result;
+use super::error::{Error, Result};
+use super::scene_parts::{extra_bindings, scene_arrays, texel_bytes, ScenePlan, SCENE_ARRAYS};
 
-/// Bindings of set 0, in order: 0-7 geometry, materials and emitters, 8-10
-/// textures (records, texels, environment-map distributions), 11-14 media (records, density
-/// and albedo grids, majorant grids, packed density grids).
-pub const SCENE_BINDINGS: u32 = 15;
-
-/// The kind of each binding of set 0. Every record is read at scattered addresses
-/// (traversal steps, hits, texture and grid lookups), so all are texel buffers (see
-/// [`BindingKind::Texels`]): records of 16-byte texels, and arrays of floats (texels of
-/// bitmaps, environment-map distributions, density and majorant grids) of 4-byte
-/// ones.
-pub fn scene_binding_kinds() -> Vec<BindingKind> {
-    (0..SCENE_BINDINGS)
-        .map(|b| match b {
-            9 | 10 | 12 | 13 => BindingKind::Words,
-            _ => BindingKind::Texels,
-        })
-        .collect()
-}
+pub use super::scene_parts::{scene_binding_kinds, SCENE_BINDINGS};
 
 /// Host-side records of a scene, before upload. Built without a GPU so it can be
 /// tested and inspected.
@@ -522,65 +508,80 @@ fn share_with_environment(power: &[f64], is_env: impl Fn(usize) -> bool) -> Vec<
 pub struct SceneBuffers {
     _buffers: Vec<Buffer>,
     pub set: DescriptorSet,
+    /// How the arrays were split over the bindings, and their sizes.
+    pub plan: ScenePlan,
 }
 
 impl SceneBuffers {
+    /// Uploads the scene in parts as large as the device allows. If that splits an
+    /// array, `layout` must carry the plan's specialization constants: use
+    /// [`SceneBuffers::upload_planned`] with a layout made from [`ScenePlan::spec`].
     pub fn upload(
         device: &Device,
         layout: &BindingLayout,
         bvh: &Bvh,
         records: &SceneRecords,
     ) -> Result<SceneBuffers> {
-        let buffers = vec![
-            Buffer::from_slice(device, "bvh nodes", &bvh.nodes)?,
-            Buffer::from_slice(device, "primitives", &bvh.prims)?,
-            Buffer::from_slice(device, "shapes", &records.shapes)?,
-            Buffer::from_slice(device, "triangles", &records.triangles)?,
-            Buffer::from_slice(device, "vertices", &records.vertices)?,
-            Buffer::from_slice(device, "bsdfs", &records.bsdfs)?,
-            Buffer::from_slice(device, "emitters", &records.emitters)?,
-            Buffer::from_slice(device, "alias tables", &records.alias)?,
-            Buffer::from_slice(device, "textures", &records.textures)?,
-            Buffer::from_slice(device, "texels", &records.texels)?,
-            Buffer::from_slice(device, "envmap distributions", &records.env_dist)?,
-        ];
-        let mut buffers = buffers;
-        // Storage buffers may not be empty: a scene without media binds one zero record.
-        let or_one = |v: &[f32]| {
-            if v.is_empty() {
-                vec![0.0f32]
-            } else {
-                v.to_vec()
+        let arrays = scene_arrays(bvh, records);
+        let plan = ScenePlan::for_device(device.info(), &arrays, None)?;
+        SceneBuffers::upload_planned(device, layout, &arrays, plan)
+    }
+
+    /// Uploads `arrays` ([`scene_arrays`]) split as `plan` says, on a layout whose
+    /// kernels are specialized to the plan ([`BindingLayout::with_spec`] with
+    /// [`ScenePlan::spec`]).
+    pub fn upload_planned(
+        device: &Device,
+        layout: &BindingLayout,
+        arrays: &[Cow<'_, [u8]>; 15],
+        plan: ScenePlan,
+    ) -> Result<SceneBuffers> {
+        if plan.is_split()
+            && !(layout.scene_split() && plan.spec().iter().all(|c| layout.spec().contains(c)))
+        {
+            return Err(Error::Options(
+                "the scene is split over several bindings but the binding layout is not made \
+                 for it (BindingLayout::with_spec with ScenePlan::spec and scene_split)"
+                    .into(),
+            ));
+        }
+        let mut buffers = Vec::new();
+        // Per binding, the buffer bound there.
+        let mut bound = vec![0usize; SCENE_BINDINGS as usize];
+        for (a, array) in SCENE_ARRAYS.iter().enumerate() {
+            let first = buffers.len();
+            for p in 0..plan.parts[a] {
+                let label = if plan.parts[a] == 1 {
+                    array.label.to_string()
+                } else {
+                    format!("{} (part {} of {})", array.label, p + 1, plan.parts[a])
+                };
+                let bytes = &arrays[a][plan.part_range(a, p)];
+                buffers.push(Buffer::texels(
+                    device,
+                    &label,
+                    bytes,
+                    texel_bytes(array.kind),
+                )?);
             }
-        };
-        let media = if records.media.is_empty() {
-            vec![MediumRecord::default()]
-        } else {
-            records.media.clone()
-        };
-        buffers.push(Buffer::from_slice(device, "media", &media)?);
-        buffers.push(Buffer::from_slice(
-            device,
-            "density grids",
-            &or_one(&records.grid_data),
-        )?);
-        buffers.push(Buffer::from_slice(
-            device,
-            "majorant grids",
-            &or_one(&records.majorants),
-        )?);
-        let packed = if records.packed_density.is_empty() {
-            vec![[0.0f32; 4]]
-        } else {
-            records.packed_density.clone()
-        };
-        buffers.push(Buffer::from_slice(device, "packed density grids", &packed)?);
-        debug_assert_eq!(buffers.len() as u32, SCENE_BINDINGS);
-        let refs: Vec<&Buffer> = buffers.iter().collect();
+            bound[a] = first;
+            // Parts the array does not have bind its first part: every binding of
+            // the layout needs a buffer, and the kernels never read them.
+            for (p, b) in extra_bindings(a).enumerate() {
+                let part = p + 1;
+                bound[b as usize] = if part < plan.parts[a] as usize {
+                    first + part
+                } else {
+                    first
+                };
+            }
+        }
+        let refs: Vec<&Buffer> = bound.iter().map(|&i| &buffers[i]).collect();
         let set = DescriptorSet::new(layout, 0, &refs)?;
         Ok(SceneBuffers {
             _buffers: buffers,
             set,
+            plan,
         })
     }
 }
