@@ -180,7 +180,7 @@ impl Renderer {
                 ),
             });
         }
-        let prims = scene.triangle_count() + scene.spheres.len();
+        let prims = scene.triangle_count() + scene.quadrics.len();
         if prims > accel::BVH_MAX_PRIMS {
             return Err(Error::Options(format!(
                 "the scene has {prims} primitives, more than one BVH holds ({}): use fewer \
