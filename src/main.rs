@@ -330,8 +330,9 @@ fn run(cli: Cli) -> Result<()> {
             )
         }
         Command::Info { scene } => {
+            let t = Instant::now();
             let sc = load(&scene)?;
-            print_info(&sc);
+            print_info(&sc, t.elapsed().as_secs_f64());
             Ok(())
         }
         Command::Devices => {
@@ -504,9 +505,14 @@ fn default_output(scene: &Path) -> PathBuf {
     PathBuf::from(stem).with_extension("exr")
 }
 
-fn print_info(sc: &Scene) {
-    use wavetrace::accel::{prims_from_scene, Bvh};
-    println!("scene:       {}", sc.path.display());
+fn print_info(sc: &Scene, load_seconds: f64) {
+    use wavetrace::accel::Bvh;
+    use wavetrace::bench::memory::PeakMeter;
+    println!(
+        "scene:       {} (loaded in {:.1} ms)",
+        sc.path.display(),
+        load_seconds * 1e3
+    );
     let c = &sc.camera;
     println!(
         "camera:      {}x{}, horizontal fov {:.2}°, clip [{}, {}]",
@@ -549,10 +555,23 @@ fn print_info(sc: &Scene) {
     for e in &sc.emitters {
         println!("  {e:?}");
     }
-    let bvh = Bvh::build(prims_from_scene(sc));
+    let meter = PeakMeter::start();
+    let bvh = Bvh::for_shapes(&sc.meshes, &sc.quadrics);
     let s = &bvh.stats;
+    // The build's peak above the loaded scene, where the OS tells it.
+    let peak = meter
+        .extra()
+        .map(|b| {
+            let prims = bvh.prims.len().max(1) as f64;
+            format!(
+                ", build peak {:.1} MiB ({:.0} bytes a primitive)",
+                b as f64 / (1u64 << 20) as f64,
+                b as f64 / prims
+            )
+        })
+        .unwrap_or_default();
     println!(
-        "bvh:         {} nodes, {} leaves, depth {}, largest leaf {}, SAH cost {:.2}, built in {:.1} ms",
+        "bvh:         {} nodes, {} leaves, depth {}, largest leaf {}, SAH cost {:.2}, built in {:.1} ms{peak}",
         s.node_count,
         s.leaf_count,
         s.max_depth,

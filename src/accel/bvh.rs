@@ -1,13 +1,6 @@
-//! The BVH: a binned-SAH build on the host, flattened to [`BvhNode`]s, and a CPU
-//! traversal that mirrors `shaders/common/bvh.glsl` step for step.
-//!
-//! Build: binned SAH over all three axes (Wald 2007, "On fast Construction of
-//! SAH-based Bounding Volume Hierarchies", section 3), [`SAH_BINS`] bins over the
-//! centroid bounds of each node, the cheapest of the `3 (SAH_BINS - 1)` planes wins. A
-//! node becomes a leaf when it holds one primitive, or at most [`BVH_MAX_LEAF_SIZE`]
-//! and the SAH says splitting does not pay. When every centroid coincides on every axis
-//! the index range is split in half. Depth is bounded by [`BVH_STACK_SIZE`] (see
-//! [`Bvh::build`]).
+//! The BVH: a binned-SAH build on the host ([`super::bvh_build`]), flattened to
+//! [`BvhNode`]s, and a CPU traversal that mirrors `shaders/common/bvh.glsl` step for
+//! step.
 //!
 //! Layout: node 0 is the root and always an inner node; each node holds both
 //! children's boxes (Aila, Laine 2009). A child with `count > 0` is a leaf over
@@ -25,8 +18,10 @@ use std::time::Instant;
 
 use glam::Vec3;
 
+use super::bvh_build::{PrimSource, ShapePrims};
 use super::{cylinder, disk, sphere, triangle};
 use crate::gpu::layout::{BvhNode, Prim, PRIM_CYLINDER, PRIM_DISK, PRIM_SPHERE};
+use crate::scene::{Mesh, Quadric};
 
 /// Entries in the traversal stack of `shaders/common/bvh.glsl` (`#define
 /// BVH_STACK_SIZE`, checked by a test). The build keeps every leaf at depth
@@ -58,7 +53,7 @@ pub const SAH_TRAVERSAL_COST: f64 = 1.0;
 pub const SAH_INTERSECTION_COST: f64 = 1.0;
 
 /// Leaf size of [`SplitMethod::Median`] builds.
-const MEDIAN_LEAF_SIZE: usize = 4;
+pub(super) const MEDIAN_LEAF_SIZE: usize = 4;
 
 /// `1 + 2 gamma(3)`, `gamma(n) = n eps / (1 - n eps)`, `eps = 2^-24` (Ize 2013, sec. 3;
 /// pbrt-v4 `Bounds3::IntersectP`), which is `1 + 3.58e-7`, rounded up to the next
@@ -127,31 +122,31 @@ pub struct Bvh {
 
 /// An axis-aligned box; `EMPTY` has min = +inf, max = -inf.
 #[derive(Clone, Copy, Debug)]
-struct Aabb {
-    min: Vec3,
-    max: Vec3,
+pub(super) struct Aabb {
+    pub min: Vec3,
+    pub max: Vec3,
 }
 
 impl Aabb {
-    const EMPTY: Aabb = Aabb {
+    pub const EMPTY: Aabb = Aabb {
         min: Vec3::INFINITY,
         max: Vec3::NEG_INFINITY,
     };
 
     #[inline]
-    fn grow(&mut self, b: &Aabb) {
+    pub fn grow(&mut self, b: &Aabb) {
         self.min = self.min.min(b.min);
         self.max = self.max.max(b.max);
     }
 
     #[inline]
-    fn grow_point(&mut self, p: Vec3) {
+    pub fn grow_point(&mut self, p: Vec3) {
         self.min = self.min.min(p);
         self.max = self.max.max(p);
     }
 
     /// Surface area in f64: finite for any finite f32 box; 0 for the empty box.
-    fn area(&self) -> f64 {
+    pub fn area(&self) -> f64 {
         let e = self.max - self.min;
         if e.x < 0.0 || e.y < 0.0 || e.z < 0.0 {
             return 0.0;
@@ -161,308 +156,40 @@ impl Aabb {
     }
 }
 
-/// The bounds of one primitive (layouts in [`Prim`]).
-fn prim_bounds(p: &Prim) -> Aabb {
-    let (p0, p1, p2) = (Vec3::from(p.p0), Vec3::from(p.p1), Vec3::from(p.p2));
-    // Half-extents of the ellipse c + cos φ a1 + sin φ a2 per axis: sqrt(a1² + a2²).
-    let ellipse = |a1: Vec3, a2: Vec3| (a1 * a1 + a2 * a2).map(f32::sqrt);
-    match p.kind {
-        PRIM_SPHERE => {
-            let r = Vec3::splat(p1.length());
-            Aabb {
-                min: p0 - r,
-                max: p0 + r,
-            }
-        }
-        PRIM_DISK => {
-            let e = ellipse(p1, p2);
-            Aabb {
-                min: p0 - e,
-                max: p0 + e,
-            }
-        }
-        PRIM_CYLINDER => {
-            // The end circles: radius |a1| in the plane normal to the axis p2.
-            let a2 = p2.normalize_or_zero().cross(p1);
-            let e = ellipse(p1, a2);
-            let top = p0 + p2;
-            Aabb {
-                min: (p0 - e).min(top - e),
-                max: (p0 + e).max(top + e),
-            }
-        }
-        _ => Aabb {
-            min: p0.min(p1).min(p2),
-            max: p0.max(p1).max(p2),
-        },
-    }
-}
-
-/// Where `o + t d` first meets primitive `p` with `tmin < t < tmax`: `(t, u, v)`, with
-/// `u, v` a triangle's barycentrics or a disk's object-space (x, y), else 0.
-/// `prim_intersect` in bvh.glsl.
-#[inline]
-pub fn intersect_prim(
-    p: &Prim,
-    tr: &triangle::TriangleRay,
-    o: Vec3,
-    d: Vec3,
-    tmin: f32,
-    tmax: f32,
-) -> Option<(f32, f32, f32)> {
-    let (p0, p1, p2) = (Vec3::from(p.p0), Vec3::from(p.p1), Vec3::from(p.p2));
-    match p.kind {
-        PRIM_SPHERE => sphere::intersect(o, d, p0, p1.length(), tmin, tmax).map(|t| (t, 0.0, 0.0)),
-        PRIM_DISK => disk::intersect(o, d, p0, p1, p2, tmin, tmax),
-        PRIM_CYLINDER => {
-            cylinder::intersect(o, d, p0, p2, p1.length(), tmin, tmax).map(|t| (t, 0.0, 0.0))
-        }
-        _ => triangle::intersect(tr, o, p0, p1, p2, tmin, tmax).map(|h| (h.t, h.u, h.v)),
-    }
-}
-
-/// `ceil(log2(m))` for `m >= 1`.
-fn ceil_log2(m: usize) -> usize {
-    (usize::BITS - (m - 1).leading_zeros()) as usize
-}
-
-/// Build state: per-primitive boxes and centroids, and the permutation being sorted.
-struct Builder {
-    bounds: Vec<Aabb>,
-    centroids: Vec<Vec3>,
-    order: Vec<u32>,
-    nodes: Vec<BvhNode>,
-    method: SplitMethod,
-}
-
-/// A finished subtree as its parent sees it: box and `(index, count)` as in [`BvhNode`].
-#[derive(Clone, Copy)]
-struct ChildRef {
-    bounds: Aabb,
-    index: u32,
-    count: u32,
-}
-
-impl ChildRef {
-    const EMPTY: ChildRef = ChildRef {
-        bounds: Aabb::EMPTY,
-        index: 0,
-        count: 0,
-    };
-}
-
-fn make_node(l: &ChildRef, r: &ChildRef) -> BvhNode {
-    BvhNode {
-        left_min: l.bounds.min.into(),
-        left_index: l.index,
-        left_max: l.bounds.max.into(),
-        left_count: l.count,
-        right_min: r.bounds.min.into(),
-        right_index: r.index,
-        right_max: r.bounds.max.into(),
-        right_count: r.count,
-    }
-}
-
-#[derive(Clone, Copy)]
-struct Bin {
-    bounds: Aabb,
-    count: u32,
-}
-
-impl Builder {
-    /// Builds the subtree over `order[begin..end]` (non-empty), whose top sits at
-    /// `depth`. Invariant: `depth + ceil_log2(end - begin) <= BVH_STACK_SIZE`.
-    fn build(&mut self, begin: usize, end: usize, depth: usize) -> ChildRef {
-        let m = end - begin;
-        let mut bounds = Aabb::EMPTY;
-        let mut cbounds = Aabb::EMPTY;
-        for &i in &self.order[begin..end] {
-            bounds.grow(&self.bounds[i as usize]);
-            cbounds.grow_point(self.centroids[i as usize]);
-        }
-        let leaf = ChildRef {
-            bounds,
-            index: begin as u32,
-            count: m as u32,
-        };
-        if m == 1 {
-            return leaf;
-        }
-        // Splitting by SAH can peel off a single primitive per level; near the stack
-        // limit only median splits, which halve the count, are allowed.
-        let forced_median = depth + 1 + ceil_log2(m) > BVH_STACK_SIZE;
-        let mid = if forced_median || self.method == SplitMethod::Median {
-            let leaf_size = if forced_median {
-                BVH_MAX_LEAF_SIZE
-            } else {
-                MEDIAN_LEAF_SIZE
-            };
-            if m <= leaf_size {
-                return leaf;
-            }
-            self.split_median(begin, end, &cbounds)
-        } else {
-            match self.split_sah(begin, end, &bounds, &cbounds) {
-                Some(mid) => mid,
-                None if m <= BVH_MAX_LEAF_SIZE => return leaf,
-                None => self.split_median(begin, end, &cbounds),
-            }
-        };
-        let slot = self.nodes.len();
-        self.nodes.push(BvhNode::default());
-        let l = self.build(begin, mid, depth + 1);
-        let r = self.build(mid, end, depth + 1);
-        self.nodes[slot] = make_node(&l, &r);
-        ChildRef {
-            bounds,
-            index: slot as u32,
-            count: 0,
-        }
-    }
-
-    /// Binned SAH (Wald 2007): the split position, or `None` if no plane separates
-    /// the centroids or (for at most `BVH_MAX_LEAF_SIZE` primitives) a leaf is cheaper.
-    fn split_sah(&mut self, begin: usize, end: usize, bounds: &Aabb, cb: &Aabb) -> Option<usize> {
-        let m = end - begin;
-        let extent = cb.max - cb.min;
-        // Bin index k = floor((c - cmin) * K / extent), clamped: the largest centroid
-        // lands in the last bin. An axis with zero (or overflowing) extent is skipped.
-        let scale = Vec3::select(
-            extent.cmpgt(Vec3::ZERO),
-            Vec3::splat(SAH_BINS as f32) / extent,
-            Vec3::ZERO,
-        );
-        let bin_of = |c: f32, axis: usize| -> usize {
-            (((c - cb.min[axis]) * scale[axis]) as usize).min(SAH_BINS - 1)
-        };
-        let empty = Bin {
-            bounds: Aabb::EMPTY,
-            count: 0,
-        };
-        let mut bins = [[empty; SAH_BINS]; 3];
-        for &i in &self.order[begin..end] {
-            let c = self.centroids[i as usize];
-            let b = &self.bounds[i as usize];
-            for (axis, axis_bins) in bins.iter_mut().enumerate() {
-                let bin = &mut axis_bins[bin_of(c[axis], axis)];
-                bin.count += 1;
-                bin.bounds.grow(b);
-            }
-        }
-        // Sweep each axis right to left for the right-side areas, then left to right
-        // evaluating the plane after each bin: cost ~ A_L n_L + A_R n_R.
-        let mut best = (f64::INFINITY, 0usize, 0usize);
-        for (axis, axis_bins) in bins.iter().enumerate() {
-            if scale[axis] == 0.0 {
-                continue;
-            }
-            let mut right_cost = [0.0f64; SAH_BINS];
-            let mut acc = Aabb::EMPTY;
-            let mut n = 0u32;
-            for k in (1..SAH_BINS).rev() {
-                acc.grow(&axis_bins[k].bounds);
-                n += axis_bins[k].count;
-                right_cost[k] = acc.area() * n as f64;
-            }
-            let mut acc = Aabb::EMPTY;
-            let mut n = 0u32;
-            for k in 1..SAH_BINS {
-                acc.grow(&axis_bins[k - 1].bounds);
-                n += axis_bins[k - 1].count;
-                if n == 0 || n as usize == m {
-                    continue;
-                }
-                let cost = acc.area() * n as f64 + right_cost[k];
-                if cost < best.0 {
-                    best = (cost, axis, k);
-                }
-            }
-        }
-        let (cost, axis, plane) = best;
-        if !cost.is_finite() {
-            return None;
-        }
-        let area = bounds.area();
-        let split_cost = SAH_TRAVERSAL_COST * area + SAH_INTERSECTION_COST * cost;
-        let leaf_cost = SAH_INTERSECTION_COST * m as f64 * area;
-        if m <= BVH_MAX_LEAF_SIZE && leaf_cost <= split_cost {
-            return None;
-        }
-        // Partition order[begin..end] so bins < plane come first.
-        let (mut lo, mut hi) = (begin, end);
-        while lo < hi {
-            let c = self.centroids[self.order[lo] as usize][axis];
-            if bin_of(c, axis) < plane {
-                lo += 1;
-            } else {
-                hi -= 1;
-                self.order.swap(lo, hi);
-            }
-        }
-        debug_assert!(lo > begin && lo < end);
-        Some(lo)
-    }
-
-    /// Object median along the longest centroid axis; the middle of the index range
-    /// if all centroids coincide.
-    fn split_median(&mut self, begin: usize, end: usize, cb: &Aabb) -> usize {
-        let mid = begin + (end - begin) / 2;
-        let extent = cb.max - cb.min;
-        if extent.max_element() > 0.0 {
-            let axis = extent.max_position();
-            let centroids = &self.centroids;
-            self.order[begin..end].select_nth_unstable_by(mid - begin, |&a, &b| {
-                centroids[a as usize][axis].total_cmp(&centroids[b as usize][axis])
-            });
-        }
-        mid
-    }
-}
-
 impl Bvh {
     /// Builds a binned-SAH BVH over `prims`, reordering them into leaf order.
     ///
     /// Every leaf ends at depth `<= BVH_STACK_SIZE` and holds at most
-    /// [`BVH_MAX_LEAF_SIZE`] primitives; fewer than `2^28` primitives are supported
-    /// (the packed stack entries; a 128 MiB binding holds 2.8 M anyway). Inputs must be
-    /// NaN-free; degenerate and coincident primitives are fine.
+    /// [`BVH_MAX_LEAF_SIZE`] primitives; at most [`BVH_MAX_PRIMS`] primitives are
+    /// supported (the packed stack entries). Inputs must be NaN-free; degenerate and
+    /// coincident primitives are fine.
     pub fn build(prims: Vec<Prim>) -> Bvh {
         Bvh::build_with(prims, SplitMethod::Sah)
     }
 
     /// [`Bvh::build`] with a choice of split method.
     pub fn build_with(prims: Vec<Prim>, method: SplitMethod) -> Bvh {
+        Bvh::build_from(&prims[..], method)
+    }
+
+    /// The BVH of a scene's shapes, made without first copying them all into
+    /// [`Prim`]s: for scenes of tens of millions of triangles (see
+    /// [`super::bvh_build`] for time and memory).
+    pub fn for_shapes(meshes: &[Mesh], quadrics: &[Quadric]) -> Bvh {
+        Bvh::build_from(&ShapePrims::new(meshes, quadrics), SplitMethod::Sah)
+    }
+
+    /// Builds over the primitives `source` gives, in parallel.
+    pub fn build_from<S: PrimSource + ?Sized>(source: &S, method: SplitMethod) -> Bvh {
         let start = Instant::now();
-        let n = prims.len();
+        let n = source.len();
         assert!(
             n <= BVH_MAX_PRIMS,
             "BVH over {n} primitives: at most {BVH_MAX_PRIMS} supported"
         );
-        let bounds: Vec<Aabb> = prims.iter().map(prim_bounds).collect();
-        // Box centers, not vertex means: 0.5 min + 0.5 max cannot overflow.
-        let centroids = bounds.iter().map(|b| 0.5 * b.min + 0.5 * b.max).collect();
-        let mut builder = Builder {
-            bounds,
-            centroids,
-            order: (0..n as u32).collect(),
-            nodes: Vec::with_capacity(n / 2 + 1),
-            method,
-        };
-        if n == 0 {
-            builder
-                .nodes
-                .push(make_node(&ChildRef::EMPTY, &ChildRef::EMPTY));
-        } else {
-            let root = builder.build(0, n, 0);
-            if root.count > 0 {
-                // A single leaf: the root must still be an inner node.
-                builder.nodes.push(make_node(&root, &ChildRef::EMPTY));
-            }
-        }
-        let prims = builder.order.iter().map(|&i| prims[i as usize]).collect();
+        let (nodes, prims) = super::bvh_build::build(source, method);
         let mut bvh = Bvh {
-            nodes: builder.nodes,
+            nodes,
             prims,
             stats: BvhStats::default(),
         };
@@ -634,6 +361,29 @@ impl BoxRay {
     }
 }
 
+/// Where `o + t d` first meets primitive `p` with `tmin < t < tmax`: `(t, u, v)`, with
+/// `u, v` a triangle's barycentrics or a disk's object-space (x, y), else 0. The
+/// primitive test of `bvh_trace` in bvh.glsl.
+#[inline]
+pub fn intersect_prim(
+    p: &Prim,
+    tr: &triangle::TriangleRay,
+    o: Vec3,
+    d: Vec3,
+    tmin: f32,
+    tmax: f32,
+) -> Option<(f32, f32, f32)> {
+    let (p0, p1, p2) = (Vec3::from(p.p0), Vec3::from(p.p1), Vec3::from(p.p2));
+    match p.kind {
+        PRIM_SPHERE => sphere::intersect(o, d, p0, p1.length(), tmin, tmax).map(|t| (t, 0.0, 0.0)),
+        PRIM_DISK => disk::intersect(o, d, p0, p1, p2, tmin, tmax),
+        PRIM_CYLINDER => {
+            cylinder::intersect(o, d, p0, p2, p1.length(), tmin, tmax).map(|t| (t, 0.0, 0.0))
+        }
+        _ => triangle::intersect(tr, o, p0, p1, p2, tmin, tmax).map(|h| (h.t, h.u, h.v)),
+    }
+}
+
 /// The closest hit by testing every primitive in order, for tests. Same intersection
 /// routines as the traversal; of hits at equal `t`, the lowest index.
 pub fn brute_force_closest(prims: &[Prim], o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Option<Hit> {
@@ -658,6 +408,7 @@ pub fn brute_force_closest(prims: &[Prim], o: Vec3, d: Vec3, tmin: f32, tmax: f3
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::accel::bvh_build::prim_bounds;
     use crate::gpu::layout::PRIM_TRIANGLE;
     use std::collections::HashMap;
 

@@ -1,12 +1,14 @@
 //! Acceleration structures: the BVH built on the host and flattened for the kernels.
 //!
 //! [`prims_from_scene`] turns a [`Scene`] into [`Prim`]s, [`Bvh::build`] sorts them
-//! into a binned-SAH tree of [`BvhNode`](crate::gpu::layout::BvhNode)s, and
+//! into a binned-SAH tree of [`BvhNode`](crate::gpu::layout::BvhNode)s
+//! ([`bvh_build`]; [`Bvh::for_shapes`] builds a scene's without the copy), and
 //! [`Bvh::closest`] / [`Bvh::any`] traverse it on the CPU exactly as
 //! `shaders/common/bvh.glsl` does on the GPU. [`triangle`], [`sphere`], [`disk`] and
 //! [`cylinder`] hold the intersection routines, mirrored by `intersect_*.glsl`.
 
 pub mod bvh;
+pub mod bvh_build;
 pub mod cylinder;
 pub mod disk;
 pub mod sphere;

@@ -25,6 +25,8 @@
 //! [`Report::to_json`] gives everything as JSON (the format is documented there) and
 //! [`Report::table`] as text.
 
+pub mod memory;
+
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 

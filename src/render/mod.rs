@@ -188,7 +188,7 @@ impl Renderer {
                 accel::BVH_MAX_PRIMS
             )));
         }
-        let bvh = Bvh::build(accel::prims_from_scene(scene));
+        let bvh = Bvh::for_shapes(&scene.meshes, &scene.quadrics);
         let records = SceneRecords::new(scene, &bvh);
 
         let t = Instant::now();

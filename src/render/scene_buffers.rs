@@ -34,6 +34,8 @@ pub use super::scene_parts::{scene_binding_kinds, SCENE_BINDINGS};
 #[derive(Debug, Default, Clone)]
 pub struct SceneRecords {
     pub shapes: Vec<ShapeRecord>,
+    /// Per global triangle number, its vertices in `vertices`; empty when no mesh has
+    /// vertex normals or uvs (the kernels then never read it).
     pub triangles: Vec<TriangleRecord>,
     pub vertices: Vec<Vertex>,
     pub bsdfs: Vec<BsdfRecord>,
@@ -211,6 +213,13 @@ impl SceneRecords {
         }
         let emitter_of = |e: Option<u32>| e.map(|i| remap[i as usize]).unwrap_or(NONE);
 
+        // Triangle records lead from a hit to its vertices' normals and uvs; without
+        // any (a scanned or generated mesh often has none) they would be 16 bytes a
+        // triangle that nothing reads.
+        let with_vertices = scene
+            .meshes
+            .iter()
+            .any(|m| !m.normals.is_empty() || !m.uvs.is_empty());
         for (shape_index, mesh) in scene.meshes.iter().enumerate() {
             let base = r.vertices.len() as u32;
             let has_n = !mesh.normals.is_empty();
@@ -239,13 +248,14 @@ impl SceneRecords {
                     });
                 }
             }
-            for t in &mesh.indices {
-                r.triangles.push(TriangleRecord {
-                    v0: base + t[0],
-                    v1: base + t[1],
-                    v2: base + t[2],
-                    pad0: 0,
-                });
+            if with_vertices {
+                r.triangles
+                    .extend(mesh.indices.iter().map(|t| TriangleRecord {
+                        v0: base + t[0],
+                        v1: base + t[1],
+                        v2: base + t[2],
+                        pad0: 0,
+                    }));
             }
             if let Some(e) = mesh.emitter {
                 r.emitters[remap[e as usize] as usize].shape = shape_index as u32;

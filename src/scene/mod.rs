@@ -16,6 +16,7 @@ mod mitsuba;
 mod nori;
 mod obj;
 mod ply;
+mod ply_binary;
 pub mod procedural;
 pub mod properties;
 pub mod quadric;

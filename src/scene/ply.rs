@@ -1,4 +1,5 @@
-//! Stanford PLY meshes (ascii, binary little and big endian) through `ply-rs`.
+//! Stanford PLY meshes: binary files (little and big endian) through our own reader
+//! ([`super::ply_binary`], fast), ASCII ones through `ply-rs`.
 //!
 //! Element `vertex` with `x`, `y`, `z`; optional `nx`, `ny`, `nz`; optional texture
 //! coordinates `u`/`v`, `s`/`t`, `texture_u`/`texture_v` or `texture_s`/`texture_t`.
@@ -16,6 +17,9 @@ use super::{Error, Mesh};
 pub fn load(path: &Path) -> Result<Mesh, Error> {
     let bytes = std::fs::read(path).map_err(|e| Error::file(path, format!("cannot read: {e}")))?;
     check_header(path, &bytes)?;
+    if let Some(mesh) = super::ply_binary::load(path, &bytes)? {
+        return Ok(mesh);
+    }
     let parser = ply_rs::parser::Parser::<DefaultElement>::new();
     let ply = parser
         .read_ply(&mut &bytes[..])
