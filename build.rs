@@ -52,7 +52,8 @@ fn main() {
                 .arg("vulkan1.2")
                 .args(*defines)
                 .arg(format!("-I{}", shader_dir.join("common").display()))
-                // Includes of a topic folder beside common/: "photon/grid.glsl".
+                // Includes of a topic folder beside common/: "photon/grid.glsl",
+                // "film/filter.glsl".
                 .arg(format!("-I{}", shader_dir.display()))
                 .arg("-o")
                 .arg(&spv)

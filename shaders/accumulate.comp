@@ -1,29 +1,25 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// accumulate: adds each finished path's radiance to its pixel. Thread t owns pixel
-// (pixel_base + t) % pixels and sums paths t, t + pixels, ... of the batch, so no two
-// threads write one pixel. NaN or infinite samples are dropped and counted.
-// Reads: paths. Writes: film (rgb sum, sample count), counters.discarded.
+// accumulate: puts each finished path's sample (value, position in its pixel, flags)
+// into its film slot, for film_gather. NaN or infinite samples are kept out (flagged
+// invalid) and counted.
+// Reads: paths. Writes: the film's sample ring, counters.discarded.
 
 #include "wavefront.glsl"
+// The sampler kind (SAMPLER_*), which draws the samples' positions in their pixels.
+layout(constant_id = 0) const uint SCENE_SAMPLER_KIND = 0u;
+#define SAMPLER_KIND SCENE_SAMPLER_KIND
+#include "film/film.glsl"
 
 void main() {
-    uint t = thread_index();
-    uint pixels = frame.width * frame.height;
-    if (t >= min(push.path_count, pixels)) return;
-    vec3 sum = vec3(0.0);
-    float n = 0.0;
-    uint dropped = 0u;
-    for (uint p = t; p < push.path_count; p += pixels) {
-        vec3 L = path_load(p).radiance;
-        if (any(isnan(L)) || any(isinf(L))) {
-            dropped += 1u;
-        } else {
-            sum += L;
-            n += 1.0;
-        }
-    }
-    uint pixel = path_load(t).pixel;
-    film[pixel] += vec4(sum, n);
-    if (dropped != 0u) atomicAdd(counters.discarded, dropped);
+    uint p = thread_index();
+    if (p >= push.path_count) return;
+    PathState path = path_load(p);
+    vec3 L = path.radiance;
+    bool valid = !(any(isnan(L)) || any(isinf(L)));
+    if (!valid) atomicAdd(counters.discarded, 1u);
+    uint flags = (valid ? FILM_SAMPLE_VALID : 0u)
+        | ((path.flags & PATH_COVERED) != 0u ? FILM_SAMPLE_COVERED : 0u);
+    film_store_sample(film_slot(p), valid ? L : vec3(0.0),
+                      film_sample_cells(path.pixel, path.sample_index), flags);
 }

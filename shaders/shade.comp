@@ -8,6 +8,9 @@
 
 #include "wavefront.glsl"
 #include "scene_bindings.glsl"
+// The sampler kind (SAMPLER_*): the other kinds compile away.
+layout(constant_id = 12) const uint SCENE_SAMPLER_KIND = 0u;
+#define SAMPLER_KIND SCENE_SAMPLER_KIND
 // The primitive and vertex features of the scene (SURFACE_FEATURE_* bits): hit geometry
 // compiles the others away (surface.glsl).
 layout(constant_id = 10) const uint SCENE_SURFACE_FEATURES = 0xffffffffu;
@@ -53,6 +56,8 @@ layout(constant_id = 8) const bool SCENE_MIS_POWER = false;
 #include "vol_path.glsl"
 
 layout(constant_id = 0) const uint INTEGRATOR = INTEGRATOR_AO;
+// The film keeps an alpha channel: camera paths record whether they cover their pixel.
+layout(constant_id = 13) const bool SCENE_FILM_ALPHA = false;
 
 void main() {
     uint i = thread_index();
@@ -63,8 +68,15 @@ void main() {
         PathState path = path_load(r.path);
         PathVertex v = path_vertex_surface();
         if (SCENE_HAS_MEDIA && !vol_path_traverse(INTEGRATOR, r, h, path, v)) return;
+        if (SCENE_FILM_ALPHA && push.depth == 0u) path_mark_covered(r.path, path, h, v);
         path_shade(INTEGRATOR, r, h, path, v);
     } else {
+        // Mitsuba's first-hit integrators: a camera ray covers its pixel where it hits.
+        if (SCENE_FILM_ALPHA && push.depth == 0u && h.prim != NONE) {
+            PathState path = path_load(r.path);
+            path.flags |= PATH_COVERED;
+            path_store_flags(r.path, path);
+        }
         first_hit_shade(INTEGRATOR, r, h);
     }
 }

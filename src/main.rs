@@ -10,6 +10,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use wavetrace::bench;
 use wavetrace::gpu::Device;
 use wavetrace::render::{RenderOptions, Renderer};
+use wavetrace::scene::film::{FileFormat, Filter, PixelFormat};
+use wavetrace::scene::sampler::SamplerKind;
 use wavetrace::scene::{self, Scene};
 use wavetrace::warptest;
 
@@ -36,9 +38,13 @@ struct SceneArgs {
 /// How to run a render, shared by `render` and `bench`.
 #[derive(clap::Args)]
 struct RunArgs {
-    /// Seed of the random numbers.
+    /// Seed of the random numbers (added to the sampler's `seed`).
     #[arg(long, default_value_t = 0)]
     seed: u32,
+    /// Sampler, overriding the scene's type (its parameters carry over): independent,
+    /// stratified, multijitter, orthogonal, ldsampler, zsobol.
+    #[arg(long)]
+    sampler: Option<String>,
     /// Integrator, overriding the scene's: normals, ao, simple, direct_ems,
     /// direct_mats, direct_mis (direct), path_mats, path_mis (path), vol_path_simple,
     /// vol_path_mis (volpath), single_scatter, photonmapper (Nori's photon mapper),
@@ -66,6 +72,7 @@ impl RunArgs {
         let options = RenderOptions {
             integrator: self.integrator,
             seed: self.seed,
+            sampler: self.sampler,
             max_batch_paths: self.batch,
             timestamps,
             max_bounces: self.max_bounces,
@@ -78,11 +85,14 @@ impl RunArgs {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Render a scene to a linear EXR and an sRGB PNG beside it.
+    /// Render a scene to a linear EXR (or the film's file format) and an sRGB PNG
+    /// beside it.
     Render {
         #[command(flatten)]
         scene: SceneArgs,
-        /// Output EXR (default: the scene's name in the current folder).
+        /// Output file (default: the scene's name in the current folder); its
+        /// extension becomes the film's file format's (exr, rgbe or pfm), as in
+        /// Mitsuba.
         #[arg(short, long)]
         output: Option<PathBuf>,
         /// Samples per pixel (default: the scene's sampler).
@@ -117,10 +127,17 @@ enum Command {
         #[arg(short, long)]
         quiet: bool,
     },
-    /// Print what a scene holds: shapes, triangles, BVH, emitters, integrator.
+    /// Print what a scene holds: shapes, triangles, BVH, emitters, integrator,
+    /// sampler and the sample count it renders.
     Info {
         #[command(flatten)]
         scene: SceneArgs,
+        /// Samples per pixel to round as the sampler would (default: the scene's).
+        #[arg(long)]
+        spp: Option<u32>,
+        /// Sampler overriding the scene's type, as for `render`.
+        #[arg(long)]
+        sampler: Option<String>,
     },
     /// List the Vulkan devices wavetrace can use.
     Devices,
@@ -218,15 +235,29 @@ fn run(cli: Cli) -> Result<()> {
             let t_load = Instant::now();
             let sc = load(&scene)?;
             let load_seconds = t_load.elapsed().as_secs_f64();
-            let spp = spp.unwrap_or(sc.spp);
-            if spp == 0 {
+            let requested = spp.unwrap_or(sc.spp);
+            if requested == 0 {
                 bail!("--spp must be at least 1");
             }
-            let output = output.unwrap_or_else(|| default_output(&scene.scene));
+            let format = sc.film.file_format;
+            let asked_output = output.unwrap_or_else(|| default_output(&scene.scene));
+            let output = output_path(&asked_output, format);
+            if output != asked_output {
+                eprintln!(
+                    "note: the film's file format is {}: writing {}",
+                    format.extension(),
+                    output.display()
+                );
+            }
             let (options, device) = run.options(profile);
             let device = Device::new(device.as_deref())?;
             eprintln!("device: {}", device.info());
             let mut renderer = Renderer::new(&device, &sc, &options)?;
+            let count = renderer.round_sample_count(requested)?;
+            if let Some(w) = &count.warning {
+                eprintln!("warning: {w}");
+            }
+            let spp = count.count;
             let s = &renderer.setup;
             eprintln!(
                 "start-up: scene {:.0} ms, vulkan {:.0} ms, bvh {:.0} ms ({} nodes, SAH {:.1}), upload {:.0} ms, \
@@ -240,12 +271,21 @@ fn run(cli: Cli) -> Result<()> {
                 s.pipeline_seconds * 1e3,
                 s.first_dispatch_seconds * 1e3,
             );
-            let (w, h) = (sc.camera.width, sc.camera.height);
+            let g = *renderer.film_geometry();
+            let (w, h) = (g.crop.width, g.crop.height);
             eprintln!(
-                "rendering {w}x{h} at {spp} spp with '{}' ({} paths per batch)",
+                "rendering {w}x{h} at {spp} spp with '{}', sampler '{}', {} ({} paths per batch)",
                 renderer.integrator().name(),
+                renderer.sampler().kind.name(),
+                describe_film(&sc),
                 renderer.capacity()
             );
+            if let Some(lost) = renderer.film_overridden(&sc.film) {
+                eprintln!(
+                    "warning: '{}' does not render this film's {lost}",
+                    renderer.integrator().name()
+                );
+            }
             if renderer.integrator().needs_emitters() && sc.emitters.is_empty() {
                 eprintln!(
                     "warning: {} has no emitters: '{}' will render a black image",
@@ -256,7 +296,7 @@ fn run(cli: Cli) -> Result<()> {
             let bar = if quiet {
                 ProgressBar::hidden()
             } else {
-                let bar = ProgressBar::new(w as u64 * h as u64 * spp as u64);
+                let bar = ProgressBar::new(g.region_pixels() as u64 * spp as u64);
                 bar.set_style(
                     ProgressStyle::with_template(
                         "{bar:40} {percent:>3}% {msg} [{elapsed_precise} < {eta_precise}]",
@@ -265,8 +305,8 @@ fn run(cli: Cli) -> Result<()> {
                 );
                 bar
             };
-            let pixels = w as u64 * h as u64;
-            let (image, stats) = renderer.render(spp, &mut |done, _total| {
+            let pixels = g.region_pixels() as u64;
+            let (film, stats) = renderer.render_film(0, spp, &mut |done, _total| {
                 bar.set_position(done);
                 bar.set_message(format!("{}/{spp} spp", done / pixels));
             })?;
@@ -280,6 +320,23 @@ fn run(cli: Cli) -> Result<()> {
                 stats.rays,
                 stats.batches
             );
+            if let Some(p) = &stats.photons {
+                eprintln!(
+                    "photons: {} paths emitted, {} photons stored in {} pass(es) of at most {} \
+                     ({:.2} M emitted/s, {:.2} M stored/s); tracing {:.3} s, grids {:.3} s, \
+                     gathers {:.3} s; {:.0} bytes per photon",
+                    p.emitted,
+                    p.stored,
+                    p.passes,
+                    p.capacity,
+                    p.emitted_per_second() / 1e6,
+                    p.stored_per_second() / 1e6,
+                    p.trace_seconds,
+                    p.grid_seconds,
+                    p.gather_seconds,
+                    p.bytes_per_photon
+                );
+            }
             if stats.discarded > 0 {
                 eprintln!(
                     "warning: {} samples were NaN or infinite and were discarded",
@@ -300,13 +357,15 @@ fn run(cli: Cli) -> Result<()> {
                     eprintln!("  {name:<12} {:>9.2} ms over {n} dispatches", secs * 1e3);
                 }
             }
-            image
-                .write_exr(&output)
-                .with_context(|| format!("writing {}", output.display()))?;
             let png = output.with_extension("png");
-            image
-                .write_png(&png, 0.0)
-                .with_context(|| format!("writing {}", png.display()))?;
+            film.write(
+                &output,
+                sc.film.pixel_format,
+                sc.film.component_format,
+                format,
+                Some(&png),
+            )
+            .with_context(|| format!("writing {}", output.display()))?;
             eprintln!("wrote {} and {}", output.display(), png.display());
             Ok(())
         }
@@ -329,10 +388,14 @@ fn run(cli: Cli) -> Result<()> {
                 quiet,
             )
         }
-        Command::Info { scene } => {
+        Command::Info {
+            scene,
+            spp,
+            sampler,
+        } => {
             let t = Instant::now();
             let sc = load(&scene)?;
-            print_info(&sc, t.elapsed().as_secs_f64());
+            print_info(&sc, t.elapsed().as_secs_f64(), spp, sampler.as_deref())?;
             Ok(())
         }
         Command::Devices => {
@@ -466,16 +529,24 @@ fn bench(
         s.first_dispatch_seconds * 1e3,
         s.warmup_seconds * 1e3,
     );
+    for r in report.rows.iter().filter(|r| r.spp != r.requested_spp) {
+        eprintln!(
+            "note: sampler '{}' rounds {} spp to {} (Mitsuba's rule)",
+            report.sampler, r.requested_spp, r.spp
+        );
+    }
     println!(
-        "{} ({}x{}, integrator {}, seed {}) against {}",
+        "{} ({}x{}, integrator {}, sampler {}, seed {}) against {}",
         report.scene.display(),
         report.width,
         report.height,
         report.integrator,
+        report.sampler,
         report.seed,
         report.reference.display()
     );
     print!("{}", report.table());
+    print!("{}", report.photon_table());
     print!("{}", report.kernel_table());
     for r in report.rows.iter().filter(|r| r.discarded > 0) {
         eprintln!(
@@ -497,6 +568,51 @@ fn bench(
     Ok(())
 }
 
+/// `path` with the extension of `format` (Mitsuba replaces any other; `.hdr` is
+/// kept for RGBE, its usual name).
+fn output_path(path: &Path, format: FileFormat) -> PathBuf {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_lowercase())
+        .unwrap_or_default();
+    match (format, ext.as_str()) {
+        (FileFormat::OpenExr, "exr")
+        | (FileFormat::Rgbe, "rgbe" | "hdr")
+        | (FileFormat::Pfm, "pfm") => path.to_path_buf(),
+        _ => path.with_extension(format.extension()),
+    }
+}
+
+/// The film in words: filter, crop window, sampled border, pixel format.
+fn describe_film(sc: &Scene) -> String {
+    let f = &sc.film;
+    let filter = match f.filter {
+        Filter::Box => "box filter".to_string(),
+        Filter::Tent { radius } => format!("tent filter (radius {radius})"),
+        Filter::Gaussian { stddev, radius } => {
+            format!("gaussian filter (stddev {stddev}, radius {radius})")
+        }
+        Filter::Mitchell { b, c, radius } => {
+            format!("mitchell filter (B {b}, C {c}, radius {radius})")
+        }
+        Filter::Lanczos { lobes } => format!("lanczos filter ({lobes} lobes)"),
+    };
+    let mut parts = vec![filter];
+    if let Some(c) = f.crop {
+        parts.push(format!(
+            "crop {}x{} at ({}, {}) of {}x{}",
+            c.width, c.height, c.x, c.y, sc.camera.width, sc.camera.height
+        ));
+    }
+    if f.sample_border {
+        parts.push("sampled border".into());
+    }
+    if f.pixel_format != PixelFormat::Rgb {
+        parts.push(f.pixel_format.name().to_string());
+    }
+    parts.join(", ")
+}
+
 fn default_output(scene: &Path) -> PathBuf {
     let stem = scene
         .file_stem()
@@ -505,7 +621,12 @@ fn default_output(scene: &Path) -> PathBuf {
     PathBuf::from(stem).with_extension("exr")
 }
 
-fn print_info(sc: &Scene, load_seconds: f64) {
+fn print_info(
+    sc: &Scene,
+    load_seconds: f64,
+    spp: Option<u32>,
+    sampler: Option<&str>,
+) -> Result<()> {
     use wavetrace::accel::Bvh;
     use wavetrace::bench::memory::PeakMeter;
     println!(
@@ -518,7 +639,32 @@ fn print_info(sc: &Scene, load_seconds: f64) {
         "camera:      {}x{}, horizontal fov {:.2}°, clip [{}, {}]",
         c.width, c.height, c.fov_x_deg, c.near_clip, c.far_clip
     );
-    println!("samples:     {} per pixel", sc.spp);
+    println!("film:        {}", describe_film(sc));
+    let s = wavetrace::render::choose_sampler(sc, sampler)?;
+    let requested = spp.unwrap_or(sc.spp);
+    let count = s
+        .sample_count(requested, c.width, c.height)
+        .map_err(anyhow::Error::msg)?;
+    let mut params = format!("seed {}", s.seed);
+    match s.kind {
+        SamplerKind::Stratified | SamplerKind::Multijitter => {
+            params += &format!(", jitter {}", s.jitter)
+        }
+        SamplerKind::Orthogonal => {
+            params += &format!(", jitter {}, strength {}", s.jitter, s.strength)
+        }
+        SamplerKind::ZSobol => params += &format!(", randomization {}", s.randomization.name()),
+        SamplerKind::Independent | SamplerKind::LdSampler => {}
+    }
+    println!("sampler:     {} ({params})", s.kind.name());
+    if count.count == requested {
+        println!("samples:     {} per pixel", count.count);
+    } else {
+        println!(
+            "samples:     {} per pixel ({requested} asked for, rounded by the sampler)",
+            count.count
+        );
+    }
     println!(
         "integrator:  {} {:?}",
         sc.integrator.name, sc.integrator.params
@@ -580,6 +726,7 @@ fn print_info(sc: &Scene, load_seconds: f64) {
         s.build_seconds * 1e3
     );
     print_device_memory(sc, &bvh);
+    Ok(())
 }
 
 /// The memory each scene buffer takes on the device, and how it is split over

@@ -41,9 +41,11 @@ fn ao_bench_prints_a_table_and_writes_json() {
     for r in &rows {
         assert_eq!(
             r.len(),
-            6,
-            "spp seconds RMSE relMSE Mrays/s efficiency: {r:?}"
+            7,
+            "spp seconds MSE RMSE relMSE Mrays/s efficiency: {r:?}"
         );
+        // MSE is RMSE squared.
+        assert!((r[2] - r[3] * r[3]).abs() <= 1e-3 * r[2], "{r:?}");
         assert!(r.iter().all(|v| v.is_finite() && *v > 0.0), "{r:?}");
     }
     assert!(
@@ -55,6 +57,7 @@ fn ao_bench_prints_a_table_and_writes_json() {
     let text = std::fs::read_to_string(&json_path).expect("read the JSON");
     let v: Value = serde_json::from_str(&text).expect("valid JSON");
     assert_eq!(v["integrator"], "ao");
+    assert_eq!(v["sampler"], "independent");
     assert_eq!(v["width"], 128);
     assert_eq!(v["height"], 128);
     assert!(v["device"].as_str().is_some_and(|d| !d.is_empty()));
@@ -72,6 +75,8 @@ fn ao_bench_prints_a_table_and_writes_json() {
         assert!(num(r, "seconds") > 0.0);
         assert!(num(r, "rays") >= 128.0 * 128.0 * num(r, "spp"));
         assert!(num(r, "efficiency") > 0.0);
+        assert!(num(r, "mse") > 0.0);
+        assert_eq!(num(r, "requested_spp"), num(r, "spp"));
     }
     // Per-kernel times for the largest count (from a render with timestamps of its
     // own); the timed renders record none.
@@ -84,6 +89,45 @@ fn ao_bench_prints_a_table_and_writes_json() {
     // factor of 2.5 leaves room for noise in the 1-spp estimate of the error.
     let (e1, e4) = (num(&rows[0], "rel_mse"), num(&rows[1], "rel_mse"));
     assert!(e4 * 2.5 < e1, "relMSE {e1} at 1 spp, {e4} at 4 spp");
+}
+
+#[test]
+fn bench_renders_the_count_the_sampler_rounds_to() {
+    // --sampler stratified rounds 2 spp up to 4 (a square), as Mitsuba does; the row
+    // says both and bench notes it.
+    let json_path = temp_file("bench_stratified", "s.json", "");
+    let (code, out, err) = wavetrace(&[
+        "bench",
+        "scenes/ao/ao.xml",
+        "--ref",
+        "scenes/refs/ao.exr",
+        "--spp",
+        "2",
+        "--sampler",
+        "stratified",
+        "--json",
+        json_path.to_str().expect("utf-8 temp path"),
+        "-q",
+    ]);
+    assert_eq!(code, 0, "stdout:\n{out}\nstderr:\n{err}");
+    assert!(err.contains("rounds 2 spp to 4"), "{err}");
+    assert!(out.contains("sampler stratified"), "{out}");
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(&json_path).unwrap()).unwrap();
+    assert_eq!(v["sampler"], "stratified");
+    assert_eq!(v["rows"][0]["spp"], 4);
+    assert_eq!(v["rows"][0]["requested_spp"], 2);
+
+    let (code, _, err) = wavetrace(&[
+        "bench",
+        "scenes/ao/ao.xml",
+        "--ref",
+        "scenes/refs/ao.exr",
+        "--sampler",
+        "sobolish",
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("unknown sampler 'sobolish'"), "{err}");
+    assert!(err.contains("multijitter"), "{err}");
 }
 
 #[test]

@@ -14,6 +14,19 @@ fn assert_error(args: &[&str], needles: &[&str]) {
     }
 }
 
+/// Renders `scene` at `spp` to `out`, quietly: (exit status, stdout, stderr).
+fn render_to(scene: &std::path::Path, out: &std::path::Path, spp: &str) -> (i32, String, String) {
+    wavetrace(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--spp",
+        spp,
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+    ])
+}
+
 const CAMERA: &str = r#"<sensor type="perspective"><float name="fov" value="40"/>
     <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>"#;
 
@@ -98,15 +111,7 @@ fn renders_writes_exr_and_png_and_reports_speed() {
     std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join("ao.exr");
     let scene = repo("scenes/ao/ao.xml");
-    let (code, _, err) = wavetrace(&[
-        "render",
-        scene.to_str().unwrap(),
-        "--spp",
-        "2",
-        "-o",
-        out.to_str().unwrap(),
-        "-q",
-    ]);
+    let (code, _, err) = render_to(&scene, &out, "2");
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("device:"), "{err}");
     assert!(err.contains("rays/s"), "{err}");
@@ -129,6 +134,59 @@ fn info_describes_the_scene() {
     ] {
         assert!(out.contains(needle), "info lacks {needle}:\n{out}");
     }
+    assert!(out.contains("sampler:     independent (seed 0)"), "{out}");
+    // The sample count a sampler renders, rounded as Mitsuba rounds it.
+    let (code, out, err) = wavetrace(&[
+        "info",
+        scene.to_str().unwrap(),
+        "--sampler",
+        "orthogonal",
+        "--spp",
+        "64",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("sampler:     orthogonal (seed 0, jitter true, strength 2)"),
+        "{out}"
+    );
+    assert!(
+        out.contains("samples:     121 per pixel (64 asked for, rounded by the sampler)"),
+        "{out}"
+    );
+}
+
+#[test]
+fn render_reports_the_rounded_sample_count() {
+    let dir = std::env::temp_dir().join(format!("wavetrace-cli-round-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("ao.exr");
+    let scene = repo("scenes/ao/ao.xml");
+    let (code, _, err) = wavetrace(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--spp",
+        "3",
+        "--sampler",
+        "stratified",
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains(
+            "warning: stratified: Sample count should be square and power of two, rounding to 4"
+        ),
+        "{err}"
+    );
+    assert!(
+        err.contains("at 4 spp with 'ao', sampler 'stratified'"),
+        "{err}"
+    );
+    assert_error(
+        &["render", scene.to_str().unwrap(), "--sampler", "halton"],
+        &["unknown sampler 'halton'", "zsobol"],
+    );
 }
 
 #[test]
@@ -149,4 +207,104 @@ fn a_scene_without_emitters_warns_of_a_black_image() {
     ]);
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("has no emitters"), "{err}");
+}
+
+/// The film's formats reach the file: RGBA in half floats (Mitsuba's default
+/// component format), luminance in float32, PFM and RGBE with their extensions (the
+/// `-o` extension is replaced, as Mitsuba does, and `render` says so), and a film
+/// value that is not a format is an error naming the file and line.
+#[test]
+fn render_writes_the_films_formats() {
+    let film = |extra: &str| {
+        format!(
+            r#"<scene version="3.0.0"><integrator type="path"/>
+<sensor type="perspective"><film type="hdrfilm"><integer name="width" value="6"/><integer name="height" value="4"/>
+{extra}</film></sensor>
+<emitter type="constant"><rgb name="radiance" value="0.5"/></emitter>
+<shape type="sphere"><point name="center" value="0, 0, 10"/></shape></scene>"#
+        )
+    };
+    let cases = [
+        (
+            "rgba",
+            r#"<string name="pixel_format" value="rgba"/>"#,
+            "exr",
+            vec!["A", "B", "G", "R"],
+            true,
+        ),
+        (
+            "y",
+            r#"<string name="pixel_format" value="luminance"/><string name="component_format" value="float32"/>"#,
+            "exr",
+            vec!["Y"],
+            false,
+        ),
+        (
+            "pfm",
+            r#"<string name="file_format" value="pfm"/>"#,
+            "pfm",
+            vec![],
+            false,
+        ),
+        (
+            "rgbe",
+            r#"<string name="file_format" value="rgbe"/>"#,
+            "rgbe",
+            vec![],
+            false,
+        ),
+    ];
+    for (name, extra, ext, channels, half) in cases {
+        let scene = temp_file("cli_formats", &format!("{name}.xml"), &film(extra));
+        let out = scene.with_file_name(format!("{name}-out.exr"));
+        let (code, _, err) = render_to(&scene, &out, "1");
+        assert_eq!(code, 0, "{name}: {err}");
+        let written = out.with_extension(ext);
+        assert!(
+            written.exists(),
+            "{name}: {} missing; {err}",
+            written.display()
+        );
+        assert!(out.with_extension("png").exists(), "{name}: PNG missing");
+        if ext == "exr" {
+            let (w, h, got) = wavetrace::image::exr::read_channels(&written).expect("EXR");
+            assert_eq!((w, h), (6, 4));
+            let names: Vec<&str> = got.iter().map(|c| c.name.as_str()).collect();
+            assert_eq!(names, channels, "{name}");
+            assert!(
+                got.iter().all(|c| c.half == half),
+                "{name}: component format"
+            );
+            assert!(got.iter().all(|c| c.values.iter().all(|v| v.is_finite())));
+            if name == "rgba" {
+                // Every camera path sees the sky: covered (Mitsuba's path integrator).
+                assert!(
+                    got[0].values.iter().all(|&a| a == 1.0),
+                    "alpha {:?}",
+                    got[0].values
+                );
+            }
+        } else {
+            assert!(
+                err.contains(&format!("file format is {ext}")),
+                "{name}: {err}"
+            );
+            let bytes = std::fs::read(&written).expect("file");
+            let magic: &[u8] = if ext == "pfm" {
+                b"PF\n6 4\n"
+            } else {
+                b"#?RADIANCE"
+            };
+            assert!(bytes.starts_with(magic), "{name}: header");
+        }
+    }
+    let bad = temp_file(
+        "cli_formats",
+        "bad.xml",
+        &film("\n<string name=\"pixel_format\" value=\"rgbw\"/>"),
+    );
+    assert_error(
+        &["render", bad.to_str().unwrap()],
+        &["bad.xml:4", "unknown pixel_format 'rgbw'"],
+    );
 }

@@ -197,7 +197,18 @@ fn render_stats(
 /// Bonferroni-corrected over the 192 tests; an unbiased render fails with probability
 /// below 1%. Also checks that a 5% bias would be seen.
 fn matches_reference(device: &Device, scene: &str, defines: &[(&str, &str)], reference: &str) {
-    matches_reference_at(device, scene, defines, reference, None, 64);
+    matches_reference_with(device, scene, defines, reference, None);
+}
+
+/// As [`matches_reference`] at `spp` samples.
+fn matches_reference_at(
+    device: &Device,
+    scene: &str,
+    defines: &[(&str, &str)],
+    reference: &str,
+    spp: u32,
+) {
+    matches_reference_spp(device, scene, defines, reference, None, spp);
 }
 
 /// As [`matches_reference`] with another integrator than the scene's.
@@ -208,11 +219,10 @@ fn matches_reference_with(
     reference: &str,
     integrator: Option<&str>,
 ) {
-    matches_reference_at(device, scene, defines, reference, integrator, 64);
+    matches_reference_spp(device, scene, defines, reference, integrator, 64);
 }
 
-/// As [`matches_reference_with`] at `spp` samples per pixel.
-fn matches_reference_at(
+fn matches_reference_spp(
     device: &Device,
     scene: &str,
     defines: &[(&str, &str)],
@@ -253,17 +263,24 @@ fn homogeneous_media_match_mitsuba() {
         "scenes/refs/media_cube.exr",
         Some("vol_path_simple"),
     );
-    matches_reference(
+    // The anisotropic cubes at 256 spp: under the small area light their samples are
+    // heavy-tailed, and at 64 spp the block means are far enough from normal that an
+    // unbiased render fails the t-test for 2 of 5 seeds (t down to -5.6, the sign of
+    // rare bright samples missing); 1024-spp renders of seeds 0 and 3 show no block
+    // above |t| = 2.8, so nothing is biased.
+    matches_reference_at(
         &device,
         cube,
         &[("g", "0.7")],
         "scenes/refs/media_cube_g07.exr",
+        256,
     );
-    matches_reference(
+    matches_reference_at(
         &device,
         cube,
         &[("g", "-0.7")],
         "scenes/refs/media_cube_gm07.exr",
+        256,
     );
     matches_reference(
         &device,
@@ -320,7 +337,7 @@ fn textured_thin_dielectric_matches_mitsuba() {
     let device = common::device();
     let scene = "scenes/media/thin_textured.xml";
     let at = |defines: &[(&str, &str)], reference: &str| {
-        matches_reference_at(&device, scene, defines, reference, None, 128)
+        matches_reference_at(&device, scene, defines, reference, 128)
     };
     at(&[], "scenes/refs/media_thin_textured.exr");
     at(
@@ -431,7 +448,7 @@ fn slab_transmittance_is_beer_lambert() {
         format!(
             r#"<sensor type="perspective"><float name="fov" value="{fov}"/>
     <transform name="to_world"><lookat origin="0, 0, {z}" target="0, 0, -10" up="0, 1, 0"/></transform>
-    <film type="hdrfilm"><integer name="width" value="{res}"/><integer name="height" value="{res}"/></film></sensor>"#
+    <film type="hdrfilm"><integer name="width" value="{res}"/><integer name="height" value="{res}"/><rfilter type="box"/></film></sensor>"#
         )
     };
     // Camera rays: the slab at z in [0, 0.5], an emitter at z = -2 facing the camera.
@@ -546,7 +563,7 @@ fn furnace_non_absorbing_medium_returns_the_light() {
 <integrator type="vol_path_mis"><integer name="rr_depth" value="1000"/></integrator>
 <sensor type="perspective"><float name="fov" value="30"/>
     <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
-    <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/></film></sensor>
+    <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/><rfilter type="box"/></film></sensor>
 <emitter type="constant"><rgb name="radiance" value="1"/></emitter>
 <shape type="sphere"><bsdf type="null"/>{medium}</shape>
 </scene>"#
@@ -823,7 +840,7 @@ fn dense_scattering_matches_a_float64_random_walk() {
 <integrator type="volpath"><integer name="max_depth" value="256"/><integer name="rr_depth" value="100000"/></integrator>
 <sensor type="perspective"><float name="fov" value="20"/>
     <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
-    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/></film></sensor>
+    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/><rfilter type="box"/></film></sensor>
 <emitter type="constant"/>
 <shape type="sphere"><bsdf type="null"/><medium type="homogeneous" name="interior">
     <rgb name="sigma_t" value="1"/><float name="scale" value="10000"/><rgb name="albedo" value="1"/></medium></shape>
@@ -892,7 +909,7 @@ fn albedo_grid_matches_constant_albedo() {
 <integrator type="volpath"><integer name="rr_depth" value="1000"/></integrator>
 <sensor type="perspective"><float name="fov" value="35"/>
     <transform name="to_world"><lookat origin="0, 0.5, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
-    <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/></film></sensor>
+    <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/><rfilter type="box"/></film></sensor>
 {light}
 <shape type="cube"><bsdf type="null"/><medium type="heterogeneous" name="interior">
     <volume type="gridvolume" name="sigma_t"><string name="filename" value="{}"/>{placement}</volume>

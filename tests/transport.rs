@@ -7,14 +7,16 @@ mod common;
 use common::{device, mean, temp_file};
 use wavetrace::render::RenderOptions;
 
-/// A Mitsuba scene with a 32x32 camera.
+/// A Mitsuba scene with a 32x32 camera and a box filter: each pixel is an
+/// independent estimate (a Gaussian would share samples among neighbours).
 fn scene(camera: &str, fov: f32, body: &str) -> String {
     format!(
         r#"<scene version="3.0.0">
     <sensor type="perspective">
         <float name="fov" value="{fov}"/>
         <transform name="to_world">{camera}</transform>
-        <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/></film>
+        <film type="hdrfilm"><integer name="width" value="32"/><integer name="height" value="32"/>
+            <rfilter type="box"/></film>
     </sensor>
     {body}
 </scene>"#

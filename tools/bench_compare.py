@@ -3,7 +3,8 @@
 
     python3 tools/bench_compare.py SCENE.xml --ref REF.exr [--spp 1,4,16,64,256]
         [--variant scalar_rgb|llvm_ad_rgb] [--integrator NAME] [--max-depth N]
-        [-D name=value] [--seed S] [--wavetrace BIN] [--device SEL] [--json OUT.json]
+        [-D name=value] [--seed S] [--sampler NAME [--mitsuba-sampler NAME]]
+        [--wavetrace BIN] [--device SEL] [--json OUT.json]
 
 Both renderers render samples 0..N for every N of --spp and are compared with the
 same reference by the same metrics as `wavetrace bench` (RMSE; relMSE, the mean over
@@ -13,15 +14,23 @@ wavetrace: runs `wavetrace bench SCENE --ref REF --spp ... --json` and reads its
 (times exclude scene loading, BVH, pipelines and kernel compilation: a 1-spp warm-up
 render precedes the measurements).
 
-Mitsuba: the scene is prepared as tools/mitsuba_ref.py prepares references (forced
-box filter, RGB float32 film; `ao` scenes rewritten to Mitsuba's `direct` under a
-constant environment), loaded once, and rendered once at 1 spp untimed (for the LLVM
+Mitsuba: the scene is prepared as tools/mitsuba_ref.py --keep-filter prepares
+references (the scene's own reconstruction filter, crop window and sample_border, as
+wavetrace renders them; RGB float32 film; `ao` scenes rewritten to Mitsuba's `direct`
+under a constant environment), loaded once, and rendered once at 1 spp untimed (for the LLVM
 variants this also JIT-compiles the kernels; Dr.Jit caches them). The wall time of each
 `mi.render` call is then measured, including the conversion of the result to a NumPy
 array (which forces evaluation of the lazy LLVM variants). With `--variant
 llvm_ad_rgb`, each sample count is rendered twice and the second (warm) run is timed,
 since Dr.Jit may compile a kernel per wavefront size; scene loading and the warm-up
 times are reported apart.
+
+The sampler: the scene's own, unless --sampler names one: wavetrace gets `--sampler NAME`
+and Mitsuba the same type in the scene's <sampler> (--mitsuba-sampler for another; the
+default for pbrt-v4's zsobol, which Mitsuba lacks, is `independent`). Both round the
+sample count as Mitsuba does (e.g. orthogonal 64 -> 121); rows are matched by the
+count asked for, and both MSEs are printed: the MSE ratio at equal spp is what a
+sampler changes.
 
 The integrator: the scene's own, unless --integrator names a wavetrace integrator,
 which is mapped to the Mitsuba integrator computing the same estimator where one
@@ -59,6 +68,8 @@ ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)),
 REL_MSE_EPSILON = 1e-2  # as wavetrace::image::metrics::REL_MSE_EPSILON
 
 # wavetrace integrator -> (Mitsuba integrator, its parameters)
+# Sampler types Mitsuba 3 has.
+MITSUBA_SAMPLERS = ("independent", "stratified", "multijitter", "orthogonal", "ldsampler")
 MITSUBA_TWIN = {
     "direct_mis": ("direct", {}),
     "direct_ems": ("direct", {"emitter_samples": 1, "bsdf_samples": 0}),
@@ -103,6 +114,8 @@ def run_wavetrace(args, spp):
             cmd += ["-D", d]
         if args.integrator:
             cmd += ["--integrator", args.integrator]
+        if args.sampler:
+            cmd += ["--sampler", args.sampler]
         if args.device:
             cmd += ["--device", args.device]
         print("$ " + " ".join(cmd), file=sys.stderr)
@@ -158,7 +171,10 @@ def prepare_mitsuba_xml(args, defines):
         described = " ".join([kind] + ["%s=%s" % (c.get("name"), c.get("value")) for c in new])
     else:
         described = " ".join([own] + ["%s=%s" % (c.get("name"), resolve(c.get("value", ""))) for c in el])
-    mitsuba_ref.prepare(root, None)
+    mitsuba_ref.prepare(root, None, keep_filter=True)
+    if args.mitsuba_sampler:
+        sampler = next(root.iter("sensor")).find("sampler")
+        sampler.set("type", args.mitsuba_sampler)
     return ET.tostring(root, encoding="unicode"), described
 
 
@@ -211,12 +227,15 @@ def run_mitsuba(args, spp, defines):
         image = np.array(mi.render(scene, spp=n, seed=args.seed))
         seconds = time.perf_counter() - t
         rmse, mse, rel = metrics(image[..., :3], reference[..., :3])
-        rows.append({"spp": n, "seconds": seconds, "rmse": rmse, "mse": mse, "rel_mse": rel})
+        rendered = scene.sensors()[0].sampler().sample_count()
+        rows.append({"spp": rendered, "requested_spp": n, "seconds": seconds, "rmse": rmse,
+                     "mse": mse, "rel_mse": rel})
         print("mitsuba %5d spp: %.3f s, relMSE %.4e" % (n, seconds, rel), file=sys.stderr)
     return {
         "version": mi.__version__,
         "variant": args.variant,
         "integrator": described,
+        "sampler": next(iter(ET.fromstring(xml).iter("sensor"))).find("sampler").get("type"),
         "libllvm": os.environ.get("DRJIT_LIBLLVM_PATH") if args.variant.startswith("llvm") else None,
         "load_seconds": load_seconds,
         "warmup_seconds": warmup_seconds,
@@ -254,10 +273,10 @@ def time_for_error(rows, target):
 
 
 def compare(ours, theirs):
-    by_spp = {r["spp"]: r for r in theirs["rows"]}
+    by_spp = {r.get("requested_spp", r["spp"]): r for r in theirs["rows"]}
     out = []
     for w in ours["rows"]:
-        m = by_spp.get(w["spp"])
+        m = by_spp.get(w.get("requested_spp", w["spp"]))
         if m is None:
             continue
         w_mse = w["rmse"] ** 2
@@ -266,10 +285,15 @@ def compare(ours, theirs):
         t_m, extrapolated = time_for_error(theirs["rows"], w["rel_mse"])
         out.append({
             "spp": w["spp"],
+            "requested_spp": w.get("requested_spp", w["spp"]),
+            "mitsuba_spp": m["spp"],
             "wavetrace_seconds": w["seconds"],
             "wavetrace_rel_mse": w["rel_mse"],
+            "wavetrace_mse": w_mse,
             "mitsuba_seconds": m["seconds"],
             "mitsuba_rel_mse": m["rel_mse"],
+            "mitsuba_mse": m["mse"],
+            "mse_ratio": w_mse / m["mse"] if m["mse"] > 0 else float("nan"),
             "efficiency_ratio": eff_rel,
             "efficiency_ratio_mse": eff_mse,
             "mitsuba_seconds_to_equal_rel_mse": t_m,
@@ -281,19 +305,23 @@ def compare(ours, theirs):
 
 def print_table(ours, theirs, rows):
     print("scene %s, reference %s" % (ours["scene"], ours["reference"]))
-    print("wavetrace: %s on %s; Mitsuba %s %s: %s" % (
-        ours["integrator"], ours["device"], theirs["version"], theirs["variant"], theirs["integrator"]))
+    print("wavetrace: %s, sampler %s, on %s; Mitsuba %s %s: %s, sampler %s" % (
+        ours["integrator"], ours.get("sampler", "independent"), ours["device"], theirs["version"],
+        theirs["variant"], theirs["integrator"], theirs["sampler"]))
     print("Mitsuba scene load %.2f s, warm-up %.2f s%s" % (
         theirs["load_seconds"], theirs["warmup_seconds"],
         " (each spp rendered twice, the warm run timed)" if theirs["warm_run_per_spp"] else ""))
-    print("%6s %10s %11s %10s %11s %10s %10s" % (
-        "spp", "wt s", "wt relMSE", "mi s", "mi relMSE", "eff ratio", "t ratio"))
+    print("%6s %10s %11s %11s %10s %11s %11s %9s %10s %10s" % (
+        "spp", "wt s", "wt MSE", "wt relMSE", "mi s", "mi MSE", "mi relMSE", "MSE ratio",
+        "eff ratio", "t ratio"))
     for r in rows:
-        print("%6d %10.4f %11.4e %10.4f %11.4e %10.3f %9.3f%s" % (
-            r["spp"], r["wavetrace_seconds"], r["wavetrace_rel_mse"], r["mitsuba_seconds"],
-            r["mitsuba_rel_mse"], r["efficiency_ratio"], r["time_ratio_at_equal_rel_mse"],
+        print("%6d %10.4f %11.4e %11.4e %10.4f %11.4e %11.4e %9.3f %10.3f %9.3f%s" % (
+            r["spp"], r["wavetrace_seconds"], r["wavetrace_mse"], r["wavetrace_rel_mse"],
+            r["mitsuba_seconds"], r["mitsuba_mse"], r["mitsuba_rel_mse"], r["mse_ratio"],
+            r["efficiency_ratio"], r["time_ratio_at_equal_rel_mse"],
             "*" if r["extrapolated"] else " "))
-    print("eff ratio = (t x relMSE) wavetrace / (t x relMSE) Mitsuba at equal spp; "
+    print("MSE ratio = wavetrace MSE / Mitsuba MSE at equal spp; "
+          "eff ratio = (t x relMSE) wavetrace / (t x relMSE) Mitsuba at equal spp; "
           "t ratio = wavetrace time / Mitsuba time to the same relMSE (* extrapolated). "
           "Below 1: wavetrace is ahead.")
 
@@ -310,11 +338,18 @@ def main():
                     help="scene parameter, passed to both renderers")
     ap.add_argument("--seed", type=int, default=0, help="seed of both renderers (default 0)")
     ap.add_argument("--wavetrace", help="wavetrace binary (default: $CARGO_TARGET_DIR or target/, release first)")
+    ap.add_argument("--sampler", help="sampler of both renderers (default: the scene's)")
+    ap.add_argument("--mitsuba-sampler",
+                    help="Mitsuba's sampler, when not --sampler's (default for zsobol: independent)")
     ap.add_argument("--device", help="wavetrace --device")
     ap.add_argument("--json", help="write both curves and the ratios here")
     args = ap.parse_args()
 
     spp = parse_spp(args.spp)
+    if args.sampler and not args.mitsuba_sampler:
+        args.mitsuba_sampler = args.sampler if args.sampler in MITSUBA_SAMPLERS else "independent"
+    if args.mitsuba_sampler and args.mitsuba_sampler not in MITSUBA_SAMPLERS:
+        die("Mitsuba has no sampler %r (it has %s)" % (args.mitsuba_sampler, ", ".join(MITSUBA_SAMPLERS)))
     try:
         defines = mitsuba_ref.parse_defines(args.defines)
     except ValueError as e:

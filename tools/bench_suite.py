@@ -2,7 +2,8 @@
 """The speed comparison of the surface and media issues, in one command.
 
     python3 tools/bench_suite.py [--scenes cbox,veach,...] [--variants scalar_rgb,llvm_ad_rgb]
-        [--seeds 11,12,13,14] [--spp 16,64] [--refs DIR] [--wavetrace BIN] [--json OUT]
+        [--seeds 11,12,13,14] [--spp 16,64] [--samplers independent,multijitter,...]
+        [--refs DIR] [--wavetrace BIN] [--json OUT]
 
 For every scene of the suite (256 x 256, the resolution the issues measure at), every
 Mitsuba variant and every seed, runs tools/bench_compare.py (wavetrace and Mitsuba on
@@ -20,6 +21,14 @@ that under 2 % at 64 spp.
 Timings on a shared 2-core machine swing by 10-20 % from run to run and the relMSE of
 one seed by as much again: read the geometric means over several seeds, and run
 nothing else meanwhile.
+
+Samplers: `--samplers` runs every scene once per sampler, both renderers with that
+sampler (tools/bench_compare.py --sampler; Mitsuba has no zsobol and runs
+`independent` there), and prints the MSE of each at each sample count next to
+Mitsuba's, and the efficiency ratio. `--scenes samplers` is the sampler issue's three
+scenes at the resolutions of their shipped references (scenes/refs/, Mitsuba 4096 spp):
+the Cornell box (`path`, 128 x 128), Veach's plates (`direct`, 128 x 128) and the
+environment map (`path`, 64 x 64).
 """
 
 import argparse
@@ -49,12 +58,18 @@ SUITE = {
     "cube_absorber": ("scenes/media/cube.xml", ["res=256", "albedo=0"], None, 1024),
     "thin_textured": ("scenes/media/thin_textured.xml", ["res=256"], None, 1024),
     "smoke_rotated": ("scenes/media/smoke_rotated.xml", ["res=256"], None, 1024),
+    # The sampler issue's scenes, against their shipped references.
+    "cbox_path": ("scenes/cbox/cbox_path.xml", [], None, "scenes/refs/cbox_path.exr"),
+    "veach_direct": ("scenes/veach/veach.xml", ["integrator=direct"], None,
+                     "scenes/refs/veach_direct.exr"),
+    "envmap": ("scenes/envmap/envmap.xml", [], None, "scenes/refs/envmap.exr"),
 }
 SURFACES = ["cbox", "veach", "glass"]
 MEDIA = ["cube", "two_media", "smoke", "cbox_smoke"]
 # The other shipped media scenes with a Mitsuba twin (fog_point's single_scatter has
 # none): phase functions, an absorber, a textured thin dielectric, a rotated spiky grid.
 MEDIA_MORE = ["cube_g07", "cube_gm07", "cube_absorber", "thin_textured", "smoke_rotated"]
+SAMPLER_SCENES = ["cbox_path", "veach_direct", "envmap"]
 
 
 def die(msg):
@@ -72,8 +87,10 @@ def ints(text, what):
 
 
 def reference(name, refs, seed_base=1000):
-    """The scene's reference EXR, rendered by Mitsuba if missing."""
+    """The scene's reference EXR: shipped, or rendered by Mitsuba if missing."""
     scene, defines, _, spp = SUITE[name]
+    if isinstance(spp, str):
+        return os.path.join(ROOT, spp)
     out = os.path.join(refs, name + ".exr")
     if os.path.isfile(out):
         return out
@@ -84,7 +101,7 @@ def reference(name, refs, seed_base=1000):
         env.setdefault("DRJIT_LIBLLVM_PATH", LIBLLVM)
     cmd = [sys.executable, os.path.join(TOOLS, "mitsuba_ref.py"), os.path.join(ROOT, scene),
            "-o", out, "--spp", str(spp), "--variant", variant, "--pass-spp", "256",
-           "--seed", str(seed_base)]
+           "--seed", str(seed_base), "--keep-filter"]
     for d in defines:
         cmd += ["-D", d]
     print("$ " + " ".join(cmd), file=sys.stderr)
@@ -93,7 +110,7 @@ def reference(name, refs, seed_base=1000):
     return out
 
 
-def compare(name, ref, variant, seed, spp, wavetrace):
+def compare(name, ref, variant, seed, spp, wavetrace, sampler):
     scene, defines, integrator, _ = SUITE[name]
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "cmp.json")
@@ -106,6 +123,8 @@ def compare(name, ref, variant, seed, spp, wavetrace):
             cmd += ["--integrator", integrator]
         if wavetrace:
             cmd += ["--wavetrace", wavetrace]
+        if sampler:
+            cmd += ["--sampler", sampler]
         print("$ " + " ".join(cmd), file=sys.stderr)
         proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         if proc.returncode != 0:
@@ -129,13 +148,16 @@ def main():
     ap.add_argument("--spp", default="16,64", help="sample counts (default 16,64)")
     ap.add_argument("--refs", default=os.path.join(ROOT, "target", "bench-refs"),
                     help="folder of the references (default target/bench-refs)")
+    ap.add_argument("--samplers", default="",
+                    help="samplers to run each scene with (default: the scene's own)")
     ap.add_argument("--wavetrace", help="wavetrace binary (default: bench_compare.py's)")
     ap.add_argument("--json", help="write every run and the summary here")
     args = ap.parse_args()
 
     names = []
     for n in args.scenes.split(","):
-        groups = {"surfaces": SURFACES, "media": MEDIA, "media_more": MEDIA_MORE}
+        groups = {"surfaces": SURFACES, "media": MEDIA, "media_more": MEDIA_MORE,
+                  "samplers": SAMPLER_SCENES}
         names += groups.get(n, [n])
     for n in names:
         if n not in SUITE:
@@ -143,41 +165,68 @@ def main():
     variants = [v for v in args.variants.split(",") if v]
     seeds = ints(args.seeds, "--seeds")
     spp = ints(args.spp, "--spp")
+    samplers = [s for s in args.samplers.split(",") if s] or [None]
 
     runs = []
     summary = []
     for name in names:
         ref = reference(name, args.refs)
         for variant in variants:
-            per_seed = []
-            for seed in seeds:
-                result = compare(name, ref, variant, seed, spp, args.wavetrace)
-                runs.append({"scene": name, "variant": variant, "seed": seed, "result": result})
-                per_seed.append(result["comparison"])
-            for i, n in enumerate(spp):
-                rows = [c[i] for c in per_seed if i < len(c)]
-                ratios = [r["efficiency_ratio"] for r in rows]
-                summary.append({
-                    "scene": name, "variant": variant, "spp": n,
-                    "efficiency_ratio": geomean(ratios), "per_seed": ratios,
-                    "wavetrace_seconds": sum(r["wavetrace_seconds"] for r in rows) / len(rows),
-                    "mitsuba_seconds": sum(r["mitsuba_seconds"] for r in rows) / len(rows),
-                    "wavetrace_rel_mse": geomean([r["wavetrace_rel_mse"] for r in rows]),
-                    "mitsuba_rel_mse": geomean([r["mitsuba_rel_mse"] for r in rows]),
-                })
-                s = summary[-1]
-                print("%-11s %-12s %4d spp: ratio %.3f  (seeds %s)  wt %.2f s %.3e  mi %.2f s %.3e" % (
-                    name, variant, n, s["efficiency_ratio"], " ".join("%.2f" % r for r in ratios),
-                    s["wavetrace_seconds"], s["wavetrace_rel_mse"], s["mitsuba_seconds"],
-                    s["mitsuba_rel_mse"]), flush=True)
+            for sampler in samplers:
+                per_seed = []
+                for seed in seeds:
+                    result = compare(name, ref, variant, seed, spp, args.wavetrace, sampler)
+                    runs.append({"scene": name, "variant": variant, "sampler": sampler,
+                                 "seed": seed, "result": result})
+                    per_seed.append(result["comparison"])
+                for i, n in enumerate(spp):
+                    rows = [c[i] for c in per_seed if i < len(c)]
+                    ratios = [r["efficiency_ratio"] for r in rows]
+                    # MSE: the mean over seeds (as the issue's table), not the geometric mean.
+                    mean = lambda k: sum(r[k] for r in rows) / len(rows)  # noqa: E731
+                    summary.append({
+                        "scene": name, "variant": variant, "sampler": sampler or "scene's",
+                        "spp": n, "rendered_spp": rows[0]["spp"] if rows else n,
+                        "efficiency_ratio": geomean(ratios), "per_seed": ratios,
+                        "wavetrace_seconds": mean("wavetrace_seconds"),
+                        "mitsuba_seconds": mean("mitsuba_seconds"),
+                        "wavetrace_rel_mse": geomean([r["wavetrace_rel_mse"] for r in rows]),
+                        "mitsuba_rel_mse": geomean([r["mitsuba_rel_mse"] for r in rows]),
+                        "wavetrace_mse": mean("wavetrace_mse"),
+                        "mitsuba_mse": mean("mitsuba_mse"),
+                        "mitsuba_sampler": runs[-1]["result"]["mitsuba"]["sampler"],
+                    })
+                    s = summary[-1]
+                    print("%-12s %-12s %-12s %4d spp: ratio %.3f  (seeds %s)  wt %.2f s MSE %.3e  "
+                          "mi %.2f s MSE %.3e (%s)" % (
+                              name, variant, s["sampler"], s["rendered_spp"], s["efficiency_ratio"],
+                              " ".join("%.2f" % r for r in ratios), s["wavetrace_seconds"],
+                              s["wavetrace_mse"], s["mitsuba_seconds"], s["mitsuba_mse"],
+                              s["mitsuba_sampler"]), flush=True)
 
     print("\nefficiency ratio (t x relMSE) wavetrace / Mitsuba, geometric mean over seeds %s;"
           " below 1: wavetrace ahead" % ",".join(map(str, seeds)))
-    print("%-11s %-12s " % ("scene", "variant") + " ".join("%8s" % ("%d spp" % n) for n in spp))
+    print("%-12s %-12s %-12s " % ("scene", "variant", "sampler")
+          + " ".join("%8s" % ("%d spp" % n) for n in spp))
     for name in names:
         for variant in variants:
-            cells = [s["efficiency_ratio"] for s in summary if s["scene"] == name and s["variant"] == variant]
-            print("%-11s %-12s " % (name, variant) + " ".join("%8.3f" % c for c in cells))
+            for sampler in samplers:
+                cells = [s for s in summary if s["scene"] == name and s["variant"] == variant
+                         and s["sampler"] == (sampler or "scene's")]
+                print("%-12s %-12s %-12s " % (name, variant, sampler or "scene's")
+                      + " ".join("%8.3f" % c["efficiency_ratio"] for c in cells))
+    print("\nMSE at equal spp, mean over seeds: wavetrace / Mitsuba (same sampler; Mitsuba "
+          "runs independent for zsobol)")
+    for name in names:
+        for variant in variants:
+            for sampler in samplers:
+                cells = [s for s in summary if s["scene"] == name and s["variant"] == variant
+                         and s["sampler"] == (sampler or "scene's")]
+                print("%-12s %-12s %-12s " % (name, variant, sampler or "scene's") + "  ".join(
+                    "%d spp %.2e / %.2e (%.2f)" % (c["rendered_spp"], c["wavetrace_mse"],
+                                                   c["mitsuba_mse"],
+                                                   c["wavetrace_mse"] / c["mitsuba_mse"])
+                    for c in cells))
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"summary": summary, "runs": runs}, f, indent=2)

@@ -286,6 +286,8 @@ def nori_xml():
         <float name="fov" value="%(fov)g"/>
         <integer name="width" value="%(res)d"/>
         <integer name="height" value="%(res)d"/>
+        <!-- The box filter of its Mitsuba twin (Nori's default is a Gaussian). -->
+        <rfilter type="box"/>
     </camera>
 
 %(shapes)s

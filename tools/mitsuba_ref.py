@@ -3,14 +3,19 @@
 
     python3 tools/mitsuba_ref.py SCENE.xml -o OUT.exr --spp N [--variant scalar_rgb] [--ao]
                                  [--integrator path|direct|volpath] [--max-depth N]
-                                 [-D name=value]
+                                 [-D name=value] [--keep-filter] [--alpha]
 
 What it changes in the scene before Mitsuba sees it (the file itself is not touched):
 
-* Always: the film's reconstruction filter becomes `box` (wavetrace spreads samples
-  uniformly over each pixel's area and averages them, which is what a box filter of
-  radius 1/2 does), its pixel format `rgb` and component format `float32`. With
-  `--spp` the sampler's `sample_count` is replaced.
+* Unless `--keep-filter`: the film's reconstruction filter becomes `box` (each sample
+  counts once in its own pixel), its pixel format `rgb`, and any crop window or
+  `sample_border` goes. With `--keep-filter` the film keeps the scene's filter (none:
+  Mitsuba's Gaussian), crop window and `sample_border`, as wavetrace renders them;
+  use a JIT variant (`llvm_ad_rgb`) then: Mitsuba's scalar variants look non-box
+  filters up in a 31-step table, its JIT variants evaluate them exactly, as wavetrace
+  does. Always: component format `float32`, pixel format `rgb`, or `rgba` with
+  `--alpha` (the EXR then has an A channel: Mitsuba's alpha). With `--spp` the
+  sampler's `sample_count` is replaced.
 * With `--integrator path|direct|volpath`: the scene's integrator is replaced by
   Mitsuba's `path` (with `--max-depth`, default 6), `direct` (MIS of one emitter
   sample and one BSDF sample, which is wavetrace's `direct_mis`; it takes no depth)
@@ -35,9 +40,10 @@ What it changes in the scene before Mitsuba sees it (the file itself is not touc
   scenes show the camera front faces only, so the convention never matters there.
 
 Large sample counts are rendered in passes of at most --pass-spp samples with
-different seeds and averaged weighted by their sample counts; with a box filter every
-pass is an exact per-pixel mean, so the result is the same estimator as one big pass
-(the JIT variants cannot hold a whole 16k-spp wavefront in memory).
+different seeds; the film's raw sums (filter-weighted values and weights, Mitsuba's
+`bitmap(raw=True)`) of all passes are added and divided once, so the result is the
+same estimator as one big pass, whatever the filter (the JIT variants cannot hold a
+whole 16k-spp wavefront in memory).
 
 Next to OUT.exr it writes OUT.json: the command, spp, passes, seed, variant, Mitsuba version, time
 taken, and SHA-256 of the scene file and of every file it names, so a stale reference
@@ -147,8 +153,9 @@ def set_integrator(root, kind, max_depth):
     root.insert(0, integrator)
 
 
-def prepare(root, spp):
-    """Box filter, RGB float32 film, and the sample count; returns (width, height)."""
+def prepare(root, spp, keep_filter=False, alpha=False):
+    """Box filter (unless keep_filter), RGB (or RGBA) float32 film, and the sample
+    count."""
     sensors = list(root.iter("sensor"))
     if len(sensors) != 1:
         die("expected exactly one <sensor>, found %d" % len(sensors))
@@ -156,11 +163,16 @@ def prepare(root, spp):
     film = sensor.find("film")
     if film is None:
         die("the <sensor> has no <film>")
-    for rf in film.findall("rfilter"):
-        film.remove(rf)
-    ET.SubElement(film, "rfilter", type="box")
-    set_param(film, "string", "pixel_format", "rgb")
+    if not keep_filter:
+        for rf in film.findall("rfilter"):
+            film.remove(rf)
+        ET.SubElement(film, "rfilter", type="box")
+        for el in [e for e in film if e.get("name") in
+                   ("crop_offset_x", "crop_offset_y", "crop_width", "crop_height", "sample_border")]:
+            film.remove(el)
+    set_param(film, "string", "pixel_format", "rgba" if alpha else "rgb")
     set_param(film, "string", "component_format", "float32")
+    set_param(film, "string", "file_format", "openexr")
     sampler = sensor.find("sampler")
     if sampler is None:
         sampler = ET.SubElement(sensor, "sampler", type="independent")
@@ -170,6 +182,41 @@ def prepare(root, spp):
     for medium in root.iter("medium"):
         for el in [e for e in medium if e.get("name") == "majorant_resolution_factor"]:
             medium.remove(el)
+
+
+def render_raw(mi, scene, sensor, spp, seed):
+    """One render's raw film: R, G, B, [A,] W per pixel as a flat list."""
+    mi.render(scene, spp=spp, seed=seed)
+    return list(mi.TensorXf(sensor.film().bitmap(raw=True)).array)
+
+
+def develop(sums, alpha):
+    """The pixels from a film's raw sums (R, G, B, [A,] W per pixel): each value over
+    its pixel's weight, as Mitsuba's film develops (a zero weight divides by 1)."""
+    channels = 5 if alpha else 4
+    out = []
+    for p in range(0, len(sums), channels):
+        w = sums[p + channels - 1]
+        w = 1.0 if w == 0.0 else w
+        out.extend(v / w for v in sums[p:p + channels - 1])
+    return out
+
+
+def to_bitmap(values, size, alpha, mi):
+    channels = 4 if alpha else 3
+    tensor = mi.TensorXf(values, shape=(size[1], size[0], channels))
+    fmt = mi.Bitmap.PixelFormat.RGBA if alpha else mi.Bitmap.PixelFormat.RGB
+    return mi.Bitmap(tensor, pixel_format=fmt)
+
+
+def rgb_errors(a, b, alpha):
+    """Mean squared error and relative MSE ((a - b)^2 / (b^2 + 1e-2), as wavetrace's
+    image::metrics::rel_mse) over the R, G, B values of image a against reference b."""
+    channels = 4 if alpha else 3
+    pairs = [(x, y) for i, (x, y) in enumerate(zip(a, b)) if i % channels < 3]
+    mse = sum((x - y) ** 2 for x, y in pairs) / len(pairs)
+    rel = sum((x - y) ** 2 / (y * y + 1e-2) for x, y in pairs) / len(pairs)
+    return mse, rel
 
 
 def scene_files(root, scene_path, defines):
@@ -251,6 +298,21 @@ def main():
     ap.add_argument("--pass-spp", type=int, default=1024, help="most samples per pass (default 1024)")
     ap.add_argument("--seed", type=int, default=0, help="seed of the first pass (default 0)")
     ap.add_argument("--print-xml", action="store_true", help="print the rewritten scene and stop")
+    ap.add_argument(
+        "--keep-filter",
+        action="store_true",
+        help="keep the film's reconstruction filter, crop window and sample_border (see above)",
+    )
+    ap.add_argument("--alpha", action="store_true", help="render RGBA: the EXR gets Mitsuba's alpha")
+    ap.add_argument(
+        "--noise",
+        type=int,
+        default=0,
+        metavar="N",
+        help="also render N images at --noise-spp with seeds 10000, 10001, ... and record "
+        "their MSE and relative MSE against the reference in the JSON (Mitsuba's noise)",
+    )
+    ap.add_argument("--noise-spp", type=int, default=64, help="samples per pixel of the --noise renders")
     args = ap.parse_args()
 
     try:
@@ -270,7 +332,7 @@ def main():
         rewrite_for_ao(root)
     if args.integrator:
         set_integrator(root, args.integrator, args.max_depth)
-    prepare(root, args.spp)
+    prepare(root, args.spp, args.keep_filter, args.alpha)
     xml = ET.tostring(root, encoding="unicode")
     if args.print_xml:
         print(xml)
@@ -296,17 +358,36 @@ def main():
         n = min(left, args.pass_spp)
         passes.append(n)
         left -= n
-    image = None
+    sums = None
     for i, n in enumerate(passes):
-        part = mi.render(scene, spp=n, seed=args.seed + i)
-        image = part * (n / spp) if image is None else image + part * (n / spp)
-    bitmap = mi.Bitmap(image, pixel_format=mi.Bitmap.PixelFormat.RGB)
+        raw = render_raw(mi, scene, sensor, n, args.seed + i)
+        sums = raw if sums is None else [a + b for a, b in zip(sums, raw)]
+    values = develop(sums, args.alpha)
+    bitmap = to_bitmap(values, sensor.film().crop_size(), args.alpha, mi)
     out_dir = os.path.dirname(os.path.abspath(args.output))
     os.makedirs(out_dir, exist_ok=True)
     bitmap.write(args.output)
     seconds = time.perf_counter() - start
 
-    size = sensor.film().size()
+    noise = None
+    if args.noise > 0:
+        seeds = [10000 + i for i in range(args.noise)]
+        errors = [
+            rgb_errors(develop(render_raw(mi, scene, sensor, args.noise_spp, s), args.alpha), values, args.alpha)
+            for s in seeds
+        ]
+        noise = {
+            "spp": args.noise_spp,
+            "seeds": seeds,
+            "mse": [e[0] for e in errors],
+            "rel_mse": [e[1] for e in errors],
+        }
+        for key in ("mse", "rel_mse"):
+            print("noise at %d spp: %s %s, mean %.4e" % (
+                args.noise_spp, key, ", ".join("%.4e" % m for m in noise[key]),
+                sum(noise[key]) / len(noise[key])))
+
+    size = sensor.film().crop_size()
     print(
         "%s: %dx%d, %d spp in %d pass(es), %.1f s, Mitsuba %s (%s)"
         % (args.output, size[0], size[1], spp, len(passes), seconds, mi.__version__, args.variant)
@@ -318,6 +399,8 @@ def main():
         "command": "python3 tools/mitsuba_ref.py " + " ".join(shlex.quote(a) for a in sys.argv[1:]),
         "scene": os.path.relpath(os.path.abspath(args.scene), root_dir),
         "ao": args.ao,
+        "filter": "scene's" if args.keep_filter else "box",
+        "alpha": args.alpha,
         "integrator": integrator_description(root, args.scene, defines),
         "defines": defines,
         "spp": spp,
@@ -329,6 +412,7 @@ def main():
         "variant": args.variant,
         "mitsuba_version": mi.__version__,
         "seconds": round(seconds, 1),
+        **({"noise": noise} if noise else {}),
         "date": time.strftime("%Y-%m-%d", time.gmtime()),
         "sha256": {
             os.path.relpath(f, root_dir): sha256(f) for f in scene_files(root, args.scene, defines)

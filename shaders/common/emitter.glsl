@@ -83,26 +83,26 @@ float emitter_sphere_cone(vec3 x, vec3 c, float r) {
 }
 
 // A point uniform over the surface of area emitter e (density 1 / e.area per unit
-// area), as the Surface a ray finds there: a mesh picks a triangle by area, then a
-// uniform point on it; a sphere a uniform direction from its centre; a disk the
-// concentric map of the unit disk; a cylinder a uniform angle and height (Mitsuba's
-// sample_position of each; their area elements are constant). u: three uniform
-// numbers.
-Surface emitter_area_point(EmitterRecord e, vec3 u) {
+// area), as the Surface a ray finds there, from one 2-D sample u: a mesh picks a
+// triangle by area with u.y, which is then reused (alias_sample_reuse), and a uniform
+// point on it; a sphere a uniform direction from its centre; a disk the concentric map
+// of the unit disk; a cylinder a uniform height and angle (Mitsuba's sample_position
+// of each; their area elements are constant).
+Surface emitter_area_point(EmitterRecord e, vec2 u) {
     if (EMITTER_HAS(EMITTER_AREA) && e.tri_count > 0u) {
         float tri_pmf;
-        uint t = alias_sample(e.tri_first, e.tri_count, u.x, tri_pmf);
-        vec2 b = warp_uniform_triangle(u.yz);
+        uint t = alias_sample_reuse(e.tri_first, e.tri_count, u.y, tri_pmf);
+        vec2 b = warp_uniform_triangle(u);
         return surface_at(alias_load(e.tri_first + t).prim, b.x, b.y, vec3(0.0), vec3(0.0), 0.0);
     }
     if (e.prim_kind == PRIM_DISK) {
-        vec2 xy = warp_square_to_disk(u.xy);
+        vec2 xy = warp_square_to_disk(u);
         return surface_at(e.prim, xy.x, xy.y, vec3(0.0), vec3(0.0), 0.0);
     }
     Prim p = prim_load(e.prim);
     vec3 y;
     if (e.prim_kind == PRIM_SPHERE) {
-        y = p.p0 + length(p.p1) * warp_uniform_sphere(u.xy);
+        y = p.p0 + length(p.p1) * warp_uniform_sphere(u);
     } else {
         float phi = 2.0 * PI * u.y;
         vec3 a2 = cross(normalize(p.p2), p.p1);
@@ -111,8 +111,10 @@ Surface emitter_area_point(EmitterRecord e, vec3 u) {
     return surface_at(e.prim, 0.0, 0.0, y, vec3(0.0), 0.0);
 }
 
-// Samples light arriving at x. u: four uniform numbers.
-EmitterSample emitter_sample(vec3 x, vec4 u) {
+// Samples light arriving at x from one 2-D sample u: the emitter is chosen by u.x, which
+// is then reused (alias_sample_cdf), and the point on it drawn from the 2-D sample
+// (emitter_area_point; as Mitsuba does), which a stratified sampler stratifies.
+EmitterSample emitter_sample(vec3 x, vec2 u) {
     EmitterSample s;
     s.delta = false;
     s.Le = vec3(0.0);
@@ -122,7 +124,7 @@ EmitterSample emitter_sample(vec3 x, vec4 u) {
     s.emitter = NONE;
     if (frame.emitter_count == 0u) return s;
     float pmf;
-    uint index = alias_sample(0u, frame.emitter_count, u.x, pmf);
+    uint index = alias_sample_cdf(0u, frame.emitter_count, u.x, pmf);
     s.emitter = index;
     EmitterRecord e = emitter_load(index);
     if ((EMITTER_HAS(EMITTER_POINT) && e.kind == EMITTER_POINT)
@@ -136,14 +138,14 @@ EmitterSample emitter_sample(vec3 x, vec4 u) {
         s.pdf = pmf;
         s.delta = true;
     } else if (EMITTER_HAS(EMITTER_CONSTANT) && e.kind == EMITTER_CONSTANT) {
-        s.wi = warp_uniform_sphere(u.yz);
+        s.wi = warp_uniform_sphere(u);
         s.dist = EMITTER_INFINITY;
         s.Le = e.radiance;
         s.pdf = pmf * warp_uniform_sphere_pdf(s.wi);
     } else if (EMITTER_HAS(EMITTER_ENVMAP) && e.kind == EMITTER_ENVMAP) {
         if (!TEXTURE_USES(TEXTURE_FEATURE_ENVMAP)) return s;
         float pdf;
-        s.wi = envmap_sample(e, u.yz, pdf);
+        s.wi = envmap_sample(e, u, pdf);
         s.dist = EMITTER_INFINITY;
         s.Le = envmap_eval(e, s.wi);
         s.pdf = pmf * pdf;
@@ -153,7 +155,7 @@ EmitterSample emitter_sample(vec3 x, vec4 u) {
         // A point uniform over the shape's area, as the surface a ray finds there: its
         // front side follows the vertex normals where a mesh has them (as in Mitsuba
         // and Nori), so a mirroring to_world does not turn a light around.
-        Surface ls = emitter_area_point(e, u.yzw);
+        Surface ls = emitter_area_point(e, u);
         vec3 y = ls.p;
         vec3 ng = ls.ng;
         vec3 d = y - x;
@@ -170,7 +172,7 @@ EmitterSample emitter_sample(vec3 x, vec4 u) {
         float one_minus_cos_max = emitter_sphere_cone(x, e.position, e.radius);
         if (one_minus_cos_max <= 0.0) return s; // inside the light: it emits outwards
         vec3 wc = normalize(e.position - x);
-        s.wi = frame_to_world(wc, warp_uniform_cone(u.yz, one_minus_cos_max));
+        s.wi = frame_to_world(wc, warp_uniform_cone(u, one_minus_cos_max));
         float t;
         if (!intersect_sphere(x, s.wi, e.position, e.radius, 0.0, EMITTER_INFINITY, t)) {
             t = dot(e.position - x, s.wi); // grazing the rim: the closest approach

@@ -68,7 +68,9 @@ float envmap_cell_density(EmitterRecord e, uint i, uint j) {
 float envmap_pdf(EmitterRecord e, vec3 d) {
     vec3 local = envmap_to_local(e, d);
     vec2 uv = envmap_uv(local);
-    float st = sqrt(max(0.0, 1.0 - local.y * local.y));
+    // sin θ from the horizontal components: exact near the poles, where
+    // sqrt(1 - y²) rounds to 0 within 3.5e-4 rad of them.
+    float st = length(local.xz);
     if (st <= 0.0) return 0.0;
     uint i = min(uint(uv.x * float(e.dist_width)), e.dist_width - 1u);
     uint j = min(uint(uv.y * float(e.dist_height)), e.dist_height - 1u);
@@ -86,7 +88,9 @@ vec3 envmap_sample(EmitterRecord e, vec2 u, out float pdf) {
     float c0 = env_dist(row + i), c1 = env_dist(row + i + 1u);
     vec2 uv = vec2((float(i) + clamp((u.y - c0) / (c1 - c0), 0.0, 1.0)) / float(w),
                    (float(j) + clamp((u.x - m0) / (m1 - m0), 0.0, 1.0)) / float(h));
-    float theta = uv.y * PI, phi = uv.x * (2.0 * PI);
+    // Off the poles themselves (u.x = 0 exactly there), where the direction has no
+    // density.
+    float theta = clamp(uv.y, 1e-7, 1.0 - 1e-6) * PI, phi = uv.x * (2.0 * PI);
     float st = sin(theta);
     vec3 d = envmap_to_world(e, vec3(st * sin(phi), cos(theta), -st * cos(phi)));
     // The density of the direction as envmap_pdf finds it, so that MIS sees the very

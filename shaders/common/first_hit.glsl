@@ -8,7 +8,7 @@
 
 #include "integrator.glsl"
 #include "queue.glsl"
-#include "rng.glsl"
+#include "sampler/sampler_frame.glsl"
 #include "surface.glsl"
 #include "ao.glsl"
 
@@ -22,10 +22,11 @@ void first_hit_shade(uint integrator, RayItem r, HitItem h) {
         return;
     }
     surface_face(s, -r.dir);
-    vec4 u = rng_4d(path.pixel, path.sample_index, rng_dim_bounce(push.depth, 0u), frame.seed);
+    uint dim = rng_dim_bounce(push.depth, RNG_SLOT_EMITTER);
     if (integrator == INTEGRATOR_AO) {
         vec3 wi;
-        float weight = ao_sample(s.ns, s.ng, u.xy, frame.ao_uniform != 0u, wi);
+        vec2 u = sample_2d(path.pixel, path.sample_index, dim);
+        float weight = ao_sample(s.ns, s.ng, u, frame.ao_uniform != 0u, wi);
         if (weight > 0.0) {
             queue_push_shadow(surface_spawn_origin(s, s.ng), r.path, wi, frame.ao_max_t, path.throughput * weight);
         }
@@ -34,7 +35,8 @@ void first_hit_shade(uint integrator, RayItem r, HitItem h) {
         // L = (ρ/π) I cos θ / d² / P(light).
         uint count = frame.point_light_count;
         if (count == 0u) return;
-        EmitterRecord light = emitter_load(min(uint(u.x * float(count)), count - 1u));
+        float u = sample_1d(path.pixel, path.sample_index, dim);
+        EmitterRecord light = emitter_load(min(uint(u * float(count)), count - 1u));
         vec3 to_light = light.position - s.p;
         float d2 = dot(to_light, to_light);
         vec3 wi = to_light * inversesqrt(d2);

@@ -219,19 +219,48 @@ struct Frame {
     uint env_emitter;   // constant environment emitter or NONE
     uint hide_emitters; // 1: camera rays do not see emitters
     uint camera_medium; // medium camera rays start in, or NONE
+    uint sampler_kind;  // SAMPLER_* (shaders/sampler/sampler.glsl)
+    uint sample_count;  // samples of one pass of the sampler
+    uint sampler_res_x; // the sampler's strata (see struct Sampler)
+    uint sampler_res_y;
+    uint sampler_flags; // SAMPLER_JITTER, strength, scrambling
+    uint sampler_width;  // the pixel keys' grid (film with its sampled border)
+    uint sampler_height;
+    uint pad0;
 };
+
+// Sampler kinds (Frame::sampler_kind) and flags (Frame::sampler_flags).
+#define SAMPLER_INDEPENDENT 0u
+#define SAMPLER_STRATIFIED 1u
+#define SAMPLER_MULTIJITTER 2u
+#define SAMPLER_ORTHOGONAL 3u
+#define SAMPLER_LDSAMPLER 4u
+#define SAMPLER_ZSOBOL 5u
+#define SAMPLER_SOBOL 6u
+#define SAMPLER_PMJ02BN 7u
+// orthogonal of strength > 2 (Bush's construction; SAMPLER_ORTHOGONAL is Bose's).
+#define SAMPLER_ORTHOGONAL_BUSH 8u
+#define SAMPLER_JITTER 1u
+#define SAMPLER_STRENGTH_SHIFT 8u
+#define SAMPLER_SCRAMBLE_SHIFT 16u
+#define SAMPLER_SCRAMBLE_NONE 0u
+#define SAMPLER_SCRAMBLE_XOR 1u
+#define SAMPLER_SCRAMBLE_FAST_OWEN 2u
+#define SAMPLER_SCRAMBLE_OWEN 3u
 
 // One path of the wavefront, by path slot.
 #define PATH_DELTA 1u
 #define PATH_THIN_REFLECT 2u
+#define PATH_COVERED 4u
 struct PathState {
     vec3 throughput;
-    uint pixel;
+    uint pixel;         // the random numbers' pixel key (film/film.glsl)
     vec3 radiance;
     uint sample_index;
     float bsdf_pdf; // solid-angle pdf of the current ray's direction (for MIS)
     uint flags;     // PATH_DELTA: the current ray came from a delta lobe;
-                    // PATH_THIN_REFLECT: transient, from the medium stage to path_shade
+                    // PATH_THIN_REFLECT: transient, from the medium stage to path_shade;
+                    // PATH_COVERED: the camera path counts for the film's alpha
     float eta_scale; // product of (η_t/η_i)² over refractions (for Russian roulette)
     uint medium;    // medium the current ray travels in, or NONE
 };
@@ -328,8 +357,46 @@ struct Push {
     uint depth;
     uint queue_in;
     uint capacity; // ray queue q starts at item q * capacity
+    uint sample_slot; // the film's sample slot of path 0 of this batch
+    uint film_row;    // film_gather: first crop row
+    uint film_rows;   // film_gather: crop rows
+    uint pad0;
     uint pad1;
     uint pad2;
+};
+
+// Reconstruction filters (specialization constant 0 of film_gather).
+#define FILTER_BOX 0u
+#define FILTER_TENT 1u
+#define FILTER_GAUSSIAN 2u
+#define FILTER_MITCHELL 3u
+#define FILTER_LANCZOS 4u
+// Flags of a film sample.
+#define FILM_SAMPLE_VALID 1u
+#define FILM_SAMPLE_COVERED 2u
+
+// The film: which pixels are sampled and which are kept, the random numbers' pixel
+// keys, the sample ring and the filter (film/film.glsl). A std140 uniform block,
+// laid out as std430. Pixel coordinates are the full film's (may be negative with a
+// sampled border).
+struct FilmParams {
+    int region_x;        // the sampled region: origin and size
+    int region_y;
+    uint region_width;
+    uint region_height;
+    uint crop_x;         // the pixels kept: the crop window
+    uint crop_y;
+    uint crop_width;
+    uint crop_height;
+    int key_x;           // pixel key = (y - key_y) * key_width + (x - key_x)
+    int key_y;
+    uint key_width;
+    uint reach;          // pixels a sample reaches on each side of its own
+    uint slots;          // sample slots in the ring
+    uint coverage;       // 1: every camera path counts as covered (visible environment)
+    uint pad0;
+    uint pad1;
+    vec4 filter_params;  // FILTER_* parameters (film/filter.glsl)
 };
 
 // Photon mapping (src/gpu/layout.rs, shaders/photon/): a stored photon. wi: the

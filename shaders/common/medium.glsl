@@ -35,22 +35,32 @@
 // apart drew the same numbers) and the counter (18 bits: 262144 draws per bounce, four
 // times MEDIUM_MAX_STEPS). Bounces past 2048 (paths may take up to
 // integrator.rs MAX_BOUNCES) also change the seed word, so no two bounces of a path
-// share a stream.
+// share a stream. The first draw's xy may come from a sampler dimension instead
+// (medium_rng_first), so that a stratified sampler stratifies it.
 struct MediumRng {
     uint pixel;
     uint sample_index;
     uint base;
     uint seed;
     uint n;
+    bool has_first;
+    vec2 first;
 };
 
 MediumRng medium_rng(uint pixel, uint sample_index, uint depth, uint stream, uint seed) {
     uint base = 0x80000000u | ((stream & 3u) << 29) | ((depth & 0x7ffu) << 18);
-    return MediumRng(pixel, sample_index, base, seed ^ ((depth >> 11) * 0x9e3779b9u), 0u);
+    return MediumRng(pixel, sample_index, base, seed ^ ((depth >> 11) * 0x9e3779b9u), 0u, false, vec2(0.0));
+}
+
+// Makes u the xy of the stream's first draw.
+void medium_rng_first(inout MediumRng r, vec2 u) {
+    r.has_first = true;
+    r.first = u;
 }
 
 vec4 medium_rng_next(inout MediumRng r) {
     vec4 u = rng_4d(r.pixel, r.sample_index, r.base | (r.n & 0x3ffffu), r.seed);
+    if (r.has_first && r.n == 0u) u.xy = r.first;
     r.n += 1u;
     return u;
 }

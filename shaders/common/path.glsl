@@ -15,7 +15,7 @@
 
 #include "integrator.glsl"
 #include "frame.glsl"
-#include "rng.glsl"
+#include "sampler/sampler_frame.glsl"
 #include "queue.glsl"
 #include "bsdf_textured.glsl"
 #include "normal_map.glsl"
@@ -56,8 +56,8 @@ uint path_medium_after(uint integrator, uint shape, uint current, vec3 d, vec3 n
 // What a path's ray reached, for path_shade: the surface of its hit (or nothing, on a
 // miss), or, with medium != NONE, a real scattering event at p in that medium (the
 // medium stage, vol_path.glsl). Emitter sampling there uses the numbers of bounce
-// dimension light_dim (0, as at surfaces, unless equiangular sampling already chose
-// the light point with them).
+// slot light_dim (RNG_SLOT_EMITTER, as at surfaces, unless equiangular sampling
+// chose the light point with them and wants fresh ones: RNG_SLOT_EMITTER2).
 struct PathVertex {
     uint medium;
     vec3 p;
@@ -65,7 +65,25 @@ struct PathVertex {
 };
 
 PathVertex path_vertex_surface() {
-    return PathVertex(NONE, vec3(0.0), 0u);
+    return PathVertex(NONE, vec3(0.0), RNG_SLOT_EMITTER);
+}
+
+// For a film with alpha: marks path i covered (PATH_COVERED, in `path` and stored),
+// as Mitsuba's integrators set `valid_ray`, once its camera ray (past null surfaces)
+// found a surface with a BSDF or scattered in a medium; with max_depth 1, only when
+// it sees an emitter. (generate marks every path covered where Mitsuba's path and
+// volpath count a visible environment.) Called by shade at depth 0 with the medium
+// stage's outcome.
+void path_mark_covered(uint i, inout PathState path, HitItem h, PathVertex v) {
+    bool covered = v.medium != NONE || h.prim != NONE;
+    if (frame.max_depth <= 1u && v.medium == NONE && h.prim != NONE) {
+        covered = frame.hide_emitters == 0u && shape_load(prim_load(h.prim).shape).emitter != NONE;
+    }
+    if (!covered || (path.flags & PATH_COVERED) != 0u) return;
+    path.flags |= PATH_COVERED;
+    PathState stored = path;
+    stored.flags &= ~PATH_THIN_REFLECT;
+    path_store_flags(i, stored);
 }
 
 // Shades path vertex v, reached by ray r (path vertex number push.depth + 1) with hit
@@ -160,7 +178,7 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
     if (depth + 2u > max_depth) return;
 
     if (ems) {
-        vec4 u = rng_4d(path.pixel, path.sample_index, rng_dim_bounce(depth, v.light_dim), frame.seed);
+        vec2 u = sample_2d(path.pixel, path.sample_index, rng_dim_bounce(depth, v.light_dim));
         EmitterSample es = emitter_sample(s.p, u);
         if (es.pdf > 0.0 && any(greaterThan(es.Le, vec3(0.0)))) {
             vec3 f;
@@ -197,7 +215,10 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
     }
 
     if (mats) {
-        vec4 u = rng_4d(path.pixel, path.sample_index, rng_dim_bounce(depth, 1u), frame.seed);
+        // BSDF sampling: a 1-D lobe choice and a 2-D direction (Mitsuba's sample1,
+        // sample2); Russian roulette has its own dimension.
+        vec3 u = vec3(sample_1d(path.pixel, path.sample_index, rng_dim_bounce(depth, RNG_SLOT_LOBE)),
+                      sample_2d(path.pixel, path.sample_index, rng_dim_bounce(depth, RNG_SLOT_BSDF)));
         vec3 wi;
         vec3 weight;
         float pdf;
@@ -207,7 +228,7 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
 #ifdef MEDIUM_GLSL
         if (in_medium) {
             // The phase function is sampled exactly: its weight is 1.
-            PhaseSample ps = phase_sample(g, wo, u.xy);
+            PhaseSample ps = phase_sample(g, wo, u.yz);
             wi = ps.wi;
             weight = vec3(1.0);
             pdf = ps.pdf;
@@ -222,7 +243,7 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
             // (probability R', vol_path_traverse): u.x = 0 selects that lobe, weight
             // f/P = specular.
             if ((path.flags & PATH_THIN_REFLECT) != 0u) u.x = 0.0;
-            BsdfSample bs = bsdf_sample(bsdf, wo, u.xyz, s.uv);
+            BsdfSample bs = bsdf_sample(bsdf, wo, u, s.uv);
             wi = surface_to_world(s, bs.wi);
             weight = bs.weight * (mapped ? normal_map_weight(nm, wi) : 1.0);
             pdf = bs.pdf;
@@ -242,12 +263,12 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
         if (path_tracer && depth + 1u >= frame.rr_depth) {
             vec3 rr = throughput * path.eta_scale;
             float q = min(max(rr.x, max(rr.y, rr.z)), 0.99);
-            if (u.w >= q) return;
+            if (sample_1d(path.pixel, path.sample_index, rng_dim_bounce(depth, RNG_SLOT_RR)) >= q) return;
             throughput /= q;
         }
         path.throughput = throughput;
         path.bsdf_pdf = pdf;
-        path.flags = flags;
+        path.flags = flags | (path.flags & PATH_COVERED);
         path.medium = medium;
         path_store_bounce(r.path, path); // the radiance word is stored where it changed
         queue_push_ray(origin, r.path, wi, EMITTER_INFINITY);

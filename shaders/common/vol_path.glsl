@@ -71,7 +71,7 @@ int vol_path_equiangular(uint integrator, RayItem r, inout PathState path, uint 
         return VOL_PATH_BEYOND;
     }
     uint depth = push.depth;
-    vec4 u_light = rng_4d(path.pixel, path.sample_index, rng_dim_bounce(depth, 0u), frame.seed);
+    vec2 u_light = sample_2d(path.pixel, path.sample_index, rng_dim_bounce(depth, RNG_SLOT_EMITTER));
     EmitterSample es0 = emitter_sample(o, u_light);
     EmitterRecord e = emitter_load(es0.emitter == NONE ? 0u : es0.emitter);
     bool same_point = es0.emitter != NONE
@@ -86,7 +86,7 @@ int vol_path_equiangular(uint integrator, RayItem r, inout PathState path, uint 
     vec3 Tr = medium_transmittance(medium, o, r.dir, t, rng);
     path.throughput = throughput * Tr * sigma_s / (pdf * p_med);
     path.medium = medium;
-    v = PathVertex(medium, x, same_point ? 0u : 2u);
+    v = PathVertex(medium, x, same_point ? RNG_SLOT_EMITTER : RNG_SLOT_EMITTER2);
     return VOL_PATH_SCATTERED;
 }
 
@@ -110,6 +110,9 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, inout PathSt
     bool vol = integrator_is_volumetric(integrator);
     uint medium = vol ? path.medium : NONE;
     MediumRng rng = medium_rng(path.pixel, path.sample_index, push.depth, 0u, frame.seed);
+    if (vol) {
+        medium_rng_first(rng, sample_2d(path.pixel, path.sample_index, rng_dim_bounce(push.depth, RNG_SLOT_MEDIUM)));
+    }
     vec3 throughput = path.throughput;
     vec3 o = r.origin;
     float t_base = 0.0; // distance from r.origin to o
@@ -159,7 +162,7 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, inout PathSt
     path.throughput = throughput;
     path.medium = medium;
     if (scattered) {
-        v = PathVertex(medium, scatter_p, 0u);
+        v = PathVertex(medium, scatter_p, RNG_SLOT_EMITTER);
     } else if (h.prim != NONE) {
         h.t += t_base;
     }

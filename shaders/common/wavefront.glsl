@@ -12,7 +12,7 @@ layout(local_size_x = WORKGROUP_SIZE) in;
 // layout.glsl).
 layout(std140, set = 1, binding = 0) uniform FrameBuffer { Frame frame; };
 // Path states and queues are written through 16-byte words, one store per word, and
-// read through texel views of the same buffers (bindings 8-11, imageLoad): llvmpipe
+// read through texel views of the same buffers (bindings 7-10, imageLoad): llvmpipe
 // turns each divergent storage-buffer access into a loop over the SIMD lanes, an image
 // load into one inline gather (see BindingKind::Texels in src/gpu/kernel.rs). Use the
 // *_load and *_store functions below, never the arrays.
@@ -22,11 +22,10 @@ layout(std430, set = 1, binding = 3) writeonly buffer HitBuffer { uvec4 hit_word
 layout(std430, set = 1, binding = 4) writeonly buffer ShadowBuffer { uvec4 shadow_words[]; };
 layout(std430, set = 1, binding = 5) buffer CounterBuffer { Counters counters; };
 layout(std430, set = 1, binding = 6) buffer DispatchBuffer { DispatchArgs dispatch_args; };
-layout(std430, set = 1, binding = 7) buffer FilmBuffer { vec4 film[]; };
-layout(set = 1, binding = 8, rgba32ui) uniform readonly uimageBuffer path_texels;
-layout(set = 1, binding = 9, rgba32ui) uniform readonly uimageBuffer ray_texels;
-layout(set = 1, binding = 10, rgba32ui) uniform readonly uimageBuffer hit_texels;
-layout(set = 1, binding = 11, rgba32ui) uniform readonly uimageBuffer shadow_texels;
+layout(set = 1, binding = 7, rgba32ui) uniform readonly uimageBuffer path_texels;
+layout(set = 1, binding = 8, rgba32ui) uniform readonly uimageBuffer ray_texels;
+layout(set = 1, binding = 9, rgba32ui) uniform readonly uimageBuffer hit_texels;
+layout(set = 1, binding = 10, rgba32ui) uniform readonly uimageBuffer shadow_texels;
 
 layout(push_constant) uniform PushBlock { Push push; };
 
@@ -59,6 +58,11 @@ void path_store(uint i, PathState p) {
 // was stored already (path_store_radiance) or did not change.
 void path_store_bounce(uint i, PathState p) {
     path_words[3u * i] = uvec4(floatBitsToUint(p.throughput), p.pixel);
+    path_words[3u * i + 2u] = uvec4(floatBitsToUint(p.bsdf_pdf), p.flags, floatBitsToUint(p.eta_scale), p.medium);
+}
+
+// Only the word with the flags (and the MIS pdf, eta scale and medium) of path i.
+void path_store_flags(uint i, PathState p) {
     path_words[3u * i + 2u] = uvec4(floatBitsToUint(p.bsdf_pdf), p.flags, floatBitsToUint(p.eta_scale), p.medium);
 }
 

@@ -21,7 +21,10 @@ layout(constant_id = 3) const uint SCENE_BSDF_KINDS = 0xffffffffu;
 #include "bsdf.glsl"
 #include "bsdf_textured.glsl"
 #include "queue.glsl"
-#include "rng.glsl"
+// The sampler kind (SAMPLER_*): the other kinds compile away.
+layout(constant_id = 4) const uint SCENE_SAMPLER_KIND = 0u;
+#define SAMPLER_KIND SCENE_SAMPLER_KIND
+#include "sampler/sampler_frame.glsl"
 #include "photon/bindings.glsl"
 #include "photon/record.glsl"
 #include "photon/scatter.glsl"
@@ -53,15 +56,18 @@ void main() {
         vp_store(r.path, visible_point_at(x, -r.dir, path.throughput));
         return;
     }
-    vec4 u = rng_4d(path.pixel, path.sample_index, rng_dim_bounce(push.depth, 1u), frame.seed);
-    ScatterSample ss = scatter_sample(x, -r.dir, u.xyz, false, path.eta_scale);
+    // The lobe, direction and Russian-roulette dimensions of the path tracers
+    // (path.glsl).
+    vec3 u = vec3(sample_1d(path.pixel, path.sample_index, rng_dim_bounce(push.depth, RNG_SLOT_LOBE)),
+                  sample_2d(path.pixel, path.sample_index, rng_dim_bounce(push.depth, RNG_SLOT_BSDF)));
+    ScatterSample ss = scatter_sample(x, -r.dir, u, false, path.eta_scale);
     vec3 throughput = path.throughput * ss.weight;
     if (!any(greaterThan(throughput, vec3(0.0)))) return;
     // Russian roulette as the path tracers play it (path.glsl).
     if (push.depth + 1u >= frame.rr_depth) {
         vec3 rr = throughput * path.eta_scale;
         float q = min(max(rr.x, max(rr.y, rr.z)), 0.99);
-        if (u.w >= q) return;
+        if (sample_1d(path.pixel, path.sample_index, rng_dim_bounce(push.depth, RNG_SLOT_RR)) >= q) return;
         throughput /= q;
     }
     path.throughput = throughput;

@@ -28,10 +28,9 @@ PhotonGather photon_gather(VisiblePoint v, float r) {
     frame_basis(v.n, bx, by);
     vec3 wo = vec3(dot(v.wo, bx), dot(v.wo, by), dot(v.wo, v.n));
     float r2 = r * r;
-    uint buckets[8];
-    grid_buckets_around(v.p, buckets);
-    for (int k = 0; k < 8; k++) {
-        if (buckets[k] == NONE) continue;
+    uint buckets[GRID_MAX_BUCKETS];
+    uint n = grid_buckets_near(v.p, r, buckets);
+    for (uint k = 0u; k < n; k++) {
         uvec2 range = grid_bucket_range(buckets[k]);
         for (uint j = range.x; j < range.y; j++) {
             Photon p = grid_photon_load(j);

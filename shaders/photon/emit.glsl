@@ -71,7 +71,7 @@ PhotonEmission photon_emit_sample(bool uniform_choice, vec4 u0, vec4 u1) {
         // A point uniform over the shape (density 1/A; emitter_area_point) and a
         // cosine-weighted direction around its normal (density cos θ / π):
         // power = L π A / P(emitter).
-        Surface ls = emitter_area_point(e, u0.yzw);
+        Surface ls = emitter_area_point(e, u0.yz);
         em.dir = frame_to_world(ls.ng, warp_cosine_hemisphere(u1.xy));
         em.origin = surface_spawn_origin(ls, ls.ng);
         em.power = emitter_area_radiance(e, ls.ng, -em.dir, ls.uv) * (PI * e.area / pmf);

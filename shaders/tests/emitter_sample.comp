@@ -35,7 +35,7 @@ void main() {
     if (pc.mode == 1u) {
         es = EmitterSample(normalize(dirs[i].xyz), 0.0, vec3(0.0), 1.0, false, NONE);
     } else {
-        es = emitter_sample(pc.x, rng_4d(i, 0u, 7u, pc.seed));
+        es = emitter_sample(pc.x, rng_4d(i, 0u, 7u, pc.seed).xy);
     }
     float pdf_hit = 0.0;
     uint prim = NONE;

@@ -21,10 +21,9 @@ void main() {
     vec4 query = queries[q];
     float r2 = query.w * query.w;
     uint found = 0u;
-    uint buckets[8];
-    grid_buckets_around(query.xyz, buckets);
-    for (int k = 0; k < 8; k++) {
-        if (buckets[k] == NONE) continue;
+    uint buckets[GRID_MAX_BUCKETS];
+    uint n = grid_buckets_near(query.xyz, query.w, buckets);
+    for (uint k = 0u; k < n; k++) {
         uvec2 range = grid_bucket_range(buckets[k]);
         for (uint j = range.x; j < range.y; j++) {
             Photon p = grid_photon_load(j);

@@ -12,7 +12,10 @@
 //! - `efficiency` = 1 / (seconds × relMSE), the usual figure of merit of Monte Carlo
 //!   rendering (larger is better; for an unbiased estimator it is roughly constant in
 //!   spp, so two renderers or integrators compare by it at any sample count);
-//! - GPU time per kernel from timestamp queries.
+//! - GPU time per kernel from timestamp queries;
+//! - for the photon mappers (`photonmapper`, `sppm`): photon paths emitted and photons
+//!   stored per second of photon tracing, the wall time of grid builds and of gathers,
+//!   passes, and GPU memory per photon slot ([`PhotonStats`]).
 //!
 //! Timestamps stay on for every render. Measured on lavapipe (ao scene, 256 spp, 16
 //! batches, three alternating runs each way): 7.03, 7.02, 6.95 s without, 9.44,
@@ -34,6 +37,7 @@ use serde_json::{json, Value};
 
 use crate::gpu::{Device, KernelTimes};
 use crate::image::{self, metrics, Image};
+use crate::render::photon::PhotonStats;
 use crate::render::{self, RenderOptions, Renderer};
 use crate::scene;
 
@@ -97,7 +101,10 @@ pub const DEFAULT_SPP: &[u32] = &[1, 4, 16, 64, 256];
 /// One render of the benchmark.
 #[derive(Debug, Clone)]
 pub struct Row {
+    /// Samples per pixel rendered: the requested count as the sampler rounds it.
     pub spp: u32,
+    /// Samples per pixel asked for.
+    pub requested_spp: u32,
     /// Wall time of the render, seconds.
     pub seconds: f64,
     /// Rays traced (camera, extension and shadow rays).
@@ -106,11 +113,15 @@ pub struct Row {
     pub discarded: u64,
     /// Paths cut at the bounce budget ([`RenderStats::cut_paths`](crate::render::RenderStats)).
     pub cut_paths: u64,
+    /// Mean squared error over pixels and channels (the issue tables' MSE).
+    pub mse: f64,
     pub rmse: f64,
     pub rel_mse: f64,
     /// GPU time per kernel: for the largest sample count only, from a render of its
     /// own (see [`run`]); empty otherwise and where the device has no timestamps.
     pub kernel_times: KernelTimes,
+    /// Photon mappers: photons, passes and where their time went.
+    pub photons: Option<PhotonStats>,
 }
 
 impl Row {
@@ -156,6 +167,8 @@ pub struct Report {
     pub device_kind: String,
     pub driver: String,
     pub integrator: String,
+    /// The sampler's type.
+    pub sampler: String,
     pub width: u32,
     pub height: u32,
     pub seed: u32,
@@ -234,14 +247,17 @@ pub fn run(
     for &spp in &options.spp {
         let (image, stats) = renderer.render(spp, &mut |done, total| progress(spp, done, total))?;
         rows.push(Row {
-            spp,
+            spp: stats.spp,
+            requested_spp: spp,
             seconds: stats.seconds,
             rays: stats.rays,
             discarded: stats.discarded,
             cut_paths: stats.cut_paths,
+            mse: metrics::mse(&image, &reference).map_err(Error::Metrics)?,
             rmse: metrics::rmse(&image, &reference).map_err(Error::Metrics)?,
             rel_mse: metrics::rel_mse(&image, &reference).map_err(Error::Metrics)?,
             kernel_times: stats.kernel_times,
+            photons: stats.photons,
         });
     }
     let has_timestamps = info.timestamp_period_ns.is_some();
@@ -249,7 +265,7 @@ pub fn run(
         renderer.set_timestamps(true);
         let (_, stats) =
             renderer.render(largest, &mut |done, total| progress(largest, done, total))?;
-        if let Some(row) = rows.iter_mut().rev().find(|r| r.spp == largest) {
+        if let Some(row) = rows.iter_mut().rev().find(|r| r.spp == stats.spp) {
             row.kernel_times = stats.kernel_times;
         }
     }
@@ -262,6 +278,7 @@ pub fn run(
         device_kind: info.kind.name().to_string(),
         driver: info.driver.clone(),
         integrator: renderer.integrator().name().to_string(),
+        sampler: renderer.sampler().kind.name().to_string(),
         width,
         height,
         seed: options.render.seed,
@@ -281,19 +298,49 @@ impl Report {
     /// The table `wavetrace bench` prints: one line per sample count.
     pub fn table(&self) -> String {
         let mut s = format!(
-            "{:>6} {:>10} {:>12} {:>12} {:>9} {:>12}\n",
-            "spp", "seconds", "RMSE", "relMSE", "Mrays/s", "efficiency"
+            "{:>6} {:>10} {:>12} {:>12} {:>12} {:>9} {:>12}\n",
+            "spp", "seconds", "MSE", "RMSE", "relMSE", "Mrays/s", "efficiency"
         );
         for r in &self.rows {
             s += &format!(
-                "{:>6} {:>10.4} {:>12.4e} {:>12.4e} {:>9.3} {:>12.4e}\n",
+                "{:>6} {:>10.4} {:>12.4e} {:>12.4e} {:>12.4e} {:>9.3} {:>12.4e}\n",
                 r.spp,
                 r.seconds,
+                r.mse,
                 r.rmse,
                 r.rel_mse,
                 r.mrays_per_second(),
                 r.efficiency()
             );
+        }
+        s
+    }
+
+    /// Photon statistics per row, as text (empty but for the photon mappers): photon
+    /// paths emitted and photons stored per second of photon tracing, grid build and
+    /// gather wall times, passes, memory per photon slot.
+    pub fn photon_table(&self) -> String {
+        if self.rows.iter().all(|r| r.photons.is_none()) {
+            return String::new();
+        }
+        let mut s = format!(
+            "{:>6} {:>12} {:>12} {:>11} {:>11} {:>11} {:>7} {:>10}\n",
+            "spp", "emitted/s", "stored/s", "trace s", "grid s", "gather s", "passes", "B/photon"
+        );
+        for r in &self.rows {
+            if let Some(p) = &r.photons {
+                s += &format!(
+                    "{:>6} {:>12.4e} {:>12.4e} {:>11.4} {:>11.4} {:>11.4} {:>7} {:>10.1}\n",
+                    r.spp,
+                    p.emitted_per_second(),
+                    p.stored_per_second(),
+                    p.trace_seconds,
+                    p.grid_seconds,
+                    p.gather_seconds,
+                    p.passes,
+                    p.bytes_per_photon
+                );
+            }
         }
         s
     }
@@ -329,20 +376,24 @@ impl Report {
     /// ```json
     /// { "scene": "...", "reference": "...", "defines": {"res": "128"},
     ///   "device": "llvmpipe (LLVM 15.0.6, 256 bits)", "device_kind": "cpu",
-    ///   "driver": "...", "integrator": "ao", "width": 128, "height": 128, "seed": 0,
+    ///   "driver": "...", "integrator": "ao", "sampler": "independent", "width": 128,
+    ///   "height": 128, "seed": 0,
     ///   "batch_paths": 262144, "timestamps": true,
     ///   "startup": { "scene_seconds": ..., "reference_seconds": ...,
     ///                "vulkan_seconds": ..., "bvh_seconds": ..., "bvh_nodes": ...,
     ///                "bvh_sah_cost": ..., "upload_seconds": ...,
     ///                "pipeline_seconds": ..., "first_dispatch_seconds": ...,
     ///                "warmup_seconds": ... },
-    ///   "rows": [ { "spp": 1, "seconds": ..., "rays": ..., "mrays_per_second": ...,
-    ///               "rmse": ..., "rel_mse": ..., "efficiency": ..., "discarded": 0, "cut_paths": 0,
+    ///   "rows": [ { "spp": 1, "requested_spp": 1, "seconds": ..., "rays": ...,
+    ///               "mrays_per_second": ..., "mse": ..., "rmse": ..., "rel_mse": ..., "efficiency": ..., "discarded": 0, "cut_paths": 0,
     ///               "kernels": { "intersect": { "seconds": ..., "dispatches": 4 }, ... } },
     ///             ... ] }
     /// ```
     ///
-    /// `kernels` is empty but in the row of the largest sample count.
+    /// `kernels` is empty but in the row of the largest sample count. `photons` is
+    /// `null` but for the photon mappers: `{ "emitted", "stored", "retraced", "passes",
+    /// "trace_seconds", "grid_seconds", "gather_seconds", "emitted_per_second",
+    /// "stored_per_second", "capacity", "bytes_per_photon" }` (see [`PhotonStats`]).
     ///
     /// Times are seconds. A non-finite number (efficiency of an exact image) is `null`.
     pub fn to_json(&self) -> Value {
@@ -359,15 +410,18 @@ impl Report {
                     .collect();
                 json!({
                     "spp": r.spp,
+                    "requested_spp": r.requested_spp,
                     "seconds": r.seconds,
                     "rays": r.rays,
                     "mrays_per_second": finite(r.mrays_per_second()),
+                    "mse": r.mse,
                     "rmse": r.rmse,
                     "rel_mse": r.rel_mse,
                     "efficiency": finite(r.efficiency()),
                     "discarded": r.discarded,
                     "cut_paths": r.cut_paths,
                     "kernels": kernels,
+                    "photons": r.photons.as_ref().map(photon_json),
                 })
             })
             .collect();
@@ -384,6 +438,7 @@ impl Report {
             "device_kind": self.device_kind,
             "driver": self.driver,
             "integrator": self.integrator,
+            "sampler": self.sampler,
             "width": self.width,
             "height": self.height,
             "seed": self.seed,
@@ -404,6 +459,23 @@ impl Report {
             "rows": rows,
         })
     }
+}
+
+/// A row's photon statistics as JSON (see [`Report::to_json`]).
+fn photon_json(p: &PhotonStats) -> Value {
+    json!({
+        "emitted": p.emitted,
+        "stored": p.stored,
+        "retraced": p.retraced,
+        "passes": p.passes,
+        "trace_seconds": p.trace_seconds,
+        "grid_seconds": p.grid_seconds,
+        "gather_seconds": p.gather_seconds,
+        "emitted_per_second": finite(p.emitted_per_second()),
+        "stored_per_second": finite(p.stored_per_second()),
+        "capacity": p.capacity,
+        "bytes_per_photon": finite(p.bytes_per_photon),
+    })
 }
 
 /// `x` as a JSON number, or `null` when it is NaN or infinite (JSON has neither).
@@ -439,13 +511,16 @@ mod tests {
     fn row(spp: u32, seconds: f64, rel_mse: f64) -> Row {
         Row {
             spp,
+            requested_spp: spp,
             seconds,
             rays: 2_000_000,
             discarded: 0,
             cut_paths: 0,
+            mse: rel_mse,
             rmse: rel_mse.sqrt(),
             rel_mse,
             kernel_times: KernelTimes::default(),
+            photons: None,
         }
     }
 
@@ -458,6 +533,7 @@ mod tests {
             device_kind: "cpu".into(),
             driver: "drv".into(),
             integrator: "ao".into(),
+            sampler: "independent".into(),
             width: 8,
             height: 8,
             seed: 0,
@@ -505,5 +581,26 @@ mod tests {
         assert!(t.lines().next().unwrap().contains("relMSE"));
         assert_eq!(rep.largest().unwrap().spp, 4);
         assert_eq!(rep.kernel_table(), "");
+        assert_eq!(rep.photon_table(), "");
+    }
+
+    #[test]
+    fn photon_rows_print_rates_and_json() {
+        let mut r = row(16, 2.0, 0.1);
+        r.photons = Some(PhotonStats {
+            emitted: 1000,
+            stored: 500,
+            trace_seconds: 0.5,
+            passes: 2,
+            bytes_per_photon: 80.0,
+            ..Default::default()
+        });
+        let rep = report(vec![r]);
+        let t = rep.photon_table();
+        assert_eq!(t.lines().count(), 2);
+        assert!(t.contains("2.0000e3") && t.contains("1.0000e3"), "{t}");
+        let v = rep.to_json();
+        assert_eq!(v["rows"][0]["photons"]["emitted_per_second"], json!(2000.0));
+        assert_eq!(v["rows"][0]["photons"]["passes"], json!(2));
     }
 }

@@ -385,7 +385,8 @@ pub struct TextureRecord {
 /// One entry of an alias table (Walker 1977; Vose 1991): pick `i` uniformly, keep it
 /// with probability `prob`, else take `alias`. `pmf` is the probability of choosing
 /// entry `i` in the end; `prim` is the BVH primitive of a light triangle (tables of
-/// mesh emitters) and unused in the emitter table.
+/// mesh emitters), and in the emitter table the cumulative pmf of the entries before
+/// (f32 bits, `render::alias::set_cdf`), for sampling by inversion.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct AliasEntry {
@@ -425,13 +426,52 @@ pub struct Frame {
     pub hide_emitters: u32,
     /// The medium camera rays start in (Mitsuba's sensor `<medium>`), or `NONE`.
     pub camera_medium: u32,
+    /// `SAMPLER_*`: which sampler draws the random numbers (shaders/sampler/).
+    pub sampler_kind: u32,
+    /// Samples of one pass of the sampler (its pattern's size; later sample indices
+    /// start new passes).
+    pub sample_count: u32,
+    /// The sampler's strata: see [`crate::scene::sampler::SampleCount`].
+    pub sampler_res_x: u32,
+    pub sampler_res_y: u32,
+    /// `SAMPLER_JITTER`, strength << `SAMPLER_STRENGTH_SHIFT`, `SAMPLER_SCRAMBLE_*` <<
+    /// `SAMPLER_SCRAMBLE_SHIFT`.
+    pub sampler_flags: u32,
+    /// The grid the sampler's pixel keys index (the film with its sampled border,
+    /// `film_pixel_key`): zsobol reads a key as (key % width, key / width).
+    pub sampler_width: u32,
+    pub sampler_height: u32,
+    pub pad0: u32,
 }
+
+/// Sampler kinds ([`Frame::sampler_kind`]), mirrored in layout.glsl.
+pub const SAMPLER_INDEPENDENT: u32 = 0;
+pub const SAMPLER_STRATIFIED: u32 = 1;
+pub const SAMPLER_MULTIJITTER: u32 = 2;
+pub const SAMPLER_ORTHOGONAL: u32 = 3;
+pub const SAMPLER_LDSAMPLER: u32 = 4;
+pub const SAMPLER_ZSOBOL: u32 = 5;
+pub const SAMPLER_SOBOL: u32 = 6;
+pub const SAMPLER_PMJ02BN: u32 = 7;
+/// `orthogonal` of strength above 2 (Bush's construction; Bose's for strength 2).
+pub const SAMPLER_ORTHOGONAL_BUSH: u32 = 8;
+/// [`Frame::sampler_flags`]: jitter within strata.
+pub const SAMPLER_JITTER: u32 = 1;
+pub const SAMPLER_STRENGTH_SHIFT: u32 = 8;
+pub const SAMPLER_SCRAMBLE_SHIFT: u32 = 16;
+/// Randomizations of base-2 digits (Sobol' samplers).
+pub const SAMPLER_SCRAMBLE_NONE: u32 = 0;
+pub const SAMPLER_SCRAMBLE_XOR: u32 = 1;
+pub const SAMPLER_SCRAMBLE_FAST_OWEN: u32 = 2;
+pub const SAMPLER_SCRAMBLE_OWEN: u32 = 3;
 
 /// The state of one path of the wavefront, indexed by path slot.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct PathState {
     pub throughput: [f32; 3],
+    /// The pixel key the path's random numbers are drawn with (the full film's pixel,
+    /// `render::film::FilmGeometry::key`).
     pub pixel: u32,
     pub radiance: [f32; 3],
     pub sample_index: u32,
@@ -454,6 +494,10 @@ pub const PATH_DELTA: u32 = 1;
 /// Set by the medium stage for path_shade within one dispatch, never stored: the
 /// stage chose the reflection lobe of the thin dielectric the ray hit.
 pub const PATH_THIN_REFLECT: u32 = 2;
+/// The camera path counts for the film's alpha (Mitsuba's `valid_ray`): it found a
+/// surface or scattered in a medium, or it sees a visible environment. Set by
+/// `generate` and by `shade` at depth 0, kept through the path.
+pub const PATH_COVERED: u32 = 4;
 
 /// A ray waiting for the `intersect` stage.
 #[repr(C)]
@@ -532,8 +576,57 @@ pub struct Push {
     pub queue_in: u32,
     /// Path slots allocated: ray queue `q` starts at item `q * capacity`.
     pub capacity: u32,
+    /// The film's sample slot of path 0 of this batch (`render::film`).
+    pub sample_slot: u32,
+    /// `film_gather`: the first crop row it gathers, and how many.
+    pub film_row: u32,
+    pub film_rows: u32,
+    pub pad0: u32,
     pub pad1: u32,
     pub pad2: u32,
+}
+
+/// Reconstruction filters: specialization constant 0 of `film_gather`
+/// (`scene::film::Filter`).
+pub const FILTER_BOX: u32 = 0;
+pub const FILTER_TENT: u32 = 1;
+pub const FILTER_GAUSSIAN: u32 = 2;
+pub const FILTER_MITCHELL: u32 = 3;
+pub const FILTER_LANCZOS: u32 = 4;
+/// A film sample's flags: the sample is finite (NaN and infinite ones are dropped) ...
+pub const FILM_SAMPLE_VALID: u32 = 1;
+/// ... and its camera path was covered ([`PATH_COVERED`]).
+pub const FILM_SAMPLE_COVERED: u32 = 2;
+
+/// The film's parameters (`render::film::FilmGeometry`): the sampled region (the
+/// crop window and the pixels around it whose samples its filter reaches, within the
+/// film or, with `sample_border`, the film and its border), the crop window kept, the
+/// pixel keys of the random numbers (the full sampled film's row-major index, so a
+/// crop draws the same numbers as the full render), the filter's reach in pixels,
+/// the sample slots of the ring, whether every camera path counts as covered, and the
+/// filter's parameters (`shaders/film/filter.glsl`): tent (1 / radius); Gaussian
+/// (-1 / 2σ², exp(-r² / 2σ²)); Mitchell (B, C, 2 / radius); Lanczos (lobes).
+/// Pixel coordinates are the full film's, the top-left pixel (0, 0).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct FilmParams {
+    pub region_x: i32,
+    pub region_y: i32,
+    pub region_width: u32,
+    pub region_height: u32,
+    pub crop_x: u32,
+    pub crop_y: u32,
+    pub crop_width: u32,
+    pub crop_height: u32,
+    pub key_x: i32,
+    pub key_y: i32,
+    pub key_width: u32,
+    pub reach: u32,
+    pub slots: u32,
+    pub coverage: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub filter_params: [f32; 4],
 }
 
 /// Photon mapping (`src/render/photon`, `shaders/photon/`): one photon stored where a
@@ -844,7 +937,15 @@ mod tests {
                 rr_depth,
                 env_emitter,
                 hide_emitters,
-                camera_medium
+                camera_medium,
+                sampler_kind,
+                sample_count,
+                sampler_res_x,
+                sampler_res_y,
+                sampler_flags,
+                sampler_width,
+                sampler_height,
+                pad0
             ),
             rust_layout!(
                 PathState,
@@ -895,8 +996,32 @@ mod tests {
                 depth,
                 queue_in,
                 capacity,
+                sample_slot,
+                film_row,
+                film_rows,
+                pad0,
                 pad1,
                 pad2
+            ),
+            rust_layout!(
+                FilmParams,
+                region_x,
+                region_y,
+                region_width,
+                region_height,
+                crop_x,
+                crop_y,
+                crop_width,
+                crop_height,
+                key_x,
+                key_y,
+                key_width,
+                reach,
+                slots,
+                coverage,
+                pad0,
+                pad1,
+                filter_params
             ),
             rust_layout!(Photon, position, path, power, wi),
             rust_layout!(PhotonPath, power, index, start_power, stored, pad0, pad1),
@@ -1007,6 +1132,44 @@ mod tests {
             ("MEDIUM_FEATURE_WORDS3", MEDIUM_FEATURE_WORDS3),
             ("MEDIUM_FEATURE_ALBEDO_GRID", MEDIUM_FEATURE_ALBEDO_GRID),
             ("MEDIUM_FEATURE_GRIDS", MEDIUM_FEATURE_GRIDS),
+        ]);
+    }
+
+    #[test]
+    fn film_constants_match_glsl() {
+        assert_glsl_defines(&[
+            ("PATH_DELTA", PATH_DELTA),
+            ("PATH_THIN_REFLECT", PATH_THIN_REFLECT),
+            ("PATH_COVERED", PATH_COVERED),
+            ("FILTER_BOX", FILTER_BOX),
+            ("FILTER_TENT", FILTER_TENT),
+            ("FILTER_GAUSSIAN", FILTER_GAUSSIAN),
+            ("FILTER_MITCHELL", FILTER_MITCHELL),
+            ("FILTER_LANCZOS", FILTER_LANCZOS),
+            ("FILM_SAMPLE_VALID", FILM_SAMPLE_VALID),
+            ("FILM_SAMPLE_COVERED", FILM_SAMPLE_COVERED),
+        ]);
+    }
+
+    #[test]
+    fn sampler_constants_match_glsl() {
+        assert_glsl_defines(&[
+            ("SAMPLER_INDEPENDENT", SAMPLER_INDEPENDENT),
+            ("SAMPLER_STRATIFIED", SAMPLER_STRATIFIED),
+            ("SAMPLER_MULTIJITTER", SAMPLER_MULTIJITTER),
+            ("SAMPLER_ORTHOGONAL", SAMPLER_ORTHOGONAL),
+            ("SAMPLER_LDSAMPLER", SAMPLER_LDSAMPLER),
+            ("SAMPLER_ZSOBOL", SAMPLER_ZSOBOL),
+            ("SAMPLER_SOBOL", SAMPLER_SOBOL),
+            ("SAMPLER_PMJ02BN", SAMPLER_PMJ02BN),
+            ("SAMPLER_ORTHOGONAL_BUSH", SAMPLER_ORTHOGONAL_BUSH),
+            ("SAMPLER_JITTER", SAMPLER_JITTER),
+            ("SAMPLER_STRENGTH_SHIFT", SAMPLER_STRENGTH_SHIFT),
+            ("SAMPLER_SCRAMBLE_SHIFT", SAMPLER_SCRAMBLE_SHIFT),
+            ("SAMPLER_SCRAMBLE_NONE", SAMPLER_SCRAMBLE_NONE),
+            ("SAMPLER_SCRAMBLE_XOR", SAMPLER_SCRAMBLE_XOR),
+            ("SAMPLER_SCRAMBLE_FAST_OWEN", SAMPLER_SCRAMBLE_FAST_OWEN),
+            ("SAMPLER_SCRAMBLE_OWEN", SAMPLER_SCRAMBLE_OWEN),
         ]);
     }
 

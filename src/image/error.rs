@@ -17,6 +17,18 @@ pub enum Error {
         path: PathBuf,
         source: ::image::ImageError,
     },
+    /// The Radiance HDR encoder could not write the file.
+    #[error("{}: {source}", path.display())]
+    Rgbe {
+        path: PathBuf,
+        source: ::image::ImageError,
+    },
+    /// Writing a file failed.
+    #[error("{}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
     /// The file was read but is not an image we can use (too large, wrong channels).
     #[error("{}: {message}", path.display())]
     Format { path: PathBuf, message: String },

@@ -6,13 +6,15 @@
 //! OpenEXR tools all load. Alpha is ignored: renders here are opaque.
 //!
 //! Writing produces one layer of three float32 channels R, G, B, ZIP-compressed in
-//! blocks of 16 scan lines (lossless, small for the reference images in `scenes/refs`).
+//! blocks of 16 scan lines (lossless, small for the reference images in `scenes/refs`);
+//! [`write_channels`] writes any named channels in half or single precision (a film's
+//! RGBA, luminance or XYZ output), and [`read_channels`] reads them all back.
 
 use std::path::Path;
 
 use ::exr::prelude::{
-    read_first_rgba_layer_from_file, Encoding, Image as ExrImage, SpecificChannels, Vec2,
-    WritableImage,
+    f16, read_first_rgba_layer_from_file, AnyChannel, AnyChannels, Encoding, FlatSamples,
+    Image as ExrImage, Layer, LayerAttributes, SmallVec, SpecificChannels, Vec2, WritableImage,
 };
 
 use super::{Error, Image};
@@ -62,10 +64,107 @@ pub fn write(image: &Image, path: impl AsRef<Path>) -> Result<(), Error> {
         })
 }
 
+/// The precision of the channels [`write_channels`] writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Precision {
+    /// 16-bit floats (OpenEXR `HALF`): values above 65504 become infinite.
+    Half,
+    Float,
+}
+
+/// Writes one layer of channels named `names`, `data` holding `names.len()` values per
+/// pixel, interleaved, top row first. Channels are stored sorted by name, as OpenEXR
+/// requires (readers find them by name).
+pub fn write_channels(
+    path: impl AsRef<Path>,
+    width: u32,
+    height: u32,
+    names: &[&str],
+    data: &[f32],
+    precision: Precision,
+) -> Result<(), Error> {
+    let path = path.as_ref();
+    let n = names.len();
+    if n == 0 || data.len() != n * width as usize * height as usize {
+        return Err(Error::Format {
+            path: path.to_owned(),
+            message: format!(
+                "{} values for a {width}x{height} image of {n} channels",
+                data.len()
+            ),
+        });
+    }
+    let mut channels: SmallVec<[AnyChannel<FlatSamples>; 4]> = SmallVec::new();
+    for (c, name) in names.iter().enumerate() {
+        let values = data.iter().skip(c).step_by(n).copied();
+        let samples = match precision {
+            Precision::Half => FlatSamples::F16(values.map(f16::from_f32).collect()),
+            Precision::Float => FlatSamples::F32(values.collect()),
+        };
+        channels.push(AnyChannel::new(*name, samples));
+    }
+    let layer = Layer::new(
+        (width as usize, height as usize),
+        LayerAttributes::default(),
+        Encoding::SMALL_LOSSLESS,
+        AnyChannels::sort(channels),
+    );
+    ExrImage::from_layer(layer)
+        .write()
+        .to_file(path)
+        .map_err(|source| Error::Exr {
+            path: path.to_owned(),
+            source,
+        })
+}
+
+/// One channel of an EXR file read by [`read_channels`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Channel {
+    pub name: String,
+    /// Whether it was stored as 16-bit floats.
+    pub half: bool,
+    /// Its values, row-major, top row first.
+    pub values: Vec<f32>,
+}
+
+/// Reads every channel of the first layer of an EXR file: (width, height, channels
+/// in the file's order, which is by name).
+pub fn read_channels(path: impl AsRef<Path>) -> Result<(u32, u32, Vec<Channel>), Error> {
+    use ::exr::prelude::traits::*;
+    let path = path.as_ref();
+    let image = ::exr::prelude::read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .from_file(path)
+        .map_err(|source| Error::Exr {
+            path: path.to_owned(),
+            source,
+        })?;
+    let layer = image.layer_data;
+    let channels = layer
+        .channel_data
+        .list
+        .iter()
+        .map(|c| Channel {
+            name: c.name.to_string(),
+            half: matches!(c.sample_data, FlatSamples::F16(_)),
+            values: c.sample_data.values_as_f32().collect(),
+        })
+        .collect();
+    Ok((
+        layer.size.width() as u32,
+        layer.size.height() as u32,
+        channels,
+    ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use ::exr::prelude::f16;
     use std::path::PathBuf;
 
     /// A path in the system temp folder, unique to this test process and `name`.
@@ -140,6 +239,40 @@ mod tests {
         assert_eq!(image.non_finite_count(), 0);
         // Ambient occlusion lies in [0, 1]; allow for Monte Carlo noise above 1.
         assert!(image.rgb.iter().all(|&v| (0.0..1.05).contains(&v)));
+    }
+
+    #[test]
+    fn channels_round_trip_in_half_and_float() {
+        let path = temp_path("channels.exr");
+        // 3x2 pixels of (Y, A), values exact in half precision.
+        let data: Vec<f32> = (0..12).map(|i| i as f32 * 0.25 - 1.0).collect();
+        for precision in [Precision::Half, Precision::Float] {
+            write_channels(&path, 3, 2, &["Y", "A"], &data, precision).unwrap();
+            let (w, h, channels) = read_channels(&path).unwrap();
+            assert_eq!((w, h), (3, 2));
+            let names: Vec<&str> = channels.iter().map(|c| c.name.as_str()).collect();
+            assert_eq!(names, ["A", "Y"]);
+            for c in &channels {
+                assert_eq!(c.half, precision == Precision::Half);
+            }
+            let y: Vec<f32> = data.iter().step_by(2).copied().collect();
+            let a: Vec<f32> = data.iter().skip(1).step_by(2).copied().collect();
+            assert_eq!(channels[1].values, y);
+            assert_eq!(channels[0].values, a);
+        }
+        // RGBA files also read as RGB images.
+        write_channels(
+            &path,
+            1,
+            1,
+            &["R", "G", "B", "A"],
+            &[1.0, 2.0, 3.0, 0.5],
+            Precision::Half,
+        )
+        .unwrap();
+        assert_eq!(read(&path).unwrap().pixel(0, 0), [1.0, 2.0, 3.0]);
+        std::fs::remove_file(&path).ok();
+        assert!(write_channels(&path, 2, 2, &["Y"], &[0.0; 3], Precision::Float).is_err());
     }
 
     #[test]

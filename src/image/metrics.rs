@@ -157,11 +157,31 @@ impl fmt::Display for BlockTest {
 /// images pass instead of dividing 0 by 0 (differences that small are float rounding).
 /// Any NaN or infinite value in a block makes its `t` infinite and its p-value 0.
 pub fn block_t_test(image: &Image, reference: &Image, block_size: u32) -> Result<BlockTest, Error> {
+    block_t_test_correlated(image, reference, block_size, 1.0)
+}
+
+/// [`block_t_test`] for images whose pixels' noise is correlated, as a reconstruction
+/// filter wider than a pixel makes it (each sample weighs several pixels): the
+/// variance of a block's mean difference is `variance_factor` times `s^2 / n`, the
+/// value for independent pixels. For a separable filter the factor is
+/// `scene::film::Filter::block_variance_factor` of the block size (about 2.8 for
+/// Mitsuba's Gaussian on 8x8 blocks: ignoring it, an unbiased image fails).
+pub fn block_t_test_correlated(
+    image: &Image,
+    reference: &Image,
+    block_size: u32,
+    variance_factor: f64,
+) -> Result<BlockTest, Error> {
+    if !(variance_factor > 0.0 && variance_factor.is_finite()) {
+        return Err(Error::Parameter(format!(
+            "the variance factor must be positive, found {variance_factor}"
+        )));
+    }
     check_sizes(image, reference)?;
     if block_size == 0 {
         return Err(Error::Parameter("block size must be at least 1".into()));
     }
-    let stats = block_stats(image, reference, block_size);
+    let stats = block_stats(image, reference, block_size, variance_factor);
     if stats.is_empty() {
         return Err(Error::Parameter(format!(
             "a {}x{} image has no block of 2 or more pixels to test",
@@ -198,7 +218,12 @@ struct BlockStat {
     p_value: f64,
 }
 
-fn block_stats(image: &Image, reference: &Image, block_size: u32) -> Vec<BlockStat> {
+fn block_stats(
+    image: &Image,
+    reference: &Image,
+    block_size: u32,
+    variance_factor: f64,
+) -> Vec<BlockStat> {
     let mut stats = Vec::new();
     let mut diffs = Vec::with_capacity((block_size as usize).pow(2));
     for by in 0..image.height.div_ceil(block_size) {
@@ -227,7 +252,7 @@ fn block_stats(image: &Image, reference: &Image, block_size: u32) -> Vec<BlockSt
                     let mean = diffs.iter().sum::<f64>() / nf;
                     let var = diffs.iter().map(|d| (d - mean).powi(2)).sum::<f64>() / (nf - 1.0);
                     let floor = 1e-6 * (1.0 + (ref_sum / nf).abs());
-                    let t = mean / (var / nf).sqrt().max(floor);
+                    let t = mean / (variance_factor * var / nf).sqrt().max(floor);
                     (t, student_t_two_sided_p(t, nf - 1.0))
                 };
                 stats.push(BlockStat {
@@ -358,6 +383,21 @@ mod tests {
     }
 
     #[test]
+    fn a_variance_factor_widens_the_standard_error() {
+        // A block whose differences have mean 0.1 and spread 0.1 over 16 pixels:
+        // t = 4 for independent pixels, 2 when their mean varies 4 times more.
+        let mut img = Image::new(4, 4);
+        let reference = Image::new(4, 4);
+        for (i, v) in img.rgb.iter_mut().enumerate() {
+            *v = if (i / 3) % 2 == 0 { 0.0 } else { 0.2 };
+        }
+        let t1 = block_t_test(&img, &reference, 4).unwrap().t;
+        let t4 = block_t_test_correlated(&img, &reference, 4, 4.0).unwrap().t;
+        assert!((t1 / t4 - 2.0).abs() < 1e-9, "{t1} {t4}");
+        assert!(block_t_test_correlated(&img, &reference, 4, 0.0).is_err());
+    }
+
+    #[test]
     fn size_mismatch_is_an_error() {
         let a = Image::new(2, 2);
         let b = Image::new(4, 1);
@@ -474,7 +514,7 @@ mod tests {
         // freedom. About 5% of p-values must fall below 0.05; the binomial standard
         // deviation of that fraction is 0.2%, so +-1% is five sigma.
         let (render, reference) = synthetic(256, 0.3, 3, |_, _| 0.0);
-        let stats = block_stats(&render, &reference, 4);
+        let stats = block_stats(&render, &reference, 4, 1.0);
         assert_eq!(stats.len(), 12288);
         let below = stats.iter().filter(|s| s.p_value < 0.05).count() as f64 / stats.len() as f64;
         assert!((below - 0.05).abs() < 0.01, "fraction below 0.05: {below}");
@@ -501,7 +541,7 @@ mod tests {
     fn edge_blocks_are_partial() {
         // 10x10 with blocks of 4: 3x3 blocks, the last row and column 2 pixels wide.
         let (render, reference) = synthetic(10, 0.1, 5, |_, _| 0.0);
-        let stats = block_stats(&render, &reference, 4);
+        let stats = block_stats(&render, &reference, 4, 1.0);
         assert_eq!(stats.len(), 27);
         assert_eq!(stats.last().unwrap().pixels, 4);
         assert!(block_t_test(&render, &reference, 0).is_err());

@@ -1,15 +1,19 @@
 //! Images: the [`Image`] type every render ends in, EXR and PNG files, error metrics.
 //!
 //! - [`exr`]: read (RGB or RGBA, half or float, as Mitsuba and others write them) and
-//!   write (RGB float32) OpenEXR files.
+//!   write (RGB float32, or any channels in half or float) OpenEXR files.
 //! - [`png`]: 8-bit sRGB PNG output for looking at a render: exposure, clamp, sRGB OETF.
+//! - [`pfm`], [`rgbe`]: portable float maps and Radiance RGBE files (Mitsuba's other
+//!   film file formats).
 //! - [`metrics`]: MSE, RMSE, relative MSE, per-channel means, and the blockwise
 //!   t-test that image tests use to compare a noisy render with a reference.
 
 pub mod error;
 pub mod exr;
 pub mod metrics;
+pub mod pfm;
 pub mod png;
+pub mod rgbe;
 
 pub use error::Error;
 

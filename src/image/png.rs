@@ -3,7 +3,11 @@
 //! Each linear value `v` becomes `round(255 * oetf(clamp(v * 2^exposure, 0, 1)))`,
 //! where `oetf` is the sRGB transfer function (IEC 61966-2-1). NaN becomes 0 so a bad
 //! pixel shows up black rather than aborting the write. This is the whole tonemap:
-//! values above 1 clip, as they do in Mitsuba's and Nori's PNG output.
+//! values above 1 clip, as they do in Mitsuba's and Nori's PNG output, and negative
+//! values (a Mitchell or Lanczos filter's ringing next to a bright edge) clip to 0.
+//! [`write_channels`] also writes grey, grey + alpha and RGBA PNGs; alpha is stored
+//! linearly (`round(255 clamp(a, 0, 1))`), and the colour it comes with must be
+//! straight, not premultiplied, as PNG defines it.
 
 use std::path::Path;
 
@@ -44,6 +48,67 @@ pub fn write(image: &Image, path: impl AsRef<Path>, exposure: f32) -> Result<(),
         image.width,
         image.height,
         ::image::ExtendedColorType::Rgb8,
+        ::image::ImageFormat::Png,
+    )
+    .map_err(|source| Error::Png {
+        path: path.to_owned(),
+        source,
+    })
+}
+
+/// Writes `data` (`channels` interleaved values per pixel, top row first) as an 8-bit
+/// PNG: 1 channel grey, 2 grey + alpha, 3 RGB, 4 RGBA. Colour channels are encoded as
+/// [`to_srgb8`] does, alpha linearly.
+pub fn write_channels(
+    path: impl AsRef<Path>,
+    width: u32,
+    height: u32,
+    channels: usize,
+    data: &[f32],
+    exposure: f32,
+) -> Result<(), Error> {
+    let path = path.as_ref();
+    let format_error = |message: String| Error::Format {
+        path: path.to_owned(),
+        message,
+    };
+    let color = match channels {
+        1 => ::image::ExtendedColorType::L8,
+        2 => ::image::ExtendedColorType::La8,
+        3 => ::image::ExtendedColorType::Rgb8,
+        4 => ::image::ExtendedColorType::Rgba8,
+        n => {
+            return Err(format_error(format!(
+                "a PNG holds 1 to 4 channels, not {n}"
+            )))
+        }
+    };
+    if data.len() != channels * width as usize * height as usize {
+        return Err(format_error(format!(
+            "{} values for a {width}x{height} image of {channels} channels",
+            data.len()
+        )));
+    }
+    let scale = exposure.exp2();
+    let has_alpha = channels.is_multiple_of(2);
+    let bytes: Vec<u8> = data
+        .iter()
+        .enumerate()
+        .map(|(i, &v)| {
+            if has_alpha && i % channels == channels - 1 {
+                let a = if v.is_nan() { 0.0 } else { v.clamp(0.0, 1.0) };
+                (a * 255.0 + 0.5) as u8
+            } else {
+                encode(v, scale)
+            }
+        })
+        .collect();
+    ::image::save_buffer_with_format(
+        path,
+        &bytes,
+        width,
+        height,
+        color,
         ::image::ImageFormat::Png,
     )
     .map_err(|source| Error::Png {
@@ -96,6 +161,22 @@ mod tests {
         assert_eq!(back.get_pixel(4, 2).0, [255, 188, 0]);
         assert_eq!(back.get_pixel(0, 1).0, [0, 0, 255]);
         assert_eq!(back.get_pixel(1, 1).0, [0, 0, 0]);
+    }
+
+    #[test]
+    fn grey_alpha_and_rgba_pngs() {
+        let path =
+            std::env::temp_dir().join(format!("wavetrace-{}-channels.png", std::process::id()));
+        write_channels(&path, 2, 1, 2, &[0.5, 1.0, -0.2, 0.25], 0.0).unwrap();
+        let back = ::image::open(&path).unwrap().to_luma_alpha8();
+        assert_eq!(back.get_pixel(0, 0).0, [188, 255]);
+        // Negative values clip to black; alpha is linear.
+        assert_eq!(back.get_pixel(1, 0).0, [0, 64]);
+        write_channels(&path, 1, 1, 4, &[1.0, 0.5, 0.0, 0.5], 0.0).unwrap();
+        let back = ::image::open(&path).unwrap().to_rgba8();
+        assert_eq!(back.get_pixel(0, 0).0, [255, 188, 0, 128]);
+        std::fs::remove_file(&path).ok();
+        assert!(write_channels(&path, 1, 1, 5, &[0.0; 5], 0.0).is_err());
     }
 
     #[test]

@@ -53,6 +53,17 @@ pub fn build(weights: &[f64], prims: &[u32]) -> Vec<AliasEntry> {
     table
 }
 
+/// Stores in each entry's `prim` the cumulative pmf of the entries before it (f32
+/// bits), for sampling by inversion (`alias_sample_cdf` in shaders/common/alias.glsl):
+/// the emitter table, whose `prim` is otherwise unused.
+pub fn set_cdf(table: &mut [AliasEntry]) {
+    let mut sum = 0.0f64;
+    for e in table.iter_mut() {
+        e.prim = (sum as f32).to_bits();
+        sum += e.pmf as f64;
+    }
+}
+
 /// The entry an alias table picks for a uniform `u` in [0, 1), as `alias_sample` in
 /// shaders/common/alias.glsl does.
 pub fn sample(table: &[AliasEntry], u: f32) -> usize {

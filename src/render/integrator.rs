@@ -350,6 +350,21 @@ impl Integrator {
         }
     }
 
+    /// Whether a visible environment makes every camera path count as covered for the
+    /// film's alpha: Mitsuba's `path` and `volpath` start `valid_ray` as "emitters
+    /// visible and an environment present"; its `direct` and first-hit integrators
+    /// count only camera rays that hit something.
+    pub fn counts_environment_coverage(&self) -> bool {
+        matches!(
+            self,
+            Integrator::PathMats(_)
+                | Integrator::PathMis(_)
+                | Integrator::VolPathSimple(_)
+                | Integrator::VolPathMis(_)
+                | Integrator::SingleScatter { .. }
+        )
+    }
+
     /// Whether camera rays skip the emission of the emitters they hit.
     pub fn hide_emitters(&self) -> bool {
         match self {

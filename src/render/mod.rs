@@ -1,16 +1,18 @@
 //! The wavefront renderer: queues, per-bounce dispatch, integrators, film.
 //!
 //! A batch of paths runs as `generate -> (intersect -> shade -> queue_args -> shadow)
-//! per bounce -> accumulate`, every stage one dispatch over a
+//! per bounce -> accumulate -> film_gather`, every stage one dispatch over a
 //! queue in GPU memory. Queue lengths stay on the GPU and drive indirect dispatch, so
 //! a whole batch is one submission with no read-back between bounces (Laine, Karras
 //! and Aila 2013, "Megakernels Considered Harmful").
 
 pub mod alias;
 pub mod error;
+pub mod film;
 pub mod integrator;
 pub mod media;
 pub mod photon;
+pub mod sampler;
 pub mod scene_buffers;
 pub mod scene_parts;
 pub mod wavefront;
@@ -24,8 +26,10 @@ use crate::accel::{self, Bvh, BvhStats};
 use crate::gpu::layout::{Counters, DispatchArgs, Frame, Push, WORKGROUP_SIZE};
 use crate::gpu::{shaders, BindingLayout, CommandList, DescriptorSet, Device, Kernel, KernelTimes};
 use crate::image::Image;
+use crate::scene::sampler::{SampleCount, Sampler, SamplerKind};
 use crate::scene::Scene;
 
+use film::{film_binding_kinds, Film, FilmGeometry, FilmSums, BYTES_PER_SAMPLE_SLOT};
 use photon::{photon_binding_kinds, PhotonStats, Photons};
 use scene_buffers::{SceneBuffers, SceneRecords};
 use scene_parts::{scene_arrays, scene_binding_kinds, ScenePlan};
@@ -36,9 +40,12 @@ use wavefront::{wavefront_binding_kinds, Wavefront, BYTES_PER_PATH};
 pub struct RenderOptions {
     /// Integrator name overriding the scene's (`--integrator`).
     pub integrator: Option<String>,
-    /// Seed of the random-number hash; a render is a function of scene, seed and
-    /// sample range.
+    /// Seed of the random numbers, added to the sampler's `seed`; a render is a
+    /// function of scene, seed and sample range.
     pub seed: u32,
+    /// Sampler type overriding the scene's (`--sampler`); the scene's sampler
+    /// parameters carry over where the type has them.
+    pub sampler: Option<String>,
     /// Most paths in flight per batch; `None` picks a size for the device.
     pub max_batch_paths: Option<u32>,
     /// Record GPU timestamps around every kernel.
@@ -55,6 +62,10 @@ pub struct RenderOptions {
     /// device's memory and binding limits allow. A photon map with more photons is
     /// split into passes.
     pub max_photons_per_pass: Option<u32>,
+    /// SPPM: most pixels whose visible points and states are held at once; `None`:
+    /// as many as one storage binding holds (the whole film but for huge ones). A film
+    /// with more is rendered in tiles of pixels, each through all its iterations.
+    pub max_sppm_pixels: Option<u32>,
 }
 
 /// Time spent before the first sample, in seconds.
@@ -87,6 +98,22 @@ pub struct RenderStats {
     pub photons: Option<PhotonStats>,
 }
 
+/// The sampler a render uses: the scene's, or its type replaced by `name`
+/// (`--sampler`).
+pub fn choose_sampler(scene: &Scene, name: Option<&str>) -> Result<Sampler> {
+    match name {
+        None => Ok(scene.sampler),
+        Some(n) => SamplerKind::from_name(n)
+            .map(|k| scene.sampler.with_kind(k))
+            .ok_or_else(|| {
+                Error::Options(format!(
+                    "unknown sampler '{n}' (expected one of {})",
+                    SamplerKind::NAMES.join(", ")
+                ))
+            }),
+    }
+}
+
 struct Kernels {
     generate: Kernel,
     intersect: Kernel,
@@ -94,6 +121,7 @@ struct Kernels {
     shadow: Kernel,
     queue_args: Kernel,
     accumulate: Kernel,
+    film_gather: Kernel,
 }
 
 /// A scene prepared on a device, ready to render any number of samples.
@@ -107,9 +135,20 @@ pub struct Renderer {
     wavefront: Wavefront,
     /// The photon mappers' kernels and buffers (descriptor set 2).
     photon: Option<Photons>,
+    /// The film (descriptor set 3).
+    film: Film,
+    /// The full film's size.
     width: u32,
     height: u32,
+    /// The sampler's grid of pixel keys ([`FilmGeometry::key_size`]).
+    key_size: (u32, u32),
     timestamps: bool,
+    /// The frame as uploaded; its sampler fields change with the sample count.
+    frame: Frame,
+    sampler: Sampler,
+    /// The render's seed (before the sampler's is added).
+    seed: u32,
+    sample_count: SampleCount,
     pub setup: SetupStats,
 }
 
@@ -141,22 +180,32 @@ impl Renderer {
             &scene.path,
         )?;
         let cam = &scene.camera;
-        if cam.width == 0 || cam.height == 0 {
-            return Err(Error::Options(format!(
-                "film of {}x{} pixels is empty",
-                cam.width, cam.height
-            )));
-        }
-        let pixels = cam
-            .width
-            .checked_mul(cam.height)
-            .filter(|&p| p < u32::MAX / 2)
-            .ok_or_else(|| {
-                Error::Options(format!(
-                    "film of {}x{} pixels is too large",
-                    cam.width, cam.height
-                ))
-            })?;
+        // SPPM keeps one estimate per pixel (its radius and flux): a box filter over
+        // the whole film, whatever the scene's film asks for (see `film_overridden`).
+        let film_spec = if matches!(integrator, Integrator::Sppm(_)) {
+            crate::scene::Film {
+                filter: crate::scene::film::Filter::Box,
+                crop: None,
+                sample_border: false,
+                ..scene.film.clone()
+            }
+        } else {
+            scene.film.clone()
+        };
+        let geometry = FilmGeometry::new(
+            cam.width,
+            cam.height,
+            film_spec.crop,
+            &film_spec.filter,
+            film_spec.sample_border,
+        )?;
+        let pixels = cam.width * cam.height;
+
+        let sampler = choose_sampler(scene, options.sampler.as_deref())?;
+        let key_size = geometry.key_size();
+        let sample_count = sampler
+            .sample_count(scene.spp, key_size.0, key_size.1)
+            .map_err(Error::Options)?;
 
         if integrator.is_photon_mapper() && scene.needs_medium_code() {
             return Err(Error::Integrator {
@@ -200,6 +249,7 @@ impl Renderer {
                 scene_binding_kinds(),
                 wavefront_binding_kinds(),
                 photon_binding_kinds(),
+                film_binding_kinds(),
             ],
             std::mem::size_of::<Push>() as u32,
             &plan.spec(),
@@ -208,7 +258,7 @@ impl Renderer {
         let scene_buffers = SceneBuffers::upload_planned(device, &layout, &arrays, plan)?;
         drop(arrays);
         let tan_x = (cam.fov_x_deg.to_radians() * 0.5).tan();
-        let frame = Frame {
+        let mut frame = Frame {
             camera_to_world: cam.to_world.to_cols_array_2d(),
             tan_half_fov: [tan_x, tan_x * cam.height as f32 / cam.width as f32],
             near_clip: cam.near_clip,
@@ -228,7 +278,9 @@ impl Renderer {
             env_emitter: records.env_emitter,
             hide_emitters: integrator.hide_emitters() as u32,
             camera_medium: scene.camera_medium.unwrap_or(crate::gpu::layout::NONE),
+            ..Default::default()
         };
+        sampler::set_frame(&mut frame, &sampler, &sample_count, options.seed, key_size);
         let capacity = options
             .max_batch_paths
             .unwrap_or_else(|| default_capacity(device))
@@ -236,13 +288,34 @@ impl Renderer {
         // Keep every queue inside one storage-buffer binding.
         let limit = device.info().max_storage_buffer_range
             / (2 * std::mem::size_of::<crate::gpu::layout::RayItem>() as u64);
-        let capacity = capacity.min(limit as u32);
-        let wavefront = Wavefront::new(device, &layout, capacity, pixels, &frame)?;
+        let capacity = capacity
+            .min(limit as u32)
+            .min(Film::max_batch_paths(device, &geometry))
+            .max(1);
+        let wavefront = Wavefront::new(device, &layout, capacity, &frame)?;
+        // Alpha: the film keeps covered weights and shade marks covered camera paths;
+        // a visible environment covers every path of the integrators where Mitsuba
+        // counts it (`valid_ray` of path and volpath). The photon mappers' camera
+        // kernels mark none: no alpha there (see `film_overridden`).
+        let has_alpha = film_spec.pixel_format.has_alpha() && !integrator.is_photon_mapper();
+        let covered = integrator.counts_environment_coverage()
+            && !integrator.hide_emitters()
+            && records.env_emitter != crate::gpu::layout::NONE;
+        let film = Film::new(
+            device,
+            &layout,
+            geometry,
+            film_spec.filter,
+            has_alpha,
+            covered,
+            capacity,
+        )?;
         let features = photon::SceneFeatures {
             surface: records.surface_features() | records.prim_kinds(),
             textures: records.texture_mask(),
             emitters: records.emitter_kinds(),
             bsdfs: records.bsdfs.iter().fold(0u32, |m, b| m | 1 << b.kind),
+            sampler: sampler::kind_id(&sampler),
         };
         let upload_seconds = t.elapsed().as_secs_f64();
 
@@ -271,7 +344,7 @@ impl Renderer {
             Kernel::new(device, name, spirv, &layout, spec)
         };
         let kernels = Kernels {
-            generate: k("generate", shaders::GENERATE, &[])?,
+            generate: k("generate", shaders::GENERATE, &[sampler::kind_id(&sampler)])?,
             intersect: k("intersect", shaders::INTERSECT, &[prim_kinds, bvh_depth])?,
             shade: k(
                 "shade",
@@ -289,6 +362,8 @@ impl Renderer {
                     records.emitter_kinds(),
                     surface_features,
                     bvh_depth,
+                    sampler::kind_id(&sampler),
+                    has_alpha as u32,
                 ],
             )?,
             shadow: k(
@@ -310,7 +385,16 @@ impl Renderer {
                 ],
             )?,
             queue_args: k("queue_args", shaders::QUEUE_ARGS, &[])?,
-            accumulate: k("accumulate", shaders::ACCUMULATE, &[])?,
+            accumulate: k(
+                "accumulate",
+                shaders::ACCUMULATE,
+                &[sampler::kind_id(&sampler)],
+            )?,
+            film_gather: k(
+                "film_gather",
+                shaders::FILM_GATHER,
+                &film.gather_constants(),
+            )?,
         };
         // The photon mappers' kernels and buffers (their buffers are small until a
         // photon map needs more).
@@ -324,6 +408,7 @@ impl Renderer {
                 pixels,
                 capacity,
                 options.max_photons_per_pass,
+                options.max_sppm_pixels,
             )?)
         } else {
             None
@@ -343,9 +428,15 @@ impl Renderer {
             scene_buffers,
             wavefront,
             photon,
+            film,
             width: cam.width,
             height: cam.height,
+            key_size,
             timestamps: options.timestamps,
+            frame,
+            sampler,
+            seed: options.seed,
+            sample_count,
             setup: SetupStats {
                 bvh: bvh.stats,
                 upload_seconds,
@@ -371,6 +462,14 @@ impl Renderer {
         self.bounces
     }
 
+    /// Makes later renders use `seed` (RenderOptions::seed) without setting the scene
+    /// up again.
+    pub fn set_seed(&mut self, seed: u32) -> Result<()> {
+        // The frame's seed is the render's plus the sampler's (sampler::set_frame).
+        self.seed = seed;
+        self.set_sample_count(self.sample_count.clone())
+    }
+
     /// Whether later renders record GPU timestamps around every kernel.
     pub fn set_timestamps(&mut self, on: bool) {
         self.timestamps = on;
@@ -378,6 +477,44 @@ impl Renderer {
 
     pub fn capacity(&self) -> u32 {
         self.wavefront.capacity
+    }
+
+    /// Which pixels are sampled and which kept.
+    pub fn film_geometry(&self) -> &FilmGeometry {
+        &self.film.geometry
+    }
+
+    /// What of the scene's film this integrator does not render, in words (`None`:
+    /// all of it): SPPM keeps one estimate per pixel (a box filter over the whole
+    /// film, no alpha), the photon mappers compute no alpha (it is written as 1).
+    pub fn film_overridden(&self, film: &crate::scene::Film) -> Option<String> {
+        let mut lost = Vec::new();
+        if matches!(self.integrator, Integrator::Sppm(_)) {
+            if film.filter != crate::scene::film::Filter::Box {
+                lost.push(format!(
+                    "its {} filter (sppm keeps one estimate per pixel: a box)",
+                    film.filter.name()
+                ));
+            }
+            if film.crop.is_some() {
+                lost.push("its crop window (sppm renders the whole film)".to_string());
+            }
+            if film.sample_border {
+                lost.push("sample_border".to_string());
+            }
+        }
+        if self.integrator.is_photon_mapper() && film.pixel_format.has_alpha() {
+            lost.push(format!(
+                "alpha ('{}' computes none: written as 1)",
+                self.integrator.name()
+            ));
+        }
+        (!lost.is_empty()).then(|| lost.join(", "))
+    }
+
+    /// The descriptor sets of the path-tracing kernels: scene, wavefront, film.
+    fn path_sets(&self) -> [&DescriptorSet; 3] {
+        [&self.scene_buffers.set, &self.wavefront.set, &self.film.set]
     }
 
     /// Dispatches every kernel once with empty queues: llvmpipe compiles a kernel at
@@ -401,8 +538,9 @@ impl Renderer {
             &k.queue_args,
             &k.shadow,
             &k.accumulate,
+            &k.film_gather,
         ];
-        let mut sets = vec![&self.scene_buffers.set, &wf.set];
+        let mut sets = vec![&self.scene_buffers.set, &wf.set, &self.film.set];
         if let Some(p) = &self.photon {
             kernels.extend(p.kernels());
             sets.push(&p.map.set);
@@ -415,25 +553,81 @@ impl Renderer {
         Ok(t.elapsed().as_secs_f64())
     }
 
-    /// Renders samples `0..spp` of every pixel and returns the image. `progress` is
+    /// The sampler the render draws its random numbers from.
+    pub fn sampler(&self) -> &Sampler {
+        &self.sampler
+    }
+
+    /// The sample count of the sampler's pattern (one pass): what [`Renderer::render`]
+    /// last rendered, or the scene's count as the sampler rounds it.
+    pub fn sample_count(&self) -> &SampleCount {
+        &self.sample_count
+    }
+
+    /// The count the sampler renders when asked for `spp` samples per pixel (rounded
+    /// as it rounds, e.g. to a square for `stratified`), or why it cannot.
+    pub fn round_sample_count(&self, spp: u32) -> Result<SampleCount> {
+        self.sampler
+            .sample_count(spp, self.key_size.0, self.key_size.1)
+            .map_err(Error::Options)
+    }
+
+    /// Makes the sampler's pattern `count` samples (one pass); sample indices past it
+    /// belong to later passes. [`Renderer::render`] does this itself; renders of sample
+    /// ranges of a whole (resumed, split) render set the whole's count first.
+    pub fn set_sample_count(&mut self, count: SampleCount) -> Result<()> {
+        sampler::set_frame(
+            &mut self.frame,
+            &self.sampler,
+            &count,
+            self.seed,
+            self.key_size,
+        );
+        self.wavefront
+            .frame
+            .write(&self.device, 0, bytemuck::bytes_of(&self.frame))?;
+        self.sample_count = count;
+        Ok(())
+    }
+
+    /// Renders `spp` samples per pixel as the sampler rounds them (see
+    /// [`Renderer::round_sample_count`]: samples `0..count` of a pattern of `count`)
+    /// and returns the image; the stats say how many were rendered. `progress` is
     /// called after each batch with (samples done, samples in all).
     pub fn render(
         &mut self,
         spp: u32,
         progress: &mut dyn FnMut(u64, u64),
     ) -> Result<(Image, RenderStats)> {
-        self.render_range(0, spp, progress)
+        let count = self.round_sample_count(spp)?;
+        let n = count.count;
+        self.set_sample_count(count)?;
+        self.render_range(0, n, progress)
     }
 
-    /// Renders samples `first .. first + count` of every pixel. Sample `s` of a pixel
-    /// is the same whatever range it is rendered in, so ranges can be rendered apart
-    /// and averaged.
+    /// Renders samples `first .. first + count` of every pixel and returns the image.
+    /// Sample `s` of a pixel is the same whatever range it is rendered in (for the same
+    /// [`Renderer::set_sample_count`]); to combine ranges exactly, merge their
+    /// [`FilmSums`] ([`Self::render_film`]).
     pub fn render_range(
         &mut self,
         first: u32,
         count: u32,
         progress: &mut dyn FnMut(u64, u64),
     ) -> Result<(Image, RenderStats)> {
+        let (film, stats) = self.render_film(first, count, progress)?;
+        Ok((film.develop(), stats))
+    }
+
+    /// Renders samples `first .. first + count` of every sampled pixel and returns
+    /// the film's sums: renders of disjoint ranges merge into the render of their
+    /// union ([`FilmSums::merge`]).
+    pub fn render_film(
+        &mut self,
+        first: u32,
+        count: u32,
+        progress: &mut dyn FnMut(u64, u64),
+    ) -> Result<(FilmSums, RenderStats)> {
         if count == 0 {
             return Err(Error::Options(
                 "samples per pixel must be at least 1".into(),
@@ -452,7 +646,7 @@ impl Renderer {
             ..Default::default()
         };
         let mut cmd = self.command_list()?;
-        cmd.fill(&self.wavefront.film, 0, self.wavefront.film.size(), 0);
+        self.film.clear(&mut cmd);
         cmd.barrier();
         self.for_each_batch(
             &mut cmd,
@@ -460,11 +654,13 @@ impl Renderer {
             count,
             &mut stats,
             progress,
-            &mut |r, cmd, sample, base, n, stats| r.run_batch(cmd, sample, base, n, stats),
+            &mut |r, cmd, sample, base, n, slot, stats| {
+                r.run_batch(cmd, sample, base, n, slot, stats)
+            },
         )?;
-        let image = self.film_image()?;
+        let film = self.film.read(&self.device)?;
         stats.seconds = start.elapsed().as_secs_f64();
-        Ok((image, stats))
+        Ok((film, stats))
     }
 
     /// A command list, with timestamps if the renderer records them.
@@ -476,9 +672,10 @@ impl Renderer {
         })
     }
 
-    /// Calls `batch(self, cmd, sample_base, pixel_base, path_count, stats)` for batches
-    /// covering samples `first .. first + count` of every pixel: whole samples of every
-    /// pixel per batch where they fit, else runs of pixels of one sample.
+    /// Calls `batch(self, cmd, sample_base, pixel_base, path_count, slot, stats)` for
+    /// batches covering samples `first .. first + count` of every pixel the film
+    /// samples: whole samples of every pixel per batch where they fit, else runs of
+    /// pixels of one sample. `slot`: the film's sample slot of the batch's first path.
     fn for_each_batch(
         &self,
         cmd: &mut CommandList,
@@ -488,18 +685,20 @@ impl Renderer {
         progress: &mut dyn FnMut(u64, u64),
         batch: BatchFn,
     ) -> Result<()> {
-        let pixels = self.width * self.height;
+        let pixels = self.film.geometry.region_pixels();
         let cap = self.wavefront.capacity;
         let total = pixels as u64 * count as u64;
         let mut done = 0u64;
         let mut sample = first;
+        let mut slot = 0;
         let end = first
             .checked_add(count)
             .ok_or_else(|| Error::Options("sample range overflows".into()))?;
         while sample < end {
             if pixels <= cap {
                 let k = (cap / pixels).min(end - sample);
-                batch(self, cmd, sample, 0, k * pixels, stats)?;
+                batch(self, cmd, sample, 0, k * pixels, slot, stats)?;
+                slot = self.film.next_slot(slot, k * pixels);
                 sample += k;
                 done += k as u64 * pixels as u64;
                 progress(done, total);
@@ -507,7 +706,8 @@ impl Renderer {
                 let mut base = 0;
                 while base < pixels {
                     let n = cap.min(pixels - base);
-                    batch(self, cmd, sample, base, n, stats)?;
+                    batch(self, cmd, sample, base, n, slot, stats)?;
+                    slot = self.film.next_slot(slot, n);
                     base += n;
                     done += n as u64;
                     progress(done, total);
@@ -516,22 +716,6 @@ impl Renderer {
             }
         }
         Ok(())
-    }
-
-    /// The film's image: each pixel's sum over its sample count.
-    fn film_image(&self) -> Result<Image> {
-        let pixels = self.width * self.height;
-        let film: Vec<[f32; 4]> = self.wavefront.film.read(&self.device)?;
-        let mut rgb = Vec::with_capacity(pixels as usize * 3);
-        for px in &film[..pixels as usize] {
-            let n = if px[3] > 0.0 { px[3] } else { 1.0 };
-            rgb.extend_from_slice(&[px[0] / n, px[1] / n, px[2] / n]);
-        }
-        Ok(Image {
-            width: self.width,
-            height: self.height,
-            rgb,
-        })
     }
 
     /// Records the start of a batch of camera paths (`push`: its paths): the queues
@@ -561,9 +745,11 @@ impl Renderer {
     }
 
     /// Records bounces `0 .. bounces` of a batch whose first rays are in ray queue 0,
-    /// each a dispatch of every stage in order. Bounces are recorded `chunk` at a time;
-    /// between chunks the batch is submitted and stops early once no path is left in
-    /// the ray queue, so long bounce budgets cost nothing where paths end sooner.
+    /// each a dispatch of every stage in order. Bounces are recorded in chunks, the
+    /// first of `chunks.0`, each next one twice as long up to `chunks.1`; between chunks
+    /// the batch is submitted and stops early once no path is left in the ray queue, so
+    /// long bounce budgets cost nothing where paths end sooner (an empty dispatch still
+    /// costs some 100 us on lavapipe; a check, a submission and a read-back).
     /// Returns the bounces recorded.
     #[allow(clippy::too_many_arguments)]
     fn run_bounces(
@@ -573,13 +759,15 @@ impl Renderer {
         push: &mut Push,
         stages: &[(&Kernel, Over)],
         bounces: u32,
-        chunk: u32,
+        chunks: (u32, u32),
         stats: &mut RenderStats,
     ) -> Result<u32> {
         let wf = &self.wavefront;
         let mut depth = 0;
+        let mut chunk = chunks.0;
         while depth < bounces {
             let end = (depth + chunk).min(bounces);
+            chunk = (2 * chunk).min(chunks.1);
             for d in depth..end {
                 push.depth = d;
                 push.queue_in = d % 2;
@@ -619,7 +807,8 @@ impl Renderer {
     }
 
     /// Renders one batch: `path_count` paths starting at global sample
-    /// `sample_base * pixels + pixel_base`, `BOUNCE_CHUNK` bounces per submission (see
+    /// `sample_base * pixels + pixel_base` (pixels the film samples), the first in film
+    /// sample slot `slot`, `BOUNCE_CHUNK` bounces per submission (see
     /// [`Self::run_bounces`]).
     fn run_batch(
         &self,
@@ -627,10 +816,11 @@ impl Renderer {
         sample_base: u32,
         pixel_base: u32,
         path_count: u32,
+        slot: u32,
         stats: &mut RenderStats,
     ) -> Result<()> {
         let wf = &self.wavefront;
-        let sets = [&self.scene_buffers.set, &wf.set];
+        let sets = self.path_sets();
         let mut push = Push {
             path_count,
             pixel_base,
@@ -638,6 +828,7 @@ impl Renderer {
             depth: 0,
             queue_in: 0,
             capacity: wf.capacity,
+            sample_slot: slot,
             ..Default::default()
         };
         self.start_batch(cmd, &sets, &push);
@@ -654,17 +845,25 @@ impl Renderer {
             &mut push,
             &stages,
             self.bounces,
-            BOUNCE_CHUNK,
+            (BOUNCE_CHUNK, BOUNCE_CHUNK),
             stats,
         )?;
+        self.record_film(cmd, &sets, &push);
+        self.finish_batch(cmd, stats, depth)
+    }
+
+    /// Records `accumulate` and `film_gather` after the batch `push` describes: its
+    /// finished paths go to the film (`sets` must hold the film's).
+    fn record_film(&self, cmd: &mut CommandList, sets: &[&DescriptorSet], push: &Push) {
+        let k = &self.kernels;
         cmd.dispatch(
             &k.accumulate,
-            &sets,
-            bytemuck::bytes_of(&push),
-            groups_for(path_count.min(self.width * self.height)),
+            sets,
+            bytemuck::bytes_of(push),
+            groups_for(push.path_count),
         );
         cmd.barrier();
-        self.finish_batch(cmd, stats, depth)
+        self.film.record_gather(cmd, &k.film_gather, sets, push);
     }
 
     /// Submits the rest of a batch that ran `depth` bounces and adds its counters.
@@ -690,19 +889,31 @@ impl Renderer {
 }
 
 /// A batch of [`Renderer::for_each_batch`]: (renderer, commands, sample base, pixel
-/// base, paths, statistics).
-type BatchFn<'a> =
-    &'a mut dyn FnMut(&Renderer, &mut CommandList, u32, u32, u32, &mut RenderStats) -> Result<()>;
+/// base, paths, the film's sample slot of its first path, statistics).
+type BatchFn<'a> = &'a mut dyn FnMut(
+    &Renderer,
+    &mut CommandList,
+    u32,
+    u32,
+    u32,
+    u32,
+    &mut RenderStats,
+) -> Result<()>;
 
 /// Bounces recorded per submission of a batch (see `Renderer::run_bounces`).
 const BOUNCE_CHUNK: u32 = 64;
 
-/// Paths per batch: bounded by memory (about 40 MiB of path state on a CPU device,
-/// 300 MiB on a GPU) and large enough to fill a GPU.
+/// The chunks of bounces of the photon mappers' batches (`Renderer::run_bounces`):
+/// photon and SPPM camera batches are small and many (one per iteration), and their
+/// paths mostly end within a few bounces, so their first chunk is short.
+const SHORT_BOUNCE_CHUNKS: (u32, u32) = (4, BOUNCE_CHUNK);
+
+/// Paths per batch: bounded by memory (about 40 MiB of path state and film samples
+/// on a CPU device, 300 MiB on a GPU) and large enough to fill a GPU.
 fn default_capacity(device: &Device) -> u32 {
     let budget: u64 = match device.info().kind {
         crate::gpu::DeviceKind::Cpu => 40 << 20,
         _ => 300 << 20,
     };
-    (budget / BYTES_PER_PATH) as u32
+    (budget / (BYTES_PER_PATH + BYTES_PER_SAMPLE_SLOT)) as u32
 }

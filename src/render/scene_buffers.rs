@@ -481,6 +481,7 @@ impl SceneRecords {
             matches!(self.emitters[i].kind, EMITTER_CONSTANT | EMITTER_ENVMAP)
         });
         self.alias = super::alias::build(&power, &[]);
+        super::alias::set_cdf(&mut self.alias);
         self.alias.extend(tables);
     }
 }

@@ -1,6 +1,6 @@
-//! The wavefront's GPU state: path states, ray, hit and shadow queues, counters,
-//! dispatch arguments and the film — descriptor set 1
-//! (`shaders/common/wavefront.glsl`).
+//! The wavefront's GPU state: path states, ray, hit and shadow queues, counters and
+//! dispatch arguments — descriptor set 1 (`shaders/common/wavefront.glsl`). The film
+//! is set 3 ([`super::film`]), the photon mappers' set 2.
 
 use std::mem::size_of;
 
@@ -10,17 +10,17 @@ use crate::gpu::{BindingKind, BindingLayout, Buffer, DescriptorSet, Device, Loca
 use super::error::Result;
 
 /// Bindings of set 1, in order.
-pub const WAVEFRONT_BINDINGS: u32 = 12;
+pub const WAVEFRONT_BINDINGS: u32 = 11;
 
 /// The kind of each binding of set 1: the frame is a uniform buffer; path states,
 /// rays, hits and shadow rays are written as storage buffers (bindings 1-4) and read
-/// through texel views of the same buffers (bindings 8-11), see
+/// through texel views of the same buffers (bindings 7-10), see
 /// [`BindingKind::Texels`].
 pub fn wavefront_binding_kinds() -> Vec<BindingKind> {
     (0..WAVEFRONT_BINDINGS)
         .map(|b| match b {
             0 => BindingKind::Uniform,
-            8.. => BindingKind::Texels,
+            7.. => BindingKind::Texels,
             _ => BindingKind::Storage,
         })
         .collect()
@@ -41,7 +41,6 @@ pub struct Wavefront {
     pub shadows: Buffer,
     pub counters: Buffer,
     pub dispatch_args: Buffer,
-    pub film: Buffer,
     pub set: DescriptorSet,
     /// Path slots.
     pub capacity: u32,
@@ -52,7 +51,6 @@ impl Wavefront {
         device: &Device,
         layout: &BindingLayout,
         capacity: u32,
-        pixels: u32,
         frame: &Frame,
     ) -> Result<Wavefront> {
         let n = capacity as u64;
@@ -84,7 +82,6 @@ impl Wavefront {
         let counters = Buffer::from_slice(device, "counters", &[Counters::default()])?;
         let dispatch_args =
             Buffer::from_slice(device, "dispatch args", &[DispatchArgs::default()])?;
-        let film = Buffer::from_slice(device, "film", &vec![[0f32; 4]; pixels as usize])?;
         let set = DescriptorSet::new(
             layout,
             1,
@@ -96,7 +93,6 @@ impl Wavefront {
                 &shadows,
                 &counters,
                 &dispatch_args,
-                &film,
                 &paths,
                 &rays,
                 &hits,
@@ -111,7 +107,6 @@ impl Wavefront {
             shadows,
             counters,
             dispatch_args,
-            film,
             set,
             capacity,
         })

@@ -5,10 +5,10 @@
 //! - `sensor type="perspective"`: `fov` + `fov_axis` (x, y, diagonal, smaller, larger;
 //!   default x) or `focal_length` (35 mm film, default "50mm"), `near_clip` (0.01),
 //!   `far_clip` (10000), `to_world`, `focus_distance` (read, unused); nested
-//!   `film type="hdrfilm"` (`width` 768, `height` 576; `pixel_format`,
-//!   `component_format`, `banner`, `sample_border`, `rfilter` accepted and ignored) and
-//!   `sampler` (independent, stratified, multijitter, orthogonal, ldsampler:
-//!   `sample_count` 4; `seed`, `jitter`, `strength` ignored).
+//!   `film type="hdrfilm"` (`width` 768, `height` 576, crop window, `sample_border`,
+//!   pixel, component and file formats, `rfilter`: see [`super::film`]) and
+//!   `sampler` (independent, stratified, multijitter, orthogonal, ldsampler and
+//!   pbrt-v4's zsobol, with their parameters: [`super::sampler`]).
 //! - `integrator`: any type; its parameters are kept unread in [`IntegratorSpec`].
 //!   `moment` around one nested integrator stands for that integrator (its mean).
 //! - `path value="DIR"`: a folder file names are also searched in (see
@@ -38,10 +38,11 @@ use super::builder::{self, Builder, MeshOptions, UNSUPPORTED_BSDFS, UNSUPPORTED_
 use super::mesh;
 use super::properties::Properties;
 use super::quadric;
+use super::sampler::{self, Sampler};
 use super::xml::{Dialect, Document, Element};
 use super::{
-    envmap, obj, ply, serialized, Bsdf, Camera, Emitter, Error, IntegratorSpec, Medium, Quadric,
-    Scene, Texture,
+    envmap, obj, ply, serialized, Bsdf, Camera, Emitter, Error, Film, IntegratorSpec, Medium,
+    Quadric, Scene, Texture,
 };
 
 const SENSORS: &[&str] = &[
@@ -73,22 +74,6 @@ const BSDFS: &[&str] = &[
     "plastic",
     "roughplastic",
 ];
-const SAMPLERS: &[&str] = &[
-    "independent",
-    "stratified",
-    "multijitter",
-    "orthogonal",
-    "ldsampler",
-];
-const RFILTERS: &[&str] = &[
-    "box",
-    "tent",
-    "gaussian",
-    "mitchell",
-    "catmullrom",
-    "lanczos",
-];
-
 /// Default `<film>` size.
 const FILM_WIDTH: u32 = 768;
 const FILM_HEIGHT: u32 = 576;
@@ -107,7 +92,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         texture_ids: HashMap::new(),
         building: HashSet::new(),
     };
-    let mut camera: Option<(Camera, u32)> = None;
+    let mut camera: Option<(Camera, (Sampler, u32), Film)> = None;
     let mut camera_medium = None;
     let mut integrator: Option<IntegratorSpec> = None;
     for el in &doc.root.children {
@@ -116,8 +101,8 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
                 if camera.is_some() {
                     return Err(el.err("more than one <sensor>; wavetrace renders one"));
                 }
-                let (cam, spp, medium) = sensor(el)?;
-                camera = Some((cam, spp));
+                let (cam, spp, film, medium) = sensor(el)?;
+                camera = Some((cam, spp, film));
                 if let Some(m) = medium {
                     camera_medium = Some(l.medium_of(m)?);
                 }
@@ -147,7 +132,8 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
             _ => return Err(l.unexpected(el, "<scene>")),
         }
     }
-    let (camera, spp) = camera.ok_or_else(|| doc.root.err("the scene has no <sensor>"))?;
+    let (camera, (sampler, spp), film) =
+        camera.ok_or_else(|| doc.root.err("the scene has no <sensor>"))?;
     let environments =
         l.b.emitters
             .iter()
@@ -165,7 +151,9 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
     Ok(Scene {
         path: doc.root.file.as_ref().clone(),
         camera,
+        film,
         spp,
+        sampler,
         integrator,
         meshes: l.b.meshes,
         quadrics: l.b.quadrics,
@@ -257,8 +245,11 @@ pub fn fov_x(fov_deg: f64, axis: &str, width: u32, height: u32) -> Option<f64> {
     Some((2.0 * tx.atan()).to_degrees())
 }
 
-/// The camera, its sample count and the `<medium>` (or `<ref>` to one) it sits in.
-fn sensor(el: &Element) -> Result<(Camera, u32, Option<&Element>), Error> {
+/// What a `<sensor>` says: the camera, its sampler and sample count, its film and the
+/// `<medium>` (or `<ref>` to one) it sits in.
+type SensorParts<'a> = (Camera, (Sampler, u32), Film, Option<&'a Element>);
+
+fn sensor(el: &Element) -> Result<SensorParts<'_>, Error> {
     el.check_attrs(&["type", "id", "name"])?;
     if el.require("type")? != "perspective" {
         return Err(builder::unsupported(el, "sensor", SENSORS));
@@ -279,7 +270,7 @@ fn sensor(el: &Element) -> Result<(Camera, u32, Option<&Element>), Error> {
             _ => return Err(n.err(format!("unexpected <{}> in <sensor>", n.tag))),
         }
     }
-    let (width, height) = size.unwrap_or((FILM_WIDTH, FILM_HEIGHT));
+    let (width, height, film) = size.unwrap_or((FILM_WIDTH, FILM_HEIGHT, Film::default()));
     let fov_x_deg = if props.has("fov") {
         if props.has("focal_length") {
             return Err(props.error(
@@ -347,60 +338,23 @@ fn sensor(el: &Element) -> Result<(Camera, u32, Option<&Element>), Error> {
             width,
             height,
         },
-        spp.unwrap_or(4),
+        spp.unwrap_or((Sampler::default(), 4)),
+        film,
         medium,
     ))
 }
 
-fn film(el: &Element) -> Result<(u32, u32), Error> {
+/// The film's size and the rest of it ([`Film::from_mitsuba`]).
+fn film(el: &Element) -> Result<(u32, u32, Film), Error> {
     el.check_attrs(&["type", "id", "name"])?;
     if el.require("type")? != "hdrfilm" {
         return Err(builder::unsupported(el, "film", FILMS));
     }
-    let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
-    for n in nested {
-        match n.tag.as_str() {
-            "rfilter" => {
-                n.check_attrs(&["type", "id", "name"])?;
-                let t = n.require("type")?;
-                if !RFILTERS.contains(&t) {
-                    return Err(n.err(format!("unknown rfilter type '{t}'")));
-                }
-                // Accepted and ignored, parameters included.
-                Properties::read(n, Dialect::Mitsuba, false)?;
-            }
-            _ => return Err(n.err(format!("unexpected <{}> in <film>", n.tag))),
-        }
-    }
-    let size = (
-        props.positive("width", FILM_WIDTH)?,
-        props.positive("height", FILM_HEIGHT)?,
-    );
-    props.ignore(&[
-        "pixel_format",
-        "component_format",
-        "banner",
-        "sample_border",
-        "file_format",
-    ]);
-    props.finish()?;
-    Ok(size)
+    Film::from_mitsuba(el, FILM_WIDTH, FILM_HEIGHT)
 }
 
-fn sampler(el: &Element) -> Result<u32, Error> {
-    el.check_attrs(&["type", "id", "name"])?;
-    let t = el.require("type")?;
-    if !SAMPLERS.contains(&t) {
-        return Err(el.err(format!("unknown sampler type '{t}'")));
-    }
-    let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
-    if let Some(n) = nested.first() {
-        return Err(n.err(format!("unexpected <{}> in <sampler>", n.tag)));
-    }
-    let spp = props.positive("sample_count", 4)?;
-    props.ignore(&["seed", "jitter", "strength"]);
-    props.finish()?;
-    Ok(spp)
+fn sampler(el: &Element) -> Result<(Sampler, u32), Error> {
+    sampler::read(el, Dialect::Mitsuba, "sample_count", 4)
 }
 
 struct Loader<'a> {

@@ -9,6 +9,7 @@ pub mod camera;
 pub mod emitter;
 pub mod envmap;
 pub mod error;
+pub mod film;
 pub mod integrator;
 pub mod medium;
 pub mod mesh;
@@ -20,6 +21,7 @@ mod ply_binary;
 pub mod procedural;
 pub mod properties;
 pub mod quadric;
+pub mod sampler;
 mod serialized;
 pub mod shape;
 pub mod spectrum;
@@ -31,8 +33,10 @@ pub use bsdf::Bsdf;
 pub use camera::Camera;
 pub use emitter::Emitter;
 pub use error::Error;
+pub use film::Film;
 pub use integrator::IntegratorSpec;
 pub use medium::Medium;
+pub use sampler::Sampler;
 pub use shape::{Mesh, Quadric, QuadricKind};
 pub use texture::Texture;
 
@@ -44,8 +48,13 @@ pub struct Scene {
     /// The file it was read from (relative paths inside it resolve against its folder).
     pub path: PathBuf,
     pub camera: Camera,
-    /// Samples per pixel the scene asks for (Mitsuba `sample_count`, Nori `sampleCount`).
+    /// Reconstruction filter, crop window and output formats (the size is the camera's).
+    pub film: Film,
+    /// Samples per pixel the scene asks for (Mitsuba `sample_count`, Nori `sampleCount`),
+    /// before the sampler rounds it ([`Sampler::sample_count`]).
     pub spp: u32,
+    /// The sampler the scene names.
+    pub sampler: Sampler,
     /// The integrator the scene names, with its parameters still unread.
     pub integrator: IntegratorSpec,
     pub meshes: Vec<Mesh>,

@@ -3,14 +3,16 @@
 //!
 //! Supported objects (anything else is "not supported yet" or "unknown"):
 //! - `camera type="perspective"`: `toWorld`, `fov` (horizontal degrees, 30), `width`
-//!   1280, `height` 720, `nearClip` 1e-4, `farClip` 1e4; a nested `rfilter` is ignored.
+//!   1280, `height` 720, `nearClip` 1e-4, `farClip` 1e4; a nested `rfilter`
+//!   (`gaussian`, the default, `mitchell`, `tent`, `box`: [`super::film`]).
 //!   Nori's camera looks down +z like Mitsuba's but puts image column 0 at camera -x.
 //!   `lookat` is orthonormal, as in Nori since its commit 981dfb2 (2015-08-18); before
 //!   that Nori left its `left` and `up` axes unnormalised, of length sin θ (θ between
 //!   `up` and the view direction), which narrows tan(fov / 2) by that factor: the 2015
 //!   course references (veach_mi, odyssey, sphere) are 1-4.4% zoomed in against
 //!   these files (`tests/nori_scenes.rs`).
-//! - `sampler type="independent"`: `sampleCount` (1).
+//! - `sampler` of any type wavetrace knows (`super::sampler`; Nori itself has only
+//!   `independent`): `sampleCount` (1), `seed` and the type's parameters.
 //! - `integrator`: any type; its parameters are kept unread in [`IntegratorSpec`].
 //! - `mesh type="obj"`: `filename`, `toWorld`, nested `bsdf` (`diffuse`, `mirror`,
 //!   `dielectric`, `microfacet`; parameters in [`Bsdf`]) and `emitter type="area"` (`radiance`). Nori does not flip texture v.
@@ -26,16 +28,17 @@
 use glam::Vec3;
 
 use super::builder::{self, Builder, MeshOptions, UNSUPPORTED_BSDFS, UNSUPPORTED_EMITTERS};
+use super::film::Filter;
 use super::mitsuba::integrator_spec;
 use super::properties::Properties;
 use super::xml::{Dialect, Document, Element};
-use super::{obj, Bsdf, Camera, Emitter, Error, Medium, Scene};
+use super::{obj, Bsdf, Camera, Emitter, Error, Film, Medium, Sampler, Scene};
 
 /// Loads a Nori scene read by [`super::xml::read`].
 pub fn load(doc: &Document) -> Result<Scene, Error> {
     let mut b = Builder::default();
     let mut camera = None;
-    let mut spp = None;
+    let mut sampler_spp = None;
     let mut integrator = None;
     for el in &doc.root.children {
         match el.tag.as_str() {
@@ -46,10 +49,10 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
                 camera = Some(perspective(el)?);
             }
             "sampler" => {
-                if spp.is_some() {
+                if sampler_spp.is_some() {
                     return Err(el.err("more than one <sampler>"));
                 }
-                spp = Some(sampler(el)?);
+                sampler_spp = Some(sampler(el)?);
             }
             "integrator" => {
                 if integrator.is_some() {
@@ -64,12 +67,15 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
             t => return Err(el.err(format!("unexpected <{t}> in a Nori <scene>"))),
         }
     }
-    let camera = camera.ok_or_else(|| doc.root.err("the scene has no <camera>"))?;
+    let (camera, film) = camera.ok_or_else(|| doc.root.err("the scene has no <camera>"))?;
     let integrator = integrator.ok_or_else(|| doc.root.err("the scene has no <integrator>"))?;
+    let (sampler, spp) = sampler_spp.unwrap_or((Sampler::default(), 1));
     Ok(Scene {
         path: doc.root.file.as_ref().clone(),
         camera,
-        spp: spp.unwrap_or(1),
+        film,
+        spp,
+        sampler,
         integrator,
         meshes: b.meshes,
         quadrics: b.quadrics,
@@ -81,17 +87,20 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
     })
 }
 
-fn perspective(el: &Element) -> Result<Camera, Error> {
+/// The camera and its film (Nori's reconstruction filter sits in the camera).
+fn perspective(el: &Element) -> Result<(Camera, Film), Error> {
     el.check_attrs(&["type"])?;
     if el.require("type")? != "perspective" {
         return Err(builder::unsupported(el, "camera", &[]));
     }
     let (props, nested) = Properties::read(el, Dialect::Nori, false)?;
+    let mut filter = None;
     for n in nested {
-        if n.tag != "rfilter" {
-            return Err(n.err(format!("unexpected <{}> in <camera>", n.tag)));
+        match n.tag.as_str() {
+            "rfilter" if filter.is_none() => filter = Some(Filter::from_nori(n)?),
+            "rfilter" => return Err(n.err("the camera has more than one reconstruction filter")),
+            _ => return Err(n.err(format!("unexpected <{}> in <camera>", n.tag))),
         }
-        Properties::read(n, Dialect::Nori, false)?; // accepted and ignored
     }
     let fov = props.float("fov", 30.0)?;
     if !(fov > 0.0 && fov < 180.0) {
@@ -116,22 +125,11 @@ fn perspective(el: &Element) -> Result<Camera, Error> {
         return Err(props.object_error("need 0 < nearClip < farClip"));
     }
     props.finish()?;
-    Ok(camera)
+    Ok((camera, Film::nori(filter.unwrap_or(Filter::DEFAULT))))
 }
 
-fn sampler(el: &Element) -> Result<u32, Error> {
-    el.check_attrs(&["type"])?;
-    let t = el.require("type")?;
-    if t != "independent" {
-        return Err(el.err(format!("unknown sampler type '{t}'")));
-    }
-    let (props, nested) = Properties::read(el, Dialect::Nori, false)?;
-    if let Some(n) = nested.first() {
-        return Err(n.err(format!("unexpected <{}> in <sampler>", n.tag)));
-    }
-    let spp = props.positive("sampleCount", 1)?;
-    props.finish()?;
-    Ok(spp)
+fn sampler(el: &Element) -> Result<(Sampler, u32), Error> {
+    super::sampler::read(el, Dialect::Nori, "sampleCount", 1)
 }
 
 fn mesh(el: &Element, b: &mut Builder) -> Result<(), Error> {

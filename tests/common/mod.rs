@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 
 use wavetrace::gpu::{BindingLayout, Buffer, CommandList, DescriptorSet, Device, Kernel, Location};
-use wavetrace::image::metrics::{block_t_test, rel_mse, BlockTest};
+use wavetrace::image::metrics::{block_t_test, block_t_test_correlated, rel_mse, BlockTest};
 use wavetrace::image::Image;
 use wavetrace::render::{RenderOptions, Renderer};
 use wavetrace::scene::Scene;
@@ -82,19 +82,37 @@ pub fn load(path: &Path) -> Scene {
 /// the render passes at 1% and the same test rejects the render scaled by 0.95 (it
 /// must have the power to see a 5% bias).
 pub fn assert_matches_reference(img: &Image, reference: &Image, label: &str) -> BlockTest {
-    let test = block_t_test(img, reference, 8).expect("t-test");
+    assert_matches_filtered_reference(img, reference, label, &wavetrace::scene::film::Filter::Box)
+}
+
+/// [`assert_matches_reference`] for an image made with a reconstruction filter wider
+/// than a pixel (as its reference was): neighbouring pixels share samples, so their
+/// noise correlates and a block mean varies more than for independent pixels; the
+/// block t-test widens its standard error by the filter's factor
+/// (`Filter::block_variance_factor`; 1 for the box).
+pub fn assert_matches_filtered_reference(
+    img: &Image,
+    reference: &Image,
+    label: &str,
+    filter: &wavetrace::scene::film::Filter,
+) -> BlockTest {
+    let factor = filter.block_variance_factor(8);
+    let test = block_t_test_correlated(img, reference, 8, factor).expect("t-test");
     println!(
-        "{label}: {test}; relMSE {:.3e}",
+        "{label}: {test} (variance x {factor:.2}); relMSE {:.3e}",
         rel_mse(img, reference).expect("relMSE")
     );
     assert!(
         test.passes(0.01),
-        "render disagrees with the Mitsuba reference: {test}"
+        "{label}: render disagrees with the Mitsuba reference: {test}"
     );
     let mut biased = img.clone();
     biased.rgb.iter_mut().for_each(|v| *v *= 0.95);
-    let b = block_t_test(&biased, reference, 8).expect("t-test");
-    assert!(!b.passes(0.01), "the check cannot see a 5% bias: {b}");
+    let b = block_t_test_correlated(&biased, reference, 8, factor).expect("t-test");
+    assert!(
+        !b.passes(0.01),
+        "{label}: the check cannot see a 5% bias: {b}"
+    );
     test
 }
 

@@ -42,8 +42,7 @@ use crate::gpu::{
 
 use super::error::{Error, Result};
 use super::integrator::PhotonBudget;
-use super::wavefront::Wavefront;
-use super::{groups_for, Integrator, RenderStats, Renderer};
+use super::{groups_for, Integrator, Over, RenderStats, Renderer, SHORT_BOUNCE_CHUNKS};
 
 pub use grid::{GridKernels, GridShape};
 
@@ -267,6 +266,8 @@ pub struct SceneFeatures {
     pub textures: u32,
     pub emitters: u32,
     pub bsdfs: u32,
+    /// The sampler's `SAMPLER_*` kind (camera paths draw from it).
+    pub sampler: u32,
 }
 
 /// The kernels only one of the photon mappers runs.
@@ -299,7 +300,9 @@ pub struct Photons {
 
 impl Photons {
     /// Kernels and buffers for `integrator` (a photon mapper) in a scene with
-    /// `features` and `bounds`; `pixels` of film, `paths` path slots per batch.
+    /// `features` and `bounds`; `pixels` of film, `paths` path slots per batch; at most
+    /// `max_photons` photons per pass and `max_sppm_pixels` SPPM pixels held at once
+    /// (see [`RenderOptions`](super::RenderOptions)).
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         device: &Device,
@@ -310,6 +313,7 @@ impl Photons {
         pixels: u32,
         paths: u32,
         max_photons: Option<u32>,
+        max_sppm_pixels: Option<u32>,
     ) -> Result<Photons> {
         let k =
             |name: &str, spirv: &[u8], spec: &[u32]| Kernel::new(device, name, spirv, layout, spec);
@@ -335,7 +339,9 @@ impl Photons {
                 let binding = device.info().max_storage_buffer_range;
                 let tile = (binding / size_of::<VisiblePoint>() as u64)
                     .min(binding / size_of::<SppmPixel>() as u64)
-                    .min(pixels as u64) as u32;
+                    .min(pixels as u64)
+                    .min(max_sppm_pixels.unwrap_or(u32::MAX).max(1) as u64)
+                    as u32;
                 let kernels = IntegratorKernels::Sppm {
                     shade: k(
                         "sppm_shade",
@@ -365,7 +371,7 @@ impl Photons {
                     camera: k(
                         "photon_camera",
                         shaders::KERNELS_PHOTON_CAMERA,
-                        &[f.surface, f.textures, f.emitters, f.bsdfs],
+                        &[f.surface, f.textures, f.emitters, f.bsdfs, f.sampler],
                     )?,
                     gather: k(
                         "photon_gather",
@@ -494,9 +500,6 @@ impl PhotonStats {
     }
 }
 
-/// Bounces recorded per submission of a photon batch.
-const PHOTON_BOUNCE_CHUNK: u32 = 16;
-
 impl Renderer {
     fn photons(&self) -> &Photons {
         self.photon
@@ -522,8 +525,10 @@ impl Renderer {
     }
 
     /// Traces photon paths `first .. first + count` (count at most the batch capacity)
-    /// with the parameters written last, appending their photons. Returns after the
-    /// batch has run.
+    /// with the parameters written last, appending their photons: `photon_emit`, then
+    /// per bounce `intersect -> photon_bounce -> queue_args`. Returns after the batch
+    /// has run. Photon paths still going after `max_bounces` surfaces end there (the
+    /// parameters' `max_bounces` already stops them).
     fn trace_photon_batch(
         &self,
         cmd: &mut CommandList,
@@ -556,38 +561,24 @@ impl Renderer {
             groups_for(count),
         );
         cmd.barrier();
-        let mut depth = 0;
-        while depth < max_bounces {
-            let end = (depth + PHOTON_BOUNCE_CHUNK).min(max_bounces);
-            for d in depth..end {
-                push.depth = d;
-                push.queue_in = d % 2;
-                let p = bytemuck::bytes_of(&push);
-                let ray_args = Wavefront::RAY_ARGS;
-                cmd.dispatch_indirect(
-                    &self.kernels.intersect,
-                    &sets,
-                    p,
-                    &wf.dispatch_args,
-                    ray_args,
-                );
-                cmd.barrier();
-                cmd.dispatch_indirect(&ph.bounce, &sets, p, &wf.dispatch_args, ray_args);
-                cmd.barrier();
-                cmd.dispatch(&self.kernels.queue_args, &sets, p, [1, 1, 1]);
-                cmd.barrier();
-            }
-            depth = end;
-            stats.kernel_times.add(&cmd.submit_and_wait_timed()?);
-            let c: Vec<Counters> = wf.counters.read(&self.device)?;
-            if c[0].ray_count[(depth % 2) as usize] == 0 {
-                stats.rays += c[0].rays_traced as u64;
-                break;
-            }
-            if depth >= max_bounces {
-                stats.rays += c[0].rays_traced as u64;
-            }
-        }
+        let k = &self.kernels;
+        let stages = [
+            (&k.intersect, Over::Rays),
+            (&ph.bounce, Over::Rays),
+            (&k.queue_args, Over::One),
+        ];
+        self.run_bounces(
+            cmd,
+            &sets,
+            &mut push,
+            &stages,
+            max_bounces,
+            SHORT_BOUNCE_CHUNKS,
+            stats,
+        )?;
+        stats.kernel_times.add(&cmd.submit_and_wait_timed()?);
+        let c: Vec<Counters> = wf.counters.read(&self.device)?;
+        stats.rays += c[0].rays_traced as u64;
         let p = stats.photons.get_or_insert_with(PhotonStats::default);
         p.trace_seconds += t.elapsed().as_secs_f64();
         Ok(())

@@ -5,11 +5,13 @@
 //! paths: per bounce `intersect -> photon_camera -> queue_args`, where
 //! `photon_camera` adds emission, follows delta BSDFs and writes the path's visible
 //! point at its first other surface; then `photon_gather` adds the density estimate
-//! there, and `accumulate` puts the paths on the film.
+//! there, and `accumulate` and `film_gather` put the paths on the film (through its
+//! reconstruction filter, as the path tracers' samples).
 //!
 //! A map split into P passes is gathered P times over the same camera paths (their
 //! random numbers repeat), each pass's photons once. The film averages the P samples of
-//! a camera path, so each pass adds P times its share: the emission P times in the
+//! a camera path (P times its weight, once per pass), so each pass adds P times its
+//! share: the emission P times in the
 //! first pass (none in the others), the photons of pass k with the factor
 //! P / (π r² N) (`PhotonParams::gather_scale`, `emission_scale`). The mean over the
 //! passes is then the emission plus Σ f Φ / (π r² N) over every photon.
@@ -22,11 +24,11 @@ use std::time::Instant;
 
 use crate::gpu::layout::{PhotonParams, Push, VisiblePoint};
 use crate::gpu::CommandList;
-use crate::image::Image;
+use crate::render::film::FilmSums;
 use crate::render::integrator::{PhotonMapperParams, MAX_BOUNCES};
 
 use super::super::error::Result;
-use super::super::{groups_for, Over, RenderStats, Renderer, BOUNCE_CHUNK};
+use super::super::{groups_for, Over, RenderStats, Renderer, SHORT_BOUNCE_CHUNKS};
 use super::{Budget, IntegratorKernels, PhotonStats};
 
 impl Renderer {
@@ -37,7 +39,7 @@ impl Renderer {
         first: u32,
         count: u32,
         progress: &mut dyn FnMut(u64, u64),
-    ) -> Result<(Image, RenderStats)> {
+    ) -> Result<(FilmSums, RenderStats)> {
         let start = Instant::now();
         let mut stats = RenderStats {
             spp: count,
@@ -57,7 +59,7 @@ impl Renderer {
             &mut stats,
         )?;
         let passes = plan.passes.len();
-        cmd.fill(&self.wavefront.film, 0, self.wavefront.film.size(), 0);
+        self.film.clear(&mut cmd);
         cmd.barrier();
         for k in 0..passes {
             let grid = self.photon_pass(&mut cmd, &plan, k, base, radius, &mut stats)?;
@@ -75,8 +77,8 @@ impl Renderer {
                 count,
                 &mut stats,
                 &mut pass_progress,
-                &mut |r, cmd, sample, base, n, stats| {
-                    r.photon_camera_batch(cmd, sample, base, n, stats)
+                &mut |r, cmd, sample, base, n, slot, stats| {
+                    r.photon_camera_batch(cmd, sample, base, n, slot, stats)
                 },
             )?;
         }
@@ -85,9 +87,9 @@ impl Renderer {
             .get_or_insert_with(PhotonStats::default)
             .emitted += plan.emitted as u64;
         self.photon_memory_stats(&mut stats);
-        let image = self.film_image()?;
+        let film = self.film.read(&self.device)?;
         stats.seconds = start.elapsed().as_secs_f64();
-        Ok((image, stats))
+        Ok((film, stats))
     }
 
     /// One batch of the photon mapper's camera paths (see [`Renderer::run_batch`] for
@@ -98,6 +100,7 @@ impl Renderer {
         sample_base: u32,
         pixel_base: u32,
         path_count: u32,
+        slot: u32,
         stats: &mut RenderStats,
     ) -> Result<()> {
         let ph = self.photons();
@@ -105,7 +108,12 @@ impl Renderer {
             unreachable!("the photon mapper's renderer has the photon mapper's kernels")
         };
         let wf = &self.wavefront;
-        let sets = [&self.scene_buffers.set, &wf.set, &ph.map.set];
+        let sets = [
+            &self.scene_buffers.set,
+            &wf.set,
+            &ph.map.set,
+            &self.film.set,
+        ];
         // No visible point yet: bsdf = NONE.
         let vp_bytes = path_count as u64 * size_of::<VisiblePoint>() as u64;
         cmd.fill(&ph.map.visible_points, 0, vp_bytes, u32::MAX);
@@ -114,6 +122,7 @@ impl Renderer {
             pixel_base,
             sample_base,
             capacity: wf.capacity,
+            sample_slot: slot,
             ..Default::default()
         };
         self.start_batch(cmd, &sets, &push);
@@ -129,7 +138,7 @@ impl Renderer {
             &mut push,
             &stages,
             self.bounces,
-            BOUNCE_CHUNK,
+            SHORT_BOUNCE_CHUNKS,
             stats,
         )?;
         stats.kernel_times.add(&cmd.submit_and_wait_timed()?);
@@ -137,13 +146,7 @@ impl Renderer {
         let p = bytemuck::bytes_of(&push);
         cmd.dispatch(gather, &sets, p, groups_for(path_count));
         cmd.barrier();
-        cmd.dispatch(
-            &k.accumulate,
-            &sets,
-            p,
-            groups_for(path_count.min(self.width * self.height)),
-        );
-        cmd.barrier();
+        self.record_film(cmd, &sets, &push);
         self.finish_batch(cmd, stats, depth)?;
         stats
             .photons

@@ -33,10 +33,11 @@ use std::time::Instant;
 use crate::gpu::layout::{PhotonCounters, PhotonParams, Push, SppmPixel, VisiblePoint};
 use crate::gpu::CommandList;
 use crate::image::Image;
+use crate::render::film::FilmSums;
 use crate::render::integrator::{PhotonBudget, SppmParams, MAX_BOUNCES};
 
 use super::super::error::{Error, Result};
-use super::super::{groups_for, Over, RenderStats, Renderer, BOUNCE_CHUNK};
+use super::super::{groups_for, Over, RenderStats, Renderer, SHORT_BOUNCE_CHUNKS};
 use super::{Budget, IntegratorKernels, PhotonStats};
 
 /// Mitsuba 0.6's automatic initial radius: 5 × the scene's bounding-sphere radius /
@@ -55,7 +56,7 @@ impl Renderer {
         first: u32,
         count: u32,
         progress: &mut dyn FnMut(u64, u64),
-    ) -> Result<(Image, RenderStats)> {
+    ) -> Result<(FilmSums, RenderStats)> {
         if first != 0 {
             return Err(Error::Options(format!(
                 "sppm renders its iterations in order from the first; samples from \
@@ -121,7 +122,12 @@ impl Renderer {
                 let IntegratorKernels::Sppm { gather, update, .. } = &ph.kernels else {
                     unreachable!("the sppm renderer has the sppm kernels")
                 };
-                let sets = [&self.scene_buffers.set, &self.wavefront.set, &ph.map.set];
+                let sets = [
+                    &self.scene_buffers.set,
+                    &self.wavefront.set,
+                    &ph.map.set,
+                    &self.film.set,
+                ];
                 for k in 0..plan.passes.len() {
                     self.photon_pass(&mut cmd, &plan, k, base, max_radius, &mut stats)?;
                     let t = Instant::now();
@@ -175,14 +181,14 @@ impl Renderer {
         }
         self.photon_memory_stats(&mut stats);
         stats.seconds = start.elapsed().as_secs_f64();
-        Ok((
-            Image {
-                width: self.width,
-                height: self.height,
-                rgb,
-            },
-            stats,
-        ))
+        // Each pixel's estimate, weight 1 (the film's geometry is the whole film with
+        // a box filter for sppm).
+        let film = FilmSums::from_image(&Image {
+            width: self.width,
+            height: self.height,
+            rgb,
+        });
+        Ok((film, stats))
     }
 
     /// One batch of SPPM camera paths: `path_count` pixels from `pixel_base` (within
@@ -200,7 +206,12 @@ impl Renderer {
             unreachable!("the sppm renderer has the sppm kernels")
         };
         let wf = &self.wavefront;
-        let sets = [&self.scene_buffers.set, &wf.set, &ph.map.set];
+        let sets = [
+            &self.scene_buffers.set,
+            &wf.set,
+            &ph.map.set,
+            &self.film.set,
+        ];
         let mut push = Push {
             path_count,
             pixel_base,
@@ -222,7 +233,7 @@ impl Renderer {
             &mut push,
             &stages,
             self.bounces,
-            BOUNCE_CHUNK,
+            SHORT_BOUNCE_CHUNKS,
             stats,
         )?;
         cmd.dispatch(
