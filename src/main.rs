@@ -9,7 +9,9 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use wavetrace::bench;
 use wavetrace::gpu::Device;
-use wavetrace::render::{RenderOptions, Renderer};
+use wavetrace::image::tev::{self, TevStream};
+use wavetrace::render::film::FilmSums;
+use wavetrace::render::{RenderOptions, RenderStats, Renderer};
 use wavetrace::scene::film::{FileFormat, Filter, PixelFormat};
 use wavetrace::scene::sampler::SamplerKind;
 use wavetrace::scene::{self, Scene};
@@ -106,6 +108,30 @@ enum Command {
         /// No progress bar.
         #[arg(short, long)]
         quiet: bool,
+        /// Stream the image in progress to tev (the HDR viewer) listening at HOST:PORT
+        /// (default 127.0.0.1:14158); without tev the render goes on, with a warning.
+        #[arg(long, value_name = "HOST:PORT", num_args = 0..=1,
+              default_missing_value = tev::DEFAULT_ADDRESS)]
+        tev: Option<String>,
+    },
+    /// Watch a scene converge in a window and move its camera (needs a display):
+    /// WASDQE move, arrow keys turn, mouse drag orbits, scroll zooms, =/- move speed,
+    /// [/] exposure, R resets the camera, P or F12 saves EXR + PNG, Esc quits.
+    View {
+        #[command(flatten)]
+        scene: SceneArgs,
+        /// Stop at this many samples per pixel (default: render until closed).
+        #[arg(long)]
+        spp: Option<u32>,
+        /// Exposure of the display in stops (the saved EXR is not changed).
+        #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+        exposure: f32,
+        /// Render --spp samples (the scene's count without it), save what the window
+        /// shows to this PNG, and exit.
+        #[arg(long, value_name = "FILE.png")]
+        screenshot: Option<PathBuf>,
+        #[command(flatten)]
+        run: RunArgs,
     },
     /// Time against error: render at increasing sample counts and compare each image
     /// with a reference (RMSE, relMSE, rays/s, efficiency, GPU time per kernel).
@@ -231,6 +257,7 @@ fn run(cli: Cli) -> Result<()> {
             run,
             profile,
             quiet,
+            tev: tev_address,
         } => {
             let t_load = Instant::now();
             let sc = load(&scene)?;
@@ -258,6 +285,9 @@ fn run(cli: Cli) -> Result<()> {
                 eprintln!("warning: {w}");
             }
             let spp = count.count;
+            // The sampler's pattern is the count rendered (as `bench` and
+            // Renderer::render have it), not the scene's.
+            renderer.set_sample_count(count)?;
             let s = &renderer.setup;
             eprintln!(
                 "start-up: scene {:.0} ms, vulkan {:.0} ms, bvh {:.0} ms ({} nodes, SAH {:.1}), upload {:.0} ms, \
@@ -306,10 +336,36 @@ fn run(cli: Cli) -> Result<()> {
                 bar
             };
             let pixels = g.region_pixels() as u64;
-            let (film, stats) = renderer.render_film(0, spp, &mut |done, _total| {
+            let mut progress = |done: u64, _total: u64| {
                 bar.set_position(done);
                 bar.set_message(format!("{}/{spp} spp", done / pixels));
-            })?;
+            };
+            let mut tev = tev_address.and_then(|address| {
+                let name = output.file_name().map_or_else(
+                    || "wavetrace".to_string(),
+                    |n| n.to_string_lossy().into_owned(),
+                );
+                let names = sc.film.pixel_format.channel_names();
+                match TevStream::create(&address, &name, w, h, &names) {
+                    Ok(t) => {
+                        eprintln!("streaming to tev at {address} as '{name}'");
+                        Some(t)
+                    }
+                    Err(e) => {
+                        eprintln!("warning: {e}; rendering without it");
+                        None
+                    }
+                }
+            });
+            let (film, stats) = match tev.as_mut() {
+                Some(t) if renderer.is_progressive() => {
+                    render_to_tev(&mut renderer, spp, t, sc.film.pixel_format, &mut progress)?
+                }
+                _ => renderer.render_film(0, spp, &mut progress)?,
+            };
+            if let Some(t) = tev.as_mut() {
+                send_to_tev(t, &film, sc.film.pixel_format);
+            }
             bar.finish_and_clear();
             let samples = pixels * spp as u64;
             eprintln!(
@@ -369,6 +425,13 @@ fn run(cli: Cli) -> Result<()> {
             eprintln!("wrote {} and {}", output.display(), png.display());
             Ok(())
         }
+        Command::View {
+            scene,
+            spp,
+            exposure,
+            screenshot,
+            run,
+        } => view(&scene, spp, exposure, screenshot, run),
         Command::Bench {
             scene,
             reference,
@@ -473,6 +536,110 @@ fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
     }
+}
+
+/// Seconds between the images a render sends to tev.
+const TEV_INTERVAL_SECONDS: f64 = 0.5;
+
+/// Renders samples `0..spp` in batches, sending the image to tev every
+/// [`TEV_INTERVAL_SECONDS`] (the caller sends the last).
+fn render_to_tev(
+    renderer: &mut Renderer,
+    spp: u32,
+    tev: &mut TevStream,
+    format: PixelFormat,
+    progress: &mut dyn FnMut(u64, u64),
+) -> Result<(FilmSums, RenderStats)> {
+    let start = Instant::now();
+    let pixels = renderer.film_geometry().region_pixels() as u64;
+    let total = pixels * spp as u64;
+    let mut run = renderer.start_progressive(Some(spp))?;
+    let mut sent = Instant::now();
+    let mut done = 0;
+    let capacity = renderer.capacity();
+    while !run.finished() {
+        done += renderer.step(&mut run, capacity)?;
+        progress(done, total);
+        if !run.finished() && sent.elapsed().as_secs_f64() >= TEV_INTERVAL_SECONDS {
+            send_to_tev(tev, &renderer.read_film()?, format);
+            sent = Instant::now();
+        }
+    }
+    let film = renderer.read_film()?;
+    let mut stats = run.stats;
+    stats.spp = spp;
+    stats.seconds = start.elapsed().as_secs_f64();
+    Ok((film, stats))
+}
+
+/// Sends the film to tev; a failure (tev closed) is a warning, once: later sends
+/// are skipped.
+fn send_to_tev(tev: &mut TevStream, film: &FilmSums, format: PixelFormat) {
+    if tev.is_closed() {
+        return;
+    }
+    let (_, data) = film.channels(format);
+    if let Err(e) = tev.update(&data) {
+        eprintln!("warning: {e}; no more updates go to tev");
+        tev.close();
+    }
+}
+
+#[cfg(feature = "viewer")]
+fn view(
+    scene: &SceneArgs,
+    spp: Option<u32>,
+    exposure: f32,
+    screenshot: Option<PathBuf>,
+    run: RunArgs,
+) -> Result<()> {
+    let started = Instant::now();
+    if spp == Some(0) {
+        bail!("--spp must be at least 1");
+    }
+    if !exposure.is_finite() {
+        bail!("--exposure must be a finite number of stops");
+    }
+    // Say there is no display before loading a large scene.
+    if let Some(reason) = wavetrace::viewer::window::missing_display() {
+        return Err(wavetrace::viewer::Error::NoDisplay(reason).into());
+    }
+    let sc = load(scene)?;
+    let (render, device) = run.options(false);
+    let options = wavetrace::viewer::ViewOptions {
+        spp,
+        exposure,
+        screenshot,
+        device,
+        render,
+        save_dir: PathBuf::from("."),
+    };
+    let report = wavetrace::viewer::run(&sc, &options, started, &mut |line| eprintln!("{line}"))?;
+    eprintln!(
+        "viewer: first frame {:.2} s after start; while rendering {:.1} frames/s, \
+         {:.2} M samples/s ({} frames, {:.1} s); last image {} spp",
+        report.first_frame_seconds,
+        report.frames_per_second(),
+        report.samples_per_second() / 1e6,
+        report.render_frames,
+        report.render_seconds,
+        report.spp
+    );
+    Ok(())
+}
+
+#[cfg(not(feature = "viewer"))]
+fn view(
+    _scene: &SceneArgs,
+    _spp: Option<u32>,
+    _exposure: f32,
+    _screenshot: Option<PathBuf>,
+    _run: RunArgs,
+) -> Result<()> {
+    bail!(
+        "this wavetrace was built without the viewer (cargo feature `viewer`); \
+         render with `wavetrace render SCENE.xml`, or watch it in tev with --tev"
+    )
 }
 
 fn bench(

@@ -41,7 +41,7 @@ def time_to_reach(rows, key, target):
 def wavetrace_curve(args, integrator, counts):
     ns = argparse.Namespace(
         wavetrace=args.wavetrace, scene=args.scene, ref=args.ref, seed=args.seed,
-        defines=args.defines, integrator=integrator, device=args.device)
+        defines=args.defines, integrator=integrator, sampler=None, device=args.device)
     report = bench_compare.run_wavetrace(ns, counts)
     rows = [{"spp": r["spp"], "seconds": r["seconds"], "mse": r["rmse"] ** 2,
              "rel_mse": r["rel_mse"], "photons": r.get("photons")} for r in report["rows"]]
@@ -78,7 +78,7 @@ def main():
     path_report, path = wavetrace_curve(args, "path_mis", bench_compare.parse_spp(args.path))
     mi_args = argparse.Namespace(
         scene=args.scene, ref=args.ref, seed=args.seed, variant=args.variant,
-        integrator="path_mis", max_depth=args.max_depth)
+        integrator="path_mis", max_depth=args.max_depth, mitsuba_sampler=None)
     theirs = bench_compare.run_mitsuba(mi_args, bench_compare.parse_spp(args.mitsuba), defines)
     mitsuba = [{"spp": r["spp"], "seconds": r["seconds"], "mse": r["mse"], "rel_mse": r["rel_mse"]}
                for r in theirs["rows"]]

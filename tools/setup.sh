@@ -3,6 +3,11 @@
 #   libvulkan1           the Vulkan loader (ash loads libvulkan.so.1 at run time)
 #   mesa-vulkan-drivers  lavapipe, the CPU Vulkan driver tests run on without a GPU
 #   glslang-tools        glslangValidator, which build.rs runs to compile shaders
+#   cmake, pkg-config, libx11-dev, libxrandr-dev, libxinerama-dev, libxcursor-dev,
+#   libxi-dev            to build the viewer's GLFW from its bundled source (the `glfw`
+#                        crate; GLFW loads libX11 at run time, only when `view` opens a
+#                        window)
+#   xvfb, xdotool        the viewer's tests: a virtual X server and real key presses
 # Idempotent and quiet when everything is present. Missing packages are installed with
 # apt-get when running as root (or with sudo when it works without a password);
 # otherwise the exact command to run is printed and the script exits with status 1.
@@ -25,6 +30,18 @@ if ! command -v glslangValidator >/dev/null 2>&1; then
     missing+=(glslang-tools)
 fi
 
+command -v cmake >/dev/null 2>&1 || missing+=(cmake)
+command -v pkg-config >/dev/null 2>&1 || missing+=(pkg-config)
+# X11 headers GLFW's X11 backend compiles against, each with its pkg-config file.
+for pair in x11:libx11-dev xrandr:libxrandr-dev xinerama:libxinerama-dev \
+    xcursor:libxcursor-dev xi:libxi-dev; do
+    if ! pkg-config --exists "${pair%%:*}" 2>/dev/null; then
+        missing+=("${pair##*:}")
+    fi
+done
+command -v Xvfb >/dev/null 2>&1 || missing+=(xvfb)
+command -v xdotool >/dev/null 2>&1 || missing+=(xdotool)
+
 if [ ${#missing[@]} -eq 0 ]; then
     exit 0
 fi
@@ -33,8 +50,9 @@ install="apt-get update && apt-get install -y --no-install-recommends ${missing[
 echo "setup.sh: missing ${missing[*]}" >&2
 
 if ! command -v apt-get >/dev/null 2>&1; then
-    echo "setup.sh: no apt-get here; install the Vulkan loader, Mesa's lavapipe driver" \
-        "and glslangValidator with your package manager" >&2
+    echo "setup.sh: no apt-get here; install the Vulkan loader, Mesa's lavapipe driver," \
+        "glslangValidator, cmake, pkg-config, the X11 development headers (X11, Xrandr," \
+        "Xinerama, Xcursor, Xi), Xvfb and xdotool with your package manager" >&2
     exit 1
 fi
 

@@ -365,6 +365,14 @@ struct Push {
     uint pad2;
 };
 
+// Push constants of tonemap (the viewer's display of the film).
+struct TonemapPush {
+    uint width;     // the crop window's size
+    uint height;
+    float scale;    // 2^exposure
+    uint luminance; // 1: show luminance (grey), as the PNG of a luminance film
+};
+
 // Reconstruction filters (specialization constant 0 of film_gather).
 #define FILTER_BOX 0u
 #define FILTER_TENT 1u

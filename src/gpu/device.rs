@@ -81,9 +81,28 @@ impl std::fmt::Display for DeviceInfo {
     }
 }
 
+/// The window surface a device was opened to present to ([`Device::with_surface`]),
+/// destroyed with the device.
+pub(crate) struct Surface {
+    pub loader: ash::khr::surface::Instance,
+    pub raw: vk::SurfaceKHR,
+}
+
+/// What a device must do besides compute to show images in a window: the instance
+/// extensions the window system needs, and a function that makes the window's
+/// surface on the instance (raw `VkInstance` handle in, raw `VkSurfaceKHR` out, or why
+/// not). The chosen device's compute queue must be able to present to that surface.
+pub struct SurfaceRequest<'a> {
+    pub instance_extensions: &'a [String],
+    pub create: &'a mut dyn FnMut(u64) -> std::result::Result<u64, String>,
+}
+
 pub(crate) struct Inner {
     _entry: ash::Entry,
     pub instance: ash::Instance,
+    /// The window surface the queue presents to, if the device was opened for one.
+    pub surface: Option<Surface>,
+    pub physical: vk::PhysicalDevice,
     pub raw: ash::Device,
     pub queue: vk::Queue,
     pub command_pool: vk::CommandPool,
@@ -112,15 +131,26 @@ fn load_entry() -> Result<ash::Entry> {
     unsafe { ash::Entry::load() }.map_err(|e| Error::LoaderMissing(e.to_string()))
 }
 
-fn create_instance(entry: &ash::Entry) -> Result<ash::Instance> {
+fn create_instance(entry: &ash::Entry, extensions: &[String]) -> Result<ash::Instance> {
     let app = vk::ApplicationInfo::default()
         .application_name(c"wavetrace")
         .engine_name(c"wavetrace")
         .api_version(vk::API_VERSION_1_2);
-    let info = vk::InstanceCreateInfo::default().application_info(&app);
+    let names: Vec<std::ffi::CString> = extensions
+        .iter()
+        .filter_map(|e| std::ffi::CString::new(e.as_str()).ok())
+        .collect();
+    let pointers: Vec<*const std::ffi::c_char> = names.iter().map(|n| n.as_ptr()).collect();
+    let info = vk::InstanceCreateInfo::default()
+        .application_info(&app)
+        .enabled_extension_names(&pointers);
     // SAFETY: valid create info; the instance is destroyed in Inner::drop.
     unsafe { entry.create_instance(&info, None) }.map_err(|result| match result {
         vk::Result::ERROR_INCOMPATIBLE_DRIVER => Error::NoDevice,
+        vk::Result::ERROR_EXTENSION_NOT_PRESENT => Error::NoPresentation(format!(
+            "the Vulkan loader lacks the window-system extensions {}",
+            extensions.join(", ")
+        )),
         result => Error::Vk {
             call: "vkCreateInstance",
             result,
@@ -198,6 +228,77 @@ fn pick(devices: &[Physical], selector: Option<&str>) -> Result<usize> {
     })
 }
 
+/// The device to present to `surface` with, as [`pick`] chooses among those that can
+/// (each one's `queue_family` becomes one that computes and presents); a selected
+/// device that cannot present, or none that can, is an error.
+fn pick_presenting(
+    instance: &ash::Instance,
+    devices: &mut [Physical],
+    selector: Option<&str>,
+    surface: &Surface,
+) -> Result<usize> {
+    let mut presenting = Vec::new();
+    for (i, d) in devices.iter_mut().enumerate() {
+        // SAFETY: handle comes from the instance.
+        let families = unsafe { instance.get_physical_device_queue_family_properties(d.handle) };
+        // SAFETY: device handle and surface come from this instance.
+        let has_swapchain = unsafe { instance.enumerate_device_extension_properties(d.handle) }
+            .map(|exts| {
+                exts.iter().any(|e| {
+                    e.extension_name_as_c_str()
+                        .is_ok_and(|n| n == ash::khr::swapchain::NAME)
+                })
+            })
+            .unwrap_or(false);
+        let family = (0..families.len() as u32).find(|&f| {
+            families[f as usize]
+                .queue_flags
+                .contains(vk::QueueFlags::COMPUTE)
+                // SAFETY: as above.
+                && unsafe {
+                    surface
+                        .loader
+                        .get_physical_device_surface_support(d.handle, f, surface.raw)
+                }
+                .unwrap_or(false)
+        });
+        if let (Some(f), true) = (family, has_swapchain) {
+            d.queue_family = f;
+            presenting.push(i);
+        }
+    }
+    let names = |list: &mut dyn Iterator<Item = usize>| {
+        list.map(|i| format!("  [{i}] {} ({})", devices[i].name, devices[i].kind.name()))
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    if selector.is_some() {
+        let index = pick(devices, selector)?;
+        if presenting.contains(&index) {
+            return Ok(index);
+        }
+        return Err(Error::NoPresentation(format!(
+            "device [{index}] {} cannot present to this window; devices that can:\n{}",
+            devices[index].name,
+            if presenting.is_empty() {
+                "  (none)".to_string()
+            } else {
+                names(&mut presenting.iter().copied())
+            }
+        )));
+    }
+    presenting
+        .iter()
+        .copied()
+        .min_by_key(|&i| devices[i].kind)
+        .ok_or_else(|| {
+            Error::NoPresentation(format!(
+                "no Vulkan device can present to this window (devices:\n{})",
+                names(&mut (0..devices.len()))
+            ))
+        })
+}
+
 /// Size of the largest device-local heap (any heap if none is device-local).
 fn largest_device_heap(memory: &vk::PhysicalDeviceMemoryProperties) -> u64 {
     let heaps = &memory.memory_heaps[..memory.memory_heap_count as usize];
@@ -222,7 +323,7 @@ impl Device {
     /// Lists the devices that could run wavetrace.
     pub fn list() -> Result<Vec<Candidate>> {
         let entry = load_entry()?;
-        let instance = create_instance(&entry)?;
+        let instance = create_instance(&entry, &[])?;
         let list = enumerate(&instance).map(|devices| {
             devices
                 .into_iter()
@@ -242,17 +343,55 @@ impl Device {
     /// Opens a device: the one `selector` names (index or part of its name), else
     /// the best available (a discrete GPU before an integrated one before lavapipe).
     pub fn new(selector: Option<&str>) -> Result<Device> {
+        Self::create(selector, None)
+    }
+
+    /// Opens a device as [`Device::new`] does, one whose compute queue can also
+    /// present to the window surface `request` makes (the viewer's): without a
+    /// selector the best such device, with one the named device, which must present.
+    pub fn with_surface(selector: Option<&str>, request: SurfaceRequest) -> Result<Device> {
+        Self::create(selector, Some(request))
+    }
+
+    fn create(selector: Option<&str>, request: Option<SurfaceRequest>) -> Result<Device> {
         let start = Instant::now();
         let entry = load_entry()?;
-        let instance = create_instance(&entry)?;
-        let opened = Self::open(&entry, &instance, selector, start);
+        let extensions = request.as_ref().map_or(&[][..], |r| r.instance_extensions);
+        let instance = create_instance(&entry, extensions)?;
+        let surface = match request {
+            None => None,
+            Some(r) => {
+                let raw = vk::Handle::as_raw(instance.handle());
+                match (r.create)(raw) {
+                    Ok(s) => Some(Surface {
+                        loader: ash::khr::surface::Instance::new(&entry, &instance),
+                        raw: vk::Handle::from_raw(s),
+                    }),
+                    Err(message) => {
+                        // SAFETY: nothing was created from the instance.
+                        unsafe { instance.destroy_instance(None) };
+                        return Err(Error::NoPresentation(message));
+                    }
+                }
+            }
+        };
+        let opened = Self::open(&entry, &instance, selector, surface.as_ref(), start);
         match opened {
-            Ok(inner) => Ok(Device {
-                inner: Arc::new(inner),
-            }),
+            Ok(mut inner) => {
+                inner.surface = surface;
+                Ok(Device {
+                    inner: Arc::new(inner),
+                })
+            }
             Err(e) => {
-                // SAFETY: nothing was created from the instance that still lives.
-                unsafe { instance.destroy_instance(None) };
+                // SAFETY: nothing was created from the instance that still lives but
+                // the surface, destroyed first.
+                unsafe {
+                    if let Some(s) = surface {
+                        s.loader.destroy_surface(s.raw, None);
+                    }
+                    instance.destroy_instance(None)
+                };
                 Err(e)
             }
         }
@@ -264,10 +403,14 @@ impl Device {
         entry: &ash::Entry,
         instance: &ash::Instance,
         selector: Option<&str>,
+        surface: Option<&Surface>,
         start: Instant,
     ) -> Result<Inner> {
-        let devices = enumerate(instance)?;
-        let index = pick(&devices, selector)?;
+        let mut devices = enumerate(instance)?;
+        let index = match surface {
+            None => pick(&devices, selector)?,
+            Some(s) => pick_presenting(instance, &mut devices, selector, s)?,
+        };
         let phys = &devices[index];
         // SAFETY: physical device from this instance.
         let props = unsafe { instance.get_physical_device_properties(phys.handle) };
@@ -293,7 +436,11 @@ impl Device {
         let queue_info = [vk::DeviceQueueCreateInfo::default()
             .queue_family_index(phys.queue_family)
             .queue_priorities(&priorities)];
-        let device_info = vk::DeviceCreateInfo::default().queue_create_infos(&queue_info);
+        let swapchain_extension = [ash::khr::swapchain::NAME.as_ptr()];
+        let mut device_info = vk::DeviceCreateInfo::default().queue_create_infos(&queue_info);
+        if surface.is_some() {
+            device_info = device_info.enabled_extension_names(&swapchain_extension);
+        }
         // SAFETY: valid create info for this physical device.
         let raw = unsafe { instance.create_device(phys.handle, &device_info, None) }
             .vk("vkCreateDevice")?;
@@ -357,6 +504,8 @@ impl Device {
         Ok(Inner {
             _entry: entry.clone(),
             instance: instance.clone(),
+            surface: None,
+            physical: phys.handle,
             raw,
             queue,
             command_pool,
@@ -424,6 +573,9 @@ impl Drop for Inner {
             self.raw.destroy_pipeline_cache(self.pipeline_cache, None);
             self.raw.destroy_command_pool(self.command_pool, None);
             self.raw.destroy_device(None);
+            if let Some(s) = &self.surface {
+                s.loader.destroy_surface(s.raw, None);
+            }
             self.instance.destroy_instance(None);
         }
     }

@@ -19,6 +19,8 @@ pub enum Error {
          (or run tools/setup.sh)"
     )]
     NoDevice,
+    #[error("cannot show a window with Vulkan: {0}")]
+    NoPresentation(String),
     #[error("no Vulkan device matches --device {selector:?}; available:\n{available}")]
     DeviceNotFound { selector: String, available: String },
     #[error("Vulkan call {call} failed: {result}")]

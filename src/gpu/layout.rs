@@ -586,6 +586,18 @@ pub struct Push {
     pub pad2: u32,
 }
 
+/// Push constants of `tonemap` (the viewer's display of the film): the crop window's
+/// size, the linear scale 2^exposure, and whether to show luminance (grey) rather
+/// than RGB, as the render's PNG of a luminance film is grey.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct TonemapPush {
+    pub width: u32,
+    pub height: u32,
+    pub scale: f32,
+    pub luminance: u32,
+}
+
 /// Reconstruction filters: specialization constant 0 of `film_gather`
 /// (`scene::film::Filter`).
 pub const FILTER_BOX: u32 = 0;
@@ -1045,6 +1057,7 @@ mod tests {
             rust_layout!(PhotonCounters, stored, max_radius, pad0, pad1),
             rust_layout!(VisiblePoint, p, bsdf, wo, u, n, v, beta, alpha2, n0, flags),
             rust_layout!(SppmPixel, tau, radius, ld, n, phi, m),
+            rust_layout!(TonemapPush, width, height, scale, luminance),
         ];
         for (name, fields, size) in &rust {
             let (gfields, gsize) = glsl

@@ -10,9 +10,11 @@ pub mod error;
 pub mod kernel;
 pub mod layout;
 pub mod shaders;
+pub mod swapchain;
 
 pub use buffer::{Buffer, ByteSize, Location};
 pub use command::{CommandList, KernelTimes};
-pub use device::{Device, DeviceInfo, DeviceKind};
+pub use device::{Device, DeviceInfo, DeviceKind, SurfaceRequest};
 pub use error::{Error, Result};
 pub use kernel::{BindingKind, BindingLayout, DescriptorSet, Kernel};
+pub use swapchain::{Presented, Swapchain};

@@ -40,6 +40,9 @@ pub enum Error {
         ref_width: u32,
         ref_height: u32,
     },
+    /// tev (the HDR viewer) could not be reached or stopped listening.
+    #[error("tev at {address}: {message}")]
+    Tev { address: String, message: String },
     /// A comparison parameter makes no sense (for example a zero block size).
     #[error("{0}")]
     Parameter(String),

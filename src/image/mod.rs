@@ -5,6 +5,7 @@
 //! - [`png`]: 8-bit sRGB PNG output for looking at a render: exposure, clamp, sRGB OETF.
 //! - [`pfm`], [`rgbe`]: portable float maps and Radiance RGBE files (Mitsuba's other
 //!   film file formats).
+//! - [`tev`]: streaming an image in progress to the tev viewer over TCP.
 //! - [`metrics`]: MSE, RMSE, relative MSE, per-channel means, and the blockwise
 //!   t-test that image tests use to compare a noisy render with a reference.
 
@@ -14,6 +15,7 @@ pub mod metrics;
 pub mod pfm;
 pub mod png;
 pub mod rgbe;
+pub mod tev;
 
 pub use error::Error;
 

@@ -56,6 +56,29 @@ pub fn write(image: &Image, path: impl AsRef<Path>, exposure: f32) -> Result<(),
     })
 }
 
+/// Writes 8-bit sRGB bytes already encoded (3 per pixel, top row first) as a PNG:
+/// the viewer's picture, tone mapped on the GPU as [`to_srgb8`] does.
+pub fn write_rgb8(
+    path: impl AsRef<Path>,
+    width: u32,
+    height: u32,
+    rgb: &[u8],
+) -> Result<(), Error> {
+    let path = path.as_ref();
+    ::image::save_buffer_with_format(
+        path,
+        rgb,
+        width,
+        height,
+        ::image::ExtendedColorType::Rgb8,
+        ::image::ImageFormat::Png,
+    )
+    .map_err(|source| Error::Png {
+        path: path.to_owned(),
+        source,
+    })
+}
+
 /// Writes `data` (`channels` interleaved values per pixel, top row first) as an 8-bit
 /// PNG: 1 channel grey, 2 grey + alpha, 3 RGB, 4 RGBA. Colour channels are encoded as
 /// [`to_srgb8`] does, alpha linearly.

@@ -500,14 +500,7 @@ impl FilmSums {
     pub fn channels(&self, format: PixelFormat) -> (Vec<&'static str>, Vec<f32>) {
         let image = self.develop();
         let alpha = self.develop_alpha();
-        let names: Vec<&'static str> = match format {
-            PixelFormat::Luminance => vec!["Y"],
-            PixelFormat::LuminanceAlpha => vec!["Y", "A"],
-            PixelFormat::Rgb => vec!["R", "G", "B"],
-            PixelFormat::Rgba => vec!["R", "G", "B", "A"],
-            PixelFormat::Xyz => vec!["X", "Y", "Z"],
-            PixelFormat::Xyza => vec!["X", "Y", "Z", "A"],
-        };
+        let names = format.channel_names();
         let dot = |w: &[f32; 3], p: &[f32]| w[0] * p[0] + w[1] * p[1] + w[2] * p[2];
         let mut data = Vec::with_capacity(names.len() * image.pixel_count());
         for (i, p) in image.rgb.chunks_exact(3).enumerate() {

@@ -12,6 +12,7 @@ pub mod film;
 pub mod integrator;
 pub mod media;
 pub mod photon;
+pub mod progressive;
 pub mod sampler;
 pub mod scene_buffers;
 pub mod scene_parts;

@@ -373,6 +373,18 @@ impl PixelFormat {
         )
     }
 
+    /// The channels of the format, named as Mitsuba's `hdrfilm` writes them.
+    pub fn channel_names(self) -> Vec<&'static str> {
+        match self {
+            PixelFormat::Luminance => vec!["Y"],
+            PixelFormat::LuminanceAlpha => vec!["Y", "A"],
+            PixelFormat::Rgb => vec!["R", "G", "B"],
+            PixelFormat::Rgba => vec!["R", "G", "B", "A"],
+            PixelFormat::Xyz => vec!["X", "Y", "Z"],
+            PixelFormat::Xyza => vec!["X", "Y", "Z", "A"],
+        }
+    }
+
     pub fn name(self) -> &'static str {
         match self {
             PixelFormat::Luminance => "luminance",

@@ -125,6 +125,27 @@ impl Quadric {
         }
     }
 
+    /// A world-space box holding the shape (lower and upper corner): the image of the
+    /// unit shape's own box ([-1, 1]² by [-1, 1] for a sphere, 0 for a disk, [0, 1]
+    /// for a cylinder) under `to_world`, tight for axis-aligned shapes.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        let (z0, z1) = match self.kind {
+            QuadricKind::Sphere => (-1.0, 1.0),
+            QuadricKind::Disk => (0.0, 0.0),
+            QuadricKind::Cylinder => (0.0, 1.0),
+        };
+        let mut lo = Vec3::splat(f32::INFINITY);
+        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        for c in 0..8 {
+            let pick = |bit: u32, a: f32, b: f32| if c & bit == 0 { a } else { b };
+            let corner = Vec3::new(pick(1, -1.0, 1.0), pick(2, -1.0, 1.0), pick(4, z0, z1));
+            let p = self.to_world.transform_point3(corner);
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+        (lo, hi)
+    }
+
     /// World-space surface area.
     pub fn area(&self) -> f32 {
         let m = self.linear();
@@ -134,5 +155,43 @@ impl Quadric {
             QuadricKind::Disk => std::f32::consts::PI * m.x_axis.cross(m.y_axis).length(),
             QuadricKind::Cylinder => 2.0 * std::f32::consts::PI * r * m.z_axis.length(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quadric_bounds_hold_the_shape() {
+        let s = Quadric::sphere(Vec3::new(1.0, 2.0, 3.0), 2.0, 0);
+        assert_eq!(
+            s.bounds(),
+            (Vec3::new(-1.0, 0.0, 1.0), Vec3::new(3.0, 4.0, 5.0))
+        );
+        // A cylinder of radius 0.5 from (0, 0, 1) along +x, length 4.
+        let c = Quadric {
+            kind: QuadricKind::Cylinder,
+            to_world: Mat4::from_translation(Vec3::Z)
+                * Mat4::from_rotation_y(std::f32::consts::FRAC_PI_2)
+                * Mat4::from_scale(Vec3::new(0.5, 0.5, 4.0)),
+            ..s.clone()
+        };
+        let (lo, hi) = c.bounds();
+        let want = (Vec3::new(0.0, -0.5, 0.5), Vec3::new(4.0, 0.5, 1.5));
+        assert!(
+            lo.abs_diff_eq(want.0, 1e-5) && hi.abs_diff_eq(want.1, 1e-5),
+            "{lo} {hi}"
+        );
+        // A disk has no thickness along its normal.
+        let d = Quadric {
+            kind: QuadricKind::Disk,
+            to_world: Mat4::IDENTITY,
+            ..s
+        };
+        assert_eq!(
+            d.bounds(),
+            (Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, 1.0, 0.0))
+        );
     }
 }

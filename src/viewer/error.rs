@@ -1,0 +1,25 @@
+//! Errors of the viewer.
+
+/// Something the viewer could not do.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    #[error(
+        "no display to open a window on ({0}).\n\
+         `wavetrace view` needs one; without a display, render headless with\n  \
+         wavetrace render SCENE.xml -o out.exr\n\
+         or watch the render converge in tev (https://github.com/Tom94/tev) with\n  \
+         wavetrace render SCENE.xml --tev [HOST:PORT]"
+    )]
+    NoDisplay(String),
+    #[error(transparent)]
+    Gpu(#[from] crate::gpu::Error),
+    #[error(transparent)]
+    Render(#[from] crate::render::Error),
+    #[error(transparent)]
+    Image(#[from] crate::image::Error),
+    #[error("{0}")]
+    Options(String),
+}
+
+/// Result alias of the viewer.
+pub type Result<T> = std::result::Result<T, Error>;

@@ -1,0 +1,522 @@
+//! `wavetrace view` in a real window: under Xvfb (a virtual X server started per test
+//! on a free display number) on whatever Vulkan device the tests use (lavapipe on
+//! CI), with real key presses sent by xdotool (XTEST, to the focused window).
+//!
+//! Without Xvfb or xdotool these tests skip with a loud message, unless
+//! WAVETRACE_REQUIRE_XVFB is set (as `.ci/run` sets it): then they fail.
+//! The tests that need no display (the no-display error) always run.
+
+#![cfg(feature = "viewer")]
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use common::repo;
+
+/// The shipped Cornell box, small: 48x48 pixels keeps each test a few seconds on
+/// lavapipe while leaving the walls, light and boxes several pixels wide.
+const SCENE: &str = "scenes/cbox/cbox_path.xml";
+const RES: &str = "res=48";
+
+/// An X server of its own for one test, stopped when dropped.
+struct Xvfb {
+    child: Child,
+    display: String,
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn have(tool: &str) -> bool {
+    Command::new("sh")
+        .args(["-c", &format!("command -v {tool}")])
+        .stdout(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
+/// Starts Xvfb on a free display, or says why not: `None` means skip (with a message
+/// printed), and a missing Xvfb fails the test when WAVETRACE_REQUIRE_XVFB is set.
+fn xvfb(test: &str) -> Option<Xvfb> {
+    let missing: Vec<&str> = ["Xvfb", "xdotool"]
+        .into_iter()
+        .filter(|t| !have(t))
+        .collect();
+    if !missing.is_empty() {
+        let message = format!(
+            "{test}: {} not installed (tools/setup.sh installs them)",
+            missing.join(" and ")
+        );
+        if std::env::var_os("WAVETRACE_REQUIRE_XVFB").is_some() {
+            panic!("{message}; WAVETRACE_REQUIRE_XVFB is set, so this is a failure");
+        }
+        eprintln!("\n*** SKIPPED {message} ***\n");
+        return None;
+    }
+    // A display number of our own: start past those a desktop uses, spread by process
+    // and test so parallel tests rarely meet; Xvfb refuses a number in use (its lock
+    // file), and then the next is tried.
+    let spread = (std::process::id() as usize * 7 + test.len() * 13) % 400;
+    for n in (0..40).map(|i| 100 + (spread + i * 17) % 800) {
+        if Path::new(&format!("/tmp/.X11-unix/X{n}")).exists()
+            || Path::new(&format!("/tmp/.X{n}-lock")).exists()
+        {
+            continue;
+        }
+        let mut child = Command::new("Xvfb")
+            .arg(format!(":{n}"))
+            .args(["-screen", "0", "640x480x24", "-nolisten", "tcp"])
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("start Xvfb");
+        let socket = format!("/tmp/.X11-unix/X{n}");
+        let deadline = Instant::now() + Duration::from_secs(15);
+        while Instant::now() < deadline {
+            if Path::new(&socket).exists() {
+                return Some(Xvfb {
+                    child,
+                    display: format!(":{n}"),
+                });
+            }
+            if let Ok(Some(_)) = child.try_wait() {
+                break; // the number was taken after all
+            }
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        let _ = child.kill();
+        let _ = child.wait();
+    }
+    panic!("{test}: Xvfb did not start on any of 40 display numbers");
+}
+
+fn temp_dir(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("wavetrace-view-{}-{test}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+fn bin() -> &'static str {
+    env!("CARGO_BIN_EXE_wavetrace")
+}
+
+/// `wavetrace render` of the scene at `spp` to `dir/render.exr` (and `.png`).
+fn render_png(dir: &Path, spp: u32) -> PathBuf {
+    let out = dir.join("render.exr");
+    let status = Command::new(bin())
+        .current_dir(repo(""))
+        .args(["render", SCENE, "-D", RES, "--seed", "3", "-q"])
+        .args(["--spp", &spp.to_string(), "-o"])
+        .arg(&out)
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run wavetrace render");
+    assert!(
+        status.status.success(),
+        "render failed: {}",
+        String::from_utf8_lossy(&status.stderr)
+    );
+    dir.join("render.png")
+}
+
+fn rgb8(path: &Path) -> image::RgbImage {
+    image::open(path)
+        .unwrap_or_else(|e| panic!("reading {}: {e}", path.display()))
+        .to_rgb8()
+}
+
+/// The most two 8-bit images differ by in any channel of any pixel.
+fn max_level_difference(a: &image::RgbImage, b: &image::RgbImage) -> u8 {
+    assert_eq!(a.dimensions(), b.dimensions(), "image sizes");
+    a.as_raw()
+        .iter()
+        .zip(b.as_raw())
+        .map(|(x, y)| x.abs_diff(*y))
+        .max()
+        .unwrap_or(0)
+}
+
+/// An sRGB code back to linear (IEC 61966-2-1).
+fn linear(code: u8) -> f64 {
+    let v = code as f64 / 255.0;
+    if v <= 0.04045 {
+        v / 12.92
+    } else {
+        ((v + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// A `wavetrace view` running on an X display, stopped when dropped.
+struct Viewer {
+    child: Child,
+    display: String,
+    window: String,
+}
+
+impl Viewer {
+    /// Starts the viewer with `args` in `dir` and waits for its window.
+    fn start(x: &Xvfb, dir: &Path, args: &[&str]) -> Viewer {
+        let scene = repo(SCENE);
+        let child = Command::new(bin())
+            .current_dir(dir)
+            .arg("view")
+            .arg(&scene)
+            .args(["-D", RES, "--seed", "3"])
+            .args(args)
+            .env("DISPLAY", &x.display)
+            .env_remove("WAYLAND_DISPLAY")
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("start wavetrace view");
+        let mut viewer = Viewer {
+            child,
+            display: x.display.clone(),
+            window: String::new(),
+        };
+        // Lavapipe compiles the kernels at their first dispatch: allow for a cold
+        // shader cache.
+        let deadline = Instant::now() + Duration::from_secs(180);
+        while Instant::now() < deadline {
+            viewer.assert_running();
+            let out = viewer.xdotool(&["search", "--name", "^wavetrace"]);
+            if let Some(id) = out.lines().next().filter(|l| !l.trim().is_empty()) {
+                viewer.window = id.trim().to_string();
+                return viewer;
+            }
+            std::thread::sleep(Duration::from_millis(100));
+        }
+        panic!("the viewer's window did not appear");
+    }
+
+    fn xdotool(&self, args: &[&str]) -> String {
+        let out = Command::new("xdotool")
+            .args(args)
+            .env("DISPLAY", &self.display)
+            .output()
+            .expect("run xdotool");
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    }
+
+    fn assert_running(&mut self) {
+        if let Ok(Some(status)) = self.child.try_wait() {
+            let mut err = String::new();
+            if let Some(mut e) = self.child.stderr.take() {
+                use std::io::Read;
+                let _ = e.read_to_string(&mut err);
+            }
+            panic!("the viewer exited ({status}):\n{err}");
+        }
+    }
+
+    fn title(&self) -> String {
+        self.xdotool(&["getwindowname", &self.window])
+    }
+
+    /// Waits until the title contains `needle` (the viewer still running).
+    fn wait_title(&mut self, needle: &str, seconds: u64) -> String {
+        let deadline = Instant::now() + Duration::from_secs(seconds);
+        loop {
+            self.assert_running();
+            let t = self.title();
+            if t.contains(needle) {
+                return t;
+            }
+            assert!(
+                Instant::now() < deadline,
+                "the title never showed {needle:?}; last: {t:?}"
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
+    /// Presses `key` in the window, as a person at the keyboard would (focus, then
+    /// XTEST key events).
+    fn key(&self, key: &str) {
+        self.xdotool(&["windowfocus", "--sync", &self.window]);
+        self.xdotool(&["key", "--delay", "30", key]);
+    }
+
+    /// Waits for the process to end by itself; returns its status and stderr.
+    fn wait_exit(mut self, seconds: u64) -> (i32, String) {
+        let deadline = Instant::now() + Duration::from_secs(seconds);
+        loop {
+            if let Ok(Some(status)) = self.child.try_wait() {
+                let mut err = String::new();
+                if let Some(mut e) = self.child.stderr.take() {
+                    use std::io::Read;
+                    let _ = e.read_to_string(&mut err);
+                }
+                return (status.code().unwrap_or(-1), err);
+            }
+            assert!(Instant::now() < deadline, "the viewer did not exit");
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    }
+}
+
+impl Drop for Viewer {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// Waits for `path` to exist and be complete (its size stable).
+fn wait_file(path: &Path, viewer: &mut Viewer) {
+    let deadline = Instant::now() + Duration::from_secs(60);
+    let mut last = None;
+    loop {
+        viewer.assert_running();
+        let size = std::fs::metadata(path).map(|m| m.len()).ok();
+        if size.is_some() && size == last {
+            return;
+        }
+        last = size;
+        assert!(
+            Instant::now() < deadline,
+            "{} was never written",
+            path.display()
+        );
+        std::thread::sleep(Duration::from_millis(100));
+    }
+}
+
+#[test]
+fn screenshot_equals_the_render_of_the_same_samples() {
+    let Some(x) = xvfb("screenshot") else { return };
+    let dir = temp_dir("screenshot");
+    let shot = dir.join("view.png");
+    let out = Command::new(bin())
+        .current_dir(repo(""))
+        .args([
+            "view",
+            SCENE,
+            "-D",
+            RES,
+            "--seed",
+            "3",
+            "--spp",
+            "16",
+            "--screenshot",
+        ])
+        .arg(&shot)
+        .env("DISPLAY", &x.display)
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run wavetrace view");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "view failed: {err}");
+    assert!(err.contains("first frame"), "{err}");
+    let view = rgb8(&shot);
+    let render = rgb8(&render_png(&dir, 16));
+    // The same samples in the same film, tone mapped by the GPU (GLSL pow) and by
+    // the host (Rust powf): a code may round the other way, never more.
+    let d = max_level_difference(&view, &render);
+    assert!(d <= 1, "screenshot and render differ by {d} levels");
+    let mean = view.as_raw().iter().map(|&v| v as f64).sum::<f64>() / view.as_raw().len() as f64;
+    assert!(mean > 20.0, "the screenshot is nearly black (mean {mean})");
+}
+
+#[test]
+fn keys_resize_and_escape() {
+    let Some(x) = xvfb("keys") else { return };
+    let dir = temp_dir("keys");
+    let mut v = Viewer::start(&x, &dir, &["--spp", "4"]);
+    // Resizing while it renders: the swapchain is made again, the film goes on.
+    v.xdotool(&["windowsize", "--sync", &v.window.clone(), "200", "120"]);
+    v.wait_title("4/4 spp, done", 120);
+    v.xdotool(&["windowsize", "--sync", &v.window.clone(), "90", "150"]);
+    v.key("p");
+    let first = dir.join("cbox_path-4spp.png");
+    wait_file(&first, &mut v);
+    wait_file(&dir.join("cbox_path-4spp.exr"), &mut v);
+    // What was saved is the render of those 4 samples (resizing changed nothing).
+    let saved = rgb8(&first);
+    let render = rgb8(&render_png(&dir, 4));
+    let d = max_level_difference(&saved, &render);
+    assert!(
+        d <= 1,
+        "the saved image differs from the render by {d} levels"
+    );
+
+    // Exposure: two presses of ] are one stop, twice the linear value; the film
+    // (and so the EXR) does not change.
+    v.key("bracketright");
+    v.key("bracketright");
+    v.wait_title("exposure +1.0", 20);
+    v.key("p");
+    let second = dir.join("cbox_path-4spp-2.png");
+    wait_file(&second, &mut v);
+    let brighter = rgb8(&second);
+    let (mut ratio_sum, mut n) = (0.0, 0);
+    for (a, b) in saved.as_raw().iter().zip(brighter.as_raw()) {
+        // Where neither is near the 8-bit steps' coarse end nor clipped.
+        if (40..=170).contains(a) && *b < 250 {
+            ratio_sum += linear(*b) / linear(*a);
+            n += 1;
+        }
+    }
+    assert!(n > 100, "too few comparable pixels ({n})");
+    let ratio = ratio_sum / n as f64;
+    // 8-bit rounding moves each ratio by under 2% at these codes; the mean of many
+    // is within 1% of 2 unless the exposure is wrong.
+    assert!((ratio - 2.0).abs() < 0.02, "one stop brightened by {ratio}");
+    let exr_a = wavetrace::image::Image::read_exr(dir.join("cbox_path-4spp.exr")).expect("exr");
+    let exr_b = wavetrace::image::Image::read_exr(dir.join("cbox_path-4spp-2.exr")).expect("exr");
+    assert_eq!(exr_a, exr_b, "exposure changed the film");
+
+    v.key("Escape");
+    let (code, err) = v.wait_exit(30);
+    assert_eq!(code, 0, "Esc should quit cleanly: {err}");
+    assert!(err.contains("saved"), "{err}");
+}
+
+#[test]
+fn a_camera_key_moves_the_image_and_restarts_the_samples() {
+    let Some(x) = xvfb("camera") else { return };
+    let dir = temp_dir("camera");
+    // No --spp: it accumulates until closed.
+    let mut v = Viewer::start(&x, &dir, &[]);
+    // Samples per pixel in the title (0 before the first frame names any).
+    let spp_of = |title: &str| -> u32 {
+        if !title.contains(" spp") {
+            return 0;
+        }
+        title
+            .split(" spp")
+            .next()
+            .and_then(|s| s.rsplit("| ").next())
+            .and_then(|s| s.trim().parse().ok())
+            .unwrap_or_else(|| panic!("no spp in the title {title:?}"))
+    };
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while spp_of(&v.title()) < 4 {
+        v.assert_running();
+        assert!(Instant::now() < deadline, "the viewer never reached 4 spp");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    v.key("p");
+    let before = dir
+        .read_dir()
+        .expect("dir")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .find(|p| p.extension().is_some_and(|e| e == "exr"));
+    let deadline = Instant::now() + Duration::from_secs(30);
+    let mut before = before;
+    while before.is_none() {
+        assert!(Instant::now() < deadline, "P saved nothing");
+        std::thread::sleep(Duration::from_millis(100));
+        before = dir
+            .read_dir()
+            .expect("dir")
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .find(|p| p.extension().is_some_and(|e| e == "exr"));
+    }
+    let before = before.expect("saved exr");
+    wait_file(&before, &mut v);
+    // Turn left by 10 presses of 2 degrees: the accumulation starts again from 0
+    // (the title shows it at once) ...
+    for _ in 0..10 {
+        v.key("Left");
+    }
+    v.wait_title("| 0 spp", 20);
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while spp_of(&v.title()) < 4 {
+        v.assert_running();
+        assert!(
+            Instant::now() < deadline,
+            "the viewer never got back to 4 spp"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    v.key("p");
+    // ... and the image moved: block means (8x8 pixels, so a few samples' noise
+    // averages out) differ much more than noise could make them.
+    let deadline = Instant::now() + Duration::from_secs(30);
+    let after = loop {
+        let found = dir
+            .read_dir()
+            .expect("dir")
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .find(|p| p.extension().is_some_and(|e| e == "exr") && *p != before);
+        if let Some(p) = found {
+            break p;
+        }
+        assert!(Instant::now() < deadline, "the second P saved nothing");
+        std::thread::sleep(Duration::from_millis(100));
+    };
+    wait_file(&after, &mut v);
+    let a = wavetrace::image::Image::read_exr(&before).expect("exr");
+    let b = wavetrace::image::Image::read_exr(&after).expect("exr");
+    let blocks = |img: &wavetrace::image::Image| -> Vec<f64> {
+        let mut out = Vec::new();
+        for by in 0..img.height / 8 {
+            for bx in 0..img.width / 8 {
+                let mut s = 0.0;
+                for y in 0..8 {
+                    for x in 0..8 {
+                        let p = img.pixel(bx * 8 + x, by * 8 + y);
+                        s += (p[0] + p[1] + p[2]) as f64 / 3.0;
+                    }
+                }
+                out.push(s / 64.0);
+            }
+        }
+        out
+    };
+    let (ba, bb) = (blocks(&a), blocks(&b));
+    let mean = ba.iter().sum::<f64>() / ba.len() as f64;
+    let diff = ba.iter().zip(&bb).map(|(x, y)| (x - y).abs()).sum::<f64>() / ba.len() as f64;
+    // A 20-degree turn of a 39-degree view shifts every wall by half the image.
+    assert!(
+        diff > 0.2 * mean,
+        "the image barely changed: mean block difference {diff} for mean {mean}"
+    );
+    v.key("Escape");
+    let (code, err) = v.wait_exit(30);
+    assert_eq!(code, 0, "{err}");
+}
+
+#[test]
+fn no_display_is_a_clear_error() {
+    let out = Command::new(bin())
+        .current_dir(repo(""))
+        .args(["view", SCENE, "-D", RES])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run wavetrace view");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    for needle in ["no display", "wavetrace render", "--tev"] {
+        assert!(err.contains(needle), "stderr lacks {needle:?}: {err}");
+    }
+}
+
+#[test]
+fn an_unreachable_display_is_a_clear_error() {
+    // A display number no server listens on: GLFW cannot connect.
+    let out = Command::new(bin())
+        .current_dir(repo(""))
+        .args(["view", SCENE, "-D", RES])
+        .env("DISPLAY", ":987")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run wavetrace view");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(err.contains("no display"), "{err}");
+    assert!(err.contains("--tev"), "{err}");
+}
