@@ -9,9 +9,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use wavetrace::bench;
 use wavetrace::gpu::Device;
-use wavetrace::image::tev::{self, TevStream};
-use wavetrace::render::film::FilmSums;
-use wavetrace::render::{RenderOptions, RenderStats, Renderer};
+use wavetrace::render::RenderOptions;
 use wavetrace::scene::film::{FileFormat, Filter, PixelFormat};
 use wavetrace::scene::sampler::SamplerKind;
 use wavetrace::scene::{self, Scene};
@@ -40,9 +38,9 @@ struct SceneArgs {
 /// How to run a render, shared by `render` and `bench`.
 #[derive(clap::Args)]
 struct RunArgs {
-    /// Seed of the random numbers (added to the sampler's `seed`).
-    #[arg(long, default_value_t = 0)]
-    seed: u32,
+    /// Seed of the random numbers (added to the sampler's `seed`; default 0).
+    #[arg(long)]
+    seed: Option<u32>,
     /// Sampler, overriding the scene's type (its parameters carry over): independent,
     /// stratified, multijitter, orthogonal, ldsampler, zsobol.
     #[arg(long)]
@@ -53,7 +51,9 @@ struct RunArgs {
     /// sppm (stochastic progressive photon mapping: caustics, converging).
     #[arg(long)]
     integrator: Option<String>,
-    /// Vulkan device: index or part of its name (see `wavetrace devices`).
+    /// Vulkan device: index or part of its name (see `wavetrace devices`); for
+    /// `render`, also a comma-separated list or `all`: the samples are spread over
+    /// those devices and merged (the same device may be named twice).
     #[arg(long)]
     device: Option<String>,
     /// Most paths in flight per batch.
@@ -73,7 +73,7 @@ impl RunArgs {
     fn options(self, timestamps: bool) -> (RenderOptions, Option<String>) {
         let options = RenderOptions {
             integrator: self.integrator,
-            seed: self.seed,
+            seed: self.seed.unwrap_or(0),
             sampler: self.sampler,
             max_batch_paths: self.batch,
             timestamps,
@@ -88,32 +88,11 @@ impl RunArgs {
 #[derive(Subcommand)]
 enum Command {
     /// Render a scene to a linear EXR (or the film's file format) and an sRGB PNG
-    /// beside it.
-    Render {
-        #[command(flatten)]
-        scene: SceneArgs,
-        /// Output file (default: the scene's name in the current folder); its
-        /// extension becomes the film's file format's (exr, rgbe or pfm), as in
-        /// Mitsuba.
-        #[arg(short, long)]
-        output: Option<PathBuf>,
-        /// Samples per pixel (default: the scene's sampler).
-        #[arg(long)]
-        spp: Option<u32>,
-        #[command(flatten)]
-        run: RunArgs,
-        /// Print GPU time per kernel (timestamp queries).
-        #[arg(long)]
-        profile: bool,
-        /// No progress bar.
-        #[arg(short, long)]
-        quiet: bool,
-        /// Stream the image in progress to tev (the HDR viewer) listening at HOST:PORT
-        /// (default 127.0.0.1:14158); without tev the render goes on, with a warning.
-        #[arg(long, value_name = "HOST:PORT", num_args = 0..=1,
-              default_missing_value = tev::DEFAULT_ADDRESS)]
-        tev: Option<String>,
-    },
+    /// beside it; or some of its samples to a partial EXR (`--samples`), or the rest
+    /// of an interrupted or partial render (`--resume`). A first Ctrl-C (SIGINT or
+    /// SIGTERM) stops at the next sample boundary and writes a partial EXR to resume
+    /// from; a second aborts at once.
+    Render(cli::render::RenderArgs),
     /// Watch a scene converge in a window and move its camera (needs a display):
     /// WASDQE move, arrow keys turn, mouse drag orbits, scroll zooms, =/- move speed,
     /// [/] exposure, R resets the camera, P or F12 saves EXR + PNG, Esc quits.
@@ -132,6 +111,20 @@ enum Command {
         screenshot: Option<PathBuf>,
         #[command(flatten)]
         run: RunArgs,
+    },
+    /// Merge partial EXRs of one render (`render --samples`) into the image of their
+    /// samples, written in the film's formats as `render` writes it.
+    Merge {
+        /// The partial EXRs.
+        #[arg(required = true)]
+        parts: Vec<PathBuf>,
+        /// Output file.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Merge parts that do not hold every sample of the render: the image is
+        /// then a partial EXR of the samples there are (its header says which).
+        #[arg(long)]
+        allow_gaps: bool,
     },
     /// Time against error: render at increasing sample counts and compare each image
     /// with a reference (RMSE, relMSE, rays/s, efficiency, GPU time per kernel).
@@ -241,6 +234,8 @@ fn load(args: &SceneArgs) -> Result<Scene> {
     Ok(scene::load(&args.scene, &defines)?)
 }
 
+mod cli;
+
 fn main() {
     if let Err(e) = run(Cli::parse()) {
         eprintln!("error: {e:#}");
@@ -250,181 +245,12 @@ fn main() {
 
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
-        Command::Render {
-            scene,
+        Command::Render(args) => cli::render::run(args),
+        Command::Merge {
+            parts,
             output,
-            spp,
-            run,
-            profile,
-            quiet,
-            tev: tev_address,
-        } => {
-            let t_load = Instant::now();
-            let sc = load(&scene)?;
-            let load_seconds = t_load.elapsed().as_secs_f64();
-            let requested = spp.unwrap_or(sc.spp);
-            if requested == 0 {
-                bail!("--spp must be at least 1");
-            }
-            let format = sc.film.file_format;
-            let asked_output = output.unwrap_or_else(|| default_output(&scene.scene));
-            let output = output_path(&asked_output, format);
-            if output != asked_output {
-                eprintln!(
-                    "note: the film's file format is {}: writing {}",
-                    format.extension(),
-                    output.display()
-                );
-            }
-            let (options, device) = run.options(profile);
-            let device = Device::new(device.as_deref())?;
-            eprintln!("device: {}", device.info());
-            let mut renderer = Renderer::new(&device, &sc, &options)?;
-            let count = renderer.round_sample_count(requested)?;
-            if let Some(w) = &count.warning {
-                eprintln!("warning: {w}");
-            }
-            let spp = count.count;
-            // The sampler's pattern is the count rendered (as `bench` and
-            // Renderer::render have it), not the scene's.
-            renderer.set_sample_count(count)?;
-            let s = &renderer.setup;
-            eprintln!(
-                "start-up: scene {:.0} ms, vulkan {:.0} ms, bvh {:.0} ms ({} nodes, SAH {:.1}), upload {:.0} ms, \
-                 pipelines {:.0} ms, first dispatch (kernel compile) {:.0} ms",
-                load_seconds * 1e3,
-                device.info().startup_seconds * 1e3,
-                s.bvh.build_seconds * 1e3,
-                s.bvh.node_count,
-                s.bvh.sah_cost,
-                s.upload_seconds * 1e3,
-                s.pipeline_seconds * 1e3,
-                s.first_dispatch_seconds * 1e3,
-            );
-            let g = *renderer.film_geometry();
-            let (w, h) = (g.crop.width, g.crop.height);
-            eprintln!(
-                "rendering {w}x{h} at {spp} spp with '{}', sampler '{}', {} ({} paths per batch)",
-                renderer.integrator().name(),
-                renderer.sampler().kind.name(),
-                describe_film(&sc),
-                renderer.capacity()
-            );
-            if let Some(lost) = renderer.film_overridden(&sc.film) {
-                eprintln!(
-                    "warning: '{}' does not render this film's {lost}",
-                    renderer.integrator().name()
-                );
-            }
-            if renderer.integrator().needs_emitters() && sc.emitters.is_empty() {
-                eprintln!(
-                    "warning: {} has no emitters: '{}' will render a black image",
-                    scene.scene.display(),
-                    renderer.integrator().name()
-                );
-            }
-            let bar = if quiet {
-                ProgressBar::hidden()
-            } else {
-                let bar = ProgressBar::new(g.region_pixels() as u64 * spp as u64);
-                bar.set_style(
-                    ProgressStyle::with_template(
-                        "{bar:40} {percent:>3}% {msg} [{elapsed_precise} < {eta_precise}]",
-                    )
-                    .unwrap_or_else(|_| ProgressStyle::default_bar()),
-                );
-                bar
-            };
-            let pixels = g.region_pixels() as u64;
-            let mut progress = |done: u64, _total: u64| {
-                bar.set_position(done);
-                bar.set_message(format!("{}/{spp} spp", done / pixels));
-            };
-            let mut tev = tev_address.and_then(|address| {
-                let name = output.file_name().map_or_else(
-                    || "wavetrace".to_string(),
-                    |n| n.to_string_lossy().into_owned(),
-                );
-                let names = sc.film.pixel_format.channel_names();
-                match TevStream::create(&address, &name, w, h, &names) {
-                    Ok(t) => {
-                        eprintln!("streaming to tev at {address} as '{name}'");
-                        Some(t)
-                    }
-                    Err(e) => {
-                        eprintln!("warning: {e}; rendering without it");
-                        None
-                    }
-                }
-            });
-            let (film, stats) = match tev.as_mut() {
-                Some(t) if renderer.is_progressive() => {
-                    render_to_tev(&mut renderer, spp, t, sc.film.pixel_format, &mut progress)?
-                }
-                _ => renderer.render_film(0, spp, &mut progress)?,
-            };
-            if let Some(t) = tev.as_mut() {
-                send_to_tev(t, &film, sc.film.pixel_format);
-            }
-            bar.finish_and_clear();
-            let samples = pixels * spp as u64;
-            eprintln!(
-                "rendered in {:.3} s: {:.2} M samples/s, {:.2} M rays/s ({} rays, {} batches)",
-                stats.seconds,
-                samples as f64 / stats.seconds / 1e6,
-                stats.rays as f64 / stats.seconds / 1e6,
-                stats.rays,
-                stats.batches
-            );
-            if let Some(p) = &stats.photons {
-                eprintln!(
-                    "photons: {} paths emitted, {} photons stored in {} pass(es) of at most {} \
-                     ({:.2} M emitted/s, {:.2} M stored/s); tracing {:.3} s, grids {:.3} s, \
-                     gathers {:.3} s; {:.0} bytes per photon",
-                    p.emitted,
-                    p.stored,
-                    p.passes,
-                    p.capacity,
-                    p.emitted_per_second() / 1e6,
-                    p.stored_per_second() / 1e6,
-                    p.trace_seconds,
-                    p.grid_seconds,
-                    p.gather_seconds,
-                    p.bytes_per_photon
-                );
-            }
-            if stats.discarded > 0 {
-                eprintln!(
-                    "warning: {} samples were NaN or infinite and were discarded",
-                    stats.discarded
-                );
-            }
-            if stats.cut_paths > 0 {
-                eprintln!(
-                    "warning: {} paths were still going after {} bounces and were cut short \
-                     (the image misses their later light): give the integrator a max_depth, \
-                     or a smaller rr_depth",
-                    stats.cut_paths,
-                    renderer.bounce_budget()
-                );
-            }
-            if profile {
-                for (name, (secs, n)) in &stats.kernel_times.by_kernel {
-                    eprintln!("  {name:<12} {:>9.2} ms over {n} dispatches", secs * 1e3);
-                }
-            }
-            let png = output.with_extension("png");
-            film.write(
-                &output,
-                sc.film.pixel_format,
-                sc.film.component_format,
-                format,
-                Some(&png),
-            )
-            .with_context(|| format!("writing {}", output.display()))?;
-            eprintln!("wrote {} and {}", output.display(), png.display());
-            Ok(())
-        }
+            allow_gaps,
+        } => crate::cli::render::merge(&parts, &output, allow_gaps),
         Command::View {
             scene,
             spp,
@@ -535,53 +361,6 @@ fn run(cli: Cli) -> Result<()> {
             }
             Ok(())
         }
-    }
-}
-
-/// Seconds between the images a render sends to tev.
-const TEV_INTERVAL_SECONDS: f64 = 0.5;
-
-/// Renders samples `0..spp` in batches, sending the image to tev every
-/// [`TEV_INTERVAL_SECONDS`] (the caller sends the last).
-fn render_to_tev(
-    renderer: &mut Renderer,
-    spp: u32,
-    tev: &mut TevStream,
-    format: PixelFormat,
-    progress: &mut dyn FnMut(u64, u64),
-) -> Result<(FilmSums, RenderStats)> {
-    let start = Instant::now();
-    let pixels = renderer.film_geometry().region_pixels() as u64;
-    let total = pixels * spp as u64;
-    let mut run = renderer.start_progressive(Some(spp))?;
-    let mut sent = Instant::now();
-    let mut done = 0;
-    let capacity = renderer.capacity();
-    while !run.finished() {
-        done += renderer.step(&mut run, capacity)?;
-        progress(done, total);
-        if !run.finished() && sent.elapsed().as_secs_f64() >= TEV_INTERVAL_SECONDS {
-            send_to_tev(tev, &renderer.read_film()?, format);
-            sent = Instant::now();
-        }
-    }
-    let film = renderer.read_film()?;
-    let mut stats = run.stats;
-    stats.spp = spp;
-    stats.seconds = start.elapsed().as_secs_f64();
-    Ok((film, stats))
-}
-
-/// Sends the film to tev; a failure (tev closed) is a warning, once: later sends
-/// are skipped.
-fn send_to_tev(tev: &mut TevStream, film: &FilmSums, format: PixelFormat) {
-    if tev.is_closed() {
-        return;
-    }
-    let (_, data) = film.channels(format);
-    if let Err(e) = tev.update(&data) {
-        eprintln!("warning: {e}; no more updates go to tev");
-        tev.close();
     }
 }
 
@@ -900,21 +679,20 @@ fn print_info(
 /// bindings there (on the default device, or as on lavapipe without one).
 fn print_device_memory(sc: &Scene, bvh: &wavetrace::accel::Bvh) {
     use wavetrace::render::scene_buffers::SceneRecords;
-    use wavetrace::render::scene_parts::{scene_arrays, ScenePlan, DEFAULT_PART_SHIFT};
+    use wavetrace::render::scene_parts::{
+        array_sizes, scene_arrays, ScenePlan, DEFAULT_PART_SHIFT,
+    };
     let records = SceneRecords::new(sc, bvh);
-    let arrays = scene_arrays(bvh, &records);
+    let bytes = array_sizes(&scene_arrays(bvh, &records));
     let (plan, on) = match Device::new(None) {
         Ok(device) => (
-            ScenePlan::for_device(device.info(), &arrays, None),
+            ScenePlan::for_device(device.info(), bytes, None),
             device.info().to_string(),
         ),
-        Err(e) => {
-            let bytes = std::array::from_fn(|a| arrays[a].len() as u64);
-            (
-                ScenePlan::new(bytes, DEFAULT_PART_SHIFT),
-                format!("no Vulkan device ({e}); bindings as on lavapipe"),
-            )
-        }
+        Err(e) => (
+            ScenePlan::new(bytes, DEFAULT_PART_SHIFT),
+            format!("no Vulkan device ({e}); bindings as on lavapipe"),
+        ),
     };
     println!("device memory of the scene buffers, on {on}:");
     match plan {
@@ -925,4 +703,19 @@ fn print_device_memory(sc: &Scene, bvh: &wavetrace::accel::Bvh) {
         }
         Err(e) => println!("  the scene does not fit: {e}"),
     }
+}
+
+/// How the kernels' modules were specialized, for the start-up line: "7 kernels
+/// specialized, 7 from cache" (see `gpu::specialize`).
+fn specialization_summary() -> String {
+    let st = wavetrace::gpu::specialize::stats();
+    let mut parts = vec![format!(
+        "{} kernels specialized, {} from cache",
+        st.cached + st.optimized,
+        st.cached
+    )];
+    if st.driver > 0 {
+        parts.push(format!("{} by the driver", st.driver));
+    }
+    parts.join(", ")
 }

@@ -5,7 +5,7 @@ mod common;
 
 use wavetrace::accel::{prims_from_scene, Bvh};
 use wavetrace::render::scene_buffers::SceneRecords;
-use wavetrace::render::scene_parts::{scene_arrays, ScenePlan, SCENE_ARRAYS};
+use wavetrace::render::scene_parts::{array_sizes, scene_arrays, ScenePlan, SCENE_ARRAYS};
 use wavetrace::render::{RenderOptions, Renderer};
 use wavetrace::scene::Scene;
 
@@ -14,8 +14,7 @@ use wavetrace::scene::Scene;
 fn smallest_part_shift(scene: &Scene) -> u32 {
     let bvh = Bvh::build(prims_from_scene(scene));
     let records = SceneRecords::new(scene, &bvh);
-    let arrays = scene_arrays(&bvh, &records);
-    let bytes = std::array::from_fn(|a| arrays[a].len() as u64);
+    let bytes = array_sizes(&scene_arrays(&bvh, &records));
     (0..32)
         .find(|&s| ScenePlan::new(bytes, s).is_ok())
         .expect("some part size fits")

@@ -105,9 +105,19 @@ fn gpu_texture_lookups_equal_the_cpu_reference() {
     assert_eq!(scene.textures.len(), 8);
 
     let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
-    // Uvs over [-2, 3]²: every wrap mode sees several periods.
+    // Uvs over [-2, 3]²: every wrap mode sees several periods; one in 16 over
+    // [-200, 300]², where texel indices reach ±2000 (texture_wrap's remainder through
+    // a float quotient).
     let uvs: Vec<[f32; 4]> = (0..N)
-        .map(|_| [5.0 * rng.next() - 2.0, 5.0 * rng.next() - 2.0, 0.0, 0.0])
+        .map(|i| {
+            let s = if i % 16 == 0 { 100.0 } else { 1.0 };
+            [
+                s * (5.0 * rng.next() - 2.0),
+                s * (5.0 * rng.next() - 2.0),
+                0.0,
+                0.0,
+            ]
+        })
         .collect();
     for (k, tex) in scene.textures.iter().enumerate() {
         let gpu = lookup(&scene, &uvs, k as u32 + 1, 0);

@@ -4,12 +4,15 @@ and 30 M triangles, next to Mitsuba 3 loading the same files (README "Large scen
 
     python3 tools/bench_large.py [--sizes 1M,8M,30M] [--dir target/large] [--runs 2]
                                  [--wavetrace target/release/wavetrace] [--variant scalar_rgb]
-                                 [--res 256] [--spp 16] [--no-render] [--json OUT.json]
+                                 [--res 256] [--spp 16] [--no-render] [--no-obj] [--json OUT.json]
 
-For each size: makes the mesh with tools/make_heightfield.py if missing, then
+For each size: makes the mesh with tools/make_heightfield.py if missing (binary PLY,
+and the same mesh as a text OBJ unless --no-obj), then
 - `wavetrace info`: load time, BVH build time, SAH cost and the build's peak memory
   above the loaded scene (wavetrace measures it from /proc/self), and the process's
-  peak resident memory;
+  peak resident memory and CPU time (user + system);
+- the load time of the OBJ, and the speed of reading each file from the page cache
+  (the file read once before, then timed: the disk's best case);
 - Mitsuba 3 `load_file` of the same scene (it reads the PLY and builds its own
   acceleration structure), wall time and peak memory;
 - `wavetrace render` at --res x --res and --spp samples: rays/s and peak memory.
@@ -47,15 +50,28 @@ def die(msg):
 
 def run(cmd, env=None):
     """Runs cmd under /usr/bin/time (and the bench lock): (stdout+stderr, peak KiB)."""
-    wrapped = ["/usr/bin/time", "-f", "PEAK_KIB %M"] + cmd
+    wrapped = ["/usr/bin/time", "-f", "PEAK_KIB %M CPU_S %U %S"] + cmd
     if os.path.exists(os.path.dirname(LOCK)):
         wrapped = ["flock", LOCK] + wrapped
     p = subprocess.run(wrapped, capture_output=True, text=True, env=env)
     out = p.stdout + p.stderr
     if p.returncode != 0:
         die("%s failed:\n%s" % (" ".join(cmd), out[-3000:]))
-    peak = int(re.search(r"PEAK_KIB (\d+)", out).group(1))
-    return out, peak
+    m = re.search(r"PEAK_KIB (\d+) CPU_S ([\d.]+) ([\d.]+)", out)
+    return out, int(m.group(1)), float(m.group(2)) + float(m.group(3))
+
+
+def cached_read_speed(path):
+    """Bytes per second reading `path` from the page cache (one read to fill it)."""
+    best = None
+    for _ in range(3):
+        t = time.time()
+        with open(path, "rb", buffering=0) as f:
+            while f.read(1 << 24):
+                pass
+        dt = time.time() - t
+        best = dt if best is None else min(best, dt)
+    return os.path.getsize(path) / best
 
 
 def number(pattern, text, what):
@@ -75,6 +91,7 @@ def main():
     ap.add_argument("--res", type=int, default=256)
     ap.add_argument("--spp", type=int, default=16)
     ap.add_argument("--no-render", action="store_true")
+    ap.add_argument("--no-obj", action="store_true", help="skip the OBJ load")
     ap.add_argument("--json")
     args = ap.parse_args()
     if not os.path.isfile(args.wavetrace):
@@ -88,11 +105,15 @@ def main():
         if not os.path.isfile(base + ".ply"):
             subprocess.run([sys.executable, os.path.join(TOOLS, "make_heightfield.py"),
                             "--triangles", size, "-o", base], check=True)
+        if not args.no_obj and not os.path.isfile(base + ".obj"):
+            subprocess.run([sys.executable, os.path.join(TOOLS, "make_heightfield.py"),
+                            "--triangles", size, "-o", base, "--obj"], check=True)
         scene = base + ".xml"
-        row = {"size": size}
+        row = {"size": size, "ply_bytes": os.path.getsize(base + ".ply"),
+               "ply_cached_read_bps": cached_read_speed(base + ".ply")}
         best = None
         for _ in range(args.runs):
-            out, peak = run([args.wavetrace, "info", scene])
+            out, peak, cpu = run([args.wavetrace, "info", scene])
             r = {
                 "triangles": int(number(r"triangles:\s+(\d+)", out, "triangle count")),
                 "load_s": number(r"loaded in ([\d.]+) ms", out, "load time") / 1e3,
@@ -100,22 +121,33 @@ def main():
                 "sah_cost": number(r"SAH cost ([\d.]+)", out, "SAH cost"),
                 "bvh_peak_bytes": number(r"build peak ([\d.]+) MiB", out, "BVH peak") * 2**20,
                 "info_peak_bytes": peak * 1024,
+                "info_cpu_s": cpu,
             }
             if best is None or r["load_s"] + r["bvh_s"] < best["load_s"] + best["bvh_s"]:
                 best = r
         row.update(best)
+        if not args.no_obj:
+            row["obj_bytes"] = os.path.getsize(base + ".obj")
+            row["obj_cached_read_bps"] = cached_read_speed(base + ".obj")
+            obj_load = None
+            for _ in range(args.runs):
+                out, _, _ = run([args.wavetrace, "info", base + "_obj.xml"])
+                t = number(r"loaded in ([\d.]+) ms", out, "load time") / 1e3
+                obj_load = t if obj_load is None else min(obj_load, t)
+            row["obj_load_s"] = obj_load
         mi = None
         for _ in range(args.runs):
-            out, peak = run([sys.executable, "-c", MITSUBA_LOAD, scene, args.variant], env=env)
+            out, peak, cpu = run([sys.executable, "-c", MITSUBA_LOAD, scene, args.variant],
+                                 env=env)
             r = {"mitsuba_load_s": number(r"seconds ([\d.]+)", out, "Mitsuba time"),
-                 "mitsuba_peak_bytes": peak * 1024}
+                 "mitsuba_peak_bytes": peak * 1024, "mitsuba_cpu_s": cpu}
             if mi is None or r["mitsuba_load_s"] < mi["mitsuba_load_s"]:
                 mi = r
         row.update(mi)
         if not args.no_render:
             rend = None
             for _ in range(args.runs):
-                out, peak = run([args.wavetrace, "render", scene, "-D", "res=%d" % args.res,
+                out, peak, _ = run([args.wavetrace, "render", scene, "-D", "res=%d" % args.res,
                                  "--spp", str(args.spp), "-q", "-o",
                                  os.path.join(args.dir, "out_%s.exr" % size.lower())])
                 r = {"render_s": number(r"rendered in ([\d.]+) s", out, "render time"),
@@ -126,11 +158,20 @@ def main():
             row.update(rend)
         rows.append(row)
         n = row["triangles"]
-        print("%s: %d triangles; wavetrace load %.2f s, BVH %.2f s (SAH %.2f, build peak %.0f "
-              "bytes/triangle), info peak %.2f GB; Mitsuba %s load %.2f s, peak %.2f GB%s"
-              % (size, n, row["load_s"], row["bvh_s"], row["sah_cost"],
-                 row["bvh_peak_bytes"] / n, row["info_peak_bytes"] / 1e9, args.variant,
-                 row["mitsuba_load_s"], row["mitsuba_peak_bytes"] / 1e9,
+        mb = lambda b, s: b / s / 1e6
+        loads = "PLY %.2f s (%.0f MB/s; cached read %.0f MB/s)" % (
+            row["load_s"], mb(row["ply_bytes"], row["load_s"]), row["ply_cached_read_bps"] / 1e6)
+        if not args.no_obj:
+            loads += ", OBJ %.2f s (%.0f MB/s; cached read %.0f MB/s)" % (
+                row["obj_load_s"], mb(row["obj_bytes"], row["obj_load_s"]),
+                row["obj_cached_read_bps"] / 1e6)
+        print("%s: %d triangles; wavetrace load %s; BVH %.2f s (SAH %.2f, build peak %.0f "
+              "bytes/triangle), info peak %.2f GB, CPU %.1f s; Mitsuba %s load %.2f s, peak "
+              "%.2f GB, CPU %.1f s%s"
+              % (size, n, loads, row["bvh_s"], row["sah_cost"],
+                 row["bvh_peak_bytes"] / n, row["info_peak_bytes"] / 1e9, row["info_cpu_s"],
+                 args.variant, row["mitsuba_load_s"], row["mitsuba_peak_bytes"] / 1e9,
+                 row["mitsuba_cpu_s"],
                  "" if args.no_render else "; render %d^2 x %d spp %.2f s, %.2f M rays/s, "
                  "peak %.2f GB" % (args.res, args.spp, row["render_s"], row["mrays_per_s"],
                                    row["render_peak_bytes"] / 1e9)),

@@ -63,6 +63,11 @@ SUITE = {
     "veach_direct": ("scenes/veach/veach.xml", ["integrator=direct"], None,
                      "scenes/refs/veach_direct.exr"),
     "envmap": ("scenes/envmap/envmap.xml", [], None, "scenes/refs/envmap.exr"),
+    # The speed issue's shading-heavy scenes: a lat-long EXR lighting a rough conductor
+    # and a rough plastic (unbounded paths), and bitmap textures on geometry (diffuse
+    # reflectance, a rough conductor's roughness) and on an area emitter's radiance.
+    "envmap_glossy": ("scenes/envmap/envmap_glossy.xml", ["res=256"], None, 4096),
+    "textures": ("scenes/textures/textures.xml", ["res=256"], None, 4096),
 }
 SURFACES = ["cbox", "veach", "glass"]
 MEDIA = ["cube", "two_media", "smoke", "cbox_smoke"]
@@ -70,6 +75,7 @@ MEDIA = ["cube", "two_media", "smoke", "cbox_smoke"]
 # none): phase functions, an absorber, a textured thin dielectric, a rotated spiky grid.
 MEDIA_MORE = ["cube_g07", "cube_gm07", "cube_absorber", "thin_textured", "smoke_rotated"]
 SAMPLER_SCENES = ["cbox_path", "veach_direct", "envmap"]
+SHADING = ["envmap_glossy", "textures"]
 
 
 def die(msg):
@@ -140,8 +146,9 @@ def geomean(xs):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--scenes", default="surfaces,media",
-                    help="comma-separated subset of: %s (or 'surfaces', 'media', 'media_more')"
+    ap.add_argument("--scenes", default="surfaces,shading,media",
+                    help="comma-separated subset of: %s (or 'surfaces', 'shading', 'media', "
+                    "'media_more', 'samplers')"
                     % ", ".join(SUITE))
     ap.add_argument("--variants", default="scalar_rgb", help="Mitsuba variants (default scalar_rgb)")
     ap.add_argument("--seeds", default="11,12,13,14", help="seeds (default 11,12,13,14)")
@@ -156,8 +163,8 @@ def main():
 
     names = []
     for n in args.scenes.split(","):
-        groups = {"surfaces": SURFACES, "media": MEDIA, "media_more": MEDIA_MORE,
-                  "samplers": SAMPLER_SCENES}
+        groups = {"surfaces": SURFACES, "shading": SHADING, "media": MEDIA,
+                  "media_more": MEDIA_MORE, "samplers": SAMPLER_SCENES}
         names += groups.get(n, [n])
     for n in names:
         if n not in SUITE:

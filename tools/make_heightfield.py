@@ -3,10 +3,11 @@
 both wavetrace and Mitsuba 3: the input of the large-scene benchmark
 (tools/bench_large.py, README "Large scenes").
 
-    python3 tools/make_heightfield.py --triangles 8M -o target/large/hf8m
+    python3 tools/make_heightfield.py --triangles 8M -o target/large/hf8m [--obj]
 
 writes hf8m.ply (binary little endian: vertex float x, y, z; face list uchar int
-vertex_indices, the layout Mitsuba and most exporters write) and hf8m.xml. The grid
+vertex_indices, the layout Mitsuba and most exporters write) and hf8m.xml; with --obj,
+hf8m.obj (text) and hf8m_obj.xml instead. The grid
 has N x N vertices over [-1, 1]^2 with N = 1 + round(sqrt(triangles / 2)), each quad
 cut into two triangles; z = 0.08 (sin 13x cos 17y + 0.5 sin(41x + 29y)). Only the
 Python standard library is needed (a 30 M-triangle file takes about a minute).
@@ -74,14 +75,37 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--triangles", default="1M", help="about this many triangles (8M, 500k, ...)")
     ap.add_argument("-o", "--output", required=True, help="output path without extension")
+    ap.add_argument("--obj", action="store_true", help="write a Wavefront OBJ instead")
     args = ap.parse_args()
     n = 1 + max(1, round(math.sqrt(count(args.triangles) / 2)))
     triangles = 2 * (n - 1) ** 2
     os.makedirs(os.path.dirname(os.path.abspath(args.output)), exist_ok=True)
-    ply = args.output + ".ply"
     step = 2.0 / (n - 1)
     xs = [-1.0 + i * step for i in range(n)]
     sx13 = [math.sin(13 * x) for x in xs]
+
+    def height(i, y, c17):
+        return 0.08 * (sx13[i] * c17 + 0.5 * math.sin(41 * xs[i] + 29 * y))
+
+    if args.obj:
+        mesh = args.output + ".obj"
+        with open(mesh, "w") as f:
+            f.write("# tools/make_heightfield.py\n")
+            for j in range(n):
+                y = -1.0 + j * step
+                c17 = math.cos(17 * y)
+                f.write("".join("v %.7g %.7g %.7g\n" % (x, y, height(i, y, c17))
+                                for i, x in enumerate(xs)))
+            for j in range(n - 1):
+                f.write("".join("f %d %d %d\nf %d %d %d\n" % (v, v + 1, v + n + 1, v, v + n + 1, v + n)
+                                for v in range(j * n + 1, j * n + n)))
+        with open(args.output + "_obj.xml", "w") as f:
+            f.write(SCENE.format(triangles=triangles, n=n, ply=os.path.basename(mesh))
+                    .replace('type="ply"', 'type="obj"'))
+        print("wrote %s (%d triangles, %.0f MB) and %s_obj.xml"
+              % (mesh, triangles, os.path.getsize(mesh) / 1e6, args.output))
+        return
+    ply = args.output + ".ply"
     with open(ply, "wb") as f:
         f.write(("ply\nformat binary_little_endian 1.0\ncomment tools/make_heightfield.py\n"
                  "element vertex %d\nproperty float x\nproperty float y\nproperty float z\n"
@@ -93,7 +117,7 @@ def main():
             c17 = math.cos(17 * y)
             values = []
             for i, x in enumerate(xs):
-                values += (x, y, 0.08 * (sx13[i] * c17 + 0.5 * math.sin(41 * x + 29 * y)))
+                values += (x, y, height(i, y, c17))
             f.write(row.pack(*values))
         faces = struct.Struct("<" + "Biii" * (2 * (n - 1)))
         for j in range(n - 1):

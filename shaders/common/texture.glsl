@@ -17,11 +17,18 @@
 #define TEXTURE_USES(f) ((TEXTURE_KINDS & (f)) != 0u)
 
 // A texel index brought into [0, n) by the wrap mode (as Mitsuba's, on indices).
+// The remainder of i by m comes from a float quotient, corrected by one step either
+// way: llvmpipe (Mesa 22.3) has no vector integer division and divides lane by lane
+// (an integer % took a quarter of the shade time of scenes/textures/textures.xml).
+// Exact while the quotient's error stays below 1, i.e.
+// for |i| < 2^23 m (texture coordinates within 8 million repeats, beyond which a float
+// texture coordinate no longer resolves a texel anyway).
 int texture_wrap(int i, int n, uint mode) {
     if (mode == TEXTURE_WRAP_CLAMP) return clamp(i, 0, n - 1);
     int m = mode == TEXTURE_WRAP_MIRROR ? 2 * n : n;
-    int r = i % m;
+    int r = i - m * int(floor(float(i) / float(m)));
     if (r < 0) r += m;
+    if (r >= m) r -= m;
     return (mode == TEXTURE_WRAP_MIRROR && r >= n) ? 2 * n - 1 - r : r;
 }
 

@@ -128,31 +128,63 @@ pub(super) struct Aabb {
 }
 
 impl Aabb {
-    pub const EMPTY: Aabb = Aabb {
+    #[cfg(test)]
+    const EMPTY: Aabb = Aabb {
         min: Vec3::INFINITY,
         max: Vec3::NEG_INFINITY,
     };
 
     #[inline]
-    pub fn grow(&mut self, b: &Aabb) {
+    fn grow(&mut self, b: &Aabb) {
         self.min = self.min.min(b.min);
         self.max = self.max.max(b.max);
     }
 
-    #[inline]
-    pub fn grow_point(&mut self, p: Vec3) {
-        self.min = self.min.min(p);
-        self.max = self.max.max(p);
-    }
-
     /// Surface area in f64: finite for any finite f32 box; 0 for the empty box.
-    pub fn area(&self) -> f64 {
+    fn area(&self) -> f64 {
         let e = self.max - self.min;
         if e.x < 0.0 || e.y < 0.0 || e.z < 0.0 {
             return 0.0;
         }
         let (x, y, z) = (e.x as f64, e.y as f64, e.z as f64);
         2.0 * (x * y + y * z + z * x)
+    }
+}
+
+/// The bounds of one primitive (layouts in [`Prim`]).
+pub(super) fn prim_bounds(p: &Prim) -> Aabb {
+    let (p0, p1, p2) = (Vec3::from(p.p0), Vec3::from(p.p1), Vec3::from(p.p2));
+    // Half-extents of the ellipse c + cos φ a1 + sin φ a2 per axis: sqrt(a1² + a2²).
+    let ellipse = |a1: Vec3, a2: Vec3| (a1 * a1 + a2 * a2).map(f32::sqrt);
+    match p.kind {
+        PRIM_SPHERE => {
+            let r = Vec3::splat(p1.length());
+            Aabb {
+                min: p0 - r,
+                max: p0 + r,
+            }
+        }
+        PRIM_DISK => {
+            let e = ellipse(p1, p2);
+            Aabb {
+                min: p0 - e,
+                max: p0 + e,
+            }
+        }
+        PRIM_CYLINDER => {
+            // The end circles: radius |a1| in the plane normal to the axis p2.
+            let a2 = p2.normalize_or_zero().cross(p1);
+            let e = ellipse(p1, a2);
+            let top = p0 + p2;
+            Aabb {
+                min: (p0 - e).min(top - e),
+                max: (p0 + e).max(top + e),
+            }
+        }
+        _ => Aabb {
+            min: p0.min(p1).min(p2),
+            max: p0.max(p1).max(p2),
+        },
     }
 }
 
@@ -408,7 +440,6 @@ pub fn brute_force_closest(prims: &[Prim], o: Vec3, d: Vec3, tmin: f32, tmax: f3
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::accel::bvh_build::prim_bounds;
     use crate::gpu::layout::PRIM_TRIANGLE;
     use std::collections::HashMap;
 

@@ -24,14 +24,15 @@
 //! The tree does not depend on the parallel schedule: bins merge by exact min/max and
 //! integer counts, so every decision is the one a sequential build makes.
 
-use glam::Vec3;
+use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
 
 use super::bvh::{
-    Aabb, BVH_MAX_LEAF_SIZE, BVH_STACK_SIZE, SAH_BINS, SAH_INTERSECTION_COST, SAH_TRAVERSAL_COST,
+    prim_bounds, SplitMethod, BVH_MAX_LEAF_SIZE, BVH_STACK_SIZE, MEDIAN_LEAF_SIZE, SAH_BINS,
+    SAH_INTERSECTION_COST, SAH_TRAVERSAL_COST,
 };
-use super::bvh::{SplitMethod, MEDIAN_LEAF_SIZE};
-use crate::gpu::layout::{BvhNode, Prim, PRIM_CYLINDER, PRIM_DISK, PRIM_SPHERE, PRIM_TRIANGLE};
+use super::{quadric_prim, triangle_prim};
+use crate::gpu::layout::{BvhNode, Prim};
 use crate::scene::{Mesh, Quadric};
 
 /// Subtrees over fewer primitives are built by one thread into one node list.
@@ -102,57 +103,49 @@ impl PrimSource for ShapePrims<'_> {
             // The mesh whose triangles hold i: the last with first <= i.
             let shape = self.first.partition_point(|&f| f <= i) - 1;
             let mesh = &self.meshes[shape];
-            let ix = mesh.indices[i - self.first[shape]];
-            let p = ix.map(|v| mesh.positions[v as usize].to_array());
-            Prim {
-                p0: p[0],
-                shape: shape as u32,
-                p1: p[1],
-                index: i as u32,
-                p2: p[2],
-                kind: PRIM_TRIANGLE,
-            }
+            triangle_prim(mesh, i - self.first[shape], shape as u32, i as u32)
         } else {
             let k = i - triangles;
-            super::quadric_prim(&self.quadrics[k], (self.meshes.len() + k) as u32, k as u32)
+            quadric_prim(&self.quadrics[k], (self.meshes.len() + k) as u32, k as u32)
         }
     }
 }
 
-/// The bounds of one primitive (layouts in [`Prim`]).
-pub(super) fn prim_bounds(p: &Prim) -> Aabb {
-    let (p0, p1, p2) = (Vec3::from(p.p0), Vec3::from(p.p1), Vec3::from(p.p2));
-    // Half-extents of the ellipse c + cos φ a1 + sin φ a2 per axis: sqrt(a1² + a2²).
-    let ellipse = |a1: Vec3, a2: Vec3| (a1 * a1 + a2 * a2).map(f32::sqrt);
-    match p.kind {
-        PRIM_SPHERE => {
-            let r = Vec3::splat(p1.length());
-            Aabb {
-                min: p0 - r,
-                max: p0 + r,
-            }
+/// An axis-aligned box in SIMD registers (`Vec3A`), the build's working form of
+/// [`super::bvh::Aabb`]: the same arithmetic lane by lane, so the same tree.
+#[derive(Clone, Copy, Debug)]
+struct Box3 {
+    min: Vec3A,
+    max: Vec3A,
+}
+
+impl Box3 {
+    const EMPTY: Box3 = Box3 {
+        min: Vec3A::INFINITY,
+        max: Vec3A::NEG_INFINITY,
+    };
+
+    #[inline]
+    fn grow(&mut self, b: &Box3) {
+        self.min = self.min.min(b.min);
+        self.max = self.max.max(b.max);
+    }
+
+    #[inline]
+    fn grow_point(&mut self, p: Vec3A) {
+        self.min = self.min.min(p);
+        self.max = self.max.max(p);
+    }
+
+    /// Surface area in f64, as [`super::bvh::Aabb::area`].
+    #[inline]
+    fn area(&self) -> f64 {
+        let e = self.max - self.min;
+        if e.x < 0.0 || e.y < 0.0 || e.z < 0.0 {
+            return 0.0;
         }
-        PRIM_DISK => {
-            let e = ellipse(p1, p2);
-            Aabb {
-                min: p0 - e,
-                max: p0 + e,
-            }
-        }
-        PRIM_CYLINDER => {
-            // The end circles: radius |a1| in the plane normal to the axis p2.
-            let a2 = p2.normalize_or_zero().cross(p1);
-            let e = ellipse(p1, a2);
-            let top = p0 + p2;
-            Aabb {
-                min: (p0 - e).min(top - e),
-                max: (p0 + e).max(top + e),
-            }
-        }
-        _ => Aabb {
-            min: p0.min(p1).min(p2),
-            max: p0.max(p1).max(p2),
-        },
+        let (x, y, z) = (e.x as f64, e.y as f64, e.z as f64);
+        2.0 * (x * y + y * z + z * x)
     }
 }
 
@@ -169,15 +162,15 @@ const _: () = assert!(std::mem::size_of::<BuildPrim>() == 28);
 impl BuildPrim {
     /// Box center, not vertex mean: 0.5 min + 0.5 max cannot overflow.
     #[inline]
-    fn centroid(&self) -> Vec3 {
-        0.5 * self.min + 0.5 * self.max
+    fn centroid(&self) -> Vec3A {
+        0.5 * Vec3A::from(self.min) + 0.5 * Vec3A::from(self.max)
     }
 
     #[inline]
-    fn aabb(&self) -> Aabb {
-        Aabb {
-            min: self.min,
-            max: self.max,
+    fn aabb(&self) -> Box3 {
+        Box3 {
+            min: self.min.into(),
+            max: self.max.into(),
         }
     }
 }
@@ -185,14 +178,14 @@ impl BuildPrim {
 /// The box of a set of primitives and the box of their centroids.
 #[derive(Clone, Copy)]
 struct Extent {
-    bounds: Aabb,
-    centroids: Aabb,
+    bounds: Box3,
+    centroids: Box3,
 }
 
 impl Extent {
     const EMPTY: Extent = Extent {
-        bounds: Aabb::EMPTY,
-        centroids: Aabb::EMPTY,
+        bounds: Box3::EMPTY,
+        centroids: Box3::EMPTY,
     };
 
     #[inline]
@@ -226,21 +219,21 @@ impl Extent {
 
 /// A finished subtree as its parent sees it: box and `(index, count)` as in [`BvhNode`].
 #[derive(Clone, Copy)]
-pub(super) struct ChildRef {
-    pub bounds: Aabb,
-    pub index: u32,
-    pub count: u32,
+struct ChildRef {
+    bounds: Box3,
+    index: u32,
+    count: u32,
 }
 
 impl ChildRef {
-    pub const EMPTY: ChildRef = ChildRef {
-        bounds: Aabb::EMPTY,
+    const EMPTY: ChildRef = ChildRef {
+        bounds: Box3::EMPTY,
         index: 0,
         count: 0,
     };
 }
 
-pub(super) fn make_node(l: &ChildRef, r: &ChildRef) -> BvhNode {
+fn make_node(l: &ChildRef, r: &ChildRef) -> BvhNode {
     BvhNode {
         left_min: l.bounds.min.into(),
         left_index: l.index,
@@ -261,7 +254,7 @@ fn ceil_log2(m: usize) -> usize {
 /// One SAH bin: the box of its primitives and their count.
 #[derive(Clone, Copy)]
 struct Bin {
-    bounds: Aabb,
+    bounds: Box3,
     count: u32,
 }
 
@@ -269,7 +262,7 @@ struct Bin {
 type Bins = [[Bin; SAH_BINS]; 3];
 
 const EMPTY_BINS: Bins = [[Bin {
-    bounds: Aabb::EMPTY,
+    bounds: Box3::EMPTY,
     count: 0,
 }; SAH_BINS]; 3];
 
@@ -297,19 +290,19 @@ type Plane = (f64, usize, usize);
 /// the last bin. An axis with zero (or overflowing) extent has scale 0 and is skipped.
 #[derive(Clone, Copy)]
 struct Binning {
-    min: Vec3,
-    scale: Vec3,
+    min: Vec3A,
+    scale: Vec3A,
 }
 
 impl Binning {
-    fn new(cb: &Aabb) -> Binning {
+    fn new(cb: &Box3) -> Binning {
         let extent = cb.max - cb.min;
         Binning {
             min: cb.min,
-            scale: Vec3::select(
-                extent.cmpgt(Vec3::ZERO),
-                Vec3::splat(SAH_BINS as f32) / extent,
-                Vec3::ZERO,
+            scale: Vec3A::select(
+                extent.cmpgt(Vec3A::ZERO),
+                Vec3A::splat(SAH_BINS as f32) / extent,
+                Vec3A::ZERO,
             ),
         }
     }
@@ -322,10 +315,11 @@ impl Binning {
     fn fill(&self, prims: &[BuildPrim]) -> Bins {
         let mut bins = EMPTY_BINS;
         for p in prims {
-            let c = p.centroid();
+            // bin() for all three axes at once, lane by lane.
+            let k = (p.centroid() - self.min) * self.scale;
             let b = p.aabb();
             for (axis, axis_bins) in bins.iter_mut().enumerate() {
-                let bin = &mut axis_bins[self.bin(c[axis], axis)];
+                let bin = &mut axis_bins[(k[axis] as usize).min(SAH_BINS - 1)];
                 bin.bounds.grow(&b);
                 bin.count += 1;
             }
@@ -352,14 +346,14 @@ impl Binning {
                 continue;
             }
             let mut right_cost = [0.0f64; SAH_BINS];
-            let mut acc = Aabb::EMPTY;
+            let mut acc = Box3::EMPTY;
             let mut n = 0u32;
             for k in (1..SAH_BINS).rev() {
                 acc.grow(&bins[k].bounds);
                 n += bins[k].count;
                 right_cost[k] = acc.area() * n as f64;
             }
-            let mut acc = Aabb::EMPTY;
+            let mut acc = Box3::EMPTY;
             let mut n = 0u32;
             for k in 1..SAH_BINS {
                 acc.grow(&bins[k - 1].bounds);
@@ -396,12 +390,12 @@ impl Binning {
             order.sort_unstable();
             // Right-side costs after each run of one bin, right to left.
             let mut right_cost = [0.0f64; SPARSE_MAX];
-            let mut acc = Aabb::EMPTY;
+            let mut acc = Box3::EMPTY;
             for j in (1..m).rev() {
                 acc.grow(&prims[order[j].1 as usize].aabb());
                 right_cost[j] = acc.area() * (m - j) as f64;
             }
-            let mut acc = Aabb::EMPTY;
+            let mut acc = Box3::EMPTY;
             for j in 1..m {
                 acc.grow(&prims[order[j - 1].1 as usize].aabb());
                 if order[j].0 == order[j - 1].0 {
@@ -512,7 +506,7 @@ fn split_sah(prims: &mut [BuildPrim], extent: &Extent, parallel: bool) -> Option
 
 /// Object median along the longest centroid axis; the middle of the range if all
 /// centroids coincide.
-fn split_median(prims: &mut [BuildPrim], cb: &Aabb, parallel: bool) -> Decision {
+fn split_median(prims: &mut [BuildPrim], cb: &Box3, parallel: bool) -> Decision {
     let mid = prims.len() / 2;
     let extent = cb.max - cb.min;
     if extent.max_element() > 0.0 {
@@ -566,10 +560,10 @@ enum Subtree {
     Leaf(ChildRef),
     /// Inner nodes built by one thread, root first; inner-node references are indices
     /// into `nodes`.
-    Local { bounds: Aabb, nodes: Vec<BvhNode> },
+    Local { bounds: Box3, nodes: Vec<BvhNode> },
     /// A node whose halves were built in parallel.
     Split {
-        bounds: Aabb,
+        bounds: Box3,
         left: Box<Subtree>,
         right: Box<Subtree>,
     },

@@ -19,6 +19,8 @@ pub use bvh::{
     BVH_STACK_SIZE,
 };
 
+use bvh_build::PrimSource;
+
 use crate::gpu::layout::{Prim, PRIM_CYLINDER, PRIM_DISK, PRIM_SPHERE, PRIM_TRIANGLE};
 use crate::scene::{Mesh, Quadric, QuadricKind, Scene};
 
@@ -55,27 +57,21 @@ pub fn quadric_prim(q: &Quadric, shape: u32, index: u32) -> Prim {
 
 /// [`prims_from_scene`] over the shape lists alone.
 pub fn prims_from_shapes(meshes: &[Mesh], quadrics: &[Quadric]) -> Vec<Prim> {
-    let triangles: usize = meshes.iter().map(|m| m.indices.len()).sum();
-    let mut prims = Vec::with_capacity(triangles + quadrics.len());
-    let mut tri = 0u32;
-    for (shape, mesh) in meshes.iter().enumerate() {
-        for ix in &mesh.indices {
-            let p = ix.map(|i| mesh.positions[i as usize].to_array());
-            prims.push(Prim {
-                p0: p[0],
-                shape: shape as u32,
-                p1: p[1],
-                index: tri,
-                p2: p[2],
-                kind: PRIM_TRIANGLE,
-            });
-            tri += 1;
-        }
+    let source = bvh_build::ShapePrims::new(meshes, quadrics);
+    (0..source.len()).map(|i| source.prim(i)).collect()
+}
+
+/// Triangle `k` of `mesh`, shape `shape`, global triangle number `index`.
+pub fn triangle_prim(mesh: &Mesh, k: usize, shape: u32, index: u32) -> Prim {
+    let p = mesh.indices[k].map(|v| mesh.positions[v as usize].to_array());
+    Prim {
+        p0: p[0],
+        shape,
+        p1: p[1],
+        index,
+        p2: p[2],
+        kind: PRIM_TRIANGLE,
     }
-    for (k, q) in quadrics.iter().enumerate() {
-        prims.push(quadric_prim(q, (meshes.len() + k) as u32, k as u32));
-    }
-    prims
 }
 
 #[cfg(test)]

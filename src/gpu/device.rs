@@ -61,7 +61,8 @@ pub struct DeviceInfo {
     pub max_texel_buffer_elements: u64,
     /// Largest single memory allocation (`maxMemoryAllocationSize`, Vulkan 1.1).
     pub max_memory_allocation_size: u64,
-    /// Size of the largest device-local memory heap, bytes.
+    /// Memory the device can hold, bytes: the largest device-local heap (on a CPU
+    /// device, at least 3/4 of the host's RAM; see `device_memory`).
     pub device_memory: u64,
     pub max_workgroups_x: u32,
     /// Time to load Vulkan, create the instance and the device.
@@ -312,7 +313,31 @@ fn largest_device_heap(memory: &vk::PhysicalDeviceMemoryProperties) -> u64 {
         .unwrap_or(0)
 }
 
-fn cache_dir() -> Option<PathBuf> {
+/// The memory a device can hold: its largest heap, except on a CPU device, whose
+/// memory is the host's: there at least 3/4 of the host's RAM (what lavapipe reports
+/// since Mesa 23; Mesa 22.3's lavapipe reports a fixed 2 GiB heap that it does not
+/// enforce, which would refuse scenes the machine holds easily).
+fn device_memory(kind: DeviceKind, heap: u64) -> u64 {
+    if kind != DeviceKind::Cpu {
+        return heap;
+    }
+    heap.max(host_memory().map_or(0, |total| total / 4 * 3))
+}
+
+/// The host's physical memory, bytes (`MemTotal` of /proc/meminfo; Linux only).
+fn host_memory() -> Option<u64> {
+    let meminfo = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = meminfo.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kib: u64 = line["MemTotal:".len()..]
+        .trim()
+        .trim_end_matches("kB")
+        .trim()
+        .parse()
+        .ok()?;
+    Some(kib * 1024)
+}
+
+pub(crate) fn cache_dir() -> Option<PathBuf> {
     if let Some(dir) = std::env::var_os("XDG_CACHE_HOME") {
         return Some(PathBuf::from(dir).join("wavetrace"));
     }
@@ -497,7 +522,7 @@ impl Device {
             max_storage_buffer_range: props.limits.max_storage_buffer_range as u64,
             max_texel_buffer_elements: props.limits.max_texel_buffer_elements as u64,
             max_memory_allocation_size: maintenance3.max_memory_allocation_size,
-            device_memory: largest_device_heap(&memory),
+            device_memory: device_memory(phys.kind, largest_device_heap(&memory)),
             max_workgroups_x: props.limits.max_compute_work_group_count[0],
             startup_seconds: start.elapsed().as_secs_f64(),
         };
@@ -577,6 +602,25 @@ impl Drop for Inner {
                 s.loader.destroy_surface(s.raw, None);
             }
             self.instance.destroy_instance(None);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A GPU's memory is its heap; a CPU device's is the host's where that is larger
+    /// (lavapipe's fixed 2 GiB heap must not refuse what the host holds).
+    #[test]
+    fn cpu_devices_hold_what_the_host_holds() {
+        let heap = 2u64 << 30;
+        assert_eq!(device_memory(DeviceKind::Discrete, heap), heap);
+        let cpu = device_memory(DeviceKind::Cpu, heap);
+        assert!(cpu >= heap);
+        if let Some(total) = host_memory() {
+            assert!(total > 0);
+            assert_eq!(cpu, heap.max(total / 4 * 3));
         }
     }
 }

@@ -56,6 +56,12 @@ pub enum Error {
          heap holds {})", ByteSize(*size), ByteSize(*heap)
     )]
     OutOfMemory { label: String, size: u64, heap: u64 },
+    #[error("environment variable {var}={value:?} is not one of: {expected}")]
+    Environment {
+        var: &'static str,
+        value: String,
+        expected: &'static str,
+    },
     #[error("invalid SPIR-V for kernel '{0}'")]
     BadSpirv(String),
     #[error("descriptor set {set} has {expected} bindings but {got} buffers were given")]

@@ -339,31 +339,38 @@ impl Kernel {
         };
         let code = ash::util::read_spv(&mut std::io::Cursor::new(spirv))
             .map_err(|_| Error::BadSpirv(name.into()))?;
-        let raw = device.raw();
-        let module_info = vk::ShaderModuleCreateInfo::default().code(&code);
-        // SAFETY: SPIR-V produced by glslang at build time.
-        let module =
-            unsafe { raw.create_shader_module(&module_info, None) }.vk("vkCreateShaderModule")?;
         let shared = &layout.inner.spec;
         debug_assert!(
             shared.iter().all(|&(id, _)| id as usize >= spec.len()),
             "kernel '{name}': its specialization constants overlap the layout's"
         );
-        let ids = (0..spec.len() as u32).chain(shared.iter().map(|&(id, _)| id));
-        let values: Vec<u32> = spec
-            .iter()
-            .copied()
-            .chain(shared.iter().map(|&(_, v)| v))
+        let constants: Vec<(u32, u32)> = (0..spec.len() as u32)
+            .zip(spec.iter().copied())
+            .chain(shared.iter().copied())
             .collect();
-        let entries: Vec<_> = ids
+        // The constants written into the module where spirv-opt can (see
+        // `specialize`), else given to the driver.
+        let specialized = super::specialize::specialize(name, &code, &constants)?;
+        let (code, constants) = match &specialized {
+            Some(code) => (code, &[][..]),
+            None => (&code, &constants[..]),
+        };
+        let raw = device.raw();
+        let module_info = vk::ShaderModuleCreateInfo::default().code(code);
+        // SAFETY: SPIR-V produced by glslang at build time (and specialized by spirv-opt).
+        let module =
+            unsafe { raw.create_shader_module(&module_info, None) }.vk("vkCreateShaderModule")?;
+        let entries: Vec<_> = constants
+            .iter()
             .enumerate()
-            .map(|(i, id)| {
+            .map(|(i, &(id, _))| {
                 vk::SpecializationMapEntry::default()
                     .constant_id(id)
                     .offset(4 * i as u32)
                     .size(4)
             })
             .collect();
+        let values: Vec<u32> = constants.iter().map(|&(_, v)| v).collect();
         let data: &[u8] = bytemuck::cast_slice(&values);
         let spec_info = vk::SpecializationInfo::default()
             .map_entries(&entries)

@@ -10,6 +10,7 @@ pub mod error;
 pub mod kernel;
 pub mod layout;
 pub mod shaders;
+pub mod specialize;
 pub mod swapchain;
 
 pub use buffer::{Buffer, ByteSize, Location};

@@ -13,8 +13,9 @@
 use std::path::Path;
 
 use ::exr::prelude::{
-    f16, read_first_rgba_layer_from_file, AnyChannel, AnyChannels, Encoding, FlatSamples,
-    Image as ExrImage, Layer, LayerAttributes, SmallVec, SpecificChannels, Vec2, WritableImage,
+    f16, read_first_rgba_layer_from_file, AnyChannel, AnyChannels, AttributeValue, Encoding,
+    FlatSamples, Image as ExrImage, Layer, LayerAttributes, SmallVec, SpecificChannels, Text, Vec2,
+    WritableImage,
 };
 
 use super::{Error, Image};
@@ -83,6 +84,23 @@ pub fn write_channels(
     data: &[f32],
     precision: Precision,
 ) -> Result<(), Error> {
+    write_channels_with_text(path, width, height, names, data, precision, &[])
+}
+
+/// [`write_channels`], with up to two text attributes `(name, value)` in the header
+/// (UTF-8; OpenEXR's `string` type, which readers that do not know them skip). The exr
+/// crate keeps a header's own attributes in hash maps, written in their (random)
+/// iteration order; with at most one in each of its two maps (the layer's and the
+/// image's) the same image is always the same bytes.
+pub fn write_channels_with_text(
+    path: impl AsRef<Path>,
+    width: u32,
+    height: u32,
+    names: &[&str],
+    data: &[f32],
+    precision: Precision,
+    text: &[(&str, &str)],
+) -> Result<(), Error> {
     let path = path.as_ref();
     let n = names.len();
     if n == 0 || data.len() != n * width as usize * height as usize {
@@ -103,19 +121,35 @@ pub fn write_channels(
         };
         channels.push(AnyChannel::new(*name, samples));
     }
+    if text.len() > 2 {
+        return Err(Error::Format {
+            path: path.to_owned(),
+            message: format!(
+                "{} text attributes, at most 2 keep a file's bytes fixed",
+                text.len()
+            ),
+        });
+    }
+    let attribute = |(name, value): &(&str, &str)| {
+        (
+            Text::from_slice_unchecked(name.as_bytes()),
+            AttributeValue::Text(Text::from_slice_unchecked(value.as_bytes())),
+        )
+    };
+    let mut attributes = LayerAttributes::default();
+    attributes.other.extend(text.first().map(attribute));
     let layer = Layer::new(
         (width as usize, height as usize),
-        LayerAttributes::default(),
+        attributes,
         Encoding::SMALL_LOSSLESS,
         AnyChannels::sort(channels),
     );
-    ExrImage::from_layer(layer)
-        .write()
-        .to_file(path)
-        .map_err(|source| Error::Exr {
-            path: path.to_owned(),
-            source,
-        })
+    let mut image = ExrImage::from_layer(layer);
+    image.attributes.other.extend(text.get(1).map(attribute));
+    image.write().to_file(path).map_err(|source| Error::Exr {
+        path: path.to_owned(),
+        source,
+    })
 }
 
 /// One channel of an EXR file read by [`read_channels`].
@@ -131,6 +165,17 @@ pub struct Channel {
 /// Reads every channel of the first layer of an EXR file: (width, height, channels
 /// in the file's order, which is by name).
 pub fn read_channels(path: impl AsRef<Path>) -> Result<(u32, u32, Vec<Channel>), Error> {
+    read_channels_with_text(path).map(|(w, h, channels, _)| (w, h, channels))
+}
+
+/// The text attributes of an EXR header (name, value; UTF-8, lossily), as
+/// [`write_channels_with_text`] writes them.
+pub type TextAttributes = Vec<(String, String)>;
+
+/// [`read_channels`], and the text attributes of the image's and the layer's header.
+pub fn read_channels_with_text(
+    path: impl AsRef<Path>,
+) -> Result<(u32, u32, Vec<Channel>, TextAttributes), Error> {
     use ::exr::prelude::traits::*;
     let path = path.as_ref();
     let image = ::exr::prelude::read()
@@ -145,6 +190,19 @@ pub fn read_channels(path: impl AsRef<Path>) -> Result<(u32, u32, Vec<Channel>),
             source,
         })?;
     let layer = image.layer_data;
+    let text = image
+        .attributes
+        .other
+        .iter()
+        .chain(&layer.attributes.other)
+        .filter_map(|(name, value)| match value {
+            AttributeValue::Text(t) => Some((
+                String::from_utf8_lossy(name.as_slice()).into_owned(),
+                String::from_utf8_lossy(t.as_slice()).into_owned(),
+            )),
+            _ => None,
+        })
+        .collect();
     let channels = layer
         .channel_data
         .list
@@ -159,6 +217,7 @@ pub fn read_channels(path: impl AsRef<Path>) -> Result<(u32, u32, Vec<Channel>),
         layer.size.width() as u32,
         layer.size.height() as u32,
         channels,
+        text,
     ))
 }
 
@@ -273,6 +332,26 @@ mod tests {
         assert_eq!(read(&path).unwrap().pixel(0, 0), [1.0, 2.0, 3.0]);
         std::fs::remove_file(&path).ok();
         assert!(write_channels(&path, 2, 2, &["Y"], &[0.0; 3], Precision::Float).is_err());
+    }
+
+    #[test]
+    fn text_attributes_round_trip_and_keep_the_bytes_fixed() {
+        let (a, b) = (temp_path("text_a.exr"), temp_path("text_b.exr"));
+        let text = [
+            ("wavetrace.one", "{\"x\": 1}"),
+            ("wavetrace.two", "2 of 3 ü"),
+        ];
+        for p in [&a, &b] {
+            write_channels_with_text(p, 1, 1, &["Y"], &[0.5], Precision::Float, &text).unwrap();
+        }
+        let (_, _, channels, read) = read_channels_with_text(&a).unwrap();
+        assert_eq!(channels[0].values, [0.5]);
+        for (k, v) in text {
+            assert!(read.iter().any(|(rk, rv)| rk == k && rv == v), "{read:?}");
+        }
+        assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap());
+        std::fs::remove_file(&a).ok();
+        std::fs::remove_file(&b).ok();
     }
 
     #[test]

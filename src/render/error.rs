@@ -43,6 +43,9 @@ pub enum Error {
         available: u64,
         largest: String,
     },
+    /// A partial render that cannot be read, written or merged.
+    #[error(transparent)]
+    Partial(#[from] super::partial::Error),
     /// Render options that cannot work (zero samples, an empty film, ...).
     #[error("{0}")]
     Options(String),

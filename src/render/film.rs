@@ -362,6 +362,42 @@ impl Film {
         cmd.barrier();
     }
 
+    /// Writes `sums` (of this film: its size, window and alpha) into the film, for a
+    /// render that continues them.
+    pub fn load(&self, device: &Device, sums: &FilmSums) -> Result<()> {
+        let g = &self.geometry;
+        if (sums.film_width, sums.film_height, sums.crop) != (g.width, g.height, g.crop)
+            || sums.alpha.is_some() != self.has_alpha
+            || sums.sums.len() != g.crop_pixels() as usize
+        {
+            return Err(Error::Options(format!(
+                "cannot continue a render from the sums of another film (a {}x{} window of \
+                 a {}x{} film{}; this one renders a {}x{} window of a {}x{} film{})",
+                sums.crop.width,
+                sums.crop.height,
+                sums.film_width,
+                sums.film_height,
+                if sums.alpha.is_some() {
+                    " with alpha"
+                } else {
+                    ""
+                },
+                g.crop.width,
+                g.crop.height,
+                g.width,
+                g.height,
+                if self.has_alpha { " with alpha" } else { "" },
+            )));
+        }
+        self.sums
+            .write(device, 0, bytemuck::cast_slice(&sums.sums))?;
+        if let Some(alpha) = &sums.alpha {
+            self.alpha_sums
+                .write(device, 0, bytemuck::cast_slice(alpha))?;
+        }
+        Ok(())
+    }
+
     /// Reads the sums back.
     pub fn read(&self, device: &Device) -> Result<FilmSums> {
         let n = self.geometry.crop_pixels() as usize;
@@ -520,6 +556,54 @@ impl FilmSums {
         (names, data)
     }
 
+    /// The names of the channels that hold the sums themselves in a partial render's
+    /// EXR (float32, exact): Σ w r, Σ w g, Σ w b, Σ w, and Σ w over covered samples
+    /// where the film keeps alpha.
+    pub const SUM_CHANNELS: [&'static str; 5] = ["sum.R", "sum.G", "sum.B", "sum.W", "sum.A"];
+
+    /// The sums as channels ([`Self::SUM_CHANNELS`], without `sum.A` if there is no
+    /// alpha), interleaved per pixel.
+    pub fn sum_channels(&self) -> (Vec<&'static str>, Vec<f32>) {
+        let n = if self.alpha.is_some() { 5 } else { 4 };
+        let mut data = Vec::with_capacity(n * self.sums.len());
+        for (i, s) in self.sums.iter().enumerate() {
+            data.extend_from_slice(s);
+            if let Some(a) = &self.alpha {
+                data.push(a[i]);
+            }
+        }
+        (Self::SUM_CHANNELS[..n].to_vec(), data)
+    }
+
+    /// The sums of a `crop` window of a `film_width` x `film_height` film from the
+    /// channels of an EXR file ([`Self::sum_channels`]); `None` if they are missing
+    /// or of the wrong size.
+    pub fn from_sum_channels(
+        film_width: u32,
+        film_height: u32,
+        crop: Crop,
+        channels: &[image::exr::Channel],
+    ) -> Option<FilmSums> {
+        let n = crop.width as usize * crop.height as usize;
+        let find = |name: &str| {
+            channels
+                .iter()
+                .find(|c| c.name == name && c.values.len() == n && !c.half)
+        };
+        let [r, g, b, w] = [0, 1, 2, 3].map(|c| find(Self::SUM_CHANNELS[c]));
+        let (r, g, b, w) = (r?, g?, b?, w?);
+        let sums = (0..n)
+            .map(|i| [r.values[i], g.values[i], b.values[i], w.values[i]])
+            .collect();
+        Some(FilmSums {
+            film_width,
+            film_height,
+            crop,
+            sums,
+            alpha: find(Self::SUM_CHANNELS[4]).map(|a| a.values.clone()),
+        })
+    }
+
     /// Writes the film as `file_format` in `pixel_format` and `component_format`
     /// (OpenEXR; RGBE and PFM are float32 RGB, PFM also luminance), and an sRGB
     /// PNG to look at beside it (`png`, if given): grey for luminance formats, with
@@ -533,10 +617,51 @@ impl FilmSums {
         file_format: FileFormat,
         png: Option<&std::path::Path>,
     ) -> std::result::Result<(), image::Error> {
+        self.write_with(
+            path,
+            pixel_format,
+            component_format,
+            file_format,
+            png,
+            &ExrExtras::default(),
+        )
+    }
+
+    /// [`Self::write`], with `extras` in an OpenEXR file (ignored by the other
+    /// formats): text attributes in its header and, for a partial render, the sums
+    /// themselves ([`Self::sum_channels`]; the file is then all float32).
+    pub fn write_with(
+        &self,
+        path: &std::path::Path,
+        pixel_format: PixelFormat,
+        component_format: ComponentFormat,
+        file_format: FileFormat,
+        png: Option<&std::path::Path>,
+        extras: &ExrExtras,
+    ) -> std::result::Result<(), image::Error> {
         let (w, h) = (self.width(), self.height());
         let (names, data) = self.channels(pixel_format);
         match file_format {
-            FileFormat::OpenExr => image::exr::write_channels(
+            FileFormat::OpenExr if extras.sums => {
+                let (sum_names, sums) = self.sum_channels();
+                let (a, b) = (names.len(), sum_names.len());
+                let mut all = Vec::with_capacity(data.len() + sums.len());
+                for (p, s) in data.chunks_exact(a).zip(sums.chunks_exact(b)) {
+                    all.extend_from_slice(p);
+                    all.extend_from_slice(s);
+                }
+                let all_names: Vec<&str> = names.iter().chain(&sum_names).copied().collect();
+                image::exr::write_channels_with_text(
+                    path,
+                    w,
+                    h,
+                    &all_names,
+                    &all,
+                    image::exr::Precision::Float,
+                    &extras.text_pairs(),
+                )?
+            }
+            FileFormat::OpenExr => image::exr::write_channels_with_text(
                 path,
                 w,
                 h,
@@ -546,6 +671,7 @@ impl FilmSums {
                     ComponentFormat::Float16 => image::exr::Precision::Half,
                     ComponentFormat::Float32 => image::exr::Precision::Float,
                 },
+                &extras.text_pairs(),
             )?,
             FileFormat::Pfm => image::pfm::write(path, w, h, names.len(), &data)?,
             FileFormat::Rgbe => image::rgbe::write(&self.develop(), path)?,
@@ -568,6 +694,24 @@ impl FilmSums {
             image::png::write_channels(png, w, h, n, &png_data, 0.0)?;
         }
         Ok(())
+    }
+}
+
+/// What an OpenEXR film file may hold beyond its pixels ([`FilmSums::write_with`]).
+#[derive(Debug, Clone, Default)]
+pub struct ExrExtras {
+    /// Text attributes of the header: (name, value).
+    pub text: Vec<(String, String)>,
+    /// Whether to store the sums ([`FilmSums::sum_channels`]) too.
+    pub sums: bool,
+}
+
+impl ExrExtras {
+    fn text_pairs(&self) -> Vec<(&str, &str)> {
+        self.text
+            .iter()
+            .map(|(k, v)| (k.as_str(), v.as_str()))
+            .collect()
     }
 }
 

@@ -10,7 +10,9 @@ pub mod alias;
 pub mod error;
 pub mod film;
 pub mod integrator;
+pub mod job;
 pub mod media;
+pub mod partial;
 pub mod photon;
 pub mod progressive;
 pub mod sampler;
@@ -19,6 +21,7 @@ pub mod scene_parts;
 pub mod wavefront;
 
 pub use error::{Error, Result};
+pub use film::FilmSums;
 pub use integrator::Integrator;
 
 use std::time::Instant;
@@ -30,10 +33,10 @@ use crate::image::Image;
 use crate::scene::sampler::{SampleCount, Sampler, SamplerKind};
 use crate::scene::Scene;
 
-use film::{film_binding_kinds, Film, FilmGeometry, FilmSums, BYTES_PER_SAMPLE_SLOT};
+use film::{film_binding_kinds, Film, FilmGeometry, BYTES_PER_SAMPLE_SLOT};
 use photon::{photon_binding_kinds, PhotonStats, Photons};
 use scene_buffers::{SceneBuffers, SceneRecords};
-use scene_parts::{scene_arrays, scene_binding_kinds, ScenePlan};
+use scene_parts::{array_sizes, scene_binding_kinds, take_scene_arrays, ScenePlan};
 use wavefront::{wavefront_binding_kinds, Wavefront, BYTES_PER_PATH};
 
 /// How to render, beyond what the scene says.
@@ -173,36 +176,58 @@ pub(crate) fn groups_for(n: u32) -> [u32; 3] {
     [x, y, 1]
 }
 
+/// What a render of `scene` with `options` uses, before any device: the integrator,
+/// the film it renders (SPPM's differs from the scene's, see
+/// [`Renderer::film_overridden`]) and its geometry, and the sampler.
+fn resolve(
+    scene: &Scene,
+    options: &RenderOptions,
+) -> Result<(Integrator, crate::scene::Film, FilmGeometry, Sampler)> {
+    let integrator = Integrator::from_spec(
+        &scene.integrator,
+        options.integrator.as_deref(),
+        &scene.path,
+    )?;
+    let cam = &scene.camera;
+    // SPPM keeps one estimate per pixel (its radius and flux): a box filter over
+    // the whole film, whatever the scene's film asks for (see `film_overridden`).
+    let film_spec = if matches!(integrator, Integrator::Sppm(_)) {
+        crate::scene::Film {
+            filter: crate::scene::film::Filter::Box,
+            crop: None,
+            sample_border: false,
+            ..scene.film.clone()
+        }
+    } else {
+        scene.film.clone()
+    };
+    let geometry = FilmGeometry::new(
+        cam.width,
+        cam.height,
+        film_spec.crop,
+        &film_spec.filter,
+        film_spec.sample_border,
+    )?;
+    let sampler = choose_sampler(scene, options.sampler.as_deref())?;
+    Ok((integrator, film_spec, geometry, sampler))
+}
+
+/// The integrator, sampler and film geometry a render of `scene` with `options` uses,
+/// as [`Renderer::new`] would set them up (without a device); the sampler's
+/// [`Sampler::sample_count`] over the geometry's [`FilmGeometry::key_size`] is the
+/// count [`Renderer::round_sample_count`] gives.
+pub fn plan_render(
+    scene: &Scene,
+    options: &RenderOptions,
+) -> Result<(Integrator, Sampler, FilmGeometry)> {
+    resolve(scene, options).map(|(i, _, g, s)| (i, s, g))
+}
+
 impl Renderer {
     pub fn new(device: &Device, scene: &Scene, options: &RenderOptions) -> Result<Renderer> {
-        let integrator = Integrator::from_spec(
-            &scene.integrator,
-            options.integrator.as_deref(),
-            &scene.path,
-        )?;
+        let (integrator, film_spec, geometry, sampler) = resolve(scene, options)?;
         let cam = &scene.camera;
-        // SPPM keeps one estimate per pixel (its radius and flux): a box filter over
-        // the whole film, whatever the scene's film asks for (see `film_overridden`).
-        let film_spec = if matches!(integrator, Integrator::Sppm(_)) {
-            crate::scene::Film {
-                filter: crate::scene::film::Filter::Box,
-                crop: None,
-                sample_border: false,
-                ..scene.film.clone()
-            }
-        } else {
-            scene.film.clone()
-        };
-        let geometry = FilmGeometry::new(
-            cam.width,
-            cam.height,
-            film_spec.crop,
-            &film_spec.filter,
-            film_spec.sample_border,
-        )?;
         let pixels = cam.width * cam.height;
-
-        let sampler = choose_sampler(scene, options.sampler.as_deref())?;
         let key_size = geometry.key_size();
         let sample_count = sampler
             .sample_count(scene.spp, key_size.0, key_size.1)
@@ -239,11 +264,19 @@ impl Renderer {
             )));
         }
         let bvh = Bvh::for_shapes(&scene.meshes, &scene.quadrics);
-        let records = SceneRecords::new(scene, &bvh);
+        let mut records = SceneRecords::new(scene, &bvh);
+        let bvh_stats = bvh.stats;
+        let scene_bounds = photon::SceneBounds::of(&bvh);
 
         let t = Instant::now();
-        let arrays = scene_arrays(&bvh, &records);
-        let plan = ScenePlan::for_device(device.info(), &arrays, options.scene_part_shift)?;
+        // The BVH and the large records are moved into the upload, which frees each
+        // once it is on the device.
+        let arrays = take_scene_arrays(bvh, &mut records);
+        let plan = ScenePlan::for_device(
+            device.info(),
+            array_sizes(&arrays),
+            options.scene_part_shift,
+        )?;
         let layout = BindingLayout::with_spec(
             device,
             &[
@@ -256,8 +289,7 @@ impl Renderer {
             &plan.spec(),
             plan.is_split(),
         )?;
-        let scene_buffers = SceneBuffers::upload_planned(device, &layout, &arrays, plan)?;
-        drop(arrays);
+        let scene_buffers = SceneBuffers::upload_planned(device, &layout, arrays, plan)?;
         let tan_x = (cam.fov_x_deg.to_radians() * 0.5).tan();
         let mut frame = Frame {
             camera_to_world: cam.to_world.to_cols_array_2d(),
@@ -340,7 +372,7 @@ impl Renderer {
         let bsdf_kinds = records.bsdfs.iter().fold(0u32, |m, b| m | 1 << b.kind);
         // The traversal stack holds at most one entry per level above the deepest
         // leaf (constant_id 1 of intersect, 11 of shade and shadow; bvh.glsl).
-        let bvh_depth = bvh.stats.stack_depth();
+        let bvh_depth = bvh_stats.stack_depth();
         let k = |name: &str, spirv: &[u8], spec: &[u32]| {
             Kernel::new(device, name, spirv, &layout, spec)
         };
@@ -405,7 +437,7 @@ impl Renderer {
                 &layout,
                 &integrator,
                 features,
-                photon::SceneBounds::of(&bvh),
+                scene_bounds,
                 pixels,
                 capacity,
                 options.max_photons_per_pass,
@@ -439,7 +471,7 @@ impl Renderer {
             seed: options.seed,
             sample_count,
             setup: SetupStats {
-                bvh: bvh.stats,
+                bvh: bvh_stats,
                 upload_seconds,
                 pipeline_seconds,
                 first_dispatch_seconds: 0.0,
@@ -629,6 +661,29 @@ impl Renderer {
         count: u32,
         progress: &mut dyn FnMut(u64, u64),
     ) -> Result<(FilmSums, RenderStats)> {
+        self.render_film_controlled(first, count, None, progress, &mut |_, _| Ok(false))
+    }
+
+    /// [`Self::render_film`], continuing from `start` (the sums of other samples of
+    /// this film, e.g. a resumed render's: the film adds each sample to a pixel's sum
+    /// in sample order, so rendering samples `k..n` onto the sums of `0..k` gives the
+    /// render of `0..n` bit for bit), and calling `boundary(self, done)` whenever the
+    /// samples `first .. first + done` are complete for every pixel (a clean sample
+    /// boundary: after a batch of whole samples, or after the last batch of a sample
+    /// that is split over batches). If it returns true, rendering stops there and
+    /// [`RenderStats::spp`] says how many samples the returned sums hold (`done`).
+    /// [`Self::read_film`] reads the sums at a boundary (the samples done so far: a
+    /// checkpoint).
+    /// SPPM cannot stop early or start from sums (its radii shrink over
+    /// iterations); the photon mapper stops only where its photon map is one pass.
+    pub fn render_film_controlled(
+        &mut self,
+        first: u32,
+        count: u32,
+        start: Option<&FilmSums>,
+        progress: &mut dyn FnMut(u64, u64),
+        boundary: BoundaryFn,
+    ) -> Result<(FilmSums, RenderStats)> {
         if count == 0 {
             return Err(Error::Options(
                 "samples per pixel must be at least 1".into(),
@@ -636,20 +691,28 @@ impl Renderer {
         }
         match self.integrator {
             Integrator::PhotonMapper(p) => {
-                return self.render_photonmapper(p, first, count, progress)
+                return self.render_photonmapper(p, first, count, start, progress, boundary)
             }
-            Integrator::Sppm(p) => return self.render_sppm(p, first, count, progress),
+            Integrator::Sppm(p) => {
+                if start.is_some() {
+                    return Err(Error::Options(
+                        "sppm cannot continue from another render's sums: its per-pixel \
+                         radii and photon statistics shrink over the iterations"
+                            .into(),
+                    ));
+                }
+                return self.render_sppm(p, first, count, progress);
+            }
             _ => {}
         }
-        let start = Instant::now();
+        let t = Instant::now();
         let mut stats = RenderStats {
             spp: count,
             ..Default::default()
         };
         let mut cmd = self.command_list()?;
-        self.film.clear(&mut cmd);
-        cmd.barrier();
-        self.for_each_batch(
+        self.start_film(&mut cmd, start)?;
+        stats.spp = self.for_each_batch(
             &mut cmd,
             first,
             count,
@@ -658,10 +721,24 @@ impl Renderer {
             &mut |r, cmd, sample, base, n, slot, stats| {
                 r.run_batch(cmd, sample, base, n, slot, stats)
             },
+            boundary,
         )?;
         let film = self.film.read(&self.device)?;
-        stats.seconds = start.elapsed().as_secs_f64();
+        stats.seconds = t.elapsed().as_secs_f64();
         Ok((film, stats))
+    }
+
+    /// Records clearing the film, or loads `start`'s sums into it (checked to be of
+    /// this film).
+    fn start_film(&self, cmd: &mut CommandList, start: Option<&FilmSums>) -> Result<()> {
+        match start {
+            None => {
+                self.film.clear(cmd);
+                cmd.barrier();
+                Ok(())
+            }
+            Some(sums) => self.film.load(&self.device, sums),
+        }
     }
 
     /// A command list, with timestamps if the renderer records them.
@@ -677,6 +754,10 @@ impl Renderer {
     /// batches covering samples `first .. first + count` of every pixel the film
     /// samples: whole samples of every pixel per batch where they fit, else runs of
     /// pixels of one sample. `slot`: the film's sample slot of the batch's first path.
+    /// After each batch that completes samples (a clean sample boundary) calls
+    /// `boundary(self, samples done)` and stops if it returns true. Returns the
+    /// samples done.
+    #[allow(clippy::too_many_arguments)]
     fn for_each_batch(
         &self,
         cmd: &mut CommandList,
@@ -685,7 +766,8 @@ impl Renderer {
         stats: &mut RenderStats,
         progress: &mut dyn FnMut(u64, u64),
         batch: BatchFn,
-    ) -> Result<()> {
+        boundary: BoundaryFn,
+    ) -> Result<u32> {
         let pixels = self.film.geometry.region_pixels();
         let cap = self.wavefront.capacity;
         let total = pixels as u64 * count as u64;
@@ -715,8 +797,13 @@ impl Renderer {
                 }
                 sample += 1;
             }
+            // Every batch ends with its submission waited for: the film holds the
+            // samples first..sample of every pixel now.
+            if sample < end && boundary(self, sample - first)? {
+                break;
+            }
         }
-        Ok(())
+        Ok(sample - first)
     }
 
     /// Records the start of a batch of camera paths (`push`: its paths): the queues
@@ -900,6 +987,11 @@ type BatchFn<'a> = &'a mut dyn FnMut(
     u32,
     &mut RenderStats,
 ) -> Result<()>;
+
+/// Called at each clean sample boundary of a render with the samples done (from the
+/// range's first); returns whether to stop there (see
+/// [`Renderer::render_film_controlled`]).
+pub type BoundaryFn<'a> = &'a mut dyn FnMut(&Renderer, u32) -> Result<bool>;
 
 /// Bounces recorded per submission of a batch (see `Renderer::run_bounces`).
 const BOUNCE_CHUNK: u32 = 64;

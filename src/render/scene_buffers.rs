@@ -1,8 +1,6 @@
 //! The scene in GPU buffers: descriptor set 0 of every kernel that reads the scene
 //! (`shaders/common/scene_bindings.glsl`).
 
-use std::borrow::Cow;
-
 use glam::Vec3;
 
 use crate::accel::Bvh;
@@ -25,7 +23,9 @@ use crate::scene::Texture;
 use crate::scene::{Emitter, QuadricKind, Scene};
 
 use super::error::{Error, Result};
-use super::scene_parts::{extra_bindings, scene_arrays, texel_bytes, ScenePlan, SCENE_ARRAYS};
+use super::scene_parts::{
+    array_sizes, extra_bindings, scene_arrays, texel_bytes, SceneArrays, ScenePlan, SCENE_ARRAYS,
+};
 
 pub use super::scene_parts::{scene_binding_kinds, SCENE_BINDINGS};
 
@@ -534,17 +534,18 @@ impl SceneBuffers {
         records: &SceneRecords,
     ) -> Result<SceneBuffers> {
         let arrays = scene_arrays(bvh, records);
-        let plan = ScenePlan::for_device(device.info(), &arrays, None)?;
-        SceneBuffers::upload_planned(device, layout, &arrays, plan)
+        let plan = ScenePlan::for_device(device.info(), array_sizes(&arrays), None)?;
+        SceneBuffers::upload_planned(device, layout, arrays, plan)
     }
 
-    /// Uploads `arrays` ([`scene_arrays`]) split as `plan` says, on a layout whose
-    /// kernels are specialized to the plan ([`BindingLayout::with_spec`] with
-    /// [`ScenePlan::spec`]).
+    /// Uploads `arrays` ([`scene_arrays`], [`super::scene_parts::take_scene_arrays`])
+    /// split as `plan` says, on a layout whose kernels are specialized to the plan
+    /// ([`BindingLayout::with_spec`] with [`ScenePlan::spec`]); each array is dropped
+    /// (freed, if owned) once it is on the device.
     pub fn upload_planned(
         device: &Device,
         layout: &BindingLayout,
-        arrays: &[Cow<'_, [u8]>; 15],
+        arrays: SceneArrays<'_>,
         plan: ScenePlan,
     ) -> Result<SceneBuffers> {
         if plan.is_split()
@@ -559,7 +560,7 @@ impl SceneBuffers {
         let mut buffers = Vec::new();
         // Per binding, the buffer bound there.
         let mut bound = vec![0usize; SCENE_BINDINGS as usize];
-        for (a, array) in SCENE_ARRAYS.iter().enumerate() {
+        for (a, (array, data)) in SCENE_ARRAYS.iter().zip(arrays).enumerate() {
             let first = buffers.len();
             for p in 0..plan.parts[a] {
                 let label = if plan.parts[a] == 1 {
@@ -567,7 +568,7 @@ impl SceneBuffers {
                 } else {
                     format!("{} (part {} of {})", array.label, p + 1, plan.parts[a])
                 };
-                let bytes = &arrays[a][plan.part_range(a, p)];
+                let bytes = &data.bytes()[plan.part_range(a, p)];
                 buffers.push(Buffer::texels(
                     device,
                     &label,

@@ -17,8 +17,6 @@
 //! The arrays that can outgrow a binding (geometry, bitmaps, grids) have extra parts;
 //! records that exist once per shape, BSDF, emitter, texture or medium do not.
 
-use std::borrow::Cow;
-
 use crate::accel::Bvh;
 use crate::gpu::layout::MediumRecord;
 use crate::gpu::{BindingKind, ByteSize, DeviceInfo};
@@ -214,37 +212,108 @@ pub fn device_part_shift(info: &DeviceInfo) -> u32 {
     63 - texels.leading_zeros()
 }
 
-/// The bytes of every array of set 0 for `bvh` and `records`, in binding order.
-/// Arrays that may be empty hold one zero record (a binding must have a buffer).
-pub fn scene_arrays<'a>(bvh: &'a Bvh, records: &'a SceneRecords) -> [Cow<'a, [u8]>; 15] {
-    fn bytes<T: bytemuck::Pod>(v: &[T]) -> Cow<'_, [u8]> {
-        Cow::Borrowed(bytemuck::cast_slice(v))
+/// The contents of one scene array, borrowed or owned: an owned array is freed as
+/// soon as it is uploaded, so a large scene is not held twice over on a device whose
+/// memory is the host's (lavapipe).
+pub trait ArrayBytes {
+    fn bytes(&self) -> &[u8];
+}
+
+impl<T: bytemuck::Pod> ArrayBytes for Vec<T> {
+    fn bytes(&self) -> &[u8] {
+        bytemuck::cast_slice(self)
     }
-    fn or_zero<T: bytemuck::Pod>(v: &[T], record: usize) -> Cow<'_, [u8]> {
-        if v.is_empty() {
-            Cow::Owned(vec![0u8; record])
-        } else {
-            bytes(v)
-        }
+}
+
+impl<T: bytemuck::Pod> ArrayBytes for &[T] {
+    fn bytes(&self) -> &[u8] {
+        bytemuck::cast_slice(self)
     }
-    let r = records;
+}
+
+/// Every array of set 0, in binding order.
+pub type SceneArrays<'a> = [Box<dyn ArrayBytes + 'a>; 15];
+
+/// The arrays of `bvh` and `records`, borrowed.
+pub fn scene_arrays<'a>(bvh: &'a Bvh, records: &'a SceneRecords) -> SceneArrays<'a> {
+    arrays(
+        Box::new(bvh.nodes.as_slice()),
+        Box::new(bvh.prims.as_slice()),
+        records,
+        [
+            Box::new(records.triangles.as_slice()),
+            Box::new(records.vertices.as_slice()),
+            Box::new(records.texels.as_slice()),
+            Box::new(records.env_dist.as_slice()),
+            or_zero(&records.grid_data, 4),
+            or_zero(&records.packed_density, 16),
+        ],
+    )
+}
+
+/// The arrays of `bvh` and `records`, the large ones taken: the BVH, and the
+/// triangles, vertices, texels, distributions and grids of `records` (left empty).
+pub fn take_scene_arrays(bvh: Bvh, records: &mut SceneRecords) -> SceneArrays<'_> {
+    let large: [Box<dyn ArrayBytes>; 6] = [
+        Box::new(std::mem::take(&mut records.triangles)),
+        Box::new(std::mem::take(&mut records.vertices)),
+        Box::new(std::mem::take(&mut records.texels)),
+        Box::new(std::mem::take(&mut records.env_dist)),
+        or_zero_owned(std::mem::take(&mut records.grid_data), 1),
+        or_zero_owned(std::mem::take(&mut records.packed_density), 1),
+    ];
+    arrays(Box::new(bvh.nodes), Box::new(bvh.prims), records, large)
+}
+
+/// One zero record where `v` is empty (a binding must have a buffer).
+fn or_zero<T: bytemuck::Pod>(v: &[T], record: usize) -> Box<dyn ArrayBytes + '_> {
+    if v.is_empty() {
+        Box::new(vec![0u8; record])
+    } else {
+        Box::new(v)
+    }
+}
+
+fn or_zero_owned<T: bytemuck::Pod + 'static>(v: Vec<T>, records: usize) -> Box<dyn ArrayBytes> {
+    if v.is_empty() {
+        Box::new(vec![T::zeroed(); records])
+    } else {
+        Box::new(v)
+    }
+}
+
+/// The arrays in binding order, from the BVH's two, `records`' small ones, and the six
+/// large ones (triangles, vertices, texels, envmap distributions, density grids, packed
+/// density grids).
+fn arrays<'a>(
+    nodes: Box<dyn ArrayBytes + 'a>,
+    prims: Box<dyn ArrayBytes + 'a>,
+    r: &'a SceneRecords,
+    large: [Box<dyn ArrayBytes + 'a>; 6],
+) -> SceneArrays<'a> {
+    let [triangles, vertices, texels, env_dist, grids, packed] = large;
     [
-        bytes(&bvh.nodes),
-        bytes(&bvh.prims),
-        bytes(&r.shapes),
-        bytes(&r.triangles),
-        bytes(&r.vertices),
-        bytes(&r.bsdfs),
-        bytes(&r.emitters),
-        bytes(&r.alias),
-        bytes(&r.textures),
-        bytes(&r.texels),
-        bytes(&r.env_dist),
+        nodes,
+        prims,
+        Box::new(r.shapes.as_slice()),
+        triangles,
+        vertices,
+        Box::new(r.bsdfs.as_slice()),
+        Box::new(r.emitters.as_slice()),
+        Box::new(r.alias.as_slice()),
+        Box::new(r.textures.as_slice()),
+        texels,
+        env_dist,
         or_zero(&r.media, std::mem::size_of::<MediumRecord>()),
-        or_zero(&r.grid_data, 4),
+        grids,
         or_zero(&r.majorants, 4),
-        or_zero(&r.packed_density, 16),
+        packed,
     ]
+}
+
+/// The size of each array, bytes.
+pub fn array_sizes(arrays: &SceneArrays<'_>) -> [u64; 15] {
+    std::array::from_fn(|a| arrays[a].bytes().len() as u64)
 }
 
 /// How each array of a scene is split: the outcome of [`ScenePlan::new`].
@@ -285,17 +354,16 @@ impl ScenePlan {
         })
     }
 
-    /// [`ScenePlan::new`] for the arrays of `arrays` on a device; `part_shift`
-    /// overrides the device's part size (smaller parts: for tests of the split path).
-    /// Also refuses scenes larger than the device's memory.
+    /// [`ScenePlan::new`] for arrays of `bytes` bytes ([`array_sizes`]) on a device;
+    /// `part_shift` overrides the device's part size (smaller parts: for tests of the
+    /// split path). Also refuses scenes larger than the device's memory.
     pub fn for_device(
         info: &DeviceInfo,
-        arrays: &[Cow<'_, [u8]>; 15],
+        bytes: [u64; 15],
         part_shift: Option<u32>,
     ) -> Result<ScenePlan> {
         let device_shift = device_part_shift(info);
         let shift = part_shift.map_or(device_shift, |s| s.min(device_shift));
-        let bytes = std::array::from_fn(|a| arrays[a].len() as u64);
         let plan = ScenePlan::new(bytes, shift)?;
         let total = plan.total_bytes();
         if info.device_memory > 0 && total > info.device_memory {

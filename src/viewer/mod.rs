@@ -136,7 +136,9 @@ pub fn run(
         (c.width, c.height)
     });
     // Declared first, dropped last: the surface (held by the device) goes first.
-    let mut window = Window::open(&title, w, h)?;
+    // The window opens before the scene is set up on the device (pipelines and the
+    // first dispatches take seconds on lavapipe): say so meanwhile.
+    let mut window = Window::open(&format!("{title} | setting up"), w, h)?;
     let extensions = window.instance_extensions()?;
     let device = {
         let win = &window;

@@ -28,7 +28,7 @@ use crate::render::film::FilmSums;
 use crate::render::integrator::{PhotonMapperParams, MAX_BOUNCES};
 
 use super::super::error::Result;
-use super::super::{groups_for, Over, RenderStats, Renderer, SHORT_BOUNCE_CHUNKS};
+use super::super::{groups_for, BoundaryFn, Over, RenderStats, Renderer, SHORT_BOUNCE_CHUNKS};
 use super::{Budget, IntegratorKernels, PhotonStats};
 
 impl Renderer {
@@ -38,9 +38,11 @@ impl Renderer {
         params: PhotonMapperParams,
         first: u32,
         count: u32,
+        start: Option<&FilmSums>,
         progress: &mut dyn FnMut(u64, u64),
+        boundary: BoundaryFn,
     ) -> Result<(FilmSums, RenderStats)> {
-        let start = Instant::now();
+        let t = Instant::now();
         let mut stats = RenderStats {
             spp: count,
             ..Default::default()
@@ -59,8 +61,11 @@ impl Renderer {
             &mut stats,
         )?;
         let passes = plan.passes.len();
-        self.film.clear(&mut cmd);
-        cmd.barrier();
+        self.start_film(&mut cmd, start)?;
+        // Passes gather every sample from their part of the photon map: a render can
+        // stop between samples only where the map is one pass.
+        let mut never = |_: &Renderer, _: u32| Ok(false);
+        let boundary: BoundaryFn = if passes == 1 { boundary } else { &mut never };
         for k in 0..passes {
             let grid = self.photon_pass(&mut cmd, &plan, k, base, radius, &mut stats)?;
             let pass_params = PhotonParams {
@@ -71,7 +76,7 @@ impl Renderer {
             self.write_photon_params(&mut cmd, &pass_params);
             let mut pass_progress =
                 |done: u64, total: u64| progress(k as u64 * total + done, passes as u64 * total);
-            self.for_each_batch(
+            stats.spp = self.for_each_batch(
                 &mut cmd,
                 first,
                 count,
@@ -80,6 +85,7 @@ impl Renderer {
                 &mut |r, cmd, sample, base, n, slot, stats| {
                     r.photon_camera_batch(cmd, sample, base, n, slot, stats)
                 },
+                &mut *boundary,
             )?;
         }
         stats
@@ -88,7 +94,7 @@ impl Renderer {
             .emitted += plan.emitted as u64;
         self.photon_memory_stats(&mut stats);
         let film = self.film.read(&self.device)?;
-        stats.seconds = start.elapsed().as_secs_f64();
+        stats.seconds = t.elapsed().as_secs_f64();
         Ok((film, stats))
     }
 

@@ -1,0 +1,3 @@
+//! The commands of the `wavetrace` binary that need more than a few lines.
+
+pub mod render;
