@@ -13,7 +13,10 @@ fn input(name: &str) -> PathBuf {
 
 /// Asserts that `message` names `file` and says `problem`.
 fn names(message: &str, file: &str, problem: &str) {
-    assert!(message.contains(file), "error does not name '{file}': {message}");
+    assert!(
+        message.contains(file),
+        "error does not name '{file}': {message}"
+    );
     assert!(
         message.contains(problem),
         "error does not say '{problem}': {message}"
@@ -26,7 +29,11 @@ fn names(message: &str, file: &str, problem: &str) {
 fn exr_with_a_huge_data_window_is_refused_before_allocating() {
     let path = input("exr_huge_data_window.exr");
     let e = wavetrace::scene::texture::load_image(&path, false).unwrap_err();
-    names(&e, "exr_huge_data_window.exr", "100000 x 100000 pixels is more than wavetrace reads");
+    names(
+        &e,
+        "exr_huge_data_window.exr",
+        "100000 x 100000 pixels is more than wavetrace reads",
+    );
     let e = wavetrace::image::exr::read_channels_with_text(&path).unwrap_err();
     names(
         &e.to_string(),
@@ -53,7 +60,11 @@ fn exr_with_huge_blocks_is_refused_before_allocating() {
 fn vol_whose_size_overflows_is_refused() {
     let path = input("vol_size_overflow.vol");
     let e = wavetrace::scene::medium::read_vol(&path).err().unwrap();
-    names(&e, "vol_size_overflow.vol", "values is more than wavetrace accepts");
+    names(
+        &e,
+        "vol_size_overflow.vol",
+        "values is more than wavetrace accepts",
+    );
 }
 
 /// An ASCII PLY whose format line has a version number past 2^64 (found by the `ply`
@@ -62,5 +73,9 @@ fn vol_whose_size_overflows_is_refused() {
 fn ply_with_a_huge_version_number_is_refused() {
     let path = input("ply_version_overflow.ply");
     let e = wavetrace::scene::ply::load(&path).unwrap_err();
-    names(&e.to_string(), "ply_version_overflow.ply", "version number out of range");
+    names(
+        &e.to_string(),
+        "ply_version_overflow.ply",
+        "version number out of range",
+    );
 }

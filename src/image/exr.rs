@@ -68,10 +68,12 @@ fn check_size(path: &Path) -> Result<(), Error> {
         // The exr crate reserves a block's claimed byte count before reading it,
         // trusting the claim up to the largest block the header allows: bound that.
         let pixels = match header.blocks {
-            BlockDescription::Tiles(t) => (t.tile_size.width() as u64)
-                .checked_mul(t.tile_size.height() as u64),
-            BlockDescription::ScanLines => (header.compression.scan_lines_per_block() as u64)
-                .checked_mul(size.width() as u64),
+            BlockDescription::Tiles(t) => {
+                (t.tile_size.width() as u64).checked_mul(t.tile_size.height() as u64)
+            }
+            BlockDescription::ScanLines => {
+                (header.compression.scan_lines_per_block() as u64).checked_mul(size.width() as u64)
+            }
         };
         let bytes = pixels.and_then(|p| p.checked_mul(header.channels.bytes_per_pixel as u64));
         if bytes.is_none_or(|b| b > MAX_BLOCK_BYTES) {

@@ -22,7 +22,7 @@ pub mod procedural;
 pub mod properties;
 pub mod quadric;
 pub mod sampler;
-mod serialized;
+pub mod serialized;
 pub mod shape;
 pub mod spectrum;
 pub mod texture;

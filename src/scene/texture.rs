@@ -120,7 +120,8 @@ pub fn load_image(path: &Path, raw: bool) -> Result<(u32, u32, Vec<[f32; 3]>), S
         let texels = img.rgb.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
         (img.width, img.height, texels, true)
     } else {
-        let cannot = |e: &dyn std::fmt::Display| format!("cannot read image '{}': {e}", path.display());
+        let cannot =
+            |e: &dyn std::fmt::Display| format!("cannot read image '{}': {e}", path.display());
         // The header first: the decoders allocate from its size, and the float RGB
         // texels below take up to 12 bytes per 1-byte pixel of the file's format.
         let (w, h) = image::ImageReader::open(path)
