@@ -94,6 +94,7 @@ pub const FIXTURES: &[(&str, &[u8])] = &[
     ("tex.exr", include_bytes!("../fixtures/tex.exr")),
     ("env.hdr", include_bytes!("../fixtures/env.hdr")),
     ("grid.vol", include_bytes!("../fixtures/grid.vol")),
+    ("grid.vdb", include_bytes!("../fixtures/grid.vdb")),
     ("inc.xml", include_bytes!("../fixtures/inc.xml")),
 ];
 
