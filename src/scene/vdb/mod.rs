@@ -390,6 +390,133 @@ mod tests {
         );
     }
 
+    /// A minimal VDB file written by hand: one float grid, uncompressed with mask
+    /// compression, a UniformScaleMap of voxel size 0.5, the root `tiles` (origin,
+    /// value, active) and one root child holding one leaf whose only active voxel is
+    /// (1, 2, 3) = `value`; `class` as grid metadata.
+    fn tiny_vdb(tiles: &[([i32; 3], f32, bool)], value: f32, class: Option<&str>) -> Vec<u8> {
+        fn string(b: &mut Vec<u8>, s: &str) {
+            b.extend_from_slice(&(s.len() as u32).to_le_bytes());
+            b.extend_from_slice(s.as_bytes());
+        }
+        let mut b = Vec::new();
+        b.extend_from_slice(&0x5644_4220i64.to_le_bytes());
+        for v in [224u32, 10, 0] {
+            b.extend_from_slice(&v.to_le_bytes());
+        }
+        b.push(1);
+        b.extend_from_slice(b"00000000-0000-0000-0000-000000000000");
+        b.extend_from_slice(&0u32.to_le_bytes()); // file metadata
+        b.extend_from_slice(&1i32.to_le_bytes());
+        string(&mut b, "density");
+        string(&mut b, "Tree_float_5_4_3");
+        string(&mut b, "");
+        let offsets = b.len();
+        b.extend_from_slice(&[0u8; 24]);
+        let grid_pos = b.len() as i64;
+        b.extend_from_slice(&2u32.to_le_bytes()); // COMPRESS_ACTIVE_MASK
+        match class {
+            Some(c) => {
+                b.extend_from_slice(&1u32.to_le_bytes());
+                string(&mut b, "class");
+                string(&mut b, "string");
+                string(&mut b, c);
+            }
+            None => b.extend_from_slice(&0u32.to_le_bytes()),
+        }
+        string(&mut b, "UniformScaleMap");
+        for v in [0.5f64, 0.5, 0.5].iter().chain(&[0.0; 12]) {
+            b.extend_from_slice(&v.to_le_bytes());
+        }
+        b.extend_from_slice(&1i32.to_le_bytes()); // buffer count
+        b.extend_from_slice(&0f32.to_le_bytes()); // background
+        b.extend_from_slice(&(tiles.len() as u32).to_le_bytes());
+        b.extend_from_slice(&1u32.to_le_bytes());
+        for (o, v, active) in tiles {
+            for c in o {
+                b.extend_from_slice(&c.to_le_bytes());
+            }
+            b.extend_from_slice(&v.to_le_bytes());
+            b.push(*active as u8);
+        }
+        b.extend_from_slice(&[0u8; 12]); // the child at the origin
+        let mask = |b: &mut Vec<u8>, bytes: usize, bit: usize| {
+            let mut m = vec![0u8; bytes];
+            m[bit / 8] |= 1 << (bit % 8);
+            b.extend_from_slice(&m);
+        };
+        // Level 2: child 0, no tiles active, inactive values the background (code 0).
+        mask(&mut b, 4096, 0);
+        b.extend_from_slice(&[0u8; 4096]);
+        b.push(0);
+        mask(&mut b, 512, 0);
+        b.extend_from_slice(&[0u8; 512]);
+        b.push(0);
+        let voxel = (1 << 6) + (2 << 3) + 3;
+        mask(&mut b, 64, voxel);
+        // The leaf's buffer: its mask, code 0, its one active value.
+        mask(&mut b, 64, voxel);
+        b.push(0);
+        b.extend_from_slice(&value.to_le_bytes());
+        let end = b.len() as i64;
+        for (k, v) in [grid_pos, grid_pos, end].iter().enumerate() {
+            b[offsets + 8 * k..offsets + 8 * k + 8].copy_from_slice(&v.to_le_bytes());
+        }
+        b
+    }
+
+    /// Hand-written files: the uncompressed, mask-compressed path and a scale map;
+    /// root entries that overlap or leave the 4096-voxel lattice (which could make
+    /// tile filling quadratic), a tile count the file cannot hold, negative values.
+    #[test]
+    fn hand_written_files() {
+        let dir = crate::scene::testutil::temp_dir("vdb_tiny");
+        let p = dir.join("tiny.vdb");
+        let read = |bytes: Vec<u8>| {
+            std::fs::write(&p, bytes).unwrap();
+            read_vdb(&p, None)
+        };
+        let g = read(tiny_vdb(&[], 0.5, None)).unwrap();
+        assert_eq!(g.res, [3, 3, 3]);
+        assert_eq!(g.data.iter().sum::<f32>(), 0.5);
+        assert_eq!(at(&g, [1, 1, 1]), 0.5);
+        // Voxel (1, 2, 3) at world (1, 2, 3) / 2.
+        assert!(centre(&g, [1, 1, 1]).abs_diff_eq(Vec3::new(0.5, 1.0, 1.5), 1e-6));
+        // An inactive root tile of another value far away changes nothing.
+        let far = read(tiny_vdb(&[([8192, 0, 0], 3.0, false)], 0.5, None)).unwrap();
+        assert_eq!(far, g);
+        let inactive = ([4096, 0, 0], 1.0, false);
+        for (tiles, want) in [
+            (vec![inactive, inactive], "two root entries at [4096, 0, 0]"),
+            (
+                vec![([0, 0, 0], 1.0, false)],
+                "two root entries at [0, 0, 0]",
+            ),
+            (
+                vec![([4095, 0, 0], 1.0, false)],
+                "not on the 4096-voxel lattice",
+            ),
+        ] {
+            let e = read(tiny_vdb(&tiles, 0.5, None)).unwrap_err();
+            assert!(e.contains(want), "{e}");
+        }
+        let mut absurd = tiny_vdb(&[], 0.5, None);
+        let at_count = absurd.len() - (12 + 4096 * 2 + 1 + 512 * 2 + 1 + 64 * 2 + 1 + 4) - 8;
+        absurd[at_count..at_count + 4].copy_from_slice(&1_000_000_000u32.to_le_bytes());
+        let e = read(absurd).unwrap_err();
+        assert!(
+            e.contains("truncated") && e.contains("1000000000 tiles"),
+            "{e}"
+        );
+        let e = read(tiny_vdb(&[], -0.5, None)).unwrap_err();
+        assert!(
+            e.contains("-0.5 at index [1, 2, 3]") && !e.contains("level set"),
+            "{e}"
+        );
+        let e = read(tiny_vdb(&[], -0.5, Some("level set"))).unwrap_err();
+        assert!(e.contains("it is a level set"), "{e}");
+    }
+
     /// Truncated and corrupted files: every cut and a few thousand byte flips give a
     /// clear error or a grid, never a panic (nor, by construction, an allocation
     /// larger than the file or the grid limit).
