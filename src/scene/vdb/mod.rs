@@ -395,6 +395,61 @@ mod tests {
     /// value, active) and one root child holding one leaf whose only active voxel is
     /// (1, 2, 3) = `value`; `class` as grid metadata.
     fn tiny_vdb(tiles: &[([i32; 3], f32, bool)], value: f32, class: Option<&str>) -> Vec<u8> {
+        tiny_vdb_with(Tiny::default(), tiles, value, class)
+    }
+
+    /// How [`tiny_vdb_with`] stores values: zip chunks, a double tree, half-float
+    /// chunks.
+    #[derive(Clone, Copy, Default, Debug)]
+    struct Tiny {
+        zip: bool,
+        double: bool,
+        half: bool,
+    }
+
+    fn tiny_vdb_with(
+        opt: Tiny,
+        tiles: &[([i32; 3], f32, bool)],
+        value: f32,
+        class: Option<&str>,
+    ) -> Vec<u8> {
+        // A value of the tree's type (background, tiles).
+        let full = |v: f32| -> Vec<u8> {
+            if opt.double {
+                (v as f64).to_le_bytes().to_vec()
+            } else {
+                v.to_le_bytes().to_vec()
+            }
+        };
+        // A chunk of values: raw, or a zip chunk behind its i64 size; nothing at all
+        // for no half values (as OpenVDB's half writer).
+        let chunk = |b: &mut Vec<u8>, values: &[f32]| {
+            if opt.half && values.is_empty() {
+                return;
+            }
+            let raw: Vec<u8> = values
+                .iter()
+                .flat_map(|&v| {
+                    if opt.half {
+                        half::f16::from_f32(v).to_le_bytes().to_vec()
+                    } else {
+                        full(v)
+                    }
+                })
+                .collect();
+            if opt.zip && raw.is_empty() {
+                b.extend_from_slice(&0i64.to_le_bytes());
+            } else if opt.zip {
+                use std::io::Write;
+                let mut z = flate2::write::ZlibEncoder::new(Vec::new(), Default::default());
+                z.write_all(&raw).unwrap();
+                let z = z.finish().unwrap();
+                b.extend_from_slice(&(z.len() as i64).to_le_bytes());
+                b.extend_from_slice(&z);
+            } else {
+                b.extend_from_slice(&raw);
+            }
+        };
         fn string(b: &mut Vec<u8>, s: &str) {
             b.extend_from_slice(&(s.len() as u32).to_le_bytes());
             b.extend_from_slice(s.as_bytes());
@@ -409,12 +464,21 @@ mod tests {
         b.extend_from_slice(&0u32.to_le_bytes()); // file metadata
         b.extend_from_slice(&1i32.to_le_bytes());
         string(&mut b, "density");
-        string(&mut b, "Tree_float_5_4_3");
+        let tree = if opt.double {
+            "Tree_double_5_4_3"
+        } else {
+            "Tree_float_5_4_3"
+        };
+        string(
+            &mut b,
+            &format!("{tree}{}", if opt.half { "_HalfFloat" } else { "" }),
+        );
         string(&mut b, "");
         let offsets = b.len();
         b.extend_from_slice(&[0u8; 24]);
         let grid_pos = b.len() as i64;
-        b.extend_from_slice(&2u32.to_le_bytes()); // COMPRESS_ACTIVE_MASK
+        // COMPRESS_ACTIVE_MASK, COMPRESS_ZIP
+        b.extend_from_slice(&(2u32 | opt.zip as u32).to_le_bytes());
         match class {
             Some(c) => {
                 b.extend_from_slice(&1u32.to_le_bytes());
@@ -429,14 +493,14 @@ mod tests {
             b.extend_from_slice(&v.to_le_bytes());
         }
         b.extend_from_slice(&1i32.to_le_bytes()); // buffer count
-        b.extend_from_slice(&0f32.to_le_bytes()); // background
+        b.extend_from_slice(&full(0.0)); // background
         b.extend_from_slice(&(tiles.len() as u32).to_le_bytes());
         b.extend_from_slice(&1u32.to_le_bytes());
         for (o, v, active) in tiles {
             for c in o {
                 b.extend_from_slice(&c.to_le_bytes());
             }
-            b.extend_from_slice(&v.to_le_bytes());
+            b.extend_from_slice(&full(*v));
             b.push(*active as u8);
         }
         b.extend_from_slice(&[0u8; 12]); // the child at the origin
@@ -449,15 +513,17 @@ mod tests {
         mask(&mut b, 4096, 0);
         b.extend_from_slice(&[0u8; 4096]);
         b.push(0);
+        chunk(&mut b, &[]);
         mask(&mut b, 512, 0);
         b.extend_from_slice(&[0u8; 512]);
         b.push(0);
+        chunk(&mut b, &[]);
         let voxel = (1 << 6) + (2 << 3) + 3;
         mask(&mut b, 64, voxel);
         // The leaf's buffer: its mask, code 0, its one active value.
         mask(&mut b, 64, voxel);
         b.push(0);
-        b.extend_from_slice(&value.to_le_bytes());
+        chunk(&mut b, &[value]);
         let end = b.len() as i64;
         for (k, v) in [grid_pos, grid_pos, end].iter().enumerate() {
             b[offsets + 8 * k..offsets + 8 * k + 8].copy_from_slice(&v.to_le_bytes());
@@ -508,6 +574,37 @@ mod tests {
             e.contains("truncated") && e.contains("1000000000 tiles"),
             "{e}"
         );
+        // Zip chunks, double trees, half-float chunks: the same grid.
+        for opt in [
+            Tiny {
+                zip: true,
+                ..Tiny::default()
+            },
+            Tiny {
+                double: true,
+                ..Tiny::default()
+            },
+            Tiny {
+                half: true,
+                ..Tiny::default()
+            },
+            Tiny {
+                zip: true,
+                double: true,
+                half: true,
+            },
+        ] {
+            let bytes = tiny_vdb_with(opt, &[([8192, 0, 0], 3.0, false)], 0.5, None);
+            assert_eq!(read(bytes.clone()).unwrap(), g, "{opt:?}");
+            if opt.zip {
+                // The leaf's zip stream, damaged.
+                let mut bad = bytes;
+                let n = bad.len();
+                bad[n - 3] ^= 0x55;
+                let e = read(bad).unwrap_err();
+                assert!(e.contains("zip chunk"), "{e}");
+            }
+        }
         let e = read(tiny_vdb(&[], -0.5, None)).unwrap_err();
         assert!(
             e.contains("-0.5 at index [1, 2, 3]") && !e.contains("level set"),
