@@ -506,11 +506,11 @@ mod tests {
         );
         assert_eq!((m.albedo, m.g), (Vec3::splat(0.75), 0.0));
         assert_eq!(
-            (s.spheres[0].interior, s.spheres[0].exterior),
+            (s.quadrics[0].interior, s.quadrics[0].exterior),
             (None, Some(0))
         );
         // Without a BSDF a medium's shape is diffuse, as in Mitsuba 3.9.
-        assert!(!s.spheres[0].null_bsdf);
+        assert!(!s.quadrics[0].null_bsdf);
     }
 
     #[test]
