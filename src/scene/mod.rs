@@ -27,6 +27,7 @@ pub mod shape;
 pub mod spectrum;
 pub mod texture;
 pub mod transform;
+pub mod vdb;
 pub mod xml;
 
 pub use bsdf::Bsdf;
