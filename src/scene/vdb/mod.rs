@@ -614,8 +614,8 @@ mod tests {
         assert!(e.contains("it is a level set"), "{e}");
     }
 
-    /// Truncated and corrupted files: every cut and a few thousand byte flips give a
-    /// clear error or a grid, never a panic (nor, by construction, an allocation
+    /// Truncated and corrupted files: the first 400 cuts and every 211th after them,
+    /// and 600 random flips of 1-3 bits, give a clear error or a grid, never a panic (nor, by construction, an allocation
     /// larger than the file or the grid limit).
     #[test]
     fn damaged_files_are_clear_errors() {
@@ -623,7 +623,7 @@ mod tests {
         let dir = crate::scene::testutil::temp_dir("vdb_damaged");
         let p = dir.join("bad.vdb");
         let mut cuts: Vec<usize> = (0..400).collect();
-        cuts.extend((400..bytes.len()).step_by(97));
+        cuts.extend((400..bytes.len()).step_by(211));
         for cut in cuts {
             std::fs::write(&p, &bytes[..cut]).unwrap();
             let e = read_vdb(&p, None).unwrap_err();
@@ -653,7 +653,7 @@ mod tests {
             state ^= state << 17;
             state
         };
-        for _ in 0..1500 {
+        for _ in 0..600 {
             let mut bad = bytes.clone();
             for _ in 0..1 + next() % 3 {
                 let i = (next() % bad.len() as u64) as usize;
