@@ -6,7 +6,9 @@
 //! vertices come before it: relative (negative) indices are fixed up afterwards, and
 //! indices past the end found from each chunk's largest. Only when something is wrong
 //! is the first faulty chunk parsed again, knowing its place in the file, for the exact
-//! error. An 8 M-triangle height field (307 MB) loads in about 0.5 s of CPU.
+//! error. An 8 M-triangle height field (307 MB) loads in about 0.8 s of CPU time, the
+//! 30 M one (1.3 GB) in 2.7 s, 3 to 4 times less than the line-by-line `str` parser
+//! before this one.
 //!
 //! Words are separated by ASCII white space, and `#` starts a comment. Polygons are
 //! fan-triangulated; one index is shared by position, normal and uv. Uvs and normals
