@@ -6,9 +6,10 @@
 #include "wavefront.glsl"
 #include "scene_bindings.glsl"
 
-// Scenes without spheres compile the sphere test out of the traversal.
-layout(constant_id = 0) const bool SCENE_HAS_SPHERES = true;
-#define BVH_HAS_SPHERES SCENE_HAS_SPHERES
+// The quadric kinds of the scene (SURFACE_FEATURE_* bits): the traversal compiles the
+// tests of the others out.
+layout(constant_id = 0) const uint SCENE_PRIM_KINDS = 0xffffffffu;
+#define BVH_PRIM_KINDS SCENE_PRIM_KINDS
 // Entries of the traversal stack: the scene BVH's deepest leaf (bvh.glsl).
 layout(constant_id = 1) const int SCENE_BVH_DEPTH = 32;
 #define BVH_STACK_DEPTH SCENE_BVH_DEPTH

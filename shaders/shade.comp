@@ -33,8 +33,9 @@ layout(constant_id = 1) const uint SCENE_BSDF_KINDS = 0xffffffffu;
 
 // Media or null surfaces in the scene; without them the medium stage compiles away.
 layout(constant_id = 4) const bool SCENE_HAS_MEDIA = false;
-layout(constant_id = 5) const bool SCENE_HAS_SPHERES = true;
-#define BVH_HAS_SPHERES SCENE_HAS_SPHERES
+// The quadric kinds of the scene (SURFACE_FEATURE_* bits; bvh.glsl).
+layout(constant_id = 5) const uint SCENE_PRIM_KINDS = 0xffffffffu;
+#define BVH_PRIM_KINDS SCENE_PRIM_KINDS
 // Entries of the traversal stack: the scene BVH's deepest leaf (bvh.glsl).
 layout(constant_id = 11) const int SCENE_BVH_DEPTH = 32;
 #define BVH_STACK_DEPTH SCENE_BVH_DEPTH

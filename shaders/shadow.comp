@@ -20,9 +20,10 @@ layout(constant_id = 2) const uint SCENE_TEXTURES = 0xffffffffu;
 #include "texture.glsl"
 #include "bsdf_textured.glsl"
 
-// Scenes without spheres compile the sphere test out of the traversal.
-layout(constant_id = 0) const bool SCENE_HAS_SPHERES = true;
-#define BVH_HAS_SPHERES SCENE_HAS_SPHERES
+// The quadric kinds of the scene (SURFACE_FEATURE_* bits): the traversal compiles the
+// tests of the others out.
+layout(constant_id = 0) const uint SCENE_PRIM_KINDS = 0xffffffffu;
+#define BVH_PRIM_KINDS SCENE_PRIM_KINDS
 // Entries of the traversal stack: the scene BVH's deepest leaf (bvh.glsl).
 layout(constant_id = 11) const int SCENE_BVH_DEPTH = 32;
 #define BVH_STACK_DEPTH SCENE_BVH_DEPTH

@@ -14,3 +14,4 @@ pub mod render;
 pub mod scene;
 #[cfg(feature = "viewer")]
 pub mod viewer;
+pub mod warptest;

@@ -13,6 +13,7 @@ use wavetrace::render::RenderOptions;
 use wavetrace::scene::film::{FileFormat, Filter, PixelFormat};
 use wavetrace::scene::sampler::SamplerKind;
 use wavetrace::scene::{self, Scene};
+use wavetrace::warptest;
 
 #[derive(Parser)]
 #[command(
@@ -159,6 +160,63 @@ enum Command {
     },
     /// List the Vulkan devices wavetrace can use.
     Devices,
+    /// Chi-square test of a GPU sampler against its own pdf (Nori's warptest): draw
+    /// samples with the GLSL routine, histogram them, compare with the counts its pdf
+    /// predicts, print X² and the p-value and draw the histograms. Exit status 0 when
+    /// the test accepts the sampler, 1 when it rejects it (or on an error).
+    #[command(allow_negative_numbers = true)]
+    Warptest {
+        /// What to sample: a warp (square_to_disk, uniform_triangle,
+        /// uniform_hemisphere, cosine_hemisphere, uniform_sphere, uniform_cap),
+        /// microfacet normals (beckmann, ggx), a BSDF (diffuse, roughconductor,
+        /// roughdielectric, plastic, roughplastic, nori_microfacet), a phase function
+        /// (hg, isotropic), or mismatched_cosine (a deliberately wrong pdf: it fails).
+        target: String,
+        /// Samples to draw.
+        #[arg(long, default_value_t = 1_000_000, value_parser = clap::value_parser!(u32).range(1000..))]
+        samples: u32,
+        /// Seed of the sampler's random numbers.
+        #[arg(long, default_value_t = 0)]
+        seed: u32,
+        /// Output PNG: observed counts, expected counts, residual (O - E) / sqrt(E)
+        /// (default: warptest_TARGET.png).
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Significance level of the test.
+        #[arg(long, default_value_t = 0.01)]
+        significance: f64,
+        /// Roughness (microfacet distributions, rough BSDFs; default 0.2).
+        #[arg(long)]
+        alpha: Option<f32>,
+        /// Anisotropic roughness along the tangent (with --alpha-v).
+        #[arg(long)]
+        alpha_u: Option<f32>,
+        /// Anisotropic roughness along the bitangent (with --alpha-u).
+        #[arg(long)]
+        alpha_v: Option<f32>,
+        /// Microfacet distribution of rough BSDFs: beckmann or ggx (default).
+        #[arg(long)]
+        distribution: Option<String>,
+        /// Relative index of refraction (default 1.5).
+        #[arg(long)]
+        eta: Option<f32>,
+        /// Incident angle from the normal in degrees (default 30; above 90: from
+        /// below the surface).
+        #[arg(long)]
+        theta: Option<f32>,
+        /// Incident azimuth in degrees (default 0).
+        #[arg(long)]
+        phi: Option<f32>,
+        /// Henyey-Greenstein asymmetry (default 0.7).
+        #[arg(long)]
+        g: Option<f32>,
+        /// Cosine of the cap's half angle (uniform_cap; default 0.5).
+        #[arg(long)]
+        cos_max: Option<f32>,
+        /// Vulkan device: index or part of its name.
+        #[arg(long)]
+        device: Option<String>,
+    },
 }
 
 fn parse_defines(defines: &[String]) -> Result<Vec<(String, String)>> {
@@ -232,6 +290,74 @@ fn run(cli: Cli) -> Result<()> {
         Command::Devices => {
             for d in Device::list()? {
                 println!("[{}] {} ({})", d.index, d.name, d.kind.name());
+            }
+            Ok(())
+        }
+        Command::Warptest {
+            target,
+            samples,
+            seed,
+            output,
+            significance,
+            alpha,
+            alpha_u,
+            alpha_v,
+            distribution,
+            eta,
+            theta,
+            phi,
+            g,
+            cos_max,
+            device,
+        } => {
+            let params = warptest::target::Params {
+                alpha,
+                alpha_u,
+                alpha_v,
+                distribution,
+                eta,
+                theta,
+                phi,
+                g,
+                cos_max,
+            };
+            if !(significance > 0.0 && significance < 1.0) {
+                bail!("--significance must lie in (0, 1), found {significance}");
+            }
+            let (what, description) =
+                warptest::target::parse(&target, &params).map_err(anyhow::Error::msg)?;
+            let output = output.unwrap_or_else(|| PathBuf::from(format!("warptest_{target}.png")));
+            let device = Device::new(device.as_deref())?;
+            eprintln!("device: {}", device.info());
+            let t = Instant::now();
+            let outcome = warptest::run(&device, &what, samples, seed)?;
+            println!("{target}: {description}");
+            println!(
+                "{} samples in {:.2} s ({} left out: delta lobes or absorbed; {} off the domain), \
+                 {} cells, integral of the pdf {:.4}",
+                outcome.samples,
+                t.elapsed().as_secs_f64(),
+                outcome.excluded,
+                outcome.outside,
+                outcome.grid.cells(),
+                outcome.pdf_integral
+            );
+            let pass = outcome.passes(significance);
+            println!(
+                "chi-square: X² = {:.1} with {} degrees of freedom, p-value = {:.4e}: {} at significance {significance}",
+                outcome.chi2.statistic,
+                outcome.chi2.dof,
+                outcome.chi2.p_value,
+                if pass { "passes" } else { "FAILS" }
+            );
+            warptest::image::write_png(&outcome, &output)
+                .with_context(|| format!("writing {}", output.display()))?;
+            println!(
+                "wrote {} (left: observed counts, middle: expected counts, right: (O - E) / sqrt(E))",
+                output.display()
+            );
+            if !pass {
+                std::process::exit(1);
             }
             Ok(())
         }
@@ -505,7 +631,15 @@ fn print_info(
             if m.emitter.is_some() { ", emitter" } else { "" },
         );
     }
-    println!("spheres:     {}", sc.spheres.len());
+    println!("quadrics:    {}", sc.quadrics.len());
+    for q in &sc.quadrics {
+        println!(
+            "  {:?}, area {}{}",
+            q.kind,
+            q.area(),
+            if q.emitter.is_some() { ", emitter" } else { "" }
+        );
+    }
     println!("triangles:   {}", sc.triangle_count());
     println!("features:    {}", sc.features().join(", "));
     println!("bsdfs:       {}", sc.bsdfs.len());
@@ -514,7 +648,7 @@ fn print_info(
         println!("  {e:?}");
     }
     let meter = PeakMeter::start();
-    let bvh = Bvh::for_shapes(&sc.meshes, &sc.spheres);
+    let bvh = Bvh::for_shapes(&sc.meshes, &sc.quadrics);
     let s = &bvh.stats;
     // The build's peak above the loaded scene, where the OS tells it.
     let peak = meter

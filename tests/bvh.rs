@@ -4,6 +4,7 @@
 mod common;
 
 use common::stats::SplitMix64;
+use glam::Mat4;
 use glam::{Vec2, Vec3};
 use wavetrace::accel::{brute_force_closest, prims_from_shapes, Bvh};
 use wavetrace::gpu::layout::HitItem;
@@ -11,7 +12,7 @@ use wavetrace::gpu::{
     shaders, BindingKind, BindingLayout, Buffer, CommandList, DescriptorSet, Kernel, Location,
 };
 use wavetrace::render::scene_buffers::{scene_binding_kinds, SceneBuffers, SceneRecords};
-use wavetrace::scene::{Mesh, Sphere};
+use wavetrace::scene::{Mesh, Quadric, QuadricKind};
 
 /// `QueryRay` of shaders/tests/bvh_query.comp.
 #[repr(C)]
@@ -143,26 +144,49 @@ fn load_bunny() -> Mesh {
     scene.meshes.into_iter().next().expect("bunny mesh")
 }
 
+/// The bunny with spheres, sheared elliptic disks and slanted cylinders among it.
 #[test]
-fn gpu_closest_and_any_hit_equal_brute_force_on_bunny_and_spheres() {
+fn gpu_closest_and_any_hit_equal_brute_force_on_bunny_and_quadrics() {
     let bunny = load_bunny();
     let (lo, hi) = bunny.positions.iter().fold(
         (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
         |(a, b), &p| (a.min(p), b.max(p)),
     );
-    let spheres: Vec<Sphere> = (0..8)
-        .map(|k| Sphere {
-            center: lo + (hi - lo) * Vec3::new(k as f32 / 7.0, 0.5, 0.3),
-            radius: 0.01 + 0.005 * k as f32,
-            bsdf: 0,
-            emitter: None,
-            flip_normals: false,
-            interior: None,
-            exterior: None,
-            null_bsdf: false,
+    let mut quadrics: Vec<Quadric> = (0..8)
+        .map(|k| {
+            Quadric::sphere(
+                lo + (hi - lo) * Vec3::new(k as f32 / 7.0, 0.5, 0.3),
+                0.01 + 0.005 * k as f32,
+                0,
+            )
         })
         .collect();
-    let bvh = Bvh::build(prims_from_shapes(&[bunny], &spheres));
+    for k in 0..8 {
+        let t = k as f32 / 7.0;
+        let at = Mat4::from_translation(lo + (hi - lo) * Vec3::new(t, 0.3, 0.6))
+            * Mat4::from_rotation_y(1.3 * t)
+            * Mat4::from_rotation_x(0.4 + t);
+        let (kind, shape) = if k % 2 == 0 {
+            // An ellipse, sheared.
+            let shear = Mat4::from_cols_array(&[
+                1.0, 0.0, 0.0, 0.0, 0.4, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0,
+            ]);
+            (
+                QuadricKind::Disk,
+                shear * Mat4::from_scale(Vec3::new(0.02, 0.01 + 0.004 * t, 1.0)),
+            )
+        } else {
+            (
+                QuadricKind::Cylinder,
+                Mat4::from_scale(Vec3::new(0.008, 0.008, 0.05 + 0.02 * t)),
+            )
+        };
+        let mut q = Quadric::sphere(Vec3::ZERO, 1.0, 0);
+        q.kind = kind;
+        q.to_world = at * shape;
+        quadrics.push(q);
+    }
+    let bvh = Bvh::build(prims_from_shapes(&[bunny], &quadrics));
     let mut rng = SplitMix64(7);
     let pad = (hi - lo) * 0.5;
     let rays: Vec<QueryRay> = (0..40_000)

@@ -8,13 +8,15 @@
 mod common;
 
 use common::stats::{
-    BsdfProbe, Sampled, SphereGrid, Warp, WarpProbe, FLAG_DELTA, FLAG_REFLECTION, FLAG_TRANSMISSION,
+    bsdf_probe, warp_probe, BsdfProbe, Sampled, Warp, WarpProbe, FLAG_DELTA, FLAG_REFLECTION,
+    FLAG_TRANSMISSION,
 };
 use glam::{Vec2, Vec3};
 use wavetrace::gpu::layout::BsdfRecord;
 use wavetrace::scene::bsdf::{fresnel_dielectric, Bsdf, Distribution};
+use wavetrace::warptest::{test_bsdf, test_warp, Axis, Outcome};
 
-/// At least as many chi-square tests as this file runs (89 now; Šidák correction, a
+/// At least as many chi-square tests as this file runs (90 now; Šidák correction, a
 /// larger m only makes each test slightly more lenient).
 const TESTS_IN_FILE: usize = 96;
 /// Family-wise significance of the file.
@@ -23,143 +25,69 @@ const ALPHA: f64 = 0.01;
 /// Samples per chi-square test: enough that a pdf 2% off in a cell of 1% mass shows.
 const N: u32 = 400_000;
 
-fn assert_fit(name: &str, observed: &[f64], expected: &[f64]) {
-    common::stats::assert_fit(name, observed, expected, ALPHA, TESTS_IN_FILE);
+fn assert_outcome(name: &str, outcome: &Outcome) {
+    common::stats::assert_outcome(name, outcome, ALPHA, TESTS_IN_FILE);
 }
 
-/// Coordinates on [0, 1]² for a planar domain, chosen so that the domain's edge is the
-/// square's edge (a density jumping to 0 inside a cell would defeat the quadrature).
-#[derive(Clone, Copy)]
-enum Chart {
-    /// Unit disk: (r², φ / 2π); dA = π du dv.
-    Disk,
-    /// Triangle b0, b1 >= 0, b0 + b1 <= 1: (b0, b1 / (1 - b0)); dA = (1 - b0) du dv.
-    Triangle,
-}
-
-impl Chart {
-    fn to_square(self, p: Vec2) -> Vec2 {
-        match self {
-            Chart::Disk => {
-                let phi = p.y.atan2(p.x) / (2.0 * std::f32::consts::PI);
-                Vec2::new(p.length_squared(), phi.rem_euclid(1.0))
-            }
-            Chart::Triangle => Vec2::new(p.x, if p.x < 1.0 { p.y / (1.0 - p.x) } else { 0.0 }),
+/// A warp against its own pdf (wavetrace::warptest::test_warp): a 32 x 32 chart of
+/// the planar domains, a 32 x 24 sphere grid for directions.
+fn warp_case(probe: &WarpProbe, name: &str, warp: Warp, seed: u32) {
+    let outcome = test_warp(probe, warp, N, seed).expect("warp kernel");
+    if warp.spherical() {
+        let samples = probe.sample(warp, 1024, seed).expect("warp kernel");
+        for s in samples {
+            let d = Vec3::new(s[0], s[1], s[2]);
+            assert!(
+                (d.length() - 1.0).abs() < 1e-4,
+                "{name}: sample {d} is not unit"
+            );
         }
     }
-    /// The point and the area element per unit du dv.
-    fn point_at(self, u: f64, v: f64) -> ([f32; 4], f64) {
-        match self {
-            Chart::Disk => {
-                let (r, phi) = (u.sqrt(), 2.0 * std::f64::consts::PI * v);
-                (
-                    [(r * phi.cos()) as f32, (r * phi.sin()) as f32, 0.0, 0.0],
-                    std::f64::consts::PI,
-                )
-            }
-            Chart::Triangle => ([u as f32, (v * (1.0 - u)) as f32, 0.0, 0.0], 1.0 - u),
-        }
-    }
-}
-
-/// A 2D warp against its density per unit area, histogrammed in `chart` coordinates.
-fn planar(probe: &WarpProbe, name: &str, warp: Warp, chart: Chart) {
-    let res = 32;
-    let k = 8;
-    let samples = probe.sample(warp, N, 1);
-    let mut observed = vec![0.0; res * res];
-    for s in &samples {
-        let q = chart.to_square(Vec2::new(s[0], s[1]));
-        assert!(
-            q.x >= 0.0 && q.y >= 0.0 && q.x <= 1.0 + 1e-6 && q.y <= 1.0 + 1e-6,
-            "{name}: sample ({}, {}) outside the domain",
-            s[0],
-            s[1]
-        );
-        let i = ((q.x * res as f32) as usize).min(res - 1);
-        let j = ((q.y * res as f32) as usize).min(res - 1);
-        observed[i * res + j] += 1.0;
-    }
-    let m = res * k;
-    let mut points = Vec::with_capacity(m * m);
-    let mut jac = Vec::with_capacity(m * m);
-    for i in 0..m {
-        for j in 0..m {
-            let (p, da) = chart.point_at((i as f64 + 0.5) / m as f64, (j as f64 + 0.5) / m as f64);
-            points.push(p);
-            jac.push(da / (m * m) as f64);
-        }
-    }
-    let pdf = probe.pdf(warp, &points);
-    let mut expected = vec![0.0; res * res];
-    for i in 0..m {
-        for j in 0..m {
-            expected[(i / k) * res + j / k] += pdf[i * m + j] * jac[i * m + j] * N as f64;
-        }
-    }
-    let total: f64 = expected.iter().sum::<f64>() / N as f64;
-    // Constant densities with affine Jacobians: the midpoint rule is exact to rounding.
+    // Constant densities with affine Jacobians (planar): the midpoint rule is exact to
+    // rounding. Smooth densities with 256 x 192 points: error well under 0.5%; the
+    // cap's edge cuts one ring of cells (< 0.5% of its mass).
+    let tolerance = if warp.spherical() { 5e-3 } else { 1e-3 };
+    let total = outcome.pdf_integral;
     assert!(
-        (total - 1.0).abs() < 1e-3,
+        (total - 1.0).abs() < tolerance,
         "{name}: pdf integrates to {total}"
     );
-    assert_fit(name, &observed, &expected);
-}
-
-/// A warp to the sphere against its density per unit solid angle.
-fn spherical(probe: &WarpProbe, name: &str, warp: Warp, axis: Vec3) {
-    let grid = SphereGrid::new(axis, 32, 24);
-    let k = 8;
-    let samples = probe.sample(warp, N, 2);
-    let mut observed = vec![0.0; grid.cells()];
-    for s in &samples {
-        let d = Vec3::new(s[0], s[1], s[2]);
-        assert!(
-            (d.length() - 1.0).abs() < 1e-4,
-            "{name}: sample {d} is not unit"
-        );
-        let c = grid.cell_of(d).expect("finite direction");
-        observed[c] += 1.0;
-    }
-    let (dirs, w) = grid.quadrature(k);
-    let pdf = probe.pdf(warp, &dirs);
-    let mass = grid.integrate(k, &pdf, &w);
-    let total: f64 = mass.iter().sum();
-    // Midpoint rule on smooth densities with 256 x 192 points: error well under 0.5%;
-    // the cap's edge cuts one ring of cells (< 0.5% of its mass).
-    assert!(
-        (total - 1.0).abs() < 5e-3,
-        "{name}: pdf integrates to {total}"
-    );
-    let expected: Vec<f64> = mass.iter().map(|m| m * N as f64).collect();
-    assert_fit(name, &observed, &expected);
+    assert_outcome(name, &outcome);
 }
 
 #[test]
 fn warps() {
-    let probe = WarpProbe::new();
-    planar(&probe, "square to disk", Warp::Disk, Chart::Disk);
-    planar(&probe, "uniform triangle", Warp::Triangle, Chart::Triangle);
-    spherical(
-        &probe,
-        "uniform hemisphere",
-        Warp::UniformHemisphere,
-        Vec3::Z,
-    );
-    spherical(&probe, "cosine hemisphere", Warp::CosineHemisphere, Vec3::Z);
-    spherical(&probe, "uniform sphere", Warp::UniformSphere, Vec3::Z);
+    let probe = warp_probe();
+    warp_case(&probe, "square to disk", Warp::Disk, 1);
+    warp_case(&probe, "uniform triangle", Warp::Triangle, 1);
+    warp_case(&probe, "uniform hemisphere", Warp::UniformHemisphere, 2);
+    warp_case(&probe, "cosine hemisphere", Warp::CosineHemisphere, 2);
+    warp_case(&probe, "uniform sphere", Warp::UniformSphere, 2);
     // Cap edges on ring boundaries of the 32-ring grid (θ = (π/2) (2i/32)², i = 14 and
     // 5), so no cell straddles the jump of the density; 1e-4 inside, so that f32
     // rounding cannot push a sample over the boundary.
     for i in [14.0f64, 5.0] {
         let cos_max = (0.5 * std::f64::consts::PI * (i / 16.0) * (i / 16.0) - 1e-4).cos() as f32;
-        spherical(
+        warp_case(
             &probe,
             &format!("spherical cap cos θmax = {cos_max}"),
             Warp::Cap { cos_max },
-            Vec3::Z,
+            2,
         );
     }
+}
+
+/// The test can fail: cosine-weighted samples against the uniform hemisphere's pdf
+/// (the test-only warp) are rejected with overwhelming significance.
+#[test]
+fn a_wrong_pdf_is_rejected() {
+    let probe = warp_probe();
+    let outcome = test_warp(&probe, Warp::MismatchedCosine, N, 2).expect("warp kernel");
+    assert!(
+        outcome.chi2.p_value < 1e-12,
+        "a mismatched pdf passed: p = {}",
+        outcome.chi2.p_value
+    );
 }
 
 fn dir(theta_deg: f32, phi_deg: f32) -> Vec3 {
@@ -169,7 +97,7 @@ fn dir(theta_deg: f32, phi_deg: f32) -> Vec3 {
 
 #[test]
 fn microfacet_normals() {
-    let probe = WarpProbe::new();
+    let probe = warp_probe();
     for (ty, name) in [(0u32, "beckmann"), (1, "ggx")] {
         for (au, av) in [(0.1f32, 0.1f32), (0.5, 0.5), (0.15, 0.6)] {
             // Beckmann samples D cos θm whatever wo; GGX visible normals depend on wo.
@@ -179,45 +107,17 @@ fn microfacet_normals() {
                 &[Vec3::Z, dir(45.0, 30.0), dir(85.0, 200.0)]
             };
             for &wo in wos {
-                spherical(
+                warp_case(
                     &probe,
                     &format!("{name} normals α = ({au}, {av}), wo = {wo:.2}"),
                     Warp::Microfacet {
-                        ty,
+                        distribution: ty,
                         alpha_u: au,
                         alpha_v: av,
                         wo,
                     },
-                    Vec3::Z,
+                    2,
                 );
-            }
-        }
-    }
-}
-
-/// Where to centre the histogram of a BSDF case.
-#[derive(Clone, Copy)]
-enum Axis {
-    /// The normal.
-    Normal,
-    /// The mirror direction of wo.
-    Reflect,
-    /// The refracted direction of wo through a smooth interface of relative index eta.
-    Refract(f32),
-}
-
-fn axis_dir(axis: Axis, wo: Vec3) -> Vec3 {
-    match axis {
-        Axis::Normal => Vec3::Z,
-        Axis::Reflect => Vec3::new(-wo.x, -wo.y, wo.z),
-        Axis::Refract(eta) => {
-            let eta_ti = if wo.z > 0.0 { 1.0 / eta } else { eta };
-            let s2 = eta_ti * eta_ti * (1.0 - wo.z * wo.z);
-            if s2 >= 1.0 {
-                Vec3::new(-wo.x, -wo.y, wo.z)
-            } else {
-                let ct = (1.0 - s2).sqrt() * -wo.z.signum();
-                Vec3::new(-eta_ti * wo.x, -eta_ti * wo.y, ct).normalize()
             }
         }
     }
@@ -280,34 +180,14 @@ fn check_consistency(name: &str, samples: &[Sampled]) -> f64 {
     delta as f64 / samples.len() as f64
 }
 
-/// One BSDF case: chi-square of the non-delta samples, pdf normalization, consistency.
+/// One BSDF case: chi-square of the non-delta samples against bsdf_pdf
+/// (wavetrace::warptest::test_bsdf), pdf normalization, consistency.
 fn bsdf_case(probe: &BsdfProbe, name: &str, bsdf: &Bsdf, wo: Vec3, axis: Axis, seed: u32) {
     let rec = BsdfRecord::from(bsdf);
     let name = format!("{name}, wo = {wo:.2}");
-    let samples = probe.sample(&rec, wo, N, seed);
+    let (outcome, samples) = test_bsdf(probe, &rec, wo, axis, N, seed).expect("bsdf kernel");
     let delta = check_consistency(&name, &samples);
-    let grid = SphereGrid::new(axis_dir(axis, wo), 32, 24);
-    // Quadrature points per cell side; CHI2_K overrides (diagnostics), as CHI2_DEBUG
-    // prints the cells that contribute most to X².
-    let k: usize = std::env::var("CHI2_K")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(8);
-    let mut observed = vec![0.0; grid.cells()];
-    for s in samples
-        .iter()
-        .filter(|s| s.flags != 0 && s.flags & FLAG_DELTA == 0)
-    {
-        observed[grid.cell_of(s.wi).expect("finite wi")] += 1.0;
-    }
-    let (dirs, w) = grid.quadrature(k);
-    let pdf: Vec<f64> = probe
-        .eval(&rec, wo, &dirs)
-        .iter()
-        .map(|e| e.1 as f64)
-        .collect();
-    let mass = grid.integrate(k, &pdf, &w);
-    let total: f64 = mass.iter().sum();
+    let total = outcome.pdf_integral;
     // ∫ pdf = P(non-delta sample). Allowed gap: 5 binomial σ of the delta fraction plus
     // 1% for the quadrature (midpoint, 256 x 192 points, peaks centred on the grid axis)
     // and for samples lost below the horizon (pdf mass with no valid sample).
@@ -318,24 +198,7 @@ fn bsdf_case(probe: &BsdfProbe, name: &str, bsdf: &Bsdf, wo: Vec3, axis: Axis, s
         (total + delta - 1.0).abs() < 5.0 * sigma + 0.01 + failed,
         "{name}: ∫pdf = {total} but {delta} of the samples are delta"
     );
-    let expected: Vec<f64> = mass.iter().map(|m| m * N as f64).collect();
-    if std::env::var("CHI2_DEBUG").is_ok() {
-        let mut c: Vec<(f64, usize)> = (0..expected.len())
-            .filter(|&i| expected[i] > 5.0)
-            .map(|i| ((observed[i] - expected[i]).powi(2) / expected[i], i))
-            .collect();
-        c.sort_by(|a, b| b.0.total_cmp(&a.0));
-        for (x, i) in c.iter().take(12) {
-            println!(
-                "  cell ({}, {}): o = {}, e = {:.1}, contrib {x:.1}",
-                i / grid.np,
-                i % grid.np,
-                observed[*i],
-                expected[*i]
-            );
-        }
-    }
-    assert_fit(&name, &observed, &expected);
+    assert_outcome(&name, &outcome);
 }
 
 fn conductor_none() -> (Vec3, Vec3) {
@@ -344,7 +207,7 @@ fn conductor_none() -> (Vec3, Vec3) {
 
 #[test]
 fn rough_conductors() {
-    let probe = BsdfProbe::new();
+    let probe = bsdf_probe();
     let (eta, k) = (Vec3::new(0.2, 0.92, 1.1), Vec3::new(3.9, 2.46, 2.14)); // Cu
     for distribution in [Distribution::Beckmann, Distribution::Ggx] {
         for (au, av) in [(0.05, 0.05), (0.3, 0.3), (0.8, 0.8), (0.1, 0.5)] {
@@ -378,7 +241,7 @@ fn rough_conductors() {
 
 #[test]
 fn rough_dielectrics() {
-    let probe = BsdfProbe::new();
+    let probe = bsdf_probe();
     for distribution in [Distribution::Beckmann, Distribution::Ggx] {
         for (au, av) in [(0.1f32, 0.1f32), (0.3, 0.3), (0.8, 0.8), (0.15, 0.45)] {
             for eta in [1.5f32, 1.0 / 1.5] {
@@ -413,7 +276,7 @@ fn rough_dielectrics() {
 
 #[test]
 fn diffuse_plastics_and_nori() {
-    let probe = BsdfProbe::new();
+    let probe = bsdf_probe();
     let diffuse = Bsdf::Diffuse {
         reflectance: Vec3::new(0.2, 0.5, 0.8),
     };
@@ -507,7 +370,7 @@ fn diffuse_plastics_and_nori() {
 /// reflected fraction follows Fresnel (binomial 5σ), weights as documented.
 #[test]
 fn smooth_delta_models() {
-    let probe = BsdfProbe::new();
+    let probe = bsdf_probe();
     let n = 200_000u32;
     for eta in [1.5f32, 1.0 / 1.5] {
         let b = Bsdf::Dielectric {
@@ -523,7 +386,7 @@ fn smooth_delta_models() {
             dir(170.0, 5.0),
         ] {
             let rec = BsdfRecord::from(&b);
-            let samples = probe.sample(&rec, wo, n, 11);
+            let samples = probe.sample(&rec, wo, n, 11).expect("bsdf kernel");
             let (eta_it, cos) = if wo.z > 0.0 {
                 (eta, wo.z)
             } else {
@@ -561,7 +424,9 @@ fn smooth_delta_models() {
         k: Vec3::new(3.9565, 2.3955, 1.6007),
         specular_reflectance: Vec3::ONE,
     };
-    let s = probe.sample(&BsdfRecord::from(&gold), Vec3::Z, 64, 12);
+    let s = probe
+        .sample(&BsdfRecord::from(&gold), Vec3::Z, 64, 12)
+        .expect("bsdf kernel");
     let want = |e: f32, k: f32| ((e - 1.0).powi(2) + k * k) / ((e + 1.0).powi(2) + k * k);
     let w = s[0].weight;
     assert!(
@@ -578,15 +443,20 @@ fn smooth_delta_models() {
     };
     let back = dir(120.0, 10.0);
     assert_eq!(
-        probe.sample(&BsdfRecord::from(&mirror), back, 64, 13)[0].flags,
+        probe
+            .sample(&BsdfRecord::from(&mirror), back, 64, 13)
+            .expect("bsdf kernel")[0]
+            .flags,
         0
     );
-    let s = probe.sample(
-        &BsdfRecord::from(&Bsdf::TwoSided(Box::new(mirror))),
-        back,
-        64,
-        13,
-    )[0];
+    let s = probe
+        .sample(
+            &BsdfRecord::from(&Bsdf::TwoSided(Box::new(mirror))),
+            back,
+            64,
+            13,
+        )
+        .expect("bsdf kernel")[0];
     assert!(
         (s.wi - Vec3::new(-back.x, -back.y, back.z)).length() < 1e-5
             && (s.weight - Vec3::ONE).length() < 1e-5

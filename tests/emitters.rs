@@ -387,7 +387,7 @@ fn environment_map_sampling_matches_its_pdf() {
         r#"<scene version="3.0.0">
     <sensor type="perspective"><film type="hdrfilm"><integer name="width" value="4"/><integer name="height" value="4"/></film></sensor>
     <emitter type="envmap"><string name="filename" value="{}"/><float name="scale" value="2"/>
-        <transform name="to_world"><rotate x="0.3" y="1" z="-0.2" angle="50"/></transform></emitter>
+        <transform name="to_world"><rotate x="0.2822175" y="0.9407250" z="-0.1881450" angle="50"/></transform></emitter>
     <shape type="rectangle"><transform name="to_world"><scale value="0.01"/><translate value="0, 0, 100"/></transform></shape>
 </scene>"#,
         exr.display()

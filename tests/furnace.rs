@@ -9,7 +9,9 @@
 
 mod common;
 
-use common::stats::{BsdfProbe, FLAG_DELTA, FLAG_NULL, FLAG_REFLECTION, FLAG_TRANSMISSION};
+use common::stats::{
+    bsdf_probe, BsdfProbe, FLAG_DELTA, FLAG_NULL, FLAG_REFLECTION, FLAG_TRANSMISSION,
+};
 use glam::Vec3;
 use wavetrace::gpu::layout::BsdfRecord;
 use wavetrace::scene::bsdf::{rough_reflectance, thin_dielectric_reflectance, Bsdf, Distribution};
@@ -18,7 +20,9 @@ const N: u32 = 100_000;
 
 /// Mean and standard error of the energy weight over N samples.
 fn albedo(probe: &BsdfProbe, bsdf: &Bsdf, wo: Vec3, eta: f32) -> (f64, f64) {
-    let samples = probe.sample(&BsdfRecord::from(bsdf), wo, N, 21);
+    let samples = probe
+        .sample(&BsdfRecord::from(bsdf), wo, N, 21)
+        .expect("bsdf kernel");
     let eta_it = if wo.z > 0.0 { eta } else { 1.0 / eta };
     let w: Vec<f64> = samples
         .iter()
@@ -63,7 +67,7 @@ fn no_gain(probe: &BsdfProbe, name: &str, bsdf: &Bsdf, eta: f32, below: bool) ->
 
 #[test]
 fn lossless_smooth_models() {
-    let probe = BsdfProbe::new();
+    let probe = bsdf_probe();
     let white = Vec3::ONE;
     let cases = [
         (
@@ -154,7 +158,7 @@ fn lossless_smooth_models() {
 
 #[test]
 fn microfacet_energy_loss_is_bounded() {
-    let probe = BsdfProbe::new();
+    let probe = bsdf_probe();
     let white = Vec3::ONE;
     for distribution in [Distribution::Beckmann, Distribution::Ggx] {
         for alpha in [0.05f32, 0.3, 0.8] {
@@ -245,7 +249,7 @@ fn microfacet_energy_loss_is_bounded() {
 /// standard errors (a false failure has probability < 1e-6 per direction).
 #[test]
 fn thin_dielectric_lobes() {
-    let probe = BsdfProbe::new();
+    let probe = bsdf_probe();
     let (refl, trans) = (Vec3::new(0.9, 0.5, 0.2), Vec3::new(0.3, 0.6, 1.0));
     for eta in [1.5f32, 1.333] {
         let b = Bsdf::ThinDielectric {
@@ -256,7 +260,9 @@ fn thin_dielectric_lobes() {
         for (i, &c) in COS.iter().enumerate() {
             for sign in [1.0f32, -1.0] {
                 let wo = wo_at(c, 0.7 * i as f32) * Vec3::new(1.0, 1.0, sign);
-                let samples = probe.sample(&BsdfRecord::from(&b), wo, N, 5);
+                let samples = probe
+                    .sample(&BsdfRecord::from(&b), wo, N, 5)
+                    .expect("bsdf kernel");
                 let want = thin_dielectric_reflectance(wo.z as f64, eta as f64);
                 let mut reflected = 0usize;
                 for s in &samples {

@@ -203,8 +203,14 @@ fn valley(n: usize) -> (Vec<glam::Vec3>, Vec<[u32; 3]>) {
 /// rounding in the hit points and normals (the same random numbers drive both).
 #[test]
 fn six_million_triangles_render_as_their_coarse_mesh() {
+    // Texture coordinates (x, y): the shading tangent ∂p/∂u orients the BSDF's
+    // samples (Mitsuba's sh_frame), and with these uvs it is the same at every point
+    // of either mesh (each plane's +x direction). Without uvs it would be each
+    // triangle's first edge, which differs between the two triangulations, so the same
+    // random numbers would sample other directions.
     let obj = "v -1 -1 0.5\nv 0 -1 0\nv 1 -1 0.5\nv -1 1 0.5\nv 0 1 0\nv 1 1 0.5\n\
-               f 1 2 5\nf 1 5 4\nf 2 3 6\nf 2 6 5\n";
+               vt -1 -1\nvt 0 -1\nvt 1 -1\nvt -1 1\nvt 0 1\nvt 1 1\n\
+               f 1/1 2/2 5/5\nf 1/1 5/5 4/4\nf 2/2 3/3 6/6\nf 2/2 6/6 5/5\n";
     common::temp_file("six-million", "valley.obj", obj);
     let xml = r#"<scene version="3.0.0">
     <integrator type="path"><integer name="max_depth" value="4"/></integrator>
@@ -215,15 +221,30 @@ fn six_million_triangles_render_as_their_coarse_mesh() {
     </sensor>
     <shape type="obj">
         <string name="filename" value="valley.obj"/>
+        <boolean name="face_normals" value="true"/>
         <bsdf type="diffuse"><rgb name="reflectance" value="0.8, 0.6, 0.4"/></bsdf>
     </shape>
     <emitter type="constant"><rgb name="radiance" value="1"/></emitter>
 </scene>"#;
     let path = common::temp_file("six-million", "valley.xml", xml);
     let coarse = common::load(&path);
+    // Face normals: the fine mesh's vertices get none either (Mitsuba's smooth
+    // normals of the coarse fold would shade it differently).
+    assert!(
+        coarse.meshes[0].normals.is_empty(),
+        "face_normals keeps no normals"
+    );
+    // The OBJ's v is flipped (Mitsuba's flip_tex_coords): uv = (x, 1 - y).
+    let uv = |p: &glam::Vec3| glam::Vec2::new(p.x, 1.0 - p.y);
+    let m = &coarse.meshes[0];
+    assert!(
+        m.uvs.len() == m.positions.len()
+            && m.positions.iter().zip(&m.uvs).all(|(p, t)| uv(p) == *t)
+    );
     let mut fine = coarse.clone();
     let (positions, indices) = valley(1733);
     assert!(indices.len() > 5_990_000);
+    fine.meshes[0].uvs = positions.iter().map(uv).collect();
     fine.meshes[0].positions = positions;
     fine.meshes[0].indices = indices;
 

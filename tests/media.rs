@@ -3,7 +3,6 @@
 
 mod common;
 
-use common::stats::SphereGrid;
 use glam::Vec3;
 use wavetrace::gpu::{
     shaders, BindingLayout, Buffer, CommandList, DescriptorSet, Device, Kernel, Location,
@@ -20,97 +19,6 @@ fn assert_fit(name: &str, observed: &[f64], expected: &[f64]) {
     common::stats::assert_fit(name, observed, expected, ALPHA, TESTS_IN_FILE);
 }
 
-/// GPU runner for `shaders/tests/phase.comp`.
-struct PhaseProbe {
-    device: Device,
-    layout: BindingLayout,
-    kernel: Kernel,
-}
-
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct PhasePush {
-    wo: [f32; 4],
-    g: f32,
-    mode: u32,
-    count: u32,
-    seed: u32,
-}
-
-impl PhaseProbe {
-    fn new() -> PhaseProbe {
-        let device = common::device();
-        let layout = BindingLayout::new(&device, &[2], 32).expect("layout");
-        let kernel =
-            Kernel::new(&device, "phase", shaders::TESTS_PHASE, &layout, &[]).expect("kernel");
-        PhaseProbe {
-            device,
-            layout,
-            kernel,
-        }
-    }
-
-    fn run(&self, push: PhasePush, dirs: &[[f32; 4]], per_item: u64) -> Vec<[f32; 4]> {
-        let d = &self.device;
-        let dummy = [[0f32; 4]];
-        let input = Buffer::from_slice(d, "dirs", if dirs.is_empty() { &dummy } else { dirs })
-            .expect("buffer");
-        let n = push.count as u64 * per_item;
-        let out = Buffer::new(d, "out", (n * 16).max(16), Location::Gpu).expect("buffer");
-        let set = DescriptorSet::new(&self.layout, 0, &[&input, &out]).expect("set");
-        let mut cmd = CommandList::new(d).expect("commands");
-        let groups = push.count.div_ceil(64);
-        cmd.dispatch(
-            &self.kernel,
-            &[&set],
-            bytemuck::bytes_of(&push),
-            [groups.min(65535), groups.div_ceil(65535), 1],
-        );
-        cmd.barrier();
-        cmd.submit_and_wait().expect("submit");
-        let mut v: Vec<[f32; 4]> = out.read(d).expect("read");
-        v.truncate(n as usize);
-        v
-    }
-
-    /// (wi, pdf from sample, eval at wi, pdf at wi) for `count` samples.
-    fn sample(&self, g: f32, wo: Vec3, count: u32, seed: u32) -> Vec<(Vec3, f32, f32, f32)> {
-        let push = PhasePush {
-            wo: [wo.x, wo.y, wo.z, 0.0],
-            g,
-            mode: 0,
-            count,
-            seed,
-        };
-        self.run(push, &[], 2)
-            .chunks(2)
-            .map(|c| {
-                (
-                    Vec3::new(c[0][0], c[0][1], c[0][2]),
-                    c[0][3],
-                    c[1][0],
-                    c[1][1],
-                )
-            })
-            .collect()
-    }
-
-    /// phase_pdf at each direction.
-    fn pdf(&self, g: f32, wo: Vec3, dirs: &[[f32; 4]]) -> Vec<f64> {
-        let push = PhasePush {
-            wo: [wo.x, wo.y, wo.z, 0.0],
-            g,
-            mode: 1,
-            count: dirs.len() as u32,
-            seed: 0,
-        };
-        self.run(push, dirs, 1)
-            .iter()
-            .map(|v| v[0] as f64)
-            .collect()
-    }
-}
-
 /// Henyey-Greenstein sampling for several g, including ±0.9 (sharp lobes, forward
 /// and backward): samples histogrammed on a sphere grid centred on the propagation
 /// direction -wo (cells shrink at both poles, where the lobes peak), expected counts by
@@ -118,36 +26,31 @@ impl PhaseProbe {
 /// (weights of exactly 1), and unit directions.
 #[test]
 fn henyey_greenstein_sampling_matches_its_pdf() {
-    let probe = PhaseProbe::new();
+    let probe = common::stats::phase_probe();
     let wo = Vec3::new(0.3, -0.5, 0.8).normalize();
     for (k, g) in [-0.9f32, -0.5, 0.0, 0.3, 0.7, 0.9].into_iter().enumerate() {
         let name = format!("hg g = {g}");
-        let samples = probe.sample(g, wo, N, 11 + k as u32);
-        let grid = SphereGrid::new(-wo, 32, 24);
-        let mut observed = vec![0.0; grid.cells()];
-        for (wi, pdf, eval, pdf_at) in &samples {
+        let (outcome, samples) =
+            wavetrace::warptest::test_phase(&probe, g, wo, N, 11 + k as u32).expect("phase kernel");
+        for s in &samples {
+            let (wi, pdf, eval, pdf_at) = (s.wi, s.pdf, s.eval, s.pdf_eval);
             assert!(
                 (wi.length() - 1.0).abs() < 1e-4,
                 "{name}: wi {wi} is not unit"
             );
             let rel = |a: f32, b: f32| (a - b).abs() <= 1e-4 * a.abs().max(b.abs());
             assert!(
-                *pdf > 0.0 && rel(*pdf, *pdf_at) && rel(*pdf, *eval),
+                pdf > 0.0 && rel(pdf, pdf_at) && rel(pdf, eval),
                 "{name}: sample pdf {pdf}, phase_pdf {pdf_at}, phase_eval {eval} at {wi}"
             );
-            observed[grid.cell_of(*wi).expect("finite wi")] += 1.0;
         }
-        let (dirs, w) = grid.quadrature(8);
-        let pdf = probe.pdf(g, wo, &dirs);
-        let mass = grid.integrate(8, &pdf, &w);
-        let total: f64 = mass.iter().sum();
         // Midpoint rule with 256 x 192 points on lobes centred on the grid's axis.
+        let total = outcome.pdf_integral;
         assert!(
             (total - 1.0).abs() < 5e-3,
             "{name}: pdf integrates to {total}"
         );
-        let expected: Vec<f64> = mass.iter().map(|m| m * N as f64).collect();
-        assert_fit(&name, &observed, &expected);
+        common::stats::assert_outcome(&name, &outcome, ALPHA, TESTS_IN_FILE);
     }
 }
 
@@ -425,13 +328,19 @@ fn grid_medium_matches_mitsuba() {
 /// weighting camera paths and shadow rays (vol_path.glsl, transmittance.glsl); path
 /// samples it as a delta transmission lobe (bsdf_textured).
 #[test]
+///
+/// At 128 spp: the fog and the dim floor corner are noisy in the 4096-spp references
+/// too (±5-10% per pixel), and at 64 spp the bottom-left block sat near the test's
+/// threshold (t = -4.2 to -4.4 for different triangulations of the same rectangles,
+/// where 1024 spp agrees with the reference to within its noise).
 fn textured_thin_dielectric_matches_mitsuba() {
     let device = common::device();
     let scene = "scenes/media/thin_textured.xml";
-    matches_reference(&device, scene, &[], "scenes/refs/media_thin_textured.exr");
-    matches_reference(
-        &device,
-        scene,
+    let at = |defines: &[(&str, &str)], reference: &str| {
+        matches_reference_at(&device, scene, defines, reference, 128)
+    };
+    at(&[], "scenes/refs/media_thin_textured.exr");
+    at(
         &[("integrator", "path")],
         "scenes/refs/media_thin_textured_path.exr",
     );
@@ -1227,4 +1136,60 @@ fn gpu_grid_lookups_equal_trilinear_interpolation() {
             }
         }
     }
+}
+
+/// An OpenVDB grid renders as the .vol grid it was made from: scenes/media/smoke.vdb
+/// (tools/make_vdb.py: smoke_border.vol's values, placed by the grid's own transform
+/// on the .vol's voxel centres; `scene::vdb`'s tests check that it is the same
+/// function) against smoke_border.vol in smoke.xml, 64 x 64 at 32 spp, different
+/// seeds. The dense grids differ in extent (the .vdb's covers its active voxels and
+/// one voxel around them), so their majorant grids and the tracking's random numbers
+/// differ: the renders agree within noise. Tested as two independent renders by
+/// tests/common's t-tests of the pixel differences, per 8x8 block and over the whole
+/// image, at family-wise level 1% (an equal pair fails with probability below 1%);
+/// the same tests must reject the .vdb smoke at twice the density (Bonferroni p about
+/// 1e-11 for the blocks; at 1.1 times, the image mean moves by 0.5% and 32 spp do not
+/// resolve it). Placement is checked exactly, voxel by voxel, by `scene::vdb`'s test;
+/// here a grid one voxel off gives a worst block at Bonferroni p = 0.05 (32 spp).
+#[test]
+fn vdb_grid_renders_as_its_vol() {
+    let device = common::device();
+    let smoke = common::repo("scenes/media/smoke.xml");
+    let render = |vol: &str, scale: &str, seed: u32| {
+        let scene = load_with(&smoke, &[("vol", vol), ("scale", scale)]);
+        let (img, stats) = render_stats(&device, &scene, None, 32, seed);
+        assert_finite(vol, &img, &stats);
+        img
+    };
+    let vol = render("smoke_border.vol", "6", 7);
+    let vdb = render("smoke.vdb", "6", 8);
+    let denser = render("smoke.vdb", "12", 9);
+    println!(
+        "means: .vol {:.5}, .vdb {:.5}, .vdb x 2 {:.5}",
+        common::mean(&vol),
+        common::mean(&vdb),
+        common::mean(&denser)
+    );
+    let c = common::compare_with_reference(&vdb, &vol);
+    println!(
+        ".vdb against .vol: blocks {}; whole image {}",
+        c.blocks, c.whole
+    );
+    assert!(
+        c.passes(0.01),
+        ".vdb smoke differs from .vol smoke: {}; {}",
+        c.blocks,
+        c.whole
+    );
+    let c = common::compare_with_reference(&denser, &vol);
+    println!(
+        ".vdb x 2 against .vol: blocks {}; whole image {}",
+        c.blocks, c.whole
+    );
+    assert!(
+        !c.passes(0.01),
+        "a twice denser smoke went unseen: {}; {}",
+        c.blocks,
+        c.whole
+    );
 }

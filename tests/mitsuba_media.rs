@@ -116,9 +116,14 @@ fn homo_obj_inside_medium() {
     check("homo_obj_inside_medium", "volpath", 64);
 }
 
+/// 128 spp: light reaching the camera through two rough glass spheres is heavy-tailed,
+/// and at 64 spp a block's mean without its rare bright paths fell below the
+/// reference at t = -6.7 for one random mapping (seed 0 with Mitsuba's tangent frames),
+/// while seeds 1-4 gave |t| < 4.4; at 128 spp the worst blocks of seeds 0 and 5 are at
+/// t = -2.9 and -2.5.
 #[test]
 fn homo_roughdielectric_spot() {
-    check("homo_roughdielectric_spot", "volpath", 64);
+    check("homo_roughdielectric_spot", "volpath", 128);
 }
 
 #[test]

@@ -254,7 +254,7 @@ fn convex_shapes_never_occlude_themselves_at_any_scale() {
     ] {
         for shape in ["sphere", "cube"] {
             let shape_xml = format!(
-                r#"<shape type="{shape}"><transform name="to_world"><rotate x="1" y="1" z="0" angle="30"/>
+                r#"<shape type="{shape}"><transform name="to_world"><rotate x="0.70710678" y="0.70710678" z="0" angle="30"/>
                     <scale value="{scale}"/><translate value="{offset}, {offset}, 0"/></transform></shape>"#
             );
             let (o, t) = (

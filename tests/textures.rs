@@ -160,7 +160,7 @@ fn gpu_envmap_lookups_equal_the_cpu_reference() {
     let xml = r#"<scene version="3.0.0">
     <sensor type="perspective"><film type="hdrfilm"><integer name="width" value="4"/><integer name="height" value="4"/></film></sensor>
     <emitter type="envmap"><string name="filename" value="t.exr"/><float name="scale" value="1.5"/>
-        <transform name="to_world"><rotate x="1" y="2" z="0.5" angle="70"/></transform></emitter>
+        <transform name="to_world"><rotate x="0.4364358" y="0.8728716" z="0.2182179" angle="70"/></transform></emitter>
     <shape type="rectangle"/>
 </scene>"#;
     let path = dir.join("scene.xml");

@@ -3,8 +3,9 @@
 // children's boxes in the parent; count == 0: inner node, count > 0: leaf).
 //
 // The including kernel must include scene_bindings.glsl (bvh_node_load, prim_load) first.
-// Optional: #define BVH_HAS_SPHERES to a bool constant (e.g. a specialization constant)
-// before including, so triangle-only scenes compile the sphere test out.
+// Optional: #define BVH_PRIM_KINDS to the quadric kinds the scene has (a mask of
+// SURFACE_FEATURE_SPHERES, _DISKS, _CYLINDERS; e.g. a specialization constant) before
+// including, so the tests of absent kinds compile out.
 #ifndef BVH_GLSL
 #define BVH_GLSL
 
@@ -15,6 +16,8 @@
 #include "layout.glsl"
 #include "intersect_triangle.glsl"
 #include "intersect_sphere.glsl"
+#include "intersect_disk.glsl"
+#include "intersect_cylinder.glsl"
 
 // Traversal stack entries; the build keeps every leaf at depth <= this (root = 0).
 // Must equal accel::BVH_STACK_SIZE (a Rust test reads this line).
@@ -29,9 +32,10 @@
 #define BVH_TFAR_SCALE 1.00000048
 #define HIT_NONE 0xffffffffu
 
-#ifndef BVH_HAS_SPHERES
-#define BVH_HAS_SPHERES true
+#ifndef BVH_PRIM_KINDS
+#define BVH_PRIM_KINDS 0xffffffffu
 #endif
+#define BVH_HAS(f) ((BVH_PRIM_KINDS & (f)) != 0u)
 
 // Entries of the traversal stack: the tree's deepest leaf depth bounds them, so the
 // including kernel may #define BVH_STACK_DEPTH to a specialization constant holding
@@ -41,8 +45,9 @@
 #define BVH_STACK_DEPTH BVH_STACK_SIZE
 #endif
 
-// t: distance (tmax on a miss); u, v: triangle barycentrics, p = (1-u-v) p0 + u p1 + v p2
-// (0 for spheres); prim: index into prims[], HIT_NONE on a miss.
+// t: distance (tmax on a miss); u, v: triangle barycentrics, p = (1-u-v) p0 + u p1 + v p2,
+// or a disk's object-space (x, y) (0 for spheres and cylinders); prim: index into
+// prims[], HIT_NONE on a miss.
 struct Hit {
     float t;
     float u;
@@ -146,8 +151,15 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, bool any_hit) {
             float u = 0.0;
             float v = 0.0;
             bool found;
-            if (BVH_HAS_SPHERES && p.kind == PRIM_SPHERE) {
-                found = intersect_sphere(o, d, p.p0, p.p1.x, tmin, hit.t, t);
+            if (BVH_HAS(SURFACE_FEATURE_SPHERES) && p.kind == PRIM_SPHERE) {
+                found = intersect_sphere(o, d, p.p0, length(p.p1), tmin, hit.t, t);
+            } else if (BVH_HAS(SURFACE_FEATURE_DISKS) && p.kind == PRIM_DISK) {
+                vec2 xy;
+                found = intersect_disk(o, d, p.p0, p.p1, p.p2, tmin, hit.t, t, xy);
+                u = xy.x;
+                v = xy.y;
+            } else if (BVH_HAS(SURFACE_FEATURE_CYLINDERS) && p.kind == PRIM_CYLINDER) {
+                found = intersect_cylinder(o, d, p.p0, p.p2, length(p.p1), tmin, hit.t, t);
             } else {
                 found = intersect_triangle(tr, o, p.p0, p.p1, p.p2, tmin, hit.t, t, u, v);
             }

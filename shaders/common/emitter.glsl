@@ -4,7 +4,9 @@
 //
 // An emitter is chosen in proportion to its power through the alias table at
 // alias table entries [0, emitter_count); a mesh emitter then picks a triangle by area and a
-// uniform point on it, so points are uniform over its whole surface; a sphere
+// uniform point on it, so points are uniform over its whole surface; a disk or
+// cylinder a uniform point of its surface (as Mitsuba's sample_position: the
+// concentric map on the disk, uniform angle and height on the cylinder); a sphere
 // emitter samples the cone of directions it subtends (PBR 4th ed., sec. 6.2.4).
 // Every pdf here is per unit solid angle at the shading point and includes the
 // probability of choosing the emitter.
@@ -13,11 +15,17 @@
 
 // Kinds a scene does not use compile away (llvmpipe runs both sides of every branch
 // under a mask): define EMITTER_KINDS (a bit per EMITTER_* kind, area meaning on
-// meshes, and EMITTER_KIND_BIT_SPHERE_AREA) before including this file.
+// meshes, EMITTER_KIND_BIT_SPHERE_AREA and EMITTER_KIND_BIT_QUADRIC_AREA) before
+// including this file.
 #ifndef EMITTER_KINDS
 #define EMITTER_KINDS 0xffffffffu
 #endif
 #define EMITTER_HAS(k) ((EMITTER_KINDS & (1u << (k))) != 0u)
+// Any of the kinds of mask m (one test: glslang 11 emits invalid SPIR-V for a chain
+// of || over specialization constants).
+#define EMITTER_HAS_ANY(m) ((EMITTER_KINDS & (m)) != 0u)
+// Area emitters on meshes, spheres, disks and cylinders.
+#define EMITTER_AREA_BITS ((1u << EMITTER_AREA) | (1u << EMITTER_KIND_BIT_SPHERE_AREA) | (1u << EMITTER_KIND_BIT_QUADRIC_AREA))
 
 #include "alias.glsl"
 #include "frame.glsl"
@@ -74,10 +82,38 @@ float emitter_sphere_cone(vec3 x, vec3 c, float r) {
     return sin2 / (1.0 + sqrt(1.0 - sin2));
 }
 
+// A point uniform over the surface of area emitter e (density 1 / e.area per unit
+// area), as the Surface a ray finds there, from one 2-D sample u: a mesh picks a
+// triangle by area with u.y, which is then reused (alias_sample_reuse), and a uniform
+// point on it; a sphere a uniform direction from its centre; a disk the concentric map
+// of the unit disk; a cylinder a uniform height and angle (Mitsuba's sample_position
+// of each; their area elements are constant).
+Surface emitter_area_point(EmitterRecord e, vec2 u) {
+    if (EMITTER_HAS(EMITTER_AREA) && e.tri_count > 0u) {
+        float tri_pmf;
+        uint t = alias_sample_reuse(e.tri_first, e.tri_count, u.y, tri_pmf);
+        vec2 b = warp_uniform_triangle(u);
+        return surface_at(alias_load(e.tri_first + t).prim, b.x, b.y, vec3(0.0), vec3(0.0), 0.0);
+    }
+    if (e.prim_kind == PRIM_DISK) {
+        vec2 xy = warp_square_to_disk(u);
+        return surface_at(e.prim, xy.x, xy.y, vec3(0.0), vec3(0.0), 0.0);
+    }
+    Prim p = prim_load(e.prim);
+    vec3 y;
+    if (e.prim_kind == PRIM_SPHERE) {
+        y = p.p0 + length(p.p1) * warp_uniform_sphere(u);
+    } else {
+        float phi = 2.0 * PI * u.y;
+        vec3 a2 = cross(normalize(p.p2), p.p1);
+        y = p.p0 + cos(phi) * p.p1 + sin(phi) * a2 + u.x * p.p2;
+    }
+    return surface_at(e.prim, 0.0, 0.0, y, vec3(0.0), 0.0);
+}
+
 // Samples light arriving at x from one 2-D sample u: the emitter is chosen by u.x, which
-// is then reused (alias_sample_cdf), and a mesh's triangle by u.y likewise
-// (alias_sample_reuse), so that the point on the emitter is drawn from a 2-D sample (as
-// Mitsuba does), which a stratified sampler stratifies.
+// is then reused (alias_sample_cdf), and the point on it drawn from the 2-D sample
+// (emitter_area_point; as Mitsuba does), which a stratified sampler stratifies.
 EmitterSample emitter_sample(vec3 x, vec2 u) {
     EmitterSample s;
     s.delta = false;
@@ -113,15 +149,13 @@ EmitterSample emitter_sample(vec3 x, vec2 u) {
         s.dist = EMITTER_INFINITY;
         s.Le = envmap_eval(e, s.wi);
         s.pdf = pmf * pdf;
-    } else if (EMITTER_HAS(EMITTER_AREA) && e.tri_count > 0u) {
-        // A mesh: a triangle by area, then a uniform point on it.
-        float tri_pmf;
-        uint t = alias_sample_reuse(e.tri_first, e.tri_count, u.y, tri_pmf);
-        vec2 b = warp_uniform_triangle(u);
-        // The same surface a ray would find there: its front side follows the vertex
-        // normals where the mesh has them (as in Mitsuba and Nori), so a mirroring
-        // to_world does not turn a light around.
-        Surface ls = surface_at(alias_load(e.tri_first + t).prim, b.x, b.y, x, vec3(0.0), 0.0);
+    } else if ((EMITTER_HAS(EMITTER_AREA) && e.tri_count > 0u)
+               || (EMITTER_HAS(EMITTER_KIND_BIT_QUADRIC_AREA) && e.tri_count == 0u
+                   && e.prim_kind != PRIM_SPHERE)) {
+        // A point uniform over the shape's area, as the surface a ray finds there: its
+        // front side follows the vertex normals where a mesh has them (as in Mitsuba
+        // and Nori), so a mirroring to_world does not turn a light around.
+        Surface ls = emitter_area_point(e, u);
         vec3 y = ls.p;
         vec3 ng = ls.ng;
         vec3 d = y - x;
@@ -146,8 +180,7 @@ EmitterSample emitter_sample(vec3 x, vec2 u) {
         s.dist = t;
         s.Le = e.radiance;
         if (TEXTURE_USES(TEXTURE_FEATURE_AREA) && e.texture != 0u) {
-            vec3 n = normalize(x + t * s.wi - e.position);
-            s.Le *= texture_eval(e.texture, surface_sphere_uv(n));
+            s.Le *= texture_eval(e.texture, surface_at(e.prim, 0.0, 0.0, x, s.wi, t).uv);
         }
         s.pdf = pmf * warp_uniform_cone_pdf(one_minus_cos_max);
     }
@@ -160,7 +193,7 @@ EmitterSample emitter_sample(vec3 x, vec2 u) {
 float emitter_pdf_hit(uint index, vec3 x_prev, vec3 d, float t, vec3 ng) {
     EmitterRecord e = emitter_load(index);
     float pmf = alias_load(index).pmf;
-    if (!EMITTER_HAS(EMITTER_KIND_BIT_SPHERE_AREA) || e.tri_count > 0u) {
+    if (!EMITTER_HAS(EMITTER_KIND_BIT_SPHERE_AREA) || e.tri_count > 0u || e.prim_kind != PRIM_SPHERE) {
         float cos_light = abs(dot(ng, d));
         return cos_light > 0.0 ? pmf * t * t / (e.area * cos_light) : 0.0;
     }

@@ -18,9 +18,14 @@ struct BvhNode {
 
 #define PRIM_TRIANGLE 0u
 #define PRIM_SPHERE 1u
+#define PRIM_DISK 2u
+#define PRIM_CYLINDER 3u
 
 // Triangle: vertices p0, p1, p2; index = global triangle number.
-// Sphere: center p0, radius p1.x; index = sphere number.
+// Quadric (index = its number): columns of its object-to-world map M: p0 = M 0,
+// p1 = M x (length: a sphere's or cylinder's radius), p2 = M y (sphere, disk) or M z
+// (a cylinder's axis). The third axis of a sphere or cylinder is the cross product,
+// negated with SHAPE_MIRRORED.
 struct Prim {
     vec3 p0;
     uint shape;
@@ -32,13 +37,14 @@ struct Prim {
 
 #define NONE 0xffffffffu
 
-// Per shape (meshes in scene order, then spheres).
+// Per shape (meshes in scene order, then quadrics).
 #define SHAPE_HAS_NORMALS 1u
 #define SHAPE_HAS_UVS 2u
 #define SHAPE_FLIP_NORMALS 4u
 #define SHAPE_NULL_BSDF 8u
 #define SHAPE_MEDIUM_TRANSITION 16u
 #define SHAPE_THIN_DIELECTRIC 32u
+#define SHAPE_MIRRORED 64u
 #define MEDIUM_NONE16 0xffffu
 struct ShapeRecord {
     uint bsdf;
@@ -62,9 +68,9 @@ struct Vertex {
     float nz;
     float u;
     float v;
-    float tx;             // tangent dp/du (host-made from uvs), zero without uvs
-    float ty;
-    float tz;
+    uint pad0;
+    uint pad1;
+    uint pad2;
 };
 
 // BSDF kinds (shaders/common/bsdf.glsl dispatches on them).
@@ -121,10 +127,13 @@ struct BsdfRecord {
 // Bit of the emitter-kinds mask (EMITTER_KINDS, emitter.glsl) for area emitters on
 // spheres; EMITTER_AREA's bit stands for area emitters on meshes.
 #define EMITTER_KIND_BIT_SPHERE_AREA 5u
+// ... and for area emitters on disks and cylinders.
+#define EMITTER_KIND_BIT_QUADRIC_AREA 6u
 // radiance: intensity (W/sr) of point and spot lights, radiance of area and constant
 // ones. Spot: axis, cos_cutoff, cutoff (rad), inv_transition = 1/(cutoff - beam width).
 // Area: shape, total area; a mesh's triangles by area through alias entries
-// [tri_first, tri_first + tri_count); a sphere: position = centre, radius, tri_count 0.
+// [tri_first, tri_first + tri_count); a quadric: tri_count 0, prim (its primitive)
+// and prim_kind, and a sphere position = centre, radius.
 struct EmitterRecord {
     vec3 position;
     uint kind;
@@ -138,8 +147,8 @@ struct EmitterRecord {
     float radius;
     uint tri_first;
     uint tri_count;
-    uint pad0;
-    uint pad1;
+    uint prim;            // a quadric's primitive
+    uint prim_kind;       // and its kind
     uint texture;         // index + 1: area radiance texture, or the envmap's image
     uint dist_offset;     // envmap: its sampling distribution in env_dist()
     uint dist_width;
@@ -291,6 +300,8 @@ struct ShadowItem {
 #define SURFACE_FEATURE_SPHERES 1u
 #define SURFACE_FEATURE_NORMALS 2u
 #define SURFACE_FEATURE_UVS 4u
+#define SURFACE_FEATURE_DISKS 8u
+#define SURFACE_FEATURE_CYLINDERS 16u
 // Medium features of a scene (a specialization constant; see src/gpu/layout.rs).
 #define MEDIUM_FEATURE_HOMOGENEOUS 1u
 #define MEDIUM_FEATURE_PACKED1 2u

@@ -20,23 +20,16 @@ float normal_map_tan2(float c) {
 }
 
 // The frame the normal map of record b gives at s, seen from wo. The texture's RGB
-// c in [0, 1]³ is the normal 2c − 1 in the frame (t, n0 × t, n0), t = ∂p/∂u made
-// orthogonal to n0 (Gram-Schmidt). With BSDF_NORMALMAP_FLIP (Mitsuba's
+// c in [0, 1]³ is the normal 2c − 1 in the shading frame (s.ss, n0 × s.ss, n0), s.ss
+// being ∂p/∂u made orthogonal to n0 (Mitsuba's si.sh_frame). With BSDF_NORMALMAP_FLIP (Mitsuba's
 // flip_invalid_normals, after Schüssler et al. 2017, "Microfacet-based Normal
 // Mapping for Robust Monte Carlo Path Tracing"), a mapped normal that faces away from
 // wo has its tangential part negated, which turns it towards wo. A twosided record
 // seen from behind mirrors n0 first, as Mitsuba's twosided does around a normalmap.
 NormalMapFrame normal_map_frame(BsdfRecord b, Surface s, vec3 wo) {
     NormalMapFrame f;
-    vec3 t = s.dpdu - s.ns * dot(s.ns, s.dpdu);
-    float len = length(t);
-    vec3 bx, by;
-    if (len > 1e-12) {
-        bx = t / len;
-        by = cross(s.ns, bx);
-    } else {
-        frame_basis(s.ns, bx, by);
-    }
+    vec3 bx = s.ss;
+    vec3 by = cross(s.ns, bx);
     f.n0 = ((b.flags & BSDF_TWOSIDED) != 0u && dot(wo, s.ns) < 0.0) ? -s.ns : s.ns;
     vec3 c = 2.0 * texture_eval(b.normal_map, s.uv) - 1.0;
     vec3 n = c.x * bx + c.y * by + c.z * f.n0;

@@ -164,9 +164,13 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
         if (mapped) {
             nm = normal_map_frame(bsdf, s, -r.dir);
             s.ns = nm.n;
+            // Mitsuba's perturbed frame keeps the old tangent, made orthogonal to n.
+            s.ss = surface_tangent(s.ss, s.ns);
             bsdf.flags &= ~BSDF_TWOSIDED;
         }
-        wo = frame_to_local(s.ns, -r.dir);
+        // BSDFs work in the shading frame (ss, ns × ss, ns): Mitsuba's sh_frame, whose
+        // tangent orients anisotropic roughness.
+        wo = surface_to_local(s, -r.dir);
         ems = ems && !bsdf_is_delta(bsdf);
     }
 
@@ -193,7 +197,7 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
             } else
 #endif
             {
-                vec3 wi = frame_to_local(s.ns, es.wi);
+                vec3 wi = surface_to_local(s, es.wi);
                 float m = mapped ? normal_map_weight(nm, es.wi) : 1.0;
                 f = m > 0.0 ? m * bsdf_eval(bsdf, wo, wi, s.uv) : vec3(0.0);
                 pdf = bsdf_pdf(bsdf, wo, wi, s.uv);
@@ -240,7 +244,7 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
             // f/P = specular.
             if ((path.flags & PATH_THIN_REFLECT) != 0u) u.x = 0.0;
             BsdfSample bs = bsdf_sample(bsdf, wo, u, s.uv);
-            wi = frame_to_world(s.ns, bs.wi);
+            wi = surface_to_world(s, bs.wi);
             weight = bs.weight * (mapped ? normal_map_weight(nm, wi) : 1.0);
             pdf = bs.pdf;
             flags = (bs.flags & BSDF_FLAG_DELTA) != 0u ? PATH_DELTA : 0u;

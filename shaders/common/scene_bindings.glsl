@@ -177,7 +177,7 @@ TriangleRecord triangle_load(uint i) {
     return TriangleRecord(w.x, w.y, w.z, w.w);
 }
 
-// Texel k (0: normal and u; 1: v and tangent) of vertex i.
+// Texel k (0: normal and u; 1: v) of vertex i.
 vec4 vertex_texel(uint i, uint k) {
     return uintBitsToFloat(vertex_texel_raw(2u * i + k));
 }
@@ -186,7 +186,7 @@ Vertex vertex_load(uint i) {
     uvec4 a = vertex_texel_raw(2u * i);
     uvec4 b = vertex_texel_raw(2u * i + 1u);
     return Vertex(uintBitsToFloat(a.x), uintBitsToFloat(a.y), uintBitsToFloat(a.z), uintBitsToFloat(a.w),
-                  uintBitsToFloat(b.x), uintBitsToFloat(b.y), uintBitsToFloat(b.z), uintBitsToFloat(b.w));
+                  uintBitsToFloat(b.x), b.y, b.z, b.w);
 }
 
 // BsdfRecord: 16 texels (6 of fields, the 8 of `table`, 2 of texture maps).

@@ -3,6 +3,7 @@
 #define SURFACE_GLSL
 
 #include "warp.glsl"
+#include "frame.glsl"
 #include "ray_offset.glsl"
 
 // The primitive and vertex features of the scene (SURFACE_FEATURE_* bits of
@@ -26,33 +27,86 @@ struct Surface {
     vec3 ns;      // shading normal, unit, same hemisphere as ng
     vec2 uv;
     uint shape;
-    vec3 dpdu;    // tangent ∂p/∂u (unnormalized direction); zero where unknown
+    vec3 ss;      // shading tangent, unit, orthogonal to ns: Mitsuba's sh_frame.s, ∂p/∂u
+                  // made orthogonal to ns; the shading frame is (ss, ns × ss, ns)
 };
 
-// Mitsuba's sphere coordinates of the outward unit normal n (object frame = world
-// here): u = φ / 2π in [0, 1), v = θ / π.
-vec2 surface_sphere_uv(vec3 n) {
-    float u = atan(n.y, n.x) * (0.5 * INV_PI);
-    if (u < 0.0) u += 1.0;
-    return vec2(u, acos(clamp(n.z, -1.0, 1.0)) * INV_PI);
+// u = φ / 2π in [0, 1) of the object-space direction (x, y) (Mitsuba's sphere,
+// disk and cylinder).
+float surface_phi_u(float x, float y) {
+    float u = atan(y, x) * (0.5 * INV_PI);
+    return u < 0.0 ? u + 1.0 : u;
 }
 
-// Surface at barycentrics (u, v) of primitive `prim`: p = (1-u-v) p0 + u p1 + v p2.
-// Spheres are re-projected onto their surface. Normals follow the primitive's
-// orientation (counter-clockwise front, or outwards), flipped by SHAPE_FLIP_NORMALS.
+// Mitsuba's shading tangent (SurfaceInteraction::initialize_sh_frame): dpdu made
+// orthogonal to n by Gram-Schmidt, unit; where that leaves nothing, the first axis
+// of frame_basis(n) (Mitsuba's coordinate_system).
+vec3 surface_tangent(vec3 dpdu, vec3 n) {
+    vec3 t = dpdu - n * dot(n, dpdu);
+    float len = length(t);
+    if (len > 0.0) return t / len;
+    vec3 s, b;
+    frame_basis(n, s, b);
+    return s;
+}
+
+// The geometry of quadric `prim` (layout.glsl) at the hit point `hit`; `xy`: a
+// disk's object-space (x, y) from intersect_disk. As Mitsuba 3.9's sphere, disk and
+// cylinder compute it: uv and ∂p/∂u from the object-space point, outward normals
+// (a disk's: the inverse transpose of +z; both fixed up by SHAPE_FLIP_NORMALS after).
+void surface_quadric(inout Surface s, Prim prim, ShapeRecord shape, vec3 hit, vec2 xy, out vec3 dpdu) {
+    float mirror = (shape.flags & SHAPE_MIRRORED) != 0u ? -1.0 : 1.0;
+    if (SURFACE_HAS(SURFACE_FEATURE_SPHERES) && prim.kind == PRIM_SPHERE) {
+        float r = length(prim.p1);
+        vec3 a3 = mirror * cross(prim.p1, prim.p2) / r;
+        s.ng = normalize(hit - prim.p0);
+        s.p = prim.p0 + r * s.ng; // re-projected onto the sphere, as Mitsuba does
+        s.p_error = SURFACE_GAMMA5 * abs(s.p);
+        // The unit object-space point; uv = (φ / 2π, θ / π).
+        vec3 l = vec3(dot(s.ng, prim.p1), dot(s.ng, prim.p2), dot(s.ng, a3)) / r;
+        // θ by atan2: llvmpipe's acos is off by up to 1.5e-4 rad.
+        s.uv = vec2(surface_phi_u(l.x, l.y), atan(length(l.xy), l.z) * INV_PI);
+        dpdu = 2.0 * PI * (l.x * prim.p2 - l.y * prim.p1);
+    } else if (SURFACE_HAS(SURFACE_FEATURE_DISKS) && prim.kind == PRIM_DISK) {
+        s.p = prim.p0 + xy.x * prim.p1 + xy.y * prim.p2;
+        s.p_error = SURFACE_GAMMA7 * (abs(prim.p0) + abs(xy.x * prim.p1) + abs(xy.y * prim.p2));
+        s.ng = normalize(cross(prim.p1, prim.p2));
+        float r = length(xy);
+        s.uv = vec2(r, surface_phi_u(xy.x, xy.y));
+        dpdu = r > 0.0 ? (xy.x * prim.p1 + xy.y * prim.p2) / r : vec3(0.0);
+    } else {
+        // Cylinder: p1 = M x (radius r), p2 = the axis M z, M y = ±(axis/|axis|) × M x.
+        float r = length(prim.p1);
+        vec3 a2 = mirror * cross(normalize(prim.p2), prim.p1);
+        vec3 q = hit - prim.p0;
+        float z = dot(q, prim.p2) / dot(prim.p2, prim.p2);
+        vec3 radial = q - z * prim.p2;
+        float len = length(radial);
+        s.ng = len > 0.0 ? radial / len : normalize(prim.p1);
+        s.p = prim.p0 + z * prim.p2 + r * s.ng; // onto the tube, as Mitsuba nudges it
+        s.p_error = SURFACE_GAMMA7 * (abs(prim.p0) + abs(z * prim.p2) + abs(r * s.ng));
+        vec2 l = vec2(dot(s.ng, prim.p1), dot(s.ng, a2)) / r;
+        s.uv = vec2(surface_phi_u(l.x, l.y), z);
+        dpdu = 2.0 * PI * (l.x * a2 - l.y * prim.p1);
+    }
+    s.ns = s.ng;
+}
+
+// Surface at barycentrics (u, v) of primitive `prim`: p = (1-u-v) p0 + u p1 + v p2;
+// for a disk (u, v) is the object-space point, and other quadrics take the point
+// o + t d and re-project it. Normals follow the primitive's orientation
+// (counter-clockwise front, or outwards), flipped by SHAPE_FLIP_NORMALS. The tangent
+// is Mitsuba's: a triangle's ∂p/∂u from its own vertices and uvs (p1 - p0 without
+// uvs), a quadric's from its parameterization.
 Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, float t) {
     Prim prim = prim_load(prim_index);
     ShapeRecord shape = shape_load(prim.shape);
     Surface s;
     s.shape = prim.shape;
-    if (SURFACE_HAS(SURFACE_FEATURE_SPHERES) && prim.kind == PRIM_SPHERE) {
-        vec3 local = ray_o + t * ray_d - prim.p0;
-        s.ng = normalize(local);
-        s.p = prim.p0 + prim.p1.x * s.ng;
-        s.p_error = SURFACE_GAMMA5 * abs(s.p);
-        s.ns = s.ng;
-        s.uv = surface_sphere_uv(s.ng);
-        s.dpdu = vec3(-s.ng.y, s.ng.x, 0.0); // ∂p/∂φ direction
+    vec3 dpdu;
+    if (SURFACE_HAS(SURFACE_FEATURE_SPHERES | SURFACE_FEATURE_DISKS | SURFACE_FEATURE_CYLINDERS)
+        && prim.kind != PRIM_TRIANGLE) {
+        surface_quadric(s, prim, shape, ray_o + t * ray_d, vec2(u, v), dpdu);
     } else {
         float w = 1.0 - u - v;
         s.p = w * prim.p0 + u * prim.p1 + v * prim.p2;
@@ -60,17 +114,34 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
         // interpolation. It also bounds how far a re-intersection test against this
         // triangle (whose arithmetic works at the scale of its vertices) can err.
         s.p_error = SURFACE_GAMMA7 * (abs(w * prim.p0) + abs(u * prim.p1) + abs(v * prim.p2));
-        vec3 n = cross(prim.p1 - prim.p0, prim.p2 - prim.p0);
+        vec3 dp0 = prim.p1 - prim.p0, dp1 = prim.p2 - prim.p0;
+        vec3 n = cross(dp0, dp1);
         float len = length(n);
         // Degenerate triangles are dropped at load time; guard anyway.
         s.ng = len > 0.0 ? n / len : vec3(0.0, 0.0, 1.0);
         s.ns = s.ng;
         s.uv = vec2(u, v);
-        s.dpdu = vec3(0.0);
+        // Without uvs the parameterization is barycentric (Mitsuba's mesh.cpp).
+        dpdu = dp0;
         if (SURFACE_HAS(SURFACE_FEATURE_NORMALS | SURFACE_FEATURE_UVS)
             && (shape.flags & (SHAPE_HAS_NORMALS | SHAPE_HAS_UVS)) != 0u) {
             TriangleRecord tri = triangle_load(prim.index);
-            // Each half of a vertex is fetched only where it is used (vertex_texel).
+            if (SURFACE_HAS(SURFACE_FEATURE_UVS) && (shape.flags & SHAPE_HAS_UVS) != 0u) {
+                vec2 uv0 = vec2(vertex_texel(tri.v0, 0u).w, vertex_texel(tri.v0, 1u).x);
+                vec2 uv1 = vec2(vertex_texel(tri.v1, 0u).w, vertex_texel(tri.v1, 1u).x);
+                vec2 uv2 = vec2(vertex_texel(tri.v2, 0u).w, vertex_texel(tri.v2, 1u).x);
+                s.uv = w * uv0 + u * uv1 + v * uv2;
+                // ∂p/∂u of the affine map from uv to the triangle (PBR 4th ed., sec.
+                // 6.5.3); a degenerate uv triangle gets an arbitrary tangent of the face.
+                vec2 duv0 = uv1 - uv0, duv1 = uv2 - uv0;
+                float det = duv0.x * duv1.y - duv0.y * duv1.x;
+                if (det != 0.0) {
+                    dpdu = (duv1.y * dp0 - duv0.y * dp1) / det;
+                } else {
+                    vec3 b;
+                    frame_basis(s.ng, dpdu, b);
+                }
+            }
             if (SURFACE_HAS(SURFACE_FEATURE_NORMALS) && (shape.flags & SHAPE_HAS_NORMALS) != 0u) {
                 vec3 ns = w * vertex_texel(tri.v0, 0u).xyz + u * vertex_texel(tri.v1, 0u).xyz
                     + v * vertex_texel(tri.v2, 0u).xyz;
@@ -79,18 +150,23 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
                 // Keep the shading normal on the side of the geometric one.
                 if (dot(s.ns, s.ng) < 0.0) s.ng = -s.ng;
             }
-            if (SURFACE_HAS(SURFACE_FEATURE_UVS) && (shape.flags & SHAPE_HAS_UVS) != 0u) {
-                Vertex a = vertex_load(tri.v0), b = vertex_load(tri.v1), c = vertex_load(tri.v2);
-                s.uv = w * vec2(a.u, a.v) + u * vec2(b.u, b.v) + v * vec2(c.u, c.v);
-                s.dpdu = w * vec3(a.tx, a.ty, a.tz) + u * vec3(b.tx, b.ty, b.tz) + v * vec3(c.tx, c.ty, c.tz);
-            }
         }
     }
     if ((shape.flags & SHAPE_FLIP_NORMALS) != 0u) {
         s.ng = -s.ng;
         s.ns = -s.ns;
     }
+    s.ss = surface_tangent(dpdu, s.ns);
     return s;
+}
+
+// A direction in the shading frame (ss, ns × ss, ns) of s, and back.
+vec3 surface_to_local(Surface s, vec3 v) {
+    return vec3(dot(v, s.ss), dot(v, cross(s.ns, s.ss)), dot(v, s.ns));
+}
+
+vec3 surface_to_world(Surface s, vec3 l) {
+    return l.x * s.ss + l.y * cross(s.ns, s.ss) + l.z * s.ns;
 }
 
 // Turns both normals to face direction w (usually towards the viewer), keeping their

@@ -67,25 +67,11 @@ PhotonEmission photon_emit_sample(bool uniform_choice, vec4 u0, vec4 u1) {
         em.origin = photon_params.scene_center + R * d + disk.x * s + disk.y * t;
         em.dir = -d;
         em.power = emitter_env_radiance(e, d) * (PI * R * R / (pdf_dir * pmf));
-    } else if (EMITTER_HAS(EMITTER_AREA) && e.tri_count > 0u) {
-        // A point uniform over the mesh (a triangle by area, then a uniform point on
-        // it: density 1/A) and a cosine-weighted direction around its normal (density
-        // cos θ / π): power = L π A / P(emitter).
-        float tri_pmf;
-        uint tri = alias_sample(e.tri_first, e.tri_count, u0.y, tri_pmf);
-        vec2 b = warp_uniform_triangle(u0.zw);
-        Surface ls = surface_at(alias_load(e.tri_first + tri).prim, b.x, b.y, vec3(0.0), vec3(0.0), 0.0);
-        em.dir = frame_to_world(ls.ng, warp_cosine_hemisphere(u1.xy));
-        em.origin = surface_spawn_origin(ls, ls.ng);
-        em.power = emitter_area_radiance(e, ls.ng, -em.dir, ls.uv) * (PI * e.area / pmf);
-    } else if (EMITTER_HAS(EMITTER_KIND_BIT_SPHERE_AREA)) {
-        // A sphere: a point uniform over its surface, then as a mesh.
-        vec3 n = warp_uniform_sphere(u0.yz);
-        Surface ls;
-        ls.p = e.position + e.radius * n;
-        ls.p_error = SURFACE_GAMMA5 * abs(ls.p);
-        ls.ng = (shape_load(e.shape).flags & SHAPE_FLIP_NORMALS) != 0u ? -n : n;
-        ls.uv = surface_sphere_uv(n);
+    } else if (EMITTER_HAS_ANY(EMITTER_AREA_BITS) && e.kind == EMITTER_AREA) {
+        // A point uniform over the shape (density 1/A; emitter_area_point) and a
+        // cosine-weighted direction around its normal (density cos θ / π):
+        // power = L π A / P(emitter).
+        Surface ls = emitter_area_point(e, u0.yz);
         em.dir = frame_to_world(ls.ng, warp_cosine_hemisphere(u1.xy));
         em.origin = surface_spawn_origin(ls, ls.ng);
         em.power = emitter_area_radiance(e, ls.ng, -em.dir, ls.uv) * (PI * e.area / pmf);

@@ -30,6 +30,8 @@ ScatterSurface scatter_surface(RayItem r, HitItem h) {
     if (x.mapped) {
         x.nm = normal_map_frame(x.bsdf, x.s, -r.dir);
         x.s.ns = x.nm.n;
+        // Mitsuba's perturbed frame keeps the old tangent, made orthogonal to n.
+        x.s.ss = surface_tangent(x.s.ss, x.s.ns);
         x.bsdf.flags &= ~BSDF_TWOSIDED;
     }
     return x;
@@ -49,10 +51,11 @@ struct ScatterSample {
 };
 
 ScatterSample scatter_sample(ScatterSurface x, vec3 wo_world, vec3 u, bool importance, inout float eta_scale) {
-    vec3 wo = frame_to_local(x.s.ns, wo_world);
+    // The shading frame (ss, ns × ss, ns), as path.glsl: Mitsuba's sh_frame.
+    vec3 wo = surface_to_local(x.s, wo_world);
     BsdfSample bs = bsdf_sample(x.bsdf, wo, u, x.s.uv);
     ScatterSample ss;
-    ss.wi = frame_to_world(x.s.ns, bs.wi);
+    ss.wi = surface_to_world(x.s, bs.wi);
     ss.weight = bs.weight * (x.mapped ? normal_map_weight(x.nm, ss.wi) : 1.0);
     ss.pdf = bs.pdf;
     ss.flags = bs.flags;

@@ -4,7 +4,9 @@
 // samplers of microfacet.glsl against their densities.
 // warp: 0 square to disk (x, y), 1 uniform hemisphere, 2 cosine hemisphere, 3 uniform
 // sphere, 4 spherical cap (param.x = cos θmax), 5 triangle barycentrics (b0, b1),
-// 6 microfacet normal for wo = param.xyz (type, alpha_u, alpha_v in mf).
+// 6 microfacet normal for wo = param.xyz (type, alpha_u, alpha_v in mf),
+// 7 a deliberately mismatched pair for testing the test (wavetrace warptest
+// mismatched_cosine): cosine-weighted samples against the uniform hemisphere's pdf.
 // mode 0 (sample): out[i] = (point, pdf at the point); mode 1: out[i].x = pdf(points[i]).
 
 #include "warp.glsl"
@@ -35,6 +37,7 @@ float warp_pdf(vec3 p) {
     case 3u: return warp_uniform_sphere_pdf(p);
     case 4u: return warp_uniform_cap_pdf(p, pc.param.x);
     case 5u: return warp_uniform_triangle_pdf(p.xy);
+    case 7u: return warp_uniform_hemisphere_pdf(p);
     default: return microfacet_pdf(mf(), pc.param.xyz, p);
     }
 }
@@ -47,6 +50,7 @@ vec3 warp_sample(vec2 u) {
     case 3u: return warp_uniform_sphere(u);
     case 4u: return warp_uniform_cap(u, pc.param.x);
     case 5u: return vec3(warp_uniform_triangle(u), 0.0);
+    case 7u: return warp_cosine_hemisphere(u);
     default: return microfacet_sample(mf(), pc.param.xyz, u);
     }
 }

@@ -19,9 +19,9 @@ use std::time::Instant;
 use glam::Vec3;
 
 use super::bvh_build::{PrimSource, ShapePrims};
-use super::{sphere, triangle};
-use crate::gpu::layout::{BvhNode, Prim, PRIM_SPHERE};
-use crate::scene::{Mesh, Sphere};
+use super::{cylinder, disk, sphere, triangle};
+use crate::gpu::layout::{BvhNode, Prim, PRIM_CYLINDER, PRIM_DISK, PRIM_SPHERE};
+use crate::scene::{Mesh, Quadric};
 
 /// Entries in the traversal stack of `shaders/common/bvh.glsl` (`#define
 /// BVH_STACK_SIZE`, checked by a test). The build keeps every leaf at depth
@@ -151,21 +151,40 @@ impl Aabb {
     }
 }
 
-/// The bounds of one primitive.
+/// The bounds of one primitive (layouts in [`Prim`]).
 pub(super) fn prim_bounds(p: &Prim) -> Aabb {
-    let p0 = Vec3::from(p.p0);
-    if p.kind == PRIM_SPHERE {
-        let r = Vec3::splat(p.p1[0].abs());
-        Aabb {
-            min: p0 - r,
-            max: p0 + r,
+    let (p0, p1, p2) = (Vec3::from(p.p0), Vec3::from(p.p1), Vec3::from(p.p2));
+    // Half-extents of the ellipse c + cos φ a1 + sin φ a2 per axis: sqrt(a1² + a2²).
+    let ellipse = |a1: Vec3, a2: Vec3| (a1 * a1 + a2 * a2).map(f32::sqrt);
+    match p.kind {
+        PRIM_SPHERE => {
+            let r = Vec3::splat(p1.length());
+            Aabb {
+                min: p0 - r,
+                max: p0 + r,
+            }
         }
-    } else {
-        let (p1, p2) = (Vec3::from(p.p1), Vec3::from(p.p2));
-        Aabb {
+        PRIM_DISK => {
+            let e = ellipse(p1, p2);
+            Aabb {
+                min: p0 - e,
+                max: p0 + e,
+            }
+        }
+        PRIM_CYLINDER => {
+            // The end circles: radius |a1| in the plane normal to the axis p2.
+            let a2 = p2.normalize_or_zero().cross(p1);
+            let e = ellipse(p1, a2);
+            let top = p0 + p2;
+            Aabb {
+                min: (p0 - e).min(top - e),
+                max: (p0 + e).max(top + e),
+            }
+        }
+        _ => Aabb {
             min: p0.min(p1).min(p2),
             max: p0.max(p1).max(p2),
-        }
+        },
     }
 }
 
@@ -188,8 +207,8 @@ impl Bvh {
     /// The BVH of a scene's shapes, made without first copying them all into
     /// [`Prim`]s: for scenes of tens of millions of triangles (see
     /// [`super::bvh_build`] for time and memory).
-    pub fn for_shapes(meshes: &[Mesh], spheres: &[Sphere]) -> Bvh {
-        Bvh::build_from(&ShapePrims::new(meshes, spheres), SplitMethod::Sah)
+    pub fn for_shapes(meshes: &[Mesh], quadrics: &[Quadric]) -> Bvh {
+        Bvh::build_from(&ShapePrims::new(meshes, quadrics), SplitMethod::Sah)
     }
 
     /// Builds over the primitives `source` gives, in parallel.
@@ -303,15 +322,7 @@ impl Bvh {
                 }
             } else {
                 for i in index..index + count {
-                    let p = &self.prims[i as usize];
-                    let p0 = Vec3::from(p.p0);
-                    let found = if p.kind == PRIM_SPHERE {
-                        sphere::intersect(o, d, p0, p.p1[0], tmin, t_hit).map(|t| (t, 0.0, 0.0))
-                    } else {
-                        let (p1, p2) = (Vec3::from(p.p1), Vec3::from(p.p2));
-                        triangle::intersect(&tr, o, p0, p1, p2, tmin, t_hit)
-                            .map(|h| (h.t, h.u, h.v))
-                    };
+                    let found = intersect_prim(&self.prims[i as usize], &tr, o, d, tmin, t_hit);
                     if let Some((t, u, v)) = found {
                         t_hit = t;
                         hit = Some(Hit { t, u, v, prim: i });
@@ -382,6 +393,29 @@ impl BoxRay {
     }
 }
 
+/// Where `o + t d` first meets primitive `p` with `tmin < t < tmax`: `(t, u, v)`, with
+/// `u, v` a triangle's barycentrics or a disk's object-space (x, y), else 0. The
+/// primitive test of `bvh_trace` in bvh.glsl.
+#[inline]
+pub fn intersect_prim(
+    p: &Prim,
+    tr: &triangle::TriangleRay,
+    o: Vec3,
+    d: Vec3,
+    tmin: f32,
+    tmax: f32,
+) -> Option<(f32, f32, f32)> {
+    let (p0, p1, p2) = (Vec3::from(p.p0), Vec3::from(p.p1), Vec3::from(p.p2));
+    match p.kind {
+        PRIM_SPHERE => sphere::intersect(o, d, p0, p1.length(), tmin, tmax).map(|t| (t, 0.0, 0.0)),
+        PRIM_DISK => disk::intersect(o, d, p0, p1, p2, tmin, tmax),
+        PRIM_CYLINDER => {
+            cylinder::intersect(o, d, p0, p2, p1.length(), tmin, tmax).map(|t| (t, 0.0, 0.0))
+        }
+        _ => triangle::intersect(tr, o, p0, p1, p2, tmin, tmax).map(|h| (h.t, h.u, h.v)),
+    }
+}
+
 /// The closest hit by testing every primitive in order, for tests. Same intersection
 /// routines as the traversal; of hits at equal `t`, the lowest index.
 pub fn brute_force_closest(prims: &[Prim], o: Vec3, d: Vec3, tmin: f32, tmax: f32) -> Option<Hit> {
@@ -389,13 +423,7 @@ pub fn brute_force_closest(prims: &[Prim], o: Vec3, d: Vec3, tmin: f32, tmax: f3
     let mut hit = None;
     let mut t_hit = tmax;
     for (i, p) in prims.iter().enumerate() {
-        let p0 = Vec3::from(p.p0);
-        let found = if p.kind == PRIM_SPHERE {
-            sphere::intersect(o, d, p0, p.p1[0], tmin, t_hit).map(|t| (t, 0.0, 0.0))
-        } else {
-            let (p1, p2) = (Vec3::from(p.p1), Vec3::from(p.p2));
-            triangle::intersect(&tr, o, p0, p1, p2, tmin, t_hit).map(|h| (h.t, h.u, h.v))
-        };
+        let found = intersect_prim(p, &tr, o, d, tmin, t_hit);
         if let Some((t, u, v)) = found {
             t_hit = t;
             hit = Some(Hit {

@@ -31,9 +31,9 @@ use super::bvh::{
     prim_bounds, SplitMethod, BVH_MAX_LEAF_SIZE, BVH_STACK_SIZE, MEDIAN_LEAF_SIZE, SAH_BINS,
     SAH_INTERSECTION_COST, SAH_TRAVERSAL_COST,
 };
-use super::{sphere_prim, triangle_prim};
+use super::{quadric_prim, triangle_prim};
 use crate::gpu::layout::{BvhNode, Prim};
-use crate::scene::{Mesh, Sphere};
+use crate::scene::{Mesh, Quadric};
 
 /// Subtrees over fewer primitives are built by one thread into one node list.
 pub const PARALLEL_MIN: usize = 1 << 15;
@@ -60,19 +60,19 @@ impl PrimSource for [Prim] {
     }
 }
 
-/// The primitives of a list of meshes and spheres, made on demand: each triangle of
-/// each mesh in order, then each sphere, numbered as [`super::prims_from_shapes`]
-/// numbers them (shape `i` is mesh `i`, then the spheres; a triangle's `index` is its
-/// global triangle number, a sphere's its position in the list).
+/// The primitives of a list of meshes and quadrics, made on demand: each triangle of
+/// each mesh in order, then each quadric, numbered as [`super::prims_from_shapes`]
+/// numbers them (shape `i` is mesh `i`, then the quadrics; a triangle's `index` is its
+/// global triangle number, a quadric's its position in the list).
 pub struct ShapePrims<'a> {
     meshes: &'a [Mesh],
-    spheres: &'a [Sphere],
+    quadrics: &'a [Quadric],
     /// Global number of each mesh's first triangle, and the total at the end.
     first: Vec<usize>,
 }
 
 impl<'a> ShapePrims<'a> {
-    pub fn new(meshes: &'a [Mesh], spheres: &'a [Sphere]) -> ShapePrims<'a> {
+    pub fn new(meshes: &'a [Mesh], quadrics: &'a [Quadric]) -> ShapePrims<'a> {
         let mut first = Vec::with_capacity(meshes.len() + 1);
         let mut n = 0;
         for m in meshes {
@@ -82,7 +82,7 @@ impl<'a> ShapePrims<'a> {
         first.push(n);
         ShapePrims {
             meshes,
-            spheres,
+            quadrics,
             first,
         }
     }
@@ -94,7 +94,7 @@ impl<'a> ShapePrims<'a> {
 
 impl PrimSource for ShapePrims<'_> {
     fn len(&self) -> usize {
-        self.triangles() + self.spheres.len()
+        self.triangles() + self.quadrics.len()
     }
 
     fn prim(&self, i: usize) -> Prim {
@@ -106,7 +106,7 @@ impl PrimSource for ShapePrims<'_> {
             triangle_prim(mesh, i - self.first[shape], shape as u32, i as u32)
         } else {
             let k = i - triangles;
-            sphere_prim(&self.spheres[k], (self.meshes.len() + k) as u32, k as u32)
+            quadric_prim(&self.quadrics[k], (self.meshes.len() + k) as u32, k as u32)
         }
     }
 }

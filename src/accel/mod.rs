@@ -4,12 +4,13 @@
 //! into a binned-SAH tree of [`BvhNode`](crate::gpu::layout::BvhNode)s
 //! ([`bvh_build`]; [`Bvh::for_shapes`] builds a scene's without the copy), and
 //! [`Bvh::closest`] / [`Bvh::any`] traverse it on the CPU exactly as
-//! `shaders/common/bvh.glsl` does on the GPU. [`triangle`] and [`sphere`] hold the
-//! intersection routines, mirrored by `intersect_triangle.glsl` and
-//! `intersect_sphere.glsl`.
+//! `shaders/common/bvh.glsl` does on the GPU. [`triangle`], [`sphere`], [`disk`] and
+//! [`cylinder`] hold the intersection routines, mirrored by `intersect_*.glsl`.
 
 pub mod bvh;
 pub mod bvh_build;
+pub mod cylinder;
+pub mod disk;
 pub mod sphere;
 pub mod triangle;
 
@@ -20,23 +21,43 @@ pub use bvh::{
 
 use bvh_build::PrimSource;
 
-use crate::gpu::layout::{Prim, PRIM_SPHERE, PRIM_TRIANGLE};
-use crate::scene::{Mesh, Scene, Sphere};
+use crate::gpu::layout::{Prim, PRIM_CYLINDER, PRIM_DISK, PRIM_SPHERE, PRIM_TRIANGLE};
+use crate::scene::{Mesh, Quadric, QuadricKind, Scene};
 
 /// Every primitive of `scene`, in shape order: each triangle of each mesh, then each
-/// sphere.
+/// quadric.
 ///
 /// Shape numbering, which the renderer relies on: shape `i` is `scene.meshes[i]` for
-/// `i < meshes.len()`, then the spheres in order. A triangle's `index` is its global
-/// triangle number (a running count over the meshes in order), a sphere's its position
-/// in `scene.spheres`. Mesh indices must be in range (the scene loader checks).
+/// `i < meshes.len()`, then the quadrics in order. A triangle's `index` is its global
+/// triangle number (a running count over the meshes in order), a quadric's its
+/// position in `scene.quadrics`. Mesh indices must be in range (the scene loader
+/// checks).
 pub fn prims_from_scene(scene: &Scene) -> Vec<Prim> {
-    prims_from_shapes(&scene.meshes, &scene.spheres)
+    prims_from_shapes(&scene.meshes, &scene.quadrics)
+}
+
+/// The primitive of quadric number `index`, shape `shape` (layout in [`Prim`]).
+pub fn quadric_prim(q: &Quadric, shape: u32, index: u32) -> Prim {
+    let m = q.to_world;
+    let col = |k: usize| m.col(k).truncate().to_array();
+    let (kind, p2) = match q.kind {
+        QuadricKind::Sphere => (PRIM_SPHERE, col(1)),
+        QuadricKind::Disk => (PRIM_DISK, col(1)),
+        QuadricKind::Cylinder => (PRIM_CYLINDER, col(2)),
+    };
+    Prim {
+        p0: col(3),
+        shape,
+        p1: col(0),
+        index,
+        p2,
+        kind,
+    }
 }
 
 /// [`prims_from_scene`] over the shape lists alone.
-pub fn prims_from_shapes(meshes: &[Mesh], spheres: &[Sphere]) -> Vec<Prim> {
-    let source = bvh_build::ShapePrims::new(meshes, spheres);
+pub fn prims_from_shapes(meshes: &[Mesh], quadrics: &[Quadric]) -> Vec<Prim> {
+    let source = bvh_build::ShapePrims::new(meshes, quadrics);
     (0..source.len()).map(|i| source.prim(i)).collect()
 }
 
@@ -50,18 +71,6 @@ pub fn triangle_prim(mesh: &Mesh, k: usize, shape: u32, index: u32) -> Prim {
         index,
         p2: p[2],
         kind: PRIM_TRIANGLE,
-    }
-}
-
-/// The primitive of sphere number `index`, shape `shape`.
-pub fn sphere_prim(s: &Sphere, shape: u32, index: u32) -> Prim {
-    Prim {
-        p0: s.center.to_array(),
-        shape,
-        p1: [s.radius, 0.0, 0.0],
-        index,
-        p2: [0.0; 3],
-        kind: PRIM_SPHERE,
     }
 }
 
@@ -82,16 +91,7 @@ mod tests {
             indices: vec![[2, 1, 0]],
             ..Mesh::default()
         };
-        let ball = |x: f32| Sphere {
-            center: Vec3::new(x, 0.0, 0.0),
-            radius: 0.5,
-            bsdf: 0,
-            emitter: None,
-            flip_normals: false,
-            interior: None,
-            exterior: None,
-            null_bsdf: false,
-        };
+        let ball = |x: f32| Quadric::sphere(Vec3::new(x, 0.0, 0.0), 0.5, 0);
         let prims = prims_from_shapes(&[quad, tri], &[ball(3.0), ball(5.0)]);
         let key: Vec<(u32, u32, u32)> = prims.iter().map(|p| (p.kind, p.shape, p.index)).collect();
         assert_eq!(
@@ -107,6 +107,7 @@ mod tests {
         assert_eq!(prims[1].p2, [0.0, 1.0, 0.0]);
         assert_eq!(prims[2].p0, [0.0, 1.0, 0.0]);
         assert_eq!(prims[4].p0, [5.0, 0.0, 0.0]);
-        assert_eq!(prims[4].p1[0], 0.5);
+        assert_eq!(prims[4].p1, [0.5, 0.0, 0.0]);
+        assert_eq!(prims[4].p2, [0.0, 0.5, 0.0]);
     }
 }

@@ -29,12 +29,19 @@ pub struct BvhNode {
 /// Primitive kinds in [`Prim::kind`].
 pub const PRIM_TRIANGLE: u32 = 0;
 pub const PRIM_SPHERE: u32 = 1;
+pub const PRIM_DISK: u32 = 2;
+pub const PRIM_CYLINDER: u32 = 3;
 
 /// One primitive, in BVH leaf order.
 ///
 /// Triangle: `p0`, `p1`, `p2` are its world-space vertices and `index` its global
-/// triangle number (into [`TriangleAttr`]s). Sphere: `p0` is the center, `p1[0]` the
-/// radius, `index` the sphere number. `shape` indexes [`ShapeRecord`]s.
+/// triangle number (into [`TriangleRecord`]s). Quadrics (`scene::Quadric`, `index`
+/// its number) hold columns of their object-to-world map M: `p0` = M·0 (a sphere's or
+/// disk's centre, the start of a cylinder's axis), `p1` = M·x̂ (its length is the
+/// radius of a sphere or cylinder), `p2` = M·ŷ (sphere, disk) or M·ẑ (a cylinder's
+/// axis, its length the cylinder's). A sphere's and cylinder's third axis follows as
+/// the cross product, negated where [`SHAPE_MIRRORED`]. `shape` indexes
+/// [`ShapeRecord`]s.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Prim {
@@ -80,6 +87,9 @@ pub const SHAPE_MEDIUM_TRANSITION: u32 = 16;
 /// one with probability 1 - R' (Mitsuba's null transmission lobe), and shadow rays
 /// pass it attenuated by 1 - R'.
 pub const SHAPE_THIN_DIELECTRIC: u32 = 32;
+/// A quadric whose `to_world` mirrors: its object frame is left-handed, which the
+/// uvs and tangents of spheres and cylinders need (see [`Prim`]).
+pub const SHAPE_MIRRORED: u32 = 64;
 /// No medium in one half of [`ShapeRecord::media`].
 pub const MEDIUM_NONE16: u32 = 0xffff;
 
@@ -107,8 +117,23 @@ pub const MEDIUM_DENSITY_PACKED: u32 = 4;
 pub const SURFACE_FEATURE_SPHERES: u32 = 1;
 /// Meshes with vertex normals ([`SHAPE_HAS_NORMALS`]).
 pub const SURFACE_FEATURE_NORMALS: u32 = 2;
-/// Meshes with vertex uvs (and tangents; [`SHAPE_HAS_UVS`]).
+/// Meshes with vertex uvs ([`SHAPE_HAS_UVS`]).
 pub const SURFACE_FEATURE_UVS: u32 = 4;
+/// Disks.
+pub const SURFACE_FEATURE_DISKS: u32 = 8;
+/// Cylinders.
+pub const SURFACE_FEATURE_CYLINDERS: u32 = 16;
+/// The `SURFACE_FEATURE_*` bit of each quadric `PRIM_*` kind; the BVH traversal's
+/// primitive mask (specialization constant of intersect, shade and shadow) is made of
+/// these bits too.
+pub const fn surface_feature_of_prim(kind: u32) -> u32 {
+    match kind {
+        PRIM_SPHERE => SURFACE_FEATURE_SPHERES,
+        PRIM_DISK => SURFACE_FEATURE_DISKS,
+        PRIM_CYLINDER => SURFACE_FEATURE_CYLINDERS,
+        _ => 0,
+    }
+}
 
 /// Medium features a scene uses (`SceneRecords::medium_features`): a specialization
 /// constant of the kernels with medium code, so the code of the others compiles away.
@@ -171,9 +196,8 @@ pub struct TriangleRecord {
     pub pad0: u32,
 }
 
-/// Shading attributes of a mesh vertex (positions live in [`Prim`]s). `t*` is the
-/// tangent ∂p/∂u averaged over the vertex's triangles (area-weighted), made on the
-/// host where the mesh has uvs; zero otherwise. Normal maps build their frame on it.
+/// Shading attributes of a mesh vertex (positions live in [`Prim`]s), two texels. The
+/// tangent ∂p/∂u is made per triangle at a hit (surface.glsl), as Mitsuba does.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct Vertex {
@@ -182,9 +206,9 @@ pub struct Vertex {
     pub nz: f32,
     pub u: f32,
     pub v: f32,
-    pub tx: f32,
-    pub ty: f32,
-    pub tz: f32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
 }
 
 /// BSDF kinds in [`BsdfRecord::kind`] (one GLSL file each in `shaders/common/bsdf/`).
@@ -269,6 +293,8 @@ pub const EMITTER_ENVMAP: u32 = 4;
 /// kind above) that stands for area emitters on spheres; `EMITTER_AREA`'s bit then
 /// means area emitters on meshes.
 pub const EMITTER_KIND_BIT_SPHERE_AREA: u32 = 5;
+/// Bit of the emitter-kinds mask for area emitters on disks and cylinders.
+pub const EMITTER_KIND_BIT_QUADRIC_AREA: u32 = 6;
 
 /// An emitter. `radiance` is the intensity (W/sr) of point and spot lights and the
 /// radiance of area and constant emitters.
@@ -276,8 +302,9 @@ pub const EMITTER_KIND_BIT_SPHERE_AREA: u32 = 5;
 /// Point and spot: `position`; spot also `axis`, `cos_cutoff`, `cutoff` (radians) and
 /// `inv_transition` = 1 / (cutoff - beam width). Area: `shape` it sits on, its total
 /// `area`; a mesh's triangles are chosen by area through the alias table entries
-/// `tri_first .. tri_first + tri_count`; a sphere has `position` = centre and
-/// `radius`, and `tri_count` = 0.
+/// `tri_first .. tri_first + tri_count`; a quadric has `tri_count` = 0, `prim` (its
+/// primitive in the BVH's order) and `prim_kind` (its `PRIM_*` kind), and a sphere
+/// also `position` = centre and `radius`.
 ///
 /// `texture` (index + 1, 0 for none): an area emitter's radiance is `radiance` times
 /// the texture at the hit's uv; an environment map's image (then `radiance` is its
@@ -299,8 +326,8 @@ pub struct EmitterRecord {
     pub radius: f32,
     pub tri_first: u32,
     pub tri_count: u32,
-    pub pad0: u32,
-    pub pad1: u32,
+    pub prim: u32,
+    pub prim_kind: u32,
     pub texture: u32,
     pub dist_offset: u32,
     pub dist_width: u32,
@@ -836,7 +863,7 @@ mod tests {
             rust_layout!(Prim, p0, shape, p1, index, p2, kind),
             rust_layout!(ShapeRecord, bsdf, emitter, flags, media),
             rust_layout!(TriangleRecord, v0, v1, v2, pad0),
-            rust_layout!(Vertex, nx, ny, nz, u, v, tx, ty, tz),
+            rust_layout!(Vertex, nx, ny, nz, u, v, pad0, pad1, pad2),
             rust_layout!(
                 BsdfRecord,
                 reflectance,
@@ -877,8 +904,8 @@ mod tests {
                 radius,
                 tri_first,
                 tri_count,
-                pad0,
-                pad1,
+                prim,
+                prim_kind,
                 texture,
                 dist_offset,
                 dist_width,
@@ -1079,6 +1106,10 @@ mod tests {
             ("EMITTER_SPOT", EMITTER_SPOT),
             ("EMITTER_ENVMAP", EMITTER_ENVMAP),
             ("EMITTER_KIND_BIT_SPHERE_AREA", EMITTER_KIND_BIT_SPHERE_AREA),
+            (
+                "EMITTER_KIND_BIT_QUADRIC_AREA",
+                EMITTER_KIND_BIT_QUADRIC_AREA,
+            ),
         ]);
     }
 
@@ -1088,6 +1119,19 @@ mod tests {
             ("SURFACE_FEATURE_SPHERES", SURFACE_FEATURE_SPHERES),
             ("SURFACE_FEATURE_NORMALS", SURFACE_FEATURE_NORMALS),
             ("SURFACE_FEATURE_UVS", SURFACE_FEATURE_UVS),
+            ("SURFACE_FEATURE_DISKS", SURFACE_FEATURE_DISKS),
+            ("SURFACE_FEATURE_CYLINDERS", SURFACE_FEATURE_CYLINDERS),
+            ("PRIM_TRIANGLE", PRIM_TRIANGLE),
+            ("PRIM_SPHERE", PRIM_SPHERE),
+            ("PRIM_DISK", PRIM_DISK),
+            ("PRIM_CYLINDER", PRIM_CYLINDER),
+            ("SHAPE_HAS_NORMALS", SHAPE_HAS_NORMALS),
+            ("SHAPE_HAS_UVS", SHAPE_HAS_UVS),
+            ("SHAPE_FLIP_NORMALS", SHAPE_FLIP_NORMALS),
+            ("SHAPE_NULL_BSDF", SHAPE_NULL_BSDF),
+            ("SHAPE_MEDIUM_TRANSITION", SHAPE_MEDIUM_TRANSITION),
+            ("SHAPE_THIN_DIELECTRIC", SHAPE_THIN_DIELECTRIC),
+            ("SHAPE_MIRRORED", SHAPE_MIRRORED),
             ("MEDIUM_HOMOGENEOUS", MEDIUM_HOMOGENEOUS),
             ("MEDIUM_GRID", MEDIUM_GRID),
             ("MEDIUM_SAMPLE_EMITTERS", MEDIUM_SAMPLE_EMITTERS),

@@ -335,18 +335,18 @@ mod tests {
 
     #[test]
     fn constants_are_written_into_the_module() {
-        // shade declares integers (0: the integrator, 1: BSDF kinds) and booleans
-        // (4: media, 5: spheres).
+        // shade declares integers (0: the integrator, 1: BSDF kinds, 5: the quadric
+        // kinds) and a boolean (4: media).
         let mut m = module(crate::gpu::shaders::SHADE);
         let before = constants_of(&m);
         assert_eq!(before[&4].0, OP_SPEC_CONSTANT_FALSE);
-        assert_eq!(before[&5].0, OP_SPEC_CONSTANT_TRUE);
+        assert_eq!(before[&5], (OP_SPEC_CONSTANT, Some(0xffff_ffff)));
         write_constants(&mut m, &[(0, 7), (1, 0x2a), (4, 1), (5, 0), (999, 3)]).unwrap();
         let after = constants_of(&m);
         assert_eq!(after[&0], (OP_SPEC_CONSTANT, Some(7)));
         assert_eq!(after[&1], (OP_SPEC_CONSTANT, Some(0x2a)));
         assert_eq!(after[&4].0, OP_SPEC_CONSTANT_TRUE);
-        assert_eq!(after[&5].0, OP_SPEC_CONSTANT_FALSE);
+        assert_eq!(after[&5], (OP_SPEC_CONSTANT, Some(0)));
         // Constants not given keep their defaults.
         assert_eq!(after[&2], before[&2]);
         assert_eq!(m.len(), module(crate::gpu::shaders::SHADE).len());

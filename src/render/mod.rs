@@ -255,7 +255,7 @@ impl Renderer {
                 ),
             });
         }
-        let prims = scene.triangle_count() + scene.spheres.len();
+        let prims = scene.triangle_count() + scene.quadrics.len();
         if prims > accel::BVH_MAX_PRIMS {
             return Err(Error::Options(format!(
                 "the scene has {prims} primitives, more than one BVH holds ({}): use fewer \
@@ -263,7 +263,7 @@ impl Renderer {
                 accel::BVH_MAX_PRIMS
             )));
         }
-        let bvh = Bvh::for_shapes(&scene.meshes, &scene.spheres);
+        let bvh = Bvh::for_shapes(&scene.meshes, &scene.quadrics);
         let mut records = SceneRecords::new(scene, &bvh);
         let bvh_stats = bvh.stats;
         let scene_bounds = photon::SceneBounds::of(&bvh);
@@ -344,12 +344,7 @@ impl Renderer {
             capacity,
         )?;
         let features = photon::SceneFeatures {
-            surface: records.surface_features()
-                | if scene.spheres.is_empty() {
-                    0
-                } else {
-                    crate::gpu::layout::SURFACE_FEATURE_SPHERES
-                },
+            surface: records.surface_features() | records.prim_kinds(),
             textures: records.texture_mask(),
             emitters: records.emitter_kinds(),
             bsdfs: records.bsdfs.iter().fold(0u32, |m, b| m | 1 << b.kind),
@@ -359,7 +354,9 @@ impl Renderer {
 
         let t = Instant::now();
         // Specialization: code for features the scene lacks is compiled out.
-        let has_spheres = !scene.spheres.is_empty() as u32;
+        // The quadric kinds (SURFACE_FEATURE_* bits): the traversal and the hit
+        // geometry compile the others away.
+        let prim_kinds = records.prim_kinds();
         // Media and null surfaces: the medium code of shade and shadow
         // (constant_id 4 of both; 2-3 belong to textures).
         // Thin dielectrics are null crossings for the volumetric path tracers
@@ -369,14 +366,9 @@ impl Renderer {
         // Medium features (constant_id 6): the kinds and grid layouts the scene's media
         // use; homogeneous-only scenes compile tracking away.
         let medium_features = records.medium_features();
-        // Surface features (constant_id 10 of shade and shadow): spheres, vertex
-        // normals and uvs; hit geometry compiles the absent ones away.
-        let surface_features = records.surface_features()
-            | if has_spheres != 0 {
-                crate::gpu::layout::SURFACE_FEATURE_SPHERES
-            } else {
-                0
-            };
+        // Surface features (constant_id 10 of shade and shadow): quadric kinds,
+        // vertex normals and uvs; hit geometry compiles the absent ones away.
+        let surface_features = records.surface_features() | prim_kinds;
         let bsdf_kinds = records.bsdfs.iter().fold(0u32, |m, b| m | 1 << b.kind);
         // The traversal stack holds at most one entry per level above the deepest
         // leaf (constant_id 1 of intersect, 11 of shade and shadow; bvh.glsl).
@@ -386,7 +378,7 @@ impl Renderer {
         };
         let kernels = Kernels {
             generate: k("generate", shaders::GENERATE, &[sampler::kind_id(&sampler)])?,
-            intersect: k("intersect", shaders::INTERSECT, &[has_spheres, bvh_depth])?,
+            intersect: k("intersect", shaders::INTERSECT, &[prim_kinds, bvh_depth])?,
             shade: k(
                 "shade",
                 shaders::SHADE,
@@ -396,7 +388,7 @@ impl Renderer {
                     records.texture_mask(),
                     0,
                     has_media,
-                    has_spheres,
+                    prim_kinds,
                     medium_features,
                     thin_null,
                     integrator.power_heuristic() as u32,
@@ -411,7 +403,7 @@ impl Renderer {
                 "shadow",
                 shaders::SHADOW,
                 &[
-                    has_spheres,
+                    prim_kinds,
                     0,
                     records.texture_mask(),
                     0,

@@ -11,12 +11,16 @@ use crate::gpu::layout::{
     MEDIUM_FEATURE_DENSITY_WORDS, MEDIUM_FEATURE_HOMOGENEOUS, MEDIUM_FEATURE_PACKED1,
     MEDIUM_FEATURE_PACKED3, MEDIUM_FEATURE_WORDS1, MEDIUM_FEATURE_WORDS3, MEDIUM_HOMOGENEOUS, NONE,
     PRIM_TRIANGLE, SHAPE_FLIP_NORMALS, SHAPE_HAS_NORMALS, SHAPE_HAS_UVS, SHAPE_MEDIUM_TRANSITION,
-    SHAPE_NULL_BSDF, SHAPE_THIN_DIELECTRIC, SURFACE_FEATURE_NORMALS, SURFACE_FEATURE_UVS,
+    SHAPE_MIRRORED, SHAPE_NULL_BSDF, SHAPE_THIN_DIELECTRIC, SURFACE_FEATURE_NORMALS,
+    SURFACE_FEATURE_UVS,
+};
+use crate::gpu::layout::{
+    surface_feature_of_prim, EMITTER_KIND_BIT_QUADRIC_AREA, EMITTER_KIND_BIT_SPHERE_AREA,
 };
 use crate::gpu::{BindingLayout, Buffer, DescriptorSet, Device};
 use crate::scene::envmap;
-use crate::scene::{Emitter, Scene};
-use crate::scene::{Mesh, Texture};
+use crate::scene::Texture;
+use crate::scene::{Emitter, QuadricKind, Scene};
 
 use super::error::{Error, Result};
 use super::scene_parts::{
@@ -56,6 +60,11 @@ pub struct SceneRecords {
     pub majorants: Vec<f32>,
     /// Density grids packed one texel per voxel (`media::pack_density`).
     pub packed_density: Vec<[f32; 4]>,
+    /// The quadric kinds of the scene, as `SURFACE_FEATURE_*` bits.
+    quadric_kinds: u32,
+    /// `1 << EMITTER_KIND_BIT_SPHERE_AREA` and `1 << EMITTER_KIND_BIT_QUADRIC_AREA`
+    /// for the area emitters on quadrics.
+    quadric_emitter_kinds: u32,
 }
 
 /// `SHAPE_*` medium flags and packed media of a shape.
@@ -81,36 +90,6 @@ fn thin_flag(scene: &Scene, bsdf: u32) -> u32 {
 /// Luminance of linear sRGB (Rec. 709 weights).
 fn luminance(c: Vec3) -> f64 {
     (0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z) as f64
-}
-
-/// Per-vertex tangents ∂p/∂u of a mesh with uvs: each triangle's ∂p/∂u (from its
-/// positions and uvs, PBR 4th ed., sec. 6.5.3), summed over the triangles around a
-/// vertex weighted by their uv-space area, then normalized. Empty without uvs;
-/// vertices whose triangles have degenerate uvs get zero (the shader then builds an
-/// arbitrary frame).
-pub fn vertex_tangents(mesh: &Mesh) -> Vec<Vec3> {
-    if mesh.uvs.len() != mesh.positions.len() {
-        return Vec::new();
-    }
-    let mut acc = vec![Vec3::ZERO; mesh.positions.len()];
-    for t in &mesh.indices {
-        let [a, b, c] = t.map(|i| i as usize);
-        let (dp1, dp2) = (
-            mesh.positions[b] - mesh.positions[a],
-            mesh.positions[c] - mesh.positions[a],
-        );
-        let (duv1, duv2) = (mesh.uvs[b] - mesh.uvs[a], mesh.uvs[c] - mesh.uvs[a]);
-        let det = duv1.x * duv2.y - duv1.y * duv2.x;
-        if det == 0.0 || !det.is_finite() {
-            continue;
-        }
-        // dp/du = (Δv2 dp1 − Δv1 dp2) / det; weight by |det| (uv area) → drop 1/|det|.
-        let dpdu = (dp1 * duv2.y - dp2 * duv1.y) * det.signum();
-        for v in [a, b, c] {
-            acc[v] += dpdu;
-        }
-    }
-    acc.into_iter().map(|t| t.normalize_or_zero()).collect()
 }
 
 impl SceneRecords {
@@ -252,21 +231,20 @@ impl SceneRecords {
             if has_uv {
                 flags |= SHAPE_HAS_UVS;
             }
+            if mesh.flip_normals {
+                flags |= SHAPE_FLIP_NORMALS;
+            }
             if has_n || has_uv {
-                let tangents = vertex_tangents(mesh);
                 for i in 0..mesh.positions.len() {
                     let n = mesh.normals.get(i).copied().unwrap_or_default();
                     let uv = mesh.uvs.get(i).copied().unwrap_or_default();
-                    let t = tangents.get(i).copied().unwrap_or_default();
                     r.vertices.push(Vertex {
                         nx: n.x,
                         ny: n.y,
                         nz: n.z,
                         u: uv.x,
                         v: uv.y,
-                        tx: t.x,
-                        ty: t.y,
-                        tz: t.z,
+                        ..Vertex::default()
                     });
                 }
             }
@@ -290,26 +268,42 @@ impl SceneRecords {
                 media,
             });
         }
-        for sphere in &scene.spheres {
+        // BVH slot of every quadric.
+        let mut quadric_slot = vec![NONE; scene.quadrics.len()];
+        for (i, p) in bvh.prims.iter().enumerate() {
+            if p.kind != PRIM_TRIANGLE {
+                quadric_slot[p.index as usize] = i as u32;
+                r.quadric_kinds |= surface_feature_of_prim(p.kind);
+            }
+        }
+        for (k, q) in scene.quadrics.iter().enumerate() {
             let shape_index = r.shapes.len() as u32;
-            if let Some(e) = sphere.emitter {
+            if let Some(e) = q.emitter {
                 let rec = &mut r.emitters[remap[e as usize] as usize];
                 rec.shape = shape_index;
-                rec.position = sphere.center.into();
-                rec.radius = sphere.radius;
-                rec.area = 4.0 * std::f32::consts::PI * sphere.radius * sphere.radius;
+                rec.prim = quadric_slot[k];
+                rec.prim_kind = crate::accel::quadric_prim(q, 0, 0).kind;
+                rec.position = q.origin().into();
+                rec.radius = q.radius();
+                rec.area = q.area();
+                r.quadric_emitter_kinds |= 1
+                    << match q.kind {
+                        QuadricKind::Sphere => EMITTER_KIND_BIT_SPHERE_AREA,
+                        _ => EMITTER_KIND_BIT_QUADRIC_AREA,
+                    };
             }
-            let (mflags, media) = medium_flags(sphere.interior, sphere.exterior, sphere.null_bsdf);
+            let (mflags, media) = medium_flags(q.interior, q.exterior, q.null_bsdf);
+            let mut flags = mflags | thin_flag(scene, q.bsdf);
+            if q.normals_flipped() {
+                flags |= SHAPE_FLIP_NORMALS;
+            }
+            if q.mirrored() {
+                flags |= SHAPE_MIRRORED;
+            }
             r.shapes.push(ShapeRecord {
-                bsdf: sphere.bsdf,
-                emitter: emitter_of(sphere.emitter),
-                flags: mflags
-                    | thin_flag(scene, sphere.bsdf)
-                    | if sphere.flip_normals {
-                        SHAPE_FLIP_NORMALS
-                    } else {
-                        0
-                    },
+                bsdf: q.bsdf,
+                emitter: emitter_of(q.emitter),
+                flags,
                 media,
             });
         }
@@ -338,6 +332,12 @@ impl SceneRecords {
             }
         }
         f
+    }
+
+    /// The quadric kinds the scene has (`SURFACE_FEATURE_SPHERES`, `_DISKS`,
+    /// `_CYLINDERS`): the BVH traversal and hit geometry compile the others away.
+    pub fn prim_kinds(&self) -> u32 {
+        self.quadric_kinds
     }
 
     /// The medium features the scene's media use (`MEDIUM_FEATURE_*` bits): the
@@ -374,16 +374,18 @@ impl SceneRecords {
     }
 
     /// The emitter kinds the scene has, a bit per `EMITTER_*` kind (area: on meshes)
-    /// plus `EMITTER_KIND_BIT_SPHERE_AREA`: `shade` compiles the others out.
+    /// plus `EMITTER_KIND_BIT_SPHERE_AREA` and `EMITTER_KIND_BIT_QUADRIC_AREA` (disks
+    /// and cylinders): `shade` compiles the others out.
     pub fn emitter_kinds(&self) -> u32 {
-        use crate::gpu::layout::EMITTER_KIND_BIT_SPHERE_AREA;
-        self.emitters.iter().fold(0u32, |m, e| {
-            if e.kind == EMITTER_AREA && e.tri_count == 0 {
-                m | 1 << EMITTER_KIND_BIT_SPHERE_AREA
-            } else {
-                m | 1 << e.kind
-            }
-        })
+        self.emitters
+            .iter()
+            .fold(self.quadric_emitter_kinds, |m, e| {
+                if e.kind == EMITTER_AREA && e.tri_count == 0 {
+                    m // a quadric's: in quadric_emitter_kinds
+                } else {
+                    m | 1 << e.kind
+                }
+            })
     }
 
     /// The texture mask of `shade` and `shadow` (specialization constant 2): a bit per

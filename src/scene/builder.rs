@@ -4,12 +4,13 @@
 
 use std::path::PathBuf;
 
-use glam::{Mat4, Vec3};
+use glam::Mat4;
 
 use super::mesh;
 use super::properties::Properties;
+use super::shape::{Quadric, QuadricKind};
 use super::xml::Element;
-use super::{Bsdf, Emitter, Error, Medium, Mesh, Sphere, Texture};
+use super::{Bsdf, Emitter, Error, Medium, Mesh, Texture};
 
 /// BSDF types of Mitsuba 3 or Nori that wavetrace does not implement yet.
 pub const UNSUPPORTED_BSDFS: &[&str] = &[
@@ -50,7 +51,7 @@ pub fn unsupported(el: &Element, kind: &str, known: &[&str]) -> Error {
 #[derive(Default)]
 pub struct Builder {
     pub meshes: Vec<Mesh>,
-    pub spheres: Vec<Sphere>,
+    pub quadrics: Vec<Quadric>,
     pub bsdfs: Vec<Bsdf>,
     pub emitters: Vec<Emitter>,
     pub media: Vec<Medium>,
@@ -85,26 +86,25 @@ impl Builder {
     }
 
     /// Brings a mesh to world space and adds it: optional removal of vertex normals
-    /// (`face_normals`), `to_world`, `flip_normals`, then degenerate triangles are
-    /// dropped. A mesh left with no triangles is an error at the shape's line.
-    #[allow(clippy::too_many_arguments)]
+    /// (`face_normals`), `to_world`, Mitsuba's vertex normals where the file has none
+    /// (`options.compute_normals`), then degenerate triangles are dropped. A mesh left
+    /// with no triangles is an error at the shape's line.
     pub fn add_mesh(
         &mut self,
         el: &Element,
         mut m: Mesh,
-        to_world: Mat4,
-        face_normals: bool,
-        flip_normals: bool,
+        options: &MeshOptions,
         bsdf: u32,
         emitter: Option<u32>,
     ) -> Result<(), Error> {
-        if face_normals {
+        if options.face_normals {
             m.normals.clear();
         }
-        mesh::transform(&mut m, to_world);
-        if flip_normals {
-            mesh::flip(&mut m);
+        mesh::transform(&mut m, options.to_world);
+        if options.compute_normals && !options.face_normals && m.normals.is_empty() {
+            mesh::compute_vertex_normals(&mut m);
         }
+        m.flip_normals = options.flip_normals;
         mesh::drop_degenerate(&mut m);
         if m.indices.is_empty() {
             return Err(el.err(format!(
@@ -118,53 +118,76 @@ impl Builder {
         Ok(())
     }
 
-    /// A sphere: `center` and `radius` in object space, then `to_world`, which may only
-    /// rotate, translate and scale uniformly.
-    #[allow(clippy::too_many_arguments)]
-    pub fn add_sphere(
-        &mut self,
-        props: &Properties,
-        center: Vec3,
-        radius: f32,
-        to_world: Mat4,
-        flip_normals: bool,
-        bsdf: u32,
-        emitter: Option<u32>,
-    ) -> Result<(), Error> {
-        let cols = [to_world.x_axis, to_world.y_axis, to_world.z_axis].map(|c| c.truncate());
-        let s = cols.map(|c| c.length());
-        let scale = s[0];
-        let tol = 1e-4 * scale.max(1e-30);
-        let uniform = (s[1] - scale).abs() <= tol
-            && (s[2] - scale).abs() <= tol
-            && cols[0].dot(cols[1]).abs() <= tol * scale
-            && cols[1].dot(cols[2]).abs() <= tol * scale
-            && cols[0].dot(cols[2]).abs() <= tol * scale
-            && to_world.row(3) == glam::Vec4::W;
-        if !uniform {
-            return Err(props.error(
-                "to_world",
-                "a sphere's to_world may only rotate, translate and scale uniformly (non-uniform scale or shear found)",
-            ));
+    /// Adds a quadric after checking that its `to_world` keeps the shape one the
+    /// intersector handles: spheres may only rotate, mirror, translate and scale
+    /// uniformly; cylinders may also scale along their axis; disks take any
+    /// invertible affine map. The error names `to_world` (`props`' object).
+    pub fn add_quadric(&mut self, props: &Properties, q: Quadric) -> Result<(), Error> {
+        let m = q.to_world;
+        let cols = [m.x_axis, m.y_axis, m.z_axis].map(|c| c.truncate());
+        let len = cols.map(|c| c.length());
+        let finite = m.is_finite() && m.row(3) == glam::Vec4::W;
+        let tol = |scale: f32| 1e-4 * scale.max(1e-30);
+        let orthogonal =
+            |i: usize, j: usize| cols[i].dot(cols[j]).abs() <= tol(len[i]) * len[j].max(1e-30);
+        let (ok, what) = match q.kind {
+            QuadricKind::Sphere => (
+                (len[1] - len[0]).abs() <= tol(len[0])
+                    && (len[2] - len[0]).abs() <= tol(len[0])
+                    && orthogonal(0, 1)
+                    && orthogonal(1, 2)
+                    && orthogonal(0, 2),
+                "a sphere's to_world may only rotate, mirror, translate and scale uniformly (non-uniform scale or shear found)",
+            ),
+            QuadricKind::Cylinder => (
+                (len[1] - len[0]).abs() <= tol(len[0])
+                    && orthogonal(0, 1)
+                    && orthogonal(1, 2)
+                    && orthogonal(0, 2),
+                "a cylinder's to_world may only rotate, mirror, translate, scale uniformly across its axis and scale along it (non-uniform scale across the axis or shear found)",
+            ),
+            QuadricKind::Disk => (
+                cols[0].cross(cols[1]).length() > 0.0,
+                "a disk's to_world collapses the disk to a line or a point",
+            ),
+        };
+        if !finite || !ok || len.iter().any(|&l| !(l > 0.0 && l.is_finite())) {
+            let detail = if finite {
+                what
+            } else {
+                "to_world is not a finite affine map"
+            };
+            return Err(props.error("to_world", detail));
         }
-        let radius = radius * scale;
-        if !(radius > 0.0 && radius.is_finite()) {
-            return Err(props.error(
-                "radius",
-                format!("sphere radius must be positive, found {radius}"),
-            ));
+        if q.area() <= 0.0 || !q.area().is_finite() {
+            return Err(props.error("to_world", "the shape has no area"));
         }
-        self.spheres.push(Sphere {
-            center: to_world.transform_point3(center),
-            radius,
-            bsdf,
-            emitter,
-            flip_normals,
-            interior: None,
-            exterior: None,
-            null_bsdf: false,
-        });
+        self.quadrics.push(q);
         Ok(())
+    }
+}
+
+/// How [`Builder::add_mesh`] brings a mesh to world space.
+#[derive(Debug, Clone, Copy)]
+pub struct MeshOptions {
+    pub to_world: Mat4,
+    /// Mitsuba `face_normals`: drop the vertex normals (flat shading).
+    pub face_normals: bool,
+    /// Mitsuba `flip_normals`.
+    pub flip_normals: bool,
+    /// Compute vertex normals where the mesh has none, as Mitsuba's mesh plugins do
+    /// (Nori's meshes keep face normals).
+    pub compute_normals: bool,
+}
+
+impl Default for MeshOptions {
+    fn default() -> Self {
+        MeshOptions {
+            to_world: Mat4::IDENTITY,
+            face_normals: false,
+            flip_normals: false,
+            compute_normals: false,
+        }
     }
 }
 

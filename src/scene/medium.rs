@@ -10,7 +10,9 @@
 //! - `heterogeneous`: `sigma_t` a nested `<volume type="gridvolume">` (a Mitsuba `.vol`
 //!   file, 1 or 3 float32 channels; `to_world` places its unit cube, or its own bounding
 //!   box with `use_grid_bbox`; trilinear interpolation between voxel centres, as
-//!   Mitsuba 3's `gridvolume`) or a constant; `albedo` a constant color, or a
+//!   Mitsuba 3's `gridvolume`; or an OpenVDB `.vdb` file, whose scalar grid `grid`
+//!   (default: the first named `density`, else the first scalar grid) is placed by
+//!   the file's own transform and then `to_world`, see `scene::vdb`) or a constant; `albedo` a constant color, or a
 //!   `gridvolume` on the same voxels (resolution and `to_world`) as `sigma_t`; `scale`;
 //!   a constant `sigma_t` (value or `constvolume`) fills only the unit cube under the
 //!   constvolume's `to_world` ([0, 1]³ by default), as in Mitsuba, where a
@@ -91,6 +93,10 @@ impl Grid {
     }
 }
 
+/// The most values a grid may hold: one 128 MiB GPU buffer of f32s (lavapipe's
+/// largest storage-buffer binding).
+pub const MAX_GRID_VALUES: u64 = 1 << 25;
+
 /// Reads a Mitsuba `.vol` grid (version 3: "VOL", 3, int32 encoding (1 = float32),
 /// int32 xres, yres, zres, channels, 6 float32 bounding box, float32 data). Returns the
 /// grid with `to_world` mapping the unit cube onto the file's bounding box.
@@ -127,9 +133,9 @@ pub fn read_vol(path: &Path) -> Result<Grid, String> {
         )));
     }
     let count = (xr as u64) * (yr as u64) * (zr as u64) * (ch as u64);
-    if count > (1u64 << 25) {
+    if count > MAX_GRID_VALUES {
         return Err(bad(&format!(
-            "{count} values is more than wavetrace accepts (2^25: one 128 MiB GPU buffer)"
+            "{count} values is more than wavetrace accepts ({MAX_GRID_VALUES}: one 128 MiB GPU buffer)"
         )));
     }
     let need = 48 + 4 * count as usize;
@@ -217,12 +223,36 @@ fn volume(el: &Element) -> Result<Volume, Error> {
             let path = el
                 .resolve(&name)
                 .map_err(|tried| props.error("filename", format!("grid file {tried} not found")))?;
-            let mut grid = read_vol(&path).map_err(|m| props.error("filename", m))?;
             let to_world = props.transform("to_world")?;
-            grid.to_world = if props.boolean("use_grid_bbox", false)? {
-                to_world * grid.to_world
+            let vdb = path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("vdb"));
+            let grid = if vdb {
+                let grid = props.string_opt("grid")?;
+                if props.has("use_grid_bbox") && !props.boolean("use_grid_bbox", true)? {
+                    return Err(props.error(
+                        "use_grid_bbox",
+                        "a .vdb grid is always placed by its own transform (then to_world)",
+                    ));
+                }
+                let mut g = super::vdb::read_vdb(&path, grid.as_deref()).map_err(|m| {
+                    props.error(if grid.is_some() { "grid" } else { "filename" }, m)
+                })?;
+                g.to_world = to_world * g.to_world;
+                g
             } else {
-                to_world
+                if props.has("grid") {
+                    return Err(props.error(
+                        "grid",
+                        format!("'grid' picks a grid of a .vdb file; {name} is a .vol file"),
+                    ));
+                }
+                let mut g = read_vol(&path).map_err(|m| props.error("filename", m))?;
+                if !props.boolean("use_grid_bbox", false)? {
+                    g.to_world = Mat4::IDENTITY;
+                }
+                g.to_world = to_world * g.to_world;
+                g
             };
             if grid.to_world.determinant().abs() < 1e-30 || !grid.to_world.is_finite() {
                 return Err(props.error("to_world", "the grid's to_world is not invertible"));
@@ -506,11 +536,11 @@ mod tests {
         );
         assert_eq!((m.albedo, m.g), (Vec3::splat(0.75), 0.0));
         assert_eq!(
-            (s.spheres[0].interior, s.spheres[0].exterior),
+            (s.quadrics[0].interior, s.quadrics[0].exterior),
             (None, Some(0))
         );
         // Without a BSDF a medium's shape is diffuse, as in Mitsuba 3.9.
-        assert!(!s.spheres[0].null_bsdf);
+        assert!(!s.quadrics[0].null_bsdf);
     }
 
     #[test]
@@ -641,5 +671,77 @@ mod tests {
             };
             assert!(e.contains(want), "{n} bytes: {e}");
         }
+    }
+
+    /// A `.vdb` gridvolume in both dialects: the grid `grid` (default: density), placed
+    /// by the file's transform and then `to_world`; clear errors, with the line, for a
+    /// grid the file lacks (listing those it has), `grid` on a .vol file and
+    /// `use_grid_bbox` false on a .vdb.
+    #[test]
+    fn vdb_gridvolumes() {
+        let vdb = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/media/smoke_grids.vdb");
+        let volume = |file: &Path, extra: &str| {
+            format!(
+                r#"<medium type="heterogeneous"><volume type="gridvolume" name="sigma_t"><string name="filename" value="{}"/>{extra}</volume></medium>"#,
+                file.display()
+            )
+        };
+        let grid_of = |s: &crate::scene::Scene| match &s.media[0].kind {
+            MediumKind::Grid { grid, .. } => grid.clone(),
+            k => panic!("not a grid: {k:?}"),
+        };
+        let direct = |name| crate::scene::vdb::read_vdb(&vdb, name).unwrap();
+        let m = |body: String| load(&[("s.xml", &mitsuba(&body))], &[]);
+
+        let s = m(volume(&vdb, "")).unwrap();
+        assert_eq!(grid_of(&s), direct(None));
+        let s = m(volume(
+            &vdb,
+            r#"<string name="grid" value="temperature"/><transform name="to_world"><translate x="5"/></transform><boolean name="use_grid_bbox" value="true"/>"#,
+        ))
+        .unwrap();
+        let mut want = direct(Some("temperature"));
+        want.to_world = Mat4::from_translation(Vec3::new(5.0, 0.0, 0.0)) * want.to_world;
+        assert_eq!(grid_of(&s), want);
+
+        let nori = format!(
+            r#"<scene>
+  <integrator type="vol_path_mis"/>
+  <camera type="perspective"/>
+  <medium type="heterogeneous">
+    <volume type="gridvolume" name="sigma_t"><string name="filename" value="{}"/><string name="grid" value="tiles"/></volume>
+    <point name="bounds_min" value="0, 0, 0"/><point name="bounds_max" value="1, 1, 1"/>
+  </medium>
+</scene>"#,
+            vdb.display()
+        );
+        let s = load(&[("n.xml", &nori)], &[]).unwrap();
+        assert_eq!(grid_of(&s), direct(Some("tiles")));
+
+        let e = error_at(
+            m(volume(&vdb, r#"<string name="grid" value="smoke"/>"#)),
+            "s.xml",
+            3,
+        );
+        assert!(
+            e.contains("no grid named 'smoke'") && e.contains("'temperature' (float), 'density'"),
+            "{e}"
+        );
+        let e = error_at(
+            m(volume(
+                &vdb,
+                r#"<boolean name="use_grid_bbox" value="false"/>"#,
+            )),
+            "s.xml",
+            3,
+        );
+        assert!(e.contains("its own transform"), "{e}");
+        let vol = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/media/smoke.vol");
+        let e = error_at(
+            m(volume(&vol, r#"<string name="grid" value="density"/>"#)),
+            "s.xml",
+            3,
+        );
+        assert!(e.contains("picks a grid of a .vdb file"), "{e}");
     }
 }

@@ -1,87 +1,64 @@
-//! Building and preparing triangle meshes: Mitsuba's built-in `rectangle`, `cube` and
-//! `disk`, and the steps every mesh goes through on its way to world space
-//! (`to_world`, `flip_normals`, dropping degenerate triangles).
+//! Building and preparing triangle meshes: Mitsuba's built-in `rectangle` and `cube`,
+//! and the steps every mesh goes through on its way to world space (`to_world`,
+//! vertex normals computed where a file has none, dropping degenerate triangles).
 
 use glam::{Mat3, Mat4, Vec2, Vec3};
 use rayon::prelude::*;
 
 use super::Mesh;
 
-/// Segments around the tessellated `disk` (Mitsuba's disk is analytic; ours is a
-/// 256-gon, whose area is 0.99990 of the disk's).
-pub const DISK_SEGMENTS: u32 = 256;
-
-/// Mitsuba `rectangle`: [-1, 1]² in the z = 0 plane, normal +z, uv (0,0) at (-1,-1).
+/// Mitsuba 3.9's `rectangle` (src/shapes/rectangle.cpp): [-1, 1]² in the z = 0 plane,
+/// normal +z, vertex k at ((k & 1) ? 1 : -1, (k & 2) ? 1 : -1) with uv (k & 1, k >> 1),
+/// faces (1, 2, 0) and (1, 3, 2).
 pub fn rectangle() -> Mesh {
+    let corner = |k: u32| ((k & 1) as f32, (k >> 1) as f32);
     Mesh {
         name: "rectangle".into(),
-        positions: vec![
-            Vec3::new(-1.0, -1.0, 0.0),
-            Vec3::new(1.0, -1.0, 0.0),
-            Vec3::new(1.0, 1.0, 0.0),
-            Vec3::new(-1.0, 1.0, 0.0),
-        ],
+        positions: (0..4)
+            .map(|k| {
+                let (x, y) = corner(k);
+                Vec3::new(2.0 * x - 1.0, 2.0 * y - 1.0, 0.0)
+            })
+            .collect(),
         normals: vec![Vec3::Z; 4],
-        uvs: vec![
-            Vec2::new(0.0, 0.0),
-            Vec2::new(1.0, 0.0),
-            Vec2::new(1.0, 1.0),
-            Vec2::new(0.0, 1.0),
-        ],
-        indices: vec![[0, 1, 2], [2, 3, 0]],
+        uvs: (0..4).map(|k| Vec2::from(corner(k))).collect(),
+        indices: vec![[1, 2, 0], [1, 3, 2]],
         ..Mesh::default()
     }
 }
 
-/// Mitsuba `cube`: [-1, 1]³, 24 vertices (4 per face) with flat outward normals and
-/// per-face uvs over [0, 1]².
+/// Mitsuba 3.9's `cube` (src/shapes/cube.cpp): [-1, 1]³ as 24 vertices, four per face
+/// with the face's outward normal and uvs (0, 1), (1, 1), (1, 0), (0, 0), and faces
+/// (4f, 4f+1, 4f+2), (4f+3, 4f, 4f+2). Faces in the table's order: -y, +y, +x, +z, -x,
+/// -z; each face's corners in the order the table lists them.
 pub fn cube() -> Mesh {
+    #[rustfmt::skip]
+    const CORNERS: [[f32; 3]; 24] = [
+        [1., -1., -1.], [1., -1., 1.], [-1., -1., 1.], [-1., -1., -1.],
+        [1., 1., -1.], [-1., 1., -1.], [-1., 1., 1.], [1., 1., 1.],
+        [1., -1., -1.], [1., 1., -1.], [1., 1., 1.], [1., -1., 1.],
+        [1., -1., 1.], [1., 1., 1.], [-1., 1., 1.], [-1., -1., 1.],
+        [-1., -1., 1.], [-1., 1., 1.], [-1., 1., -1.], [-1., -1., -1.],
+        [1., 1., -1.], [1., -1., -1.], [-1., -1., -1.], [-1., 1., -1.],
+    ];
+    #[rustfmt::skip]
+    const NORMALS: [[f32; 3]; 6] = [
+        [0., -1., 0.], [0., 1., 0.], [1., 0., 0.], [0., 0., 1.], [-1., 0., 0.], [0., 0., -1.],
+    ];
+    const UVS: [[f32; 2]; 4] = [[0., 1.], [1., 1.], [1., 0.], [0., 0.]];
     let mut m = Mesh {
         name: "cube".into(),
         ..Mesh::default()
     };
-    for axis in 0..3 {
-        for sign in [-1.0f32, 1.0] {
-            let mut n = Vec3::ZERO;
-            n[axis] = sign;
-            // Two tangents with (t1 x t2) = n, so the winding faces outwards.
-            let mut t1 = Vec3::ZERO;
-            t1[(axis + 1) % 3] = 1.0;
-            let t2 = n.cross(t1);
-            let base = m.positions.len() as u32;
-            for (u, v) in [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)] {
-                let p = n + t1 * (2.0 * u - 1.0) + t2 * (2.0 * v - 1.0);
-                m.positions.push(p);
-                m.normals.push(n);
-                m.uvs.push(Vec2::new(u, v));
-            }
-            m.indices.push([base, base + 1, base + 2]);
-            m.indices.push([base + 2, base + 3, base]);
-        }
+    for (i, p) in CORNERS.iter().enumerate() {
+        m.positions.push(Vec3::from(*p));
+        m.normals.push(Vec3::from(NORMALS[i / 4]));
+        m.uvs.push(Vec2::from(UVS[i % 4]));
     }
-    m
-}
-
-/// Mitsuba `disk`: the unit disk in z = 0 with normal +z, tessellated into
-/// [`DISK_SEGMENTS`] triangles around a centre vertex. uv = (r, φ / 2π) as in
-/// Mitsuba; the seam vertex is duplicated so v runs from 0 to 1.
-pub fn disk(segments: u32) -> Mesh {
-    let mut m = Mesh {
-        name: "disk".into(),
-        ..Mesh::default()
-    };
-    m.positions.push(Vec3::ZERO);
-    m.normals.push(Vec3::Z);
-    m.uvs.push(Vec2::ZERO);
-    for i in 0..=segments {
-        let t = i as f32 / segments as f32;
-        let phi = t * std::f32::consts::TAU;
-        m.positions.push(Vec3::new(phi.cos(), phi.sin(), 0.0));
-        m.normals.push(Vec3::Z);
-        m.uvs.push(Vec2::new(1.0, t));
-    }
-    for i in 0..segments {
-        m.indices.push([0, i + 1, i + 2]);
+    for f in 0..6 {
+        let v = 4 * f;
+        m.indices.push([v, v + 1, v + 2]);
+        m.indices.push([v + 3, v, v + 2]);
     }
     m
 }
@@ -113,14 +90,41 @@ pub fn transform(mesh: &mut Mesh, to_world: Mat4) {
     }
 }
 
-/// Mitsuba's `flip_normals`: reverses every triangle's winding (so the geometric
-/// normal cross(p1 - p0, p2 - p0) flips) and negates the vertex normals.
-pub fn flip(mesh: &mut Mesh) {
-    for t in &mut mesh.indices {
-        t.swap(1, 2);
+/// Mitsuba's vertex normals for a mesh file without them (`Mesh::recompute_vertex_normals`,
+/// after Thürmer and Wüthrich 1998, "Computing Vertex Normals from Polygonal
+/// Facets"): each triangle's unit normal, weighted by its angle at the vertex, summed
+/// and normalized. Computed on world-space positions and in the file's winding, as
+/// Mitsuba does after applying `to_world` (so a mirroring transform turns them
+/// inwards with the winding). A vertex on no triangle of positive area gets +x.
+pub fn compute_vertex_normals(mesh: &mut Mesh) {
+    let p = &mesh.positions;
+    let mut acc = vec![Vec3::ZERO; p.len()];
+    for t in &mesh.indices {
+        let v = t.map(|i| p[i as usize]);
+        let n = (v[1] - v[0]).cross(v[2] - v[0]);
+        let len2 = n.length_squared();
+        if !(len2 > 0.0 && len2.is_finite()) {
+            continue;
+        }
+        let n = n / len2.sqrt();
+        for k in 0..3 {
+            let a = (v[(k + 1) % 3] - v[k]).normalize_or_zero();
+            let b = (v[(k + 2) % 3] - v[k]).normalize_or_zero();
+            acc[t[k] as usize] += n * unit_angle(a, b);
+        }
     }
-    for n in &mut mesh.normals {
-        *n = -*n;
+    mesh.normals = acc
+        .into_iter()
+        .map(|n| n.try_normalize().unwrap_or(Vec3::X))
+        .collect();
+}
+
+/// The angle between unit vectors, accurate near 0 and π (Mitsuba's `unit_angle`).
+fn unit_angle(a: Vec3, b: Vec3) -> f32 {
+    if a.dot(b) < 0.0 {
+        std::f32::consts::PI - 2.0 * ((a + b).length() * 0.5).min(1.0).asin()
+    } else {
+        2.0 * ((a - b).length() * 0.5).min(1.0).asin()
     }
 }
 
@@ -196,6 +200,10 @@ mod tests {
         for t in 0..2 {
             assert_eq!(geometric_normal(&m, t), Vec3::Z);
         }
+        // uv (0, 0) at (-1, -1), u along +x, v along +y.
+        for (p, uv) in m.positions.iter().zip(&m.uvs) {
+            assert_eq!(Vec2::new(p.x, p.y), *uv * 2.0 - Vec2::ONE);
+        }
     }
 
     #[test]
@@ -217,18 +225,38 @@ mod tests {
     }
 
     #[test]
-    fn disk_geometry() {
-        let m = disk(DISK_SEGMENTS);
-        assert_eq!(m.indices.len(), DISK_SEGMENTS as usize);
-        let n = DISK_SEGMENTS as f32;
-        let expected = 0.5 * n * (std::f32::consts::TAU / n).sin();
-        assert!((m.area() - expected).abs() < 1e-4);
-        assert!((m.area() - std::f32::consts::PI).abs() < 1e-3);
-        assert_eq!(geometric_normal(&m, 7), Vec3::Z);
+    fn vertex_normals_weigh_faces_by_angle() {
+        // A corner of the cube made of three quads: the normal is the diagonal.
+        let mut m = Mesh {
+            positions: vec![
+                Vec3::ZERO,
+                Vec3::X,
+                Vec3::new(1.0, 1.0, 0.0),
+                Vec3::Y,
+                Vec3::new(0.0, 1.0, 1.0),
+                Vec3::Z,
+                Vec3::new(1.0, 0.0, 1.0),
+            ],
+            // -z face (two triangles, angles 45 + 45 at the corner), -x and -y faces.
+            indices: vec![
+                [0, 2, 1],
+                [0, 3, 2],
+                [0, 4, 3],
+                [0, 5, 4],
+                [0, 1, 6],
+                [0, 6, 5],
+            ],
+            ..Mesh::default()
+        };
+        compute_vertex_normals(&mut m);
+        let d = -Vec3::ONE.normalize();
+        assert!((m.normals[0] - d).length() < 1e-6, "{}", m.normals[0]);
+        // Vertex 1 has a right angle in one triangle of the -z and of the -y face.
+        assert!((m.normals[1] - Vec3::new(0.0, -0.70710677, -0.70710677)).length() < 1e-6);
     }
 
     #[test]
-    fn transform_uses_inverse_transpose_and_flip_reverses() {
+    fn transform_uses_inverse_transpose() {
         let mut m = rectangle();
         // A shear: normals must follow the inverse transpose, not the matrix.
         let shear = Mat4::from_cols_array(&[
@@ -242,16 +270,13 @@ mod tests {
             "{} vs {g}",
             m.normals[0]
         );
-        flip(&mut m);
-        assert!((geometric_normal(&m, 0) + g).length() < 1e-5);
-        assert!((m.normals[0] + g).length() < 1e-5);
     }
 
     #[test]
     fn degenerate_triangles_are_dropped() {
         let mut m = rectangle();
         m.indices.push([0, 0, 1]);
-        m.positions.push(Vec3::new(2.0, -1.0, 0.0));
+        m.positions.push(Vec3::new(3.0, -1.0, 0.0));
         m.normals.push(Vec3::Z);
         m.uvs.push(Vec2::ZERO);
         m.indices.push([0, 1, 4]); // collinear

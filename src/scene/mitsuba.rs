@@ -13,9 +13,14 @@
 //!   `moment` around one nested integrator stands for that integrator (its mean).
 //! - `path value="DIR"`: a folder file names are also searched in (see
 //!   [`super::xml::SearchPath`]).
-//! - shapes `obj` (`filename`, `face_normals`, `flip_tex_coords` = true), `ply`
-//!   (`filename`, `face_normals`), `rectangle`, `cube`, `disk` (a 256-gon), `sphere`
-//!   (`center`, `radius`); all with `to_world` and `flip_normals`.
+//! - shapes as Mitsuba 3.9 makes them (vertex tables, winding, uvs, normals and
+//!   tangent frames): meshes `obj` (`filename`, `flip_tex_coords` = true), `ply`
+//!   (`filename`, `flip_tex_coords` = false), `serialized` (`filename`,
+//!   `shape_index` = 0), `rectangle`, `cube`, all with `face_normals` (no effect on
+//!   `rectangle` and `cube`, as in Mitsuba) and vertex normals computed where a file
+//!   has none; quadrics `sphere` (`center`, `radius`), `disk`, `cylinder` (`p0`,
+//!   `p1`, `radius`), intersected exactly (see [`super::quadric`]); all with
+//!   `to_world` (mirrors included) and `flip_normals`.
 //! - `bsdf`: `diffuse`, `conductor`, `roughconductor`, `dielectric`, `roughdielectric`,
 //!   `plastic`, `roughplastic`, `thindielectric` (parameters in [`Bsdf`]), `twosided` around one BSDF
 //!   without transmission.
@@ -29,13 +34,15 @@ use std::collections::{HashMap, HashSet};
 use glam::Vec3;
 
 use super::bsdf::TextureMaps;
-use super::builder::{self, Builder, UNSUPPORTED_BSDFS, UNSUPPORTED_EMITTERS};
+use super::builder::{self, Builder, MeshOptions, UNSUPPORTED_BSDFS, UNSUPPORTED_EMITTERS};
 use super::mesh;
 use super::properties::Properties;
+use super::quadric;
 use super::sampler::{self, Sampler};
 use super::xml::{Dialect, Document, Element};
 use super::{
-    envmap, obj, ply, Bsdf, Camera, Emitter, Error, Film, IntegratorSpec, Medium, Scene, Texture,
+    envmap, obj, ply, serialized, Bsdf, Camera, Emitter, Error, Film, IntegratorSpec, Medium,
+    Quadric, Scene, Texture,
 };
 
 const SENSORS: &[&str] = &[
@@ -47,8 +54,6 @@ const SENSORS: &[&str] = &[
     "batch",
 ];
 const SHAPES: &[&str] = &[
-    "serialized",
-    "cylinder",
     "shapegroup",
     "instance",
     "bsplinecurve",
@@ -151,7 +156,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         sampler,
         integrator,
         meshes: l.b.meshes,
-        spheres: l.b.spheres,
+        quadrics: l.b.quadrics,
         bsdfs: l.b.bsdfs,
         emitters: l.b.emitters,
         media: l.b.media,
@@ -876,54 +881,73 @@ impl<'a> Loader<'a> {
             }),
             None => self.b.default_bsdf(),
         };
-        let to_world = props.transform("to_world")?;
         let flip_normals = props.boolean("flip_normals", false)?;
-        let (m, face_normals) = match t {
-            "obj" => {
-                let path = builder::mesh_path(el, &props, "filename")?;
-                let face_normals = props.boolean("face_normals", false)?;
-                let flip_tex = props.boolean("flip_tex_coords", true)?;
-                (obj::load(&path, flip_tex)?, face_normals)
-            }
-            "ply" => {
-                let path = builder::mesh_path(el, &props, "filename")?;
-                let face_normals = props.boolean("face_normals", false)?;
-                (ply::load(&path)?, face_normals)
-            }
-            "rectangle" => (mesh::rectangle(), false),
-            "cube" => (mesh::cube(), false),
-            "disk" => (mesh::disk(mesh::DISK_SEGMENTS), false),
-            "sphere" => {
-                let center = props.point("center", Vec3::ZERO)?;
-                let radius = props.float("radius", 1.0)?;
-                props.finish()?;
-                let emitter = radiance.map(|e| self.b.add_emitter(e));
-                self.b.add_sphere(
-                    &props,
-                    center,
-                    radius,
+        let null_bsdf = self.null_bsdfs.contains(&bsdf);
+        if let Some((kind, to_world)) = quadric::from_mitsuba(t, &props)? {
+            props.finish()?;
+            let emitter = radiance.map(|e| self.b.add_emitter(e));
+            return self.b.add_quadric(
+                &props,
+                Quadric {
+                    kind,
                     to_world,
                     flip_normals,
                     bsdf,
                     emitter,
-                )?;
-                if let Some(s) = self.b.spheres.last_mut() {
-                    s.interior = interior;
-                    s.exterior = exterior;
-                    s.null_bsdf = self.null_bsdfs.contains(&bsdf);
-                }
-                return Ok(());
+                    interior,
+                    exterior,
+                    null_bsdf,
+                },
+            );
+        }
+        let to_world = props.transform("to_world")?;
+        // Mitsuba's mesh base class reads face_normals for every mesh; the built-in
+        // cube and rectangle keep their vertex normals whatever it says.
+        let face_normals = props.boolean("face_normals", false)?;
+        let m = match t {
+            "obj" => {
+                let path = builder::mesh_path(el, &props, "filename")?;
+                let flip_tex = props.boolean("flip_tex_coords", true)?;
+                obj::load(&path, flip_tex)?
             }
+            "ply" => {
+                let path = builder::mesh_path(el, &props, "filename")?;
+                let flip_tex = props.boolean("flip_tex_coords", false)?;
+                let mut m = ply::load(&path)?;
+                if flip_tex {
+                    m.uvs.iter_mut().for_each(|uv| uv.y = 1.0 - uv.y);
+                }
+                m
+            }
+            "serialized" => {
+                let path = builder::mesh_path(el, &props, "filename")?;
+                let index = props.integer("shape_index", 0)?;
+                let index = u32::try_from(index).map_err(|_| {
+                    props.error(
+                        "shape_index",
+                        format!("shape_index must be >= 0, found {index}"),
+                    )
+                })?;
+                serialized::load(&path, index)?
+            }
+            "rectangle" => mesh::rectangle(),
+            "cube" => mesh::cube(),
             _ => return Err(builder::unsupported(el, "shape", SHAPES)),
         };
+        let builtin = matches!(t, "rectangle" | "cube");
         props.finish()?;
         let emitter = radiance.map(|e| self.b.add_emitter(e));
-        self.b
-            .add_mesh(el, m, to_world, face_normals, flip_normals, bsdf, emitter)?;
+        let options = MeshOptions {
+            to_world,
+            face_normals: face_normals && !builtin,
+            flip_normals,
+            compute_normals: true,
+        };
+        self.b.add_mesh(el, m, &options, bsdf, emitter)?;
         if let Some(m) = self.b.meshes.last_mut() {
             m.interior = interior;
             m.exterior = exterior;
-            m.null_bsdf = self.null_bsdfs.contains(&bsdf);
+            m.null_bsdf = null_bsdf;
         }
         Ok(())
     }
@@ -1113,7 +1137,7 @@ mod tests {
             &[],
         )
         .unwrap();
-        assert_eq!(s.meshes.len(), 4);
+        assert_eq!((s.meshes.len(), s.quadrics.len()), (3, 1));
         // The referenced BSDF is built once and shared; unnamed shapes share the default.
         assert_eq!(s.meshes[0].bsdf, s.meshes[1].bsdf);
         assert_eq!(
@@ -1122,7 +1146,7 @@ mod tests {
                 reflectance: Vec3::new(0.8, 0.1, 0.1)
             }
         );
-        assert_eq!(s.meshes[2].bsdf, s.meshes[3].bsdf);
+        assert_eq!(s.meshes[2].bsdf, s.quadrics[0].bsdf);
         assert_eq!(s.bsdfs[s.meshes[2].bsdf as usize], Bsdf::default());
         assert_eq!(s.bsdfs.len(), 2);
         let e = s.meshes[0].emitter.unwrap();
@@ -1347,13 +1371,13 @@ mod tests {
             &[],
         )
         .unwrap();
-        let sp = &s.spheres[0];
+        let sp = &s.quadrics[0];
         assert!(
-            (sp.center - Vec3::new(0.0, 3.0, 1.0)).length() < 1e-5,
+            (sp.origin() - Vec3::new(0.0, 3.0, 1.0)).length() < 1e-5,
             "{}",
-            sp.center
+            sp.origin()
         );
-        assert!(close(sp.radius, 6.0) && sp.flip_normals);
+        assert!(close(sp.radius(), 6.0) && sp.flip_normals && !sp.mirrored());
     }
 
     #[test]
@@ -1383,7 +1407,9 @@ mod tests {
         let m = &s.meshes[0];
         assert_eq!(m.uvs[2], glam::Vec2::new(0.0, 1.0));
         assert!(m.normals.is_empty());
-        assert_eq!(m.indices[0], [0, 2, 1]);
+        // flip_normals keeps the winding (as Mitsuba): the kernels negate the normals.
+        assert_eq!(m.indices[0], [0, 1, 2]);
+        assert!(m.flip_normals);
         let e = error_at(
             run("<shape type=\"obj\">\n<string name=\"filename\" value=\"m/none.obj\"/></shape>"),
             "s.xml",
@@ -1549,7 +1575,12 @@ mod tests {
             ("<bsdf type=\"blendbsdf\"/>", 3, "bsdf type 'blendbsdf' is not supported yet"),
             ("<bsdf type=\"thindielectric\"><texture type=\"checkerboard\" name=\"int_ior\"/></bsdf>", 3, "'int_ior' of bsdf 'thindielectric' cannot be a texture"),
             ("<bsdf type=\"velvet\"/>", 3, "unknown bsdf type 'velvet'"),
-            ("<shape type=\"cylinder\"/>", 3, "shape type 'cylinder' is not supported yet"),
+            ("<shape type=\"shapegroup\"/>", 3, "shape type 'shapegroup' is not supported yet"),
+            ("<shape type=\"cylinder\">\n<float name=\"radius\" value=\"0\"/></shape>", 4, "cylinder radius must be positive"),
+            ("<shape type=\"cylinder\">\n<point name=\"p1\" value=\"0,0,0\"/></shape>", 4, "p0 and p1 apart"),
+            ("<shape type=\"cylinder\"><transform name=\"to_world\"><scale value=\"1,2,1\"/></transform></shape>", 3, "non-uniform scale across the axis"),
+            ("<shape type=\"disk\"><transform name=\"to_world\"><scale value=\"1,0,1\"/></transform></shape>", 3, "collapses the disk"),
+            ("<shape type=\"serialized\">\n<string name=\"filename\" value=\"m.serialized\"/></shape>", 4, "m.serialized' not found"),
             ("<medium type=\"homogeneous\"><float name=\"albedo\" value=\"2\"/></medium>", 3, "albedo must be in [0, 1]"),
             ("<shape type=\"cube\"><bsdf type=\"principled\"/></shape>", 3, "bsdf type 'principled' is not supported yet"),
             ("<shape type=\"cube\" foo=\"1\"/>", 3, "unexpected attribute 'foo'"),

@@ -21,11 +21,14 @@ mod ply;
 mod ply_binary;
 pub mod procedural;
 pub mod properties;
+pub mod quadric;
 pub mod sampler;
+mod serialized;
 pub mod shape;
 pub mod spectrum;
 pub mod texture;
 pub mod transform;
+pub mod vdb;
 pub mod xml;
 
 pub use bsdf::Bsdf;
@@ -36,7 +39,7 @@ pub use film::Film;
 pub use integrator::IntegratorSpec;
 pub use medium::Medium;
 pub use sampler::Sampler;
-pub use shape::{Mesh, Sphere};
+pub use shape::{Mesh, Quadric, QuadricKind};
 pub use texture::Texture;
 
 use std::path::{Path, PathBuf};
@@ -57,8 +60,9 @@ pub struct Scene {
     /// The integrator the scene names, with its parameters still unread.
     pub integrator: IntegratorSpec,
     pub meshes: Vec<Mesh>,
-    pub spheres: Vec<Sphere>,
-    /// Every BSDF, indexed by `Mesh::bsdf` / `Sphere::bsdf`.
+    /// Spheres, disks and cylinders.
+    pub quadrics: Vec<Quadric>,
+    /// Every BSDF, indexed by `Mesh::bsdf` / `Quadric::bsdf`.
     pub bsdfs: Vec<Bsdf>,
     /// Every emitter; area emitters are referenced by the shape that carries them.
     pub emitters: Vec<Emitter>,
@@ -79,7 +83,7 @@ impl Scene {
 
     /// Whether some shape has a `null` BSDF (a boundary rays pass through).
     pub fn has_null_surfaces(&self) -> bool {
-        self.meshes.iter().any(|m| m.null_bsdf) || self.spheres.iter().any(|s| s.null_bsdf)
+        self.meshes.iter().any(|m| m.null_bsdf) || self.quadrics.iter().any(|s| s.null_bsdf)
     }
 
     /// Whether some shape has a `thindielectric` BSDF.
@@ -89,7 +93,7 @@ impl Scene {
                 .get(b as usize)
                 .is_some_and(|b| b.is_thin_dielectric())
         };
-        self.meshes.iter().any(|m| thin(m.bsdf)) || self.spheres.iter().any(|s| thin(s.bsdf))
+        self.meshes.iter().any(|m| thin(m.bsdf)) || self.quadrics.iter().any(|s| thin(s.bsdf))
     }
 
     /// Whether the kernels need their medium code: media or null surfaces.
@@ -107,7 +111,10 @@ impl Scene {
             }
         };
         add(!self.meshes.is_empty(), "triangles");
-        add(!self.spheres.is_empty(), "spheres");
+        let has = |k: QuadricKind| self.quadrics.iter().any(|q| q.kind == k);
+        add(has(QuadricKind::Sphere), "spheres");
+        add(has(QuadricKind::Disk), "disks");
+        add(has(QuadricKind::Cylinder), "cylinders");
         add(
             self.meshes.iter().any(|m| !m.normals.is_empty()),
             "vertex normals",

@@ -27,7 +27,7 @@
 
 use glam::Vec3;
 
-use super::builder::{self, Builder, UNSUPPORTED_BSDFS, UNSUPPORTED_EMITTERS};
+use super::builder::{self, Builder, MeshOptions, UNSUPPORTED_BSDFS, UNSUPPORTED_EMITTERS};
 use super::film::Filter;
 use super::mitsuba::integrator_spec;
 use super::properties::Properties;
@@ -78,7 +78,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         sampler,
         integrator,
         meshes: b.meshes,
-        spheres: b.spheres,
+        quadrics: b.quadrics,
         bsdfs: b.bsdfs,
         emitters: b.emitters,
         media: b.media,
@@ -175,7 +175,11 @@ fn mesh(el: &Element, b: &mut Builder) -> Result<(), Error> {
         None => b.default_bsdf(),
     };
     let emitter = radiance.map(|r| b.add_emitter(Emitter::Area { radiance: r }));
-    b.add_mesh(el, m, to_world, false, false, bsdf, emitter)
+    let options = MeshOptions {
+        to_world,
+        ..MeshOptions::default()
+    };
+    b.add_mesh(el, m, &options, bsdf, emitter)
 }
 
 /// A medium filling an axis-aligned box: a null-BSDF cube with the medium inside.
@@ -204,7 +208,11 @@ fn medium(el: &Element, b: &mut Builder) -> Result<(), Error> {
     let to_world =
         glam::Mat4::from_translation(0.5 * (lo + hi)) * glam::Mat4::from_scale(0.5 * (hi - lo));
     let bsdf = b.default_bsdf();
-    b.add_mesh(el, super::mesh::cube(), to_world, false, false, bsdf, None)?;
+    let options = MeshOptions {
+        to_world,
+        ..MeshOptions::default()
+    };
+    b.add_mesh(el, super::mesh::cube(), &options, bsdf, None)?;
     if let Some(mesh) = b.meshes.last_mut() {
         mesh.interior = Some(index);
         mesh.null_bsdf = true;

@@ -1,13 +1,15 @@
-//! Shapes: triangle meshes and analytic spheres, in world space.
+//! Shapes: triangle meshes and analytic quadrics (sphere, disk, cylinder), in world
+//! space.
 
-use glam::{Vec2, Vec3};
+use glam::{Mat3, Mat4, Vec2, Vec3};
 
 /// A triangle mesh in world space.
 ///
-/// Mitsuba: `obj`, `ply`, `rectangle`, `cube`, `disk` (disk is tessellated); Nori:
-/// `mesh type="obj"`. `to_world` is already applied; normals are transformed by the
-/// inverse transpose and renormalized. The disk is a 256-gon; `flip_normals` reverses
-/// the winding and negates normals; zero-area triangles are dropped at load.
+/// Mitsuba: `obj`, `ply`, `serialized`, `rectangle`, `cube`; Nori: `mesh type="obj"`.
+/// `to_world` is already applied (normals by the inverse transpose, renormalized), as
+/// Mitsuba does at load time; the winding is the file's (or Mitsuba's table's), so a
+/// mirroring `to_world` turns the geometric normal around while the vertex normals
+/// keep facing where they did. Zero-area triangles are dropped at load.
 #[derive(Debug, Clone, Default)]
 pub struct Mesh {
     /// A name for messages: the file it came from, or the shape type.
@@ -19,6 +21,10 @@ pub struct Mesh {
     pub uvs: Vec<Vec2>,
     /// Triangles as indices into `positions` (and `normals`, `uvs`).
     pub indices: Vec<[u32; 3]>,
+    /// Mitsuba's `flip_normals`: the geometric and shading normals are negated at
+    /// every hit (the winding and the stored normals stay as they are, as in Mitsuba,
+    /// so the tangent frame ∂p/∂u is unchanged).
+    pub flip_normals: bool,
     /// Index into `Scene::bsdfs`.
     pub bsdf: u32,
     /// Index into `Scene::emitters` of the area emitter this mesh carries.
@@ -31,20 +37,161 @@ pub struct Mesh {
     pub null_bsdf: bool,
 }
 
-/// An analytic sphere in world space (Mitsuba `sphere`: `center`, `radius`, `to_world`
-/// with uniform scale; Nori has no sphere shape).
+/// Which unit shape a [`Quadric`] maps to world space.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum QuadricKind {
+    /// The unit sphere. Mitsuba `sphere` (`center`, `radius`): uv = (φ/2π, θ/π) of the
+    /// object-space point, ∂p/∂u = 2π (−y, x, 0), outward normals.
+    Sphere,
+    /// The unit disk in z = 0. Mitsuba `disk`: uv = (r, φ/2π), ∂p/∂u = (cos φ, sin φ, 0),
+    /// normal +z (by the inverse transpose of `to_world`).
+    Disk,
+    /// The unit cylinder x² + y² = 1, 0 ≤ z ≤ 1, without caps. Mitsuba `cylinder`
+    /// (`p0`, `p1`, `radius`): uv = (φ/2π, z), ∂p/∂u = 2π (−y, x, 0), outward normals.
+    Cylinder,
+}
+
+/// An analytic shape: a unit [`QuadricKind`] in object space, `to_world` (which for a
+/// sphere already holds `center` and `radius`, for a cylinder `p0`, `p1` and `radius`,
+/// as Mitsuba composes them), intersected exactly on the GPU.
+///
+/// Spheres take rotations, uniform scales and translations (and mirrors); cylinders
+/// also a scale along their axis; disks any affine map (an ellipse). Mitsuba's rules
+/// for the side normals face ([`Quadric::normals_flipped`]) are kept, mirroring
+/// included.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Sphere {
-    pub center: Vec3,
-    pub radius: f32,
+pub struct Quadric {
+    pub kind: QuadricKind,
+    /// Object space to world space.
+    pub to_world: Mat4,
+    /// Mitsuba's `flip_normals` as the scene gives it.
+    pub flip_normals: bool,
     /// Index into `Scene::bsdfs`.
     pub bsdf: u32,
-    /// Index into `Scene::emitters` of the area emitter this sphere carries.
+    /// Index into `Scene::emitters` of the area emitter this shape carries.
     pub emitter: Option<u32>,
-    /// Mitsuba's `flip_normals`: normals point inwards.
-    pub flip_normals: bool,
     /// As [`Mesh::interior`], [`Mesh::exterior`], [`Mesh::null_bsdf`].
     pub interior: Option<u32>,
     pub exterior: Option<u32>,
     pub null_bsdf: bool,
+}
+
+impl Quadric {
+    /// A sphere of `radius` around `center` (world space), unrotated.
+    pub fn sphere(center: Vec3, radius: f32, bsdf: u32) -> Quadric {
+        Quadric {
+            kind: QuadricKind::Sphere,
+            to_world: Mat4::from_translation(center) * Mat4::from_scale(Vec3::splat(radius)),
+            flip_normals: false,
+            bsdf,
+            emitter: None,
+            interior: None,
+            exterior: None,
+            null_bsdf: false,
+        }
+    }
+
+    /// The linear part of `to_world`.
+    pub fn linear(&self) -> Mat3 {
+        Mat3::from_mat4(self.to_world)
+    }
+
+    /// The object-space origin in world space: a sphere's centre, a disk's centre, the
+    /// start of a cylinder's axis.
+    pub fn origin(&self) -> Vec3 {
+        self.to_world.w_axis.truncate()
+    }
+
+    /// The world-space radius: the length of the image of the object x axis.
+    pub fn radius(&self) -> f32 {
+        self.to_world.x_axis.truncate().length()
+    }
+
+    /// Whether `to_world` mirrors (negative determinant).
+    pub fn mirrored(&self) -> bool {
+        self.linear().determinant() < 0.0
+    }
+
+    /// Whether the normals a hit reports point the other way than the object-space
+    /// outward normal would give. Mitsuba 3.9: a sphere and a disk flip with
+    /// `flip_normals` xor a mirroring `to_world` (a mirrored sphere faces inwards; a
+    /// disk's normal, the inverse transpose of +z, turns with the mirror, and this
+    /// turns it back); a cylinder's ∂p/∂u × ∂p/∂v turns with the mirror too, so only
+    /// `flip_normals` counts.
+    pub fn normals_flipped(&self) -> bool {
+        match self.kind {
+            QuadricKind::Sphere | QuadricKind::Disk => self.flip_normals ^ self.mirrored(),
+            QuadricKind::Cylinder => self.flip_normals,
+        }
+    }
+
+    /// A world-space box holding the shape (lower and upper corner): the image of the
+    /// unit shape's own box ([-1, 1]² by [-1, 1] for a sphere, 0 for a disk, [0, 1]
+    /// for a cylinder) under `to_world`, tight for axis-aligned shapes.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        let (z0, z1) = match self.kind {
+            QuadricKind::Sphere => (-1.0, 1.0),
+            QuadricKind::Disk => (0.0, 0.0),
+            QuadricKind::Cylinder => (0.0, 1.0),
+        };
+        let mut lo = Vec3::splat(f32::INFINITY);
+        let mut hi = Vec3::splat(f32::NEG_INFINITY);
+        for c in 0..8 {
+            let pick = |bit: u32, a: f32, b: f32| if c & bit == 0 { a } else { b };
+            let corner = Vec3::new(pick(1, -1.0, 1.0), pick(2, -1.0, 1.0), pick(4, z0, z1));
+            let p = self.to_world.transform_point3(corner);
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+        (lo, hi)
+    }
+
+    /// World-space surface area.
+    pub fn area(&self) -> f32 {
+        let m = self.linear();
+        let r = self.radius();
+        match self.kind {
+            QuadricKind::Sphere => 4.0 * std::f32::consts::PI * r * r,
+            QuadricKind::Disk => std::f32::consts::PI * m.x_axis.cross(m.y_axis).length(),
+            QuadricKind::Cylinder => 2.0 * std::f32::consts::PI * r * m.z_axis.length(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quadric_bounds_hold_the_shape() {
+        let s = Quadric::sphere(Vec3::new(1.0, 2.0, 3.0), 2.0, 0);
+        assert_eq!(
+            s.bounds(),
+            (Vec3::new(-1.0, 0.0, 1.0), Vec3::new(3.0, 4.0, 5.0))
+        );
+        // A cylinder of radius 0.5 from (0, 0, 1) along +x, length 4.
+        let c = Quadric {
+            kind: QuadricKind::Cylinder,
+            to_world: Mat4::from_translation(Vec3::Z)
+                * Mat4::from_rotation_y(std::f32::consts::FRAC_PI_2)
+                * Mat4::from_scale(Vec3::new(0.5, 0.5, 4.0)),
+            ..s.clone()
+        };
+        let (lo, hi) = c.bounds();
+        let want = (Vec3::new(0.0, -0.5, 0.5), Vec3::new(4.0, 0.5, 1.5));
+        assert!(
+            lo.abs_diff_eq(want.0, 1e-5) && hi.abs_diff_eq(want.1, 1e-5),
+            "{lo} {hi}"
+        );
+        // A disk has no thickness along its normal.
+        let d = Quadric {
+            kind: QuadricKind::Disk,
+            to_world: Mat4::IDENTITY,
+            ..s
+        };
+        assert_eq!(
+            d.bounds(),
+            (Vec3::new(-1.0, -1.0, 0.0), Vec3::new(1.0, 1.0, 0.0))
+        );
+    }
 }

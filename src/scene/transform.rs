@@ -107,10 +107,42 @@ fn rotate(op: &Element) -> Result<DMat4, Error> {
     let angle_s = op.require("angle")?;
     let angle = parse_number(angle_s)
         .ok_or_else(|| op.err(format!("could not parse angle \"{angle_s}\" as a number")))?;
-    let axis = axis
-        .try_normalize()
-        .ok_or_else(|| op.err("<rotate> needs a non-zero axis"))?;
-    Ok(DMat4::from_axis_angle(axis, angle.to_radians()))
+    if axis == DVec3::ZERO {
+        return Err(op.err("<rotate> needs a non-zero axis"));
+    }
+    Ok(rodrigues(axis, angle.to_radians()))
+}
+
+/// Rodrigues' rotation matrix `cos θ I + (1 − cos θ) a aᵀ + sin θ [a]×` with the axis
+/// `a` as written, not normalized, as Mitsuba 3 (Dr.Jit's `rotate`) and Nori (Eigen's
+/// `AngleAxis`) build it: a unit axis gives a rotation, any other one also scales and
+/// shears, in both renderers alike. (Mitsuba 3.9 then turns normals by this same
+/// matrix instead of its inverse transpose; wavetrace keeps normals perpendicular to
+/// the transformed surface.)
+fn rodrigues(a: DVec3, theta: f64) -> DMat4 {
+    let (s, c) = theta.sin_cos();
+    let cm = 1.0 - c;
+    DMat4::from_cols(
+        DVec4::new(
+            a.x * a.x * cm + c,
+            a.y * a.x * cm + a.z * s,
+            a.z * a.x * cm - a.y * s,
+            0.0,
+        ),
+        DVec4::new(
+            a.x * a.y * cm - a.z * s,
+            a.y * a.y * cm + c,
+            a.z * a.y * cm + a.x * s,
+            0.0,
+        ),
+        DVec4::new(
+            a.x * a.z * cm + a.y * s,
+            a.y * a.z * cm - a.x * s,
+            a.z * a.z * cm + c,
+            0.0,
+        ),
+        DVec4::W,
+    )
 }
 
 fn lookat_element(op: &Element) -> Result<DMat4, Error> {
@@ -143,5 +175,34 @@ fn matrix(op: &Element) -> Result<DMat4, Error> {
             DVec4::W,
         )),
         n => Err(op.err(format!("<matrix> needs 16 numbers (row-major), found {n}"))),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rotate_is_rodrigues_with_the_axis_as_written() {
+        // Mitsuba 3.9.1: mi.ScalarTransform4f().rotate([1, 2, 0.5], 37).matrix, rows.
+        let mitsuba = [
+            [1.0, 0.101822, 1.30431],
+            [0.703637, 1.60409, -0.40045],
+            [-1.10295, 0.80318, 0.848977],
+        ];
+        let m = rodrigues(DVec3::new(1.0, 2.0, 0.5), 37f64.to_radians());
+        for (r, row) in mitsuba.iter().enumerate() {
+            for (c, want) in row.iter().enumerate() {
+                assert!(
+                    (m.col(c)[r] - want).abs() < 1e-5,
+                    "({r}, {c}): {}",
+                    m.col(c)[r]
+                );
+            }
+        }
+        // A unit axis: glam's rotation.
+        let a = DVec3::new(0.3, -0.4, 0.5).normalize();
+        let r = DMat4::from_axis_angle(a, 1.1);
+        assert!(rodrigues(a, 1.1).abs_diff_eq(r, 1e-12));
     }
 }

@@ -53,9 +53,10 @@ pub fn scene_bounds(scene: &Scene) -> (Vec3, f32) {
             hi = hi.max(*p);
         }
     }
-    for s in &scene.spheres {
-        lo = lo.min(s.center - s.radius);
-        hi = hi.max(s.center + s.radius);
+    for q in &scene.quadrics {
+        let (a, b) = q.bounds();
+        lo = lo.min(a);
+        hi = hi.max(b);
     }
     if !(lo.is_finite() && hi.is_finite()) || lo.cmpgt(hi).any() {
         return (Vec3::ZERO, 1.0);

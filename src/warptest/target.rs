@@ -1,0 +1,358 @@
+//! Naming what `wavetrace warptest` tests: a warp, microfacet normals, a BSDF or a
+//! phase function by name, with its parameters (what the command line gives).
+
+use glam::Vec3;
+
+use super::{Axis, Target, Warp};
+use crate::scene::bsdf::{Bsdf, Distribution};
+
+/// Every name [`parse`] knows, for help and error messages.
+pub const NAMES: &[&str] = &[
+    "square_to_disk",
+    "uniform_triangle",
+    "uniform_hemisphere",
+    "cosine_hemisphere",
+    "uniform_sphere",
+    "uniform_cap",
+    "beckmann",
+    "ggx",
+    "diffuse",
+    "roughconductor",
+    "roughdielectric",
+    "plastic",
+    "roughplastic",
+    "nori_microfacet",
+    "hg",
+    "isotropic",
+    "mismatched_cosine",
+];
+
+/// Parameters of a test target; `None` takes the default, and a parameter the
+/// target does not have is an error.
+#[derive(Debug, Clone, Default)]
+pub struct Params {
+    /// Isotropic roughness (microfacet distributions and rough BSDFs); default 0.2.
+    pub alpha: Option<f32>,
+    /// Anisotropic roughness, both or neither (roughconductor, roughdielectric,
+    /// beckmann, ggx).
+    pub alpha_u: Option<f32>,
+    pub alpha_v: Option<f32>,
+    /// `beckmann` or `ggx` for rough BSDFs; default ggx.
+    pub distribution: Option<String>,
+    /// Relative index of refraction (dielectrics, plastics, nori_microfacet); default
+    /// 1.5.
+    pub eta: Option<f32>,
+    /// Incident direction in degrees: angle from the normal (above 90: from below the
+    /// surface) and azimuth; default 30 and 0.
+    pub theta: Option<f32>,
+    pub phi: Option<f32>,
+    /// Henyey-Greenstein asymmetry in (-1, 1); default 0.7.
+    pub g: Option<f32>,
+    /// Cosine of the cap's half angle in (-1, 1); default 0.5.
+    pub cos_max: Option<f32>,
+}
+
+/// The target called `name` with `p`, and a one-line description of it.
+pub fn parse(name: &str, p: &Params) -> Result<(Target, String), String> {
+    let used = |allowed: &[&str]| -> Result<(), String> {
+        let given = [
+            ("alpha", p.alpha.is_some()),
+            ("alpha-u", p.alpha_u.is_some()),
+            ("alpha-v", p.alpha_v.is_some()),
+            ("distribution", p.distribution.is_some()),
+            ("eta", p.eta.is_some()),
+            ("theta", p.theta.is_some()),
+            ("phi", p.phi.is_some()),
+            ("g", p.g.is_some()),
+            ("cos-max", p.cos_max.is_some()),
+        ];
+        match given.iter().find(|(k, set)| *set && !allowed.contains(k)) {
+            Some((k, _)) => Err(format!("--{k} does not apply to '{name}'")),
+            None => Ok(()),
+        }
+    };
+    let positive = |what: &str, v: f32| {
+        if v > 0.0 && v.is_finite() {
+            Ok(v)
+        } else {
+            Err(format!("--{what} must be a positive number, found {v}"))
+        }
+    };
+    let roughness = |anisotropic: bool| -> Result<(f32, f32), String> {
+        match (p.alpha, p.alpha_u, p.alpha_v) {
+            (Some(_), Some(_), _) | (Some(_), _, Some(_)) => {
+                Err("give either --alpha or --alpha-u and --alpha-v".into())
+            }
+            (_, Some(u), Some(v)) if anisotropic => {
+                Ok((positive("alpha-u", u)?, positive("alpha-v", v)?))
+            }
+            (_, Some(_), None) | (_, None, Some(_)) => {
+                Err("give both --alpha-u and --alpha-v".into())
+            }
+            (_, Some(_), Some(_)) => Err(format!("'{name}' is isotropic: use --alpha")),
+            (a, None, None) => {
+                let a = positive("alpha", a.unwrap_or(0.2))?;
+                Ok((a, a))
+            }
+        }
+    };
+    let distribution = || match p.distribution.as_deref().unwrap_or("ggx") {
+        "ggx" => Ok(Distribution::Ggx),
+        "beckmann" => Ok(Distribution::Beckmann),
+        d => Err(format!(
+            "--distribution must be beckmann or ggx, found '{d}'"
+        )),
+    };
+    let eta = || -> Result<f32, String> {
+        let e = positive("eta", p.eta.unwrap_or(1.5))?;
+        if e == 1.0 {
+            return Err("--eta must differ from 1".into());
+        }
+        Ok(e)
+    };
+    let wo = || -> Result<Vec3, String> {
+        let (t, f) = (p.theta.unwrap_or(30.0), p.phi.unwrap_or(0.0));
+        if !(0.0..=180.0).contains(&t) || !f.is_finite() {
+            return Err(format!(
+                "--theta must lie in [0, 180] degrees (and --phi be finite), found {t}, {f}"
+            ));
+        }
+        let (t, f) = (t.to_radians(), f.to_radians());
+        Ok(Vec3::new(t.sin() * f.cos(), t.sin() * f.sin(), t.cos()))
+    };
+    let angle = |w: Vec3| {
+        format!(
+            "wo at θ = {:.1}°, φ = {:.1}°",
+            w.z.clamp(-1.0, 1.0).acos().to_degrees(),
+            w.y.atan2(w.x).to_degrees()
+        )
+    };
+    let warp = |w: Warp, what: &str| Ok((Target::Warp(w), what.to_string()));
+    match name {
+        "square_to_disk" | "uniform_triangle" | "uniform_hemisphere" | "cosine_hemisphere"
+        | "uniform_sphere" | "mismatched_cosine" => {
+            used(&[])?;
+            match name {
+                "square_to_disk" => warp(Warp::Disk, "concentric map to the unit disk"),
+                "uniform_triangle" => warp(Warp::Triangle, "uniform barycentrics"),
+                "uniform_hemisphere" => warp(Warp::UniformHemisphere, "uniform hemisphere"),
+                "cosine_hemisphere" => warp(Warp::CosineHemisphere, "cosine-weighted hemisphere"),
+                "uniform_sphere" => warp(Warp::UniformSphere, "uniform sphere"),
+                _ => warp(
+                    Warp::MismatchedCosine,
+                    "cosine-weighted samples against the uniform hemisphere's pdf (deliberately wrong)",
+                ),
+            }
+        }
+        "uniform_cap" => {
+            used(&["cos-max"])?;
+            let c = p.cos_max.unwrap_or(0.5);
+            if !(c > -1.0 && c < 1.0) {
+                return Err(format!("--cos-max must lie in (-1, 1), found {c}"));
+            }
+            warp(
+                Warp::Cap { cos_max: c },
+                &format!("uniform cap, cos θmax = {c}"),
+            )
+        }
+        "beckmann" | "ggx" => {
+            used(&["alpha", "alpha-u", "alpha-v", "theta", "phi"])?;
+            let (au, av) = roughness(true)?;
+            let wo = wo()?;
+            let what = format!("{name} microfacet normals, α = ({au}, {av}), {}", angle(wo));
+            warp(
+                Warp::Microfacet {
+                    distribution: (name == "ggx") as u32,
+                    alpha_u: au,
+                    alpha_v: av,
+                    wo,
+                },
+                &what,
+            )
+        }
+        "hg" | "isotropic" => {
+            used(if name == "hg" {
+                &["g", "theta", "phi"]
+            } else {
+                &["theta", "phi"]
+            })?;
+            let g = if name == "hg" {
+                p.g.unwrap_or(0.7)
+            } else {
+                0.0
+            };
+            if !(g > -1.0 && g < 1.0) {
+                return Err(format!("--g must lie in (-1, 1), found {g}"));
+            }
+            let wo = wo()?;
+            Ok((
+                Target::Phase { g, wo },
+                format!("Henyey-Greenstein g = {g}, {}", angle(wo)),
+            ))
+        }
+        "diffuse" | "roughconductor" | "roughdielectric" | "plastic" | "roughplastic"
+        | "nori_microfacet" => {
+            let bsdf = match name {
+                "diffuse" => {
+                    used(&["theta", "phi"])?;
+                    Bsdf::Diffuse {
+                        reflectance: Vec3::splat(0.5),
+                    }
+                }
+                "roughconductor" => {
+                    used(&[
+                        "alpha",
+                        "alpha-u",
+                        "alpha-v",
+                        "distribution",
+                        "theta",
+                        "phi",
+                    ])?;
+                    let (alpha_u, alpha_v) = roughness(true)?;
+                    Bsdf::RoughConductor {
+                        distribution: distribution()?,
+                        alpha_u,
+                        alpha_v,
+                        // Copper (Mitsuba's "Cu" at the RGB primaries).
+                        eta: Vec3::new(0.2, 0.92, 1.1),
+                        k: Vec3::new(3.9, 2.46, 2.14),
+                        specular_reflectance: Vec3::ONE,
+                    }
+                }
+                "roughdielectric" => {
+                    used(&[
+                        "alpha",
+                        "alpha-u",
+                        "alpha-v",
+                        "distribution",
+                        "eta",
+                        "theta",
+                        "phi",
+                    ])?;
+                    let (alpha_u, alpha_v) = roughness(true)?;
+                    Bsdf::RoughDielectric {
+                        distribution: distribution()?,
+                        alpha_u,
+                        alpha_v,
+                        eta: eta()?,
+                        specular_reflectance: Vec3::ONE,
+                        specular_transmittance: Vec3::ONE,
+                    }
+                }
+                "plastic" => {
+                    used(&["eta", "theta", "phi"])?;
+                    Bsdf::Plastic {
+                        diffuse_reflectance: Vec3::splat(0.5),
+                        specular_reflectance: Vec3::ONE,
+                        eta: eta()?,
+                        nonlinear: false,
+                    }
+                }
+                "roughplastic" => {
+                    used(&["alpha", "distribution", "eta", "theta", "phi"])?;
+                    Bsdf::RoughPlastic {
+                        distribution: distribution()?,
+                        alpha: roughness(false)?.0,
+                        diffuse_reflectance: Vec3::splat(0.5),
+                        specular_reflectance: Vec3::ONE,
+                        eta: eta()?,
+                        nonlinear: false,
+                    }
+                }
+                _ => {
+                    used(&["alpha", "eta", "theta", "phi"])?;
+                    Bsdf::NoriMicrofacet {
+                        alpha: roughness(false)?.0,
+                        eta: eta()?,
+                        kd: Vec3::splat(0.5),
+                    }
+                }
+            };
+            let wo = wo()?;
+            let axis = Axis::for_bsdf(&bsdf);
+            let what = format!("{name} {bsdf:?}, {}", angle(wo));
+            Ok((Target::Bsdf { bsdf, wo, axis }, what))
+        }
+        _ => Err(format!(
+            "unknown warptest target '{name}'; one of: {}",
+            NAMES.join(", ")
+        )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_parameters_and_errors() {
+        for name in NAMES {
+            assert!(parse(name, &Params::default()).is_ok(), "{name}");
+        }
+        let p = Params {
+            alpha_u: Some(0.1),
+            alpha_v: Some(0.4),
+            theta: Some(60.0),
+            ..Params::default()
+        };
+        let (t, _) = parse("roughconductor", &p).unwrap();
+        let Target::Bsdf { bsdf, wo, .. } = t else {
+            panic!("{t:?}")
+        };
+        assert!(
+            matches!(bsdf, Bsdf::RoughConductor { alpha_u, alpha_v, .. } if alpha_u == 0.1 && alpha_v == 0.4)
+        );
+        assert!((wo.z - 0.5).abs() < 1e-6);
+        let err = |name: &str, p: Params| parse(name, &p).unwrap_err();
+        assert!(err(
+            "diffuse",
+            Params {
+                g: Some(0.1),
+                ..Params::default()
+            }
+        )
+        .contains("--g does not apply"));
+        assert!(err(
+            "hg",
+            Params {
+                g: Some(1.0),
+                ..Params::default()
+            }
+        )
+        .contains("(-1, 1)"));
+        assert!(err(
+            "roughplastic",
+            Params {
+                alpha_u: Some(0.1),
+                alpha_v: Some(0.2),
+                ..Params::default()
+            }
+        )
+        .contains("does not apply"));
+        assert!(err(
+            "ggx",
+            Params {
+                alpha: Some(-1.0),
+                ..Params::default()
+            }
+        )
+        .contains("positive"));
+        assert!(err(
+            "roughdielectric",
+            Params {
+                eta: Some(1.0),
+                ..Params::default()
+            }
+        )
+        .contains("differ from 1"));
+        assert!(err(
+            "ggx",
+            Params {
+                alpha_u: Some(0.1),
+                ..Params::default()
+            }
+        )
+        .contains("both"));
+        assert!(err("teapot", Params::default()).contains("unknown warptest target"));
+    }
+}
