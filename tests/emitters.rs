@@ -19,7 +19,7 @@ use wavetrace::scene::{envmap, Emitter, Scene, Texture};
 
 const N: u32 = 200_000;
 /// Chi-square tests in this file, for the Šidák correction of a 1% family level.
-const TESTS: usize = 3;
+const TESTS: usize = 4;
 
 struct Probe {
     wi: Vec3,
@@ -33,12 +33,19 @@ struct Probe {
 /// Samples N emitter points from `x` on the GPU.
 fn probe(scene: &Scene, bvh: &Bvh, records: &SceneRecords, x: Vec3) -> Vec<Probe> {
     let _ = scene;
-    run_probe(bvh, records, x, None)
+    run_probe(bvh, records, x, None, 0)
 }
 
 /// Runs shaders/tests/emitter_sample.comp: N samples from `x`, or, given `dirs`, the
-/// density of emitter sampling from `x` in each direction (in `pdf_hit`).
-fn run_probe(bvh: &Bvh, records: &SceneRecords, x: Vec3, dirs: Option<&[[f32; 4]]>) -> Vec<Probe> {
+/// density of emitter sampling from `x` in each direction (in `pdf_hit`), the emitter
+/// choice handing out whole strata of `emitter_strata` (0: by the power cdf).
+fn run_probe(
+    bvh: &Bvh,
+    records: &SceneRecords,
+    x: Vec3,
+    dirs: Option<&[[f32; 4]]>,
+    emitter_strata: u32,
+) -> Vec<Probe> {
     let device = common::device();
     let layout = BindingLayout::with_kinds(
         &device,
@@ -51,6 +58,7 @@ fn run_probe(bvh: &Bvh, records: &SceneRecords, x: Vec3, dirs: Option<&[[f32; 4]
     let frame = Frame {
         emitter_count: records.emitters.len() as u32,
         env_emitter: records.env_emitter,
+        emitter_strata,
         ..Default::default()
     };
     let frame = Buffer::from_slice(&device, "frame", &[frame]).unwrap();
@@ -238,7 +246,7 @@ fn sampled_directions_follow_the_density() {
     // misjudge how much of the cell the light covers).
     let cell_integrals = |cells: &[usize], k: usize| -> Vec<f64> {
         let (dirs, w) = grid.quadrature_of(cells, k);
-        let pdf = run_probe(&bvh, &records, x, Some(&dirs));
+        let pdf = run_probe(&bvh, &records, x, Some(&dirs), 0);
         (0..cells.len())
             .map(|c| {
                 (c * k * k..(c + 1) * k * k)
@@ -250,7 +258,7 @@ fn sampled_directions_follow_the_density() {
     let all: Vec<usize> = (0..grid.cells()).collect();
     let coarse = 4;
     let (dirs, _) = grid.quadrature_of(&all, coarse);
-    let pdf = run_probe(&bvh, &records, x, Some(&dirs));
+    let pdf = run_probe(&bvh, &records, x, Some(&dirs), 0);
     let edges: Vec<usize> = all
         .iter()
         .copied()
@@ -484,5 +492,73 @@ fn environment_map_sampling_matches_its_pdf() {
     assert!(
         mismatched * 10_000 < checked,
         "{mismatched} of {checked}: reported pdf != reference or != pdf on escape"
+    );
+}
+
+/// With a stratifying sampler the emitter choice hands out whole strata
+/// (shaders/common/emitter.glsl, emitter_choose): emitter i owns strata
+/// [Q_i, Q_{i+1}) of k, Q_i = i + round((k - n) C_i) with C_i the power cdf. The
+/// choice follows those probabilities (chi-square), delta lights report theirs, and the
+/// density MIS evaluates on a hit is still the density of sampling that point.
+#[test]
+fn emitters_chosen_by_whole_strata_keep_their_densities() {
+    let s = scene();
+    let bvh = Bvh::build(prims_from_scene(&s));
+    let records = SceneRecords::new(&s, &bvh);
+    let n = records.emitters.len();
+    assert_eq!(n, 4);
+    // 11 strata: 7 to share by power, so the rounding matters.
+    let k = 11u32;
+    let cdf: Vec<f64> = records.alias[..n]
+        .iter()
+        .map(|e| f32::from_bits(e.prim) as f64)
+        .collect();
+    let q = |i: usize| -> f64 {
+        if i >= n {
+            k as f64
+        } else {
+            i as f64 + ((k as f64 - n as f64) * cdf[i] + 0.5).floor()
+        }
+    };
+    let pmf: Vec<f64> = (0..n).map(|i| (q(i + 1) - q(i)) / k as f64).collect();
+    assert!(pmf.iter().all(|&p| p >= 1.0 / k as f64));
+    assert!((pmf.iter().sum::<f64>() - 1.0).abs() < 1e-12);
+    // The power pmf is not a multiple of 1/11: the test sees the difference.
+    assert!(pmf
+        .iter()
+        .zip(&records.alias[..n])
+        .any(|(q, e)| (q - e.pmf as f64).abs() > 0.02));
+
+    let x = Vec3::new(0.1, -0.2, 0.3);
+    let probes = run_probe(&bvh, &records, x, None, k);
+    let mut observed = vec![0.0; n];
+    let (mut checked, mut mismatched) = (0, 0);
+    for p in &probes {
+        observed[p.emitter as usize] += 1.0;
+        if records.emitters[p.emitter as usize].kind == wavetrace::gpu::layout::EMITTER_POINT {
+            assert!((p.pdf as f64 - pmf[p.emitter as usize]).abs() < 1e-6);
+            continue;
+        }
+        assert!(p.pdf > 0.0, "every area light faces the point");
+        checked += 1;
+        if (p.pdf_hit - p.pdf).abs() > 1e-3 * p.pdf {
+            mismatched += 1;
+        }
+    }
+    let expected: Vec<f64> = pmf.iter().map(|p| p * N as f64).collect();
+    let r = chi2(&observed, &expected);
+    println!(
+        "whole strata of {k}: observed {observed:?}, expected {expected:?}, p = {:.4}",
+        r.p_value
+    );
+    assert!(
+        r.p_value > sidak(0.01, TESTS),
+        "emitters are not chosen by whole strata: p = {:.3e}",
+        r.p_value
+    );
+    println!("{mismatched} of {checked} samples disagree");
+    assert!(
+        mismatched * 10_000 < checked,
+        "{mismatched} of {checked} samples: pdf at the hit != sampling pdf"
     );
 }

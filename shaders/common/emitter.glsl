@@ -82,6 +82,45 @@ float emitter_sphere_cone(vec3 x, vec3 c, float r) {
     return sin2 / (1.0 + sqrt(1.0 - sin2));
 }
 
+// The choice of an emitter by one uniform number. By default it inverts the emitters'
+// cumulative pmf (by power: render::scene_buffers). With a stratifying sampler,
+// frame.emitter_strata = k > 0 is the number of strata the sampler cuts the number
+// into, and emitter i owns the whole strata [Q_i, Q_{i+1}) of k, with
+//     Q_i = i + round((k - n) C_i),
+// C_i the power cdf before emitter i, n the emitter count: one stratum each plus its
+// power's share of the rest. Every pixel then sends each emitter the same number of
+// its samples, stratified within (render::sampler::emitter_strata says why and what it
+// measured). Q_n = k; Q_{i+1} - Q_i >= 1, so no emitter is left out.
+float emitter_interval_start(uint i) {
+    uint n = frame.emitter_count;
+    float k = float(frame.emitter_strata);
+    if (i >= n) return k;
+    return float(i) + floor((k - float(n)) * uintBitsToFloat(alias_load(i).prim) + 0.5);
+}
+
+// The emitter u picks, with the probability of picking it; u is remapped to its position
+// within the emitter's interval, rescaled (sample reuse: it stays stratified).
+uint emitter_choose(inout float u, out float pmf) {
+    if (frame.emitter_strata == 0u) return alias_sample_cdf(0u, frame.emitter_count, u, pmf);
+    float x = u * float(frame.emitter_strata);
+    uint lo = 0u, hi = frame.emitter_count;
+    while (hi - lo > 1u) {
+        uint mid = (lo + hi) >> 1;
+        if (emitter_interval_start(mid) <= x) lo = mid; else hi = mid;
+    }
+    float a = emitter_interval_start(lo);
+    float b = emitter_interval_start(lo + 1u);
+    pmf = (b - a) / float(frame.emitter_strata);
+    u = clamp((x - a) / (b - a), 0.0, 0.99999994);
+    return lo;
+}
+
+// The probability that emitter_choose picks emitter i.
+float emitter_choice_pmf(uint i) {
+    if (frame.emitter_strata == 0u) return alias_load(i).pmf;
+    return (emitter_interval_start(i + 1u) - emitter_interval_start(i)) / float(frame.emitter_strata);
+}
+
 // A point uniform over the surface of area emitter e (density 1 / e.area per unit
 // area), as the Surface a ray finds there, from one 2-D sample u: a mesh picks a
 // triangle by area with u.y, which is then reused (alias_sample_reuse), and a uniform
@@ -112,7 +151,7 @@ Surface emitter_area_point(EmitterRecord e, vec2 u) {
 }
 
 // Samples light arriving at x from one 2-D sample u: the emitter is chosen by u.x, which
-// is then reused (alias_sample_cdf), and the point on it drawn from the 2-D sample
+// is then reused (emitter_choose), and the point on it drawn from the 2-D sample
 // (emitter_area_point; as Mitsuba does), which a stratified sampler stratifies.
 EmitterSample emitter_sample(vec3 x, vec2 u) {
     EmitterSample s;
@@ -124,7 +163,7 @@ EmitterSample emitter_sample(vec3 x, vec2 u) {
     s.emitter = NONE;
     if (frame.emitter_count == 0u) return s;
     float pmf;
-    uint index = alias_sample_cdf(0u, frame.emitter_count, u.x, pmf);
+    uint index = emitter_choose(u.x, pmf);
     s.emitter = index;
     EmitterRecord e = emitter_load(index);
     if ((EMITTER_HAS(EMITTER_POINT) && e.kind == EMITTER_POINT)
@@ -192,7 +231,7 @@ EmitterSample emitter_sample(vec3 x, vec2 u) {
 // there).
 float emitter_pdf_hit(uint index, vec3 x_prev, vec3 d, float t, vec3 ng) {
     EmitterRecord e = emitter_load(index);
-    float pmf = alias_load(index).pmf;
+    float pmf = emitter_choice_pmf(index);
     if (!EMITTER_HAS(EMITTER_KIND_BIT_SPHERE_AREA) || e.tri_count > 0u || e.prim_kind != PRIM_SPHERE) {
         float cos_light = abs(dot(ng, d));
         return cos_light > 0.0 ? pmf * t * t / (e.area * cos_light) : 0.0;
@@ -204,7 +243,7 @@ float emitter_pdf_hit(uint index, vec3 x_prev, vec3 d, float t, vec3 ng) {
 // Density with which emitter_sample picks direction d towards the environment.
 float emitter_pdf_env(vec3 d) {
     EmitterRecord e = emitter_load(frame.env_emitter);
-    float pmf = alias_load(frame.env_emitter).pmf;
+    float pmf = emitter_choice_pmf(frame.env_emitter);
     if (TEXTURE_USES(TEXTURE_FEATURE_ENVMAP) && e.kind == EMITTER_ENVMAP) return pmf * envmap_pdf(e, d);
     return pmf * INV_FOUR_PI;
 }

@@ -226,7 +226,7 @@ struct Frame {
     uint sampler_flags; // SAMPLER_JITTER, strength, scrambling
     uint sampler_width;  // the pixel keys' grid (film with its sampled border)
     uint sampler_height;
-    uint pad0;
+    uint emitter_strata; // whole strata the emitter choice hands out; 0: by the power cdf
 };
 
 // Sampler kinds (Frame::sampler_kind) and flags (Frame::sampler_flags).

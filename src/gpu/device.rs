@@ -561,13 +561,9 @@ impl Device {
                 .raw
                 .get_pipeline_cache_data(self.inner.pipeline_cache)
         } {
-            if let Some(dir) = path.parent() {
-                let _ = std::fs::create_dir_all(dir);
-            }
-            let tmp = path.with_extension("tmp");
-            if std::fs::write(&tmp, &data).is_ok() {
-                let _ = std::fs::rename(&tmp, path);
-            }
+            // Several processes (tests, split renders) save the same cache: one shared
+            // temporary name let one rename the other's half-written file into place.
+            super::specialize::store_cache_file(path, &data);
         }
     }
 

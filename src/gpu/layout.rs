@@ -441,7 +441,10 @@ pub struct Frame {
     /// `film_pixel_key`): zsobol reads a key as (key % width, key / width).
     pub sampler_width: u32,
     pub sampler_height: u32,
-    pub pad0: u32,
+    /// Strata of the first coordinate of a 2-D sample in one pass of the sampler, over
+    /// which the emitter choice hands out whole strata (shaders/common/emitter.glsl,
+    /// [`crate::render::sampler::emitter_strata`]); 0: the choice inverts the power cdf.
+    pub emitter_strata: u32,
 }
 
 /// Sampler kinds ([`Frame::sampler_kind`]), mirrored in layout.glsl.
@@ -957,7 +960,7 @@ mod tests {
                 sampler_flags,
                 sampler_width,
                 sampler_height,
-                pad0
+                emitter_strata
             ),
             rust_layout!(
                 PathState,

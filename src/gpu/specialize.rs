@@ -142,7 +142,7 @@ fn specialize_here(
     match optimize(&module) {
         Ok(code) => {
             if let Some(path) = &path {
-                store(path, &code);
+                store_cache_file(path, bytemuck::cast_slice::<u32, u8>(&code));
             }
             (Some(code), Source::Optimized)
         }
@@ -282,10 +282,10 @@ fn read_cached(path: &PathBuf) -> Option<Vec<u32>> {
     words(&std::fs::read(path).ok()?)
 }
 
-/// Stores a module in the cache: written to a file of its own (this process's, a
-/// counter's), then renamed into place, so readers never see a partial file. Failures
-/// only cost time.
-fn store(path: &PathBuf, code: &[u32]) {
+/// Stores a cache file (a specialized module, the pipeline cache): written to a file of
+/// its own (this process's, a counter's), then renamed into place, so readers and other
+/// processes writing the same entry never see a partial file. Failures only cost time.
+pub(crate) fn store_cache_file(path: &std::path::Path, bytes: &[u8]) {
     static TEMP: AtomicU32 = AtomicU32::new(0);
     let Some(dir) = path.parent() else { return };
     if std::fs::create_dir_all(dir).is_err() {
@@ -293,9 +293,7 @@ fn store(path: &PathBuf, code: &[u32]) {
     }
     let n = TEMP.fetch_add(1, Ordering::Relaxed);
     let tmp = path.with_extension(format!("{}-{n}.tmp", std::process::id()));
-    if std::fs::write(&tmp, bytemuck::cast_slice::<u32, u8>(code)).is_ok()
-        && std::fs::rename(&tmp, path).is_err()
-    {
+    if std::fs::write(&tmp, bytes).is_ok() && std::fs::rename(&tmp, path).is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
 }
