@@ -138,8 +138,25 @@ pub fn read_topology(
             inp.remaining()
         )));
     }
+    // Root entries sit on the 4096-voxel lattice, one per key (OpenVDB's root table
+    // is a map from aligned origin): so tiles and children never overlap, and no tile
+    // is filled twice.
+    let mut keys = std::collections::HashSet::new();
+    let mut key = |inp: &Input, origin: [i64; 3], what: &str| -> Result<(), String> {
+        let align = (1i64 << NODE2_LOG2) - 1;
+        if origin.iter().any(|c| c & align != 0) {
+            return Err(inp.err(format!(
+                "{what} at {origin:?}, not on the 4096-voxel lattice"
+            )));
+        }
+        if !keys.insert(origin) {
+            return Err(inp.err(format!("two root entries at {origin:?}")));
+        }
+        Ok(())
+    };
     for _ in 0..tiles {
         let origin = coord(inp, "a root tile")?;
+        key(inp, origin, "a root tile")?;
         let v = value(inp, enc.scalar, "a root tile")?;
         let active = inp.u8("a root tile")? != 0;
         if active || v != background {
@@ -160,20 +177,12 @@ pub fn read_topology(
     };
     for _ in 0..children {
         let origin = coord(inp, "a root child's origin")?;
-        let align = (1i64 << NODE2_LOG2) - 1;
-        if origin.iter().any(|c| c & align != 0) {
-            return Err(inp.err(format!(
-                "a root child at {origin:?}, not on the 4096-voxel lattice"
-            )));
-        }
+        key(inp, origin, "a root child")?;
         internal(inp, &mut ctx, origin, 5, tile)?;
         nodes.push((origin, std::mem::take(&mut ctx.leaves)));
     }
     // Buffers come in the root table's order (a map sorted by origin).
     nodes.sort_by_key(|n| n.0);
-    if let Some(w) = nodes.windows(2).find(|w| w[0].0 == w[1].0) {
-        return Err(inp.err(format!("two root children at {:?}", w[0].0)));
-    }
     Ok(Topology {
         background,
         leaves: nodes.into_iter().flat_map(|n| n.1).collect(),
