@@ -3,6 +3,7 @@
 //! vertex normals computed where a file has none, dropping degenerate triangles).
 
 use glam::{Mat3, Mat4, Vec2, Vec3};
+use rayon::prelude::*;
 
 use super::Mesh;
 
@@ -68,17 +69,22 @@ pub fn transform(mesh: &mut Mesh, to_world: Mat4) {
     if to_world == Mat4::IDENTITY {
         return;
     }
-    for p in &mut mesh.positions {
-        *p = to_world.transform_point3(*p);
-    }
+    mesh.positions
+        .par_iter_mut()
+        .for_each(|p| *p = to_world.transform_point3(*p));
     let normal_matrix = Mat3::from_mat4(to_world).inverse().transpose();
-    let mut ok = normal_matrix.is_finite();
-    for n in &mut mesh.normals {
-        match (normal_matrix * *n).try_normalize() {
-            Some(v) => *n = v,
-            None => ok = false,
-        }
-    }
+    let ok = normal_matrix.is_finite()
+        && mesh
+            .normals
+            .par_iter_mut()
+            .map(|n| match (normal_matrix * *n).try_normalize() {
+                Some(v) => {
+                    *n = v;
+                    true
+                }
+                None => false,
+            })
+            .reduce(|| true, |a, b| a && b);
     if !ok {
         mesh.normals.clear();
     }
@@ -128,22 +134,33 @@ fn unit_angle(a: Vec3, b: Vec3) -> f32 {
 pub fn drop_degenerate(mesh: &mut Mesh) -> usize {
     if mesh
         .normals
-        .iter()
+        .par_iter()
         .any(|n| !n.is_finite() || n.length_squared() == 0.0)
     {
         mesh.normals.clear();
     }
-    let before = mesh.indices.len();
     let positions = &mesh.positions;
-    mesh.indices.retain(|&[a, b, c]| {
+    let degenerate = |&[a, b, c]: &[u32; 3]| {
         let (p0, p1, p2) = (
             positions[a as usize],
             positions[b as usize],
             positions[c as usize],
         );
-        let area2 = (p1 - p0).cross(p2 - p0).length();
-        area2 > 0.0 && area2.is_finite()
-    });
+        // |cross|^2 is 0 or infinite exactly where |cross| is (glam's length is
+        // the square root of it).
+        let area2 = (p1 - p0).cross(p2 - p0).length_squared();
+        !(area2 > 0.0 && area2.is_finite())
+    };
+    // Looked for in parallel (a large mesh rarely has any), removed in one pass.
+    if !mesh
+        .indices
+        .par_chunks(1 << 14)
+        .any(|block| block.iter().any(degenerate))
+    {
+        return 0;
+    }
+    let before = mesh.indices.len();
+    mesh.indices.retain(|t| !degenerate(t));
     before - mesh.indices.len()
 }
 

@@ -9,6 +9,7 @@ pub mod camera;
 pub mod emitter;
 pub mod envmap;
 pub mod error;
+mod file_bytes;
 pub mod film;
 pub mod integrator;
 pub mod medium;

@@ -15,7 +15,7 @@ use super::{Error, Mesh};
 
 /// Loads a PLY file.
 pub fn load(path: &Path) -> Result<Mesh, Error> {
-    let bytes = std::fs::read(path).map_err(|e| Error::file(path, format!("cannot read: {e}")))?;
+    let bytes = super::file_bytes::FileBytes::open(path)?;
     check_header(path, &bytes)?;
     if let Some(mesh) = super::ply_binary::load(path, &bytes)? {
         return Ok(mesh);

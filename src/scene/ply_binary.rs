@@ -396,23 +396,30 @@ fn read_vertices(
         big: bool,
         props: [(usize, Scalar); N],
     ) -> Result<Vec<[f32; N]>, (usize, usize, f64)> {
-        let values: Vec<[f32; N]> = data
-            .par_chunks_exact(size)
-            .map(|r| props.map(|(o, s)| s.read(&r[o..], big) as f32))
-            .collect();
-        match values
-            .par_iter()
-            .position_first(|v| v.iter().any(|x| !x.is_finite()))
-        {
-            None => Ok(values),
-            Some(i) => {
-                let r = &data[i * size..];
-                let k = (0..N)
-                    .find(|&k| !(props[k].1.read(&r[props[k].0..], big) as f32).is_finite())
-                    .unwrap_or(0);
-                Err((i, k, props[k].1.read(&r[props[k].0..], big)))
+        let f32s = props.iter().all(|p| p.1 == Scalar::F32);
+        let mut values = vec![[0.0f32; N]; data.len() / size];
+        in_blocks(&mut values, data, size, |first, out, records| {
+            for (j, (v, r)) in out.iter_mut().zip(records.chunks_exact(size)).enumerate() {
+                *v = props.map(|(o, s)| {
+                    if f32s {
+                        // The usual case, without a type switch per value.
+                        let b: [u8; 4] = r[o..o + 4].try_into().expect("4 bytes");
+                        if big {
+                            f32::from_be_bytes(b)
+                        } else {
+                            f32::from_le_bytes(b)
+                        }
+                    } else {
+                        s.read(&r[o..], big) as f32
+                    }
+                });
+                if let Some(k) = v.iter().position(|x| !x.is_finite()) {
+                    return Err((first + j, k, props[k].1.read(&r[props[k].0..], big)));
+                }
             }
-        }
+            Ok(())
+        })?;
+        Ok(values)
     }
     let not_finite = |which: &[(usize, Scalar)], (i, k, v): (usize, usize, f64)| {
         Error::file(
@@ -440,6 +447,26 @@ fn read_vertices(
             .collect();
     }
     Ok(len)
+}
+
+/// Entries decoded per parallel task.
+const BLOCK: usize = 1 << 14;
+
+/// Runs `decode(first entry, entries, their records)` over blocks of [`BLOCK`] entries
+/// of `size` bytes in parallel; returns the error of the first block that fails.
+fn in_blocks<T: Send, E: Send>(
+    out: &mut [T],
+    data: &[u8],
+    size: usize,
+    decode: impl Fn(usize, &mut [T], &[u8]) -> Result<(), E> + Sync,
+) -> Result<(), E> {
+    let results: Vec<Result<(), E>> = out
+        .par_chunks_mut(BLOCK)
+        .zip(data.par_chunks(size * BLOCK))
+        .enumerate()
+        .map(|(b, (out, records))| decode(b * BLOCK, out, records))
+        .collect();
+    results.into_iter().collect()
 }
 
 /// Reads the face element's vertex lists as fan-triangulated triangles; returns the
@@ -499,6 +526,29 @@ fn read_faces(
                 u as i64
             }
         };
+        // All triangles (records of 13 bytes), decoded in parallel; anything else
+        // (and every error, to be named in order) takes the walk below.
+        if let Some(faces) = data.get(..13 * e.count) {
+            let mut triangles = vec![[0u32; 3]; e.count];
+            let fast = in_blocks(&mut triangles, faces, 13, |_, out, records| {
+                for (t, r) in out.iter_mut().zip(records.chunks_exact(13)) {
+                    let i = [1, 5, 9].map(|at| index(&r[at..]));
+                    if r[0] != 3 || i.iter().any(|&i| i < 0 || i >= n) {
+                        return Err(());
+                    }
+                    *t = i.map(|i| i as u32);
+                }
+                Ok(())
+            });
+            if fast.is_ok() {
+                if indices.is_empty() {
+                    *indices = triangles;
+                } else {
+                    indices.extend_from_slice(&triangles);
+                }
+                return Ok(13 * e.count);
+            }
+        }
         let mut at = 0;
         for f in 0..e.count {
             let k = *data.get(at).ok_or_else(|| truncated(path, e, f))? as usize;
@@ -759,6 +809,70 @@ mod tests {
                 assert_eq!(got.indices, want.indices, "{name} {format}");
                 assert_eq!(got.indices.len(), 1 + 2 + 3);
             }
+        }
+    }
+
+    /// Meshes larger than a block of the parallel decoders, in the layout large files
+    /// come in (float x, y, z; triangles of `uchar int` lists: the fast paths), read as
+    /// their ASCII twins, and errors past the first block name their entry.
+    #[test]
+    fn large_meshes_decode_in_blocks() {
+        let n = 2 * super::BLOCK + 100;
+        let props = || vec![P::S("x", "float"), P::S("y", "float"), P::S("z", "float")];
+        let vertices = |bad: Option<usize>| -> Vec<Vec<f64>> {
+            (0..n)
+                .map(|i| {
+                    let f = i as f64;
+                    let y = if Some(i) == bad {
+                        f64::NAN
+                    } else {
+                        (0.37 * f).sin()
+                    };
+                    vec![0.25 * f, y, -f]
+                })
+                .collect()
+        };
+        let faces = |bad: Option<usize>| -> Vec<Vec<f64>> {
+            (0..n - 2)
+                .map(|i| {
+                    let last = if Some(i) == bad { n + 5 } else { i + 2 };
+                    vec![i as f64, (i + 1) as f64, last as f64]
+                })
+                .collect()
+        };
+        let mesh = |v: Option<usize>, f: Option<usize>| -> Vec<TestElement> {
+            vec![
+                ("vertex", props(), vertices(v)),
+                (
+                    "face",
+                    vec![P::L("vertex_indices", "uchar", "int")],
+                    faces(f),
+                ),
+            ]
+        };
+        let want = ply::load(&write("large_a", "ascii", &mesh(None, None))).unwrap();
+        assert_eq!(want.indices.len(), n - 2);
+        for format in ["binary_little_endian", "binary_big_endian"] {
+            let got = ply::load(&write(
+                &format!("large_{format}"),
+                format,
+                &mesh(None, None),
+            ))
+            .unwrap();
+            assert_eq!(got.positions, want.positions, "{format}");
+            assert_eq!(got.indices, want.indices, "{format}");
+            let bad = |name: &str, v, f| {
+                let path = write(&format!("large_{name}_{format}"), format, &mesh(v, f));
+                ply::load(&path).unwrap_err().to_string()
+            };
+            let e = bad("nan", Some(n - 50), None);
+            assert!(
+                e.contains(&format!("vertex {}: 'y' is not finite", n - 50)),
+                "{e}"
+            );
+            let e = bad("range", None, Some(n - 60));
+            let msg = format!("face {}: vertex index {} out of range", n - 60, n + 5);
+            assert!(e.contains(&msg), "{e}");
         }
     }
 
