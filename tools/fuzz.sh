@@ -55,17 +55,29 @@ seeds() {
         scene_nori) dialect=nori ;;
     esac
     if [ -n "$dialect" ] && [ -d "../shared/scenes/$dialect" ]; then
-        local d
-        d=$(mktemp -d)
+        local d="target/fuzz-seeds/$t"
+        rm -rf "$d"
+        mkdir -p "$d"
         find "$(cd ../shared/scenes/$dialect && pwd)" -name '*.xml' -size -64k \
             -exec ln -s {} "$d/" \; 2>/dev/null || true
         echo "$d"
     fi
 }
 
+# The scratch folders of fuzz processes that have ended (fuzz/src/lib.rs makes one
+# per process, named by its id).
+clean_scratch() {
+    local d
+    for d in /dev/shm/wavetrace-fuzz-* "${TMPDIR:-/tmp}"/wavetrace-fuzz-*; do
+        [ -d "$d" ] && ! kill -0 "${d##*-}" 2>/dev/null && rm -rf "$d"
+    done
+    return 0
+}
+
 run() {
     local t=$1
     shift
+    clean_scratch
     [ -x "$bin_dir/$t" ] || { echo "fuzz.sh: no target '$t' (tools/fuzz.sh build)" >&2; exit 2; }
     mkdir -p "fuzz/work/$t" "fuzz/artifacts/$t"
     # -timeout: a hang; -rss_limit_mb: memory over all (one allocation over 256 MiB
@@ -74,7 +86,8 @@ run() {
     # shellcheck disable=SC2046
     "$bin_dir/$t" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
         -artifact_prefix="fuzz/artifacts/$t/" -print_final_stats=1 "$@" \
-        "fuzz/work/$t" $(seeds "$t")
+        "fuzz/work/$t" $(seeds "$t") || { local status=$?; clean_scratch; return $status; }
+    clean_scratch
 }
 
 case ${1:-} in
@@ -104,7 +117,7 @@ case ${1:-} in
             status=0
             run "$t" -max_total_time="$secs" >"$log" 2>&1 || status=$?
             # The start, the end and the figures; the whole log when it failed.
-            grep -E '^(#[0-9]+ *(INITED|DONE)|stat::)' "$log" || true
+            grep -E '^(#[0-9]+[[:space:]]+(INITED|DONE)|stat::)' "$log" || true
             if [ "$status" -ne 0 ]; then
                 tail -n 60 "$log"
                 echo "fuzz.sh: target $t failed; the input is under fuzz/artifacts/$t" >&2
