@@ -10,6 +10,8 @@
 #                        crate; GLFW loads libX11 at run time, only when `view` opens a
 #                        window)
 #   xvfb, xdotool        the viewer's tests: a virtual X server and real key presses
+#   g++                  libFuzzer's C++ runtime, for the fuzz targets .ci/run runs
+#                        (tools/fuzz.sh, fuzz/README.md)
 # and, for the Slurm test of tools/slurm (tools/slurm/test_slurm.sh, run by .ci/run),
 #   slurmctld slurmd slurm-client munge
 # which are optional: without root or sudo, their absence is only reported.
@@ -49,6 +51,7 @@ for pair in x11:libx11-dev xrandr:libxrandr-dev xinerama:libxinerama-dev \
 done
 command -v Xvfb >/dev/null 2>&1 || missing+=(xvfb)
 command -v xdotool >/dev/null 2>&1 || missing+=(xdotool)
+command -v c++ >/dev/null 2>&1 || missing+=(g++)
 
 # Slurm's controller, node daemon and commands, and munge (its authentication).
 optional=()
@@ -76,7 +79,7 @@ echo "setup.sh: missing ${missing[*]}" >&2
 if ! command -v apt-get >/dev/null 2>&1; then
     echo "setup.sh: no apt-get here; install the Vulkan loader, Mesa's lavapipe driver," \
         "glslangValidator, spirv-opt, cmake, pkg-config, the X11 development headers (X11, Xrandr," \
-        "Xinerama, Xcursor, Xi), Xvfb and xdotool with your package manager" >&2
+        "Xinerama, Xcursor, Xi), Xvfb, xdotool and a C++ compiler with your package manager" >&2
     exit 1
 fi
 

@@ -12,6 +12,7 @@
 
 use std::path::Path;
 
+use ::exr::meta::BlockDescription;
 use ::exr::prelude::{
     f16, read_first_rgba_layer_from_file, AnyChannel, AnyChannels, AttributeValue, Encoding,
     FlatSamples, Image as ExrImage, Layer, LayerAttributes, SmallVec, SpecificChannels, Text, Vec2,
@@ -23,6 +24,7 @@ use super::{Error, Image};
 /// Reads the R, G, B channels of the first layer of an EXR file as a linear image.
 pub fn read(path: impl AsRef<Path>) -> Result<Image, Error> {
     let path = path.as_ref();
+    check_size(path)?;
     let exr = read_first_rgba_layer_from_file(
         path,
         |size, _channels| match (u32::try_from(size.width()), u32::try_from(size.height())) {
@@ -47,6 +49,49 @@ pub fn read(path: impl AsRef<Path>) -> Result<Image, Error> {
             message: "image too large".into(),
         })
 }
+
+/// Reads the headers of an EXR file and refuses it if a layer has more than
+/// [`super::MAX_TEXELS`] pixels: the EXR format allows 10^9 x 10^9, and the pixel
+/// storage is allocated from the header before any pixel is read.
+fn check_size(path: &Path) -> Result<(), Error> {
+    let meta = ::exr::meta::MetaData::read_from_file(path, false).map_err(|source| Error::Exr {
+        path: path.to_owned(),
+        source,
+    })?;
+    let refuse = |message| Error::Format {
+        path: path.to_owned(),
+        message,
+    };
+    for header in &meta.headers {
+        let size = header.layer_size;
+        super::check_texels(size.width() as u64, size.height() as u64).map_err(refuse)?;
+        // The exr crate reserves a block's claimed byte count before reading it,
+        // trusting the claim up to the largest block the header allows: bound that.
+        let pixels = match header.blocks {
+            BlockDescription::Tiles(t) => {
+                (t.tile_size.width() as u64).checked_mul(t.tile_size.height() as u64)
+            }
+            BlockDescription::ScanLines => {
+                (header.compression.scan_lines_per_block() as u64).checked_mul(size.width() as u64)
+            }
+        };
+        let bytes = pixels.and_then(|p| p.checked_mul(header.channels.bytes_per_pixel as u64));
+        if bytes.is_none_or(|b| b > MAX_BLOCK_BYTES) {
+            return Err(refuse(format!(
+                "blocks of {} pixels x {} bytes, over the {} MiB wavetrace reads",
+                pixels.map_or("too many".to_string(), |p| p.to_string()),
+                header.channels.bytes_per_pixel,
+                MAX_BLOCK_BYTES >> 20
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The largest uncompressed block (a tile, or a run of scan lines) an EXR may have:
+/// a scan-line block of a 65536-wide RGBA float image with PIZ compression (32 lines)
+/// is 32 MiB. Fuzz builds lower it with [`super::MAX_TEXELS`].
+const MAX_BLOCK_BYTES: u64 = if cfg!(fuzzing) { 16 << 20 } else { 256 << 20 };
 
 /// Writes an image as an EXR file with float32 R, G, B channels.
 pub fn write(image: &Image, path: impl AsRef<Path>) -> Result<(), Error> {
@@ -178,6 +223,7 @@ pub fn read_channels_with_text(
 ) -> Result<(u32, u32, Vec<Channel>, TextAttributes), Error> {
     use ::exr::prelude::traits::*;
     let path = path.as_ref();
+    check_size(path)?;
     let image = ::exr::prelude::read()
         .no_deep_data()
         .largest_resolution_level()

@@ -19,6 +19,25 @@ pub mod tev;
 
 pub use error::Error;
 
+/// The most texels (width x height) an image file may have: 2^27, a 16384 x 8192
+/// environment map, 1.5 GiB as float RGB. Readers check a file's header against it
+/// before they allocate anything, so a header claiming 10^9 x 10^9 pixels in a few
+/// bytes is an error, not an allocation. Fuzz builds (`tools/fuzz.sh`) lower it to
+/// 2^20, so that the fuzzer explores files instead of decoding a large image from
+/// each small one that claims it.
+pub const MAX_TEXELS: u64 = if cfg!(fuzzing) { 1 << 20 } else { 1 << 27 };
+
+/// An error unless a `width` x `height` image is within [`MAX_TEXELS`].
+pub fn check_texels(width: u64, height: u64) -> Result<(), String> {
+    match width.checked_mul(height) {
+        Some(n) if n <= MAX_TEXELS => Ok(()),
+        _ => Err(format!(
+            "{width} x {height} pixels is more than wavetrace reads (2^{} texels)",
+            MAX_TEXELS.ilog2()
+        )),
+    }
+}
+
 /// A linear RGB image: 3 floats per pixel, row-major, top row first.
 ///
 /// Values are scene-referred radiance (or AO, or whatever the integrator measures),

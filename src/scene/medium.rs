@@ -132,12 +132,16 @@ pub fn read_vol(path: &Path) -> Result<Grid, String> {
             "resolution {xr} x {yr} x {zr} with {ch} channels (need positive sizes and 1 or 3 channels)"
         )));
     }
-    let count = (xr as u64) * (yr as u64) * (zr as u64) * (ch as u64);
-    if count > MAX_GRID_VALUES {
-        return Err(bad(&format!(
-            "{count} values is more than wavetrace accepts ({MAX_GRID_VALUES}: one 128 MiB GPU buffer)"
-        )));
-    }
+    // Four sizes up to 2^31 each: the product can pass 2^64.
+    let count = [yr, zr, ch]
+        .iter()
+        .try_fold(xr as u64, |n, &k| n.checked_mul(k as u64))
+        .filter(|&n| n <= MAX_GRID_VALUES)
+        .ok_or_else(|| {
+            bad(&format!(
+                "{xr} x {yr} x {zr} x {ch} values is more than wavetrace accepts ({MAX_GRID_VALUES}: one 128 MiB GPU buffer)"
+            ))
+        })?;
     let need = 48 + 4 * count as usize;
     if bytes.len() < need {
         return Err(bad(&format!(

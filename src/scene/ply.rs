@@ -165,6 +165,20 @@ fn check_header(path: &Path, bytes: &[u8]) -> Result<(), Error> {
     };
     for line in header.lines() {
         let w: Vec<&str> = line.split_whitespace().collect();
+        // ply-rs unwraps its parse of the version's numbers: a number past 2^64
+        // would panic there.
+        if w.first() == Some(&"format") {
+            let version = w.get(2).copied().unwrap_or("");
+            if version
+                .split(|c: char| !c.is_ascii_digit())
+                .any(|n| !n.is_empty() && n.parse::<u64>().is_err())
+            {
+                return Err(Error::file(
+                    path,
+                    format!("malformed PLY header line \"{line}\": version number out of range"),
+                ));
+            }
+        }
         match w.first() {
             Some(&"element") => {
                 check(&current)?;

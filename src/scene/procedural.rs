@@ -39,8 +39,10 @@ use super::medium::Grid;
 use super::properties::Properties;
 use super::Error;
 
-/// Largest `resolution` accepted (256³ floats = 64 MiB).
-const MAX_RESOLUTION: i64 = 256;
+/// Largest `resolution` accepted (256³ floats = 64 MiB). Fuzz builds
+/// (`tools/fuzz.sh`) lower it to 32: baking costs resolution³, and a fuzzer should
+/// explore scenes rather than bake large grids.
+const MAX_RESOLUTION: i64 = if cfg!(fuzzing) { 32 } else { 256 };
 
 /// Reads the parameters of a `cloud` or `perlin` volume and bakes its grid.
 pub fn bake(kind: &str, props: &Properties) -> Result<Grid, Error> {

@@ -120,8 +120,22 @@ pub fn load_image(path: &Path, raw: bool) -> Result<(u32, u32, Vec<[f32; 3]>), S
         let texels = img.rgb.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
         (img.width, img.height, texels, true)
     } else {
-        let img = image::open(path)
-            .map_err(|e| format!("cannot read image '{}': {e}", path.display()))?;
+        let cannot =
+            |e: &dyn std::fmt::Display| format!("cannot read image '{}': {e}", path.display());
+        let format = image::ImageFormat::from_path(path).map_err(|e| cannot(&e))?;
+        let bytes = std::fs::read(path).map_err(|e| cannot(&e))?;
+        let bytes = if format == image::ImageFormat::Hdr {
+            radiance_signature(bytes)
+        } else {
+            bytes
+        };
+        let reader = || image::ImageReader::with_format(std::io::Cursor::new(&bytes[..]), format);
+        // The header first: the decoders allocate from its size, and the float RGB
+        // texels below take up to 12 bytes per 1-byte pixel of the file's format.
+        let (w, h) = reader().into_dimensions().map_err(|e| cannot(&e))?;
+        crate::image::check_texels(w.into(), h.into())
+            .map_err(|e| format!("image '{}': {e}", path.display()))?;
+        let img = reader().decode().map_err(|e| cannot(&e))?;
         let linear = matches!(
             img,
             image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_)
@@ -151,6 +165,19 @@ pub fn load_image(path: &Path, raw: bool) -> Result<(u32, u32, Vec<[f32; 3]>), S
         }
     }
     Ok((w, h, texels))
+}
+
+/// A Radiance HDR file starts with `#?` and the name of the program that wrote it:
+/// `#?RADIANCE` mostly, `#?RGBE` from Mitsuba. The `image` crate reads only the
+/// first, so another name is replaced by it.
+fn radiance_signature(mut bytes: Vec<u8>) -> Vec<u8> {
+    const SIGNATURE: &[u8] = b"#?RADIANCE";
+    if bytes.starts_with(b"#?") && !bytes.starts_with(SIGNATURE) {
+        if let Some(end) = bytes.iter().position(|&b| b == b'\n') {
+            bytes.splice(..end, SIGNATURE.iter().copied());
+        }
+    }
+    bytes
 }
 
 /// `to_uv` of a Mitsuba `<transform>`: rows 0 and 1, columns x, y, translation.
@@ -578,6 +605,33 @@ mod tests {
             nearest,
             wrap,
             to_uv: IDENTITY_UV,
+        }
+    }
+
+    /// A Radiance HDR file as Mitsuba 3.9.1 writes it (`mi.Bitmap(...).write`, whose
+    /// first line is `#?RGBE`, not `#?RADIANCE`) reads with its values (RGBE keeps
+    /// 8 bits of mantissa: 1% of the largest channel).
+    #[test]
+    fn mitsuba_rgbe_files_read() {
+        let path =
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("src/image/testdata/mitsuba_rgbe.hdr");
+        assert!(std::fs::read(&path).unwrap().starts_with(b"#?RGBE\n"));
+        let (w, h, texels) = load_image(&path, false).unwrap();
+        assert_eq!((w, h), (2, 2));
+        let want = [
+            [0.8, 0.2, 0.1],
+            [0.1, 0.7, 0.2],
+            [0.2, 0.3, 0.9],
+            [1.5, 1.0, 0.5],
+        ];
+        for (got, want) in texels.iter().zip(want) {
+            let max = want.iter().fold(0.0f32, |m, &v| m.max(v));
+            for c in 0..3 {
+                assert!(
+                    (got[c] - want[c]).abs() <= max / 100.0,
+                    "{got:?} vs {want:?}"
+                );
+            }
         }
     }
 
