@@ -97,26 +97,49 @@ pub fn transform(mesh: &mut Mesh, to_world: Mat4) {
 /// Mitsuba does after applying `to_world` (so a mirroring transform turns them
 /// inwards with the winding). A vertex on no triangle of positive area gets +x.
 pub fn compute_vertex_normals(mesh: &mut Mesh) {
+    vertex_normals_in_ranges(mesh, rayon::current_num_threads());
+}
+
+/// [`compute_vertex_normals`] over `ranges` ranges of vertices in parallel: each task
+/// walks all triangles and adds, in triangle order, the corners that fall in its
+/// range, so every sum is added in the order of one serial pass, bit for bit, and
+/// each corner's angle (the costly part) is computed once.
+fn vertex_normals_in_ranges(mesh: &mut Mesh, ranges: usize) {
     let p = &mesh.positions;
-    let mut acc = vec![Vec3::ZERO; p.len()];
-    for t in &mesh.indices {
-        let v = t.map(|i| p[i as usize]);
-        let n = (v[1] - v[0]).cross(v[2] - v[0]);
-        let len2 = n.length_squared();
-        if !(len2 > 0.0 && len2.is_finite()) {
-            continue;
-        }
-        let n = n / len2.sqrt();
-        for k in 0..3 {
-            let a = (v[(k + 1) % 3] - v[k]).normalize_or_zero();
-            let b = (v[(k + 2) % 3] - v[k]).normalize_or_zero();
-            acc[t[k] as usize] += n * unit_angle(a, b);
-        }
-    }
-    mesh.normals = acc
-        .into_iter()
-        .map(|n| n.try_normalize().unwrap_or(Vec3::X))
-        .collect();
+    let indices = &mesh.indices;
+    let per = p.len().div_ceil(ranges.max(1)).max(1);
+    let mut normals = vec![Vec3::ZERO; p.len()];
+    normals
+        .par_chunks_mut(per)
+        .enumerate()
+        .for_each(|(r, acc)| {
+            let lo = (r * per) as u32;
+            let len = acc.len() as u32;
+            let mine = |i: u32| i.wrapping_sub(lo) < len;
+            for t in indices {
+                if !t.iter().any(|&i| mine(i)) {
+                    continue;
+                }
+                let v = t.map(|i| p[i as usize]);
+                let n = (v[1] - v[0]).cross(v[2] - v[0]);
+                let len2 = n.length_squared();
+                if !(len2 > 0.0 && len2.is_finite()) {
+                    continue;
+                }
+                let n = n / len2.sqrt();
+                for k in 0..3 {
+                    if mine(t[k]) {
+                        let a = (v[(k + 1) % 3] - v[k]).normalize_or_zero();
+                        let b = (v[(k + 2) % 3] - v[k]).normalize_or_zero();
+                        acc[(t[k] - lo) as usize] += n * unit_angle(a, b);
+                    }
+                }
+            }
+        });
+    normals
+        .par_iter_mut()
+        .for_each(|n| *n = n.try_normalize().unwrap_or(Vec3::X));
+    mesh.normals = normals;
 }
 
 /// The angle between unit vectors, accurate near 0 and π (Mitsuba's `unit_angle`).
@@ -253,6 +276,31 @@ mod tests {
         assert!((m.normals[0] - d).length() < 1e-6, "{}", m.normals[0]);
         // Vertex 1 has a right angle in one triangle of the -z and of the -y face.
         assert!((m.normals[1] - Vec3::new(0.0, -0.70710677, -0.70710677)).length() < 1e-6);
+    }
+
+    /// Vertex normals computed over any number of vertex ranges are the same bits.
+    #[test]
+    fn vertex_normals_alike_in_any_ranges() {
+        let n = 30u32;
+        let mut m = Mesh::default();
+        for i in 0..n * n {
+            let (x, y) = ((i % n) as f32, (i / n) as f32);
+            m.positions
+                .push(Vec3::new(x, y, (0.7 * x).sin() * (0.3 * y).cos()));
+        }
+        // Triangles in a scrambled order, some spanning far-apart vertices.
+        for k in 0..(n - 1) * (n - 1) {
+            let v = (k * 37) % ((n - 1) * (n - 1));
+            let v = v / (n - 1) * n + v % (n - 1);
+            m.indices.push([v, v + 1, v + n + 1]);
+            m.indices.push([v, v + n + 1, (v * 7 + 3) % (n * n)]);
+        }
+        vertex_normals_in_ranges(&mut m, 1);
+        let want = m.normals.clone();
+        for ranges in [2, 3, 7, 5000] {
+            vertex_normals_in_ranges(&mut m, ranges);
+            assert_eq!(m.normals, want, "{ranges} ranges");
+        }
     }
 
     #[test]

@@ -432,6 +432,13 @@ fn face(
     counts: Counts,
     c: &mut Chunk,
 ) -> Result<usize, String> {
+    if let (Counts::Unknown, false, false) = (counts, c.all[1], c.all[2]) {
+        if let Some((t, next)) = plain_triangle(text, i) {
+            c.max_index[0] = c.max_index[0].max(t[0]).max(t[1]).max(t[2]);
+            c.triangles[0].push(t.map(|v| v - 1));
+            return Ok(next);
+        }
+    }
     let n = text.len();
     let mut first = Corner::default();
     let mut previous = Corner::default();
@@ -497,6 +504,31 @@ fn face(
         return Err(format!("face with {corners} vertices (at least 3 needed)"));
     }
     Ok(next)
+}
+
+/// The face most large files are made of, read without the general path's cases:
+/// three positive position indices of up to 7 digits, each after one space, then the
+/// line break. Returns the indices and the start of the next line, or `None` for any
+/// other face (which the general path then reads).
+#[inline]
+fn plain_triangle(text: &[u8], mut i: usize) -> Option<([u32; 3], usize)> {
+    let mut t = [0u32; 3];
+    for v in &mut t {
+        if text.get(i) != Some(&b' ') {
+            return None;
+        }
+        let (value, digits) = eight_digits(text.get(i + 1..i + 9)?.try_into().ok()?);
+        if digits == 0 || digits == 8 || value == 0 {
+            return None;
+        }
+        *v = value as u32;
+        i += 1 + digits;
+    }
+    match text.get(i..)? {
+        [b'\n', ..] => Some((t, i + 1)),
+        [b'\r', b'\n', ..] => Some((t, i + 2)),
+        _ => None,
+    }
 }
 
 /// A decimal integer with an optional sign at the start of `b`: (value, bytes read),
@@ -1173,6 +1205,67 @@ mod tests {
                 assert_eq!(l, line, "{e}");
                 assert!(e.contains(msg), "{e}\n  wanted: {msg}");
             }
+        }
+    }
+
+    /// Positions-only triangles, most of which take the fast path when the chunk is
+    /// large (a chunk's first face and every other spelling take the general one),
+    /// read the same in every chunking, and an index past the end in one of them is
+    /// named at its line.
+    #[test]
+    fn plain_triangles_read_alike_on_both_paths() {
+        let n = 40;
+        let mut t = String::new();
+        for j in 0..n {
+            for i in 0..n {
+                t += &format!("v {i} {j} {}\n", (i * j) % 5);
+            }
+        }
+        let spellings = [
+            "f {a} {b} {c}\n",
+            "f {a} {b} {c}\r\n",
+            "f  {a}\t{b} {c} \n",
+            "f {a} {b} {c}# c\n",
+            "f +{a} {b} 0{c}\n",
+            "f {a} {b} {c} {a}\n",
+        ];
+        let mut canonical = t.clone();
+        let mut line = 0;
+        for j in 0..n - 1 {
+            for i in 0..n - 1 {
+                let v = j * n + i + 1;
+                let (a, b, c) = (v, v + 1, v + n + 1);
+                let s = spellings[line % spellings.len()];
+                t += &s
+                    .replace("{a}", &a.to_string())
+                    .replace("{b}", &b.to_string())
+                    .replace("{c}", &c.to_string());
+                canonical += &format!("f {a} {b} {c}\n");
+                if s.ends_with("{a}\n") {
+                    canonical += &format!("f {a} {c} {a}\n");
+                }
+                line += 1;
+            }
+        }
+        let p = temp_dir("obj").join("plain.obj");
+        std::fs::write(&p, &canonical).unwrap();
+        let want = load_in_chunks(&p, true, 1).unwrap();
+        std::fs::write(&p, &t).unwrap();
+        for size in [1, 100, 5000, usize::MAX] {
+            let m = load_in_chunks(&p, true, size).unwrap();
+            assert_eq!(m.positions, want.positions, "chunks of {size}");
+            assert_eq!(m.indices, want.indices, "chunks of {size}");
+        }
+        let lines = t.lines().count() as u32;
+        t += &format!("f 1 2 3\nf 1 2 {}\nf 1 2 3\n", n * n + 1);
+        std::fs::write(&p, &t).unwrap();
+        for size in [1, 5000, usize::MAX] {
+            let (l, e) = err_line(load_in_chunks(&p, true, size));
+            assert_eq!(l, lines + 2, "{e}");
+            assert!(
+                e.contains(&format!("vertex index {} out of range", n * n + 1)),
+                "{e}"
+            );
         }
     }
 }
