@@ -210,7 +210,11 @@ pub(crate) mod testutil {
             .iter()
             .map(|(a, b)| (a.to_string(), b.to_string()))
             .collect();
-        super::load(&dir.join(files[0].0), &defines)
+        let scene = super::load(&dir.join(files[0].0), &defines);
+        // The scene holds everything it read: the folder is not needed any more (the
+        // suite would leave thousands of them in the temp dir).
+        let _ = std::fs::remove_dir_all(&dir);
+        scene
     }
 
     /// The error's text, checking that it names `file` (a suffix) and `line`.
