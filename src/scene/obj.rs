@@ -311,9 +311,7 @@ fn parse(text: &[u8], offset: usize, counts: Counts) -> Result<Chunk, LineError>
     while i < n {
         line += 1;
         let err = |message: String| LineError { line, message };
-        while i < n && is_blank(text[i]) {
-            i += 1;
-        }
+        i = skip_blanks(text, i);
         let Some((kind, len)) = key(text, i) else {
             i = skip_line(text, i, offset).map_err(err)?;
             continue;
@@ -338,21 +336,15 @@ fn values(
     kind: usize,
     c: &mut Chunk,
 ) -> Result<usize, String> {
-    let n = text.len();
     let (min, used) = [(3, 3), (1, 2), (3, 3)][kind];
     let keyword = KEYWORD[kind];
     let mut value = [0.0f32; 3];
     let mut found = 0;
     let next = loop {
-        while i < n && is_blank(text[i]) {
-            i += 1;
-        }
-        match text.get(i) {
-            None => break n,
-            Some(b'\n') => break i + 1,
-            Some(b'#') => break skip_line(text, i, offset)?,
-            Some(_) => {}
-        }
+        i = match next_token(text, i, offset)? {
+            Token::At(t) => t,
+            Token::LineEnd(next) => break next,
+        };
         if found < used {
             match fast_float2::parse_partial::<f32, _>(&text[i..]) {
                 Ok((v, len)) if ends_word(text, i + len) => {
@@ -392,6 +384,34 @@ fn values(
     }
     c.counts[kind] += 1;
     Ok(next)
+}
+
+/// Where a line's next token is, from `text[i]` past blanks.
+enum Token {
+    /// The token starts here.
+    At(usize),
+    /// The line ends (at its break, the chunk's end or a comment, which is checked and
+    /// skipped); the next line starts here.
+    LineEnd(usize),
+}
+
+#[inline]
+fn skip_blanks(text: &[u8], mut i: usize) -> usize {
+    while i < text.len() && is_blank(text[i]) {
+        i += 1;
+    }
+    i
+}
+
+#[inline]
+fn next_token(text: &[u8], i: usize, offset: usize) -> Result<Token, String> {
+    let i = skip_blanks(text, i);
+    Ok(match text.get(i) {
+        None => Token::LineEnd(text.len()),
+        Some(b'\n') => Token::LineEnd(i + 1),
+        Some(b'#') => Token::LineEnd(skip_line(text, i, offset)?),
+        Some(_) => Token::At(i),
+    })
 }
 
 /// Skips the rest of a line from `text[i]` (checking that it is UTF-8 text); returns
@@ -439,20 +459,14 @@ fn face(
             return Ok(next);
         }
     }
-    let n = text.len();
     let mut first = Corner::default();
     let mut previous = Corner::default();
     let mut corners = 0;
     let next = loop {
-        while i < n && is_blank(text[i]) {
-            i += 1;
-        }
-        match text.get(i) {
-            None => break n,
-            Some(b'\n') => break i + 1,
-            Some(b'#') => break skip_line(text, i, offset)?,
-            Some(_) => {}
-        }
+        i = match next_token(text, i, offset)? {
+            Token::At(t) => t,
+            Token::LineEnd(next) => break next,
+        };
         let start = i;
         let mut corner = Corner::default();
         for k in 0..3 {
