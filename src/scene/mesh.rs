@@ -96,26 +96,31 @@ pub fn transform(mesh: &mut Mesh, to_world: Mat4) {
 /// and normalized. Computed on world-space positions and in the file's winding, as
 /// Mitsuba does after applying `to_world` (so a mirroring transform turns them
 /// inwards with the winding). A vertex on no triangle of positive area gets +x.
-pub fn compute_vertex_normals(mesh: &mut Mesh) {
-    vertex_normals_in_ranges(mesh, rayon::current_num_threads());
+///
+/// Returns whether every triangle has a positive, finite area: then
+/// [`drop_degenerate`] has nothing to drop and the caller may skip it.
+pub fn compute_vertex_normals(mesh: &mut Mesh) -> bool {
+    vertex_normals_in_ranges(mesh, rayon::current_num_threads())
 }
 
 /// [`compute_vertex_normals`] over `ranges` ranges of vertices in parallel: each task
 /// walks all triangles and adds, in triangle order, the corners that fall in its
 /// range, so every sum is added in the order of one serial pass, bit for bit, and
-/// each corner's angle (the costly part) is computed once.
-fn vertex_normals_in_ranges(mesh: &mut Mesh, ranges: usize) {
+/// each corner's angle (the costly part) is computed once. Every triangle has a corner
+/// in some range, so the ranges together see the area of each.
+fn vertex_normals_in_ranges(mesh: &mut Mesh, ranges: usize) -> bool {
     let p = &mesh.positions;
     let indices = &mesh.indices;
     let per = p.len().div_ceil(ranges.max(1)).max(1);
     let mut normals = vec![Vec3::ZERO; p.len()];
-    normals
+    let all_valid = normals
         .par_chunks_mut(per)
         .enumerate()
-        .for_each(|(r, acc)| {
+        .map(|(r, acc)| {
             let lo = (r * per) as u32;
             let len = acc.len() as u32;
             let mine = |i: u32| i.wrapping_sub(lo) < len;
+            let mut all_valid = true;
             for tris in indices.chunks(LANES) {
                 if !tris.iter().flatten().any(|&i| mine(i)) {
                     continue;
@@ -123,6 +128,7 @@ fn vertex_normals_in_ranges(mesh: &mut Mesh, ranges: usize) {
                 let w = CornerWeights::of(p, tris);
                 for (j, t) in tris.iter().enumerate() {
                     if !w.valid[j] {
+                        all_valid = false;
                         continue;
                     }
                     for k in 0..3 {
@@ -132,11 +138,14 @@ fn vertex_normals_in_ranges(mesh: &mut Mesh, ranges: usize) {
                     }
                 }
             }
-        });
+            all_valid
+        })
+        .reduce(|| true, |a, b| a && b);
     normals
         .par_iter_mut()
         .for_each(|n| *n = n.try_normalize().unwrap_or(Vec3::X));
     mesh.normals = normals;
+    all_valid
 }
 
 /// Triangles whose corner weights are computed together, in straight-line code over
@@ -377,12 +386,21 @@ mod tests {
             m.indices.push([v, v + 1, v + n + 1]);
             m.indices.push([v, v + n + 1, (v * 7 + 3) % (n * n)]);
         }
-        vertex_normals_in_ranges(&mut m, 1);
+        let valid = vertex_normals_in_ranges(&mut m, 1);
         let want = m.normals.clone();
         for ranges in [2, 3, 7, 5000] {
-            vertex_normals_in_ranges(&mut m, ranges);
+            assert_eq!(vertex_normals_in_ranges(&mut m, ranges), valid);
             assert_eq!(m.normals, want, "{ranges} ranges");
         }
+        // The returned flag says whether drop_degenerate has work, in any ranges: here
+        // a triangle with a repeated corner, far from the first block.
+        assert_eq!(valid, drop_degenerate(&mut m.clone()) == 0);
+        m.indices.push([n * n - 1, 5, n * n - 1]);
+        for ranges in [1, 2, 3, 7, 5000] {
+            assert!(!vertex_normals_in_ranges(&mut m, ranges), "{ranges} ranges");
+        }
+        assert!(drop_degenerate(&mut m) >= 1);
+        assert!(vertex_normals_in_ranges(&mut m, 3));
     }
 
     #[test]
