@@ -163,26 +163,23 @@ struct CornerWeights {
 
 impl CornerWeights {
     fn of(p: &[Vec3], tris: &[[u32; 3]]) -> Self {
-        let mut v = [[Vec3::ZERO; LANES]; 3];
-        for (j, t) in tris.iter().enumerate() {
-            for k in 0..3 {
-                v[k][j] = p[t[k] as usize];
-            }
+        let mut corners = [[Vec3::ZERO; 3]; LANES];
+        for (v, t) in corners.iter_mut().zip(tris) {
+            *v = t.map(|i| p[i as usize]);
         }
         let mut w = CornerWeights {
             normal: [Vec3::ZERO; LANES],
             angle: [[0.0; LANES]; 3],
             valid: [false; LANES],
         };
-        for j in 0..LANES {
-            let n = (v[1][j] - v[0][j]).cross(v[2][j] - v[0][j]);
+        for (j, v) in corners.iter().enumerate() {
+            let n = (v[1] - v[0]).cross(v[2] - v[0]);
             let len2 = n.length_squared();
             w.valid[j] = len2 > 0.0 && len2.is_finite();
             w.normal[j] = n / len2.sqrt();
             // Each edge normalized once: corner k's edges are u[k] and -u[k + 2], the
             // same bits as normalizing v[k + 1] - v[k] and v[k + 2] - v[k].
-            let u = [v[1][j] - v[0][j], v[2][j] - v[1][j], v[0][j] - v[2][j]]
-                .map(Vec3::normalize_or_zero);
+            let u = [v[1] - v[0], v[2] - v[1], v[0] - v[2]].map(Vec3::normalize_or_zero);
             for k in 0..3 {
                 w.angle[k][j] = unit_angle(u[k], -u[(k + 2) % 3]);
             }
@@ -215,7 +212,7 @@ fn asin_unit(x: f32) -> f32 {
     let upper = x > 0.5;
     let z = if upper { 0.5 * (1.0 - x) } else { x * x };
     let s = if upper { z.sqrt() } else { x };
-    let poly = (((4.216_32e-2 * z + 2.418_131_1e-2) * z + 4.547_002_6e-2) * z + 7.495_300_3e-2) * z
+    let poly = (((4.216_32e-2 * z + 2.418_131e-2) * z + 4.547_002_6e-2) * z + 7.495_300_3e-2) * z
         + 1.666_675_2e-1;
     let r = s + s * z * poly;
     if upper {
