@@ -68,6 +68,8 @@ SUITE = {
     # reflectance, a rough conductor's roughness) and on an area emitter's radiance.
     "envmap_glossy": ("scenes/envmap/envmap_glossy.xml", ["res=256"], None, 4096),
     "textures": ("scenes/textures/textures.xml", ["res=256"], None, 4096),
+    # A normal-mapped brick wall and sphere under a grazing area light.
+    "normalmap": ("scenes/textures/normalmap.xml", ["res=256"], None, 4096),
 }
 SURFACES = ["cbox", "veach", "glass"]
 MEDIA = ["cube", "two_media", "smoke", "cbox_smoke"]
@@ -75,7 +77,10 @@ MEDIA = ["cube", "two_media", "smoke", "cbox_smoke"]
 # none): phase functions, an absorber, a textured thin dielectric, a rotated spiky grid.
 MEDIA_MORE = ["cube_g07", "cube_gm07", "cube_absorber", "thin_textured", "smoke_rotated"]
 SAMPLER_SCENES = ["cbox_path", "veach_direct", "envmap"]
-SHADING = ["envmap_glossy", "textures"]
+SHADING = ["envmap_glossy", "textures", "normalmap"]
+# One scene of each kind the speed issue's table measures against llvm_ad_rgb.
+SPEED = ["cbox", "veach_direct", "glass", "cube", "cube_g07", "smoke", "envmap_glossy",
+         "textures", "normalmap"]
 
 
 def die(msg):
@@ -147,7 +152,7 @@ def geomean(xs):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--scenes", default="surfaces,shading,media",
-                    help="comma-separated subset of: %s (or 'surfaces', 'shading', 'media', "
+                    help="comma-separated subset of: %s (or 'surfaces', 'shading', 'media', 'speed', "
                     "'media_more', 'samplers')"
                     % ", ".join(SUITE))
     ap.add_argument("--variants", default="scalar_rgb", help="Mitsuba variants (default scalar_rgb)")
@@ -164,7 +169,7 @@ def main():
     names = []
     for n in args.scenes.split(","):
         groups = {"surfaces": SURFACES, "shading": SHADING, "media": MEDIA,
-                  "media_more": MEDIA_MORE, "samplers": SAMPLER_SCENES}
+                  "media_more": MEDIA_MORE, "samplers": SAMPLER_SCENES, "speed": SPEED}
         names += groups.get(n, [n])
     for n in names:
         if n not in SUITE:

@@ -3,20 +3,120 @@
 #ifndef BSDF_TEXTURED_GLSL
 #define BSDF_TEXTURED_GLSL
 
-// The record with every textured parameter replaced by its texture at uv (colors as
-// they are, roughness from the texture's luminance, at least 1e-4 as Mitsuba's).
+// Texels of a surface point that are not BSDF parameters, looked up by
+// bsdf_textured_point with them.
+struct SurfaceTexels {
+    vec3 normal;   // the normal map's texel (normal_map_frame_texel)
+    vec3 emission; // the area emitter's texture (emitter_area_radiance_texel)
+};
+
+// Slots of the texture lookups at one surface point (bits of the pending mask).
+#define SURFACE_TEX_REFLECTANCE 0u
+#define SURFACE_TEX_SPECULAR 1u
+#define SURFACE_TEX_TRANSMITTANCE 2u
+#define SURFACE_TEX_ALPHA_U 3u
+#define SURFACE_TEX_ALPHA_V 4u
+#define SURFACE_TEX_EMISSION 5u
+
+// Texture id of lookup slot k (SURFACE_TEX_*) of record b.
+uint surface_tex_id(BsdfRecord b, uint emission_texture, uint k) {
+    return k == SURFACE_TEX_REFLECTANCE ? b.tex_reflectance
+        : k == SURFACE_TEX_SPECULAR ? b.tex_specular
+        : k == SURFACE_TEX_TRANSMITTANCE ? b.tex_transmittance
+        : k == SURFACE_TEX_ALPHA_U ? b.tex_alpha_u
+        : k == SURFACE_TEX_ALPHA_V ? b.tex_alpha_v
+        : emission_texture;
+}
+
+// Record b with the value c of lookup slot k (colors as they are, roughness from the
+// texture's luminance, at least 1e-4 as Mitsuba's); the emission texel in `texels`.
+BsdfRecord surface_tex_store(BsdfRecord b, inout SurfaceTexels texels, uint k, vec3 c) {
+    float alpha = max(texture_luminance(c), 1e-4);
+    if (k == SURFACE_TEX_REFLECTANCE) b.reflectance = c;
+    if (k == SURFACE_TEX_SPECULAR) b.specular = c;
+    if (k == SURFACE_TEX_TRANSMITTANCE) b.transmittance = c;
+    if (k == SURFACE_TEX_ALPHA_U) b.alpha_u = alpha;
+    if (k == SURFACE_TEX_ALPHA_V) b.alpha_v = alpha;
+    if (k == SURFACE_TEX_EMISSION) texels.emission = c;
+    return b;
+}
+
+// Whether the scene has lookups of slot k (TEXTURE_FEATURE_PARAM_SHIFT bits for the
+// BSDF's parameters).
+bool surface_tex_used(uint k) {
+    return k == SURFACE_TEX_EMISSION ? TEXTURE_USES(TEXTURE_FEATURE_AREA)
+                                     : TEXTURE_USES(1u << (TEXTURE_FEATURE_PARAM_SHIFT + k));
+}
+
+// Lookup slot K of pending (a constant K: the selects fold away).
+#define SURFACE_TEX_ONE(K)                                                               \
+    if (surface_tex_used(K) && (pending & (1u << (K))) != 0u) {                          \
+        b = surface_tex_store(b, texels, K, texture_eval(surface_tex_id(b, emission_texture, K), uv)); \
+    }
+
+// The record with every textured parameter replaced by its texture at uv; with
+// normal_map, also the texel of the record's normal map, and with emission_texture !=
+// 0 (an area emitter's texture id) its texel, in `texels` (left as they were when not
+// asked for).
+//
+// llvmpipe (Mesa 22.3) runs the code of every branch for every SIMD lane, so a call
+// per textured parameter costs every lane each parameter's lookup, textured or not.
+// Where the scene's points need fewer lookups than it has textured parameters
+// (TEXTURE_FEATURE_LOOKUP_LOOP, render::scene_buffers::texture_mask: a floor with a
+// textured color beside a metal with a textured roughness and a textured light), the
+// lookups run as one texture_eval in a loop, as often as the busiest lane of a SIMD
+// group needs; a do-while, since llvmpipe also runs the body of the pass in which a
+// while loop finds no lane left. Otherwise (one textured parameter, or every point
+// needing all of them) a call per parameter costs less than the loop's bookkeeping.
+// A second roughness that names the first one's texture takes its value. Either way
+// the values are those of one call per parameter, bit for bit.
+BsdfRecord bsdf_textured_point(BsdfRecord b, vec2 uv, bool normal_map, uint emission_texture,
+                               inout SurfaceTexels texels) {
+    bool bsdf = TEXTURE_USES(TEXTURE_FEATURE_BSDF);
+    bool alpha_v_own = b.tex_alpha_v != b.tex_alpha_u;
+    uint pending = 0u;
+    if (bsdf) {
+        pending = (b.tex_reflectance != 0u ? 1u << SURFACE_TEX_REFLECTANCE : 0u)
+            | (b.tex_specular != 0u ? 1u << SURFACE_TEX_SPECULAR : 0u)
+            | (b.tex_transmittance != 0u ? 1u << SURFACE_TEX_TRANSMITTANCE : 0u)
+            | (b.tex_alpha_u != 0u ? 1u << SURFACE_TEX_ALPHA_U : 0u)
+            | (b.tex_alpha_v != 0u && alpha_v_own ? 1u << SURFACE_TEX_ALPHA_V : 0u);
+    }
+    if (TEXTURE_USES(TEXTURE_FEATURE_AREA) && emission_texture != 0u) {
+        pending |= 1u << SURFACE_TEX_EMISSION;
+    }
+    if (TEXTURE_USES(TEXTURE_FEATURE_LOOKUP_LOOP)) {
+        if (pending != 0u) do {
+            uint k = uint(findLSB(pending));
+            pending &= pending - 1u;
+            b = surface_tex_store(b, texels, k, texture_eval(surface_tex_id(b, emission_texture, k), uv));
+        } while (pending != 0u);
+    } else {
+        SURFACE_TEX_ONE(SURFACE_TEX_REFLECTANCE)
+        SURFACE_TEX_ONE(SURFACE_TEX_SPECULAR)
+        SURFACE_TEX_ONE(SURFACE_TEX_TRANSMITTANCE)
+        SURFACE_TEX_ONE(SURFACE_TEX_ALPHA_U)
+        SURFACE_TEX_ONE(SURFACE_TEX_ALPHA_V)
+        SURFACE_TEX_ONE(SURFACE_TEX_EMISSION)
+    }
+    if (bsdf) {
+        if (b.tex_alpha_v != 0u && !alpha_v_own) b.alpha_v = b.alpha_u;
+        // Nori's microfacet: ks = 1 - max(kd).
+        if (b.tex_reflectance != 0u && b.kind == BSDF_NORI_MICROFACET) {
+            b.specular_weight = 1.0 - max(b.reflectance.x, max(b.reflectance.y, b.reflectance.z));
+        }
+    }
+    if (normal_map && TEXTURE_USES(TEXTURE_FEATURE_NORMALMAP) && b.normal_map != 0u) {
+        texels.normal = texture_eval(b.normal_map, uv);
+    }
+    return b;
+}
+
+// The record with every textured parameter replaced by its texture at uv.
 BsdfRecord bsdf_textured(BsdfRecord b, vec2 uv) {
     if (!TEXTURE_USES(TEXTURE_FEATURE_BSDF)) return b;
-    if (b.tex_reflectance != 0u) {
-        b.reflectance = texture_eval(b.tex_reflectance, uv);
-        // Nori's microfacet: ks = 1 - max(kd).
-        if (b.kind == BSDF_NORI_MICROFACET) b.specular_weight = 1.0 - max(b.reflectance.x, max(b.reflectance.y, b.reflectance.z));
-    }
-    if (b.tex_specular != 0u) b.specular = texture_eval(b.tex_specular, uv);
-    if (b.tex_transmittance != 0u) b.transmittance = texture_eval(b.tex_transmittance, uv);
-    if (b.tex_alpha_u != 0u) b.alpha_u = max(texture_luminance(texture_eval(b.tex_alpha_u, uv)), 1e-4);
-    if (b.tex_alpha_v != 0u) b.alpha_v = max(texture_luminance(texture_eval(b.tex_alpha_v, uv)), 1e-4);
-    return b;
+    SurfaceTexels unused = SurfaceTexels(vec3(0.0), vec3(0.0));
+    return bsdf_textured_point(b, uv, false, 0u, unused);
 }
 
 #endif

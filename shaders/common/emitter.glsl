@@ -66,6 +66,14 @@ vec3 emitter_area_radiance(EmitterRecord e, vec3 ng, vec3 d, vec2 uv) {
     return e.radiance;
 }
 
+// emitter_area_radiance with e's texture (if it has one) already looked up at the
+// point: texel (bsdf_textured_point).
+vec3 emitter_area_radiance_texel(EmitterRecord e, vec3 ng, vec3 d, vec3 texel) {
+    if (dot(ng, d) >= 0.0) return vec3(0.0);
+    if (TEXTURE_USES(TEXTURE_FEATURE_AREA) && e.texture != 0u) return e.radiance * texel;
+    return e.radiance;
+}
+
 // Radiance arriving from the environment along world direction d (away from the
 // scene): the constant emitter or the environment map.
 vec3 emitter_env_radiance(EmitterRecord e, vec3 d) {

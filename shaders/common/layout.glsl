@@ -172,6 +172,8 @@ struct EmitterRecord {
 #define TEXTURE_FEATURE_NORMALMAP 512u
 #define TEXTURE_FEATURE_ENVMAP 1024u
 #define TEXTURE_FEATURE_AREA 2048u
+#define TEXTURE_FEATURE_LOOKUP_LOOP 4096u
+#define TEXTURE_FEATURE_PARAM_SHIFT 16u
 // A texture; lookups map uv by the affine to_uv first (u' = dot(to_uv_u.xyz, (u,v,1))).
 // Bitmap: width x height RGB texels at texel_value(offset..), row 0 at v = 0.
 struct TextureRecord {

@@ -26,12 +26,13 @@ float normal_map_tan2(float c) {
 // Mapping for Robust Monte Carlo Path Tracing"), a mapped normal that faces away from
 // wo has its tangential part negated, which turns it towards wo. A twosided record
 // seen from behind mirrors n0 first, as Mitsuba's twosided does around a normalmap.
-NormalMapFrame normal_map_frame(BsdfRecord b, Surface s, vec3 wo) {
+// normal_map_frame with the map's texel at s.uv already looked up (bsdf_textured_point).
+NormalMapFrame normal_map_frame_texel(BsdfRecord b, Surface s, vec3 wo, vec3 texel) {
     NormalMapFrame f;
     vec3 bx = s.ss;
     vec3 by = cross(s.ns, bx);
     f.n0 = ((b.flags & BSDF_TWOSIDED) != 0u && dot(wo, s.ns) < 0.0) ? -s.ns : s.ns;
-    vec3 c = 2.0 * texture_eval(b.normal_map, s.uv) - 1.0;
+    vec3 c = 2.0 * texel - 1.0;
     vec3 n = c.x * bx + c.y * by + c.z * f.n0;
     if ((b.flags & BSDF_NORMALMAP_FLIP) != 0u && dot(wo, f.n0) * dot(wo, n) <= 0.0) {
         n = -c.x * bx - c.y * by + c.z * f.n0;
@@ -43,6 +44,10 @@ NormalMapFrame normal_map_frame(BsdfRecord b, Surface s, vec3 wo) {
     // α² = min(tan²θ_n / 8, 1), θ_n the angle between n and n0.
     f.alpha2 = (b.flags & BSDF_NORMALMAP_SHADOWING) != 0u ? min(0.125 * normal_map_tan2(dot(f.n, f.n0)), 1.0) : 0.0;
     return f;
+}
+
+NormalMapFrame normal_map_frame(BsdfRecord b, Surface s, vec3 wo) {
+    return normal_map_frame_texel(b, s, wo, texture_eval(b.normal_map, s.uv));
 }
 
 // The factor by which the normal map scales the nested BSDF's value for light from

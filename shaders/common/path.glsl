@@ -148,13 +148,23 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
     } else {
         s = surface_at(h.prim, h.u, h.v, r.origin, r.dir, h.t);
         ShapeRecord shape = shape_load(s.shape);
-        if (count_emission && shape.emitter != NONE) {
-            vec3 Le = emitter_area_radiance(emitter_load(shape.emitter), s.ng, r.dir, s.uv);
+        bool emits = count_emission && shape.emitter != NONE;
+        EmitterRecord light;
+        uint emission_texture = 0u;
+        if (emits) {
+            light = emitter_load(shape.emitter);
+            emission_texture = light.texture;
+        }
+        // Every texture of the point in one pass (the BSDF's parameters, its normal
+        // map, the emitter's radiance): bsdf_textured_point says why.
+        SurfaceTexels texels = SurfaceTexels(vec3(0.0), vec3(0.0));
+        bsdf = bsdf_textured_point(bsdf_load(shape.bsdf), s.uv, true, emission_texture, texels);
+        if (emits) {
+            vec3 Le = emitter_area_radiance_texel(light, s.ng, r.dir, texels.emission);
             float w = weigh ? mis_weight(path.bsdf_pdf, emitter_pdf_hit(shape.emitter, r.origin, r.dir, h.t, s.ng)) : 1.0;
             path.radiance += path.throughput * Le * w;
             path_store_radiance(r.path, path);
         }
-        bsdf = bsdf_textured(bsdf_load(shape.bsdf), s.uv);
         // A normal map (normal_map.glsl) replaces the shading normal and weighs the
         // light of each direction wi by normal_map_weight: 0 on different sides of the
         // old and the new normal, else its shadowing term. A twosided record mirrors
@@ -162,7 +172,7 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
         // as in Mitsuba's twosided around a normalmap.
         mapped = TEXTURE_USES(TEXTURE_FEATURE_NORMALMAP) && bsdf.normal_map != 0u;
         if (mapped) {
-            nm = normal_map_frame(bsdf, s, -r.dir);
+            nm = normal_map_frame_texel(bsdf, s, -r.dir, texels.normal);
             s.ns = nm.n;
             // Mitsuba's perturbed frame keeps the old tangent, made orthogonal to n.
             s.ss = surface_tangent(s.ss, s.ns);

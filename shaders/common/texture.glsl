@@ -38,19 +38,23 @@ vec3 texture_texel(TextureRecord t, int x, int y) {
 }
 
 // Bitmap at p (already through to_uv): texel (i, j) centred at ((i+½)/W, (j+½)/H),
-// row 0 at v = 0; nearest or bilinear.
+// row 0 at v = 0; nearest or bilinear. Nearest is the bilinear code with the texel
+// (⌊pW⌋, ⌊pH⌋) as its first corner and weights 0 on the others, mix(a, b, 0) = a for
+// finite texels: llvmpipe runs both sides of a branch, so a separate nearest path
+// would cost every bilinear lookup its texel reads too.
 vec3 texture_bitmap(TextureRecord t, vec2 p) {
     uint mode = (t.flags >> TEXTURE_WRAP_SHIFT) & 3u;
+    bool nearest = (t.flags & TEXTURE_NEAREST) != 0u;
     int w = int(t.width), h = int(t.height);
-    if ((t.flags & TEXTURE_NEAREST) != 0u) {
-        int x = int(floor(p.x * float(w)));
-        int y = int(floor(p.y * float(h)));
-        return texture_texel(t, texture_wrap(x, w, mode), texture_wrap(y, h, mode));
+    float x = p.x * float(w);
+    float y = p.y * float(h);
+    if (!nearest) {
+        x -= 0.5;
+        y -= 0.5;
     }
-    float x = p.x * float(w) - 0.5;
-    float y = p.y * float(h) - 0.5;
     float x0f = floor(x), y0f = floor(y);
-    float fx = x - x0f, fy = y - y0f;
+    float fx = nearest ? 0.0 : x - x0f;
+    float fy = nearest ? 0.0 : y - y0f;
     int x0 = int(x0f), y0 = int(y0f);
     int xa = texture_wrap(x0, w, mode), xb = texture_wrap(x0 + 1, w, mode);
     int ya = texture_wrap(y0, h, mode), yb = texture_wrap(y0 + 1, h, mode);

@@ -355,6 +355,13 @@ pub const TEXTURE_FEATURE_BSDF: u32 = 256;
 pub const TEXTURE_FEATURE_NORMALMAP: u32 = 512;
 pub const TEXTURE_FEATURE_ENVMAP: u32 = 1024;
 pub const TEXTURE_FEATURE_AREA: u32 = 2048;
+/// Surface points need fewer texture lookups than the scene has textured BSDF
+/// parameters and emitters: `bsdf_textured_point` (bsdf_textured.glsl) loops over them.
+pub const TEXTURE_FEATURE_LOOKUP_LOOP: u32 = 4096;
+/// Bit `TEXTURE_FEATURE_PARAM_SHIFT + k`: some BSDF textures its parameter k (0
+/// reflectance, 1 specular, 2 transmittance, 3 alpha_u, 4 alpha_v), as
+/// `SURFACE_TEX_*` in bsdf_textured.glsl.
+pub const TEXTURE_FEATURE_PARAM_SHIFT: u32 = 16;
 
 /// A texture (`scene::Texture`). Every texture's lookups first map the surface uv by
 /// the affine `to_uv` (rows `to_uv_u`, `to_uv_v`: u' = x u + y v + z).

@@ -393,15 +393,49 @@ impl SceneRecords {
     pub fn texture_mask(&self) -> u32 {
         use crate::gpu::layout::{
             TEXTURE_FEATURE_AREA, TEXTURE_FEATURE_BSDF, TEXTURE_FEATURE_ENVMAP,
-            TEXTURE_FEATURE_NORMALMAP,
+            TEXTURE_FEATURE_LOOKUP_LOOP, TEXTURE_FEATURE_NORMALMAP, TEXTURE_FEATURE_PARAM_SHIFT,
         };
         let mut m = self.textures.iter().fold(0u32, |m, t| m | 1 << t.kind);
         let b = &self.bsdfs;
-        if b.iter().any(|b| {
-            b.tex_reflectance | b.tex_specular | b.tex_transmittance | b.tex_alpha_u | b.tex_alpha_v
-                != 0
-        }) {
-            m |= TEXTURE_FEATURE_BSDF;
+        // The lookups of a record's textured parameters (SURFACE_TEX_* bits of
+        // bsdf_textured.glsl; a second roughness naming the first one's texture takes
+        // its value).
+        let lookups = |b: &BsdfRecord| {
+            let alpha_v = if b.tex_alpha_v != b.tex_alpha_u {
+                b.tex_alpha_v
+            } else {
+                0
+            };
+            [
+                b.tex_reflectance,
+                b.tex_specular,
+                b.tex_transmittance,
+                b.tex_alpha_u,
+                alpha_v,
+            ]
+            .iter()
+            .enumerate()
+            .fold(0u32, |m, (k, &id)| if id != 0 { m | 1 << k } else { m })
+        };
+        let params = b.iter().fold(0u32, |m, b| m | lookups(b));
+        if params != 0 {
+            m |= TEXTURE_FEATURE_BSDF | params << TEXTURE_FEATURE_PARAM_SHIFT;
+        }
+        let area = self
+            .emitters
+            .iter()
+            .any(|e| e.kind == EMITTER_AREA && e.texture != 0);
+        // One lookup loop where a point needs fewer lookups than the scene has
+        // textured parameters and emitters (bsdf_textured_point says why); a point
+        // is taken to need a textured light's lookup or its BSDF's, not both.
+        let per_point = b
+            .iter()
+            .map(|b| lookups(b).count_ones())
+            .chain(std::iter::once(area as u32))
+            .max()
+            .unwrap_or(0);
+        if params.count_ones() + area as u32 > per_point {
+            m |= TEXTURE_FEATURE_LOOKUP_LOOP;
         }
         if b.iter().any(|b| b.normal_map != 0) {
             m |= TEXTURE_FEATURE_NORMALMAP;

@@ -101,11 +101,16 @@ impl Builder {
             m.normals.clear();
         }
         mesh::transform(&mut m, options.to_world);
-        if options.compute_normals && !options.face_normals && m.normals.is_empty() {
-            mesh::compute_vertex_normals(&mut m);
-        }
+        // The normals' pass sees every triangle's area: where all are positive, the
+        // degenerate triangles' pass would find none (a fifth of a PLY's load).
+        let all_valid = options.compute_normals
+            && !options.face_normals
+            && m.normals.is_empty()
+            && mesh::compute_vertex_normals(&mut m);
         m.flip_normals = options.flip_normals;
-        mesh::drop_degenerate(&mut m);
+        if !all_valid {
+            mesh::drop_degenerate(&mut m);
+        }
         if m.indices.is_empty() {
             return Err(el.err(format!(
                 "mesh '{}' has no triangles (degenerate ones are dropped)",
