@@ -122,8 +122,12 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, bool any_hit) {
     // is found, then test its primitives. SIMD lanes (llvmpipe, GPU warps) step
     // through inner nodes together and through leaves together, instead of paying for
     // both in every iteration where some lanes are at a leaf and others are not.
+    // The inner loops are do-whiles behind an if: llvmpipe (Mesa 22.3) tests whether
+    // any lane goes on only at the end of a loop's body, so a while loop also runs
+    // its body (masked off) in the pass in which its condition stops the last lane:
+    // one node visit and one primitive test more per leaf.
     while (true) {
-        while ((item & BVH_COUNT_MASK) == 0u) {
+        if ((item & BVH_COUNT_MASK) == 0u) do {
             BvhNode n = bvh_node_load(item >> BVH_COUNT_BITS);
             float tl, tr_;
             bool hit_l = bvh_slab(r, n.left_min, n.left_max, tmin, hit.t, tl);
@@ -139,13 +143,14 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, bool any_hit) {
             } else {
                 BVH_STACK_POP(stack, item);
             }
-        }
+        } while ((item & BVH_COUNT_MASK) == 0u);
         if (item == BVH_DONE) {
             break;
         }
         uint index = item >> BVH_COUNT_BITS;
-        uint count = item & BVH_COUNT_MASK;
-        for (uint i = index; i < index + count; i++) {
+        uint count = item & BVH_COUNT_MASK; // a leaf holds at least one primitive
+        uint i = index;
+        do {
             Prim p = prim_load(i);
             float t;
             float u = 0.0;
@@ -169,7 +174,8 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, bool any_hit) {
                     return hit;
                 }
             }
-        }
+            i++;
+        } while (i < index + count);
         BVH_STACK_POP(stack, item);
     }
     return hit;

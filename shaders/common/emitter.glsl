@@ -161,7 +161,12 @@ Surface emitter_area_point(EmitterRecord e, vec2 u) {
 // Samples light arriving at x from one 2-D sample u: the emitter is chosen by u.x, which
 // is then reused (emitter_choose), and the point on it drawn from the 2-D sample
 // (emitter_area_point; as Mitsuba does), which a stratified sampler stratifies.
-EmitterSample emitter_sample(vec3 x, vec2 u) {
+//
+// With env = true, the environment emitter (frame.env_emitter) is taken instead, with
+// the direction d instead of a sampled one: Le and pdf are its radiance along d and
+// the density of sampling d, emitter_env_radiance and emitter_pdf_env bit for bit.
+// A path that left the scene (path.glsl) shares this lookup with emitter sampling.
+EmitterSample emitter_sample_env(vec3 x, vec2 u, bool env, vec3 d) {
     EmitterSample s;
     s.delta = false;
     s.Le = vec3(0.0);
@@ -172,6 +177,10 @@ EmitterSample emitter_sample(vec3 x, vec2 u) {
     if (frame.emitter_count == 0u) return s;
     float pmf;
     uint index = emitter_choose(u.x, pmf);
+    if (env) {
+        index = frame.env_emitter;
+        pmf = emitter_choice_pmf(index);
+    }
     s.emitter = index;
     EmitterRecord e = emitter_load(index);
     if ((EMITTER_HAS(EMITTER_POINT) && e.kind == EMITTER_POINT)
@@ -185,17 +194,16 @@ EmitterSample emitter_sample(vec3 x, vec2 u) {
         s.pdf = pmf;
         s.delta = true;
     } else if (EMITTER_HAS(EMITTER_CONSTANT) && e.kind == EMITTER_CONSTANT) {
-        s.wi = warp_uniform_sphere(u);
+        s.wi = env ? d : warp_uniform_sphere(u);
         s.dist = EMITTER_INFINITY;
         s.Le = e.radiance;
         s.pdf = pmf * warp_uniform_sphere_pdf(s.wi);
     } else if (EMITTER_HAS(EMITTER_ENVMAP) && e.kind == EMITTER_ENVMAP) {
         if (!TEXTURE_USES(TEXTURE_FEATURE_ENVMAP)) return s;
-        float pdf;
-        s.wi = envmap_sample(e, u, pdf);
+        s.wi = env ? d : envmap_sample_direction(e, u);
         s.dist = EMITTER_INFINITY;
         s.Le = envmap_eval(e, s.wi);
-        s.pdf = pmf * pdf;
+        s.pdf = pmf * envmap_pdf(e, s.wi);
     } else if ((EMITTER_HAS(EMITTER_AREA) && e.tri_count > 0u)
                || (EMITTER_HAS(EMITTER_KIND_BIT_QUADRIC_AREA) && e.tri_count == 0u
                    && e.prim_kind != PRIM_SPHERE)) {
@@ -233,6 +241,8 @@ EmitterSample emitter_sample(vec3 x, vec2 u) {
     }
     return s;
 }
+
+EmitterSample emitter_sample(vec3 x, vec2 u) { return emitter_sample_env(x, u, false, vec3(0.0)); }
 
 // Density with which emitter_sample, called at x_prev, picks the point at distance t
 // along the unit direction d where a ray hit area emitter `index` (geometric normal ng

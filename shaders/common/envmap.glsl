@@ -77,9 +77,9 @@ float envmap_pdf(EmitterRecord e, vec3 d) {
     return envmap_cell_density(e, i, j) / (2.0 * PI * PI * st);
 }
 
-// Samples a world direction towards the map; pdf per unit solid angle,
-// p(ω) = p(u, v) / (2π² sin θ) (PBR 3rd ed., sec. 14.2.4).
-vec3 envmap_sample(EmitterRecord e, vec2 u, out float pdf) {
+// Samples a world direction towards the map, with density envmap_pdf per unit solid
+// angle, p(ω) = p(u, v) / (2π² sin θ) (PBR 3rd ed., sec. 14.2.4).
+vec3 envmap_sample_direction(EmitterRecord e, vec2 u) {
     uint w = e.dist_width, h = e.dist_height;
     uint j = envmap_find(e.dist_offset, h, u.x);
     float m0 = env_dist(e.dist_offset + j), m1 = env_dist(e.dist_offset + j + 1u);
@@ -92,9 +92,14 @@ vec3 envmap_sample(EmitterRecord e, vec2 u, out float pdf) {
     // density.
     float theta = clamp(uv.y, 1e-7, 1.0 - 1e-6) * PI, phi = uv.x * (2.0 * PI);
     float st = sin(theta);
-    vec3 d = envmap_to_world(e, vec3(st * sin(phi), cos(theta), -st * cos(phi)));
-    // The density of the direction as envmap_pdf finds it, so that MIS sees the very
-    // same number on a hit (they differ from the cell's only by rounding at its edges).
+    return envmap_to_world(e, vec3(st * sin(phi), cos(theta), -st * cos(phi)));
+}
+
+// envmap_sample_direction with its density: the density of the direction as
+// envmap_pdf finds it, so that MIS sees the very same number on a hit (they differ
+// from the cell's only by rounding at its edges).
+vec3 envmap_sample(EmitterRecord e, vec2 u, out float pdf) {
+    vec3 d = envmap_sample_direction(e, u);
     pdf = envmap_pdf(e, d);
     return d;
 }

@@ -27,4 +27,12 @@ bool integrator_is_volumetric(uint integrator) {
         || integrator_is_single_scatter(integrator);
 }
 
+// Whether the integrator samples emitters at surface vertices (path.glsl; in media,
+// the medium decides).
+bool integrator_samples_emitters(uint integrator) {
+    return integrator == INTEGRATOR_DIRECT_EMS || integrator == INTEGRATOR_DIRECT_MIS
+        || integrator == INTEGRATOR_PATH_MIS || integrator == INTEGRATOR_VOL_PATH_MIS
+        || integrator_is_single_scatter(integrator);
+}
+
 #endif

@@ -98,8 +98,7 @@ void path_mark_covered(uint i, inout PathState path, HitItem h, PathVertex v) {
 // photon mappers' camera paths end sooner, shaders/kernels/sppm_shade.comp).
 void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVertex v, uint max_depth) {
     bool single = integrator_is_single_scatter(integrator);
-    bool ems = integrator == INTEGRATOR_DIRECT_EMS || integrator == INTEGRATOR_DIRECT_MIS
-        || integrator == INTEGRATOR_PATH_MIS || integrator == INTEGRATOR_VOL_PATH_MIS || single;
+    bool ems = integrator_samples_emitters(integrator);
     bool mats = integrator != INTEGRATOR_DIRECT_EMS;
     bool mis = integrator == INTEGRATOR_DIRECT_MIS || integrator == INTEGRATOR_PATH_MIS
         || integrator == INTEGRATOR_VOL_PATH_MIS || single;
@@ -127,14 +126,22 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
     bool count_emission = depth == 0u ? frame.hide_emitters == 0u : mats;
     bool weigh = depth > 0u && mis && (path.flags & PATH_DELTA) == 0u;
 
-    if (!in_medium && h.prim == NONE) {
-        if ((EMITTER_HAS(EMITTER_CONSTANT) || EMITTER_HAS(EMITTER_ENVMAP)) && count_emission
-            && frame.env_emitter != NONE) {
+    // A ray that left the scene sees the environment. Where the integrator samples
+    // emitters in a scene with an environment map, its lookup (radiance and density
+    // along r.dir) is the one of emitter sampling below, made for the sampled direction
+    // at surface vertices (emitter_sample_env): llvmpipe runs both sides of a branch,
+    // so two lookups would cost every lane both. The numbers are the same.
+    bool miss = !in_medium && h.prim == NONE;
+    bool env_seen = miss && (EMITTER_HAS(EMITTER_CONSTANT) || EMITTER_HAS(EMITTER_ENVMAP))
+        && count_emission && frame.env_emitter != NONE;
+    bool env_merged = EMITTER_HAS(EMITTER_ENVMAP) && integrator_samples_emitters(integrator);
+    if (miss) {
+        if (env_seen && !env_merged) {
             float w = weigh ? mis_weight(path.bsdf_pdf, emitter_pdf_env(r.dir)) : 1.0;
             path.radiance += path.throughput * emitter_env_radiance(emitter_load(frame.env_emitter), r.dir) * w;
             path_store_radiance(r.path, path);
         }
-        return;
+        if (!env_seen || !env_merged) return;
     }
 
     Surface s;
@@ -142,7 +149,9 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
     bool mapped = false;
     NormalMapFrame nm;
     vec3 wo;
-    if (in_medium) {
+    if (miss) {
+        s.p = r.origin;
+    } else if (in_medium) {
         s.p = v.p;
         wo = -r.dir; // world frame, as the phase function takes it
     } else {
@@ -185,11 +194,18 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
     }
 
     // A longer path must fit in max_depth segments (this vertex ends segment depth+1).
-    if (depth + 2u > max_depth) return;
+    if (!miss && depth + 2u > max_depth) return;
 
-    if (ems) {
+    if (ems || (env_merged && miss)) {
         vec2 u = sample_2d(path.pixel, path.sample_index, rng_dim_bounce(depth, v.light_dim));
-        EmitterSample es = emitter_sample(s.p, u);
+        EmitterSample es = emitter_sample_env(s.p, u, env_merged && miss, r.dir);
+        if (env_merged && miss) {
+            // The environment seen along r.dir (env_merged).
+            float w = weigh ? mis_weight(path.bsdf_pdf, es.pdf) : 1.0;
+            path.radiance += path.throughput * es.Le * w;
+            path_store_radiance(r.path, path);
+            return;
+        }
         if (es.pdf > 0.0 && any(greaterThan(es.Le, vec3(0.0)))) {
             vec3 f;
             float pdf;
