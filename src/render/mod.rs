@@ -896,8 +896,8 @@ impl Renderer {
 
     /// Renders one batch: `path_count` paths starting at global sample
     /// `sample_base * pixels + pixel_base` (pixels the film samples), the first in film
-    /// sample slot `slot`, `BOUNCE_CHUNK` bounces per submission (see
-    /// [`Self::run_bounces`]).
+    /// sample slot `slot`, `BOUNCE_CHUNK` bounces per submission, or for budgets
+    /// beyond that `LONG_BUDGET_CHUNKS` (see [`Self::run_bounces`]).
     fn run_batch(
         &self,
         cmd: &mut CommandList,
@@ -933,7 +933,11 @@ impl Renderer {
             &mut push,
             &stages,
             self.bounces,
-            (BOUNCE_CHUNK, BOUNCE_CHUNK),
+            if self.bounces > BOUNCE_CHUNK {
+                LONG_BUDGET_CHUNKS
+            } else {
+                (BOUNCE_CHUNK, BOUNCE_CHUNK)
+            },
             stats,
         )?;
         self.record_film(cmd, &sets, &push);
@@ -1000,6 +1004,15 @@ const BOUNCE_CHUNK: u32 = 64;
 /// photon and SPPM camera batches are small and many (one per iteration), and their
 /// paths mostly end within a few bounces, so their first chunk is short.
 const SHORT_BOUNCE_CHUNKS: (u32, u32) = (4, BOUNCE_CHUNK);
+
+/// The chunks of bounces of path batches whose budget exceeds one chunk (paths of
+/// unbounded length, ended by Russian roulette): most end within a few bounces and the
+/// longest within a few dozen, and a batch of 64 bounces then ran some 40 empty ones,
+/// four dispatches of about 30 us each (scenes/envmap/envmap_glossy.xml at 256x256,
+/// 16 spp: 384 dispatches of each kernel, the last path ending before bounce 24).
+/// Submissions after 8, 24 and 56 bounces let such a batch stop at the first of
+/// them that finds no path left.
+const LONG_BUDGET_CHUNKS: (u32, u32) = (8, BOUNCE_CHUNK);
 
 /// Paths per batch: bounded by memory (about 40 MiB of path state and film samples
 /// on a CPU device, 300 MiB on a GPU) and large enough to fill a GPU.
