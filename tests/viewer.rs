@@ -60,41 +60,44 @@ fn xvfb(test: &str) -> Option<Xvfb> {
         eprintln!("\n*** SKIPPED {message} ***\n");
         return None;
     }
-    // A display number of our own: start past those a desktop uses, spread by process
-    // and test so parallel tests rarely meet; Xvfb refuses a number in use (its lock
-    // file), and then the next is tried.
-    let spread = (std::process::id() as usize * 7 + test.len() * 13) % 400;
-    for n in (0..40).map(|i| 100 + (spread + i * 17) % 800) {
-        if Path::new(&format!("/tmp/.X11-unix/X{n}")).exists()
-            || Path::new(&format!("/tmp/.X{n}-lock")).exists()
-        {
-            continue;
+    // A display of our own, picked by Xvfb itself: with -displayfd it takes the first
+    // number whose lock file it can create (atomic, so parallel tests never share one)
+    // and writes that number to the given descriptor once it accepts connections.
+    // (Choosing numbers here raced: two tests could start an Xvfb on one number, and
+    // the loser then used the winner's server, which went away with the other test.)
+    let mut child = Command::new("Xvfb")
+        .args([
+            "-displayfd",
+            "1",
+            "-screen",
+            "0",
+            "640x480x24",
+            "-nolisten",
+            "tcp",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("start Xvfb");
+    let stdout = child.stdout.take().expect("Xvfb's stdout");
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        use std::io::BufRead;
+        let mut line = String::new();
+        let _ = std::io::BufReader::new(stdout).read_line(&mut line);
+        let _ = tx.send(line);
+    });
+    match rx.recv_timeout(Duration::from_secs(20)) {
+        Ok(line) if line.trim().parse::<u32>().is_ok() => Some(Xvfb {
+            child,
+            display: format!(":{}", line.trim()),
+        }),
+        other => {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{test}: Xvfb did not report a display ({other:?})");
         }
-        let mut child = Command::new("Xvfb")
-            .arg(format!(":{n}"))
-            .args(["-screen", "0", "640x480x24", "-nolisten", "tcp"])
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("start Xvfb");
-        let socket = format!("/tmp/.X11-unix/X{n}");
-        let deadline = Instant::now() + Duration::from_secs(15);
-        while Instant::now() < deadline {
-            if Path::new(&socket).exists() {
-                return Some(Xvfb {
-                    child,
-                    display: format!(":{n}"),
-                });
-            }
-            if let Ok(Some(_)) = child.try_wait() {
-                break; // the number was taken after all
-            }
-            std::thread::sleep(Duration::from_millis(50));
-        }
-        let _ = child.kill();
-        let _ = child.wait();
     }
-    panic!("{test}: Xvfb did not start on any of 40 display numbers");
 }
 
 fn temp_dir(test: &str) -> PathBuf {
