@@ -11,6 +11,14 @@ pub enum Error {
          wavetrace render SCENE.xml --tev [HOST:PORT]"
     )]
     NoDisplay(String),
+    #[error(
+        "the Vulkan driver cannot present to a window ({0}).\n\
+         A driver built without a window-system platform (for example lavapipe from\n\
+         tools/lavapipe.sh) renders but cannot show a window: run `wavetrace view` on\n\
+         the system's driver (unset VK_ICD_FILENAMES), or render headless with\n  \
+         wavetrace render SCENE.xml -o out.exr"
+    )]
+    NoPresentation(String),
     #[error(transparent)]
     Gpu(#[from] crate::gpu::Error),
     #[error(transparent)]

@@ -15,10 +15,15 @@ use super::error::{Error, Result};
 static LAST_GLFW_ERROR: Mutex<String> = Mutex::new(String::new());
 
 fn last_glfw_error() -> String {
-    LAST_GLFW_ERROR
+    let last = LAST_GLFW_ERROR
         .lock()
         .map(|e| e.clone())
-        .unwrap_or_default()
+        .unwrap_or_default();
+    if last.is_empty() {
+        "GLFW reported no error".to_string()
+    } else {
+        last
+    }
 }
 
 /// Why there is no display to open a window on, if that can be told from the
@@ -51,8 +56,8 @@ impl Window {
         })
         .map_err(|_| Error::NoDisplay(format!("GLFW could not start: {}", last_glfw_error())))?;
         if !glfw.vulkan_supported() {
-            return Err(Error::NoDisplay(format!(
-                "GLFW finds no Vulkan loader able to present to windows: {}",
+            return Err(Error::NoPresentation(format!(
+                "GLFW finds no Vulkan loader and driver able to present to windows: {}",
                 last_glfw_error()
             )));
         }
@@ -83,7 +88,7 @@ impl Window {
     /// The Vulkan instance extensions presenting to this window needs.
     pub fn instance_extensions(&self) -> Result<Vec<String>> {
         self.glfw.get_required_instance_extensions().ok_or_else(|| {
-            Error::NoDisplay(format!(
+            Error::NoPresentation(format!(
                 "GLFW names no Vulkan extensions to present with: {}",
                 last_glfw_error()
             ))
