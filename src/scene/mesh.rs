@@ -175,7 +175,7 @@ impl CornerWeights {
         for (j, v) in corners.iter().enumerate() {
             let n = (v[1] - v[0]).cross(v[2] - v[0]);
             let len2 = n.length_squared();
-            w.valid[j] = len2 > 0.0 && len2.is_finite();
+            w.valid[j] = has_area(len2);
             w.normal[j] = n / len2.sqrt();
             // Each edge normalized once: corner k's edges are u[k] and -u[k + 2], the
             // same bits as normalizing v[k + 1] - v[k] and v[k + 2] - v[k].
@@ -222,6 +222,14 @@ fn asin_unit(x: f32) -> f32 {
     }
 }
 
+/// Whether a triangle whose edge cross product has squared length `cross2` has a
+/// positive, finite area. |cross|^2 is 0 or infinite exactly where |cross| is (glam's
+/// length is the square root of it). The one test of both [`drop_degenerate`] and the
+/// vertex normals' pass, so that a mesh the latter finds valid has nothing to drop.
+fn has_area(cross2: f32) -> bool {
+    cross2 > 0.0 && cross2.is_finite()
+}
+
 /// Drops triangles of zero area (repeated or collinear vertices) and normals that are
 /// zero or not finite (then the mesh keeps no normals at all). Returns how many
 /// triangles were dropped.
@@ -240,10 +248,7 @@ pub fn drop_degenerate(mesh: &mut Mesh) -> usize {
             positions[b as usize],
             positions[c as usize],
         );
-        // |cross|^2 is 0 or infinite exactly where |cross| is (glam's length is
-        // the square root of it).
-        let area2 = (p1 - p0).cross(p2 - p0).length_squared();
-        !(area2 > 0.0 && area2.is_finite())
+        !has_area((p1 - p0).cross(p2 - p0).length_squared())
     };
     // Looked for in parallel (a large mesh rarely has any), removed in one pass.
     if !mesh
