@@ -22,6 +22,8 @@ layout(constant_id = 2) const uint SCENE_TEXTURES = 0xffffffffu;
 // for area lights on spheres): the others compile away.
 layout(constant_id = 9) const uint SCENE_EMITTER_KINDS = 0xffffffffu;
 #define EMITTER_KINDS SCENE_EMITTER_KINDS
+// Only stratifying samplers stratify the emitter choice (emitter.glsl).
+#define EMITTER_STRATA (SCENE_SAMPLER_KIND != SAMPLER_INDEPENDENT)
 #include "emitter.glsl"
 
 // The BSDF kinds the scene uses (a bit per BSDF_* kind): the others compile away.

@@ -26,6 +26,15 @@
 #define EMITTER_HAS_ANY(m) ((EMITTER_KINDS & (m)) != 0u)
 // Area emitters on meshes, spheres, disks and cylinders.
 #define EMITTER_AREA_BITS ((1u << EMITTER_AREA) | (1u << EMITTER_KIND_BIT_SPHERE_AREA) | (1u << EMITTER_KIND_BIT_QUADRIC_AREA))
+// Area emitters on spheres, disks and cylinders.
+#define EMITTER_QUADRIC_AREA_BITS ((1u << EMITTER_KIND_BIT_SPHERE_AREA) | (1u << EMITTER_KIND_BIT_QUADRIC_AREA))
+// Whether the emitter choice may be stratified (frame.emitter_strata > 0); a kernel
+// whose sampler never stratifies it (the independent sampler:
+// render::sampler::emitter_strata) defines it false, so that the code of the
+// stratified choice compiles away (llvmpipe would run it, masked, for every lane).
+#ifndef EMITTER_STRATA
+#define EMITTER_STRATA true
+#endif
 
 #include "alias.glsl"
 #include "frame.glsl"
@@ -109,7 +118,9 @@ float emitter_interval_start(uint i) {
 // The emitter u picks, with the probability of picking it; u is remapped to its position
 // within the emitter's interval, rescaled (sample reuse: it stays stratified).
 uint emitter_choose(inout float u, out float pmf) {
-    if (frame.emitter_strata == 0u) return alias_sample_cdf(0u, frame.emitter_count, u, pmf);
+    if (!EMITTER_STRATA || frame.emitter_strata == 0u) {
+        return alias_sample_cdf(0u, frame.emitter_count, u, pmf);
+    }
     float x = u * float(frame.emitter_strata);
     uint lo = 0u, hi = frame.emitter_count;
     while (hi - lo > 1u) {
@@ -125,7 +136,7 @@ uint emitter_choose(inout float u, out float pmf) {
 
 // The probability that emitter_choose picks emitter i.
 float emitter_choice_pmf(uint i) {
-    if (frame.emitter_strata == 0u) return alias_load(i).pmf;
+    if (!EMITTER_STRATA || frame.emitter_strata == 0u) return alias_load(i).pmf;
     return (emitter_interval_start(i + 1u) - emitter_interval_start(i)) / float(frame.emitter_strata);
 }
 
@@ -134,9 +145,10 @@ float emitter_choice_pmf(uint i) {
 // triangle by area with u.y, which is then reused (alias_sample_reuse), and a uniform
 // point on it; a sphere a uniform direction from its centre; a disk the concentric map
 // of the unit disk; a cylinder a uniform height and angle (Mitsuba's sample_position
-// of each; their area elements are constant).
+// of each; their area elements are constant). In a scene without area lights on
+// quadrics the quadrics' code compiles away.
 Surface emitter_area_point(EmitterRecord e, vec2 u) {
-    if (EMITTER_HAS(EMITTER_AREA) && e.tri_count > 0u) {
+    if (!EMITTER_HAS_ANY(EMITTER_QUADRIC_AREA_BITS) || (EMITTER_HAS(EMITTER_AREA) && e.tri_count > 0u)) {
         float tri_pmf;
         uint t = alias_sample_reuse(e.tri_first, e.tri_count, u.y, tri_pmf);
         vec2 b = warp_uniform_triangle(u);
