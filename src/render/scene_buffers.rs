@@ -49,8 +49,8 @@ pub struct SceneRecords {
     pub textures: Vec<TextureRecord>,
     /// Every bitmap's texels, RGB, three floats each.
     pub texels: Vec<f32>,
-    /// Environment map sampling distributions (`scene::envmap::Distribution::cdf`).
-    pub env_dist: Vec<f32>,
+    /// Sampling distributions (`scene::distribution2d`): environment maps'.
+    pub distributions: Vec<f32>,
     /// Per emitter, the mean of its radiance texture (white for untextured ones), for
     /// the emitter's power; for an envmap its mean luminance over the sphere.
     emitter_mean: Vec<f64>,
@@ -190,8 +190,8 @@ impl SceneRecords {
                     };
                     let dist = envmap::Distribution::build(*width, *height, texels, importance);
                     mean = dist.mean_luminance;
-                    let offset = r.env_dist.len() as u32;
-                    r.env_dist.extend_from_slice(&dist.cdf);
+                    let offset = r.distributions.len() as u32;
+                    r.distributions.extend_from_slice(&dist.cdf);
                     let col = |v: Vec3| [v.x, v.y, v.z, 0.0];
                     EmitterRecord {
                         kind: EMITTER_ENVMAP,

@@ -6,6 +6,7 @@
 pub mod bsdf;
 mod builder;
 pub mod camera;
+pub mod distribution2d;
 pub mod emitter;
 pub mod envmap;
 pub mod error;
