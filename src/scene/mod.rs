@@ -28,6 +28,7 @@ pub mod serialized;
 pub mod shape;
 pub mod spectrum;
 pub mod texture;
+pub mod textured_emitter;
 pub mod transform;
 pub mod vdb;
 pub mod xml;
