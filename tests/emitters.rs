@@ -19,7 +19,7 @@ use wavetrace::scene::{envmap, Emitter, Scene, Texture};
 
 const N: u32 = 200_000;
 /// Chi-square tests in this file, for the Šidák correction of a 1% family level.
-const TESTS: usize = 4;
+const TESTS: usize = 5;
 
 struct Probe {
     wi: Vec3,
@@ -228,9 +228,22 @@ fn sampled_directions_follow_the_density() {
     let bvh = Bvh::build(prims_from_scene(&s));
     let records = SceneRecords::new(&s, &bvh);
     let x = Vec3::new(0.1, -0.2, 0.3);
+    assert_directions_follow_the_density(&bvh, &records, x, "directions");
+}
+
+/// Chi-square test of the directions emitter sampling draws from `x` (non-delta
+/// samples with pdf > 0) against the density `emitter_pdf_hit` reports along each
+/// direction, over a 48 x 96 grid of the sphere. Returns the integral of that density
+/// over the sphere (as the expected counts sum it), over N.
+fn assert_directions_follow_the_density(
+    bvh: &Bvh,
+    records: &SceneRecords,
+    x: Vec3,
+    name: &str,
+) -> f64 {
     let grid = SphereGrid::new(Vec3::new(0.3, 0.2, 1.0), 48, 96);
     let mut observed = vec![0.0; grid.cells()];
-    for p in probe(&s, &bvh, &records, x) {
+    for p in run_probe(bvh, records, x, None, 0) {
         if p.pdf > 0.0
             && p.dist.is_finite()
             && records.emitters[p.emitter as usize].kind != wavetrace::gpu::layout::EMITTER_POINT
@@ -246,7 +259,7 @@ fn sampled_directions_follow_the_density() {
     // misjudge how much of the cell the light covers).
     let cell_integrals = |cells: &[usize], k: usize| -> Vec<f64> {
         let (dirs, w) = grid.quadrature_of(cells, k);
-        let pdf = run_probe(&bvh, &records, x, Some(&dirs), 0);
+        let pdf = run_probe(bvh, records, x, Some(&dirs), 0);
         (0..cells.len())
             .map(|c| {
                 (c * k * k..(c + 1) * k * k)
@@ -258,7 +271,7 @@ fn sampled_directions_follow_the_density() {
     let all: Vec<usize> = (0..grid.cells()).collect();
     let coarse = 4;
     let (dirs, _) = grid.quadrature_of(&all, coarse);
-    let pdf = run_probe(&bvh, &records, x, Some(&dirs), 0);
+    let pdf = run_probe(bvh, records, x, Some(&dirs), 0);
     let edges: Vec<usize> = all
         .iter()
         .copied()
@@ -278,7 +291,7 @@ fn sampled_directions_follow_the_density() {
     let r = chi2(&observed, &expected);
     let (o, e): (f64, f64) = (observed.iter().sum(), expected.iter().sum());
     println!(
-        "directions: {o} samples in cells, {e:.1} expected ({} of {} cells at 48 x 48), \
+        "{name}: {o} samples in cells, {e:.1} expected ({} of {} cells at 48 x 48), \
          X² = {:.1}, dof {}, p = {:.4}",
         edges.len(),
         grid.cells(),
@@ -288,9 +301,10 @@ fn sampled_directions_follow_the_density() {
     );
     assert!(
         r.p_value > sidak(0.01, TESTS),
-        "sampled directions do not follow the density: p = {:.3e}",
+        "{name}: sampled directions do not follow the density: p = {:.3e}",
         r.p_value
     );
+    e / N as f64
 }
 
 #[test]
@@ -560,5 +574,181 @@ fn emitters_chosen_by_whole_strata_keep_their_densities() {
     assert!(
         mismatched * 10_000 < checked,
         "{mismatched} of {checked} samples: pdf at the hit != sampling pdf"
+    );
+}
+
+/// Lights whose radiance is an 8 x 4 bitmap with one texel 60 times brighter than the
+/// rest and one black, around the origin, facing it: a rectangle (nearest filtering),
+/// a sphere (bilinear, clamped, to_uv a quarter turn), a second rectangle (bilinear,
+/// mirrored wrap, to_uv flipping u), all sampled by their texture, and a cube (its six
+/// faces share the uv square: sampled by area).
+fn textured_scene() -> Scene {
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let dir = format!(
+        "emitters-textured-{}",
+        CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+    );
+    let mut img = wavetrace::image::Image::new(8, 4);
+    for y in 0..4 {
+        for x in 0..8 {
+            img.set_pixel(x, y, [0.5 + 0.2 * x as f32, 1.0 + 0.3 * y as f32, 0.8]);
+        }
+    }
+    img.set_pixel(5, 1, [60.0, 50.0, 40.0]);
+    img.set_pixel(2, 3, [0.0; 3]);
+    let exr = common::temp_file(&dir, "light.exr", "");
+    img.write_exr(&exr).unwrap();
+    let tex = |filter: &str, wrap: &str, to_uv: &str| {
+        format!(
+            r#"<texture type="bitmap" name="radiance"><string name="filename" value="{}"/>
+            <string name="filter_type" value="{filter}"/><string name="wrap_mode" value="{wrap}"/>
+            <transform name="to_uv">{to_uv}</transform></texture>"#,
+            exr.display()
+        )
+    };
+    let xml = format!(
+        r#"<scene version="3.0.0">
+    <sensor type="perspective"><film type="hdrfilm"><integer name="width" value="4"/><integer name="height" value="4"/></film></sensor>
+    <shape type="rectangle"><transform name="to_world"><scale x="1.5" y="0.8"/><rotate x="1" angle="180"/><translate value="0, 0, 3"/></transform>
+        <emitter type="area">{}</emitter></shape>
+    <shape type="sphere"><point name="center" value="3, 0.5, 0"/><float name="radius" value="0.8"/>
+        <emitter type="area">{}</emitter></shape>
+    <shape type="rectangle"><transform name="to_world"><rotate z="1" angle="30"/><translate value="0, 0, -3"/></transform>
+        <emitter type="area">{}</emitter></shape>
+    <shape type="cube"><transform name="to_world"><scale value="0.5"/><translate value="0, -4, 0"/></transform>
+        <emitter type="area">{}</emitter></shape>
+</scene>"#,
+        tex("nearest", "repeat", ""),
+        tex(
+            "bilinear",
+            "clamp",
+            r#"<rotate z="1" angle="90"/><translate x="1"/>"#
+        ),
+        tex("bilinear", "mirror", r#"<scale x="-1"/><translate x="1"/>"#),
+        tex("nearest", "repeat", ""),
+    );
+    common::load(&common::temp_file(&dir, "scene.xml", &xml))
+}
+
+/// Textured emitters draw their points by their texture (scene::textured_emitter,
+/// shaders/common/emitter_texture.glsl): the density MIS evaluates on a hit equals the
+/// density of sampling that point, which equals the CPU reference's (the texture-space
+/// density over the rectangle's area per unit uv, to solid angle), and the bright
+/// texel gets the share of samples its luminance asks for.
+#[test]
+fn textured_emitters_are_sampled_by_their_texture() {
+    use wavetrace::gpu::layout::{EMITTER_AREA, EMITTER_KIND_BIT_TEXTURE_SAMPLED};
+    use wavetrace::scene::textured_emitter::{AffineUvMap, TextureSampling};
+    let s = textured_scene();
+    let bvh = Bvh::build(prims_from_scene(&s));
+    let records = SceneRecords::new(&s, &bvh);
+    // Emitters in scene order (no point lights): rectangle, sphere, rectangle, cube.
+    let widths: Vec<u32> = records.emitters.iter().map(|e| e.dist_width).collect();
+    assert_eq!(
+        widths,
+        [8, 8, 8, 0],
+        "which emitters sample by their texture"
+    );
+    // The kernels' kinds: texture-sampled lights, and the cube's area sampling.
+    assert_eq!(
+        records.emitter_kinds(),
+        1 << EMITTER_KIND_BIT_TEXTURE_SAMPLED | 1 << EMITTER_AREA
+    );
+
+    let x = Vec3::new(0.1, -0.2, 0.3);
+    let Emitter::TexturedArea { texture, .. } = s.emitters[0] else {
+        panic!("{:?}", s.emitters[0])
+    };
+    let sampling = TextureSampling::new(&s.textures[texture as usize]).unwrap();
+    let map = AffineUvMap::of_mesh(&s.meshes[0]).unwrap();
+    // uv of a point of the first rectangle: solve x - origin = u du + v dv.
+    let uv_of = |y: Vec3| {
+        let q = y - map.origin;
+        let (a, b, c) = (map.du.dot(map.du), map.du.dot(map.dv), map.dv.dot(map.dv));
+        let (e, f) = (q.dot(map.du), q.dot(map.dv));
+        let det = a * c - b * b;
+        glam::Vec2::new((c * e - b * f) / det, (a * f - b * e) / det)
+    };
+    let (mut checked, mut mismatched, mut reference_checked, mut bright) = (0, 0, 0, 0);
+    for p in run_probe(&bvh, &records, x, None, 0) {
+        assert!(p.pdf.is_finite() && p.pdf >= 0.0 && p.wi.is_finite());
+        if p.pdf == 0.0 {
+            continue; // the far side of the sphere or the cube
+        }
+        if p.emitter == 1 {
+            // Near the sphere's outline the densities (∝ d² / cos) differ by the
+            // rounding of cos, the normal found from the hit against the sampled one,
+            // and grazing directions may miss: as for any area-sampled sphere.
+            let e = &records.emitters[1];
+            let y = x + p.wi * p.dist;
+            let n = (y - Vec3::from(e.position)) / e.radius;
+            if n.dot(-p.wi) < 0.02 {
+                continue;
+            }
+        }
+        checked += 1;
+        if (p.pdf_hit - p.pdf).abs() > 1e-3 * p.pdf {
+            mismatched += 1;
+        }
+        if p.emitter == 0 {
+            let y = x + p.wi * p.dist;
+            let uv = uv_of(y);
+            let texel = uv * glam::Vec2::new(8.0, 4.0);
+            if texel.floor() == glam::Vec2::new(5.0, 1.0) {
+                bright += 1;
+            }
+            // Within rounding of a texel edge the two may pick different texels.
+            let edge = |v: f32| (v - v.round()).abs() < 1e-3;
+            if edge(texel.x) || edge(texel.y) {
+                continue;
+            }
+            let cos = map.normal.dot(-p.wi);
+            let reference = records.alias[0].pmf * sampling.density(sampling.texture_point(uv))
+                / map.jacobian()
+                * p.dist
+                * p.dist
+                / cos;
+            reference_checked += 1;
+            assert!(
+                (p.pdf - reference).abs() < 1e-3 * reference,
+                "pdf {} at uv {uv}, reference {reference}",
+                p.pdf
+            );
+        }
+    }
+    println!(
+        "{mismatched} of {checked} samples disagree; {reference_checked} checked against the CPU"
+    );
+    assert!(checked > N as usize / 2 && reference_checked > N as usize / 10);
+    assert!(
+        mismatched * 10_000 < checked,
+        "{mismatched} of {checked} samples: pdf at the hit != sampling pdf"
+    );
+    // The bright texel's share of the first rectangle's samples: its luminance over
+    // the texture's sum (about 0.56), against 1/32 for area sampling.
+    let share = sampling.dist.cell_probability(5, 1);
+    let first = records.alias[0].pmf as f64 * N as f64;
+    let observed = bright as f64 / first;
+    assert!(
+        (observed - share).abs() < 0.02,
+        "bright texel: {observed} of the rectangle's samples, {share} expected"
+    );
+}
+
+/// The directions textured emitters draw follow the density MIS evaluates
+/// (chi-square), which therefore integrates to the probability of a usable sample.
+#[test]
+fn textured_emitter_directions_follow_the_density() {
+    let s = textured_scene();
+    let bvh = Bvh::build(prims_from_scene(&s));
+    let records = SceneRecords::new(&s, &bvh);
+    let x = Vec3::new(0.1, -0.2, 0.3);
+    let integral = assert_directions_follow_the_density(&bvh, &records, x, "textured directions");
+    // The rectangles face x whole: their samples are all usable, so the density
+    // integrates to at least their choice probabilities.
+    let rectangles = (records.alias[0].pmf + records.alias[2].pmf) as f64;
+    assert!(
+        integral > rectangles && integral < 1.0,
+        "{integral} vs {rectangles}"
     );
 }

@@ -143,7 +143,7 @@ fn scenes_split_over_bindings_render_exactly_as_whole() {
         &[("res", "24"), ("max_depth", "3")],
         2,
     ));
-    // Environment-map distributions.
+    // Sampling distributions (the environment map's).
     split.extend(split_equals_whole(
         &common::repo("scenes/envmap/envmap.xml"),
         &[("res", "24")],
@@ -161,7 +161,7 @@ fn scenes_split_over_bindings_render_exactly_as_whole() {
         "triangles",
         "vertices",
         "texels",
-        "envmap distributions",
+        "sampling distributions",
         "packed density grids",
     ] {
         assert!(

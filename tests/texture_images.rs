@@ -1,7 +1,7 @@
 //! Images of the texture and environment-map scenes against Mitsuba 3 references of
 //! the same files (scenes/refs/, made by tools/mitsuba_ref.py): textured BSDF
-//! parameters and textured area emitters, normal maps, and an environment map with a
-//! small bright sun.
+//! parameters and textured area emitters (sampled by their texture), normal maps, and
+//! an environment map with a small bright sun.
 
 mod common;
 
@@ -44,6 +44,18 @@ fn textured_bsdfs_and_area_emitters_match_mitsuba() {
     check(
         "scenes/textures/textures.xml",
         "scenes/refs/textures.exr",
+        256,
+    );
+}
+
+/// Emitters sampled by their texture (scene::textured_emitter) on a sphere and a
+/// rectangle, bilinear, with clamped and mirrored wraps and to_uv symmetries, as
+/// Mitsuba samples them.
+#[test]
+fn textured_sphere_and_rectangle_lights_match_mitsuba() {
+    check(
+        "scenes/textures/textured_lights.xml",
+        "scenes/refs/textured_lights.exr",
         256,
     );
 }

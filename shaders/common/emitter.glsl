@@ -7,7 +7,10 @@
 // uniform point on it, so points are uniform over its whole surface; a disk or
 // cylinder a uniform point of its surface (as Mitsuba's sample_position: the
 // concentric map on the disk, uniform angle and height on the cylinder); a sphere
-// emitter samples the cone of directions it subtends (PBR 4th ed., sec. 6.2.4).
+// emitter samples the cone of directions it subtends (PBR 4th ed., sec. 6.2.4). A
+// textured emitter on a rectangle (an affine-mapped mesh) or a sphere draws its point
+// by its texture instead, as Mitsuba does (emitter_texture.glsl); on other shapes it
+// is sampled as an untextured one and weighted by the texture.
 // Every pdf here is per unit solid angle at the shading point and includes the
 // probability of choosing the emitter.
 #ifndef EMITTER_GLSL
@@ -15,8 +18,8 @@
 
 // Kinds a scene does not use compile away (llvmpipe runs both sides of every branch
 // under a mask): define EMITTER_KINDS (a bit per EMITTER_* kind, area meaning on
-// meshes, EMITTER_KIND_BIT_SPHERE_AREA and EMITTER_KIND_BIT_QUADRIC_AREA) before
-// including this file.
+// meshes, EMITTER_KIND_BIT_SPHERE_AREA, EMITTER_KIND_BIT_QUADRIC_AREA and
+// EMITTER_KIND_BIT_TEXTURE_SAMPLED) before including this file.
 #ifndef EMITTER_KINDS
 #define EMITTER_KINDS 0xffffffffu
 #endif
@@ -25,7 +28,8 @@
 // of || over specialization constants).
 #define EMITTER_HAS_ANY(m) ((EMITTER_KINDS & (m)) != 0u)
 // Area emitters on meshes, spheres, disks and cylinders.
-#define EMITTER_AREA_BITS ((1u << EMITTER_AREA) | (1u << EMITTER_KIND_BIT_SPHERE_AREA) | (1u << EMITTER_KIND_BIT_QUADRIC_AREA))
+#define EMITTER_AREA_BITS ((1u << EMITTER_AREA) | (1u << EMITTER_KIND_BIT_SPHERE_AREA) | (1u << EMITTER_KIND_BIT_QUADRIC_AREA) \
+                           | (1u << EMITTER_KIND_BIT_TEXTURE_SAMPLED))
 
 #include "alias.glsl"
 #include "frame.glsl"
@@ -34,6 +38,7 @@
 #include "surface.glsl"
 #include "texture.glsl"
 #include "envmap.glsl"
+#include "emitter_texture.glsl"
 
 #define EMITTER_INFINITY uintBitsToFloat(0x7f800000u)
 
@@ -136,7 +141,8 @@ float emitter_choice_pmf(uint i) {
 // of the unit disk; a cylinder a uniform height and angle (Mitsuba's sample_position
 // of each; their area elements are constant).
 Surface emitter_area_point(EmitterRecord e, vec2 u) {
-    if (EMITTER_HAS(EMITTER_AREA) && e.tri_count > 0u) {
+    // (Photon emission takes texture-sampled emitters' points here too.)
+    if (EMITTER_HAS_ANY((1u << EMITTER_AREA) | (1u << EMITTER_KIND_BIT_TEXTURE_SAMPLED)) && e.tri_count > 0u) {
         float tri_pmf;
         uint t = alias_sample_reuse(e.tri_first, e.tri_count, u.y, tri_pmf);
         vec2 b = warp_uniform_triangle(u);
@@ -204,6 +210,18 @@ EmitterSample emitter_sample_env(vec3 x, vec2 u, bool env, vec3 d) {
         s.dist = EMITTER_INFINITY;
         s.Le = envmap_eval(e, s.wi);
         s.pdf = pmf * envmap_pdf(e, s.wi);
+    } else if (emitter_texture_sampled(e)) {
+        // A textured area emitter whose point its texture draws (emitter_texture.glsl).
+        EmitterTexturePoint tp = emitter_texture_point(e, u);
+        vec3 d = tp.p - x;
+        float d2 = dot(d, d);
+        s.dist = sqrt(d2);
+        s.wi = d / s.dist;
+        float cos_light = -dot(tp.ng, s.wi);
+        if (cos_light <= 0.0 || d2 == 0.0 || !(tp.pdf > 0.0)) return s;
+        s.Le = e.radiance * tp.texel;
+        // Area density to solid angle: d² / cos.
+        s.pdf = pmf * tp.pdf * d2 / cos_light;
     } else if ((EMITTER_HAS(EMITTER_AREA) && e.tri_count > 0u)
                || (EMITTER_HAS(EMITTER_KIND_BIT_QUADRIC_AREA) && e.tri_count == 0u
                    && e.prim_kind != PRIM_SPHERE)) {
@@ -246,10 +264,14 @@ EmitterSample emitter_sample(vec3 x, vec2 u) { return emitter_sample_env(x, u, f
 
 // Density with which emitter_sample, called at x_prev, picks the point at distance t
 // along the unit direction d where a ray hit area emitter `index` (geometric normal ng
-// there).
-float emitter_pdf_hit(uint index, vec3 x_prev, vec3 d, float t, vec3 ng) {
+// and surface uv there).
+float emitter_pdf_hit(uint index, vec3 x_prev, vec3 d, float t, vec3 ng, vec2 uv) {
     EmitterRecord e = emitter_load(index);
     float pmf = emitter_choice_pmf(index);
+    if (emitter_texture_sampled(e)) {
+        float cos_light = abs(dot(ng, d));
+        return cos_light > 0.0 ? pmf * emitter_texture_pdf_area(e, uv) * t * t / cos_light : 0.0;
+    }
     if (!EMITTER_HAS(EMITTER_KIND_BIT_SPHERE_AREA) || e.tri_count > 0u || e.prim_kind != PRIM_SPHERE) {
         float cos_light = abs(dot(ng, d));
         return cos_light > 0.0 ? pmf * t * t / (e.area * cos_light) : 0.0;

@@ -1,11 +1,13 @@
 // Environment maps (Mitsuba 3's envmap): lat-long lookups and importance sampling by
-// a piecewise-constant 2D distribution. Needs scene_bindings.glsl, texture.glsl.
+// a piecewise-constant 2D distribution (distribution2d.glsl). Needs
+// scene_bindings.glsl, texture.glsl.
 // Conventions and the distribution's construction: src/scene/envmap.rs (its CPU
 // reference). Directions here are world-space and point away from the scene.
 #ifndef ENVMAP_GLSL
 #define ENVMAP_GLSL
 
 #include "warp.glsl"
+#include "distribution2d.glsl"
 
 // World direction -> the map's frame (to_world is a rotation: its inverse is the
 // transpose).
@@ -44,26 +46,6 @@ vec3 envmap_eval(EmitterRecord e, vec3 d) {
     return e.radiance * mix(a, b, fy);
 }
 
-// Index k in [0, n) with cdf[k] <= x < cdf[k + 1] for the n + 1 values from env_dist(base)
-// (the last k whose cdf[k] <= x: never a zero-probability entry).
-uint envmap_find(uint base, uint n, float x) {
-    uint lo = 0u, hi = n; // invariant: cdf[lo] <= x, answer < hi
-    while (lo + 1u < hi) {
-        uint mid = (lo + hi) >> 1u;
-        if (env_dist(base + mid) <= x) lo = mid; else hi = mid;
-    }
-    return lo;
-}
-
-// Density p(u, v) of the distribution at cell (i, j) (with respect to du dv).
-float envmap_cell_density(EmitterRecord e, uint i, uint j) {
-    uint w = e.dist_width, h = e.dist_height;
-    uint row = e.dist_offset + h + 1u + j * (w + 1u);
-    float pm = env_dist(e.dist_offset + j + 1u) - env_dist(e.dist_offset + j);
-    float pc = env_dist(row + i + 1u) - env_dist(row + i);
-    return pm * pc * float(w * h);
-}
-
 // Density per unit solid angle with which envmap_sample picks world direction d.
 float envmap_pdf(EmitterRecord e, vec3 d) {
     vec3 local = envmap_to_local(e, d);
@@ -74,20 +56,13 @@ float envmap_pdf(EmitterRecord e, vec3 d) {
     if (st <= 0.0) return 0.0;
     uint i = min(uint(uv.x * float(e.dist_width)), e.dist_width - 1u);
     uint j = min(uint(uv.y * float(e.dist_height)), e.dist_height - 1u);
-    return envmap_cell_density(e, i, j) / (2.0 * PI * PI * st);
+    return dist2d_cell_density(e.dist_offset, e.dist_width, e.dist_height, i, j) / (2.0 * PI * PI * st);
 }
 
 // Samples a world direction towards the map, with density envmap_pdf per unit solid
 // angle, p(ω) = p(u, v) / (2π² sin θ) (PBR 3rd ed., sec. 14.2.4).
 vec3 envmap_sample_direction(EmitterRecord e, vec2 u) {
-    uint w = e.dist_width, h = e.dist_height;
-    uint j = envmap_find(e.dist_offset, h, u.x);
-    float m0 = env_dist(e.dist_offset + j), m1 = env_dist(e.dist_offset + j + 1u);
-    uint row = e.dist_offset + h + 1u + j * (w + 1u);
-    uint i = envmap_find(row, w, u.y);
-    float c0 = env_dist(row + i), c1 = env_dist(row + i + 1u);
-    vec2 uv = vec2((float(i) + clamp((u.y - c0) / (c1 - c0), 0.0, 1.0)) / float(w),
-                   (float(j) + clamp((u.x - m0) / (m1 - m0), 0.0, 1.0)) / float(h));
+    vec2 uv = dist2d_sample(e.dist_offset, e.dist_width, e.dist_height, u);
     // Off the poles themselves (u.x = 0 exactly there), where the direction has no
     // density.
     float theta = clamp(uv.y, 1e-7, 1.0 - 1e-6) * PI, phi = uv.x * (2.0 * PI);

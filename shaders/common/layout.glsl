@@ -129,6 +129,9 @@ struct BsdfRecord {
 #define EMITTER_KIND_BIT_SPHERE_AREA 5u
 // ... and for area emitters on disks and cylinders.
 #define EMITTER_KIND_BIT_QUADRIC_AREA 6u
+// ... and for area emitters sampled by their texture (dist_width > 0), which set
+// neither EMITTER_AREA's bit nor EMITTER_KIND_BIT_SPHERE_AREA.
+#define EMITTER_KIND_BIT_TEXTURE_SAMPLED 7u
 // radiance: intensity (W/sr) of point and spot lights, radiance of area and constant
 // ones. Spot: axis, cos_cutoff, cutoff (rad), inv_transition = 1/(cutoff - beam width).
 // Area: shape, total area; a mesh's triangles by area through alias entries
@@ -150,7 +153,7 @@ struct EmitterRecord {
     uint prim;            // a quadric's primitive
     uint prim_kind;       // and its kind
     uint texture;         // index + 1: area radiance texture, or the envmap's image
-    uint dist_offset;     // envmap: its sampling distribution in env_dist()
+    uint dist_offset;     // envmap: its sampling distribution in dist_value()
     uint dist_width;
     uint dist_height;
     vec4 to_world_x;      // envmap: columns of its rotation

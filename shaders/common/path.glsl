@@ -170,7 +170,7 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
         bsdf = bsdf_textured_point(bsdf_load(shape.bsdf), s.uv, true, emission_texture, texels);
         if (emits) {
             vec3 Le = emitter_area_radiance_texel(light, s.ng, r.dir, texels.emission);
-            float w = weigh ? mis_weight(path.bsdf_pdf, emitter_pdf_hit(shape.emitter, r.origin, r.dir, h.t, s.ng)) : 1.0;
+            float w = weigh ? mis_weight(path.bsdf_pdf, emitter_pdf_hit(shape.emitter, r.origin, r.dir, h.t, s.ng, s.uv)) : 1.0;
             path.radiance += path.throughput * Le * w;
             path_store_radiance(r.path, path);
         }

@@ -29,7 +29,7 @@ layout(constant_id = 66) const uint PRIM_PARTS = 1u;
 layout(constant_id = 68) const uint TRIANGLE_PARTS = 1u;
 layout(constant_id = 69) const uint VERTEX_PARTS = 1u;
 layout(constant_id = 74) const uint TEXEL_PARTS = 1u;
-layout(constant_id = 75) const uint ENV_DIST_PARTS = 1u;
+layout(constant_id = 75) const uint DIST_PARTS = 1u;
 layout(constant_id = 77) const uint GRID_PARTS = 1u;
 layout(constant_id = 79) const uint GRID_PACKED_PARTS = 1u;
 #endif
@@ -62,9 +62,10 @@ layout(set = 0, binding = 9, r32ui) uniform readonly uimageBuffer texel_words;
 layout(set = 0, binding = 23, r32ui) uniform readonly uimageBuffer texel_words_1;
 layout(set = 0, binding = 24, r32ui) uniform readonly uimageBuffer texel_words_2;
 layout(set = 0, binding = 25, r32ui) uniform readonly uimageBuffer texel_words_3;
-// Environment map sampling distributions (envmap.glsl; env_dist).
-layout(set = 0, binding = 10, r32ui) uniform readonly uimageBuffer env_dist_words;
-layout(set = 0, binding = 26, r32ui) uniform readonly uimageBuffer env_dist_words_1;
+// Sampling distributions of environment maps and textured area emitters
+// (distribution2d.glsl; dist_value).
+layout(set = 0, binding = 10, r32ui) uniform readonly uimageBuffer dist_words;
+layout(set = 0, binding = 26, r32ui) uniform readonly uimageBuffer dist_words_1;
 // Media (shaders/common/medium.glsl): records (medium_load), density and albedo grids
 // (grid_value), majorant grids (majorant_value), and density grids packed a texel per
 // voxel (grid_packed; MEDIUM_DENSITY_PACKED).
@@ -109,12 +110,12 @@ SCENE_ARRAY_4(prim_texel, prim_texels, PRIM_PARTS)
 SCENE_ARRAY_2(triangle_texel, triangle_texels, TRIANGLE_PARTS)
 SCENE_ARRAY_2(vertex_texel_raw, vertex_texels, VERTEX_PARTS)
 SCENE_ARRAY_4(texel_word, texel_words, TEXEL_PARTS)
-SCENE_ARRAY_2(env_dist_word, env_dist_words, ENV_DIST_PARTS)
+SCENE_ARRAY_2(dist_word, dist_words, DIST_PARTS)
 SCENE_ARRAY_4(grid_word, grid_words, GRID_PARTS)
 SCENE_ARRAY_2(grid_packed_texel, grid_packed_texels, GRID_PACKED_PARTS)
 
 float texel_value(uint k) { return uintBitsToFloat(texel_word(k).x); }
-float env_dist(uint k) { return uintBitsToFloat(env_dist_word(k).x); }
+float dist_value(uint k) { return uintBitsToFloat(dist_word(k).x); }
 float grid_value(uint k) { return uintBitsToFloat(grid_word(k).x); }
 float majorant_value(uint k) { return uintBitsToFloat(imageLoad(majorant_words, int(k)).x); }
 vec4 grid_packed(uint k) { return uintBitsToFloat(grid_packed_texel(k)); }

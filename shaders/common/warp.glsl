@@ -85,4 +85,11 @@ float warp_uniform_triangle_pdf(vec2 b) {
     return (b.x >= 0.0 && b.y >= 0.0 && b.x + b.y <= 1.0) ? 2.0 : 0.0;
 }
 
+// The tent density 1 - |t| on [-1, 1] in each coordinate, by inverting its CDF
+// (Mitsuba's warp::square_to_tent): for x = 2u - 1 >= 0, t = 1 - sqrt(1 - x).
+vec2 warp_square_to_tent(vec2 u) {
+    vec2 x = 2.0 * u - 1.0;
+    return sign(x) * (1.0 - sqrt(max(1.0 - abs(x), 0.0)));
+}
+
 #endif

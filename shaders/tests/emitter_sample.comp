@@ -45,7 +45,7 @@ void main() {
         if (h.prim != HIT_NONE) {
             Surface s = surface_at(h.prim, h.u, h.v, pc.x, es.wi, h.t);
             uint e = shape_load(s.shape).emitter;
-            if (e != NONE) pdf_hit = emitter_pdf_hit(e, pc.x, es.wi, h.t, s.ng);
+            if (e != NONE) pdf_hit = emitter_pdf_hit(e, pc.x, es.wi, h.t, s.ng, s.uv);
         } else if (frame.env_emitter != NONE) {
             pdf_hit = emitter_pdf_env(es.wi);
         }

@@ -295,6 +295,11 @@ pub const EMITTER_ENVMAP: u32 = 4;
 pub const EMITTER_KIND_BIT_SPHERE_AREA: u32 = 5;
 /// Bit of the emitter-kinds mask for area emitters on disks and cylinders.
 pub const EMITTER_KIND_BIT_QUADRIC_AREA: u32 = 6;
+/// Bit of the emitter-kinds mask for area emitters sampled by their texture
+/// (`EmitterRecord::dist_width` > 0, on meshes or spheres), which then set neither
+/// `EMITTER_AREA`'s bit nor `EMITTER_KIND_BIT_SPHERE_AREA`: where every light is one,
+/// the code of uniform area sampling compiles out.
+pub const EMITTER_KIND_BIT_TEXTURE_SAMPLED: u32 = 7;
 
 /// An emitter. `radiance` is the intensity (W/sr) of point and spot lights and the
 /// radiance of area and constant emitters.
@@ -311,6 +316,14 @@ pub const EMITTER_KIND_BIT_QUADRIC_AREA: u32 = 6;
 /// `scale`). Environment map: `to_world_*` are the columns of its rotation;
 /// `dist_offset` is where its sampling distribution starts in the distribution
 /// buffer, over `dist_width` x `dist_height` cells (see `scene::envmap`).
+///
+/// A textured area emitter sampled by its texture (`scene::textured_emitter`) has
+/// `dist_width` x `dist_height` = the bitmap's texels and its distribution (CDFs,
+/// then the texels' densities) at `dist_offset`; `dist_width` = 0 on every other
+/// area emitter (sampled uniformly by area). On a mesh, `to_world_*` then hold its
+/// affine uv map, x(u, v) = `to_world_x.xyz` + u `to_world_y.xyz` + v
+/// `to_world_z.xyz`, and in their `w` the geometric normal there (x, y, z); a sphere
+/// needs neither.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
 pub struct EmitterRecord {
@@ -1120,6 +1133,31 @@ mod tests {
                 "EMITTER_KIND_BIT_QUADRIC_AREA",
                 EMITTER_KIND_BIT_QUADRIC_AREA,
             ),
+            (
+                "EMITTER_KIND_BIT_TEXTURE_SAMPLED",
+                EMITTER_KIND_BIT_TEXTURE_SAMPLED,
+            ),
+        ]);
+    }
+
+    #[test]
+    fn texture_kinds_and_features_match_glsl() {
+        assert_glsl_defines(&[
+            ("TEXTURE_BITMAP", TEXTURE_BITMAP),
+            ("TEXTURE_CHECKERBOARD", TEXTURE_CHECKERBOARD),
+            ("TEXTURE_NOISE", TEXTURE_NOISE),
+            ("TEXTURE_MARBLE", TEXTURE_MARBLE),
+            ("TEXTURE_NEAREST", TEXTURE_NEAREST),
+            ("TEXTURE_WRAP_SHIFT", TEXTURE_WRAP_SHIFT),
+            ("TEXTURE_WRAP_REPEAT", TEXTURE_WRAP_REPEAT),
+            ("TEXTURE_WRAP_MIRROR", TEXTURE_WRAP_MIRROR),
+            ("TEXTURE_WRAP_CLAMP", TEXTURE_WRAP_CLAMP),
+            ("TEXTURE_FEATURE_BSDF", TEXTURE_FEATURE_BSDF),
+            ("TEXTURE_FEATURE_NORMALMAP", TEXTURE_FEATURE_NORMALMAP),
+            ("TEXTURE_FEATURE_ENVMAP", TEXTURE_FEATURE_ENVMAP),
+            ("TEXTURE_FEATURE_AREA", TEXTURE_FEATURE_AREA),
+            ("TEXTURE_FEATURE_LOOKUP_LOOP", TEXTURE_FEATURE_LOOKUP_LOOP),
+            ("TEXTURE_FEATURE_PARAM_SHIFT", TEXTURE_FEATURE_PARAM_SHIFT),
         ]);
     }
 

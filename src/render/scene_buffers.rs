@@ -16,9 +16,11 @@ use crate::gpu::layout::{
 };
 use crate::gpu::layout::{
     surface_feature_of_prim, EMITTER_KIND_BIT_QUADRIC_AREA, EMITTER_KIND_BIT_SPHERE_AREA,
+    EMITTER_KIND_BIT_TEXTURE_SAMPLED,
 };
 use crate::gpu::{BindingLayout, Buffer, DescriptorSet, Device};
 use crate::scene::envmap;
+use crate::scene::textured_emitter;
 use crate::scene::Texture;
 use crate::scene::{Emitter, QuadricKind, Scene};
 
@@ -49,8 +51,9 @@ pub struct SceneRecords {
     pub textures: Vec<TextureRecord>,
     /// Every bitmap's texels, RGB, three floats each.
     pub texels: Vec<f32>,
-    /// Environment map sampling distributions (`scene::envmap::Distribution::cdf`).
-    pub env_dist: Vec<f32>,
+    /// Sampling distributions: environment maps' (`scene::envmap::Distribution::cdf`)
+    /// and textured area emitters' (`scene::textured_emitter::TextureSampling::buffer`).
+    pub distributions: Vec<f32>,
     /// Per emitter, the mean of its radiance texture (white for untextured ones), for
     /// the emitter's power; for an envmap its mean luminance over the sphere.
     emitter_mean: Vec<f64>,
@@ -85,6 +88,30 @@ fn thin_flag(scene: &Scene, bsdf: u32) -> u32 {
         Some(b) if b.is_thin_dielectric() => SHAPE_THIN_DIELECTRIC,
         _ => 0,
     }
+}
+
+/// Makes textured area emitter `e` (scene index; `rec` its record, on a shape whose
+/// uv map the caller has checked) sample its points by its texture, its distribution
+/// appended to `distributions`. False, and `rec` unchanged, if its texture cannot be
+/// sampled that way (`scene::textured_emitter`): it then keeps area sampling.
+fn sample_by_texture(
+    scene: &Scene,
+    e: u32,
+    rec: &mut EmitterRecord,
+    distributions: &mut Vec<f32>,
+) -> bool {
+    let Emitter::TexturedArea { texture, .. } = scene.emitters[e as usize] else {
+        return false;
+    };
+    let Some(sampling) = textured_emitter::TextureSampling::new(&scene.textures[texture as usize])
+    else {
+        return false;
+    };
+    rec.dist_offset = distributions.len() as u32;
+    rec.dist_width = sampling.dist.width;
+    rec.dist_height = sampling.dist.height;
+    distributions.extend_from_slice(&sampling.buffer());
+    true
 }
 
 /// Luminance of linear sRGB (Rec. 709 weights).
@@ -190,8 +217,8 @@ impl SceneRecords {
                     };
                     let dist = envmap::Distribution::build(*width, *height, texels, importance);
                     mean = dist.mean_luminance;
-                    let offset = r.env_dist.len() as u32;
-                    r.env_dist.extend_from_slice(&dist.cdf);
+                    let offset = r.distributions.len() as u32;
+                    r.distributions.extend_from_slice(&dist.cdf);
                     let col = |v: Vec3| [v.x, v.y, v.z, 0.0];
                     EmitterRecord {
                         kind: EMITTER_ENVMAP,
@@ -258,7 +285,16 @@ impl SceneRecords {
                     }));
             }
             if let Some(e) = mesh.emitter {
-                r.emitters[remap[e as usize] as usize].shape = shape_index as u32;
+                let rec = &mut r.emitters[remap[e as usize] as usize];
+                rec.shape = shape_index as u32;
+                if let Some(map) = textured_emitter::AffineUvMap::of_mesh(mesh) {
+                    let at = |v: glam::Vec3, w: f32| [v.x, v.y, v.z, w];
+                    if sample_by_texture(scene, e, rec, &mut r.distributions) {
+                        rec.to_world_x = at(map.origin, map.normal.x);
+                        rec.to_world_y = at(map.du, map.normal.y);
+                        rec.to_world_z = at(map.dv, map.normal.z);
+                    }
+                }
             }
             let (mflags, media) = medium_flags(mesh.interior, mesh.exterior, mesh.null_bsdf);
             r.shapes.push(ShapeRecord {
@@ -286,8 +322,12 @@ impl SceneRecords {
                 rec.position = q.origin().into();
                 rec.radius = q.radius();
                 rec.area = q.area();
+                // Disks and cylinders keep area sampling (textured_emitter says why).
+                let by_texture = q.kind == QuadricKind::Sphere
+                    && sample_by_texture(scene, e, rec, &mut r.distributions);
                 r.quadric_emitter_kinds |= 1
                     << match q.kind {
+                        _ if by_texture => EMITTER_KIND_BIT_TEXTURE_SAMPLED,
                         QuadricKind::Sphere => EMITTER_KIND_BIT_SPHERE_AREA,
                         _ => EMITTER_KIND_BIT_QUADRIC_AREA,
                     };
@@ -374,13 +414,17 @@ impl SceneRecords {
     }
 
     /// The emitter kinds the scene has, a bit per `EMITTER_*` kind (area: on meshes)
-    /// plus `EMITTER_KIND_BIT_SPHERE_AREA` and `EMITTER_KIND_BIT_QUADRIC_AREA` (disks
-    /// and cylinders): `shade` compiles the others out.
+    /// plus `EMITTER_KIND_BIT_SPHERE_AREA`, `EMITTER_KIND_BIT_QUADRIC_AREA` (disks
+    /// and cylinders) and `EMITTER_KIND_BIT_TEXTURE_SAMPLED` (area emitters sampled
+    /// by their texture, instead of their shape's bit): `shade` compiles the others
+    /// out.
     pub fn emitter_kinds(&self) -> u32 {
         self.emitters
             .iter()
             .fold(self.quadric_emitter_kinds, |m, e| {
-                if e.kind == EMITTER_AREA && e.tri_count == 0 {
+                if e.kind == EMITTER_AREA && e.dist_width != 0 {
+                    m | 1 << EMITTER_KIND_BIT_TEXTURE_SAMPLED
+                } else if e.kind == EMITTER_AREA && e.tri_count == 0 {
                     m // a quadric's: in quadric_emitter_kinds
                 } else {
                     m | 1 << e.kind
@@ -450,6 +494,7 @@ impl SceneRecords {
         {
             m |= TEXTURE_FEATURE_AREA;
         }
+
         m
     }
 

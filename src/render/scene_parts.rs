@@ -105,11 +105,11 @@ pub const SCENE_ARRAYS: [SceneArray; 15] = [
         "downscale the largest bitmap textures",
     ),
     array(
-        "envmap distributions",
-        "env_dist_words",
+        "sampling distributions",
+        "dist_words",
         BindingKind::Words,
         2,
-        "downscale the environment map",
+        "downscale the environment map or the emitter textures",
     ),
     array("media", "medium_texels", BindingKind::Texels, 1, RECORDS),
     array(
@@ -244,7 +244,7 @@ pub fn scene_arrays<'a>(bvh: &'a Bvh, records: &'a SceneRecords) -> SceneArrays<
             Box::new(records.triangles.as_slice()),
             Box::new(records.vertices.as_slice()),
             Box::new(records.texels.as_slice()),
-            Box::new(records.env_dist.as_slice()),
+            Box::new(records.distributions.as_slice()),
             or_zero(&records.grid_data, 4),
             or_zero(&records.packed_density, 16),
         ],
@@ -258,7 +258,7 @@ pub fn take_scene_arrays(bvh: Bvh, records: &mut SceneRecords) -> SceneArrays<'_
         Box::new(std::mem::take(&mut records.triangles)),
         Box::new(std::mem::take(&mut records.vertices)),
         Box::new(std::mem::take(&mut records.texels)),
-        Box::new(std::mem::take(&mut records.env_dist)),
+        Box::new(std::mem::take(&mut records.distributions)),
         or_zero_owned(std::mem::take(&mut records.grid_data), 1),
         or_zero_owned(std::mem::take(&mut records.packed_density), 1),
     ];
@@ -283,7 +283,7 @@ fn or_zero_owned<T: bytemuck::Pod + 'static>(v: Vec<T>, records: usize) -> Box<d
 }
 
 /// The arrays in binding order, from the BVH's two, `records`' small ones, and the six
-/// large ones (triangles, vertices, texels, envmap distributions, density grids, packed
+/// large ones (triangles, vertices, texels, sampling distributions, density grids, packed
 /// density grids).
 fn arrays<'a>(
     nodes: Box<dyn ArrayBytes + 'a>,
@@ -291,7 +291,7 @@ fn arrays<'a>(
     r: &'a SceneRecords,
     large: [Box<dyn ArrayBytes + 'a>; 6],
 ) -> SceneArrays<'a> {
-    let [triangles, vertices, texels, env_dist, grids, packed] = large;
+    let [triangles, vertices, texels, distributions, grids, packed] = large;
     [
         nodes,
         prims,
@@ -303,7 +303,7 @@ fn arrays<'a>(
         Box::new(r.alias.as_slice()),
         Box::new(r.textures.as_slice()),
         texels,
-        env_dist,
+        distributions,
         or_zero(&r.media, std::mem::size_of::<MediumRecord>()),
         grids,
         or_zero(&r.majorants, 4),

@@ -33,8 +33,11 @@ pub enum Emitter {
     Constant { radiance: Vec3 },
     /// An area emitter whose radiance is a texture at the surface's uv times `scale`:
     /// Mitsuba `area` with a nested (or referenced) `<texture name="radiance">`.
-    /// Points are sampled uniformly by area and weighted by the texture, so sampling
-    /// and evaluation agree wherever it is looked up.
+    /// A bitmap on a rectangle (any mesh whose uv map is one affine map of the unit
+    /// square) or a sphere has its points drawn by the texture's luminance, as Mitsuba
+    /// does (`scene::textured_emitter`); other textures and shapes are sampled
+    /// uniformly by area and weighted by the texture. Photon emission always samples
+    /// by area.
     /// `<emitter type="area"><texture type="checkerboard" name="radiance"><rgb name="color0" value="8"/></texture></emitter>`
     TexturedArea { texture: u32, scale: Vec3 },
     /// Mitsuba `envmap`: radiance from a lat-long image at infinity (`filename`: EXR,

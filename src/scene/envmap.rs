@@ -18,6 +18,8 @@
 
 use glam::{Mat3, Vec2, Vec3};
 
+use super::distribution2d::Distribution2D;
+
 /// Lat-long coordinates of unit direction `d` given in the map's frame.
 pub fn direction_to_uv(d: Vec3) -> Vec2 {
     let mut u = d.x.atan2(-d.z) * (0.5 * std::f32::consts::FRAC_1_PI);
@@ -57,9 +59,9 @@ pub fn luminance(c: Vec3) -> f32 {
     0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z
 }
 
-/// The sampling distribution of a map: `cdf` holds the marginal CDF over rows (H + 1
-/// values, 0 first, 1 last), then each row's conditional CDF over columns (W + 1
-/// values each), as in the GPU buffer.
+/// The sampling distribution of a map: `cdf` is its [`Distribution2D`]'s (the
+/// marginal CDF over rows, then each row's conditional CDF over columns, as in the
+/// GPU buffer).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Distribution {
     pub width: u32,
@@ -99,32 +101,7 @@ impl Distribution {
         let mean_luminance = mean * 2.0 * std::f64::consts::PI * std::f64::consts::PI
             / (w * h) as f64
             / (4.0 * std::f64::consts::PI);
-        let mut cdf = vec![0f32; (h + 1) + h * (w + 1)];
-        let rows: Vec<f64> = (0..h)
-            .map(|j| weights[j * w..(j + 1) * w].iter().sum())
-            .collect();
-        let total: f64 = rows.iter().sum();
-        let mut acc = 0f64;
-        for j in 0..h {
-            acc += if total > 0.0 {
-                rows[j] / total
-            } else {
-                1.0 / h as f64
-            };
-            cdf[j + 1] = acc as f32;
-            let base = h + 1 + j * (w + 1);
-            let mut racc = 0f64;
-            for i in 0..w {
-                racc += if rows[j] > 0.0 {
-                    weights[j * w + i] / rows[j]
-                } else {
-                    1.0 / w as f64
-                };
-                cdf[base + i + 1] = racc as f32;
-            }
-            cdf[base + w] = 1.0;
-        }
-        cdf[h] = 1.0;
+        let cdf = Distribution2D::from_weights(width, height, &weights).cdf;
         Distribution {
             width,
             height,

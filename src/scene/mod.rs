@@ -6,6 +6,7 @@
 pub mod bsdf;
 mod builder;
 pub mod camera;
+pub mod distribution2d;
 pub mod emitter;
 pub mod envmap;
 pub mod error;
@@ -27,6 +28,7 @@ pub mod serialized;
 pub mod shape;
 pub mod spectrum;
 pub mod texture;
+pub mod textured_emitter;
 pub mod transform;
 pub mod vdb;
 pub mod xml;
