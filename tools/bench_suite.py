@@ -10,6 +10,8 @@ Mitsuba variant and every seed, runs tools/bench_compare.py (wavetrace and Mitsu
 the same scene file, the same sample counts and the same reference) and prints the
 efficiency ratio (t x relMSE) wavetrace / (t x relMSE) Mitsuba at each sample count:
 per seed, and their geometric mean. Below 1, wavetrace reaches a given error sooner.
+Then the MSE of both at equal spp (mean over seeds) with the ratios of their MSEs and
+relMSEs, each with its standard error over the seeds.
 
 References are Mitsuba renders, made once and kept in --refs (default
 target/bench-refs/, outside version control: about 0.8 MB each): with the LLVM variant
@@ -144,6 +146,22 @@ def compare(name, ref, variant, seed, spp, wavetrace, sampler):
             return json.load(f)
 
 
+def ratio_of_means(num, den):
+    """mean(num) / mean(den) over seeds and its standard error (first-order: the
+    relative standard errors of the two means added in quadrature; nan below 2 seeds).
+    The seeds of one renderer are independent renders, the two renderers too."""
+    n = len(num)
+    if n == 0 or len(den) != n:
+        return float("nan"), float("nan")
+    a, b = sum(num) / n, sum(den) / n
+    if a <= 0 or b <= 0:
+        return float("nan"), float("nan")
+    if n < 2:
+        return a / b, float("nan")
+    rel2 = sum(((x - a) / a) ** 2 for x in num) / (n - 1) / n + sum(((x - b) / b) ** 2 for x in den) / (n - 1) / n
+    return a / b, a / b * math.sqrt(rel2)
+
+
 def geomean(xs):
     xs = [x for x in xs if x > 0 and math.isfinite(x)]
     return math.exp(sum(map(math.log, xs)) / len(xs)) if xs else float("nan")
@@ -196,6 +214,10 @@ def main():
                     ratios = [r["efficiency_ratio"] for r in rows]
                     # MSE: the mean over seeds (as the issue's table), not the geometric mean.
                     mean = lambda k: sum(r[k] for r in rows) / len(rows)  # noqa: E731
+                    mse_ratio, mse_ratio_se = ratio_of_means([r["wavetrace_mse"] for r in rows],
+                                                             [r["mitsuba_mse"] for r in rows])
+                    rel_ratio, rel_ratio_se = ratio_of_means([r["wavetrace_rel_mse"] for r in rows],
+                                                             [r["mitsuba_rel_mse"] for r in rows])
                     summary.append({
                         "scene": name, "variant": variant, "sampler": sampler or "scene's",
                         "spp": n, "rendered_spp": rows[0]["spp"] if rows else n,
@@ -206,6 +228,8 @@ def main():
                         "mitsuba_rel_mse": geomean([r["mitsuba_rel_mse"] for r in rows]),
                         "wavetrace_mse": mean("wavetrace_mse"),
                         "mitsuba_mse": mean("mitsuba_mse"),
+                        "mse_ratio": mse_ratio, "mse_ratio_se": mse_ratio_se,
+                        "rel_mse_ratio": rel_ratio, "rel_mse_ratio_se": rel_ratio_se,
                         "mitsuba_sampler": runs[-1]["result"]["mitsuba"]["sampler"],
                     })
                     s = summary[-1]
@@ -228,16 +252,17 @@ def main():
                 print("%-12s %-12s %-12s " % (name, variant, sampler or "scene's")
                       + " ".join("%8.3f" % c["efficiency_ratio"] for c in cells))
     print("\nMSE at equal spp, mean over seeds: wavetrace / Mitsuba (same sampler; Mitsuba "
-          "runs independent for zsobol)")
+          "runs independent for zsobol); in brackets the ratio of MSEs and of relMSEs, "
+          "each +- its standard error over the seeds")
     for name in names:
         for variant in variants:
             for sampler in samplers:
                 cells = [s for s in summary if s["scene"] == name and s["variant"] == variant
                          and s["sampler"] == (sampler or "scene's")]
                 print("%-12s %-12s %-12s " % (name, variant, sampler or "scene's") + "  ".join(
-                    "%d spp %.2e / %.2e (%.2f)" % (c["rendered_spp"], c["wavetrace_mse"],
-                                                   c["mitsuba_mse"],
-                                                   c["wavetrace_mse"] / c["mitsuba_mse"])
+                    "%d spp %.2e / %.2e (MSE %.2f+-%.2f, relMSE %.2f+-%.2f)" % (
+                        c["rendered_spp"], c["wavetrace_mse"], c["mitsuba_mse"], c["mse_ratio"],
+                        c["mse_ratio_se"], c["rel_mse_ratio"], c["rel_mse_ratio_se"])
                     for c in cells))
     if args.json:
         with open(args.json, "w") as f:
