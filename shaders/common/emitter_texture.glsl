@@ -31,27 +31,15 @@ vec2 emitter_texture_uv_of(TextureRecord t, vec2 p) {
 
 // Density of emitter_texture_sample at texture point p, per unit area of texture
 // coordinates: the texel densities stored after e's CDFs, looked up as texture_bitmap
-// looks up texels (nearest: the texel's own; bilinear: interpolated with the wrap mode).
+// looks up texels (texture_footprint: nearest the texel's own; bilinear interpolated).
 float emitter_texture_density(EmitterRecord e, TextureRecord t, vec2 p) {
     uint w = e.dist_width, h = e.dist_height;
     uint base = e.dist_offset + h + 1u + h * (w + 1u);
-    uint mode = (t.flags >> TEXTURE_WRAP_SHIFT) & 3u;
-    bool nearest = (t.flags & TEXTURE_NEAREST) != 0u;
-    float x = p.x * float(w);
-    float y = p.y * float(h);
-    if (!nearest) {
-        x -= 0.5;
-        y -= 0.5;
-    }
-    float x0f = floor(x), y0f = floor(y);
-    float fx = nearest ? 0.0 : x - x0f;
-    float fy = nearest ? 0.0 : y - y0f;
-    int x0 = int(x0f), y0 = int(y0f);
-    uint xa = uint(texture_wrap(x0, int(w), mode)), xb = uint(texture_wrap(x0 + 1, int(w), mode));
-    uint ya = uint(texture_wrap(y0, int(h), mode)), yb = uint(texture_wrap(y0 + 1, int(h), mode));
-    float a = mix(dist_value(base + ya * w + xa), dist_value(base + ya * w + xb), fx);
-    float b = mix(dist_value(base + yb * w + xa), dist_value(base + yb * w + xb), fx);
-    return mix(a, b, fy);
+    TexelFootprint f = texture_footprint(t.flags, int(w), int(h), p);
+    uint xa = uint(f.xa), xb = uint(f.xb), ya = uint(f.ya), yb = uint(f.yb);
+    float a = mix(dist_value(base + ya * w + xa), dist_value(base + ya * w + xb), f.fx);
+    float b = mix(dist_value(base + yb * w + xa), dist_value(base + yb * w + xb), f.fx);
+    return mix(a, b, f.fy);
 }
 
 // A texture point in [0, 1]² drawn from u with density emitter_texture_density: a

@@ -37,15 +37,22 @@ vec3 texture_texel(TextureRecord t, int x, int y) {
     return vec3(texel_value(k), texel_value(k + 1u), texel_value(k + 2u));
 }
 
-// Bitmap at p (already through to_uv): texel (i, j) centred at ((i+½)/W, (j+½)/H),
-// row 0 at v = 0; nearest or bilinear. Nearest is the bilinear code with the texel
-// (⌊pW⌋, ⌊pH⌋) as its first corner and weights 0 on the others, mix(a, b, 0) = a for
-// finite texels: llvmpipe runs both sides of a branch, so a separate nearest path
-// would cost every bilinear lookup its texel reads too.
-vec3 texture_bitmap(TextureRecord t, vec2 p) {
-    uint mode = (t.flags >> TEXTURE_WRAP_SHIFT) & 3u;
-    bool nearest = (t.flags & TEXTURE_NEAREST) != 0u;
-    int w = int(t.width), h = int(t.height);
+// The texels a lookup at p (already through to_uv) reads, on a W x H grid with the
+// texture's flags (wrap mode, filter): texel (i, j) centred at ((i+½)/W, (j+½)/H), row 0
+// at v = 0; corners (xa, ya) .. (xb, yb) wrapped into the grid and bilinear weights
+// (fx, fy). Nearest is the bilinear footprint with the texel (⌊pW⌋, ⌊pH⌋) as its first
+// corner and weights 0 on the others, mix(a, b, 0) = a for finite texels: llvmpipe runs
+// both sides of a branch, so a separate nearest path would cost every bilinear lookup
+// its texel reads too. Bitmaps and textured emitters' densities (emitter_texture.glsl)
+// look up their grids through it.
+struct TexelFootprint {
+    int xa, xb, ya, yb;
+    float fx, fy;
+};
+
+TexelFootprint texture_footprint(uint flags, int w, int h, vec2 p) {
+    uint mode = (flags >> TEXTURE_WRAP_SHIFT) & 3u;
+    bool nearest = (flags & TEXTURE_NEAREST) != 0u;
     float x = p.x * float(w);
     float y = p.y * float(h);
     if (!nearest) {
@@ -53,14 +60,23 @@ vec3 texture_bitmap(TextureRecord t, vec2 p) {
         y -= 0.5;
     }
     float x0f = floor(x), y0f = floor(y);
-    float fx = nearest ? 0.0 : x - x0f;
-    float fy = nearest ? 0.0 : y - y0f;
+    TexelFootprint f;
+    f.fx = nearest ? 0.0 : x - x0f;
+    f.fy = nearest ? 0.0 : y - y0f;
     int x0 = int(x0f), y0 = int(y0f);
-    int xa = texture_wrap(x0, w, mode), xb = texture_wrap(x0 + 1, w, mode);
-    int ya = texture_wrap(y0, h, mode), yb = texture_wrap(y0 + 1, h, mode);
-    vec3 a = mix(texture_texel(t, xa, ya), texture_texel(t, xb, ya), fx);
-    vec3 b = mix(texture_texel(t, xa, yb), texture_texel(t, xb, yb), fx);
-    return mix(a, b, fy);
+    f.xa = texture_wrap(x0, w, mode);
+    f.xb = texture_wrap(x0 + 1, w, mode);
+    f.ya = texture_wrap(y0, h, mode);
+    f.yb = texture_wrap(y0 + 1, h, mode);
+    return f;
+}
+
+// Bitmap at p (already through to_uv), nearest or bilinear (texture_footprint).
+vec3 texture_bitmap(TextureRecord t, vec2 p) {
+    TexelFootprint f = texture_footprint(t.flags, int(t.width), int(t.height), p);
+    vec3 a = mix(texture_texel(t, f.xa, f.ya), texture_texel(t, f.xb, f.ya), f.fx);
+    vec3 b = mix(texture_texel(t, f.xa, f.yb), texture_texel(t, f.xb, f.yb), f.fx);
+    return mix(a, b, f.fy);
 }
 
 // Integer hash of a lattice point (lattice_hash in texture.rs).

@@ -189,7 +189,8 @@ pub fn to_uv_from(m: Mat4) -> [[f32; 3]; 2] {
     ]
 }
 
-fn apply_uv(m: &[[f32; 3]; 2], uv: Vec2) -> Vec2 {
+/// The texture-space point of surface `uv` under the 2 x 3 affine map `m` (`to_uv`).
+pub fn apply_uv(m: &[[f32; 3]; 2], uv: Vec2) -> Vec2 {
     Vec2::new(
         m[0][0] * uv.x + m[0][1] * uv.y + m[0][2],
         m[1][0] * uv.x + m[1][1] * uv.y + m[1][2],

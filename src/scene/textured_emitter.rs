@@ -33,7 +33,7 @@
 use glam::{DVec3, Vec2, Vec3};
 
 use super::distribution2d::Distribution2D;
-use super::texture::{wrap_index, Texture, Wrap};
+use super::texture::{apply_uv, wrap_index, Texture, Wrap};
 use super::Mesh;
 
 /// Luminance of linear sRGB (Rec. 709).
@@ -197,11 +197,7 @@ impl TextureSampling {
 
     /// The texture-space point of surface uv `uv` (`to_uv`).
     pub fn texture_point(&self, uv: Vec2) -> Vec2 {
-        let m = &self.to_uv;
-        Vec2::new(
-            m[0][0] * uv.x + m[0][1] * uv.y + m[0][2],
-            m[1][0] * uv.x + m[1][1] * uv.y + m[1][2],
-        )
+        apply_uv(&self.to_uv, uv)
     }
 }
 
