@@ -54,6 +54,10 @@ layout(constant_id = 7) const bool SCENE_THIN_NULL = false;
 // MIS weights by the power heuristic instead of the balance heuristic.
 layout(constant_id = 8) const bool SCENE_MIS_POWER = false;
 #define MIS_POWER SCENE_MIS_POWER
+// The kernel of the bounces whose vertices end their paths (depth + 2 > max_depth):
+// only the emission rays find (path.glsl).
+layout(constant_id = 14) const bool SCENE_SHADE_LAST = false;
+#define SHADE_LAST SCENE_SHADE_LAST
 #include "path.glsl"
 #include "vol_path.glsl"
 

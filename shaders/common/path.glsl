@@ -29,6 +29,15 @@
 #ifndef MIS_POWER
 #define MIS_POWER false
 #endif
+// SHADE_LAST (a bool constant defined before including this file: the `shade_last`
+// kernel of shade.comp): every vertex shaded is the last one its path can reach
+// (depth + 2 > max_depth), whose only light is the emission its ray found. Its
+// BSDF, emitter sampling and continuation then compile away: llvmpipe would run
+// their code for every lane though each lane returns before them.
+#ifndef SHADE_LAST
+#define SHADE_LAST false
+#endif
+
 float mis_weight(float a, float b) {
     if (MIS_POWER) {
         // a, b may exceed sqrt(FLT_MAX) (delta-like lobes): scale by the larger one.
@@ -134,7 +143,8 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
     bool miss = !in_medium && h.prim == NONE;
     bool env_seen = miss && (EMITTER_HAS(EMITTER_CONSTANT) || EMITTER_HAS(EMITTER_ENVMAP))
         && count_emission && frame.env_emitter != NONE;
-    bool env_merged = EMITTER_HAS(EMITTER_ENVMAP) && integrator_samples_emitters(integrator);
+    bool env_merged = EMITTER_HAS(EMITTER_ENVMAP) && integrator_samples_emitters(integrator)
+        && !SHADE_LAST;
     if (miss) {
         if (env_seen && !env_merged) {
             float w = weigh ? mis_weight(path.bsdf_pdf, emitter_pdf_env(r.dir)) : 1.0;
@@ -167,7 +177,13 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
         // Every texture of the point in one pass (the BSDF's parameters, its normal
         // map, the emitter's radiance): bsdf_textured_point says why.
         SurfaceTexels texels = SurfaceTexels(vec3(0.0), vec3(0.0));
-        bsdf = bsdf_textured_point(bsdf_load(shape.bsdf), s.uv, true, emission_texture, texels);
+        if (SHADE_LAST) {
+            if (TEXTURE_USES(TEXTURE_FEATURE_AREA) && emission_texture != 0u) {
+                texels.emission = texture_eval(emission_texture, s.uv);
+            }
+        } else {
+            bsdf = bsdf_textured_point(bsdf_load(shape.bsdf), s.uv, true, emission_texture, texels);
+        }
         if (emits) {
             vec3 Le = emitter_area_radiance_texel(light, s.ng, r.dir, texels.emission);
             float w = weigh ? mis_weight(path.bsdf_pdf, emitter_pdf_hit(shape.emitter, r.origin, r.dir, h.t, s.ng, s.uv)) : 1.0;
@@ -179,6 +195,7 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
         // old and the new normal, else its shadowing term. A twosided record mirrors
         // the old normal towards the viewer there, so the nested model is one-sided,
         // as in Mitsuba's twosided around a normalmap.
+        if (SHADE_LAST) return;
         mapped = TEXTURE_USES(TEXTURE_FEATURE_NORMALMAP) && bsdf.normal_map != 0u;
         if (mapped) {
             nm = normal_map_frame_texel(bsdf, s, -r.dir, texels.normal);
@@ -194,7 +211,7 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
     }
 
     // A longer path must fit in max_depth segments (this vertex ends segment depth+1).
-    if (!miss && depth + 2u > max_depth) return;
+    if (!miss && (SHADE_LAST || depth + 2u > max_depth)) return;
 
     if (ems || (env_merged && miss)) {
         vec2 u = sample_2d(path.pixel, path.sample_index, rng_dim_bounce(depth, v.light_dim));

@@ -317,6 +317,19 @@ impl Integrator {
         }
     }
 
+    /// Whether bounce `depth` of a path batch only ends paths: `shade` (path.glsl)
+    /// adds the emission its rays find and spawns nothing, since a further vertex
+    /// would exceed max_depth (depth + 2 > max_depth). The renderer runs such
+    /// bounces with `shade_last`, whose BSDF and sampling code compiles away. Never
+    /// for the first-hit integrators and the photon mappers, which shade otherwise.
+    pub fn ends_paths_at(&self, depth: u32) -> bool {
+        let first_hit = matches!(
+            self,
+            Integrator::Normals | Integrator::Ao { .. } | Integrator::Simple
+        );
+        !first_hit && !self.is_photon_mapper() && depth.saturating_add(2) > self.max_depth()
+    }
+
     /// Whether the integrator is a photon mapper (`render::photon` runs it).
     pub fn is_photon_mapper(&self) -> bool {
         matches!(self, Integrator::PhotonMapper(_) | Integrator::Sppm(_))
@@ -717,6 +730,39 @@ mod tests {
                 uniform: false
             }
         );
+    }
+
+    #[test]
+    fn bounces_that_only_end_paths() {
+        let path = |max_depth| {
+            Integrator::PathMis(PathParams {
+                max_depth,
+                rr_depth: 5,
+                hide_emitters: false,
+                power_heuristic: true,
+            })
+        };
+        // max_depth 3: vertices at depths 0 and 1 sample further segments, 2 ends.
+        let p = path(Some(3));
+        assert_eq!(p.bounces(), 3);
+        assert_eq!(
+            (0..3).map(|d| p.ends_paths_at(d)).collect::<Vec<_>>(),
+            [false, false, true]
+        );
+        assert!(path(Some(1)).ends_paths_at(0));
+        assert!(!(0..MAX_BOUNCES).any(|d| path(None).ends_paths_at(d)));
+        // direct_*: the BSDF-sampled ray's vertex only adds emission.
+        let direct = Integrator::DirectMis {
+            hide_emitters: false,
+        };
+        assert!(!direct.ends_paths_at(0) && direct.ends_paths_at(1));
+        assert!(!Integrator::DirectEms {
+            hide_emitters: false
+        }
+        .ends_paths_at(0));
+        // First-hit integrators and photon mappers shade in their own ways.
+        assert!(!Integrator::Simple.ends_paths_at(0));
+        assert!(!Integrator::Normals.ends_paths_at(5));
     }
 
     #[test]

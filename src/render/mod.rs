@@ -122,6 +122,10 @@ struct Kernels {
     generate: Kernel,
     intersect: Kernel,
     shade: Kernel,
+    /// `shade` for the bounces whose vertices end their paths (depth + 2 > max_depth:
+    /// only the emission rays find; shaders/common/path.glsl's SHADE_LAST), where a
+    /// path integrator's depth is bounded.
+    shade_last: Option<Kernel>,
     shadow: Kernel,
     queue_args: Kernel,
     accumulate: Kernel,
@@ -376,29 +380,38 @@ impl Renderer {
         let k = |name: &str, spirv: &[u8], spec: &[u32]| {
             Kernel::new(device, name, spirv, &layout, spec)
         };
+        let shade_spec = |last: bool| {
+            [
+                integrator.id(),
+                bsdf_kinds,
+                records.texture_mask(),
+                0,
+                has_media,
+                prim_kinds,
+                medium_features,
+                thin_null,
+                integrator.power_heuristic() as u32,
+                records.emitter_kinds(),
+                surface_features,
+                bvh_depth,
+                sampler::kind_id(&sampler),
+                has_alpha as u32,
+                last as u32,
+            ]
+        };
+        let bounces = integrator
+            .bounces()
+            .min(options.max_bounces.unwrap_or(u32::MAX))
+            .max(1);
+        let shade_last = (0..bounces)
+            .any(|d| integrator.ends_paths_at(d))
+            .then(|| k("shade_last", shaders::SHADE, &shade_spec(true)))
+            .transpose()?;
         let kernels = Kernels {
             generate: k("generate", shaders::GENERATE, &[sampler::kind_id(&sampler)])?,
             intersect: k("intersect", shaders::INTERSECT, &[prim_kinds, bvh_depth])?,
-            shade: k(
-                "shade",
-                shaders::SHADE,
-                &[
-                    integrator.id(),
-                    bsdf_kinds,
-                    records.texture_mask(),
-                    0,
-                    has_media,
-                    prim_kinds,
-                    medium_features,
-                    thin_null,
-                    integrator.power_heuristic() as u32,
-                    records.emitter_kinds(),
-                    surface_features,
-                    bvh_depth,
-                    sampler::kind_id(&sampler),
-                    has_alpha as u32,
-                ],
-            )?,
+            shade: k("shade", shaders::SHADE, &shade_spec(false))?,
+            shade_last,
             shadow: k(
                 "shadow",
                 shaders::SHADOW,
@@ -449,10 +462,6 @@ impl Renderer {
         device.save_pipeline_cache();
         let pipeline_seconds = t.elapsed().as_secs_f64();
 
-        let bounces = integrator
-            .bounces()
-            .min(options.max_bounces.unwrap_or(u32::MAX))
-            .max(1);
         let mut renderer = Renderer {
             device: device.clone(),
             bounces,
@@ -573,6 +582,7 @@ impl Renderer {
             &k.accumulate,
             &k.film_gather,
         ];
+        kernels.extend(&k.shade_last);
         let mut sets = vec![&self.scene_buffers.set, &wf.set, &self.film.set];
         if let Some(p) = &self.photon {
             kernels.extend(p.kernels());
@@ -838,7 +848,8 @@ impl Renderer {
     /// the batch is submitted and stops early once no path is left in the ray queue, so
     /// long bounce budgets cost nothing where paths end sooner (an empty dispatch still
     /// costs some 100 us on lavapipe; a check, a submission and a read-back).
-    /// Returns the bounces recorded.
+    /// Bounces that only end paths ([`Integrator::ends_paths_at`]) run `ending`'s
+    /// stages where given. Returns the bounces recorded.
     #[allow(clippy::too_many_arguments)]
     fn run_bounces(
         &self,
@@ -846,6 +857,7 @@ impl Renderer {
         sets: &[&DescriptorSet],
         push: &mut Push,
         stages: &[(&Kernel, Over)],
+        ending: Option<&[(&Kernel, Over)]>,
         bounces: u32,
         chunks: (u32, u32),
         stats: &mut RenderStats,
@@ -860,6 +872,10 @@ impl Renderer {
                 push.depth = d;
                 push.queue_in = d % 2;
                 let p = bytemuck::bytes_of(push);
+                let stages = match ending {
+                    Some(ending) if self.integrator.ends_paths_at(d) => ending,
+                    _ => stages,
+                };
                 for (kernel, over) in stages {
                     match over {
                         Over::Rays => cmd.dispatch_indirect(
@@ -927,11 +943,18 @@ impl Renderer {
             (&k.queue_args, Over::One),
             (&k.shadow, Over::Shadows),
         ];
+        // Bounces that only end paths run shade_last in shade's place.
+        let ending = k.shade_last.as_ref().map(|shade_last| {
+            let mut s = stages;
+            s[1] = (shade_last, Over::Rays);
+            s
+        });
         let depth = self.run_bounces(
             cmd,
             &sets,
             &mut push,
             &stages,
+            ending.as_ref().map(|s| &s[..]),
             self.bounces,
             if self.bounces > BOUNCE_CHUNK {
                 LONG_BUDGET_CHUNKS

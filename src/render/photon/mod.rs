@@ -572,6 +572,7 @@ impl Renderer {
             &sets,
             &mut push,
             &stages,
+            None,
             max_bounces,
             SHORT_BOUNCE_CHUNKS,
             stats,

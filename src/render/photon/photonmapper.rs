@@ -143,6 +143,7 @@ impl Renderer {
             &sets,
             &mut push,
             &stages,
+            None,
             self.bounces,
             SHORT_BOUNCE_CHUNKS,
             stats,
