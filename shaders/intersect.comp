@@ -5,6 +5,7 @@
 
 #include "wavefront.glsl"
 #include "scene_bindings.glsl"
+#include "partition.glsl"
 
 // The quadric kinds of the scene (SURFACE_FEATURE_* bits): the traversal compiles the
 // tests of the others out.
@@ -14,6 +15,9 @@ layout(constant_id = 0) const uint SCENE_PRIM_KINDS = 0xffffffffu;
 layout(constant_id = 1) const int SCENE_BVH_DEPTH = 32;
 #define BVH_STACK_DEPTH SCENE_BVH_DEPTH
 #include "bvh.glsl"
+// Whether the rays are partitioned into hits and misses for shade (partition.glsl);
+// else the kernels that follow read every ray's hit.
+layout(constant_id = 2) const bool SCENE_PARTITION = false;
 
 void main() {
     uint i = thread_index();
@@ -21,4 +25,5 @@ void main() {
     RayItem r = ray_load(ray_slot(push.queue_in, i));
     Hit h = bvh_closest(r.origin, r.dir, 0.0, r.tmax);
     hit_store(i, HitItem(h.t, h.u, h.v, h.prim));
+    if (SCENE_PARTITION) partition_push(i, h.prim != HIT_NONE);
 }

@@ -8,6 +8,7 @@
 
 #include "wavefront.glsl"
 #include "scene_bindings.glsl"
+#include "partition.glsl"
 // The sampler kind (SAMPLER_*): the other kinds compile away.
 layout(constant_id = 12) const uint SCENE_SAMPLER_KIND = 0u;
 #define SAMPLER_KIND SCENE_SAMPLER_KIND
@@ -58,6 +59,10 @@ layout(constant_id = 8) const bool SCENE_MIS_POWER = false;
 // only the emission rays find (path.glsl).
 layout(constant_id = 14) const bool SCENE_SHADE_LAST = false;
 #define SHADE_LAST SCENE_SHADE_LAST
+// The rays it shades (constant 15; SHADE_RAYS_* in path.glsl): the bounce's queue, or
+// one part of intersect's partition of it (path integrators in scenes without media).
+layout(constant_id = 15) const uint SCENE_SHADE_RAYS = 0u;
+#define SHADE_RAYS SCENE_SHADE_RAYS
 #include "path.glsl"
 #include "vol_path.glsl"
 
@@ -67,9 +72,14 @@ layout(constant_id = 13) const bool SCENE_FILM_ALPHA = false;
 
 void main() {
     uint i = thread_index();
-    if (i >= counters.ray_count[push.queue_in]) return;
+    uint n = SHADE_RAYS == SHADE_RAYS_HITS ? counters.hit_count
+        : SHADE_RAYS == SHADE_RAYS_MISSES ? counters.miss_count
+        : counters.ray_count[push.queue_in];
+    if (i >= n) return;
+    if (SHADE_RAYS == SHADE_RAYS_HITS) i = partition_hit(i);
+    if (SHADE_RAYS == SHADE_RAYS_MISSES) i = partition_miss(i);
     RayItem r = ray_load(ray_slot(push.queue_in, i));
-    HitItem h = hit_load(i);
+    HitItem h = SHADE_RAYS == SHADE_RAYS_MISSES ? HitItem(r.tmax, 0.0, 0.0, NONE) : hit_load(i);
     if (INTEGRATOR >= INTEGRATOR_DIRECT_EMS) {
         PathState path = path_load(r.path);
         PathVertex v = path_vertex_surface();

@@ -344,14 +344,16 @@ struct Counters {
     uint rays_traced;
     uint discarded;
     uint shadow_traced; // length of the shadow queue the shadow kernel traces
-    uint pad1;
-    uint pad2;
+    uint hit_count;     // a partitioned bounce's rays that found a surface (intersect)
+    uint miss_count;    // and those that left the scene
 };
 
 // VkDispatchIndirectCommand per queue.
 struct DispatchArgs {
     uint rays[3];
     uint shadows[3];
+    uint hits[3];   // a partitioned bounce's hits and misses (shade_args)
+    uint misses[3];
 };
 
 // Push constants of the wavefront kernels.

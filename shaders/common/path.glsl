@@ -37,6 +37,16 @@
 #ifndef SHADE_LAST
 #define SHADE_LAST false
 #endif
+// SHADE_RAYS (a uint constant likewise): the rays the kernel shades. SHADE_RAYS_ALL,
+// every ray of the bounce's queue; SHADE_RAYS_HITS, those intersect found a surface
+// for; SHADE_RAYS_MISSES, those that left the scene (partition.glsl).
+// Partitioned, the other kind's code compiles away.
+#define SHADE_RAYS_ALL 0u
+#define SHADE_RAYS_HITS 1u
+#define SHADE_RAYS_MISSES 2u
+#ifndef SHADE_RAYS
+#define SHADE_RAYS SHADE_RAYS_ALL
+#endif
 
 float mis_weight(float a, float b) {
     if (MIS_POWER) {
@@ -140,7 +150,8 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
     // along r.dir) is the one of emitter sampling below, made for the sampled direction
     // at surface vertices (emitter_sample_env): llvmpipe runs both sides of a branch,
     // so two lookups would cost every lane both. The numbers are the same.
-    bool miss = !in_medium && h.prim == NONE;
+    bool miss = SHADE_RAYS == SHADE_RAYS_MISSES
+        || (SHADE_RAYS == SHADE_RAYS_ALL && !in_medium && h.prim == NONE);
     bool env_seen = miss && (EMITTER_HAS(EMITTER_CONSTANT) || EMITTER_HAS(EMITTER_ENVMAP))
         && count_emission && frame.env_emitter != NONE;
     bool env_merged = EMITTER_HAS(EMITTER_ENVMAP) && integrator_samples_emitters(integrator)

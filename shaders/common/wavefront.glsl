@@ -26,6 +26,10 @@ layout(set = 1, binding = 7, rgba32ui) uniform readonly uimageBuffer path_texels
 layout(set = 1, binding = 8, rgba32ui) uniform readonly uimageBuffer ray_texels;
 layout(set = 1, binding = 9, rgba32ui) uniform readonly uimageBuffer hit_texels;
 layout(set = 1, binding = 10, rgba32ui) uniform readonly uimageBuffer shadow_texels;
+// A bounce's rays partitioned by intersect for shade (partition.glsl): written as a
+// storage buffer, read through a word view.
+layout(std430, set = 1, binding = 11) writeonly buffer ShadeRayBuffer { uint shade_ray_words[]; };
+layout(set = 1, binding = 12, r32ui) uniform readonly uimageBuffer shade_ray_texels;
 
 layout(push_constant) uniform PushBlock { Push push; };
 
@@ -37,6 +41,15 @@ uint thread_index() {
 
 // Index of item i of ray queue q in the ray buffer.
 uint ray_slot(uint q, uint i) { return q * push.capacity + i; }
+
+// Workgroups for n items on a 2D grid of at most 65535 x 65535 groups (the indirect
+// dispatch arguments of a queue).
+uvec3 dispatch_groups(uint n) {
+    uint groups = (n + WORKGROUP_SIZE - 1u) / WORKGROUP_SIZE;
+    uint x = min(groups, 65535u);
+    uint y = x == 0u ? 1u : (groups + x - 1u) / x;
+    return uvec3(x, y, 1u);
+}
 
 // PathState: 3 words; RayItem: 2; HitItem: 1; ShadowItem: 3 (layout.glsl).
 PathState path_load(uint i) {

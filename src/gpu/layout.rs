@@ -571,8 +571,11 @@ pub struct Counters {
     /// Length of the shadow queue the `shadow` kernel traces: `queue_args` moves
     /// `shadow_count` here and empties it for the next bounce's `shade`.
     pub shadow_traced: u32,
-    pub pad1: u32,
-    pub pad2: u32,
+    /// Rays of the bounce that `intersect` found a surface for, and rays that left
+    /// the scene, where it partitions them for `shade` (shaders/common/partition.glsl);
+    /// `queue_args` empties both.
+    pub hit_count: u32,
+    pub miss_count: u32,
 }
 
 /// Indirect dispatch arguments for each queue, written on the GPU from [`Counters`].
@@ -581,6 +584,9 @@ pub struct Counters {
 pub struct DispatchArgs {
     pub rays: [u32; 3],
     pub shadows: [u32; 3],
+    /// The partitioned bounce's hits and misses (`shade_args`).
+    pub hits: [u32; 3],
+    pub misses: [u32; 3],
 }
 
 /// Push constants of the wavefront kernels.
@@ -1019,10 +1025,10 @@ mod tests {
                 rays_traced,
                 discarded,
                 shadow_traced,
-                pad1,
-                pad2
+                hit_count,
+                miss_count
             ),
-            rust_layout!(DispatchArgs, rays, shadows),
+            rust_layout!(DispatchArgs, rays, shadows, hits, misses),
             rust_layout!(
                 Push,
                 path_count,

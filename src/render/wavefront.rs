@@ -10,28 +10,31 @@ use crate::gpu::{BindingKind, BindingLayout, Buffer, DescriptorSet, Device, Loca
 use super::error::Result;
 
 /// Bindings of set 1, in order.
-pub const WAVEFRONT_BINDINGS: u32 = 11;
+pub const WAVEFRONT_BINDINGS: u32 = 13;
 
 /// The kind of each binding of set 1: the frame is a uniform buffer; path states,
 /// rays, hits and shadow rays are written as storage buffers (bindings 1-4) and read
 /// through texel views of the same buffers (bindings 7-10), see
-/// [`BindingKind::Texels`].
+/// [`BindingKind::Texels`]; likewise the partition of a bounce's rays (written at 11,
+/// read as words at 12).
 pub fn wavefront_binding_kinds() -> Vec<BindingKind> {
     (0..WAVEFRONT_BINDINGS)
         .map(|b| match b {
             0 => BindingKind::Uniform,
-            7.. => BindingKind::Texels,
+            7..=10 => BindingKind::Texels,
+            12 => BindingKind::Words,
             _ => BindingKind::Storage,
         })
         .collect()
 }
 
 /// GPU memory one path slot needs, in bytes (path state, two ray queue entries, a
-/// hit, a shadow ray).
+/// hit, a shadow ray, a queue index of the partition).
 pub const BYTES_PER_PATH: u64 = (size_of::<PathState>()
     + 2 * size_of::<RayItem>()
     + size_of::<HitItem>()
-    + size_of::<ShadowItem>()) as u64;
+    + size_of::<ShadowItem>()
+    + size_of::<u32>()) as u64;
 
 pub struct Wavefront {
     pub frame: Buffer,
@@ -39,6 +42,9 @@ pub struct Wavefront {
     pub rays: Buffer,
     pub hits: Buffer,
     pub shadows: Buffer,
+    /// Queue indices of a bounce's hits (from the front) and misses (from the back)
+    /// where `intersect` partitions them for `shade`.
+    pub shade_rays: Buffer,
     pub counters: Buffer,
     pub dispatch_args: Buffer,
     pub set: DescriptorSet,
@@ -79,6 +85,12 @@ impl Wavefront {
             n * size_of::<ShadowItem>() as u64,
             Location::Gpu,
         )?;
+        let shade_rays = Buffer::new(
+            device,
+            "shade partition",
+            n * size_of::<u32>() as u64,
+            Location::Gpu,
+        )?;
         let counters = Buffer::from_slice(device, "counters", &[Counters::default()])?;
         let dispatch_args =
             Buffer::from_slice(device, "dispatch args", &[DispatchArgs::default()])?;
@@ -97,6 +109,8 @@ impl Wavefront {
                 &rays,
                 &hits,
                 &shadows,
+                &shade_rays,
+                &shade_rays,
             ],
         )?;
         Ok(Wavefront {
@@ -105,6 +119,7 @@ impl Wavefront {
             rays,
             hits,
             shadows,
+            shade_rays,
             counters,
             dispatch_args,
             set,
@@ -116,4 +131,7 @@ impl Wavefront {
     pub const RAY_ARGS: u64 = 0;
     /// Byte offset of the shadow-queue arguments in the dispatch buffer.
     pub const SHADOW_ARGS: u64 = 12;
+    /// Byte offsets of the arguments of a partitioned bounce's hits and misses.
+    pub const HIT_ARGS: u64 = 24;
+    pub const MISS_ARGS: u64 = 36;
 }

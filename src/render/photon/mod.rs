@@ -544,6 +544,7 @@ impl Renderer {
         let args = DispatchArgs {
             rays: groups_for(count),
             shadows: [0, 1, 1],
+            ..Default::default()
         };
         cmd.update(&wf.dispatch_args, 0, bytemuck::bytes_of(&args));
         cmd.barrier();
