@@ -617,6 +617,11 @@ impl Renderer {
         let t = Instant::now();
         let mut cmd = CommandList::new(&self.device)?;
         let wf = &self.wavefront;
+        // Touch the queues once: a CPU device (lavapipe) maps their pages in at the first
+        // write, which would otherwise fall into the first batch's time.
+        for b in [&wf.paths, &wf.rays, &wf.hits, &wf.shadows, &wf.shade_rays] {
+            cmd.fill(b, 0, b.size(), 0);
+        }
         cmd.update(&wf.counters, 0, bytemuck::bytes_of(&Counters::default()));
         cmd.barrier();
         let push = Push {
