@@ -352,3 +352,49 @@ fn specialized_kernels_render_what_the_driver_renders() {
         );
     }
 }
+
+/// The kernels' 64-bit queue stores (devices with shaderInt64; wavefront.glsl's
+/// WAVEFRONT_INT64) render what the 32-bit stores every device runs render
+/// (WAVETRACE_NO_INT64 forces those), bit for bit: a path tracer whose rays are
+/// partitioned into hits and misses, direct lighting with its emission-only last
+/// bounce, a medium, a photon mapper.
+#[test]
+fn int64_queue_stores_render_what_32_bit_stores_render() {
+    let dir = std::env::temp_dir().join(format!("wavetrace-test-{}-int64", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scenes: [(&str, &[&str]); 4] = [
+        ("scenes/envmap/envmap_glossy.xml", &[]),
+        ("scenes/veach/veach.xml", &["-D", "integrator=direct"]),
+        ("scenes/media/cube.xml", &[]),
+        ("scenes/caustic/caustic.xml", &[]),
+    ];
+    for (scene, args) in scenes {
+        let mut images = Vec::new();
+        for int64 in [true, false] {
+            let out = dir.join(format!("int64-{int64}.exr"));
+            let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_wavetrace"));
+            cmd.current_dir(repo(""));
+            if !int64 {
+                cmd.env("WAVETRACE_NO_INT64", "1");
+            }
+            let status = cmd
+                .args(["render", scene, "-D", "res=32", "--spp", "4", "-q", "-o"])
+                .arg(&out)
+                .args(args)
+                .output()
+                .expect("run wavetrace");
+            assert!(
+                status.status.success(),
+                "{scene} (int64 {int64}): {}",
+                String::from_utf8_lossy(&status.stderr)
+            );
+            images.push(std::fs::read(&out).unwrap());
+        }
+        assert!(images[0] == images[1], "{scene}: the images differ");
+        let img = wavetrace::image::exr::read(dir.join("int64-true.exr")).unwrap();
+        assert!(
+            wavetrace::image::metrics::mean(&img)[0] > 0.0,
+            "{scene} rendered black"
+        );
+    }
+}

@@ -54,8 +54,8 @@ PhotonPath photon_path_load(uint i) {
 }
 
 void photon_path_store(uint i, PhotonPath p) {
-    path_words[2u * i] = uvec4(floatBitsToUint(p.power), p.index);
-    path_words[2u * i + 1u] = uvec4(floatBitsToUint(p.start_power), p.stored, p.pad0, p.pad1);
+    path_words[2u * i] = wavefront_word(uvec4(floatBitsToUint(p.power), p.index));
+    path_words[2u * i + 1u] = wavefront_word(uvec4(floatBitsToUint(p.start_power), p.stored, p.pad0, p.pad1));
 }
 
 // VisiblePoint: 5 words.

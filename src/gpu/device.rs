@@ -65,6 +65,11 @@ pub struct DeviceInfo {
     /// device, at least 3/4 of the host's RAM; see `device_memory`).
     pub device_memory: u64,
     pub max_workgroups_x: u32,
+    /// Whether kernels run their `WAVEFRONT_INT64` variants (64-bit stores of the
+    /// wavefront's queues, `shaders::int64_variant`): the device has shaderInt64,
+    /// and the environment variable `WAVETRACE_NO_INT64` is not set (it forces the
+    /// 32-bit variants, which every device runs).
+    pub int64: bool,
     /// Time to load Vulkan, create the instance and the device.
     pub startup_seconds: f64,
 }
@@ -462,7 +467,14 @@ impl Device {
             .queue_family_index(phys.queue_family)
             .queue_priorities(&priorities)];
         let swapchain_extension = [ash::khr::swapchain::NAME.as_ptr()];
-        let mut device_info = vk::DeviceCreateInfo::default().queue_create_infos(&queue_info);
+        // SAFETY: physical device from this instance.
+        let supported = unsafe { instance.get_physical_device_features(phys.handle) };
+        let int64 =
+            supported.shader_int64 == vk::TRUE && std::env::var_os("WAVETRACE_NO_INT64").is_none();
+        let features = vk::PhysicalDeviceFeatures::default().shader_int64(int64);
+        let mut device_info = vk::DeviceCreateInfo::default()
+            .queue_create_infos(&queue_info)
+            .enabled_features(&features);
         if surface.is_some() {
             device_info = device_info.enabled_extension_names(&swapchain_extension);
         }
@@ -524,6 +536,7 @@ impl Device {
             max_memory_allocation_size: maintenance3.max_memory_allocation_size,
             device_memory: device_memory(phys.kind, largest_device_heap(&memory)),
             max_workgroups_x: props.limits.max_compute_work_group_count[0],
+            int64,
             startup_seconds: start.elapsed().as_secs_f64(),
         };
         Ok(Inner {

@@ -325,7 +325,9 @@ pub struct Kernel {
 impl Kernel {
     /// `spec[i]` becomes specialization constant `constant_id = i` (32-bit each), and
     /// the layout's own constants ([`BindingLayout::with_spec`]) are added. On a layout
-    /// for a split scene, a kernel that reads the scene runs its SCENE_SPLIT variant.
+    /// for a split scene, a kernel that reads the scene runs its SCENE_SPLIT variant;
+    /// on a device with [`DeviceInfo::int64`](super::DeviceInfo), a kernel that writes
+    /// the wavefront's queues its WAVEFRONT_INT64 variant.
     pub fn new(
         device: &Device,
         name: &str,
@@ -335,6 +337,10 @@ impl Kernel {
     ) -> Result<Kernel> {
         let spirv = match layout.inner.scene_split {
             true => super::shaders::scene_split_variant(spirv).unwrap_or(spirv),
+            false => spirv,
+        };
+        let spirv = match device.info().int64 {
+            true => super::shaders::int64_variant(spirv).unwrap_or(spirv),
             false => spirv,
         };
         let code = ash::util::read_spv(&mut std::io::Cursor::new(spirv))

@@ -547,6 +547,7 @@ mod tests {
             max_memory_allocation_size: 2 << 30,
             device_memory: 24 << 30,
             max_workgroups_x: 65535,
+            int64: true,
             startup_seconds: 0.0,
         };
         assert_eq!(device_part_shift(&info), 27);
