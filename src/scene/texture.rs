@@ -197,6 +197,37 @@ pub fn apply_uv(m: &[[f32; 3]; 2], uv: Vec2) -> Vec2 {
     )
 }
 
+/// A lookup at `p` (already through `to_uv`) on a `w` x `h` grid of texels, texel
+/// (i, j) centred at ((i+½)/w, (j+½)/h), row 0 at v = 0: with `nearest` the texel
+/// (⌊pw⌋, ⌊ph⌋), else the bilinear interpolation of the four around p, indices
+/// through the wrap mode (`texture_footprint` in texture.glsl). `texel(i, j)` reads a
+/// texel, `lerp(a, b, t)` interpolates two. Bitmaps ([`Texture::eval`]) and textured
+/// emitters' densities (`TextureSampling::density`) look up their grids through it.
+pub fn filtered_lookup<T>(
+    p: Vec2,
+    (w, h): (u32, u32),
+    nearest: bool,
+    wrap: Wrap,
+    texel: impl Fn(u32, u32) -> T,
+    lerp: impl Fn(T, T, f32) -> T,
+) -> T {
+    let at = |x: i32, y: i32| texel(wrap_index(x, w, wrap), wrap_index(y, h, wrap));
+    if nearest {
+        return at(
+            (p.x * w as f32).floor() as i32,
+            (p.y * h as f32).floor() as i32,
+        );
+    }
+    let x = p.x * w as f32 - 0.5;
+    let y = p.y * h as f32 - 0.5;
+    let (x0, y0) = (x.floor(), y.floor());
+    let (fx, fy) = (x - x0, y - y0);
+    let (x0, y0) = (x0 as i32, y0 as i32);
+    let a = lerp(at(x0, y0), at(x0 + 1, y0), fx);
+    let b = lerp(at(x0, y0 + 1), at(x0 + 1, y0 + 1), fx);
+    lerp(a, b, fy)
+}
+
 /// A texel index brought into [0, n) by the wrap mode.
 pub fn wrap_index(i: i32, n: u32, wrap: Wrap) -> u32 {
     let n = n as i32;
@@ -297,28 +328,14 @@ impl Texture {
                 nearest,
                 wrap,
                 to_uv,
-            } => {
-                let p = apply_uv(to_uv, uv);
-                let texel = |x: i32, y: i32| {
-                    let i = wrap_index(x, *width, *wrap);
-                    let j = wrap_index(y, *height, *wrap);
-                    Vec3::from(texels[(j * width + i) as usize])
-                };
-                if *nearest {
-                    let x = (p.x * *width as f32).floor() as i32;
-                    let y = (p.y * *height as f32).floor() as i32;
-                    texel(x, y)
-                } else {
-                    let x = p.x * *width as f32 - 0.5;
-                    let y = p.y * *height as f32 - 0.5;
-                    let (x0, y0) = (x.floor(), y.floor());
-                    let (fx, fy) = (x - x0, y - y0);
-                    let (x0, y0) = (x0 as i32, y0 as i32);
-                    let a = texel(x0, y0).lerp(texel(x0 + 1, y0), fx);
-                    let b = texel(x0, y0 + 1).lerp(texel(x0 + 1, y0 + 1), fx);
-                    a.lerp(b, fy)
-                }
-            }
+            } => filtered_lookup(
+                apply_uv(to_uv, uv),
+                (*width, *height),
+                *nearest,
+                *wrap,
+                |i, j| Vec3::from(texels[(j * width + i) as usize]),
+                Vec3::lerp,
+            ),
             Texture::Checkerboard {
                 color0,
                 color1,

@@ -33,7 +33,7 @@
 use glam::{DVec3, Vec2, Vec3};
 
 use super::distribution2d::Distribution2D;
-use super::texture::{apply_uv, wrap_index, Texture, Wrap};
+use super::texture::{apply_uv, filtered_lookup, Texture, Wrap};
 use super::Mesh;
 
 /// Luminance of linear sRGB (Rec. 709).
@@ -48,10 +48,7 @@ pub fn is_square_symmetry(to_uv: &[[f32; 3]; 2]) -> bool {
     let corners = [Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y];
     let mut hits = 0u32;
     for c in corners {
-        let p = Vec2::new(
-            to_uv[0][0] * c.x + to_uv[0][1] * c.y + to_uv[0][2],
-            to_uv[1][0] * c.x + to_uv[1][1] * c.y + to_uv[1][2],
-        );
+        let p = apply_uv(to_uv, c);
         for (k, q) in corners.iter().enumerate() {
             if (p - *q).length_squared() < 1e-8 {
                 hits |= 1 << k;
@@ -128,36 +125,18 @@ impl TextureSampling {
         b
     }
 
-    fn texel_density(&self, x: i32, y: i32) -> f32 {
-        let (w, h) = (self.dist.width, self.dist.height);
-        let i = wrap_index(x, w, self.wrap);
-        let j = wrap_index(y, h, self.wrap);
-        self.density[(j * w + i) as usize]
-    }
-
     /// Density of [`Self::sample`] at texture-space point `p` (through `to_uv`), per
     /// unit area of texture coordinates: looked up as the texture looks up its texels.
     pub fn density(&self, p: Vec2) -> f32 {
-        let (w, h) = (self.dist.width as f32, self.dist.height as f32);
-        if self.nearest {
-            return self.texel_density((p.x * w).floor() as i32, (p.y * h).floor() as i32);
-        }
-        let (x, y) = (p.x * w - 0.5, p.y * h - 0.5);
-        let (x0, y0) = (x.floor(), y.floor());
-        let (fx, fy) = (x - x0, y - y0);
-        let (x0, y0) = (x0 as i32, y0 as i32);
-        let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
-        let a = lerp(
-            self.texel_density(x0, y0),
-            self.texel_density(x0 + 1, y0),
-            fx,
-        );
-        let b = lerp(
-            self.texel_density(x0, y0 + 1),
-            self.texel_density(x0 + 1, y0 + 1),
-            fx,
-        );
-        lerp(a, b, fy)
+        let w = self.dist.width;
+        filtered_lookup(
+            p,
+            (w, self.dist.height),
+            self.nearest,
+            self.wrap,
+            |i, j| self.density[(j * w + i) as usize],
+            |a, b, t| a + (b - a) * t,
+        )
     }
 
     /// A texture-space point in [0, 1]² from the uniform pair `u` (u.x picks the row,
