@@ -39,9 +39,9 @@ fn main() {
         // renderer uses it only for scenes that need it, so the common case keeps the
         // plain loads and the pipeline-creation time they cost.
         let reads_scene = includes(kernel, &shader_dir, "scene_bindings.glsl");
-        let mut variants: Vec<(&str, Vec<&str>)> = vec![("", vec![])];
+        let mut variants: Vec<(String, Vec<&str>)> = vec![(String::new(), vec![])];
         if reads_scene {
-            variants.push(("_SCENE_SPLIT", vec!["-DSCENE_SPLIT"]));
+            variants.push(("_SCENE_SPLIT".into(), vec!["-DSCENE_SPLIT"]));
         }
         // Kernels that write the wavefront's queues get a variant that stores them
         // in 64-bit components (wavefront.glsl, WAVEFRONT_INT64), for devices with
@@ -53,14 +53,7 @@ fn main() {
                 .map(|(suffix, defines)| {
                     let mut d = defines.clone();
                     d.push("-DWAVEFRONT_INT64");
-                    (
-                        if suffix.is_empty() {
-                            "_INT64"
-                        } else {
-                            "_SCENE_SPLIT_INT64"
-                        },
-                        d,
-                    )
+                    (format!("{suffix}_INT64"), d)
                 })
                 .collect();
             variants.extend(with_int64);
@@ -117,31 +110,21 @@ fn main() {
             int64_pairs.push(name);
         }
     }
-    consts.push_str(
-        "\n/// The `SCENE_SPLIT` variant of a kernel that reads the scene (`None` for one that\n\
-         /// does not): its loads handle scene arrays split over several bindings.\n\
-         pub fn scene_split_variant(spirv: &[u8]) -> Option<&'static [u8]> {\n    \
-         [\n",
-    );
-    for name in &split_pairs {
-        consts.push_str(&format!("        ({name}, {name}_SCENE_SPLIT),\n"));
-    }
-    consts.push_str(
-        "    ]\n    .into_iter()\n    .find(|(plain, _)| *plain == spirv)\n    .map(|(_, split)| split)\n}\n",
-    );
-    consts.push_str(
-        "\n/// The `WAVEFRONT_INT64` variant of a kernel (plain or `SCENE_SPLIT`) that writes\n\
+    consts.push_str(&variant_fn(
+        "The `SCENE_SPLIT` variant of a kernel that reads the scene (`None` for one that\n\
+         /// does not): its loads handle scene arrays split over several bindings.",
+        "scene_split_variant",
+        &split_pairs,
+        "_SCENE_SPLIT",
+    ));
+    consts.push_str(&variant_fn(
+        "The `WAVEFRONT_INT64` variant of a kernel (plain or `SCENE_SPLIT`) that writes\n\
          /// the wavefront's queues (`None` for one that does not): for devices with\n\
-         /// shaderInt64.\n\
-         pub fn int64_variant(spirv: &[u8]) -> Option<&'static [u8]> {\n    \
-         [\n",
-    );
-    for name in &int64_pairs {
-        consts.push_str(&format!("        ({name}, {name}_INT64),\n"));
-    }
-    consts.push_str(
-        "    ]\n    .into_iter()\n    .find(|(plain, _)| *plain == spirv)\n    .map(|(_, wide)| wide)\n}\n",
-    );
+         /// shaderInt64.",
+        "int64_variant",
+        &int64_pairs,
+        "_INT64",
+    ));
     if !failures.is_empty() {
         eprintln!("GLSL compilation failed:\n{}", failures.join("\n"));
         std::process::exit(1);
@@ -152,6 +135,20 @@ fn main() {
 /// Whether `file` includes `target`, directly or through the files it includes
 /// (resolved beside it, then in `shaders/common`, then in `shaders`, as glslang's
 /// include paths say).
+/// Source of `pub fn NAME(spirv) -> Option<&[u8]>` (doc comment `doc`), which maps
+/// each kernel constant of `kernels` to its variant, the constant named with `suffix`.
+fn variant_fn(doc: &str, name: &str, kernels: &[String], suffix: &str) -> String {
+    let mut s =
+        format!("\n/// {doc}\npub fn {name}(spirv: &[u8]) -> Option<&'static [u8]> {{\n    [\n");
+    for k in kernels {
+        s.push_str(&format!("        ({k}, {k}{suffix}),\n"));
+    }
+    s.push_str(
+        "    ]\n    .into_iter()\n    .find(|(plain, _)| *plain == spirv)\n    .map(|(_, variant)| variant)\n}\n",
+    );
+    s
+}
+
 fn includes(file: &Path, shader_dir: &Path, target: &str) -> bool {
     let mut todo = vec![file.to_path_buf()];
     let mut seen = std::collections::HashSet::new();

@@ -27,6 +27,27 @@ fn render_to(scene: &std::path::Path, out: &std::path::Path, spp: &str) -> (i32,
     ])
 }
 
+/// Renders `scene` with `args` at 4 spp to `out`, quietly, with the environment
+/// variable `env` set where given; fails the test with its stderr if it fails.
+fn render_with_env(scene: &str, args: &[&str], env: Option<(&str, &str)>, out: &std::path::Path) {
+    let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_wavetrace"));
+    cmd.current_dir(repo(""));
+    if let Some((key, value)) = env {
+        cmd.env(key, value);
+    }
+    let status = cmd
+        .args(["render", scene, "--spp", "4", "-q", "-o"])
+        .arg(out)
+        .args(args)
+        .output()
+        .expect("run wavetrace");
+    assert!(
+        status.status.success(),
+        "{scene} ({env:?}): {}",
+        String::from_utf8_lossy(&status.stderr)
+    );
+}
+
 const CAMERA: &str = r#"<sensor type="perspective"><float name="fov" value="40"/>
     <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>"#;
 
@@ -323,17 +344,11 @@ fn specialized_kernels_render_what_the_driver_renders() {
         let mut images = Vec::new();
         for mode in ["spirv-opt", "driver"] {
             let out = dir.join(format!("{mode}.exr"));
-            let status = std::process::Command::new(env!("CARGO_BIN_EXE_wavetrace"))
-                .current_dir(repo(""))
-                .env("WAVETRACE_SPECIALIZE", mode)
-                .args(["render", scene, "-D", "res=24", "--spp", "4", "-q", "-o"])
-                .arg(&out)
-                .output()
-                .expect("run wavetrace");
-            assert!(
-                status.status.success(),
-                "{scene} ({mode}): {}",
-                String::from_utf8_lossy(&status.stderr)
+            render_with_env(
+                scene,
+                &["-D", "res=24"],
+                Some(("WAVETRACE_SPECIALIZE", mode)),
+                &out,
             );
             images.push(wavetrace::image::exr::read(&out).unwrap());
         }
@@ -372,22 +387,8 @@ fn int64_queue_stores_render_what_32_bit_stores_render() {
         let mut images = Vec::new();
         for int64 in [true, false] {
             let out = dir.join(format!("int64-{int64}.exr"));
-            let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_wavetrace"));
-            cmd.current_dir(repo(""));
-            if !int64 {
-                cmd.env("WAVETRACE_NO_INT64", "1");
-            }
-            let status = cmd
-                .args(["render", scene, "-D", "res=32", "--spp", "4", "-q", "-o"])
-                .arg(&out)
-                .args(args)
-                .output()
-                .expect("run wavetrace");
-            assert!(
-                status.status.success(),
-                "{scene} (int64 {int64}): {}",
-                String::from_utf8_lossy(&status.stderr)
-            );
+            let env = (!int64).then_some(("WAVETRACE_NO_INT64", "1"));
+            render_with_env(scene, &[&["-D", "res=32"], args].concat(), env, &out);
             images.push(std::fs::read(&out).unwrap());
         }
         assert!(images[0] == images[1], "{scene}: the images differ");

@@ -320,14 +320,21 @@ impl Integrator {
     /// Whether bounce `depth` of a path batch only ends paths: `shade` (path.glsl)
     /// adds the emission its rays find and spawns nothing, since a further vertex
     /// would exceed max_depth (depth + 2 > max_depth). The renderer runs such
-    /// bounces with `shade_last`, whose BSDF and sampling code compiles away. Never
-    /// for the first-hit integrators and the photon mappers, which shade otherwise.
+    /// bounces with `shade_last`, whose BSDF and sampling code compiles away. Only
+    /// where `shade` runs path vertices ([`Self::shades_paths`]).
     pub fn ends_paths_at(&self, depth: u32) -> bool {
+        self.shades_paths() && depth.saturating_add(2) > self.max_depth()
+    }
+
+    /// Whether `shade` runs the path vertices of path.glsl (direct lighting, path
+    /// tracers, volumetric ones): not the first-hit integrators (first_hit.glsl) nor
+    /// the photon mappers (their own kernels).
+    pub fn shades_paths(&self) -> bool {
         let first_hit = matches!(
             self,
             Integrator::Normals | Integrator::Ao { .. } | Integrator::Simple
         );
-        !first_hit && !self.is_photon_mapper() && depth.saturating_add(2) > self.max_depth()
+        !first_hit && !self.is_photon_mapper()
     }
 
     /// Whether the integrator is a photon mapper (`render::photon` runs it).

@@ -193,11 +193,7 @@ enum Over {
 /// photon mappers and scenes with media (whose medium stage turns misses into
 /// scattering events) shade every ray of the queue in one kernel.
 fn partitions(integrator: &Integrator, has_media: bool, has_environment: bool) -> bool {
-    let first_hit = matches!(
-        integrator,
-        Integrator::Normals | Integrator::Ao { .. } | Integrator::Simple
-    );
-    has_environment && !first_hit && !integrator.is_photon_mapper() && !has_media
+    has_environment && integrator.shades_paths() && !has_media
 }
 
 /// Workgroups for `n` threads on a 2D grid (at most 65535 per dimension); the same
@@ -937,36 +933,17 @@ impl Renderer {
                     _ => stages,
                 };
                 for (kernel, over) in stages {
-                    match over {
-                        Over::Rays => cmd.dispatch_indirect(
-                            kernel,
-                            sets,
-                            p,
-                            &wf.dispatch_args,
-                            Wavefront::RAY_ARGS,
-                        ),
-                        Over::Hits => cmd.dispatch_indirect(
-                            kernel,
-                            sets,
-                            p,
-                            &wf.dispatch_args,
-                            Wavefront::HIT_ARGS,
-                        ),
-                        Over::Misses => cmd.dispatch_indirect(
-                            kernel,
-                            sets,
-                            p,
-                            &wf.dispatch_args,
-                            Wavefront::MISS_ARGS,
-                        ),
-                        Over::Shadows => cmd.dispatch_indirect(
-                            kernel,
-                            sets,
-                            p,
-                            &wf.dispatch_args,
-                            Wavefront::SHADOW_ARGS,
-                        ),
-                        Over::One => cmd.dispatch(kernel, sets, p, [1, 1, 1]),
+                    // The indirect arguments of the queue the stage runs over.
+                    let args = match over {
+                        Over::Rays => Some(Wavefront::RAY_ARGS),
+                        Over::Hits => Some(Wavefront::HIT_ARGS),
+                        Over::Misses => Some(Wavefront::MISS_ARGS),
+                        Over::Shadows => Some(Wavefront::SHADOW_ARGS),
+                        Over::One => None,
+                    };
+                    match args {
+                        Some(a) => cmd.dispatch_indirect(kernel, sets, p, &wf.dispatch_args, a),
+                        None => cmd.dispatch(kernel, sets, p, [1, 1, 1]),
                     }
                     cmd.barrier();
                 }
