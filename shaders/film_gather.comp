@@ -7,7 +7,12 @@
 // Per sample the neighbours are summed in row-major order and the sum added to the
 // pixel's: the same additions in the same order for any batching or crop window, so
 // a crop equals the window of the full render bit for bit. No atomics.
-// Reads: the film's sample ring. Writes: the film's sums.
+// With the box filter (FILM_FROM_PATHS) a sample weighs 1 in its own pixel and no
+// other, so the pixel reads its samples' radiance from the batch's paths themselves:
+// `accumulate` and the ring are skipped (a store and a load of every sample fewer),
+// with the same additions in the same order. NaN and infinite samples are then
+// counted here.
+// Reads: the film's sample ring (or paths). Writes: the film's sums, counters.discarded.
 
 #include "wavefront.glsl"
 #include "film/film.glsl"
@@ -15,6 +20,8 @@
 // The filter (a FILTER_* value) and whether the film keeps alpha sums.
 layout(constant_id = 0) const uint FILM_FILTER = FILTER_GAUSSIAN;
 layout(constant_id = 1) const bool FILM_HAS_ALPHA = false;
+// Whether the pixels read their samples from the paths (the box filter; film.rs).
+layout(constant_id = 2) const bool FILM_FROM_PATHS = false;
 #include "film/filter.glsl"
 
 void main() {
@@ -42,6 +49,24 @@ void main() {
     uint i = c.y * cw + c.x;
     vec4 sum = film_sums[i];
     float alpha = FILM_HAS_ALPHA ? film_alpha_sums[i] : 0.0;
+    if (FILM_FROM_PATHS) {
+        // Sample k of this pixel is path k P + (its index - pixel_base) of the batch.
+        int p = k_first * P + last;
+        for (int k = k_first; k <= k_last; k++) {
+            PathState path = path_load(uint(p));
+            vec3 L = path.radiance;
+            if (any(isnan(L)) || any(isinf(L))) {
+                atomicAdd(counters.discarded, 1u);
+            } else {
+                sum += vec4(L, 1.0);
+                if (FILM_HAS_ALPHA && (path.flags & PATH_COVERED) != 0u) alpha += 1.0;
+            }
+            p += P;
+        }
+        film_sums[i] = sum;
+        if (FILM_HAS_ALPHA) film_alpha_sums[i] = alpha;
+        return;
+    }
     for (int k = k_first; k <= k_last; k++) {
         // The ring slot of the top-left neighbour in sample k: its path index (from
         // this batch's first; earlier batches' samples have negative indices and are

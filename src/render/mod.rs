@@ -1,8 +1,8 @@
 //! The wavefront renderer: queues, per-bounce dispatch, integrators, film.
 //!
 //! A batch of paths runs as `generate -> (intersect -> shade -> queue_args -> shadow)
-//! per bounce -> accumulate -> film_gather`, every stage one dispatch over a
-//! queue in GPU memory. Queue lengths stay on the GPU and drive indirect dispatch, so
+//! per bounce -> accumulate (not with the box filter) -> film_gather`, every stage one
+//! dispatch over a queue in GPU memory. Queue lengths stay on the GPU and drive indirect dispatch, so
 //! a whole batch is one submission with no read-back between bounces (Laine, Karras
 //! and Aila 2013, "Megakernels Considered Harmful").
 
@@ -133,7 +133,8 @@ struct Kernels {
     shade_miss: Option<Kernel>,
     shadow: Kernel,
     queue_args: Kernel,
-    accumulate: Kernel,
+    /// None where `film_gather` reads the paths ([`Film::reads_paths`]).
+    accumulate: Option<Kernel>,
     film_gather: Kernel,
 }
 
@@ -479,11 +480,15 @@ impl Renderer {
                 ],
             )?,
             queue_args: k("queue_args", shaders::QUEUE_ARGS, &[])?,
-            accumulate: k(
-                "accumulate",
-                shaders::ACCUMULATE,
-                &[sampler::kind_id(&sampler)],
-            )?,
+            accumulate: if film.reads_paths() {
+                None
+            } else {
+                Some(k(
+                    "accumulate",
+                    shaders::ACCUMULATE,
+                    &[sampler::kind_id(&sampler)],
+                )?)
+            },
             film_gather: k(
                 "film_gather",
                 shaders::FILM_GATHER,
@@ -632,9 +637,9 @@ impl Renderer {
             &k.shade,
             &k.queue_args,
             &k.shadow,
-            &k.accumulate,
             &k.film_gather,
         ];
+        kernels.extend(&k.accumulate);
         kernels.extend(&k.shade_last);
         kernels.extend(&k.shade_args);
         kernels.extend(&k.shade_miss);
@@ -1028,13 +1033,15 @@ impl Renderer {
     /// finished paths go to the film (`sets` must hold the film's).
     fn record_film(&self, cmd: &mut CommandList, sets: &[&DescriptorSet], push: &Push) {
         let k = &self.kernels;
-        cmd.dispatch(
-            &k.accumulate,
-            sets,
-            bytemuck::bytes_of(push),
-            groups_for(push.path_count),
-        );
-        cmd.barrier();
+        if let Some(accumulate) = &k.accumulate {
+            cmd.dispatch(
+                accumulate,
+                sets,
+                bytemuck::bytes_of(push),
+                groups_for(push.path_count),
+            );
+            cmd.barrier();
+        }
         self.film.record_gather(cmd, &k.film_gather, sets, push);
     }
 
