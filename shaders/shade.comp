@@ -65,6 +65,12 @@ layout(constant_id = 15) const uint SCENE_SHADE_RAYS = 0u;
 #define SHADE_RAYS SCENE_SHADE_RAYS
 #include "path.glsl"
 #include "vol_path.glsl"
+// shade_last in scenes with few emitter primitives and no media: how many there are
+// (frame.emitter_prims); its rays then meet the emitters alone (path_emitted.glsl)
+// and need no intersect before.
+layout(constant_id = 16) const uint SCENE_EMITTER_PRIMS = 0u;
+#define EMITTER_PRIMS SCENE_EMITTER_PRIMS
+#include "path_emitted.glsl"
 
 layout(constant_id = 0) const uint INTEGRATOR = INTEGRATOR_AO;
 // The film keeps an alpha channel: camera paths record whether they cover their pixel.
@@ -79,6 +85,10 @@ void main() {
     if (SHADE_RAYS == SHADE_RAYS_HITS) i = partition_hit(i);
     if (SHADE_RAYS == SHADE_RAYS_MISSES) i = partition_miss(i);
     RayItem r = ray_load(ray_slot(push.queue_in, i));
+    if (SHADE_LAST && EMITTER_PRIMS > 0u && INTEGRATOR >= INTEGRATOR_DIRECT_EMS) {
+        path_shade_emitted(INTEGRATOR, r, path_load(r.path));
+        return;
+    }
     HitItem h = SHADE_RAYS == SHADE_RAYS_MISSES ? HitItem(r.tmax, 0.0, 0.0, NONE) : hit_load(i);
     if (INTEGRATOR >= INTEGRATOR_DIRECT_EMS) {
         PathState path = path_load(r.path);

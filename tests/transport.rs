@@ -276,3 +276,51 @@ fn point_and_spot_lights_follow_the_inverse_square_law() {
     let m = render_with(&scene(off, 0.5, &spot), "spot_off", "direct_mis", 4, &[]).mean;
     assert_eq!(m, 0.0, "outside the cutoff");
 }
+
+/// Bounces that only end paths meet the emitters alone where a scene has few emitter
+/// primitives and no environment (shaders/common/path_emitted.glsl): the same image as
+/// tracing their rays through the whole BVH, bit for bit, and the shortcut does run
+/// (no intersect dispatch for those bounces). Veach's plates under four sphere lights
+/// (direct lighting), and textured sphere and rectangle lights (a path tracer of
+/// max_depth 3).
+#[test]
+fn last_bounce_against_the_emitters_alone_matches_the_full_traversal() {
+    let device = device();
+    for (file, defines) in [
+        (
+            "scenes/veach/veach.xml",
+            vec![("integrator", "direct"), ("res", "48")],
+        ),
+        ("scenes/textures/textured_lights.xml", vec![("res", "48")]),
+    ] {
+        let defines: Vec<(String, String)> = defines
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect();
+        let scene = wavetrace::scene::load(&common::repo(file), &defines)
+            .unwrap_or_else(|e| panic!("{file}: {e}"));
+        let run = |trace_last_bounce: bool| {
+            let options = RenderOptions {
+                seed: 3,
+                timestamps: true,
+                trace_last_bounce,
+                ..Default::default()
+            };
+            let mut r = wavetrace::render::Renderer::new(&device, &scene, &options)
+                .unwrap_or_else(|e| panic!("{file}: {e}"));
+            let (img, stats) = r.render(8, &mut |_, _| {}).expect("render");
+            let intersects = stats.kernel_times.by_kernel["intersect"].1;
+            (img, intersects)
+        };
+        let (short, short_intersects) = run(false);
+        let (full, full_intersects) = run(true);
+        assert!(
+            short_intersects < full_intersects,
+            "{file}: the last bounce still ran intersect ({short_intersects} dispatches, \
+             {full_intersects} tracing it)"
+        );
+        assert_eq!(short.non_finite_count(), 0, "{file}");
+        assert!(mean(&short) > 0.0, "{file}: black image");
+        assert_eq!(short.rgb, full.rgb, "{file}: the images differ");
+    }
+}

@@ -106,6 +106,26 @@ bool bvh_slab(BvhRay r, vec3 bmin, vec3 bmax, float tmin, float tmax, out float 
         stack[BVH_STACK_DEPTH - 1] = BVH_DONE;                                           \
     }
 
+// Whether ray (o, d) hits primitive p within (tmin, tmax): its distance t and (u, v)
+// as in Hit. tr: triangle_ray_make(d).
+bool bvh_prim_hit(Prim p, TriangleRay tr, vec3 o, vec3 d, float tmin, float tmax,
+                  out float t, out float u, out float v) {
+    u = 0.0;
+    v = 0.0;
+    if (BVH_HAS(SURFACE_FEATURE_SPHERES) && p.kind == PRIM_SPHERE) {
+        return intersect_sphere(o, d, p.p0, length(p.p1), tmin, tmax, t);
+    } else if (BVH_HAS(SURFACE_FEATURE_DISKS) && p.kind == PRIM_DISK) {
+        vec2 xy;
+        bool found = intersect_disk(o, d, p.p0, p.p1, p.p2, tmin, tmax, t, xy);
+        u = xy.x;
+        v = xy.y;
+        return found;
+    } else if (BVH_HAS(SURFACE_FEATURE_CYLINDERS) && p.kind == PRIM_CYLINDER) {
+        return intersect_cylinder(o, d, p.p0, p.p2, length(p.p1), tmin, tmax, t);
+    }
+    return intersect_triangle(tr, o, p.p0, p.p1, p.p2, tmin, tmax, t, u, v);
+}
+
 // Stack traversal visiting the nearer child first; with any_hit, returns at the first
 // hit found. Requires 0 <= tmin and d != 0.
 Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, bool any_hit) {
@@ -151,24 +171,8 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, bool any_hit) {
         uint count = item & BVH_COUNT_MASK; // a leaf holds at least one primitive
         uint i = index;
         do {
-            Prim p = prim_load(i);
-            float t;
-            float u = 0.0;
-            float v = 0.0;
-            bool found;
-            if (BVH_HAS(SURFACE_FEATURE_SPHERES) && p.kind == PRIM_SPHERE) {
-                found = intersect_sphere(o, d, p.p0, length(p.p1), tmin, hit.t, t);
-            } else if (BVH_HAS(SURFACE_FEATURE_DISKS) && p.kind == PRIM_DISK) {
-                vec2 xy;
-                found = intersect_disk(o, d, p.p0, p.p1, p.p2, tmin, hit.t, t, xy);
-                u = xy.x;
-                v = xy.y;
-            } else if (BVH_HAS(SURFACE_FEATURE_CYLINDERS) && p.kind == PRIM_CYLINDER) {
-                found = intersect_cylinder(o, d, p.p0, p.p2, length(p.p1), tmin, hit.t, t);
-            } else {
-                found = intersect_triangle(tr, o, p.p0, p.p1, p.p2, tmin, hit.t, t, u, v);
-            }
-            if (found) {
+            float t, u, v;
+            if (bvh_prim_hit(prim_load(i), tr, o, d, tmin, hit.t, t, u, v)) {
                 hit = Hit(t, u, v, i);
                 if (any_hit) {
                     return hit;

@@ -232,6 +232,7 @@ struct Frame {
     uint sampler_width;  // the pixel keys' grid (film with its sampled border)
     uint sampler_height;
     uint emitter_strata; // whole strata the emitter choice hands out; 0: by the power cdf
+    uvec4 emitter_prims[4]; // the area emitters' prims, where few (path_emitted.glsl)
 };
 
 // Sampler kinds (Frame::sampler_kind) and flags (Frame::sampler_flags).

@@ -465,7 +465,14 @@ pub struct Frame {
     /// which the emitter choice hands out whole strata (shaders/common/emitter.glsl,
     /// [`crate::render::sampler::emitter_strata`]); 0: the choice inverts the power cdf.
     pub emitter_strata: u32,
+    /// The prims (slots of the BVH's prim array) of every area emitter, where they are
+    /// at most [`MAX_EMITTER_PRIMS`]: bounces that only end paths then intersect them
+    /// alone (shaders/common/path_emitted.glsl). Four to a word.
+    pub emitter_prims: [[u32; 4]; 4],
 }
+
+/// Most emitter prims [`Frame::emitter_prims`] holds.
+pub const MAX_EMITTER_PRIMS: usize = 16;
 
 /// Sampler kinds ([`Frame::sampler_kind`]), mirrored in layout.glsl.
 pub const SAMPLER_INDEPENDENT: u32 = 0;
@@ -986,7 +993,8 @@ mod tests {
                 sampler_flags,
                 sampler_width,
                 sampler_height,
-                emitter_strata
+                emitter_strata,
+                emitter_prims
             ),
             rust_layout!(
                 PathState,

@@ -70,6 +70,11 @@ pub struct RenderOptions {
     /// as many as one storage binding holds (the whole film but for huge ones). A film
     /// with more is rendered in tiles of pixels, each through all its iterations.
     pub max_sppm_pixels: Option<u32>,
+    /// Trace the bounces that only end paths through the whole BVH even where the
+    /// scene has few emitter primitives (by default those bounces meet the emitters
+    /// alone: shaders/common/path_emitted.glsl). The same image either way; tests
+    /// compare the two.
+    pub trace_last_bounce: bool,
 }
 
 /// Time spent before the first sample, in seconds.
@@ -126,6 +131,9 @@ struct Kernels {
     /// only the emission rays find; shaders/common/path.glsl's SHADE_LAST), where a
     /// path integrator's depth is bounded.
     shade_last: Option<Kernel>,
+    /// Whether `shade_last` meets the emitters itself (shaders/common/path_emitted.glsl):
+    /// its bounces then run no `intersect` and send their light through `shadow`.
+    last_meets_emitters: bool,
     /// Where `intersect` partitions a bounce's rays into hits and misses (see
     /// [`partitions`]): `shade_args` makes the dispatches of each part, and
     /// `shade_miss` shades the misses.
@@ -295,6 +303,7 @@ impl Renderer {
         }
         let bvh = Bvh::for_shapes(&scene.meshes, &scene.quadrics);
         let mut records = SceneRecords::new(scene, &bvh);
+        let emitter_prims = records.emitter_prims(&bvh);
         let bvh_stats = bvh.stats;
         let scene_bounds = photon::SceneBounds::of(&bvh);
 
@@ -344,6 +353,9 @@ impl Renderer {
             ..Default::default()
         };
         sampler::set_frame(&mut frame, &sampler, &sample_count, options.seed, key_size);
+        for (k, &slot) in emitter_prims.iter().flatten().enumerate() {
+            frame.emitter_prims[k / 4][k % 4] = slot;
+        }
         let capacity = options
             .max_batch_paths
             .unwrap_or_else(|| default_capacity(device))
@@ -411,6 +423,18 @@ impl Renderer {
             has_media != 0,
             records.env_emitter != crate::gpu::layout::NONE,
         );
+        // Bounces that only end paths meet the emitters alone (path_emitted.glsl)
+        // where the scene has few emitter prims, no environment and no media, from
+        // the second bounce on (a camera ray's hit also decides its pixel's alpha).
+        let emitted_only = if has_media == 0
+            && !options.trace_last_bounce
+            && records.env_emitter == crate::gpu::layout::NONE
+            && !integrator.ends_paths_at(0)
+        {
+            emitter_prims.as_ref().map_or(0, |p| p.len() as u32)
+        } else {
+            0
+        };
         let shade_spec = |last: bool, misses: bool| {
             [
                 integrator.id(),
@@ -428,12 +452,14 @@ impl Renderer {
                 sampler::kind_id(&sampler),
                 has_alpha as u32,
                 last as u32,
-                // SHADE_RAYS_* (path.glsl): all, hits, misses.
-                match (partitioned, misses) {
+                // SHADE_RAYS_* (path.glsl): all, hits, misses; shade_last meeting the
+                // emitters itself runs over all its rays.
+                match (partitioned && !(last && emitted_only > 0), misses) {
                     (false, _) => 0,
                     (true, false) => 1,
                     (true, true) => 2,
                 },
+                if last { emitted_only } else { 0 },
             ]
         };
         let bounces = integrator
@@ -459,6 +485,7 @@ impl Renderer {
             )?,
             shade: k("shade", shaders::SHADE, &shade_spec(false, false))?,
             shade_last,
+            last_meets_emitters: emitted_only > 0,
             shade_args,
             shade_miss,
             shadow: k(
@@ -995,7 +1022,17 @@ impl Renderer {
         let k = &self.kernels;
         let stages = self.bounce_stages(&k.shade);
         // Bounces that only end paths run shade_last in shade's place.
-        let ending = k.shade_last.as_ref().map(|s| self.bounce_stages(s));
+        let ending = k.shade_last.as_ref().map(|s| {
+            if k.last_meets_emitters {
+                vec![
+                    (s, Over::Rays),
+                    (&k.queue_args, Over::One),
+                    (&k.shadow, Over::Shadows),
+                ]
+            } else {
+                self.bounce_stages(s)
+            }
+        });
         let depth = self.run_bounces(
             cmd,
             &sets,

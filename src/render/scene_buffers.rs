@@ -374,6 +374,24 @@ impl SceneRecords {
         f
     }
 
+    /// The slots in `bvh`'s prim array of every area emitter's primitives, in slot
+    /// order, where there are at most `MAX_EMITTER_PRIMS` ([`Frame::emitter_prims`]);
+    /// None where there are more, or none.
+    ///
+    /// [`Frame::emitter_prims`]: crate::gpu::layout::Frame::emitter_prims
+    pub fn emitter_prims(&self, bvh: &Bvh) -> Option<Vec<u32>> {
+        let mut slots = Vec::new();
+        for (i, p) in bvh.prims.iter().enumerate() {
+            if self.shapes[p.shape as usize].emitter != NONE {
+                if slots.len() == crate::gpu::layout::MAX_EMITTER_PRIMS {
+                    return None;
+                }
+                slots.push(i as u32);
+            }
+        }
+        (!slots.is_empty()).then_some(slots)
+    }
+
     /// The quadric kinds the scene has (`SURFACE_FEATURE_SPHERES`, `_DISKS`,
     /// `_CYLINDERS`): the BVH traversal and hit geometry compile the others away.
     pub fn prim_kinds(&self) -> u32 {
