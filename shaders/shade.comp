@@ -70,6 +70,9 @@ layout(constant_id = 15) const uint SCENE_SHADE_RAYS = 0u;
 // and need no intersect before.
 layout(constant_id = 16) const uint SCENE_EMITTER_PRIMS = 0u;
 #define EMITTER_PRIMS SCENE_EMITTER_PRIMS
+// Their kinds (a bit per PRIM_* kind).
+layout(constant_id = 17) const uint SCENE_EMITTER_PRIM_KINDS = 0xfu;
+#define EMITTER_PRIM_KINDS SCENE_EMITTER_PRIM_KINDS
 #include "path_emitted.glsl"
 
 layout(constant_id = 0) const uint INTEGRATOR = INTEGRATOR_AO;

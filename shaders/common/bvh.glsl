@@ -106,24 +106,44 @@ bool bvh_slab(BvhRay r, vec3 bmin, vec3 bmax, float tmin, float tmax, out float 
         stack[BVH_STACK_DEPTH - 1] = BVH_DONE;                                           \
     }
 
+// A bit per PRIM_* kind, for bvh_prim_hit_of.
+#define BVH_KIND_BIT(k) (1u << (k))
+
 // Whether ray (o, d) hits primitive p within (tmin, tmax): its distance t and (u, v)
-// as in Hit. tr: triangle_ray_make(d).
-bool bvh_prim_hit(Prim p, TriangleRay tr, vec3 o, vec3 d, float tmin, float tmax,
-                  out float t, out float u, out float v) {
+// as in Hit. tr: triangle_ray_make(d). `kinds` (BVH_KIND_BIT of each kind p may be;
+// a constant) compiles the tests of the others away, and with one kind the test of
+// p.kind too.
+bool bvh_prim_hit_of(uint kinds, Prim p, TriangleRay tr, vec3 o, vec3 d, float tmin,
+                     float tmax, out float t, out float u, out float v) {
     u = 0.0;
     v = 0.0;
-    if (BVH_HAS(SURFACE_FEATURE_SPHERES) && p.kind == PRIM_SPHERE) {
+    t = tmax;
+    bool one = bitCount(kinds) == 1;
+    if ((kinds & BVH_KIND_BIT(PRIM_SPHERE)) != 0u && (one || p.kind == PRIM_SPHERE)) {
         return intersect_sphere(o, d, p.p0, length(p.p1), tmin, tmax, t);
-    } else if (BVH_HAS(SURFACE_FEATURE_DISKS) && p.kind == PRIM_DISK) {
+    } else if ((kinds & BVH_KIND_BIT(PRIM_DISK)) != 0u && (one || p.kind == PRIM_DISK)) {
         vec2 xy;
         bool found = intersect_disk(o, d, p.p0, p.p1, p.p2, tmin, tmax, t, xy);
         u = xy.x;
         v = xy.y;
         return found;
-    } else if (BVH_HAS(SURFACE_FEATURE_CYLINDERS) && p.kind == PRIM_CYLINDER) {
+    } else if ((kinds & BVH_KIND_BIT(PRIM_CYLINDER)) != 0u && (one || p.kind == PRIM_CYLINDER)) {
         return intersect_cylinder(o, d, p.p0, p.p2, length(p.p1), tmin, tmax, t);
+    } else if ((kinds & BVH_KIND_BIT(PRIM_TRIANGLE)) != 0u) {
+        return intersect_triangle(tr, o, p.p0, p.p1, p.p2, tmin, tmax, t, u, v);
     }
-    return intersect_triangle(tr, o, p.p0, p.p1, p.p2, tmin, tmax, t, u, v);
+    return false;
+}
+
+// The kinds a scene's BVH may hold: triangles and the quadrics of BVH_PRIM_KINDS.
+#define BVH_KINDS (BVH_KIND_BIT(PRIM_TRIANGLE)                                          \
+    | (BVH_HAS(SURFACE_FEATURE_SPHERES) ? BVH_KIND_BIT(PRIM_SPHERE) : 0u)               \
+    | (BVH_HAS(SURFACE_FEATURE_DISKS) ? BVH_KIND_BIT(PRIM_DISK) : 0u)                   \
+    | (BVH_HAS(SURFACE_FEATURE_CYLINDERS) ? BVH_KIND_BIT(PRIM_CYLINDER) : 0u))
+
+bool bvh_prim_hit(Prim p, TriangleRay tr, vec3 o, vec3 d, float tmin, float tmax,
+                  out float t, out float u, out float v) {
+    return bvh_prim_hit_of(BVH_KINDS, p, tr, o, d, tmin, tmax, t, u, v);
 }
 
 // Stack traversal visiting the nearer child first; with any_hit, returns at the first

@@ -20,6 +20,11 @@
 #ifndef EMITTER_PRIMS
 #define EMITTER_PRIMS 0u
 #endif
+// The kinds of those primitives (BVH_KIND_BIT of each, a constant likewise): the
+// others' tests compile away.
+#ifndef EMITTER_PRIM_KINDS
+#define EMITTER_PRIM_KINDS BVH_KINDS
+#endif
 
 // The emitted light that ray r (of `path`, at bounce push.depth >= 1) finds, as a
 // shadow ray.
@@ -31,13 +36,14 @@ void path_shade_emitted(uint integrator, RayItem r, PathState path) {
     bool weigh = mis && (path.flags & PATH_DELTA) == 0u;
 
     // Closest emitter primitive, with the tests and the order of arguments of the
-    // BVH's leaves (bvh_prim_hit): the same distance and (u, v) as a traversal finds.
+    // BVH's leaves (bvh_prim_hit_of): the same distance and (u, v) as a traversal
+    // finds.
     TriangleRay tr = triangle_ray_make(r.dir);
     Hit h = Hit(r.tmax, 0.0, 0.0, HIT_NONE);
     for (uint k = 0u; k < EMITTER_PRIMS; k++) {
         uint slot = frame.emitter_prims[k >> 2u][k & 3u];
         float t, u, v;
-        if (bvh_prim_hit(prim_load(slot), tr, r.origin, r.dir, 0.0, h.t, t, u, v)) {
+        if (bvh_prim_hit_of(EMITTER_PRIM_KINDS, prim_load(slot), tr, r.origin, r.dir, 0.0, h.t, t, u, v)) {
             h = Hit(t, u, v, slot);
         }
     }

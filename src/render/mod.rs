@@ -304,6 +304,11 @@ impl Renderer {
         let bvh = Bvh::for_shapes(&scene.meshes, &scene.quadrics);
         let mut records = SceneRecords::new(scene, &bvh);
         let emitter_prims = records.emitter_prims(&bvh);
+        // Their kinds, a bit per PRIM_* kind (constant 17 of shade_last).
+        let emitter_prim_kinds = emitter_prims
+            .iter()
+            .flatten()
+            .fold(0u32, |m, &i| m | 1 << bvh.prims[i as usize].kind);
         let bvh_stats = bvh.stats;
         let scene_bounds = photon::SceneBounds::of(&bvh);
 
@@ -460,6 +465,7 @@ impl Renderer {
                     (true, true) => 2,
                 },
                 if last { emitted_only } else { 0 },
+                if last { emitter_prim_kinds } else { 0xf },
             ]
         };
         let bounces = integrator
