@@ -1,9 +1,9 @@
 //! Emitter sampling in its GLSL form (shaders/common/emitter.glsl, through
-//! shaders/tests/emitter_sample.comp): the emitter is chosen in proportion to power
-//! and a mesh light's triangle in proportion to area (chi-square tests), and the
-//! density that MIS evaluates when a ray hits a light equals the density with which
-//! emitter sampling produced that very point, and the sampled directions follow that
-//! density (chi-square over a 2D histogram of directions).
+//! shaders/tests/emitter_sample.comp): the emitter is chosen uniformly (as Mitsuba 3
+//! and Nori choose) and a mesh light's triangle in proportion to area (chi-square
+//! tests), and the density that MIS evaluates when a ray hits a light equals the
+//! density with which emitter sampling produced that very point, and the sampled
+//! directions follow that density (chi-square over a 2D histogram of directions).
 
 mod common;
 
@@ -100,10 +100,6 @@ fn run_probe(
         .collect()
 }
 
-fn luminance(c: Vec3) -> f64 {
-    (0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z) as f64
-}
-
 /// Four lights around the origin, facing it: a quad, a fan of four triangles of areas
 /// 1/2 : 1 : 3 : 6, a sphere, and a point light.
 fn scene() -> Scene {
@@ -134,44 +130,21 @@ fn scene() -> Scene {
 }
 
 #[test]
-fn emitters_are_chosen_by_power_and_triangles_by_area() {
+fn emitters_are_chosen_uniformly_and_triangles_by_area() {
     let s = scene();
     let bvh = Bvh::build(prims_from_scene(&s));
     let records = SceneRecords::new(&s, &bvh);
     let probes = probe(&s, &bvh, &records, Vec3::ZERO);
     let level = sidak(0.01, TESTS);
 
-    // Power of each emitter, computed here independently of the renderer: π A L for a
-    // one-sided area light, 4π I for a point light; in the renderer's emitter order
-    // (point lights first, then the scene's order).
-    let pi = std::f64::consts::PI;
-    let mut power = Vec::new();
-    for e in s
-        .emitters
-        .iter()
-        .filter(|e| matches!(e, Emitter::Point { .. }))
-    {
-        if let Emitter::Point { intensity, .. } = e {
-            power.push(4.0 * pi * luminance(*intensity));
-        }
-    }
-    let areas = [4.0, s.meshes[1].area() as f64, 4.0 * pi * 0.49];
-    for (e, area) in s
-        .emitters
-        .iter()
-        .filter(|e| matches!(e, Emitter::Area { .. }))
-        .zip(areas)
-    {
-        if let Emitter::Area { radiance } = e {
-            power.push(pi * area * luminance(*radiance));
-        }
-    }
-    let total: f64 = power.iter().sum();
-    let mut observed = vec![0.0; power.len()];
+    // Every emitter alike, whatever its power, as Mitsuba 3 (sampling_weight 1 each)
+    // and Nori choose.
+    let n = s.emitters.len();
+    let mut observed = vec![0.0; n];
     for p in &probes {
         observed[p.emitter as usize] += 1.0;
     }
-    let expected: Vec<f64> = power.iter().map(|w| w / total * N as f64).collect();
+    let expected = vec![N as f64 / n as f64; n];
     let r = chi2(&observed, &expected);
     println!(
         "emitter choice: observed {observed:?}, expected {expected:?}, p = {:.4}",
@@ -179,7 +152,7 @@ fn emitters_are_chosen_by_power_and_triangles_by_area() {
     );
     assert!(
         r.p_value > level,
-        "emitters are not chosen by power: p = {:.3e}",
+        "emitters are not chosen uniformly: p = {:.3e}",
         r.p_value
     );
 

@@ -233,6 +233,10 @@ struct Frame {
     uint sampler_height;
     uint emitter_strata; // whole strata the emitter choice hands out; 0: by the power cdf
     uvec4 emitter_prims[4]; // the area emitters' prims, where few (path_emitted.glsl)
+    uint photon_alias;      // photon emission's emitter table (by power) among the alias entries
+    uint pad0;
+    uint pad1;
+    uint pad2;
 };
 
 // Sampler kinds (Frame::sampler_kind) and flags (Frame::sampler_flags).

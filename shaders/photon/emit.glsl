@@ -13,8 +13,8 @@ struct PhotonEmission {
 
 // Samples a photon path's first ray. The emitter is chosen uniformly with
 // `uniform_choice` (Nori's Scene::getRandomEmitter, the photonmapper) or by power
-// through the emitter alias table (sppm, as pbrt-v4's power light sampler); u0, u1:
-// eight uniform numbers.
+// through its own alias table at frame.photon_alias (sppm, as pbrt-v4's power light
+// sampler); u0, u1: eight uniform numbers.
 PhotonEmission photon_emit_sample(bool uniform_choice, vec4 u0, vec4 u1) {
     PhotonEmission em;
     em.origin = vec3(0.0);
@@ -28,7 +28,7 @@ PhotonEmission photon_emit_sample(bool uniform_choice, vec4 u0, vec4 u1) {
         index = min(uint(u0.x * float(n)), n - 1u);
         pmf = 1.0 / float(n);
     } else {
-        index = alias_sample(0u, n, u0.x, pmf);
+        index = alias_sample(frame.photon_alias, n, u0.x, pmf);
     }
     EmitterRecord e = emitter_load(index);
     if ((EMITTER_HAS(EMITTER_POINT) && e.kind == EMITTER_POINT)

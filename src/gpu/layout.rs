@@ -469,6 +469,12 @@ pub struct Frame {
     /// at most [`MAX_EMITTER_PRIMS`]: bounces that only end paths then intersect them
     /// alone (shaders/common/path_emitted.glsl). Four to a word.
     pub emitter_prims: [[u32; 4]; 4],
+    /// Where photon emission's emitter table (by power) starts among the alias
+    /// entries (the one of emitter sampling, uniform, starts at 0).
+    pub photon_alias: u32,
+    pub pad0: u32,
+    pub pad1: u32,
+    pub pad2: u32,
 }
 
 /// Most emitter prims [`Frame::emitter_prims`] holds.
@@ -994,7 +1000,11 @@ mod tests {
                 sampler_width,
                 sampler_height,
                 emitter_strata,
-                emitter_prims
+                emitter_prims,
+                photon_alias,
+                pad0,
+                pad1,
+                pad2
             ),
             rust_layout!(
                 PathState,

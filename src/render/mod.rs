@@ -355,6 +355,7 @@ impl Renderer {
             env_emitter: records.env_emitter,
             hide_emitters: integrator.hide_emitters() as u32,
             camera_medium: scene.camera_medium.unwrap_or(crate::gpu::layout::NONE),
+            photon_alias: records.photon_alias,
             ..Default::default()
         };
         sampler::set_frame(&mut frame, &sampler, &sample_count, options.seed, key_size);
