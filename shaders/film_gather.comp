@@ -28,7 +28,8 @@ void main() {
     uint t = thread_index();
     uint cw = film.crop_width;
     if (t >= push.film_rows * cw) return;
-    uvec2 c = uvec2(t % cw, push.film_row + t / cw);
+    uvec2 qr = divide(t, cw);
+    uvec2 c = uvec2(qr.y, push.film_row + qr.x);
     // This pixel and its neighbourhood in the sampled region's coordinates.
     int W = int(film.region_width);
     int P = W * int(film.region_height);
@@ -43,7 +44,7 @@ void main() {
     int count = int(push.path_count);
     if (last >= count) return;
     int k_first = last >= 0 ? 0 : 1;
-    int k_last = (count - 1 - last) / P;
+    int k_last = int(divide(uint(count - 1 - last), uint(P)).x);
     if (k_first > k_last) return;
 
     uint i = c.y * cw + c.x;

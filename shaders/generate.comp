@@ -16,9 +16,9 @@ void main() {
     uint p = thread_index();
     if (p >= push.path_count) return;
     uint pixels = film.region_width * film.region_height;
-    uint g = push.pixel_base + p;
-    ivec2 pixel = film_region_pixel(g % pixels);
-    uint sample_index = push.sample_base + g / pixels;
+    uvec2 qr = divide(push.pixel_base + p, pixels);
+    ivec2 pixel = film_region_pixel(qr.y);
+    uint sample_index = push.sample_base + qr.x;
     uint key = film_pixel_key(pixel);
 
     vec3 origin, dir;

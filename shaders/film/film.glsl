@@ -13,6 +13,7 @@
 #define FILM_GLSL
 
 #include "layout.glsl"
+#include "divide.glsl"
 #include "film/sample_offset.glsl"
 
 layout(std140, set = 3, binding = 0) uniform FilmBlock { FilmParams film; };
@@ -30,7 +31,8 @@ uint film_slot(uint p) { return (push.sample_slot + p) % film.slots; }
 
 // Pixel i of the sampled region (row-major), in film coordinates.
 ivec2 film_region_pixel(uint i) {
-    return ivec2(film.region_x + int(i % film.region_width), film.region_y + int(i / film.region_width));
+    uvec2 qr = divide(i, film.region_width);
+    return ivec2(film.region_x + int(qr.y), film.region_y + int(qr.x));
 }
 
 // The key a pixel's random numbers are drawn with: its index in the full film (with

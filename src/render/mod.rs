@@ -372,7 +372,7 @@ impl Renderer {
         let capacity = capacity
             .min(limit as u32)
             .min(Film::max_batch_paths(device, &geometry))
-            .max(1);
+            .clamp(1, MAX_BATCH_PATHS);
         let wavefront = Wavefront::new(device, &layout, capacity, &frame)?;
         // Alpha: the film keeps covered weights and shade marks covered camera paths;
         // a visible environment covers every path of the integrators where Mitsuba
@@ -1147,6 +1147,11 @@ const LONG_BUDGET_CHUNKS: (u32, u32) = (8, BOUNCE_CHUNK);
 
 /// Paths per batch: bounded by memory (about 40 MiB of path state and film samples
 /// on a CPU device, 300 MiB on a GPU) and large enough to fill a GPU.
+/// Most paths in one batch: the kernels divide path and pixel indices by a float
+/// quotient (shaders/common/divide.glsl), exact for quotients below 2^23; a batch of
+/// at most 2^22 paths keeps every quotient below that, whatever the film.
+pub const MAX_BATCH_PATHS: u32 = 1 << 22;
+
 fn default_capacity(device: &Device) -> u32 {
     let budget: u64 = match device.info().kind {
         crate::gpu::DeviceKind::Cpu => 40 << 20,
