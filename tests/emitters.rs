@@ -19,7 +19,7 @@ use wavetrace::scene::{envmap, Emitter, Scene, Texture};
 
 const N: u32 = 200_000;
 /// Chi-square tests in this file, for the Šidák correction of a 1% family level.
-const TESTS: usize = 5;
+const TESTS: usize = 6;
 
 struct Probe {
     wi: Vec3,
@@ -103,6 +103,11 @@ fn run_probe(
 /// Four lights around the origin, facing it: a quad, a fan of four triangles of areas
 /// 1/2 : 1 : 3 : 6, a sphere, and a point light.
 fn scene() -> Scene {
+    scene_with(["", "", "", ""])
+}
+
+/// `scene()` with `extra` inside each emitter (quad, fan, sphere, point light).
+fn scene_with(extra: [&str; 4]) -> Scene {
     // Tests run in parallel: each call writes its own files.
     static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
     let dir = format!(
@@ -116,15 +121,19 @@ fn scene() -> Scene {
         r#"<scene version="3.0.0">
     <sensor type="perspective"><film type="hdrfilm"><integer name="width" value="4"/><integer name="height" value="4"/></film></sensor>
     <shape type="rectangle"><transform name="to_world"><rotate x="1" angle="180"/><translate value="0, 0, 3"/></transform>
-        <emitter type="area"><rgb name="radiance" value="2, 1, 0.5"/></emitter></shape>
+        <emitter type="area"><rgb name="radiance" value="2, 1, 0.5"/>{}</emitter></shape>
     <shape type="obj"><string name="filename" value="{}"/>
         <transform name="to_world"><scale value="0.5"/><translate value="0, 0, -4"/></transform>
-        <emitter type="area"><rgb name="radiance" value="1"/></emitter></shape>
+        <emitter type="area"><rgb name="radiance" value="1"/>{}</emitter></shape>
     <shape type="sphere"><point name="center" value="5, 0, 0"/><float name="radius" value="0.7"/>
-        <emitter type="area"><rgb name="radiance" value="3"/></emitter></shape>
-    <emitter type="point"><point name="position" value="0, 4, 0"/><rgb name="intensity" value="2"/></emitter>
+        <emitter type="area"><rgb name="radiance" value="3"/>{}</emitter></shape>
+    <emitter type="point"><point name="position" value="0, 4, 0"/><rgb name="intensity" value="2"/>{}</emitter>
 </scene>"#,
-        obj.display()
+        extra[0],
+        obj.display(),
+        extra[1],
+        extra[2],
+        extra[3]
     );
     common::load(&common::temp_file(&dir, "scene.xml", &xml))
 }
@@ -724,4 +733,63 @@ fn textured_emitter_directions_follow_the_density() {
         integral > rectangles && integral < 1.0,
         "{integral} vs {rectangles}"
     );
+}
+
+/// Mitsuba's `sampling_weight` sets how often emitter sampling chooses an emitter
+/// (chi-square), and an impossible weight is an error that names it.
+#[test]
+fn emitters_are_chosen_in_proportion_to_their_sampling_weights() {
+    let w = |v: &str| format!(r#"<float name="sampling_weight" value="{v}"/>"#);
+    let (quad, fan, sphere, point) = (w("3"), String::new(), w("0.5"), w("2"));
+    let s = scene_with([&quad, &fan, &sphere, &point]);
+    let bvh = Bvh::build(prims_from_scene(&s));
+    let records = SceneRecords::new(&s, &bvh);
+    let probes = probe(&s, &bvh, &records, Vec3::ZERO);
+    // The renderer's emitter order: point lights first, then the scene's.
+    let weights = [2.0, 3.0, 1.0, 0.5];
+    let total: f64 = weights.iter().sum();
+    let mut observed = vec![0.0; 4];
+    for p in &probes {
+        observed[p.emitter as usize] += 1.0;
+    }
+    let expected: Vec<f64> = weights.iter().map(|w| w / total * N as f64).collect();
+    let r = chi2(&observed, &expected);
+    println!(
+        "weighted choice: observed {observed:?}, expected {expected:?}, p = {:.4}",
+        r.p_value
+    );
+    assert!(
+        r.p_value > sidak(0.01, TESTS),
+        "not chosen by sampling_weight: p = {:.3e}",
+        r.p_value
+    );
+
+    for (weights, message) in [
+        (
+            [w("-1"), w("1"), w("1"), w("1")],
+            "sampling_weight must be a finite number >= 0",
+        ),
+        (
+            [w("0"), w("0"), w("0"), w("0")],
+            "every emitter has sampling_weight 0",
+        ),
+    ] {
+        let dir = format!("emitters-weights-{}", message.len());
+        let xml = r#"<scene version="3.0.0">
+    <sensor type="perspective"/>
+    <shape type="rectangle"><emitter type="area"><rgb name="radiance" value="1"/>A</emitter></shape>
+    <shape type="sphere"><emitter type="area"><rgb name="radiance" value="1"/>B</emitter></shape>
+    <emitter type="point">C</emitter>
+    <emitter type="constant">D</emitter>
+</scene>"#
+            .replace('A', &weights[0])
+            .replace('B', &weights[1])
+            .replace('C', &weights[2])
+            .replace('D', &weights[3]);
+        let path = common::temp_file(&dir, "scene.xml", &xml);
+        let err = wavetrace::scene::load(&path, &[])
+            .expect_err(message)
+            .to_string();
+        assert!(err.contains(message), "{err}");
+    }
 }

@@ -54,6 +54,8 @@ pub struct Builder {
     pub quadrics: Vec<Quadric>,
     pub bsdfs: Vec<Bsdf>,
     pub emitters: Vec<Emitter>,
+    /// Per emitter, its sampling weight ([`super::Scene::emitter_weights`]).
+    pub emitter_weights: Vec<f32>,
     pub media: Vec<Medium>,
     pub textures: Vec<Texture>,
     default_bsdf: Option<u32>,
@@ -81,7 +83,14 @@ impl Builder {
     }
 
     pub fn add_emitter(&mut self, emitter: Emitter) -> u32 {
+        self.add_weighted_emitter(emitter, 1.0)
+    }
+
+    /// An emitter that emitter sampling chooses `weight` times as often as one of
+    /// weight 1 (Mitsuba's `sampling_weight`).
+    pub fn add_weighted_emitter(&mut self, emitter: Emitter, weight: f32) -> u32 {
         self.emitters.push(emitter);
+        self.emitter_weights.push(weight);
         (self.emitters.len() - 1) as u32
     }
 

@@ -144,6 +144,11 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
             "the scene has more than one environment emitter (constant or envmap); wavetrace supports one",
         ));
     }
+    if !l.b.emitter_weights.is_empty() && l.b.emitter_weights.iter().all(|&w| w == 0.0) {
+        return Err(doc
+            .root
+            .err("every emitter has sampling_weight 0: emitter sampling could choose none"));
+    }
     let integrator = integrator.unwrap_or_else(|| IntegratorSpec {
         name: "path".into(),
         ..Default::default()
@@ -159,10 +164,24 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         quadrics: l.b.quadrics,
         bsdfs: l.b.bsdfs,
         emitters: l.b.emitters,
+        emitter_weights: l.b.emitter_weights,
         media: l.b.media,
         camera_medium,
         textures: l.b.textures,
     })
+}
+
+/// An emitter's `sampling_weight` (Mitsuba 3: how often emitter sampling chooses it
+/// relative to the others; default 1): finite and not negative.
+fn sampling_weight(props: &Properties) -> Result<f32, Error> {
+    let w = props.float("sampling_weight", 1.0)?;
+    if !(w.is_finite() && w >= 0.0) {
+        return Err(props.error(
+            "sampling_weight",
+            format!("sampling_weight must be a finite number >= 0, not {w}"),
+        ));
+    }
+    Ok(w)
 }
 
 /// Every element with an `id`, anywhere in the tree; duplicates are an error.
@@ -363,7 +382,7 @@ struct Loader<'a> {
     /// BSDFs with an id, built once.
     bsdf_ids: HashMap<String, u32>,
     /// Area emitters with an id.
-    area_ids: HashMap<String, Emitter>,
+    area_ids: HashMap<String, (Emitter, f32)>,
     /// Textures with an id: index and mean.
     texture_ids: HashMap<String, (u32, Vec3)>,
     /// Media with an id, built once.
@@ -620,7 +639,7 @@ impl<'a> Loader<'a> {
     }
 
     /// An `<emitter type="area">`: constant or textured radiance.
-    fn area(&mut self, el: &'a Element) -> Result<Emitter, Error> {
+    fn area(&mut self, el: &'a Element) -> Result<(Emitter, f32), Error> {
         if let Some(id) = el.attr("id") {
             if let Some(e) = self.area_ids.get(id) {
                 return Ok(e.clone());
@@ -657,11 +676,13 @@ impl<'a> Loader<'a> {
                     .ok_or_else(|| props.object_error("area emitter needs a 'radiance'"))?,
             }
         };
+        let weight = sampling_weight(&props)?;
         props.finish()?;
         if let Some(id) = el.attr("id") {
-            self.area_ids.insert(id.to_string(), emitter.clone());
+            self.area_ids
+                .insert(id.to_string(), (emitter.clone(), weight));
         }
-        Ok(emitter)
+        Ok((emitter, weight))
     }
 
     /// Mitsuba `envmap`: `filename`, `scale`, `to_world`.
@@ -796,8 +817,9 @@ impl<'a> Loader<'a> {
                 radiance: props.color("radiance", Vec3::ONE)?,
             }
         };
+        let weight = sampling_weight(&props)?;
         props.finish()?;
-        self.b.add_emitter(emitter);
+        self.b.add_weighted_emitter(emitter, weight);
         Ok(())
     }
 
@@ -885,7 +907,7 @@ impl<'a> Loader<'a> {
         let null_bsdf = self.null_bsdfs.contains(&bsdf);
         if let Some((kind, to_world)) = quadric::from_mitsuba(t, &props)? {
             props.finish()?;
-            let emitter = radiance.map(|e| self.b.add_emitter(e));
+            let emitter = radiance.map(|(e, w)| self.b.add_weighted_emitter(e, w));
             return self.b.add_quadric(
                 &props,
                 Quadric {
@@ -936,7 +958,7 @@ impl<'a> Loader<'a> {
         };
         let builtin = matches!(t, "rectangle" | "cube");
         props.finish()?;
-        let emitter = radiance.map(|e| self.b.add_emitter(e));
+        let emitter = radiance.map(|(e, w)| self.b.add_weighted_emitter(e, w));
         let options = MeshOptions {
             to_world,
             face_normals: face_normals && !builtin,

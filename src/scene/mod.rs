@@ -68,6 +68,9 @@ pub struct Scene {
     pub bsdfs: Vec<Bsdf>,
     /// Every emitter; area emitters are referenced by the shape that carries them.
     pub emitters: Vec<Emitter>,
+    /// Per emitter, how often emitter sampling chooses it relative to the others
+    /// (Mitsuba's `sampling_weight`, 1 unless the scene says otherwise).
+    pub emitter_weights: Vec<f32>,
     /// Every participating medium, referenced by shapes (`interior`, `exterior`) and
     /// by the camera.
     pub media: Vec<Medium>,

@@ -81,6 +81,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         quadrics: b.quadrics,
         bsdfs: b.bsdfs,
         emitters: b.emitters,
+        emitter_weights: b.emitter_weights,
         media: b.media,
         camera_medium: None,
         textures: b.textures,
