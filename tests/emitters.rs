@@ -138,6 +138,27 @@ fn scene_with(extra: [&str; 4]) -> Scene {
     common::load(&common::temp_file(&dir, "scene.xml", &xml))
 }
 
+/// Asserts that `probes` chose emitter i in proportion to `weights[i]` (chi-square at
+/// this file's Šidák level); `rule` names the choice in the messages.
+fn assert_emitter_choice(probes: &[Probe], weights: &[f64], rule: &str) {
+    let total: f64 = weights.iter().sum();
+    let mut observed = vec![0.0; weights.len()];
+    for p in probes {
+        observed[p.emitter as usize] += 1.0;
+    }
+    let expected: Vec<f64> = weights.iter().map(|w| w / total * N as f64).collect();
+    let r = chi2(&observed, &expected);
+    println!(
+        "emitters {rule}: observed {observed:?}, expected {expected:?}, p = {:.4}",
+        r.p_value
+    );
+    assert!(
+        r.p_value > sidak(0.01, TESTS),
+        "emitters are not chosen {rule}: p = {:.3e}",
+        r.p_value
+    );
+}
+
 #[test]
 fn emitters_are_chosen_uniformly_and_triangles_by_area() {
     let s = scene();
@@ -148,22 +169,7 @@ fn emitters_are_chosen_uniformly_and_triangles_by_area() {
 
     // Every emitter alike, whatever its power, as Mitsuba 3 (sampling_weight 1 each)
     // and Nori choose.
-    let n = s.emitters.len();
-    let mut observed = vec![0.0; n];
-    for p in &probes {
-        observed[p.emitter as usize] += 1.0;
-    }
-    let expected = vec![N as f64 / n as f64; n];
-    let r = chi2(&observed, &expected);
-    println!(
-        "emitter choice: observed {observed:?}, expected {expected:?}, p = {:.4}",
-        r.p_value
-    );
-    assert!(
-        r.p_value > level,
-        "emitters are not chosen uniformly: p = {:.3e}",
-        r.p_value
-    );
+    assert_emitter_choice(&probes, &vec![1.0; s.emitters.len()], "uniformly");
 
     // Triangles of the fan (shape 1) by area, from the triangles the sampled
     // directions hit.
@@ -503,7 +509,7 @@ fn emitters_chosen_by_whole_strata_keep_their_densities() {
     let records = SceneRecords::new(&s, &bvh);
     let n = records.emitters.len();
     assert_eq!(n, 4);
-    // 11 strata: 7 to share by power, so the rounding matters.
+    // 11 strata: 7 to share by sampling weight, so the rounding matters.
     let k = 11u32;
     let cdf: Vec<f64> = records.alias[..n]
         .iter()
@@ -519,7 +525,8 @@ fn emitters_chosen_by_whole_strata_keep_their_densities() {
     let pmf: Vec<f64> = (0..n).map(|i| (q(i + 1) - q(i)) / k as f64).collect();
     assert!(pmf.iter().all(|&p| p >= 1.0 / k as f64));
     assert!((pmf.iter().sum::<f64>() - 1.0).abs() < 1e-12);
-    // The power pmf is not a multiple of 1/11: the test sees the difference.
+    // The weights' pmf (1/4 each) is not a multiple of 1/11: the test sees the
+    // difference.
     assert!(pmf
         .iter()
         .zip(&records.alias[..n])
@@ -527,10 +534,8 @@ fn emitters_chosen_by_whole_strata_keep_their_densities() {
 
     let x = Vec3::new(0.1, -0.2, 0.3);
     let probes = run_probe(&bvh, &records, x, None, k);
-    let mut observed = vec![0.0; n];
     let (mut checked, mut mismatched) = (0, 0);
     for p in &probes {
-        observed[p.emitter as usize] += 1.0;
         if records.emitters[p.emitter as usize].kind == wavetrace::gpu::layout::EMITTER_POINT {
             assert!((p.pdf as f64 - pmf[p.emitter as usize]).abs() < 1e-6);
             continue;
@@ -541,17 +546,7 @@ fn emitters_chosen_by_whole_strata_keep_their_densities() {
             mismatched += 1;
         }
     }
-    let expected: Vec<f64> = pmf.iter().map(|p| p * N as f64).collect();
-    let r = chi2(&observed, &expected);
-    println!(
-        "whole strata of {k}: observed {observed:?}, expected {expected:?}, p = {:.4}",
-        r.p_value
-    );
-    assert!(
-        r.p_value > sidak(0.01, TESTS),
-        "emitters are not chosen by whole strata: p = {:.3e}",
-        r.p_value
-    );
+    assert_emitter_choice(&probes, &pmf, &format!("by whole strata of {k}"));
     println!("{mismatched} of {checked} samples disagree");
     assert!(
         mismatched * 10_000 < checked,
@@ -746,23 +741,7 @@ fn emitters_are_chosen_in_proportion_to_their_sampling_weights() {
     let records = SceneRecords::new(&s, &bvh);
     let probes = probe(&s, &bvh, &records, Vec3::ZERO);
     // The renderer's emitter order: point lights first, then the scene's.
-    let weights = [2.0, 3.0, 1.0, 0.5];
-    let total: f64 = weights.iter().sum();
-    let mut observed = vec![0.0; 4];
-    for p in &probes {
-        observed[p.emitter as usize] += 1.0;
-    }
-    let expected: Vec<f64> = weights.iter().map(|w| w / total * N as f64).collect();
-    let r = chi2(&observed, &expected);
-    println!(
-        "weighted choice: observed {observed:?}, expected {expected:?}, p = {:.4}",
-        r.p_value
-    );
-    assert!(
-        r.p_value > sidak(0.01, TESTS),
-        "not chosen by sampling_weight: p = {:.3e}",
-        r.p_value
-    );
+    assert_emitter_choice(&probes, &[2.0, 3.0, 1.0, 0.5], "by sampling_weight");
 
     for (weights, message) in [
         (

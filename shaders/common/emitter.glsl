@@ -107,12 +107,12 @@ float emitter_sphere_cone(vec3 x, vec3 c, float r) {
 }
 
 // The choice of an emitter by one uniform number. By default it inverts the emitters'
-// cumulative pmf (by power: render::scene_buffers). With a stratifying sampler,
+// cumulative pmf (by sampling weight: render::scene_buffers). With a stratifying sampler,
 // frame.emitter_strata = k > 0 is the number of strata the sampler cuts the number
 // into, and emitter i owns the whole strata [Q_i, Q_{i+1}) of k, with
 //     Q_i = i + round((k - n) C_i),
-// C_i the power cdf before emitter i, n the emitter count: one stratum each plus its
-// power's share of the rest. Every pixel then sends each emitter the same number of
+// C_i the weights' cdf before emitter i, n the emitter count: one stratum each plus its
+// weight's share of the rest. Every pixel then sends each emitter the same number of
 // its samples, stratified within (render::sampler::emitter_strata says why and what it
 // measured). Q_n = k; Q_{i+1} - Q_i >= 1, so no emitter is left out.
 float emitter_interval_start(uint i) {

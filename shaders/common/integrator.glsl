@@ -27,6 +27,13 @@ bool integrator_is_volumetric(uint integrator) {
         || integrator_is_single_scatter(integrator);
 }
 
+// Whether the integrator weighs emitter sampling against BSDF sampling by MIS
+// (path.glsl, path_emitted.glsl).
+bool integrator_uses_mis(uint integrator) {
+    return integrator == INTEGRATOR_DIRECT_MIS || integrator == INTEGRATOR_PATH_MIS
+        || integrator == INTEGRATOR_VOL_PATH_MIS || integrator_is_single_scatter(integrator);
+}
+
 // Whether the integrator samples emitters at surface vertices (path.glsl; in media,
 // the medium decides).
 bool integrator_samples_emitters(uint integrator) {

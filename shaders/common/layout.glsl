@@ -231,7 +231,7 @@ struct Frame {
     uint sampler_flags; // SAMPLER_JITTER, strength, scrambling
     uint sampler_width;  // the pixel keys' grid (film with its sampled border)
     uint sampler_height;
-    uint emitter_strata; // whole strata the emitter choice hands out; 0: by the power cdf
+    uint emitter_strata; // whole strata the emitter choice hands out; 0: by the weights' cdf
     uvec4 emitter_prims[4]; // the area emitters' prims, where few (path_emitted.glsl)
     uint photon_alias;      // photon emission's emitter table (by power) among the alias entries
     uint pad0;

@@ -60,6 +60,17 @@ float mis_weight(float a, float b) {
     return a / (a + b);
 }
 
+// The light that ray r of `path` finds at surface point s (at distance t) of emitter
+// `emitter` (its record `light`, its texture's value `texel`), as the path adds it:
+// through the path's throughput and, with `weigh`, the MIS weight of BSDF sampling
+// against emitter sampling of that point.
+vec3 path_emission_found(PathState path, RayItem r, float t, Surface s, uint emitter,
+                         EmitterRecord light, vec3 texel, bool weigh) {
+    vec3 Le = emitter_area_radiance_texel(light, s.ng, r.dir, texel);
+    float w = weigh ? mis_weight(path.bsdf_pdf, emitter_pdf_hit(emitter, r.origin, r.dir, t, s.ng, s.uv)) : 1.0;
+    return path.throughput * Le * w;
+}
+
 // The medium a ray leaving surface `shape` along d enters, for volumetric integrators
 // in scenes with media (MEDIA_ENABLED, set where medium.glsl is included); NONE
 // otherwise.
@@ -119,8 +130,7 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
     bool single = integrator_is_single_scatter(integrator);
     bool ems = integrator_samples_emitters(integrator);
     bool mats = integrator != INTEGRATOR_DIRECT_EMS;
-    bool mis = integrator == INTEGRATOR_DIRECT_MIS || integrator == INTEGRATOR_PATH_MIS
-        || integrator == INTEGRATOR_VOL_PATH_MIS || single;
+    bool mis = integrator_uses_mis(integrator);
     bool path_tracer = integrator == INTEGRATOR_PATH_MATS || integrator == INTEGRATOR_PATH_MIS
         || integrator_is_volumetric(integrator);
 
@@ -196,9 +206,7 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
             bsdf = bsdf_textured_point(bsdf_load(shape.bsdf), s.uv, true, emission_texture, texels);
         }
         if (emits) {
-            vec3 Le = emitter_area_radiance_texel(light, s.ng, r.dir, texels.emission);
-            float w = weigh ? mis_weight(path.bsdf_pdf, emitter_pdf_hit(shape.emitter, r.origin, r.dir, h.t, s.ng, s.uv)) : 1.0;
-            path.radiance += path.throughput * Le * w;
+            path.radiance += path_emission_found(path, r, h.t, s, shape.emitter, light, texels.emission, weigh);
             path_store_radiance(r.path, path);
         }
         // A normal map (normal_map.glsl) replaces the shading normal and weighs the

@@ -6,8 +6,9 @@
 // SHADE_LAST) is only traced for the emission it finds. Instead of a closest hit
 // through the whole BVH and then shading it, this finds the closest emitter primitive
 // along the ray (a loop over a few primitives, much cheaper than a traversal on
-// llvmpipe), weighs its emission exactly as path_shade_to would, and sends it as a
-// shadow ray that the `shadow` kernel adds if nothing blocks the way there. A ray
+// llvmpipe), weighs its emission as path_shade_to does (path_emission_found), and
+// sends it as a shadow ray that the `shadow` kernel adds if nothing blocks the way
+// there. A ray
 // that finds no emitter costs no traversal at all. (With an environment every such
 // ray would need a shadow ray to infinity: callgrind on scenes/textures/normalmap.xml
 // +5% instructions, so the renderer keeps intersect and shade there.) The estimate
@@ -31,9 +32,7 @@
 void path_shade_emitted(uint integrator, RayItem r, PathState path) {
     // Emission counts after BSDF sampling (not for direct_ems, which has none).
     if (integrator == INTEGRATOR_DIRECT_EMS) return;
-    bool mis = integrator == INTEGRATOR_DIRECT_MIS || integrator == INTEGRATOR_PATH_MIS
-        || integrator == INTEGRATOR_VOL_PATH_MIS || integrator_is_single_scatter(integrator);
-    bool weigh = mis && (path.flags & PATH_DELTA) == 0u;
+    bool weigh = integrator_uses_mis(integrator) && (path.flags & PATH_DELTA) == 0u;
 
     // Closest emitter primitive, with the tests and the order of arguments of the
     // BVH's leaves (bvh_prim_hit_of): the same distance and (u, v) as a traversal
@@ -58,9 +57,7 @@ void path_shade_emitted(uint integrator, RayItem r, PathState path) {
         if (TEXTURE_USES(TEXTURE_FEATURE_AREA) && light.texture != 0u) {
             texel = texture_eval(light.texture, s.uv);
         }
-        vec3 Le = emitter_area_radiance_texel(light, s.ng, r.dir, texel);
-        float w = weigh ? mis_weight(path.bsdf_pdf, emitter_pdf_hit(shape.emitter, r.origin, r.dir, h.t, s.ng, s.uv)) : 1.0;
-        contribution = path.throughput * Le * w;
+        contribution = path_emission_found(path, r, h.t, s, shape.emitter, light, texel, weigh);
         // Stop short of the emitter's own surface (PBR's shadow epsilon).
         tmax = h.t * (1.0 - 1e-4);
     }

@@ -463,7 +463,8 @@ pub struct Frame {
     pub sampler_height: u32,
     /// Strata of the first coordinate of a 2-D sample in one pass of the sampler, over
     /// which the emitter choice hands out whole strata (shaders/common/emitter.glsl,
-    /// [`crate::render::sampler::emitter_strata`]); 0: the choice inverts the power cdf.
+    /// [`crate::render::sampler::emitter_strata`]); 0: the choice inverts the cdf of
+    /// the emitters' sampling weights.
     pub emitter_strata: u32,
     /// The prims (slots of the BVH's prim array) of every area emitter, where they are
     /// at most [`MAX_EMITTER_PRIMS`]: bounces that only end paths then intersect them

@@ -2,9 +2,9 @@
 //!
 //! A batch of paths runs as `generate -> (intersect -> shade -> queue_args -> shadow)
 //! per bounce -> accumulate (not with the box filter) -> film_gather`, every stage one
-//! dispatch over a queue in GPU memory. Queue lengths stay on the GPU and drive indirect dispatch, so
-//! a whole batch is one submission with no read-back between bounces (Laine, Karras
-//! and Aila 2013, "Megakernels Considered Harmful").
+//! dispatch over a queue in GPU memory. Queue lengths stay on the GPU and drive
+//! indirect dispatch, so a whole batch is one submission with no read-back between
+//! bounces (Laine, Karras and Aila 2013, "Megakernels Considered Harmful").
 
 pub mod alias;
 pub mod error;

@@ -63,7 +63,7 @@ pub fn set_frame(
 /// strata than emitters).
 ///
 /// The emitter is chosen by the first coordinate of the emitter sample, which is then
-/// reused. Choosing by the power cdf cuts strata at arbitrary places, so the number of
+/// reused. Choosing by the weights' cdf cuts strata at arbitrary places, so the number of
 /// a pixel's samples that go to each emitter varies from pixel to pixel although the
 /// sampler stratifies: on Veach's plates (four lights of nearly equal power, `direct`,
 /// 64 spp) that made the MSE away from the lights 1.31x Mitsuba's with `stratified`
@@ -104,7 +104,7 @@ mod tests {
         assert_eq!(strata(SamplerKind::Multijitter, 64, 4), 64);
         assert_eq!(strata(SamplerKind::LdSampler, 64, 4), 64);
         assert_eq!(strata(SamplerKind::ZSobol, 64, 4), 64);
-        // No strata to keep: the power cdf.
+        // No strata to keep: the weights' cdf.
         assert_eq!(strata(SamplerKind::Independent, 64, 4), 0);
         assert_eq!(strata(SamplerKind::Stratified, 64, 1), 0);
         // Fewer strata than emitters could not give each one.

@@ -524,9 +524,11 @@ impl SceneRecords {
     ///
     /// Emitter sampling chooses an emitter in proportion to its sampling weight,
     /// Mitsuba 3's `sampling_weight`, 1 by default: uniformly, as Mitsuba 3 and Nori
-    /// do, unless the scene says otherwise; the same estimator on the same scene file. Choosing by power instead, as before, is no better in general (a
-    /// powerful light far away or behind walls takes the samples a near one needs): on
-    /// scenes/textures/textures.xml it left relMSE at 1.34x Mitsuba's at equal samples.
+    /// do, unless the scene says otherwise; the same estimator on the same scene
+    /// file. Choosing by power instead, as before, is no better in general (a
+    /// powerful light far away or behind walls takes the samples a near one needs):
+    /// on scenes/textures/textures.xml it left relMSE at 1.34x Mitsuba's at equal
+    /// samples.
     /// SPPM's photons still leave each emitter in proportion to its power (their flux
     /// stays even), from the table at `photon_alias`.
     fn build_alias_tables(&mut self, scene: &Scene, bvh: &Bvh, remap: &[u32]) {
@@ -605,14 +607,15 @@ impl SceneRecords {
     }
 }
 
-/// Photon emission's weights from emitter powers, giving the environment emitters the share
-/// pbrt-v4's light samplers give infinite lights (Pharr, Jakob, Humphreys, PBR 4th ed.,
-/// sec. 12.6.3): each is chosen with probability 1 / (n_env + 1) when finite emitters
-/// exist, the finite ones sharing the rest by power. An environment's "power" through
-/// the scene's bounding sphere grows with that sphere (a large fog volume or floor
-/// makes it dwarf every light) and would starve the emitters that light what the
-/// camera sees: measured on scenes/media/smoke.xml, relMSE at 64 spp 1.0e-2 by power
-/// alone against 2.6e-3 for Mitsuba's uniform choice.
+/// Photon emission's weights from emitter powers, giving the environment emitters the
+/// share pbrt-v4's light samplers give infinite lights (Pharr, Jakob, Humphreys, PBR
+/// 4th ed., sec. 12.6.3): each is chosen with probability 1 / (n_env + 1) when finite
+/// emitters exist, the finite ones sharing the rest by power. An environment's "power"
+/// through the scene's bounding sphere grows with that sphere (a large fog volume or
+/// floor makes it dwarf every light) and would starve the emitters that light what
+/// the camera sees: measured when emitter sampling still chose by power, on
+/// scenes/media/smoke.xml relMSE at 64 spp 1.0e-2 by power alone against 2.6e-3 for
+/// Mitsuba's uniform choice.
 fn share_with_environment(power: &[f64], is_env: impl Fn(usize) -> bool) -> Vec<f64> {
     let n_env = (0..power.len()).filter(|&i| is_env(i)).count();
     let finite: f64 = (0..power.len())
