@@ -14,6 +14,12 @@ layout(constant_id = 0) const uint SCENE_PRIM_KINDS = 0xffffffffu;
 // Entries of the traversal stack: the scene BVH's deepest leaf (bvh.glsl).
 layout(constant_id = 1) const int SCENE_BVH_DEPTH = 32;
 #define BVH_STACK_DEPTH SCENE_BVH_DEPTH
+// A scene of a few primitives: how many and their kinds; the traversal tests each
+// in turn (bvh.glsl: bvh_trace_flat; 0: traverse the BVH).
+layout(constant_id = 3) const uint SCENE_FLAT_PRIMS = 0u;
+layout(constant_id = 4) const uint SCENE_FLAT_KINDS = 0u;
+#define BVH_FLAT_PRIMS SCENE_FLAT_PRIMS
+#define BVH_FLAT_KINDS SCENE_FLAT_KINDS
 #include "bvh.glsl"
 // Whether the rays are partitioned into hits and misses for shade (partition.glsl);
 // else the kernels that follow read every ray's hit.

@@ -42,6 +42,12 @@ layout(constant_id = 5) const uint SCENE_PRIM_KINDS = 0xffffffffu;
 // Entries of the traversal stack: the scene BVH's deepest leaf (bvh.glsl).
 layout(constant_id = 11) const int SCENE_BVH_DEPTH = 32;
 #define BVH_STACK_DEPTH SCENE_BVH_DEPTH
+// A scene of a few primitives: how many and their kinds; the traversal tests each
+// in turn (bvh.glsl: bvh_trace_flat; 0: traverse the BVH).
+layout(constant_id = 18) const uint SCENE_FLAT_PRIMS = 0u;
+layout(constant_id = 19) const uint SCENE_FLAT_KINDS = 0u;
+#define BVH_FLAT_PRIMS SCENE_FLAT_PRIMS
+#define BVH_FLAT_KINDS SCENE_FLAT_KINDS
 #include "bvh.glsl"
 #define MEDIA_ENABLED SCENE_HAS_MEDIA
 // The medium kinds and grid layouts in the scene (MEDIUM_FEATURE_* bits); the code of

@@ -6,7 +6,9 @@ mod common;
 use common::stats::SplitMix64;
 use glam::Mat4;
 use glam::{Vec2, Vec3};
-use wavetrace::accel::{brute_force_closest, prims_from_shapes, Bvh};
+use wavetrace::accel::{
+    brute_force_closest, prims_from_shapes, Bvh, FlatPrims, FLAT_CAPACITY, FLAT_PRIMS_MAX,
+};
 use wavetrace::gpu::layout::HitItem;
 use wavetrace::gpu::{
     shaders, BindingKind, BindingLayout, Buffer, CommandList, DescriptorSet, Kernel, Location,
@@ -36,6 +38,17 @@ fn gpu_queries_with_stack(
     rays: &[QueryRay],
     stack_depth: u32,
 ) -> (Vec<HitItem>, Vec<u32>) {
+    gpu_queries_with(bvh, rays, stack_depth, FlatPrims::default())
+}
+
+/// `gpu_queries` with a traversal stack of `stack_depth` entries, or testing the
+/// primitives in turn where `flat.count > 0`.
+fn gpu_queries_with(
+    bvh: &Bvh,
+    rays: &[QueryRay],
+    stack_depth: u32,
+    flat: FlatPrims,
+) -> (Vec<HitItem>, Vec<u32>) {
     let device = common::device();
     let layout = BindingLayout::with_kinds(
         &device,
@@ -53,7 +66,7 @@ fn gpu_queries_with_stack(
         "bvh_query",
         shaders::TESTS_BVH_QUERY,
         &layout,
-        &[stack_depth],
+        &[stack_depth, flat.count, flat.kinds],
     )
     .unwrap();
     let mut cmd = CommandList::new(&device).unwrap();
@@ -80,7 +93,12 @@ fn in_box(rng: &mut SplitMix64, lo: Vec3, hi: Vec3) -> Vec3 {
 
 /// Compares GPU results with the CPU brute force and CPU traversal for every ray.
 fn check(bvh: &Bvh, rays: &[QueryRay]) -> usize {
-    let (closest, any) = gpu_queries(bvh, rays);
+    check_with(bvh, rays, FlatPrims::default())
+}
+
+/// `check`, the GPU testing the primitives in turn where `flat.count > 0`.
+fn check_with(bvh: &Bvh, rays: &[QueryRay], flat: FlatPrims) -> usize {
+    let (closest, any) = gpu_queries_with(bvh, rays, bvh.stats.stack_depth(), flat);
     let mut hits = 0;
     for (i, r) in rays.iter().enumerate() {
         let (o, d) = (Vec3::from(r.origin), Vec3::from(r.dir));
@@ -216,6 +234,80 @@ fn gpu_closest_and_any_hit_equal_brute_force_on_bunny_and_quadrics() {
         hits > 10_000,
         "too few rays hit ({hits}) for the test to mean much"
     );
+}
+
+/// A scene of a few primitives of every kind, traced without its tree (bvh.glsl's
+/// bvh_trace_flat, as the renderer does below accel::FLAT_PRIMS_MAX primitives):
+/// closest hits equal the brute force's, and any-hit agrees, at the flat traversal's
+/// full capacity and with fewer primitives (its later steps compiled away).
+#[test]
+fn gpu_flat_traversal_of_a_small_scene_equals_brute_force() {
+    // Six triangles (a fan), and spheres, disks and cylinders around them.
+    let mut fan = Mesh {
+        name: "fan".into(),
+        ..Default::default()
+    };
+    fan.positions.push(Vec3::ZERO);
+    for k in 0..7 {
+        let a = k as f32 * 0.5;
+        fan.positions
+            .push(Vec3::new(a.cos(), a.sin(), 0.2 * (k % 2) as f32));
+    }
+    fan.indices = (1..7).map(|k| [0, k, k + 1]).collect();
+    let mut quadrics = Vec::new();
+    for k in 0..10 {
+        let t = k as f32 / 9.0;
+        let c = Vec3::new(1.6 * t - 0.8, 0.7 - 1.4 * t, 0.3 + 0.4 * (k % 3) as f32);
+        let mut q = Quadric::sphere(c, 0.15 + 0.05 * t, 0);
+        match k % 3 {
+            0 => {}
+            1 => {
+                q.kind = QuadricKind::Disk;
+                q.to_world = Mat4::from_translation(c)
+                    * Mat4::from_rotation_x(0.7 * t)
+                    * Mat4::from_scale(Vec3::new(0.3, 0.2, 1.0));
+            }
+            _ => {
+                q.kind = QuadricKind::Cylinder;
+                q.to_world = Mat4::from_translation(c)
+                    * Mat4::from_rotation_y(1.1 + t)
+                    * Mat4::from_scale(Vec3::new(0.1, 0.1, 0.4));
+            }
+        }
+        quadrics.push(q);
+    }
+    let mut rng = SplitMix64(11);
+    let (lo, hi) = (Vec3::splat(-1.5), Vec3::splat(1.5));
+    let rays: Vec<QueryRay> = (0..20_000)
+        .map(|i| {
+            let o = in_box(&mut rng, lo, hi);
+            let target = in_box(&mut rng, Vec3::splat(-0.8), Vec3::splat(0.8));
+            QueryRay {
+                origin: o.into(),
+                tmin: 0.0,
+                dir: (target - o).normalize().into(),
+                tmax: if i % 4 == 0 {
+                    (target - o).length()
+                } else {
+                    f32::INFINITY
+                },
+            }
+        })
+        .collect();
+    for (triangles, quadric_count) in [(6, 10), (3, 2)] {
+        let mut mesh = fan.clone();
+        mesh.indices.truncate(triangles);
+        let bvh = Bvh::build(prims_from_shapes(&[mesh], &quadrics[..quadric_count]));
+        let n = bvh.prims.len();
+        assert!(n <= FLAT_CAPACITY);
+        let flat = FlatPrims::of(&bvh.prims, FLAT_CAPACITY);
+        assert_eq!(flat.count as usize, n);
+        assert_eq!(FlatPrims::of(&bvh.prims, n - 1), FlatPrims::default());
+        let hits = check_with(&bvh, &rays, flat);
+        assert!(hits > 2_000, "{n} primitives: too few rays hit ({hits})");
+    }
+    // The renderer's threshold lies within what the traversal can hold.
+    assert!((1..=FLAT_CAPACITY).contains(&FLAT_PRIMS_MAX));
 }
 
 /// A closed cube of 12 triangles sharing edges and vertices, and a fine grid: rays

@@ -45,6 +45,18 @@
 #define BVH_STACK_DEPTH BVH_STACK_SIZE
 #endif
 
+// A scene of a few primitives is traced without its tree (bvh_trace_flat): the
+// including kernel may #define BVH_FLAT_PRIMS to how many there are (0: traverse the
+// BVH; at most BVH_FLAT_CAPACITY) and BVH_FLAT_KINDS to their PRIM_* kinds, two bits
+// each, primitive k at bit 2k (accel::FlatPrims; specialization constants).
+#define BVH_FLAT_CAPACITY 16
+#ifndef BVH_FLAT_PRIMS
+#define BVH_FLAT_PRIMS 0u
+#endif
+#ifndef BVH_FLAT_KINDS
+#define BVH_FLAT_KINDS 0u
+#endif
+
 // t: distance (tmax on a miss); u, v: triangle barycentrics, p = (1-u-v) p0 + u p1 + v p2,
 // or a disk's object-space (x, y) (0 for spheres and cylinders); prim: index into
 // prims[], HIT_NONE on a miss.
@@ -146,9 +158,43 @@ bool bvh_prim_hit(Prim p, TriangleRay tr, vec3 o, vec3 d, float tmin, float tmax
     return bvh_prim_hit_of(BVH_KINDS, p, tr, o, d, tmin, tmax, t, u, v);
 }
 
+// Primitive k of a flat scene, tested only for its own kind: once BVH_FLAT_PRIMS and
+// BVH_FLAT_KINDS are specialized, a step past the last primitive compiles away and
+// `kinds` is a constant with one bit.
+#define BVH_FLAT_STEP(k)                                                                 \
+    if ((k) < BVH_FLAT_PRIMS) {                                                          \
+        float t, u, v;                                                                   \
+        uint kinds = BVH_KIND_BIT((BVH_FLAT_KINDS >> (2u * (k))) & 3u);                  \
+        if (bvh_prim_hit_of(kinds, prim_load(k), tr, o, d, tmin, hit.t, t, u, v)) {      \
+            hit = Hit(t, u, v, k);                                                       \
+        }                                                                                \
+    }
+
+// Closest hit by testing every primitive in order, as accel::brute_force_closest does
+// (of equal distances, the lowest index). Without a tree there are no node loads, no
+// stack and no leaf loop, and each primitive is loaded from an address common to all
+// lanes and tested for its one kind: on llvmpipe (Mesa 22.3), which loads per lane
+// and runs every branch of a leaf's kind test for every lane, this costs far less than
+// a traversal of a few primitives (accel::FLAT_PRIMS_MAX). Written out step by step
+// because Mesa unrolls no loop with a body this large. Every ray tests every
+// primitive: any-hit queries gain nothing from stopping early on llvmpipe.
+Hit bvh_trace_flat(vec3 o, vec3 d, float tmin, float tmax) {
+    TriangleRay tr = triangle_ray_make(d);
+    Hit hit = Hit(tmax, 0.0, 0.0, HIT_NONE);
+    BVH_FLAT_STEP(0u) BVH_FLAT_STEP(1u) BVH_FLAT_STEP(2u) BVH_FLAT_STEP(3u)
+    BVH_FLAT_STEP(4u) BVH_FLAT_STEP(5u) BVH_FLAT_STEP(6u) BVH_FLAT_STEP(7u)
+    BVH_FLAT_STEP(8u) BVH_FLAT_STEP(9u) BVH_FLAT_STEP(10u) BVH_FLAT_STEP(11u)
+    BVH_FLAT_STEP(12u) BVH_FLAT_STEP(13u) BVH_FLAT_STEP(14u) BVH_FLAT_STEP(15u)
+    return hit;
+}
+
 // Stack traversal visiting the nearer child first; with any_hit, returns at the first
-// hit found. Requires 0 <= tmin and d != 0.
+// hit found. Requires 0 <= tmin and d != 0. A flat scene (BVH_FLAT_PRIMS > 0) tests
+// its primitives in turn instead.
 Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, bool any_hit) {
+    if (BVH_FLAT_PRIMS > 0u) {
+        return bvh_trace_flat(o, d, tmin, tmax);
+    }
     BvhRay r;
     r.o = o;
     r.inv = vec3(bvh_inv(d.x), bvh_inv(d.y), bvh_inv(d.z));

@@ -364,13 +364,18 @@ pub fn run(mut args: RenderArgs) -> Result<()> {
         let renderer = Renderer::new(&device, sc, &options)?;
         let s = &renderer.setup;
         eprintln!(
-            "start-up: scene {:.0} ms, vulkan {:.0} ms, bvh {:.0} ms ({} nodes, SAH {:.1}), upload {:.0} ms, \
+            "start-up: scene {:.0} ms, vulkan {:.0} ms, bvh {:.0} ms ({} nodes, SAH {:.1}{}), upload {:.0} ms, \
              pipelines {:.0} ms ({}), first dispatch (kernel compile) {:.0} ms",
             load_seconds * 1e3,
             device.info().startup_seconds * 1e3,
             s.bvh.build_seconds * 1e3,
             s.bvh.node_count,
             s.bvh.sah_cost,
+            if s.flat_prims > 0 {
+                format!("; its {} primitives tested in turn", s.flat_prims)
+            } else {
+                String::new()
+            },
             s.upload_seconds * 1e3,
             s.pipeline_seconds * 1e3,
             crate::specialization_summary(),

@@ -26,7 +26,7 @@ pub use integrator::Integrator;
 
 use std::time::Instant;
 
-use crate::accel::{self, Bvh, BvhStats};
+use crate::accel::{self, Bvh, BvhStats, FlatPrims};
 use crate::gpu::layout::{Counters, DispatchArgs, Frame, Push, WORKGROUP_SIZE};
 use crate::gpu::{shaders, BindingLayout, CommandList, DescriptorSet, Device, Kernel, KernelTimes};
 use crate::image::Image;
@@ -75,12 +75,19 @@ pub struct RenderOptions {
     /// alone: shaders/common/path_emitted.glsl). The same image either way; tests
     /// compare the two.
     pub trace_last_bounce: bool,
+    /// Traverse the BVH even where the scene has so few primitives that the kernels
+    /// would test each in turn ([`accel::FLAT_PRIMS_MAX`], bvh.glsl's
+    /// `bvh_trace_flat`). The same image either way; tests compare the two.
+    pub traverse_small_scenes: bool,
 }
 
 /// Time spent before the first sample, in seconds.
 #[derive(Debug, Clone, Default)]
 pub struct SetupStats {
     pub bvh: BvhStats,
+    /// Primitives the kernels test in turn instead of traversing the BVH (0: they
+    /// traverse it).
+    pub flat_prims: u32,
     pub upload_seconds: f64,
     /// Creating the pipelines.
     pub pipeline_seconds: f64,
@@ -310,6 +317,16 @@ impl Renderer {
             .flatten()
             .fold(0u32, |m, &i| m | 1 << bvh.prims[i as usize].kind);
         let bvh_stats = bvh.stats;
+        // Scenes of a few primitives are traced without the tree.
+        let flat = FlatPrims::of(
+            &bvh.prims,
+            if options.traverse_small_scenes {
+                0
+            } else {
+                accel::FLAT_PRIMS_MAX
+            },
+        );
+        let [flat_count, flat_kinds] = flat.constants();
         let scene_bounds = photon::SceneBounds::of(&bvh);
 
         let t = Instant::now();
@@ -467,6 +484,8 @@ impl Renderer {
                 },
                 if last { emitted_only } else { 0 },
                 if last { emitter_prim_kinds } else { 0xf },
+                flat_count,
+                flat_kinds,
             ]
         };
         let bounces = integrator
@@ -488,7 +507,13 @@ impl Renderer {
             intersect: k(
                 "intersect",
                 shaders::INTERSECT,
-                &[prim_kinds, bvh_depth, partitioned as u32],
+                &[
+                    prim_kinds,
+                    bvh_depth,
+                    partitioned as u32,
+                    flat_count,
+                    flat_kinds,
+                ],
             )?,
             shade: k("shade", shaders::SHADE, &shade_spec(false, false))?,
             shade_last,
@@ -511,6 +536,8 @@ impl Renderer {
                     0,
                     surface_features,
                     bvh_depth,
+                    flat_count,
+                    flat_kinds,
                 ],
             )?,
             queue_args: k("queue_args", shaders::QUEUE_ARGS, &[])?,
@@ -568,6 +595,7 @@ impl Renderer {
             sample_count,
             setup: SetupStats {
                 bvh: bvh_stats,
+                flat_prims: flat_count,
                 upload_seconds,
                 pipeline_seconds,
                 first_dispatch_seconds: 0.0,
