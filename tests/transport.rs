@@ -5,7 +5,33 @@
 mod common;
 
 use common::{device, mean, temp_file};
-use wavetrace::render::RenderOptions;
+use wavetrace::gpu::Device;
+use wavetrace::image::Image;
+use wavetrace::render::{RenderOptions, RenderStats, SetupStats};
+use wavetrace::scene::Scene;
+
+/// A shipped scene (`file`, relative to the repository) with `defines`.
+fn load_shipped(file: &str, defines: &[(&str, &str)]) -> Scene {
+    let defines: Vec<(String, String)> = defines
+        .iter()
+        .map(|(k, v)| (k.to_string(), v.to_string()))
+        .collect();
+    wavetrace::scene::load(&common::repo(file), &defines).unwrap_or_else(|e| panic!("{file}: {e}"))
+}
+
+/// `scene` (loaded from `file`) rendered at 8 spp with `options`: the image, what the
+/// render did and how its renderer was set up.
+fn render_8spp(
+    device: &Device,
+    scene: &Scene,
+    file: &str,
+    options: &RenderOptions,
+) -> (Image, RenderStats, SetupStats) {
+    let mut r = wavetrace::render::Renderer::new(device, scene, options)
+        .unwrap_or_else(|e| panic!("{file}: {e}"));
+    let (img, stats) = r.render(8, &mut |_, _| {}).expect("render");
+    (img, stats, r.setup.clone())
+}
 
 /// A Mitsuba scene with a 32x32 camera and a box filter: each pixel is an
 /// independent estimate (a Gaussian would share samples among neighbours).
@@ -293,12 +319,7 @@ fn last_bounce_against_the_emitters_alone_matches_the_full_traversal() {
         ),
         ("scenes/textures/textured_lights.xml", vec![("res", "48")]),
     ] {
-        let defines: Vec<(String, String)> = defines
-            .iter()
-            .map(|(k, v)| (k.to_string(), v.to_string()))
-            .collect();
-        let scene = wavetrace::scene::load(&common::repo(file), &defines)
-            .unwrap_or_else(|e| panic!("{file}: {e}"));
+        let scene = load_shipped(file, &defines);
         let run = |trace_last_bounce: bool| {
             let options = RenderOptions {
                 seed: 3,
@@ -306,11 +327,8 @@ fn last_bounce_against_the_emitters_alone_matches_the_full_traversal() {
                 trace_last_bounce,
                 ..Default::default()
             };
-            let mut r = wavetrace::render::Renderer::new(&device, &scene, &options)
-                .unwrap_or_else(|e| panic!("{file}: {e}"));
-            let (img, stats) = r.render(8, &mut |_, _| {}).expect("render");
-            let intersects = stats.kernel_times.by_kernel["intersect"].1;
-            (img, intersects)
+            let (img, stats, _) = render_8spp(&device, &scene, file, &options);
+            (img, stats.kernel_times.by_kernel["intersect"].1)
         };
         let (short, short_intersects) = run(false);
         let (full, full_intersects) = run(true);
@@ -340,23 +358,15 @@ fn small_scenes_traced_without_the_tree_match_the_traversal() {
         ("scenes/media/fog_point.xml", vec![("res", "32")]),
         ("scenes/glass/glass.xml", vec![("res", "32")]),
     ] {
-        let defines: Vec<(String, String)> = defines
-            .iter()
-            .map(|(k, v)| (k.to_string(), v.to_string()))
-            .collect();
-        let scene = wavetrace::scene::load(&common::repo(file), &defines)
-            .unwrap_or_else(|e| panic!("{file}: {e}"));
+        let scene = load_shipped(file, &defines);
         let run = |traverse_small_scenes: bool| {
             let options = RenderOptions {
                 seed: 5,
                 traverse_small_scenes,
                 ..Default::default()
             };
-            let mut r = wavetrace::render::Renderer::new(&device, &scene, &options)
-                .unwrap_or_else(|e| panic!("{file}: {e}"));
-            let flat = r.setup.flat_prims;
-            let (img, _) = r.render(8, &mut |_, _| {}).expect("render");
-            (img, flat)
+            let (img, _, setup) = render_8spp(&device, &scene, file, &options);
+            (img, setup.flat_prims)
         };
         let (flat, flat_prims) = run(false);
         let (tree, tree_flat_prims) = run(true);
