@@ -27,5 +27,5 @@ void main() {
 
     uint flags = PATH_DELTA | (film.coverage != 0u ? PATH_COVERED : 0u);
     path_store(p, PathState(vec3(1.0), key, vec3(0.0), sample_index, 0.0, flags, 1.0, frame.camera_medium));
-    ray_store(ray_slot(0u, p), RayItem(origin, p, dir, tmax));
+    ray_store(ray_slot_at(0u, p), RayItem(origin, p, dir, tmax));
 }

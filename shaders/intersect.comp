@@ -27,7 +27,7 @@ layout(constant_id = 2) const bool SCENE_PARTITION = false;
 
 void main() {
     uint i = thread_index();
-    if (i >= counters.ray_count[push.queue_in]) return;
+    if (i >= queue_ray_count(push.queue_in)) return;
     RayItem r = ray_load(ray_slot(push.queue_in, i));
     Hit h = bvh_closest(r.origin, r.dir, 0.0, r.tmax);
     hit_store(i, HitItem(h.t, h.u, h.v, h.prim));

@@ -87,9 +87,9 @@ layout(constant_id = 13) const bool SCENE_FILM_ALPHA = false;
 
 void main() {
     uint i = thread_index();
-    uint n = SHADE_RAYS == SHADE_RAYS_HITS ? counters.hit_count
-        : SHADE_RAYS == SHADE_RAYS_MISSES ? counters.miss_count
-        : counters.ray_count[push.queue_in];
+    uint n = SHADE_RAYS == SHADE_RAYS_HITS ? queue_part_count(PART_HITS)
+        : SHADE_RAYS == SHADE_RAYS_MISSES ? queue_part_count(PART_MISSES)
+        : queue_ray_count(push.queue_in);
     if (i >= n) return;
     if (SHADE_RAYS == SHADE_RAYS_HITS) i = partition_hit(i);
     if (SHADE_RAYS == SHADE_RAYS_MISSES) i = partition_miss(i);

@@ -49,8 +49,8 @@ layout(constant_id = 7) const bool SCENE_THIN_NULL = false;
 
 void main() {
     uint i = thread_index();
-    if (i >= counters.shadow_traced) return;
-    ShadowItem s = shadow_load(i);
+    if (i >= queue_shadow_count()) return;
+    ShadowItem s = shadow_load(shadow_slot(i));
     if (SCENE_HAS_MEDIA) {
         vec3 T = transmittance_shadow(s);
         if (any(greaterThan(T, vec3(0.0)))) {

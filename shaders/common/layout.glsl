@@ -342,15 +342,26 @@ struct MediumRecord {
     uint albedo_data; // NONE, or an albedo grid on the density voxels at this offset
 };
 
-// Queue lengths and statistics.
+// The parts of a partitioned bounce's rays (partition.glsl).
+#define PART_HITS 0
+#define PART_MISSES 1
+// Words of Counters.tails: a queue segment's tails, COUNTER_TAIL_STRIDE words apart
+// (queue.glsl), each the number of items the segment appended to one queue.
+#define TAIL_RAYS 0 // + q: ray queue q
+#define TAIL_SHADOWS 2
+#define TAIL_PART 3 // + PART_HITS, PART_MISSES
+#define COUNTER_TAIL_STRIDE 32
+#define COUNTER_SEGMENTS 2
+
+// Queue lengths and statistics. The kernels append to the tails, a segment per 128
+// bytes (queue.glsl); the lengths they fold into reach the kernels that consume the
+// queues through the frame's uniform block (wavefront.glsl: queue_lengths).
 struct Counters {
-    uint ray_count[2];
-    uint shadow_count;  // the shadow queue shade appends to
+    uint ray_count[2];    // length of ray queue q (the host's, to stop a batch)
     uint rays_traced;
     uint discarded;
-    uint shadow_traced; // length of the shadow queue the shadow kernel traces
-    uint hit_count;     // a partitioned bounce's rays that found a surface (intersect)
-    uint miss_count;    // and those that left the scene
+    uint head_pad[28];
+    uint tails[64];       // COUNTER_SEGMENTS x COUNTER_TAIL_STRIDE
 };
 
 // VkDispatchIndirectCommand per queue.

@@ -7,26 +7,34 @@
 // only the miss code. It pays where many rays miss and the environment lights them
 // (src/render/mod.rs: Partition).
 //
-// The queue indices of the hits fill shade_ray_words from the front, those of the
-// misses from the back (counters.hit_count and miss_count long). Needs wavefront.glsl.
+// Part p (PART_HITS, PART_MISSES) holds the queue indices of its rays in
+// shade_ray_words[p capacity, (p + 1) capacity), a queue filled from both ends as
+// queue.glsl's (queue_part_count(p) long, queue_part_back(p) of them at the back).
+// Needs wavefront.glsl.
 #ifndef PARTITION_GLSL
 #define PARTITION_GLSL
+
+#include "queue.glsl"
 
 // Appends ray i to its part: the hits if `hit`, else the misses. An atomic per lane, as the
 // queues' pushes: on llvmpipe (Mesa 22.3) a workgroup's shared counters with
 // barriers, and subgroup ballots with one atomic per SIMD group, cost intersect as
 // much or more (the normal-map scene, 256^2: intersect 163 -> 243 ms with atomics
-// per lane, 303 with barriers, 242 with ballots; fastest of 6 runs each).
+// per lane, 303 with barriers, 242 with ballots; fastest of 6 runs each). One atomic
+// and one store, each at a per-lane address, not one of each per part: llvmpipe runs
+// both sides of a branch, and a masked-off atomic or store still costs its loop over
+// the lanes.
 void partition_push(uint i, bool hit) {
-    if (hit) {
-        shade_ray_words[atomicAdd(counters.hit_count, 1u)] = i;
-    } else {
-        shade_ray_words[push.capacity - 1u - atomicAdd(counters.miss_count, 1u)] = i;
-    }
+    uint p = hit ? PART_HITS : PART_MISSES;
+    shade_ray_words[p * push.capacity + queue_append(TAIL_PART + p)] = i;
 }
 
-// Queue index of hit k, of miss k.
-uint partition_hit(uint k) { return imageLoad(shade_ray_texels, int(k)).x; }
-uint partition_miss(uint k) { return imageLoad(shade_ray_texels, int(push.capacity - 1u - k)).x; }
+// Queue index of ray k of part p.
+uint partition_ray(uint p, uint k) {
+    uint pos = queue_position(k, queue_part_count(p), queue_part_back(p));
+    return imageLoad(shade_ray_texels, int(p * push.capacity + pos)).x;
+}
+uint partition_hit(uint k) { return partition_ray(PART_HITS, k); }
+uint partition_miss(uint k) { return partition_ray(PART_MISSES, k); }
 
 #endif

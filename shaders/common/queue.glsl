@@ -1,12 +1,49 @@
 // Appending work items to the wavefront's queues. Needs wavefront.glsl.
+//
+// A queue fills from both ends: the first half of the producing dispatch's workgroups
+// appends at the front, the second half at the back, each counting its items in its
+// own tail (Counters.tails, a segment per 128 bytes). lavapipe (Mesa 22.3,
+// lp_cs_tpool.c) hands each of its two threads one contiguous half of a dispatch's
+// workgroups, so each thread appends to a counter on a cache line of its own; with one
+// counter, the two cores' atomics pulled its line back and forth for every SIMD group
+// (the normal-map scene scaled 1.64x from one thread to two in intersect and 1.75x in
+// shade, against 1.97x in generate, which appends nothing). queue_args and shade_args
+// fold the tails into the lengths and back counts the consumers read
+// (queue_position in wavefront.glsl). The order of items within a queue carries no
+// meaning: every result is written to its path.
 #ifndef QUEUE_GLSL
 #define QUEUE_GLSL
+
+// The segment of the current workgroup: 0 for the first half of the dispatch's
+// workgroups, 1 for the second.
+uint queue_segment() {
+    uint groups = gl_NumWorkGroups.x * gl_NumWorkGroups.y;
+    uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+    return 2u * group >= groups ? 1u : 0u;
+}
+
+// A new position in a queue whose segment tails are at word `tail` of each segment.
+uint queue_append(uint tail) {
+    uint s = queue_segment();
+    uint k = atomicAdd(counters.tails[s * COUNTER_TAIL_STRIDE + tail], 1u);
+    return s == 0u ? k : push.capacity - 1u - k;
+}
+
+// Between dispatches, in one thread: the length of the queue whose segment tails are
+// word `tail` of each segment, and (back) how many of its items lie at its back end.
+// Empties the tails for the queue's next filling.
+uint queue_fold(uint tail, out uint back) {
+    uint front = counters.tails[tail];
+    back = counters.tails[COUNTER_TAIL_STRIDE + tail];
+    counters.tails[tail] = 0u;
+    counters.tails[COUNTER_TAIL_STRIDE + tail] = 0u;
+    return front + back;
+}
 
 // A shadow ray starting in `medium` (NONE: in vacuum): if nothing blocks it within
 // tmax, `contribution` times its transmittance joins its path.
 void queue_push_shadow_in(uint medium, vec3 origin, uint path, vec3 dir, float tmax, vec3 contribution) {
-    uint slot = atomicAdd(counters.shadow_count, 1u);
-    shadow_store(slot, ShadowItem(origin, path, dir, tmax, contribution, medium));
+    shadow_store(queue_append(TAIL_SHADOWS), ShadowItem(origin, path, dir, tmax, contribution, medium));
 }
 
 // A shadow ray: if nothing blocks it within tmax, `contribution` joins its path.
@@ -17,8 +54,7 @@ void queue_push_shadow(vec3 origin, uint path, vec3 dir, float tmax, vec3 contri
 // A ray continuing `path`, for the next bounce (the other ray queue).
 void queue_push_ray(vec3 origin, uint path, vec3 dir, float tmax) {
     uint q = 1u - push.queue_in;
-    uint slot = atomicAdd(counters.ray_count[q], 1u);
-    ray_store(ray_slot(q, slot), RayItem(origin, path, dir, tmax));
+    ray_store(ray_slot_at(q, queue_append(TAIL_RAYS + q)), RayItem(origin, path, dir, tmax));
 }
 
 #endif

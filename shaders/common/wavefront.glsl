@@ -9,8 +9,11 @@
 layout(local_size_x = WORKGROUP_SIZE) in;
 
 // The frame's parameters: a uniform block (std140 lays Frame out as std430 does; see
-// layout.glsl).
-layout(std140, set = 1, binding = 0) uniform FrameBuffer { Frame frame; };
+// layout.glsl). After them, the queue lengths that the kernels consuming a queue read
+// (queue_ray_count and the like below): llvmpipe loads a uniform block once per SIMD
+// group, where it loads from the storage buffer of the counters lane by lane. One
+// block, because lavapipe 22.3 crashes running a set with a second uniform buffer.
+layout(std140, set = 1, binding = 0) uniform FrameBuffer { Frame frame; uvec4 queue_lengths[3]; };
 // Path states and queues are written through 16-byte words, one store per word, and
 // read through texel views of the same buffers (bindings 7-10, imageLoad): llvmpipe
 // turns each divergent storage-buffer access into a loop over the SIMD lanes, an image
@@ -44,6 +47,18 @@ layout(set = 1, binding = 10, rgba32ui) uniform readonly uimageBuffer shadow_tex
 // storage buffer, read through a word view.
 layout(std430, set = 1, binding = 11) writeonly buffer ShadeRayBuffer { uint shade_ray_words[]; };
 layout(set = 1, binding = 12, r32ui) uniform readonly uimageBuffer shade_ray_texels;
+// The frame's buffer as storage, for queue_args and shade_args to publish the queue
+// lengths they fold (queue.glsl) after the frame: [0] ray queue q's length at q, how
+// many of its items lie at its back end at 2 + q; [1] the shadow queue's length and
+// back count; [2] the partition's parts' (the host sets them at a batch's start:
+// render::wavefront::Wavefront::reset_queues).
+layout(std430, set = 1, binding = 13) writeonly buffer QueueLengthBuffer { Frame frame_unused; uvec4 queue_lengths_out[3]; };
+uint queue_ray_count(uint q) { return q == 0u ? queue_lengths[0].x : queue_lengths[0].y; }
+uint queue_ray_back(uint q) { return q == 0u ? queue_lengths[0].z : queue_lengths[0].w; }
+uint queue_shadow_count() { return queue_lengths[1].x; }
+uint queue_shadow_back() { return queue_lengths[1].y; }
+uint queue_part_count(uint p) { return p == 0u ? queue_lengths[2].x : queue_lengths[2].y; }
+uint queue_part_back(uint p) { return p == 0u ? queue_lengths[2].z : queue_lengths[2].w; }
 
 layout(push_constant) uniform PushBlock { Push push; };
 
@@ -53,8 +68,23 @@ uint thread_index() {
         + gl_LocalInvocationID.x;
 }
 
+// Position of item i in a queue of n items of which `back` lie at its back end
+// (queue.glsl): the front's items first, then the back's from the last slot down.
+uint queue_position(uint i, uint n, uint back) {
+    uint front = n - back;
+    return i < front ? i : push.capacity - 1u - (i - front);
+}
+
+// Index of position pos of ray queue q in the ray buffer.
+uint ray_slot_at(uint q, uint pos) { return q * push.capacity + pos; }
+
 // Index of item i of ray queue q in the ray buffer.
-uint ray_slot(uint q, uint i) { return q * push.capacity + i; }
+uint ray_slot(uint q, uint i) {
+    return ray_slot_at(q, queue_position(i, queue_ray_count(q), queue_ray_back(q)));
+}
+
+// Index of item i of the shadow queue the shadow kernel traces.
+uint shadow_slot(uint i) { return queue_position(i, queue_shadow_count(), queue_shadow_back()); }
 
 // Workgroups for n items on a 2D grid of at most 65535 x 65535 groups (the indirect
 // dispatch arguments of a queue).

@@ -32,7 +32,7 @@ layout(constant_id = 4) const uint SCENE_SAMPLER_KIND = 0u;
 
 void main() {
     uint i = thread_index();
-    if (i >= counters.ray_count[push.queue_in]) return;
+    if (i >= queue_ray_count(push.queue_in)) return;
     RayItem r = ray_load(ray_slot(push.queue_in, i));
     HitItem h = hit_load(i);
     PathState path = path_load(r.path);

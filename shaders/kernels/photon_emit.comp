@@ -2,9 +2,11 @@
 #extension GL_GOOGLE_include_directive : require
 // photon_emit: the first ray of photon paths push.pixel_base .. + path_count of stream
 // photon_params.iteration, one per path slot.
-// Writes: photon paths (path-state buffer), ray queue 0 (appended; the host empties it).
+// Writes: photon paths (path-state buffer), ray queue 0 (appended; the host empties it
+// and folds it with queue_args).
 
 #include "wavefront.glsl"
+#include "queue.glsl"
 #include "scene_bindings.glsl"
 layout(constant_id = 0) const uint SCENE_SURFACE_FEATURES = 0xffffffffu;
 #define SURFACE_FEATURES SCENE_SURFACE_FEATURES
@@ -31,7 +33,6 @@ void main() {
     float start = max(em.power.x, max(em.power.y, em.power.z));
     photon_path_store(p, PhotonPath(em.power, index, start, 0u, 0u, 0u));
     if (start > 0.0 && !isinf(start) && !isnan(start)) {
-        uint slot = atomicAdd(counters.ray_count[0], 1u);
-        ray_store(ray_slot(0u, slot), RayItem(em.origin, p, em.dir, EMITTER_INFINITY));
+        ray_store(ray_slot_at(0u, queue_append(TAIL_RAYS)), RayItem(em.origin, p, em.dir, EMITTER_INFINITY));
     }
 }

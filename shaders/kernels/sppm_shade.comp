@@ -31,7 +31,7 @@ layout(constant_id = 3) const uint SCENE_BSDF_KINDS = 0xffffffffu;
 
 void main() {
     uint i = thread_index();
-    if (i >= counters.ray_count[push.queue_in]) return;
+    if (i >= queue_ray_count(push.queue_in)) return;
     RayItem r = ray_load(ray_slot(push.queue_in, i));
     HitItem h = hit_load(i);
     PathState path = path_load(r.path);

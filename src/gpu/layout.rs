@@ -572,24 +572,32 @@ pub struct ShadowItem {
 
 /// Queue lengths and statistics, all in one buffer. `ray_count[q]` is the length of
 /// ray queue `q` (two queues, ping-ponged per bounce).
+///
+/// A queue is filled from both ends, each by one half of the producing dispatch's
+/// workgroups, which append to their own counter in `tails` (a segment per 128
+/// bytes): lavapipe hands each of its threads one contiguous half of a dispatch, so
+/// the two never contend for one cache line (shaders/common/queue.glsl). Between
+/// dispatches, `queue_args` and `shade_args` fold the tails into the lengths, which
+/// the kernels read from the frame's uniform buffer (see
+/// [`crate::render::wavefront::Wavefront::reset_queues`]).
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+#[derive(Clone, Copy, Debug, PartialEq, Pod, Zeroable)]
 pub struct Counters {
     pub ray_count: [u32; 2],
-    /// The shadow queue `shade` appends to.
-    pub shadow_count: u32,
     /// Rays traced in this batch (extension and shadow rays).
     pub rays_traced: u32,
     /// Samples dropped at accumulation because they were NaN or infinite.
     pub discarded: u32,
-    /// Length of the shadow queue the `shadow` kernel traces: `queue_args` moves
-    /// `shadow_count` here and empties it for the next bounce's `shade`.
-    pub shadow_traced: u32,
-    /// Rays of the bounce that `intersect` found a surface for, and rays that left
-    /// the scene, where it partitions them for `shade` (shaders/common/partition.glsl);
-    /// `queue_args` empties both.
-    pub hit_count: u32,
-    pub miss_count: u32,
+    pub head_pad: [u32; 28],
+    /// Each segment's append counters, 32 words (128 bytes) apart: `TAIL_*` in
+    /// layout.glsl.
+    pub tails: [u32; 64],
+}
+
+impl Default for Counters {
+    fn default() -> Self {
+        Self::zeroed()
+    }
 }
 
 /// Indirect dispatch arguments for each queue, written on the GPU from [`Counters`].
@@ -1037,16 +1045,7 @@ mod tests {
                 flags,
                 albedo_data
             ),
-            rust_layout!(
-                Counters,
-                ray_count,
-                shadow_count,
-                rays_traced,
-                discarded,
-                shadow_traced,
-                hit_count,
-                miss_count
-            ),
+            rust_layout!(Counters, ray_count, rays_traced, discarded, head_pad, tails),
             rust_layout!(DispatchArgs, rays, shadows, hits, misses),
             rust_layout!(
                 Push,

@@ -685,7 +685,7 @@ impl Renderer {
         for b in [&wf.paths, &wf.rays, &wf.hits, &wf.shadows, &wf.shade_rays] {
             cmd.fill(b, 0, b.size(), 0);
         }
-        cmd.update(&wf.counters, 0, bytemuck::bytes_of(&Counters::default()));
+        wf.reset_queues(&mut cmd, 0);
         cmd.barrier();
         let push = Push {
             capacity: wf.capacity,
@@ -943,11 +943,7 @@ impl Renderer {
     fn start_batch(&self, cmd: &mut CommandList, sets: &[&DescriptorSet], push: &Push) {
         let wf = &self.wavefront;
         let path_count = push.path_count;
-        let counters = Counters {
-            ray_count: [path_count, 0],
-            ..Default::default()
-        };
-        cmd.update(&wf.counters, 0, bytemuck::bytes_of(&counters));
+        wf.reset_queues(cmd, path_count);
         // The first bounce's dispatch; queue_args writes the later ones.
         let args = DispatchArgs {
             rays: groups_for(path_count),

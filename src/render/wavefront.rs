@@ -5,18 +5,27 @@
 use std::mem::size_of;
 
 use crate::gpu::layout::{Counters, DispatchArgs, Frame, HitItem, PathState, RayItem, ShadowItem};
-use crate::gpu::{BindingKind, BindingLayout, Buffer, DescriptorSet, Device, Location};
+use crate::gpu::{
+    BindingKind, BindingLayout, Buffer, CommandList, DescriptorSet, Device, Location,
+};
 
 use super::error::Result;
 
 /// Bindings of set 1, in order.
-pub const WAVEFRONT_BINDINGS: u32 = 13;
+pub const WAVEFRONT_BINDINGS: u32 = 14;
+
+/// Words of the queue lengths that follow the frame in its uniform buffer
+/// (shaders/common/wavefront.glsl: `queue_lengths`, three `uvec4`s): the kernels
+/// consuming a queue read its length there, once per SIMD group on llvmpipe, where a
+/// read of the counters' storage buffer is a loop over the lanes.
+pub const QUEUE_LENGTH_WORDS: usize = 12;
 
 /// The kind of each binding of set 1: the frame is a uniform buffer; path states,
 /// rays, hits and shadow rays are written as storage buffers (bindings 1-4) and read
 /// through texel views of the same buffers (bindings 7-10), see
 /// [`BindingKind::Texels`]; likewise the partition of a bounce's rays (written at 11,
-/// read as words at 12).
+/// read as words at 12); the frame's buffer is bound again at 13 as storage, where
+/// `queue_args` and `shade_args` write the queue lengths after the frame.
 pub fn wavefront_binding_kinds() -> Vec<BindingKind> {
     (0..WAVEFRONT_BINDINGS)
         .map(|b| match b {
@@ -29,12 +38,12 @@ pub fn wavefront_binding_kinds() -> Vec<BindingKind> {
 }
 
 /// GPU memory one path slot needs, in bytes (path state, two ray queue entries, a
-/// hit, a shadow ray, a queue index of the partition).
+/// hit, a shadow ray, a queue index in each part of the partition).
 pub const BYTES_PER_PATH: u64 = (size_of::<PathState>()
     + 2 * size_of::<RayItem>()
     + size_of::<HitItem>()
     + size_of::<ShadowItem>()
-    + size_of::<u32>()) as u64;
+    + 2 * size_of::<u32>()) as u64;
 
 pub struct Wavefront {
     pub frame: Buffer,
@@ -42,8 +51,8 @@ pub struct Wavefront {
     pub rays: Buffer,
     pub hits: Buffer,
     pub shadows: Buffer,
-    /// Queue indices of a bounce's hits (from the front) and misses (from the back)
-    /// where `intersect` partitions them for `shade`.
+    /// Queue indices of a bounce's hits (the first `capacity` words) and misses (the
+    /// next) where `intersect` partitions them for `shade`.
     pub shade_rays: Buffer,
     pub counters: Buffer,
     pub dispatch_args: Buffer,
@@ -60,7 +69,10 @@ impl Wavefront {
         frame: &Frame,
     ) -> Result<Wavefront> {
         let n = capacity as u64;
-        let frame_buf = Buffer::from_slice(device, "frame", std::slice::from_ref(frame))?;
+        // The frame, then the queue lengths the kernels read with it.
+        let mut frame_bytes = bytemuck::bytes_of(frame).to_vec();
+        frame_bytes.extend_from_slice(bytemuck::bytes_of(&[0u32; QUEUE_LENGTH_WORDS]));
+        let frame_buf = Buffer::from_slice(device, "frame", &frame_bytes)?;
         let paths = Buffer::new(
             device,
             "path states",
@@ -88,7 +100,7 @@ impl Wavefront {
         let shade_rays = Buffer::new(
             device,
             "shade partition",
-            n * size_of::<u32>() as u64,
+            2 * n * size_of::<u32>() as u64,
             Location::Gpu,
         )?;
         let counters = Buffer::from_slice(device, "counters", &[Counters::default()])?;
@@ -111,6 +123,7 @@ impl Wavefront {
                 &shadows,
                 &shade_rays,
                 &shade_rays,
+                &frame_buf,
             ],
         )?;
         Ok(Wavefront {
@@ -127,6 +140,24 @@ impl Wavefront {
         })
     }
 
+    /// Records emptying the queues for a batch whose first ray queue holds `rays`
+    /// rays (written by `generate`, or appended by `photon_emit`: 0): the counters
+    /// and the queue lengths after the frame.
+    pub fn reset_queues(&self, cmd: &mut CommandList, rays: u32) {
+        let counters = Counters {
+            ray_count: [rays, 0],
+            ..Default::default()
+        };
+        cmd.update(&self.counters, 0, bytemuck::bytes_of(&counters));
+        let mut lengths = [0u32; QUEUE_LENGTH_WORDS];
+        lengths[0] = rays;
+        cmd.update(
+            &self.frame,
+            size_of::<Frame>() as u64,
+            bytemuck::bytes_of(&lengths),
+        );
+    }
+
     /// Byte offset of the ray-queue arguments in the dispatch buffer.
     pub const RAY_ARGS: u64 = 0;
     /// Byte offset of the shadow-queue arguments in the dispatch buffer.
@@ -134,4 +165,23 @@ impl Wavefront {
     /// Byte offsets of the arguments of a partitioned bounce's hits and misses.
     pub const HIT_ARGS: u64 = 24;
     pub const MISS_ARGS: u64 = 36;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The queue lengths follow the frame in one uniform block (std140) and one
+    /// storage block (std430): both put them at `size_of::<Frame>()` only if the
+    /// frame's size is a multiple of a `uvec4`'s 16 bytes. And the GLSL declares as
+    /// many words as the host writes.
+    #[test]
+    fn queue_lengths_follow_the_frame() {
+        assert_eq!(size_of::<Frame>() % 16, 0);
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/common/wavefront.glsl");
+        let src = std::fs::read_to_string(path).expect("read wavefront.glsl");
+        let uvec4s = QUEUE_LENGTH_WORDS / 4;
+        assert!(src.contains(&format!("{{ Frame frame; uvec4 queue_lengths[{uvec4s}]; }}")));
+        assert!(src.contains(&format!("uvec4 queue_lengths_out[{uvec4s}]; }}")));
+    }
 }

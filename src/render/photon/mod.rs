@@ -540,7 +540,7 @@ impl Renderer {
         let t = Instant::now();
         let wf = &self.wavefront;
         let ph = self.photons();
-        cmd.update(&wf.counters, 0, bytemuck::bytes_of(&Counters::default()));
+        wf.reset_queues(cmd, 0);
         let args = DispatchArgs {
             rays: groups_for(count),
             shadows: [0, 1, 1],
@@ -563,6 +563,11 @@ impl Renderer {
         );
         cmd.barrier();
         let k = &self.kernels;
+        // The emitted rays' queue (0) folded as a bounce's queue_args folds the next:
+        // as if bounce 1 of queue 1 had appended them.
+        push.queue_in = 1;
+        cmd.dispatch(&k.queue_args, &sets, bytemuck::bytes_of(&push), [1, 1, 1]);
+        cmd.barrier();
         let stages = [
             (&k.intersect, Over::Rays),
             (&ph.bounce, Over::Rays),
