@@ -1,5 +1,6 @@
 //! Compute kernels: binding layouts, descriptor sets and pipelines.
 
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 
 use ash::vk;
@@ -72,6 +73,14 @@ impl Drop for LayoutInner {
             }
         }
     }
+}
+
+/// A kernel to create with [`Kernel::new_all`]: its name, SPIR-V and the values of
+/// its own specialization constants (ids 0, 1, ...).
+pub struct KernelSpec<'a> {
+    pub name: &'a str,
+    pub spirv: &'a [u8],
+    pub spec: Vec<u32>,
 }
 
 /// The resource interface kernels share: descriptor sets of buffers and a
@@ -400,6 +409,49 @@ impl Kernel {
             pipeline,
             name: name.into(),
         })
+    }
+
+    /// Creates the kernels `specs` describe (each as [`Kernel::new`]) on as many
+    /// threads as the machine has cores, and returns them in order. On lavapipe
+    /// creating a pipeline translates and optimizes its shader on the calling thread
+    /// (Mesa's disk cache keeps only the machine code it compiles at the first
+    /// dispatch), about 30 ms a kernel even when every cache is warm: one after the
+    /// other they were most of a short render's start-up.
+    pub fn new_all(
+        device: &Device,
+        layout: &BindingLayout,
+        specs: &[KernelSpec],
+    ) -> Result<Vec<Kernel>> {
+        let threads = std::thread::available_parallelism()
+            .map_or(1, |n| n.get())
+            .min(specs.len())
+            .max(1);
+        let next = AtomicUsize::new(0);
+        let mut made: Vec<Option<Result<Kernel>>> = specs.iter().map(|_| None).collect();
+        std::thread::scope(|scope| {
+            let workers: Vec<_> = (0..threads)
+                .map(|_| {
+                    scope.spawn(|| {
+                        let mut done = Vec::new();
+                        loop {
+                            let i = next.fetch_add(1, Ordering::Relaxed);
+                            let Some(s) = specs.get(i) else { break };
+                            done.push((i, Kernel::new(device, s.name, s.spirv, layout, &s.spec)));
+                        }
+                        done
+                    })
+                })
+                .collect();
+            for worker in workers {
+                match worker.join() {
+                    Ok(done) => done.into_iter().for_each(|(i, k)| made[i] = Some(k)),
+                    Err(panic) => std::panic::resume_unwind(panic),
+                }
+            }
+        });
+        made.into_iter()
+            .map(|k| k.unwrap_or_else(|| unreachable!("every index is taken once")))
+            .collect()
     }
 
     pub fn name(&self) -> &str {

@@ -17,5 +17,5 @@ pub use buffer::{Buffer, ByteSize, Location};
 pub use command::{CommandList, KernelTimes};
 pub use device::{Device, DeviceInfo, DeviceKind, SurfaceRequest};
 pub use error::{Error, Result};
-pub use kernel::{BindingKind, BindingLayout, DescriptorSet, Kernel};
+pub use kernel::{BindingKind, BindingLayout, DescriptorSet, Kernel, KernelSpec};
 pub use swapchain::{Presented, Swapchain};

@@ -28,7 +28,9 @@ use std::time::Instant;
 
 use crate::accel::{self, Bvh, BvhStats, FlatPrims};
 use crate::gpu::layout::{Counters, DispatchArgs, Frame, Push, WORKGROUP_SIZE};
-use crate::gpu::{shaders, BindingLayout, CommandList, DescriptorSet, Device, Kernel, KernelTimes};
+use crate::gpu::{
+    shaders, BindingLayout, CommandList, DescriptorSet, Device, Kernel, KernelSpec, KernelTimes,
+};
 use crate::image::Image;
 use crate::scene::sampler::{SampleCount, Sampler, SamplerKind};
 use crate::scene::Scene;
@@ -438,9 +440,6 @@ impl Renderer {
         // The traversal stack holds at most one entry per level above the deepest
         // leaf (constant_id 1 of intersect, 11 of shade and shadow; bvh.glsl).
         let bvh_depth = bvh_stats.stack_depth();
-        let k = |name: &str, spirv: &[u8], spec: &[u32]| {
-            Kernel::new(device, name, spirv, &layout, spec)
-        };
         let partitioned = partitions(
             &integrator,
             has_media != 0,
@@ -492,69 +491,90 @@ impl Renderer {
             .bounces()
             .min(options.max_bounces.unwrap_or(u32::MAX))
             .max(1);
+        // Every kernel of the render, created in parallel (Kernel::new_all), the
+        // largest first.
+        let mut specs: Vec<KernelSpec> = Vec::new();
+        let mut add = |name, spirv, spec: &[u32]| {
+            specs.push(KernelSpec {
+                name,
+                spirv,
+                spec: spec.to_vec(),
+            });
+            specs.len() - 1
+        };
+        let shade = add("shade", shaders::SHADE, &shade_spec(false, false));
         let shade_last = (0..bounces)
             .any(|d| integrator.ends_paths_at(d))
-            .then(|| k("shade_last", shaders::SHADE, &shade_spec(true, false)))
-            .transpose()?;
-        let shade_args = partitioned
-            .then(|| k("shade_args", shaders::SHADE_ARGS, &[]))
-            .transpose()?;
-        let shade_miss = partitioned
-            .then(|| k("shade_miss", shaders::SHADE, &shade_spec(false, true)))
-            .transpose()?;
+            .then(|| add("shade_last", shaders::SHADE, &shade_spec(true, false)));
+        let shade_miss =
+            partitioned.then(|| add("shade_miss", shaders::SHADE, &shade_spec(false, true)));
+        let shadow = add(
+            "shadow",
+            shaders::SHADOW,
+            &[
+                prim_kinds,
+                0,
+                records.texture_mask(),
+                0,
+                has_media,
+                0,
+                medium_features,
+                thin_null,
+                0,
+                0,
+                surface_features,
+                bvh_depth,
+                flat_count,
+                flat_kinds,
+            ],
+        );
+        let intersect = add(
+            "intersect",
+            shaders::INTERSECT,
+            &[
+                prim_kinds,
+                bvh_depth,
+                partitioned as u32,
+                flat_count,
+                flat_kinds,
+            ],
+        );
+        let generate = add("generate", shaders::GENERATE, &[sampler::kind_id(&sampler)]);
+        let film_gather = add(
+            "film_gather",
+            shaders::FILM_GATHER,
+            &film.gather_constants(),
+        );
+        let accumulate = (!film.reads_paths()).then(|| {
+            add(
+                "accumulate",
+                shaders::ACCUMULATE,
+                &[sampler::kind_id(&sampler)],
+            )
+        });
+        let queue_args = add("queue_args", shaders::QUEUE_ARGS, &[]);
+        let shade_args = partitioned.then(|| add("shade_args", shaders::SHADE_ARGS, &[]));
+        let mut made: Vec<Option<Kernel>> = Kernel::new_all(device, &layout, &specs)?
+            .into_iter()
+            .map(Some)
+            .collect();
+        let mut take = |i: usize| {
+            made[i]
+                .take()
+                .unwrap_or_else(|| unreachable!("kernel {i} taken twice"))
+        };
         let kernels = Kernels {
-            generate: k("generate", shaders::GENERATE, &[sampler::kind_id(&sampler)])?,
-            intersect: k(
-                "intersect",
-                shaders::INTERSECT,
-                &[
-                    prim_kinds,
-                    bvh_depth,
-                    partitioned as u32,
-                    flat_count,
-                    flat_kinds,
-                ],
-            )?,
-            shade: k("shade", shaders::SHADE, &shade_spec(false, false))?,
-            shade_last,
+            generate: take(generate),
+            intersect: take(intersect),
+            shade: take(shade),
+            shade_last: shade_last.map(&mut take),
             last_meets_emitters: emitted_only > 0,
-            shade_args,
-            shade_miss,
-            shadow: k(
-                "shadow",
-                shaders::SHADOW,
-                &[
-                    prim_kinds,
-                    0,
-                    records.texture_mask(),
-                    0,
-                    has_media,
-                    0,
-                    medium_features,
-                    thin_null,
-                    0,
-                    0,
-                    surface_features,
-                    bvh_depth,
-                    flat_count,
-                    flat_kinds,
-                ],
-            )?,
-            queue_args: k("queue_args", shaders::QUEUE_ARGS, &[])?,
-            accumulate: if film.reads_paths() {
-                None
-            } else {
-                Some(k(
-                    "accumulate",
-                    shaders::ACCUMULATE,
-                    &[sampler::kind_id(&sampler)],
-                )?)
-            },
-            film_gather: k(
-                "film_gather",
-                shaders::FILM_GATHER,
-                &film.gather_constants(),
-            )?,
+            shade_args: shade_args.map(&mut take),
+            shade_miss: shade_miss.map(&mut take),
+            shadow: take(shadow),
+            queue_args: take(queue_args),
+            accumulate: accumulate.map(&mut take),
+            film_gather: take(film_gather),
         };
         // The photon mappers' kernels and buffers (their buffers are small until a
         // photon map needs more).

@@ -181,7 +181,9 @@ mod tests {
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/common/wavefront.glsl");
         let src = std::fs::read_to_string(path).expect("read wavefront.glsl");
         let uvec4s = QUEUE_LENGTH_WORDS / 4;
-        assert!(src.contains(&format!("{{ Frame frame; uvec4 queue_lengths[{uvec4s}]; }}")));
+        assert!(src.contains(&format!(
+            "{{ Frame frame; uvec4 queue_lengths[{uvec4s}]; }}"
+        )));
         assert!(src.contains(&format!("uvec4 queue_lengths_out[{uvec4s}]; }}")));
     }
 }
