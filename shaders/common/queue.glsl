@@ -15,11 +15,12 @@
 #define QUEUE_GLSL
 
 // The segment of the current workgroup: 0 for the first half of the dispatch's
-// workgroups, 1 for the second.
+// workgroups, 1 for the rest (lavapipe gives each of two threads groups / 2 of them,
+// rounded down, and then the odd one to whichever is free).
 uint queue_segment() {
     uint groups = gl_NumWorkGroups.x * gl_NumWorkGroups.y;
     uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-    return 2u * group >= groups ? 1u : 0u;
+    return group >= groups / 2u ? 1u : 0u;
 }
 
 // A new position in a queue whose segment tails are at word `tail` of each segment.
