@@ -83,6 +83,16 @@ pub struct KernelSpec<'a> {
     pub spec: Vec<u32>,
 }
 
+impl<'a> KernelSpec<'a> {
+    pub fn new(name: &'a str, spirv: &'a [u8], spec: &[u32]) -> KernelSpec<'a> {
+        KernelSpec {
+            name,
+            spirv,
+            spec: spec.to_vec(),
+        }
+    }
+}
+
 /// The resource interface kernels share: descriptor sets of buffers and a
 /// push-constant block.
 #[derive(Clone)]

@@ -495,11 +495,7 @@ impl Renderer {
         // largest first.
         let mut specs: Vec<KernelSpec> = Vec::new();
         let mut add = |name, spirv, spec: &[u32]| {
-            specs.push(KernelSpec {
-                name,
-                spirv,
-                spec: spec.to_vec(),
-            });
+            specs.push(KernelSpec::new(name, spirv, spec));
             specs.len() - 1
         };
         let shade = add("shade", shaders::SHADE, &shade_spec(false, false));

@@ -13,7 +13,7 @@
 //! gather finds does not.
 
 use crate::gpu::layout::{Push, WORKGROUP_SIZE};
-use crate::gpu::{shaders, BindingLayout, CommandList, DescriptorSet, Device, Kernel};
+use crate::gpu::{shaders, BindingLayout, CommandList, DescriptorSet, Device, Kernel, KernelSpec};
 
 use super::super::error::Result;
 use super::super::groups_for;
@@ -87,16 +87,28 @@ pub struct GridKernels {
 
 impl GridKernels {
     pub fn new(device: &Device, layout: &BindingLayout) -> Result<GridKernels> {
-        let k =
-            |name: &str, spirv: &[u8], spec: &[u32]| Kernel::new(device, name, spirv, layout, spec);
+        let scan = |level: u32| {
+            KernelSpec::new(
+                "photon_grid_scan",
+                shaders::KERNELS_PHOTON_GRID_SCAN,
+                &[level],
+            )
+        };
+        let specs = [
+            KernelSpec::new("photon_grid_count", shaders::KERNELS_PHOTON_GRID_COUNT, &[]),
+            scan(0),
+            scan(1),
+            scan(2),
+            KernelSpec::new("photon_grid_place", shaders::KERNELS_PHOTON_GRID_PLACE, &[]),
+        ];
+        let [count, scan0, scan1, scan2, place]: [Kernel; 5] =
+            Kernel::new_all(device, layout, &specs)?
+                .try_into()
+                .unwrap_or_else(|_| unreachable!("one kernel per spec"));
         Ok(GridKernels {
-            count: k("photon_grid_count", shaders::KERNELS_PHOTON_GRID_COUNT, &[])?,
-            scan: [
-                k("photon_grid_scan", shaders::KERNELS_PHOTON_GRID_SCAN, &[0])?,
-                k("photon_grid_scan", shaders::KERNELS_PHOTON_GRID_SCAN, &[1])?,
-                k("photon_grid_scan", shaders::KERNELS_PHOTON_GRID_SCAN, &[2])?,
-            ],
-            place: k("photon_grid_place", shaders::KERNELS_PHOTON_GRID_PLACE, &[])?,
+            count,
+            scan: [scan0, scan1, scan2],
+            place,
         })
     }
 

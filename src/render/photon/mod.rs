@@ -37,7 +37,7 @@ use crate::gpu::layout::{
 };
 use crate::gpu::{
     shaders, BindingKind, BindingLayout, Buffer, CommandList, DescriptorSet, Device, DeviceKind,
-    Kernel, Location,
+    Kernel, KernelSpec, Location,
 };
 
 use super::error::{Error, Result};
@@ -315,20 +315,67 @@ impl Photons {
         max_photons: Option<u32>,
         max_sppm_pixels: Option<u32>,
     ) -> Result<Photons> {
-        let k =
-            |name: &str, spirv: &[u8], spec: &[u32]| Kernel::new(device, name, spirv, layout, spec);
         let f = features;
         let uniform_choice = matches!(integrator, Integrator::PhotonMapper(_)) as u32;
-        let emit = k(
-            "photon_emit",
-            shaders::KERNELS_PHOTON_EMIT,
-            &[f.surface, f.textures, f.emitters, uniform_choice],
-        )?;
-        let bounce = k(
-            "photon_bounce",
-            shaders::KERNELS_PHOTON_BOUNCE,
-            &[f.surface, f.textures, f.bsdfs],
-        )?;
+        // Every kernel of the photon mapper, created in parallel (Kernel::new_all) and
+        // taken back below in this order.
+        let mut specs = vec![
+            KernelSpec::new(
+                "photon_emit",
+                shaders::KERNELS_PHOTON_EMIT,
+                &[f.surface, f.textures, f.emitters, uniform_choice],
+            ),
+            KernelSpec::new(
+                "photon_bounce",
+                shaders::KERNELS_PHOTON_BOUNCE,
+                &[f.surface, f.textures, f.bsdfs],
+            ),
+        ];
+        match integrator {
+            Integrator::Sppm(p) => specs.extend([
+                KernelSpec::new(
+                    "sppm_shade",
+                    shaders::KERNELS_SPPM_SHADE,
+                    &[f.surface, f.textures, f.emitters, f.bsdfs],
+                ),
+                KernelSpec::new("sppm_record", shaders::KERNELS_SPPM_RECORD, &[]),
+                KernelSpec::new(
+                    "sppm_gather",
+                    shaders::KERNELS_SPPM_GATHER,
+                    &[f.textures, f.bsdfs],
+                ),
+                KernelSpec::new(
+                    "sppm_update",
+                    shaders::KERNELS_SPPM_UPDATE,
+                    &[p.alpha.to_bits()],
+                ),
+            ]),
+            Integrator::PhotonMapper(_) => specs.extend([
+                KernelSpec::new(
+                    "photon_camera",
+                    shaders::KERNELS_PHOTON_CAMERA,
+                    &[f.surface, f.textures, f.emitters, f.bsdfs, f.sampler],
+                ),
+                KernelSpec::new(
+                    "photon_gather",
+                    shaders::KERNELS_PHOTON_GATHER,
+                    &[f.textures, f.bsdfs],
+                ),
+            ]),
+            other => {
+                return Err(Error::Options(format!(
+                    "integrator '{}' is not a photon mapper",
+                    other.name()
+                )))
+            }
+        }
+        let mut made = Kernel::new_all(device, layout, &specs)?.into_iter();
+        let mut next = || {
+            made.next()
+                .unwrap_or_else(|| unreachable!("one kernel per spec"))
+        };
+        let emit = next();
+        let bounce = next();
         // Photons a map is expected to need: the stored budget and an eighth, or four
         // per photon path (paths store about 1 / (1 - albedo) photons each).
         let stored_budget = |n: u32| n as u64 + n as u64 / 8 + 4096;
@@ -343,22 +390,10 @@ impl Photons {
                     .min(max_sppm_pixels.unwrap_or(u32::MAX).max(1) as u64)
                     as u32;
                 let kernels = IntegratorKernels::Sppm {
-                    shade: k(
-                        "sppm_shade",
-                        shaders::KERNELS_SPPM_SHADE,
-                        &[f.surface, f.textures, f.emitters, f.bsdfs],
-                    )?,
-                    record: k("sppm_record", shaders::KERNELS_SPPM_RECORD, &[])?,
-                    gather: k(
-                        "sppm_gather",
-                        shaders::KERNELS_SPPM_GATHER,
-                        &[f.textures, f.bsdfs],
-                    )?,
-                    update: k(
-                        "sppm_update",
-                        shaders::KERNELS_SPPM_UPDATE,
-                        &[p.alpha.to_bits()],
-                    )?,
+                    shade: next(),
+                    record: next(),
+                    gather: next(),
+                    update: next(),
                 };
                 let expected = match p.photons {
                     PhotonBudget::Emitted(n) => 4 * n.unwrap_or(pixels) as u64 + 4096,
@@ -368,27 +403,14 @@ impl Photons {
             }
             Integrator::PhotonMapper(p) => (
                 IntegratorKernels::PhotonMapper {
-                    camera: k(
-                        "photon_camera",
-                        shaders::KERNELS_PHOTON_CAMERA,
-                        &[f.surface, f.textures, f.emitters, f.bsdfs, f.sampler],
-                    )?,
-                    gather: k(
-                        "photon_gather",
-                        shaders::KERNELS_PHOTON_GATHER,
-                        &[f.textures, f.bsdfs],
-                    )?,
+                    camera: next(),
+                    gather: next(),
                 },
                 paths,
                 1,
                 stored_budget(p.photon_count),
             ),
-            other => {
-                return Err(Error::Options(format!(
-                    "integrator '{}' is not a photon mapper",
-                    other.name()
-                )))
-            }
+            _ => unreachable!("not a photon mapper: returned above"),
         };
         let max_capacity = photon_capacity(device, max_photons);
         let capacity = expected.min(max_capacity as u64) as u32;
