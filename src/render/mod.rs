@@ -135,7 +135,8 @@ pub fn choose_sampler(scene: &Scene, name: Option<&str>) -> Result<Sampler> {
 struct Kernels {
     generate: Kernel,
     intersect: Kernel,
-    shade: Kernel,
+    /// None for the photon mappers, which shade with kernels of their own.
+    shade: Option<Kernel>,
     /// `shade` for the bounces whose vertices end their paths (depth + 2 > max_depth:
     /// only the emission rays find; shaders/common/path.glsl's SHADE_LAST), where a
     /// path integrator's depth is bounded.
@@ -498,7 +499,8 @@ impl Renderer {
             specs.push(KernelSpec::new(name, spirv, spec));
             specs.len() - 1
         };
-        let shade = add("shade", shaders::SHADE, &shade_spec(false, false));
+        let shade = (!integrator.is_photon_mapper())
+            .then(|| add("shade", shaders::SHADE, &shade_spec(false, false)));
         let shade_last = (0..bounces)
             .any(|d| integrator.ends_paths_at(d))
             .then(|| add("shade_last", shaders::SHADE, &shade_spec(true, false)));
@@ -562,7 +564,7 @@ impl Renderer {
         let kernels = Kernels {
             generate: take(generate),
             intersect: take(intersect),
-            shade: take(shade),
+            shade: shade.map(&mut take),
             shade_last: shade_last.map(&mut take),
             last_meets_emitters: emitted_only > 0,
             shade_args: shade_args.map(&mut take),
@@ -712,11 +714,11 @@ impl Renderer {
         let mut kernels = vec![
             &k.generate,
             &k.intersect,
-            &k.shade,
             &k.queue_args,
             &k.shadow,
             &k.film_gather,
         ];
+        kernels.extend(&k.shade);
         kernels.extend(&k.accumulate);
         kernels.extend(&k.shade_last);
         kernels.extend(&k.shade_args);
@@ -1067,7 +1069,13 @@ impl Renderer {
         };
         self.start_batch(cmd, &sets, &push);
         let k = &self.kernels;
-        let stages = self.bounce_stages(&k.shade);
+        let shade = k.shade.as_ref().ok_or_else(|| {
+            Error::Options(format!(
+                "integrator '{}' renders photon passes, not batches of paths",
+                self.integrator.name()
+            ))
+        })?;
+        let stages = self.bounce_stages(shade);
         // Bounces that only end paths run shade_last in shade's place.
         let ending = k.shade_last.as_ref().map(|s| {
             if k.last_meets_emitters {
