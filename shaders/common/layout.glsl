@@ -351,7 +351,6 @@ struct MediumRecord {
 #define TAIL_SHADOWS 2
 #define TAIL_PART 3 // + PART_HITS, PART_MISSES
 #define COUNTER_TAIL_STRIDE 32
-#define COUNTER_SEGMENTS 2
 
 // Queue lengths and statistics. The kernels append to the tails, a segment per 128
 // bytes (queue.glsl); the lengths they fold into reach the kernels that consume the
@@ -361,7 +360,7 @@ struct Counters {
     uint rays_traced;
     uint discarded;
     uint head_pad[28];
-    uint tails[64];       // COUNTER_SEGMENTS x COUNTER_TAIL_STRIDE
+    uint tails[64];       // 2 segments x COUNTER_TAIL_STRIDE
 };
 
 // VkDispatchIndirectCommand per queue.

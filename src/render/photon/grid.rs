@@ -86,7 +86,19 @@ pub struct GridKernels {
 }
 
 impl GridKernels {
+    /// The grid's kernels on their own (the photon mapper creates them with its others:
+    /// [`GridKernels::specs`]).
     pub fn new(device: &Device, layout: &BindingLayout) -> Result<GridKernels> {
+        let mut made = Kernel::new_all(device, layout, &Self::specs())?.into_iter();
+        Ok(Self::take(|| {
+            made.next()
+                .unwrap_or_else(|| unreachable!("one kernel per spec"))
+        }))
+    }
+
+    /// The grid's kernels, to create with the photon mapper's others
+    /// (Kernel::new_all); [`GridKernels::take`] takes them back in this order.
+    pub fn specs() -> [KernelSpec<'static>; 5] {
         let scan = |level: u32| {
             KernelSpec::new(
                 "photon_grid_scan",
@@ -94,22 +106,22 @@ impl GridKernels {
                 &[level],
             )
         };
-        let specs = [
+        [
             KernelSpec::new("photon_grid_count", shaders::KERNELS_PHOTON_GRID_COUNT, &[]),
             scan(0),
             scan(1),
             scan(2),
             KernelSpec::new("photon_grid_place", shaders::KERNELS_PHOTON_GRID_PLACE, &[]),
-        ];
-        let [count, scan0, scan1, scan2, place]: [Kernel; 5] =
-            Kernel::new_all(device, layout, &specs)?
-                .try_into()
-                .unwrap_or_else(|_| unreachable!("one kernel per spec"));
-        Ok(GridKernels {
-            count,
-            scan: [scan0, scan1, scan2],
-            place,
-        })
+        ]
+    }
+
+    /// The kernels made from [`GridKernels::specs`], taken in order from `next`.
+    pub fn take(mut next: impl FnMut() -> Kernel) -> GridKernels {
+        GridKernels {
+            count: next(),
+            scan: [next(), next(), next()],
+            place: next(),
+        }
     }
 
     /// Every kernel, for the warm-up dispatch.

@@ -369,6 +369,7 @@ impl Photons {
                 )))
             }
         }
+        specs.extend(GridKernels::specs());
         let mut made = Kernel::new_all(device, layout, &specs)?.into_iter();
         let mut next = || {
             made.next()
@@ -412,6 +413,7 @@ impl Photons {
             ),
             _ => unreachable!("not a photon mapper: returned above"),
         };
+        let grid = GridKernels::take(&mut next);
         let max_capacity = photon_capacity(device, max_photons);
         let capacity = expected.min(max_capacity as u64) as u32;
         let map = PhotonMap::new(device, layout, capacity, vp_slots, sppm_pixels)?;
@@ -419,7 +421,7 @@ impl Photons {
             map,
             emit,
             bounce,
-            grid: GridKernels::new(device, layout)?,
+            grid,
             kernels,
             bounds,
             max_capacity,
