@@ -24,12 +24,22 @@ layout(constant_id = 4) const uint SCENE_FLAT_KINDS = 0u;
 // Whether the rays are partitioned into hits and misses for shade (partition.glsl);
 // else the kernels that follow read every ray's hit.
 layout(constant_id = 2) const bool SCENE_PARTITION = false;
+// Rays may cross null surfaces: the second-nearest hit is kept too, for shade to go on
+// through the nearest without tracing again (vol_path.glsl).
+layout(constant_id = 5) const bool SCENE_SECOND_HITS = false;
 
 void main() {
     uint i = thread_index();
     if (i >= queue_ray_count(push.queue_in)) return;
     RayItem r = ray_load(ray_slot(push.queue_in, i));
-    Hit h = bvh_closest(r.origin, r.dir, 0.0, r.tmax);
+    Hit h;
+    if (SCENE_SECOND_HITS) {
+        Hit second;
+        h = bvh_closest_two(r.origin, r.dir, 0.0, r.tmax, second);
+        hit_second_store(i, HitItem(second.t, second.u, second.v, second.prim));
+    } else {
+        h = bvh_closest(r.origin, r.dir, 0.0, r.tmax);
+    }
     hit_store(i, HitItem(h.t, h.u, h.v, h.prim));
     if (SCENE_PARTITION) partition_push(i, h.prim != HIT_NONE);
 }

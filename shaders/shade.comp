@@ -102,7 +102,7 @@ void main() {
     if (INTEGRATOR >= INTEGRATOR_DIRECT_EMS) {
         PathState path = path_load(r.path);
         PathVertex v = path_vertex_surface();
-        if (SCENE_HAS_MEDIA && !vol_path_traverse(INTEGRATOR, r, h, path, v)) return;
+        if (SCENE_HAS_MEDIA && !vol_path_traverse(INTEGRATOR, r, h, hit_second_load(i), path, v)) return;
         if (SCENE_FILM_ALPHA && push.depth == 0u) path_mark_covered(r.path, path, h, v);
         path_shade(INTEGRATOR, r, h, path, v);
     } else {

@@ -1,5 +1,6 @@
-//! The GLSL BVH traversal against the CPU: closest hits equal a brute-force search
-//! and any-hit agrees, on a real mesh with spheres and on adversarial geometry.
+//! The GLSL BVH traversal against the CPU: closest hits equal a brute-force search,
+//! any-hit agrees, and so does the second-nearest hit of `bvh_closest_two`, on a real
+//! mesh with quadrics and on adversarial geometry.
 
 mod common;
 
@@ -26,33 +27,32 @@ struct QueryRay {
     tmax: f32,
 }
 
-/// Runs closest- and any-hit queries for `rays` on the GPU, with the traversal stack
-/// specialized to the tree's depth as the renderer does.
-fn gpu_queries(bvh: &Bvh, rays: &[QueryRay]) -> (Vec<HitItem>, Vec<u32>) {
+/// What the GPU answers for each ray: its closest hit, whether any-hit found one, and
+/// `bvh_closest_two`'s second-nearest hit.
+struct Answers {
+    closest: Vec<HitItem>,
+    any: Vec<u32>,
+    second: Vec<HitItem>,
+}
+
+/// Runs closest-, any- and two-hit queries for `rays` on the GPU, with the traversal
+/// stack specialized to the tree's depth as the renderer does.
+fn gpu_queries(bvh: &Bvh, rays: &[QueryRay]) -> Answers {
     gpu_queries_with_stack(bvh, rays, bvh.stats.stack_depth())
 }
 
 /// `gpu_queries` with a traversal stack of `stack_depth` entries.
-fn gpu_queries_with_stack(
-    bvh: &Bvh,
-    rays: &[QueryRay],
-    stack_depth: u32,
-) -> (Vec<HitItem>, Vec<u32>) {
+fn gpu_queries_with_stack(bvh: &Bvh, rays: &[QueryRay], stack_depth: u32) -> Answers {
     gpu_queries_with(bvh, rays, stack_depth, FlatPrims::default())
 }
 
 /// `gpu_queries` with a traversal stack of `stack_depth` entries, or testing the
 /// primitives in turn where `flat.count > 0`.
-fn gpu_queries_with(
-    bvh: &Bvh,
-    rays: &[QueryRay],
-    stack_depth: u32,
-    flat: FlatPrims,
-) -> (Vec<HitItem>, Vec<u32>) {
+fn gpu_queries_with(bvh: &Bvh, rays: &[QueryRay], stack_depth: u32, flat: FlatPrims) -> Answers {
     let device = common::device();
     let layout = BindingLayout::with_kinds(
         &device,
-        &[scene_binding_kinds(), vec![BindingKind::Storage; 3]],
+        &[scene_binding_kinds(), vec![BindingKind::Storage; 4]],
         4,
     )
     .unwrap();
@@ -60,7 +60,8 @@ fn gpu_queries_with(
     let queries = Buffer::from_slice(&device, "queries", rays).unwrap();
     let closest = Buffer::new(&device, "closest", (rays.len() * 16) as u64, Location::Gpu).unwrap();
     let any = Buffer::new(&device, "any", (rays.len() * 4) as u64, Location::Gpu).unwrap();
-    let set = DescriptorSet::new(&layout, 1, &[&queries, &closest, &any]).unwrap();
+    let second = Buffer::new(&device, "second", (rays.len() * 16) as u64, Location::Gpu).unwrap();
+    let set = DescriptorSet::new(&layout, 1, &[&queries, &closest, &any, &second]).unwrap();
     let kernel = Kernel::new(
         &device,
         "bvh_query",
@@ -81,9 +82,15 @@ fn gpu_queries_with(
     cmd.submit_and_wait().unwrap();
     let mut c: Vec<HitItem> = closest.read(&device).unwrap();
     let mut a: Vec<u32> = any.read(&device).unwrap();
+    let mut s: Vec<HitItem> = second.read(&device).unwrap();
     c.truncate(rays.len());
     a.truncate(rays.len());
-    (c, a)
+    s.truncate(rays.len());
+    Answers {
+        closest: c,
+        any: a,
+        second: s,
+    }
 }
 
 /// A uniform point in the box lo..hi.
@@ -98,12 +105,17 @@ fn check(bvh: &Bvh, rays: &[QueryRay]) -> usize {
 
 /// `check`, the GPU testing the primitives in turn where `flat.count > 0`.
 fn check_with(bvh: &Bvh, rays: &[QueryRay], flat: FlatPrims) -> usize {
-    let (closest, any) = gpu_queries_with(bvh, rays, bvh.stats.stack_depth(), flat);
+    let Answers {
+        closest,
+        any,
+        second,
+    } = gpu_queries_with(bvh, rays, bvh.stats.stack_depth(), flat);
     let mut hits = 0;
     for (i, r) in rays.iter().enumerate() {
         let (o, d) = (Vec3::from(r.origin), Vec3::from(r.dir));
         let want = brute_force_closest(&bvh.prims, o, d, r.tmin, r.tmax);
         let got = closest[i];
+        check_second(bvh, r, i, got, second[i]);
         match want {
             None => assert_eq!(
                 got.prim,
@@ -155,6 +167,60 @@ fn check_with(bvh: &Bvh, rays: &[QueryRay], flat: FlatPrims) -> usize {
         );
     }
     hits
+}
+
+/// The second-nearest hit `got2` of ray `i` (whose closest hit on the GPU was `got`)
+/// is the nearest hit of every other primitive, by brute force: the same distance (a
+/// tie may name another primitive at it), or a miss at tmax.
+fn check_second(bvh: &Bvh, r: &QueryRay, i: usize, got: HitItem, got2: HitItem) {
+    assert_ne!(
+        got2.prim,
+        u32::MAX - 1,
+        "ray {i}: bvh_closest_two's closest hit is not bvh_closest's"
+    );
+    let (o, d) = (Vec3::from(r.origin), Vec3::from(r.dir));
+    let others: Vec<_> = (bvh.prims.iter().enumerate())
+        .filter(|&(k, _)| k as u32 != got.prim)
+        .map(|(_, p)| *p)
+        .collect();
+    let want = if got.prim == u32::MAX {
+        None
+    } else {
+        brute_force_closest(&others, o, d, r.tmin, r.tmax)
+    };
+    match want {
+        None => {
+            assert_eq!(
+                got2.prim,
+                u32::MAX,
+                "ray {i}: GPU second hit where brute force has none"
+            );
+            assert_eq!(got2.t, r.tmax, "ray {i}: a missing second hit lies at tmax");
+        }
+        Some(w) => {
+            assert_ne!(
+                got2.prim,
+                u32::MAX,
+                "ray {i}: GPU misses the second hit at t={}",
+                w.t
+            );
+            assert_ne!(
+                got2.prim, got.prim,
+                "ray {i}: the second hit repeats the first"
+            );
+            let tol = 1e-5 * w.t.abs().max(1e-3);
+            assert!(
+                (got2.t - w.t).abs() <= tol,
+                "ray {i}: GPU second t={} brute force t={}",
+                got2.t,
+                w.t
+            );
+            assert!(
+                got2.t >= got.t,
+                "ray {i}: the second hit is nearer than the first"
+            );
+        }
+    }
 }
 
 fn load_bunny() -> Mesh {
@@ -355,7 +421,7 @@ fn gpu_rays_through_shared_edges_and_vertices_never_leak() {
             }
         }
     }
-    let (closest, any) = gpu_queries(&bvh, &rays);
+    let Answers { closest, any, .. } = gpu_queries(&bvh, &rays);
     for (i, (c, a)) in closest.iter().zip(&any).enumerate() {
         assert_ne!(
             c.prim,
@@ -376,9 +442,10 @@ fn gpu_traversal_of_an_empty_scene_misses() {
         dir: [0.0, 0.0, 1.0],
         tmax: f32::INFINITY,
     }];
-    let (c, a) = gpu_queries(&bvh, &rays);
-    assert_eq!(c[0].prim, u32::MAX);
-    assert_eq!(a[0], 0);
+    let answers = gpu_queries(&bvh, &rays);
+    assert_eq!(answers.closest[0].prim, u32::MAX);
+    assert_eq!(answers.any[0], 0);
+    assert_eq!(answers.second[0].prim, u32::MAX);
 }
 
 /// A ladder of exponentially spaced and sized rungs builds a tree as deep as the build
@@ -454,7 +521,7 @@ fn gpu_traversal_of_a_tree_at_full_stack_depth_equals_brute_force() {
     let hits = check(&bvh, &rays);
     assert!(hits > 10_000, "too few rays hit ({hits})");
     // The axial rays do need that depth: with two entries fewer they miss.
-    let (short, _) = gpu_queries_with_stack(&bvh, &rays, bvh.stats.stack_depth() - 2);
+    let short = gpu_queries_with_stack(&bvh, &rays, bvh.stats.stack_depth() - 2).closest;
     let lost = short
         .iter()
         .step_by(2)

@@ -158,6 +158,27 @@ bool bvh_prim_hit(Prim p, TriangleRay tr, vec3 o, vec3 d, float tmin, float tmax
     return bvh_prim_hit_of(BVH_KINDS, p, tr, o, d, tmin, tmax, t, u, v);
 }
 
+// What a traversal looks for (bvh_trace's `mode`, a constant at every call, so the
+// others' code compiles away): the closest hit; any hit (stops at the first found);
+// the two closest hits (the closest, and the nearest of the others, ties included).
+#define BVH_CLOSEST 0u
+#define BVH_ANY 1u
+#define BVH_TWO 2u
+
+// Records a hit at t < the traversal's bound (bvh_bound): in BVH_TWO mode the nearer of
+// the two kept moves to `second` when the new one is nearer, else the new one is second.
+void bvh_record(uint mode, inout Hit hit, inout Hit second, Hit found) {
+    if (mode == BVH_TWO && !(found.t < hit.t)) {
+        second = found;
+    } else {
+        if (mode == BVH_TWO) second = hit;
+        hit = found;
+    }
+}
+
+// The distance beyond which a traversal no longer looks.
+float bvh_bound(uint mode, Hit hit, Hit second) { return mode == BVH_TWO ? second.t : hit.t; }
+
 // Primitive k of a flat scene, tested only for its own kind: once BVH_FLAT_PRIMS and
 // BVH_FLAT_KINDS are specialized, a step past the last primitive compiles away and
 // `kinds` is a constant with one bit.
@@ -165,8 +186,9 @@ bool bvh_prim_hit(Prim p, TriangleRay tr, vec3 o, vec3 d, float tmin, float tmax
     if ((k) < BVH_FLAT_PRIMS) {                                                          \
         float t, u, v;                                                                   \
         uint kinds = BVH_KIND_BIT((BVH_FLAT_KINDS >> (2u * (k))) & 3u);                  \
-        if (bvh_prim_hit_of(kinds, prim_load(k), tr, o, d, tmin, hit.t, t, u, v)) {      \
-            hit = Hit(t, u, v, k);                                                       \
+        if (bvh_prim_hit_of(kinds, prim_load(k), tr, o, d, tmin,                         \
+                            bvh_bound(mode, hit, second), t, u, v)) {                    \
+            bvh_record(mode, hit, second, Hit(t, u, v, k));                              \
         }                                                                                \
     }
 
@@ -178,9 +200,10 @@ bool bvh_prim_hit(Prim p, TriangleRay tr, vec3 o, vec3 d, float tmin, float tmax
 // a traversal of a few primitives (accel::FLAT_PRIMS_MAX). Written out step by step
 // because Mesa unrolls no loop with a body this large. Every ray tests every
 // primitive: any-hit queries gain nothing from stopping early on llvmpipe.
-Hit bvh_trace_flat(vec3 o, vec3 d, float tmin, float tmax) {
+Hit bvh_trace_flat(vec3 o, vec3 d, float tmin, float tmax, uint mode, out Hit second) {
     TriangleRay tr = triangle_ray_make(d);
     Hit hit = Hit(tmax, 0.0, 0.0, HIT_NONE);
+    second = hit;
     BVH_FLAT_STEP(0u) BVH_FLAT_STEP(1u) BVH_FLAT_STEP(2u) BVH_FLAT_STEP(3u)
     BVH_FLAT_STEP(4u) BVH_FLAT_STEP(5u) BVH_FLAT_STEP(6u) BVH_FLAT_STEP(7u)
     BVH_FLAT_STEP(8u) BVH_FLAT_STEP(9u) BVH_FLAT_STEP(10u) BVH_FLAT_STEP(11u)
@@ -188,12 +211,13 @@ Hit bvh_trace_flat(vec3 o, vec3 d, float tmin, float tmax) {
     return hit;
 }
 
-// Stack traversal visiting the nearer child first; with any_hit, returns at the first
-// hit found. Requires 0 <= tmin and d != 0. A flat scene (BVH_FLAT_PRIMS > 0) tests
+// Stack traversal visiting the nearer child first, for what `mode` asks (BVH_CLOSEST,
+// BVH_ANY: returns at the first hit found, BVH_TWO: `second` too; a miss in it has
+// t = tmax). Requires 0 <= tmin and d != 0. A flat scene (BVH_FLAT_PRIMS > 0) tests
 // its primitives in turn instead.
-Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, bool any_hit) {
+Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, uint mode, out Hit second) {
     if (BVH_FLAT_PRIMS > 0u) {
-        return bvh_trace_flat(o, d, tmin, tmax);
+        return bvh_trace_flat(o, d, tmin, tmax, mode, second);
     }
     BvhRay r;
     r.o = o;
@@ -201,6 +225,7 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, bool any_hit) {
     r.neg = lessThan(r.inv, vec3(0.0));
     TriangleRay tr = triangle_ray_make(d);
     Hit hit = Hit(tmax, 0.0, 0.0, HIT_NONE);
+    second = hit;
     uint stack[BVH_STACK_DEPTH];
     for (int k = 0; k < BVH_STACK_DEPTH; k++) stack[k] = BVH_DONE;
     uint item = 0u; // current child reference: inner node 0
@@ -216,8 +241,9 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, bool any_hit) {
         if ((item & BVH_COUNT_MASK) == 0u) do {
             BvhNode n = bvh_node_load(item >> BVH_COUNT_BITS);
             float tl, tr_;
-            bool hit_l = bvh_slab(r, n.left_min, n.left_max, tmin, hit.t, tl);
-            bool hit_r = bvh_slab(r, n.right_min, n.right_max, tmin, hit.t, tr_);
+            float bound = bvh_bound(mode, hit, second);
+            bool hit_l = bvh_slab(r, n.left_min, n.left_max, tmin, bound, tl);
+            bool hit_r = bvh_slab(r, n.right_min, n.right_max, tmin, bound, tr_);
             uint left = (n.left_index << BVH_COUNT_BITS) | n.left_count;
             uint right = (n.right_index << BVH_COUNT_BITS) | n.right_count;
             if (hit_l && hit_r) { // go to the nearer, push the other
@@ -238,9 +264,9 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, bool any_hit) {
         uint i = index;
         do {
             float t, u, v;
-            if (bvh_prim_hit(prim_load(i), tr, o, d, tmin, hit.t, t, u, v)) {
-                hit = Hit(t, u, v, i);
-                if (any_hit) {
+            if (bvh_prim_hit(prim_load(i), tr, o, d, tmin, bvh_bound(mode, hit, second), t, u, v)) {
+                bvh_record(mode, hit, second, Hit(t, u, v, i));
+                if (mode == BVH_ANY) {
                     return hit;
                 }
             }
@@ -253,12 +279,32 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, bool any_hit) {
 
 // Closest hit with tmin < t < tmax; prim == HIT_NONE on a miss.
 Hit bvh_closest(vec3 o, vec3 d, float tmin, float tmax) {
-    return bvh_trace(o, d, tmin, tmax, false);
+    Hit unused;
+    return bvh_trace(o, d, tmin, tmax, BVH_CLOSEST, unused);
 }
 
 // Whether anything is hit with tmin < t < tmax (shadow rays); stops at the first hit.
 bool bvh_any(vec3 o, vec3 d, float tmin, float tmax) {
-    return bvh_trace(o, d, tmin, tmax, true).prim != HIT_NONE;
+    Hit unused;
+    return bvh_trace(o, d, tmin, tmax, BVH_ANY, unused).prim != HIT_NONE;
+}
+
+// The closest hit with tmin < t < tmax and, in `second`, the nearest of the others
+// (t >= the closest's; prim == HIT_NONE and t = tmax if there is none): a ray that
+// passes through the closest surface (a null boundary) goes on to `second` without a
+// second traversal (transmittance.glsl, vol_path.glsl). Its traversal prunes by the
+// second's distance, so it visits more of the tree than bvh_closest.
+// A primitive is tested once, for its nearest hit: a sphere or a cylinder may be hit
+// again before `second` (bvh_hit_once says where that cannot be).
+Hit bvh_closest_two(vec3 o, vec3 d, float tmin, float tmax, out Hit second) {
+    return bvh_trace(o, d, tmin, tmax, BVH_TWO, second);
+}
+
+// Whether a ray meets primitive p at most once (it is flat): then bvh_closest_two's
+// `second` is what a ray passing through its closest hit meets next.
+bool bvh_hit_once(Prim p) {
+    bool quadrics = BVH_HAS(SURFACE_FEATURE_SPHERES) || BVH_HAS(SURFACE_FEATURE_CYLINDERS);
+    return !quadrics || p.kind == PRIM_TRIANGLE || p.kind == PRIM_DISK;
 }
 
 #endif

@@ -26,12 +26,26 @@ vec3 transmittance_shadow(ShadowItem s) {
     vec3 o = s.origin;
     uint medium = s.medium;
     float remaining = s.tmax;
+    // Each traversal finds the two nearest surfaces (bvh_closest_two): a ray that passes
+    // the first goes on to the second without tracing again, where the second lies
+    // beyond the new origin and the first is flat (else, a surface coincident with the
+    // first or a quadric the ray may meet again, it traces from there as before). A shadow ray out of a medium cube crosses its boundary and
+    // meets nothing else: one traversal instead of two.
+    Hit next;
+    bool have_next = false;
     for (uint crossing = 0u; crossing < TRANSMITTANCE_MAX_CROSSINGS; crossing++) {
-        Hit h = bvh_closest(o, s.dir, 0.0, remaining);
+        Hit h;
+        if (have_next) {
+            h = next;
+        } else {
+            h = bvh_closest_two(o, s.dir, 0.0, remaining, next);
+        }
         ShapeRecord shape;
+        Prim hp;
         bool thin = false;
         if (h.prim != NONE) {
-            shape = shape_load(prim_load(h.prim).shape);
+            hp = prim_load(h.prim);
+            shape = shape_load(hp.shape);
             thin = THIN_NULL && (shape.flags & SHAPE_THIN_DIELECTRIC) != 0u && shape.emitter == NONE;
             // An opaque surface blocks the ray whatever the media before it.
             if ((shape.flags & SHAPE_NULL_BSDF) == 0u && !thin) return vec3(0.0);
@@ -48,9 +62,13 @@ vec3 transmittance_shadow(ShadowItem s) {
             if (!any(greaterThan(T, vec3(0.0)))) return vec3(0.0);
         }
         medium = medium_after(sf.shape, medium, s.dir, sf.ng);
-        vec3 next = surface_spawn_origin(sf, dot(s.dir, sf.ng) > 0.0 ? sf.ng : -sf.ng);
-        remaining = max(remaining - dot(next - o, s.dir), 0.0);
-        o = next;
+        vec3 next_o = surface_spawn_origin(sf, dot(s.dir, sf.ng) > 0.0 ? sf.ng : -sf.ng);
+        float advance = dot(next_o - o, s.dir);
+        remaining = max(remaining - advance, 0.0);
+        o = next_o;
+        // The second surface, measured from the new origin; a miss ends at `remaining`.
+        next.t = next.prim == NONE ? remaining : next.t - advance;
+        have_next = !have_next && next.t > 0.0 && bvh_hit_once(hp);
     }
     return vec3(0.0);
 }

@@ -90,7 +90,8 @@ int vol_path_equiangular(uint integrator, RayItem r, inout PathState path, uint 
     return VOL_PATH_SCATTERED;
 }
 
-// The medium stage of ray r with closest hit h and path state `path`. Returns true
+// The medium stage of ray r with closest hit h, second-nearest hit `second` (intersect
+// keeps it: bvh_closest_two) and path state `path`. Returns true
 // when path_shade should shade vertex v: a scattering event in a medium, or the
 // surface h the ray reaches (or a miss), h.t then its distance from r.origin; the
 // path's throughput and medium are updated in `path` (for path_shade to store).
@@ -104,8 +105,13 @@ int vol_path_equiangular(uint integrator, RayItem r, inout PathState path, uint 
 // lobe (probability R', weight specular_reflectance). A thin dielectric that emits
 // light always goes to path_shade (its emission is counted there), which samples
 // both lobes as an ordinary BSDF.
-bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, inout PathState path,
-                       out PathVertex v) {
+// A ray that passes a null surface goes on to the second-nearest surface of the same
+// traversal without tracing again where it lies beyond the new origin and the surface
+// passed is flat (else, a surface coincident with the one passed or a quadric the ray
+// may meet again, it traces from there): a ray leaving a medium cube crosses its
+// boundary and reaches what lies behind it without a trace.
+bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, HitItem second,
+                       inout PathState path, out PathVertex v) {
     v = path_vertex_surface();
     bool vol = integrator_is_volumetric(integrator);
     uint medium = vol ? path.medium : NONE;
@@ -119,6 +125,9 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, inout PathSt
     // A real scattering event ends the loop (path_shade shades it).
     bool scattered = false;
     vec3 scatter_p;
+    // The surface after h (measured from o), known while have_next.
+    HitItem next = second;
+    bool have_next = true;
     for (uint crossing = 0u;; crossing++) {
         float seg = h.prim == NONE ? r.tmax - t_base : h.t;
         if (medium != NONE && integrator == INTEGRATOR_SINGLE_EQUIANGULAR && push.depth == 0u) {
@@ -137,7 +146,8 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, inout PathSt
             if (!any(greaterThan(throughput, vec3(0.0)))) return false;
         }
         if (h.prim == NONE) break;
-        ShapeRecord shape = shape_load(prim_load(h.prim).shape);
+        Prim hp = prim_load(h.prim);
+        ShapeRecord shape = shape_load(hp.shape);
         bool thin = THIN_NULL && (shape.flags & SHAPE_THIN_DIELECTRIC) != 0u && shape.emitter == NONE;
         // A surface with a BSDF ends the stage (path_shade computes its geometry).
         if ((shape.flags & SHAPE_NULL_BSDF) == 0u && !thin) break;
@@ -153,11 +163,22 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, inout PathSt
         }
         if (crossing >= VOL_PATH_MAX_CROSSINGS) return false;
         if (vol) medium = medium_after(s.shape, medium, r.dir, s.ng);
-        vec3 next = surface_spawn_origin(s, dot(r.dir, s.ng) > 0.0 ? s.ng : -s.ng);
-        t_base += dot(next - o, r.dir);
-        o = next;
-        Hit nh = bvh_closest(o, r.dir, 0.0, max(r.tmax - t_base, 0.0));
-        h = HitItem(nh.t, nh.u, nh.v, nh.prim);
+        vec3 next_o = surface_spawn_origin(s, dot(r.dir, s.ng) > 0.0 ? s.ng : -s.ng);
+        float advance = dot(next_o - o, r.dir);
+        t_base += advance;
+        o = next_o;
+        float remaining = max(r.tmax - t_base, 0.0);
+        next.t = next.prim == NONE ? remaining : next.t - advance;
+        if (have_next && next.t > 0.0 && bvh_hit_once(hp)) {
+            h = next;
+            have_next = false;
+        } else {
+            Hit nh2;
+            Hit nh = bvh_closest_two(o, r.dir, 0.0, remaining, nh2);
+            h = HitItem(nh.t, nh.u, nh.v, nh.prim);
+            next = HitItem(nh2.t, nh2.u, nh2.v, nh2.prim);
+            have_next = true;
+        }
     }
     path.throughput = throughput;
     path.medium = medium;

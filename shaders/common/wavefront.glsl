@@ -148,6 +148,11 @@ void hit_store(uint i, HitItem h) {
     hit_words[i] = wavefront_word(uvec4(floatBitsToUint(vec3(h.t, h.u, h.v)), h.prim));
 }
 
+// The second-nearest hit of ray i (bvh_closest_two), which intersect keeps after the
+// nearest ones in scenes whose rays cross null surfaces (vol_path.glsl).
+HitItem hit_second_load(uint i) { return hit_load(push.capacity + i); }
+void hit_second_store(uint i, HitItem h) { hit_store(push.capacity + i, h); }
+
 ShadowItem shadow_load(uint i) {
     int b = int(3u * i);
     uvec4 w0 = imageLoad(shadow_texels, b);

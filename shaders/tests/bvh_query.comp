@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Test kernel: closest-hit and any-hit queries for a list of rays, so tests/bvh.rs
-// can compare the GLSL traversal with the CPU brute force.
+// Test kernel: closest-hit, any-hit and two-hit queries for a list of rays, so
+// tests/bvh.rs can compare the GLSL traversal with the CPU brute force.
 
 #include "scene_bindings.glsl"
 // The traversal stack is specialized to the tree's depth, as in the renderer's kernels.
@@ -26,6 +26,7 @@ struct QueryRay {
 layout(std430, set = 1, binding = 0) readonly buffer QueryBuffer { QueryRay queries[]; };
 layout(std430, set = 1, binding = 1) writeonly buffer ClosestBuffer { HitItem closest[]; };
 layout(std430, set = 1, binding = 2) writeonly buffer AnyBuffer { uint any_hit[]; };
+layout(std430, set = 1, binding = 3) writeonly buffer SecondBuffer { HitItem second_hit[]; };
 
 layout(push_constant) uniform PushBlock { uint count; } pc;
 
@@ -36,4 +37,9 @@ void main() {
     Hit h = bvh_closest(q.origin, q.dir, q.tmin, q.tmax);
     closest[i] = HitItem(h.t, h.u, h.v, h.prim);
     any_hit[i] = bvh_any(q.origin, q.dir, q.tmin, q.tmax) ? 1u : 0u;
+    Hit second;
+    Hit first = bvh_closest_two(q.origin, q.dir, q.tmin, q.tmax, second);
+    // The two-hit traversal's closest hit is the closest hit's distance (ties aside).
+    if (first.t != h.t) second.prim = 0xfffffffeu;
+    second_hit[i] = HitItem(second.t, second.u, second.v, second.prim);
 }

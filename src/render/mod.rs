@@ -393,7 +393,15 @@ impl Renderer {
             .min(limit as u32)
             .min(Film::max_batch_paths(device, &geometry))
             .clamp(1, MAX_BATCH_PATHS);
-        let wavefront = Wavefront::new(device, &layout, capacity, &frame)?;
+        // Media and null surfaces: the medium code of shade and shadow
+        // (constant_id 4 of both; 2-3 belong to textures).
+        // Thin dielectrics are null crossings for the volumetric path tracers
+        // (constant_id 7 of shade and shadow), which need the medium code for them.
+        let thin_null = (scene.has_thin_dielectrics() && integrator.is_volumetric()) as u32;
+        let has_media = (scene.needs_medium_code() || thin_null != 0) as u32;
+        // Where rays cross null surfaces, intersect keeps each ray's second-nearest hit
+        // too (constant_id 5 of intersect; vol_path.glsl).
+        let wavefront = Wavefront::new(device, &layout, capacity, &frame, has_media != 0)?;
         // Alpha: the film keeps covered weights and shade marks covered camera paths;
         // a visible environment covers every path of the integrators where Mitsuba
         // counts it (`valid_ray` of path and volpath). The photon mappers' camera
@@ -425,12 +433,6 @@ impl Renderer {
         // The quadric kinds (SURFACE_FEATURE_* bits): the traversal and the hit
         // geometry compile the others away.
         let prim_kinds = records.prim_kinds();
-        // Media and null surfaces: the medium code of shade and shadow
-        // (constant_id 4 of both; 2-3 belong to textures).
-        // Thin dielectrics are null crossings for the volumetric path tracers
-        // (constant_id 7 of shade and shadow), which need the medium code for them.
-        let thin_null = (scene.has_thin_dielectrics() && integrator.is_volumetric()) as u32;
-        let has_media = (scene.needs_medium_code() || thin_null != 0) as u32;
         // Medium features (constant_id 6): the kinds and grid layouts the scene's media
         // use; homogeneous-only scenes compile tracking away.
         let medium_features = records.medium_features();
@@ -535,6 +537,7 @@ impl Renderer {
                 partitioned as u32,
                 flat_count,
                 flat_kinds,
+                has_media,
             ],
         );
         let generate = add("generate", shaders::GENERATE, &[sampler::kind_id(&sampler)]);

@@ -38,12 +38,17 @@ pub fn wavefront_binding_kinds() -> Vec<BindingKind> {
 }
 
 /// GPU memory one path slot needs, in bytes (path state, two ray queue entries, a
-/// hit, a shadow ray, a queue index in each part of the partition).
+/// hit, a shadow ray, a queue index in each part of the partition); in scenes whose
+/// rays cross null surfaces a second hit adds [`SECOND_HIT_BYTES`] (8% more; the
+/// batch size stays that of the other scenes).
 pub const BYTES_PER_PATH: u64 = (size_of::<PathState>()
     + 2 * size_of::<RayItem>()
     + size_of::<HitItem>()
     + size_of::<ShadowItem>()
     + 2 * size_of::<u32>()) as u64;
+
+/// The second-nearest hit a path slot keeps in scenes whose rays cross null surfaces.
+pub const SECOND_HIT_BYTES: u64 = size_of::<HitItem>() as u64;
 
 pub struct Wavefront {
     pub frame: Buffer,
@@ -67,6 +72,7 @@ impl Wavefront {
         layout: &BindingLayout,
         capacity: u32,
         frame: &Frame,
+        second_hits: bool,
     ) -> Result<Wavefront> {
         let n = capacity as u64;
         // The frame, then the queue lengths the kernels read with it.
@@ -85,10 +91,11 @@ impl Wavefront {
             2 * n * size_of::<RayItem>() as u64,
             Location::Gpu,
         )?;
+        // With `second_hits`, each ray's second-nearest hit after the nearest hits.
         let hits = Buffer::new(
             device,
             "hits",
-            n * size_of::<HitItem>() as u64,
+            n * size_of::<HitItem>() as u64 + second_hits as u64 * n * SECOND_HIT_BYTES,
             Location::Gpu,
         )?;
         let shadows = Buffer::new(
