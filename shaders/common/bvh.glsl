@@ -1,6 +1,7 @@
-// BVH traversal: closest hit and any hit. Mirrors Bvh::trace in src/accel/bvh.rs step
-// for step; the layout is BvhNode / Prim from layout.glsl (Aila, Laine 2009: both
-// children's boxes in the parent; count == 0: inner node, count > 0: leaf).
+// BVH traversal: closest hit, any hit, and the two nearest hits (bvh_closest_two). The
+// first two mirror Bvh::trace in src/accel/bvh.rs step for step; the layout is BvhNode /
+// Prim from layout.glsl (Aila, Laine 2009: both children's boxes in the parent;
+// count == 0: inner node, count > 0: leaf).
 //
 // The including kernel must include scene_bindings.glsl (bvh_node_load, prim_load) first.
 // Optional: #define BVH_PRIM_KINDS to the quadric kinds the scene has (a mask of
