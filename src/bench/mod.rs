@@ -223,6 +223,8 @@ pub fn run(
 
     let render_options = RenderOptions {
         timestamps: false,
+        // Batches sized for the largest render measured.
+        expected_spp: options.spp.iter().max().copied(),
         ..options.render.clone()
     };
     let mut renderer = Renderer::new(device, &scene, &render_options)?;

@@ -294,7 +294,9 @@ pub fn run(mut args: RenderArgs) -> Result<()> {
     let run = args.run;
     let seed = run.seed.unwrap_or(0);
     let record_base = (run.integrator.clone(), run.sampler.clone(), run.max_bounces);
-    let (options, device) = run.options(args.profile);
+    let (mut options, device) = run.options(args.profile);
+    // The batches are sized for the whole render's samples (a range needs fewer).
+    options.expected_spp = Some(plan.spp);
     let devices = device_list(device.as_deref())?;
     install_signal_handler()?;
 
