@@ -98,6 +98,12 @@ fn in_box(rng: &mut SplitMix64, lo: Vec3, hi: Vec3) -> Vec3 {
     lo + (hi - lo) * Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32())
 }
 
+/// How far a GPU hit distance may lie from the brute force's `t` (float rounding of
+/// the two traversals' arithmetic).
+fn t_tolerance(t: f32) -> f32 {
+    1e-5 * t.abs().max(1e-3)
+}
+
 /// Compares GPU results with the CPU brute force and CPU traversal for every ray.
 fn check(bvh: &Bvh, rays: &[QueryRay]) -> usize {
     check_with(bvh, rays, FlatPrims::default())
@@ -133,7 +139,7 @@ fn check_with(bvh: &Bvh, rays: &[QueryRay], flat: FlatPrims) -> usize {
                     w.prim,
                     w.t
                 );
-                let tol = 1e-5 * w.t.abs().max(1e-3);
+                let tol = t_tolerance(w.t);
                 assert!(
                     (got.t - w.t).abs() <= tol,
                     "ray {i}: GPU t={} brute force t={}",
@@ -208,7 +214,7 @@ fn check_second(bvh: &Bvh, r: &QueryRay, i: usize, got: HitItem, got2: HitItem) 
                 got2.prim, got.prim,
                 "ray {i}: the second hit repeats the first"
             );
-            let tol = 1e-5 * w.t.abs().max(1e-3);
+            let tol = t_tolerance(w.t);
             assert!(
                 (got2.t - w.t).abs() <= tol,
                 "ray {i}: GPU second t={} brute force t={}",

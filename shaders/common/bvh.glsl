@@ -308,4 +308,15 @@ bool bvh_hit_once(Prim p) {
     return !quadrics || p.kind == PRIM_TRIANGLE || p.kind == PRIM_DISK;
 }
 
+// A ray passed its closest hit, primitive `crossed`, and goes on from an origin
+// `advance` further along it, with `remaining` left of its range: `second` (from
+// bvh_closest_two) is measured from there (a miss ends at `remaining`), and is the
+// ray's closest hit from there, with no trace, where it lies beyond that origin and
+// `crossed` is flat (not so for a surface coincident with the one passed, or a quadric
+// the ray may meet again: those trace).
+bool bvh_second_goes_on(Prim crossed, float advance, float remaining, inout Hit second) {
+    second.t = second.prim == HIT_NONE ? remaining : second.t - advance;
+    return second.t > 0.0 && bvh_hit_once(crossed);
+}
+
 #endif

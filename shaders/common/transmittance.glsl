@@ -27,9 +27,8 @@ vec3 transmittance_shadow(ShadowItem s) {
     uint medium = s.medium;
     float remaining = s.tmax;
     // Each traversal finds the two nearest surfaces (bvh_closest_two): a ray that passes
-    // the first goes on to the second without tracing again, where the second lies
-    // beyond the new origin and the first is flat (else, a surface coincident with the
-    // first or a quadric the ray may meet again, it traces from there as before). A shadow ray out of a medium cube crosses its boundary and
+    // the first goes on to the second without tracing again where it may
+    // (bvh_second_goes_on). A shadow ray out of a medium cube crosses its boundary and
     // meets nothing else: one traversal instead of two.
     Hit next;
     bool have_next = false;
@@ -66,9 +65,8 @@ vec3 transmittance_shadow(ShadowItem s) {
         float advance = dot(next_o - o, s.dir);
         remaining = max(remaining - advance, 0.0);
         o = next_o;
-        // The second surface, measured from the new origin; a miss ends at `remaining`.
-        next.t = next.prim == NONE ? remaining : next.t - advance;
-        have_next = !have_next && next.t > 0.0 && bvh_hit_once(hp);
+        // The second surface of the last traversal, unless it was just used.
+        have_next = !have_next && bvh_second_goes_on(hp, advance, remaining, next);
     }
     return vec3(0.0);
 }

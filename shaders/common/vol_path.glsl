@@ -106,10 +106,8 @@ int vol_path_equiangular(uint integrator, RayItem r, inout PathState path, uint 
 // light always goes to path_shade (its emission is counted there), which samples
 // both lobes as an ordinary BSDF.
 // A ray that passes a null surface goes on to the second-nearest surface of the same
-// traversal without tracing again where it lies beyond the new origin and the surface
-// passed is flat (else, a surface coincident with the one passed or a quadric the ray
-// may meet again, it traces from there): a ray leaving a medium cube crosses its
-// boundary and reaches what lies behind it without a trace.
+// traversal without tracing again where it may (bvh_second_goes_on): a ray leaving a
+// medium cube crosses its boundary and reaches what lies behind it without a trace.
 bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, HitItem second,
                        inout PathState path, out PathVertex v) {
     v = path_vertex_surface();
@@ -126,7 +124,7 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, HitItem seco
     bool scattered = false;
     vec3 scatter_p;
     // The surface after h (measured from o), known while have_next.
-    HitItem next = second;
+    Hit next = Hit(second.t, second.u, second.v, second.prim);
     bool have_next = true;
     for (uint crossing = 0u;; crossing++) {
         float seg = h.prim == NONE ? r.tmax - t_base : h.t;
@@ -168,17 +166,15 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, HitItem seco
         t_base += advance;
         o = next_o;
         float remaining = max(r.tmax - t_base, 0.0);
-        next.t = next.prim == NONE ? remaining : next.t - advance;
-        if (have_next && next.t > 0.0 && bvh_hit_once(hp)) {
-            h = next;
+        Hit nh;
+        if (have_next && bvh_second_goes_on(hp, advance, remaining, next)) {
+            nh = next;
             have_next = false;
         } else {
-            Hit nh2;
-            Hit nh = bvh_closest_two(o, r.dir, 0.0, remaining, nh2);
-            h = HitItem(nh.t, nh.u, nh.v, nh.prim);
-            next = HitItem(nh2.t, nh2.u, nh2.v, nh2.prim);
+            nh = bvh_closest_two(o, r.dir, 0.0, remaining, next);
             have_next = true;
         }
+        h = HitItem(nh.t, nh.u, nh.v, nh.prim);
     }
     path.throughput = throughput;
     path.medium = medium;
