@@ -216,9 +216,14 @@ Hit bvh_trace_flat(vec3 o, vec3 d, float tmin, float tmax, uint mode, out Hit se
 // BVH_ANY: returns at the first hit found, BVH_TWO: `second` too; a miss in it has
 // t = tmax). Requires 0 <= tmin and d != 0. A flat scene (BVH_FLAT_PRIMS > 0) tests
 // its primitives in turn instead.
+//
+// No return inside the loops (an any-hit query breaks out of both): spirv-opt's
+// merge-return (gpu::specialize's INLINE_PASSES) would turn one into flags tested
+// after each loop.
 Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, uint mode, out Hit second) {
     if (BVH_FLAT_PRIMS > 0u) {
-        return bvh_trace_flat(o, d, tmin, tmax, mode, second);
+        Hit hit = bvh_trace_flat(o, d, tmin, tmax, mode, second);
+        return hit;
     }
     BvhRay r;
     r.o = o;
@@ -267,12 +272,12 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, uint mode, out Hit second)
             float t, u, v;
             if (bvh_prim_hit(prim_load(i), tr, o, d, tmin, bvh_bound(mode, hit, second), t, u, v)) {
                 bvh_record(mode, hit, second, Hit(t, u, v, i));
-                if (mode == BVH_ANY) {
-                    return hit;
-                }
+                if (mode == BVH_ANY) break;
             }
             i++;
         } while (i < index + count);
+        // An any-hit query is answered by its first hit.
+        if (mode == BVH_ANY && hit.prim != HIT_NONE) break;
         BVH_STACK_POP(stack, item);
     }
     return hit;

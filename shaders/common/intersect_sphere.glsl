@@ -2,12 +2,14 @@
 // Akenine-Möller 2019, "Precision Improvements for Ray/Sphere Intersection", Ray Tracing
 // Gems ch. 7: discriminant from the closest-point vector l, eq. 7.5; stable roots
 // q = b' + sign(b') sqrt(disc), t0 = c / q, t1 = q / a, eq. 7.8).
-// Mirrors src/accel/sphere.rs line for line.
+// The tests of src/accel/sphere.rs, in one expression.
 #ifndef INTERSECT_SPHERE_GLSL
 #define INTERSECT_SPHERE_GLSL
 
 // Nearest t in (tmin, tmax) where o + t d meets the sphere (center c, radius r); the far
 // root when the near one is out of range. t is only set on a hit.
+// One return (every test made, as llvmpipe computes them all anyway): see
+// intersect_triangle.glsl.
 bool intersect_sphere(vec3 o, vec3 d, vec3 c, float r, float tmin, float tmax,
                       out float t) {
     vec3 f = o - c;
@@ -15,27 +17,17 @@ bool intersect_sphere(vec3 o, vec3 d, vec3 c, float r, float tmin, float tmax,
     float bp = -dot(f, d);
     vec3 l = f + (bp / a) * d;
     float disc = a * (r * r - dot(l, l));
-    if (disc < 0.0) {
-        return false;
-    }
     float cc = dot(f, f) - r * r;
     float q = bp + (bp >= 0.0 ? sqrt(disc) : -sqrt(disc));
-    if (q == 0.0) {
-        return false; // origin on the sphere, ray tangent to it
-    }
     float t0 = cc / q;
     float t1 = q / a;
     float tn = min(t0, t1);
     float tf = max(t0, t1);
-    if (tn > tmin && tn < tmax) {
-        t = tn;
-        return true;
-    }
-    if (tf > tmin && tf < tmax) {
-        t = tf;
-        return true;
-    }
-    return false;
+    bool near = tn > tmin && tn < tmax;
+    // No hit where disc < 0, or q == 0 (the origin on the sphere, the ray tangent to it).
+    bool hit = !(disc < 0.0) && q != 0.0 && (near || (tf > tmin && tf < tmax));
+    if (hit) t = near ? tn : tf;
+    return hit;
 }
 
 #endif

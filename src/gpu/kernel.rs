@@ -81,6 +81,10 @@ pub struct KernelSpec<'a> {
     pub name: &'a str,
     pub spirv: &'a [u8],
     pub spec: Vec<u32>,
+    /// Inline the module into one function before the driver sees it (see
+    /// `specialize::INLINE_PASSES`: faster to create on lavapipe, slower to run where
+    /// functions with early returns run inside loops).
+    pub inline: bool,
 }
 
 impl<'a> KernelSpec<'a> {
@@ -89,7 +93,13 @@ impl<'a> KernelSpec<'a> {
             name,
             spirv,
             spec: spec.to_vec(),
+            inline: false,
         }
+    }
+
+    /// The kernel, inlined where `inline` says ([`KernelSpec::inline`]).
+    pub fn inlined(self, inline: bool) -> KernelSpec<'a> {
+        KernelSpec { inline, ..self }
     }
 }
 
@@ -354,6 +364,13 @@ impl Kernel {
         layout: &BindingLayout,
         spec: &[u32],
     ) -> Result<Kernel> {
+        Kernel::from_spec(device, layout, &KernelSpec::new(name, spirv, spec))
+    }
+
+    /// The kernel `spec` describes (see [`Kernel::new`]).
+    pub fn from_spec(device: &Device, layout: &BindingLayout, spec: &KernelSpec) -> Result<Kernel> {
+        let (name, spirv, inline) = (spec.name, spec.spirv, spec.inline);
+        let spec = &spec.spec[..];
         let spirv = match layout.inner.scene_split {
             true => super::shaders::scene_split_variant(spirv).unwrap_or(spirv),
             false => spirv,
@@ -375,7 +392,7 @@ impl Kernel {
             .collect();
         // The constants written into the module where spirv-opt can (see
         // `specialize`), else given to the driver.
-        let specialized = super::specialize::specialize(name, &code, &constants)?;
+        let specialized = super::specialize::specialize(name, &code, &constants, inline)?;
         let (code, constants) = match &specialized {
             Some(code) => (code, &[][..]),
             None => (&code, &constants[..]),
@@ -446,7 +463,7 @@ impl Kernel {
                         loop {
                             let i = next.fetch_add(1, Ordering::Relaxed);
                             let Some(s) = specs.get(i) else { break };
-                            done.push((i, Kernel::new(device, s.name, s.spirv, layout, &s.spec)));
+                            done.push((i, Kernel::from_spec(device, layout, s)));
                         }
                         done
                     })

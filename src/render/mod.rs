@@ -504,8 +504,11 @@ impl Renderer {
         // Every kernel of the render, created in parallel (Kernel::new_all), the
         // largest first.
         let mut specs: Vec<KernelSpec> = Vec::new();
+        // Scenes without media are inlined before lavapipe sees them (render start-up:
+        // see gpu::specialize::INLINE_PASSES); the medium code's loops would run slower.
+        let inline = has_media == 0;
         let mut add = |name, spirv, spec: &[u32]| {
-            specs.push(KernelSpec::new(name, spirv, spec));
+            specs.push(KernelSpec::new(name, spirv, spec).inlined(inline));
             specs.len() - 1
         };
         let shade = (!integrator.is_photon_mapper())
