@@ -67,6 +67,11 @@ struct RunArgs {
     /// device's memory and binding limits allow); larger maps are gathered in passes.
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     photons_per_pass: Option<u32>,
+    /// Run the wavefront's kernels (a dispatch per stage and bounce) even on a CPU
+    /// device, which otherwise follows each path of a scene without media in one
+    /// kernel, the megakernel. The same image either way up to float rounding.
+    #[arg(long)]
+    wavefront: bool,
 }
 
 impl RunArgs {
@@ -79,6 +84,7 @@ impl RunArgs {
             timestamps,
             max_bounces: self.max_bounces,
             max_photons_per_pass: self.photons_per_pass,
+            wavefront: self.wavefront,
             ..RenderOptions::default()
         };
         (options, self.device)

@@ -321,10 +321,13 @@ fn last_bounce_against_the_emitters_alone_matches_the_full_traversal() {
     ] {
         let scene = load_shipped(file, &defines);
         let run = |trace_last_bounce: bool| {
+            // The wavefront's kernels: on a CPU device first_bounce would run these
+            // scenes' bounces in one kernel (first_bounce_in_one_kernel_matches_the_wavefront).
             let options = RenderOptions {
                 seed: 3,
                 timestamps: true,
                 trace_last_bounce,
+                wavefront: true,
                 ..Default::default()
             };
             let (img, stats, _) = render_8spp(&device, &scene, file, &options);
@@ -340,6 +343,107 @@ fn last_bounce_against_the_emitters_alone_matches_the_full_traversal() {
         assert_eq!(short.non_finite_count(), 0, "{file}");
         assert!(mean(&short) > 0.0, "{file}: black image");
         assert_eq!(short.rgb, full.rgb, "{file}: the images differ");
+    }
+}
+
+/// On a CPU device, where the first bounce is the whole path (direct lighting; a path
+/// tracer of max_depth 1, or cut after one bounce), one kernel follows each path
+/// (shaders/first_bounce.comp) instead of generate, intersect, shade, shadow and
+/// shade_last: the same image bit for bit, the same rays and cut paths, and the same
+/// alpha. Veach's plates under sphere lights (its last bounce meeting the emitters
+/// alone), textured lights (their textures in both bounces), the Cornell box with
+/// emitter sampling alone, at max_depth 1, and cut at one bounce, and the filter
+/// scene's RGBA film (a Gaussian filter; which camera paths cover their pixel).
+#[test]
+fn first_bounce_in_one_kernel_matches_the_wavefront() {
+    let device = device();
+    let cpu = device.info().kind == wavetrace::gpu::DeviceKind::Cpu;
+    let cases = [
+        (
+            "scenes/veach/veach.xml",
+            vec![("integrator", "direct"), ("res", "48")],
+            None,
+            None,
+        ),
+        (
+            "scenes/textures/textured_lights.xml",
+            vec![("res", "40")],
+            Some("direct_mis"),
+            None,
+        ),
+        (
+            "scenes/cbox/cbox_path.xml",
+            vec![("res", "40")],
+            Some("direct_ems"),
+            None,
+        ),
+        (
+            "scenes/cbox/cbox_path.xml",
+            vec![("res", "40"), ("max_depth", "1")],
+            None,
+            None,
+        ),
+        (
+            "scenes/cbox/cbox_path.xml",
+            vec![("res", "40")],
+            None,
+            Some(1),
+        ),
+        (
+            "scenes/filters/gaussian.xml",
+            vec![("res", "32"), ("pixel_format", "rgba")],
+            Some("direct_mats"),
+            None,
+        ),
+    ];
+    for (file, defines, integrator, max_bounces) in cases {
+        let scene = load_shipped(file, &defines);
+        let run = |wavefront: bool| {
+            let options = RenderOptions {
+                seed: 7,
+                timestamps: true,
+                integrator: integrator.map(str::to_string),
+                max_bounces,
+                wavefront,
+                ..Default::default()
+            };
+            let mut r = wavetrace::render::Renderer::new(&device, &scene, &options)
+                .unwrap_or_else(|e| panic!("{file}: {e}"));
+            let (film, stats) = r.render_film(0, 8, &mut |_, _| {}).expect("render");
+            (film.develop(), film.develop_alpha(), stats)
+        };
+        let (fused, fused_alpha, fused_stats) = run(false);
+        let (wave, wave_alpha, wave_stats) = run(true);
+        let ran =
+            |stats: &RenderStats, kernel: &str| stats.kernel_times.by_kernel.contains_key(kernel);
+        assert!(
+            ran(&wave_stats, "intersect") && !ran(&wave_stats, "first_bounce"),
+            "{file}"
+        );
+        if cpu {
+            assert!(
+                ran(&fused_stats, "first_bounce") && !ran(&fused_stats, "intersect"),
+                "{file}: the path did not run in one kernel"
+            );
+        }
+        assert_eq!(fused.non_finite_count(), 0, "{file}");
+        assert!(mean(&fused) > 0.0, "{file}: black image");
+        assert_eq!(fused.rgb, wave.rgb, "{file}: the images differ");
+        assert_eq!(fused_alpha, wave_alpha, "{file}: the alphas differ");
+        assert_eq!(fused_stats.rays, wave_stats.rays, "{file}: rays traced");
+        assert_eq!(
+            fused_stats.cut_paths, wave_stats.cut_paths,
+            "{file}: cut paths"
+        );
+        if max_bounces.is_some() {
+            assert!(fused_stats.cut_paths > 0, "{file}: no path was cut");
+        }
+        if file.contains("gaussian") {
+            assert!(
+                fused_alpha.is_some_and(|a| a.contains(&0.0) && a.contains(&1.0)),
+                "{file}"
+            );
+        }
     }
 }
 

@@ -17,6 +17,7 @@
 #include "frame.glsl"
 #include "sampler/sampler_frame.glsl"
 #include "queue.glsl"
+#include "path_queues.glsl"
 #include "bsdf_textured.glsl"
 #include "normal_map.glsl"
 #ifdef MEDIUM_GLSL
@@ -113,10 +114,10 @@ void path_mark_covered(uint i, inout PathState path, HitItem h, PathVertex v) {
     path.flags |= PATH_COVERED;
     PathState stored = path;
     stored.flags &= ~PATH_THIN_REFLECT;
-    path_store_flags(i, stored);
+    path_keep_flags(i, stored);
 }
 
-// Shades path vertex v, reached by ray r (path vertex number push.depth + 1) with hit
+// Shades path vertex v, reached by ray r (path vertex number PATH_DEPTH + 1) with hit
 // h; `path` is the state of r's path (path_load(r.path), as the medium stage may have
 // left it: a path state written in this dispatch is passed on, never read back
 // through the texel view). At a surface: emission, emitter sampling against the BSDF
@@ -134,7 +135,7 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
     bool path_tracer = integrator == INTEGRATOR_PATH_MATS || integrator == INTEGRATOR_PATH_MIS
         || integrator_is_volumetric(integrator);
 
-    uint depth = push.depth;
+    uint depth = PATH_DEPTH;
     bool in_medium = false;
 #ifdef MEDIUM_GLSL
     in_medium = MEDIA_ENABLED && v.medium != NONE;
@@ -170,7 +171,7 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
         if (env_seen && !env_merged) {
             float w = weigh ? mis_weight(path.bsdf_pdf, emitter_pdf_env(r.dir)) : 1.0;
             path.radiance += path.throughput * emitter_env_radiance(emitter_load(frame.env_emitter), r.dir) * w;
-            path_store_radiance(r.path, path);
+            path_keep_radiance(r.path, path);
         }
         if (!env_seen || !env_merged) return;
     }
@@ -207,7 +208,7 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
         }
         if (emits) {
             path.radiance += path_emission_found(path, r, h.t, s, shape.emitter, light, texels.emission, weigh);
-            path_store_radiance(r.path, path);
+            path_keep_radiance(r.path, path);
         }
         // A normal map (normal_map.glsl) replaces the shading normal and weighs the
         // light of each direction wi by normal_map_weight: 0 on different sides of the
@@ -239,7 +240,7 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
             // The environment seen along r.dir (env_merged).
             float w = weigh ? mis_weight(path.bsdf_pdf, es.pdf) : 1.0;
             path.radiance += path.throughput * es.Le * w;
-            path_store_radiance(r.path, path);
+            path_keep_radiance(r.path, path);
             return;
         }
         if (es.pdf > 0.0 && any(greaterThan(es.Le, vec3(0.0)))) {
@@ -271,7 +272,7 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
             if (any(greaterThan(f, vec3(0.0)))) {
                 // single_scatter's in-scattering is emitter sampling alone.
                 float w = (mis && !es.delta && !(single && in_medium)) ? mis_weight(es.pdf, pdf) : 1.0;
-                queue_push_shadow_in(medium, origin, r.path, es.wi, tmax, path.throughput * f * es.Le * (w / es.pdf));
+                path_push_shadow(medium, origin, r.path, es.wi, tmax, path.throughput * f * es.Le * (w / es.pdf));
             }
         }
     }
@@ -332,8 +333,8 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
         path.bsdf_pdf = pdf;
         path.flags = flags | (path.flags & PATH_COVERED);
         path.medium = medium;
-        path_store_bounce(r.path, path); // the radiance word is stored where it changed
-        queue_push_ray(origin, r.path, wi, EMITTER_INFINITY);
+        path_keep_bounce(r.path, path); // the radiance word is stored where it changed
+        path_push_ray(origin, r.path, wi, EMITTER_INFINITY);
     }
 }
 

@@ -14,7 +14,7 @@
 // +5% instructions, so the renderer keeps intersect and shade there.) The estimate
 // is the one of path_shade_to; only a surface within the shadow epsilon (1e-4 of the
 // distance) in front of an emitter no longer blocks it, as for emitter sampling.
-// Needs path.glsl (and what it needs), bvh.glsl, texture.glsl, queue.glsl.
+// Needs path.glsl (and what it needs), bvh.glsl, texture.glsl.
 #ifndef PATH_EMITTED_GLSL
 #define PATH_EMITTED_GLSL
 
@@ -27,7 +27,7 @@
 #define EMITTER_PRIM_KINDS BVH_KINDS
 #endif
 
-// The emitted light that ray r (of `path`, at bounce push.depth >= 1) finds, as a
+// The emitted light that ray r (of `path`, at bounce PATH_DEPTH >= 1) finds, as a
 // shadow ray.
 void path_shade_emitted(uint integrator, RayItem r, PathState path) {
     // Emission counts after BSDF sampling (not for direct_ems, which has none).
@@ -62,7 +62,7 @@ void path_shade_emitted(uint integrator, RayItem r, PathState path) {
         tmax = h.t * (1.0 - 1e-4);
     }
     if (any(greaterThan(contribution, vec3(0.0)))) {
-        queue_push_shadow(r.origin, r.path, r.dir, tmax, contribution);
+        path_push_shadow(NONE, r.origin, r.path, r.dir, tmax, contribution);
     }
 }
 

@@ -29,7 +29,8 @@ use std::time::Instant;
 use crate::accel::{self, Bvh, BvhStats, FlatPrims};
 use crate::gpu::layout::{Counters, DispatchArgs, Frame, Push, WORKGROUP_SIZE};
 use crate::gpu::{
-    shaders, BindingLayout, CommandList, DescriptorSet, Device, Kernel, KernelSpec, KernelTimes,
+    shaders, BindingLayout, CommandList, DescriptorSet, Device, DeviceKind, Kernel, KernelSpec,
+    KernelTimes,
 };
 use crate::image::Image;
 use crate::scene::sampler::{SampleCount, Sampler, SamplerKind};
@@ -86,6 +87,10 @@ pub struct RenderOptions {
     /// would test each in turn ([`accel::FLAT_PRIMS_MAX`], bvh.glsl's
     /// `bvh_trace_flat`). The same image either way; tests compare the two.
     pub traverse_small_scenes: bool,
+    /// Render with the wavefront's kernels alone even where a CPU device would run a
+    /// first bounce in one kernel (shaders/first_bounce.comp). The same image either
+    /// way, up to float contraction; tests compare the two.
+    pub wavefront: bool,
 }
 
 /// Time spent before the first sample, in seconds.
@@ -138,8 +143,10 @@ pub fn choose_sampler(scene: &Scene, name: Option<&str>) -> Result<Sampler> {
 }
 
 struct Kernels {
-    generate: Kernel,
-    intersect: Kernel,
+    /// generate, intersect and shadow: None where `first_bounce` runs every bounce of
+    /// a batch (read them through the methods of the same names).
+    generate: Option<Kernel>,
+    intersect: Option<Kernel>,
     /// None for the photon mappers, which shade with kernels of their own.
     shade: Option<Kernel>,
     /// `shade` for the bounces whose vertices end their paths (depth + 2 > max_depth:
@@ -154,11 +161,36 @@ struct Kernels {
     /// `shade_miss` shades the misses.
     shade_args: Option<Kernel>,
     shade_miss: Option<Kernel>,
-    shadow: Kernel,
+    shadow: Option<Kernel>,
     queue_args: Kernel,
     /// None where `film_gather` reads the paths ([`Film::reads_paths`]).
     accumulate: Option<Kernel>,
     film_gather: Kernel,
+    /// Where a CPU device runs a batch's camera rays and first bounce in one kernel
+    /// (shaders/first_bounce.comp; see [`fuses_first_bounce`]): it, in place of
+    /// generate and bounce 0 (and of bounce 1 where that ends the paths).
+    first_bounce: Option<Kernel>,
+}
+
+impl Kernels {
+    fn generate(&self) -> Result<&Kernel> {
+        made(&self.generate, "generate")
+    }
+    fn intersect(&self) -> Result<&Kernel> {
+        made(&self.intersect, "intersect")
+    }
+    fn shadow(&self) -> Result<&Kernel> {
+        made(&self.shadow, "shadow")
+    }
+}
+
+/// A kernel that the render may have left out.
+fn made<'a>(kernel: &'a Option<Kernel>, name: &str) -> Result<&'a Kernel> {
+    kernel.as_ref().ok_or_else(|| {
+        Error::Options(format!(
+            "internal error: the render made no '{name}' kernel (first_bounce runs its paths)"
+        ))
+    })
 }
 
 /// A scene prepared on a device, ready to render any number of samples.
@@ -202,6 +234,17 @@ enum Over {
     Shadows,
     /// One workgroup.
     One,
+}
+
+/// Whether a batch's camera rays and first bounce run in one kernel, `first_bounce`
+/// (and the second bounce too where it ends the paths), instead of generate and a
+/// dispatch of each stage: on CPU devices, for the integrators of path.glsl in scenes
+/// without media or null surfaces. llvmpipe turns each divergent access to the queues
+/// into a loop over its SIMD lanes, and at the first bounce every lane has a path to
+/// follow, so handing it from kernel to kernel costs and compaction saves nothing.
+/// A GPU keeps the wavefront.
+fn fuses_first_bounce(device: &Device, integrator: &Integrator, has_media: bool) -> bool {
+    device.info().kind == DeviceKind::Cpu && integrator.shades_paths() && !has_media
 }
 
 /// Whether `intersect` partitions a bounce's rays into hits and misses for `shade`
@@ -511,46 +554,71 @@ impl Renderer {
             specs.push(KernelSpec::new(name, spirv, spec).inlined(inline));
             specs.len() - 1
         };
-        let shade = (!integrator.is_photon_mapper())
+        // On CPU devices the batch's first bounce runs in one kernel, first_bounce.comp,
+        // where that is the whole path: bounce 0 alone, or bounce 1 too where it ends
+        // the paths and meets the emitters alone (direct lighting in scenes with few
+        // emitter primitives). It then stands in for generate, intersect, shade and
+        // shadow, which are not made. (Where the wavefront would go on, shade would be
+        // made as well: on lavapipe a kernel with shade's code costs some 200 ms to
+        // create, more than it saves in renders of a few seconds.)
+        let second_ends = bounces == 2 && integrator.ends_paths_at(1) && emitted_only > 0;
+        let fused = fuses_first_bounce(device, &integrator, has_media != 0)
+            && !options.wavefront
+            && (bounces == 1 || second_ends);
+        let first_bounce = fused.then(|| {
+            // Shade's constants, with 14 and 20 saying whether bounce 0 or bounce 1
+            // ends the paths, and 16-17 the emitter primitives bounce 1 meets.
+            let mut spec = shade_spec(second_ends, false).to_vec();
+            spec[14] = integrator.ends_paths_at(0) as u32;
+            spec[15] = 0;
+            spec.push(second_ends as u32);
+            add("first_bounce", shaders::FIRST_BOUNCE, &spec)
+        });
+        let wavefront_kernels = !fused;
+        let shade = (wavefront_kernels && !integrator.is_photon_mapper())
             .then(|| add("shade", shaders::SHADE, &shade_spec(false, false)));
-        let shade_last = (0..bounces)
-            .any(|d| integrator.ends_paths_at(d))
+        let shade_last = (wavefront_kernels && (0..bounces).any(|d| integrator.ends_paths_at(d)))
             .then(|| add("shade_last", shaders::SHADE, &shade_spec(true, false)));
-        let shade_miss =
-            partitioned.then(|| add("shade_miss", shaders::SHADE, &shade_spec(false, true)));
-        let shadow = add(
-            "shadow",
-            shaders::SHADOW,
-            &[
-                prim_kinds,
-                0,
-                records.texture_mask(),
-                0,
-                has_media,
-                0,
-                medium_features,
-                thin_null,
-                0,
-                0,
-                surface_features,
-                bvh_depth,
-                flat_count,
-                flat_kinds,
-            ],
-        );
-        let intersect = add(
-            "intersect",
-            shaders::INTERSECT,
-            &[
-                prim_kinds,
-                bvh_depth,
-                partitioned as u32,
-                flat_count,
-                flat_kinds,
-                has_media,
-            ],
-        );
-        let generate = add("generate", shaders::GENERATE, &[sampler::kind_id(&sampler)]);
+        let shade_miss = (wavefront_kernels && partitioned)
+            .then(|| add("shade_miss", shaders::SHADE, &shade_spec(false, true)));
+        let shadow = wavefront_kernels.then(|| {
+            add(
+                "shadow",
+                shaders::SHADOW,
+                &[
+                    prim_kinds,
+                    0,
+                    records.texture_mask(),
+                    0,
+                    has_media,
+                    0,
+                    medium_features,
+                    thin_null,
+                    0,
+                    0,
+                    surface_features,
+                    bvh_depth,
+                    flat_count,
+                    flat_kinds,
+                ],
+            )
+        });
+        let intersect = wavefront_kernels.then(|| {
+            add(
+                "intersect",
+                shaders::INTERSECT,
+                &[
+                    prim_kinds,
+                    bvh_depth,
+                    partitioned as u32,
+                    flat_count,
+                    flat_kinds,
+                    has_media,
+                ],
+            )
+        });
+        let generate = wavefront_kernels
+            .then(|| add("generate", shaders::GENERATE, &[sampler::kind_id(&sampler)]));
         let film_gather = add(
             "film_gather",
             shaders::FILM_GATHER,
@@ -564,7 +632,8 @@ impl Renderer {
             )
         });
         let queue_args = add("queue_args", shaders::QUEUE_ARGS, &[]);
-        let shade_args = partitioned.then(|| add("shade_args", shaders::SHADE_ARGS, &[]));
+        let shade_args =
+            (wavefront_kernels && partitioned).then(|| add("shade_args", shaders::SHADE_ARGS, &[]));
         let mut made: Vec<Option<Kernel>> = Kernel::new_all(device, &layout, &specs)?
             .into_iter()
             .map(Some)
@@ -575,17 +644,18 @@ impl Renderer {
                 .unwrap_or_else(|| unreachable!("kernel {i} taken twice"))
         };
         let kernels = Kernels {
-            generate: take(generate),
-            intersect: take(intersect),
+            generate: generate.map(&mut take),
+            intersect: intersect.map(&mut take),
             shade: shade.map(&mut take),
             shade_last: shade_last.map(&mut take),
             last_meets_emitters: emitted_only > 0,
             shade_args: shade_args.map(&mut take),
             shade_miss: shade_miss.map(&mut take),
-            shadow: take(shadow),
+            shadow: shadow.map(&mut take),
             queue_args: take(queue_args),
             accumulate: accumulate.map(&mut take),
             film_gather: take(film_gather),
+            first_bounce: first_bounce.map(&mut take),
         };
         // The photon mappers' kernels and buffers (their buffers are small until a
         // photon map needs more).
@@ -724,18 +794,16 @@ impl Renderer {
         };
         let push = bytemuck::bytes_of(&push);
         let k = &self.kernels;
-        let mut kernels = vec![
-            &k.generate,
-            &k.intersect,
-            &k.queue_args,
-            &k.shadow,
-            &k.film_gather,
-        ];
+        let mut kernels = vec![&k.queue_args, &k.film_gather];
+        kernels.extend(&k.generate);
+        kernels.extend(&k.intersect);
+        kernels.extend(&k.shadow);
         kernels.extend(&k.shade);
         kernels.extend(&k.accumulate);
         kernels.extend(&k.shade_last);
         kernels.extend(&k.shade_args);
         kernels.extend(&k.shade_miss);
+        kernels.extend(&k.first_bounce);
         let mut sets = vec![&self.scene_buffers.set, &wf.set, &self.film.set];
         if let Some(p) = &self.photon {
             kernels.extend(p.kernels());
@@ -971,7 +1039,13 @@ impl Renderer {
 
     /// Records the start of a batch of camera paths (`push`: its paths): the queues
     /// and the first bounce's dispatch set for `push.path_count` rays, and `generate`.
-    fn start_batch(&self, cmd: &mut CommandList, sets: &[&DescriptorSet], push: &Push) {
+    /// The batch's bounces run from 0.
+    fn start_batch(
+        &self,
+        cmd: &mut CommandList,
+        sets: &[&DescriptorSet],
+        push: &Push,
+    ) -> Result<()> {
         let wf = &self.wavefront;
         let path_count = push.path_count;
         wf.reset_queues(cmd, path_count);
@@ -984,11 +1058,32 @@ impl Renderer {
         cmd.update(&wf.dispatch_args, 0, bytemuck::bytes_of(&args));
         cmd.barrier();
         cmd.dispatch(
-            &self.kernels.generate,
+            self.kernels.generate()?,
             sets,
             bytemuck::bytes_of(push),
             groups_for(path_count),
         );
+        cmd.barrier();
+        Ok(())
+    }
+
+    /// Records the bounces of a batch of camera paths (`push`: its paths) where
+    /// `first_bounce` runs them all: it, and queue_args, which counts the rays it
+    /// queued past the bounce budget as cut paths.
+    fn run_batch_fused(
+        &self,
+        cmd: &mut CommandList,
+        sets: &[&DescriptorSet],
+        push: &Push,
+        fused: &Kernel,
+    ) {
+        let wf = &self.wavefront;
+        wf.reset_queues(cmd, 0);
+        cmd.barrier();
+        let p = bytemuck::bytes_of(push);
+        cmd.dispatch(fused, sets, p, groups_for(push.path_count));
+        cmd.barrier();
+        cmd.dispatch(&self.kernels.queue_args, sets, p, [1, 1, 1]);
         cmd.barrier();
     }
 
@@ -1080,27 +1175,30 @@ impl Renderer {
             sample_slot: slot,
             ..Default::default()
         };
-        self.start_batch(cmd, &sets, &push);
         let k = &self.kernels;
+        if let Some(fused) = &k.first_bounce {
+            self.run_batch_fused(cmd, &sets, &push, fused);
+            self.record_film(cmd, &sets, &push);
+            return self.finish_batch(cmd, stats, self.bounces);
+        }
+        self.start_batch(cmd, &sets, &push)?;
         let shade = k.shade.as_ref().ok_or_else(|| {
             Error::Options(format!(
                 "integrator '{}' renders photon passes, not batches of paths",
                 self.integrator.name()
             ))
         })?;
-        let stages = self.bounce_stages(shade);
+        let stages = self.bounce_stages(shade)?;
         // Bounces that only end paths run shade_last in shade's place.
-        let ending = k.shade_last.as_ref().map(|s| {
-            if k.last_meets_emitters {
-                vec![
-                    (s, Over::Rays),
-                    (&k.queue_args, Over::One),
-                    (&k.shadow, Over::Shadows),
-                ]
-            } else {
-                self.bounce_stages(s)
-            }
-        });
+        let ending = match &k.shade_last {
+            Some(s) if k.last_meets_emitters => Some(vec![
+                (s, Over::Rays),
+                (&k.queue_args, Over::One),
+                (k.shadow()?, Over::Shadows),
+            ]),
+            Some(s) => Some(self.bounce_stages(s)?),
+            None => None,
+        };
         let depth = self.run_bounces(
             cmd,
             &sets,
@@ -1122,16 +1220,16 @@ impl Renderer {
     /// The stages of a path batch's bounce with `shade` as its shading kernel:
     /// intersect, shade, queue_args, shadow; partitioned (see [`partitions`]), shade
     /// takes the hits after `shade_args` and `shade_miss` the misses.
-    fn bounce_stages<'a>(&'a self, shade: &'a Kernel) -> Vec<(&'a Kernel, Over)> {
+    fn bounce_stages<'a>(&'a self, shade: &'a Kernel) -> Result<Vec<(&'a Kernel, Over)>> {
         let k = &self.kernels;
         let partitioned = k.shade_args.is_some();
-        let mut s = vec![(&k.intersect, Over::Rays)];
+        let mut s = vec![(k.intersect()?, Over::Rays)];
         s.extend(k.shade_args.iter().map(|a| (a, Over::One)));
         s.push((shade, if partitioned { Over::Hits } else { Over::Rays }));
         s.extend(k.shade_miss.iter().map(|m| (m, Over::Misses)));
         s.push((&k.queue_args, Over::One));
-        s.push((&k.shadow, Over::Shadows));
-        s
+        s.push((k.shadow()?, Over::Shadows));
+        Ok(s)
     }
 
     /// Records `accumulate` and `film_gather` after the batch `push` describes: its

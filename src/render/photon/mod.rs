@@ -593,7 +593,7 @@ impl Renderer {
         cmd.dispatch(&k.queue_args, &sets, bytemuck::bytes_of(&push), [1, 1, 1]);
         cmd.barrier();
         let stages = [
-            (&k.intersect, Over::Rays),
+            (k.intersect()?, Over::Rays),
             (&ph.bounce, Over::Rays),
             (&k.queue_args, Over::One),
         ];

@@ -131,10 +131,10 @@ impl Renderer {
             sample_slot: slot,
             ..Default::default()
         };
-        self.start_batch(cmd, &sets, &push);
+        self.start_batch(cmd, &sets, &push)?;
         let k = &self.kernels;
         let stages = [
-            (&k.intersect, Over::Rays),
+            (k.intersect()?, Over::Rays),
             (camera, Over::Rays),
             (&k.queue_args, Over::One),
         ];

@@ -219,13 +219,13 @@ impl Renderer {
             capacity: wf.capacity,
             ..Default::default()
         };
-        self.start_batch(cmd, &sets, &push);
+        self.start_batch(cmd, &sets, &push)?;
         let k = &self.kernels;
         let stages = [
-            (&k.intersect, Over::Rays),
+            (k.intersect()?, Over::Rays),
             (shade, Over::Rays),
             (&k.queue_args, Over::One),
-            (&k.shadow, Over::Shadows),
+            (k.shadow()?, Over::Shadows),
         ];
         let depth = self.run_bounces(
             cmd,

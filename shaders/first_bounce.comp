@@ -1,0 +1,164 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// first_bounce: generate, intersect, shade and shadow of a batch's first bounce in one
+// kernel, for the integrators of path.glsl in scenes without media or null surfaces
+// on CPU devices (render::Renderer::new says when). Each thread makes its path's
+// camera ray, finds its hit, shades it and traces its shadow ray; where the second
+// bounce only ends paths (direct lighting: max_depth 2) it runs that too, and the
+// path is done. Otherwise the path's continuation ray goes to ray queue 1, for the
+// wavefront's bounces from 1 on.
+//
+// Why: llvmpipe turns each divergent load and store of the queues into a loop over
+// its SIMD lanes, so passing a bounce from kernel to kernel costs stores and loads of
+// the ray, the hit, the path and the shadow ray; here they stay in registers. At the
+// first bounce every lane has a path, so nothing is lost by not compacting. (Looping
+// over all bounces in one kernel costs more than it saves on llvmpipe: a loop keeps
+// every value it changes in memory under the lanes' masks, callgrind: 23600
+// instructions per SIMD group for one bounce in a loop, 15100 without; and a group
+// runs as many bounces as its longest path.)
+// The same functions and sample numbers as the wavefront's kernels in the same order:
+// the same image up to float contraction.
+// Writes: paths[p] for path p of the batch, ray queue 1, counters.rays_traced.
+
+#include "wavefront.glsl"
+#include "scene_bindings.glsl"
+#include "queue.glsl"
+// The sampler kind (SAMPLER_*): the other kinds compile away.
+layout(constant_id = 12) const uint SCENE_SAMPLER_KIND = 0u;
+#define SAMPLER_KIND SCENE_SAMPLER_KIND
+#include "film/film.glsl"
+#include "camera.glsl"
+
+// path.glsl leaves a vertex's results in this thread (its sink; the wavefront's is
+// path_queues.glsl): the path's state, and its shadow ray and next ray if the vertex
+// made them.
+#define PATH_SINK
+uint fb_depth;
+#define PATH_DEPTH fb_depth
+PathState fb_path;
+bool fb_shadowed;
+ShadowItem fb_shadow;
+bool fb_continued;
+RayItem fb_ray;
+
+void path_keep_radiance(uint i, PathState p) { fb_path.radiance = p.radiance; }
+void path_keep_bounce(uint i, PathState p) {
+    vec3 radiance = fb_path.radiance;
+    fb_path = p;
+    fb_path.radiance = radiance;
+}
+void path_keep_flags(uint i, PathState p) {
+    fb_path.bsdf_pdf = p.bsdf_pdf;
+    fb_path.flags = p.flags;
+    fb_path.eta_scale = p.eta_scale;
+    fb_path.medium = p.medium;
+}
+void path_push_shadow(uint medium, vec3 origin, uint path, vec3 dir, float tmax, vec3 contribution) {
+    fb_shadowed = true;
+    fb_shadow = ShadowItem(origin, path, dir, tmax, contribution, medium);
+}
+void path_push_ray(vec3 origin, uint path, vec3 dir, float tmax) {
+    fb_continued = true;
+    fb_ray = RayItem(origin, path, dir, tmax);
+}
+
+// The scene's features, with shade.comp's constant ids (the host gives both the same
+// constants; see there).
+layout(constant_id = 10) const uint SCENE_SURFACE_FEATURES = 0xffffffffu;
+#define SURFACE_FEATURES SCENE_SURFACE_FEATURES
+layout(constant_id = 2) const uint SCENE_TEXTURES = 0xffffffffu;
+#define TEXTURE_KINDS SCENE_TEXTURES
+layout(constant_id = 9) const uint SCENE_EMITTER_KINDS = 0xffffffffu;
+#define EMITTER_KINDS SCENE_EMITTER_KINDS
+#define EMITTER_STRATA (SCENE_SAMPLER_KIND != SAMPLER_INDEPENDENT)
+#include "emitter.glsl"
+layout(constant_id = 1) const uint SCENE_BSDF_KINDS = 0xffffffffu;
+#define BSDF_KINDS SCENE_BSDF_KINDS
+#include "bsdf.glsl"
+#include "bsdf_textured.glsl"
+layout(constant_id = 5) const uint SCENE_PRIM_KINDS = 0xffffffffu;
+#define BVH_PRIM_KINDS SCENE_PRIM_KINDS
+layout(constant_id = 11) const int SCENE_BVH_DEPTH = 32;
+#define BVH_STACK_DEPTH SCENE_BVH_DEPTH
+layout(constant_id = 18) const uint SCENE_FLAT_PRIMS = 0u;
+layout(constant_id = 19) const uint SCENE_FLAT_KINDS = 0u;
+#define BVH_FLAT_PRIMS SCENE_FLAT_PRIMS
+#define BVH_FLAT_KINDS SCENE_FLAT_KINDS
+#include "bvh.glsl"
+layout(constant_id = 8) const bool SCENE_MIS_POWER = false;
+#define MIS_POWER SCENE_MIS_POWER
+// The first bounce ends the paths (max_depth 1: only the emission camera rays find).
+layout(constant_id = 14) const bool SCENE_FIRST_ENDS = false;
+#define SHADE_LAST SCENE_FIRST_ENDS
+#include "path.glsl"
+// The second bounce, where it runs here, meets the emitters alone (path_emitted.glsl)
+// in scenes with few emitter primitives: how many, and their kinds (0: it traces).
+layout(constant_id = 16) const uint SCENE_EMITTER_PRIMS = 0u;
+#define EMITTER_PRIMS SCENE_EMITTER_PRIMS
+layout(constant_id = 17) const uint SCENE_EMITTER_PRIM_KINDS = 0xfu;
+#define EMITTER_PRIM_KINDS SCENE_EMITTER_PRIM_KINDS
+#include "path_emitted.glsl"
+
+layout(constant_id = 0) const uint INTEGRATOR = INTEGRATOR_PATH_MIS;
+layout(constant_id = 13) const bool SCENE_FILM_ALPHA = false;
+// The second bounce ends the paths (max_depth 2) and meets the emitters alone
+// (EMITTER_PRIMS > 0): it runs here too.
+layout(constant_id = 20) const bool SCENE_SECOND_ENDS = false;
+
+// The path's shadow ray from its vertex just shaded, if it made one: traced, and its
+// contribution added where nothing blocks it.
+void first_bounce_shadow(inout uint rays) {
+    if (!fb_shadowed) return;
+    rays += 1u;
+    if (!bvh_any(fb_shadow.origin, fb_shadow.dir, 0.0, fb_shadow.tmax)) {
+        fb_path.radiance += fb_shadow.contribution;
+    }
+}
+
+void main() {
+    uint p = thread_index();
+    if (p >= push.path_count) return;
+    // The camera ray and the path's state, as generate makes them.
+    uint pixels = film.region_width * film.region_height;
+    uvec2 qr = divide(push.pixel_base + p, pixels);
+    ivec2 pixel = film_region_pixel(qr.y);
+    uint sample_index = push.sample_base + qr.x;
+    uint key = film_pixel_key(pixel);
+    vec3 origin, dir;
+    float tmax;
+    camera_ray(vec2(pixel) + film_sample_position(key, sample_index), origin, dir, tmax);
+    uint flags = PATH_DELTA | (film.coverage != 0u ? PATH_COVERED : 0u);
+    fb_path = PathState(vec3(1.0), key, vec3(0.0), sample_index, 0.0, flags, 1.0, frame.camera_medium);
+    RayItem r = RayItem(origin, p, dir, tmax);
+
+
+    // Bounce 0: intersect, shade and shadow.
+    Hit hit = bvh_closest(r.origin, r.dir, 0.0, r.tmax);
+    HitItem h = HitItem(hit.t, hit.u, hit.v, hit.prim);
+    PathVertex v = path_vertex_surface();
+    if (SCENE_FILM_ALPHA) path_mark_covered(p, fb_path, h, v);
+    fb_depth = 0u;
+    fb_shadowed = false;
+    fb_continued = false;
+    path_shade(INTEGRATOR, r, h, fb_path, v);
+    uint rays = 1u;
+    first_bounce_shadow(rays);
+    if (SCENE_SECOND_ENDS) {
+        // Bounce 1, which ends the paths: the emitters its rays meet, through a shadow
+        // ray (shade_last with path_emitted.glsl). A ray counts as traced, as the
+        // wavefront counts it.
+        if (fb_continued) {
+            fb_depth = 1u;
+            fb_shadowed = false;
+            fb_continued = false;
+            path_shade_emitted(INTEGRATOR, fb_ray, fb_path);
+            rays += 1u;
+            first_bounce_shadow(rays);
+        }
+    } else if (fb_continued) {
+        // A ray past the bounce budget: queue_args counts its path as cut.
+        queue_push_ray(fb_ray.origin, p, fb_ray.dir, fb_ray.tmax);
+    }
+    path_store(p, fb_path);
+    atomicAdd(counters.rays_traced, rays);
+}
