@@ -11,7 +11,8 @@
 // Why: llvmpipe turns each divergent load and store of the queues into a loop over
 // its SIMD lanes, so passing a bounce from kernel to kernel costs stores and loads of
 // the ray, the hit, the path and the shadow ray; here they stay in registers. At the
-// first bounce every lane has a path, so nothing is lost by not compacting. (Looping
+// first bounce every lane has a path, so nothing is lost by not compacting (but for
+// camera rays that miss into an environment, which the wavefront shades apart). (Looping
 // over all bounces in one kernel costs more than it saves on llvmpipe: a loop keeps
 // every value it changes in memory under the lanes' masks, callgrind: 23600
 // instructions per SIMD group for one bounce in a loop, 15100 without; and a group
@@ -156,7 +157,8 @@ void main() {
             first_bounce_shadow(rays);
         }
     } else if (fb_continued) {
-        // A ray past the bounce budget: queue_args counts its path as cut.
+        // Bounce 1's ray, for the wavefront (or past a budget of one bounce, where
+        // queue_args counts its path as cut).
         queue_push_ray(fb_ray.origin, p, fb_ray.dir, fb_ray.tmax);
     }
     path_store(p, fb_path);

@@ -170,6 +170,8 @@ struct Kernels {
     /// (shaders/first_bounce.comp; see [`fuses_first_bounce`]): it, in place of
     /// generate and bounce 0 (and of bounce 1 where that ends the paths).
     first_bounce: Option<Kernel>,
+    /// The bounces `first_bounce` runs: 1, or 2 where bounce 1 ends the paths.
+    fused_bounces: u32,
 }
 
 impl Kernels {
@@ -236,15 +238,50 @@ enum Over {
     One,
 }
 
-/// Whether a batch's camera rays and first bounce run in one kernel, `first_bounce`
+/// Whether a batch's camera rays and first bounce may run in one kernel, `first_bounce`
 /// (and the second bounce too where it ends the paths), instead of generate and a
 /// dispatch of each stage: on CPU devices, for the integrators of path.glsl in scenes
 /// without media or null surfaces. llvmpipe turns each divergent access to the queues
 /// into a loop over its SIMD lanes, and at the first bounce every lane has a path to
 /// follow, so handing it from kernel to kernel costs and compaction saves nothing.
-/// A GPU keeps the wavefront.
+/// A GPU keeps the wavefront. (`Renderer::new` decides where it pays.)
 fn fuses_first_bounce(device: &Device, integrator: &Integrator, has_media: bool) -> bool {
     device.info().kind == DeviceKind::Cpu && integrator.shades_paths() && !has_media
+}
+
+/// The fewest paths a render must have for a path tracer's first bounce to run fused
+/// (see `Renderer::new`): with savings of 4-16% of some 0.5 us per path, what pays for
+/// the extra kernel's creation.
+const FUSED_MIN_PATHS: u64 = 1 << 21;
+
+/// The fraction of a 16 x 16 grid of camera rays through pixel centres that meet
+/// nothing (traced on the host: `Renderer::new` decides with it whether bounce 0 of a
+/// scene with an environment runs fused, where its misses cannot have their kernel).
+fn camera_miss_fraction(bvh: &Bvh, cam: &crate::scene::Camera) -> f32 {
+    const N: u32 = 16;
+    let tan_x = (cam.fov_x_deg.to_radians() * 0.5).tan();
+    let tan_y = tan_x * cam.height as f32 / cam.width as f32;
+    let mut misses = 0;
+    for j in 0..N {
+        for i in 0..N {
+            // As camera.glsl's camera_ray.
+            let ndc = glam::Vec2::new((i as f32 + 0.5) / N as f32, (j as f32 + 0.5) / N as f32);
+            let d = glam::Vec3::new(
+                (1.0 - 2.0 * ndc.x) * tan_x,
+                (1.0 - 2.0 * ndc.y) * tan_y,
+                1.0,
+            );
+            let near = cam.to_world.transform_point3(d * cam.near_clip);
+            let far = cam.to_world.transform_point3(d * cam.far_clip);
+            let span = far - near;
+            let len = span.length();
+            if !(len > 0.0 && len.is_finite()) || bvh.closest(near, span / len, 0.0, len).is_none()
+            {
+                misses += 1;
+            }
+        }
+    }
+    misses as f32 / (N * N) as f32
 }
 
 /// Whether `intersect` partitions a bounce's rays into hits and misses for `shade`
@@ -379,6 +416,8 @@ impl Renderer {
         );
         let [flat_count, flat_kinds] = flat.constants();
         let scene_bounds = photon::SceneBounds::of(&bvh);
+        // For the choice of a fused first bounce (below).
+        let camera_misses = camera_miss_fraction(&bvh, cam);
 
         let t = Instant::now();
         // The BVH and the large records are moved into the upload, which frees each
@@ -555,16 +594,23 @@ impl Renderer {
             specs.len() - 1
         };
         // On CPU devices the batch's first bounce runs in one kernel, first_bounce.comp,
-        // where that is the whole path: bounce 0 alone, or bounce 1 too where it ends
-        // the paths and meets the emitters alone (direct lighting in scenes with few
-        // emitter primitives). It then stands in for generate, intersect, shade and
-        // shadow, which are not made. (Where the wavefront would go on, shade would be
-        // made as well: on lavapipe a kernel with shade's code costs some 200 ms to
-        // create, more than it saves in renders of a few seconds.)
+        // in place of generate and bounce 0's intersect, shade and shadow (and bounce
+        // 1 where it ends the paths meeting the emitters alone: direct lighting in
+        // scenes with few emitter primitives, when the kernel is the whole path and
+        // the others are not made). Where the wavefront goes on after it (path
+        // tracers) it is made beside shade, which costs 60-110 ms of start-up on
+        // lavapipe, so only for renders of FUSED_MIN_PATHS paths or more; and not
+        // where over a third of the camera rays leave the scene into an environment,
+        // whose misses the wavefront shades apart (`partitions`). callgrind at
+        // 64^2 16 spp, fused against not: normal map -16%, textures (23% of camera
+        // rays miss) -7%, glass -6%, Cornell box -4%, envmap_glossy (44%) +9%.
         let second_ends = bounces == 2 && integrator.ends_paths_at(1) && emitted_only > 0;
+        let fused_bounces = 1 + second_ends as u32;
         let fused = fuses_first_bounce(device, &integrator, has_media != 0)
             && !options.wavefront
-            && (bounces == 1 || second_ends);
+            && (bounces <= fused_bounces
+                || (expected_paths >= FUSED_MIN_PATHS
+                    && (!partitioned || camera_misses <= 1.0 / 3.0)));
         let first_bounce = fused.then(|| {
             // Shade's constants, with 14 and 20 saying whether bounce 0 or bounce 1
             // ends the paths, and 16-17 the emitter primitives bounce 1 meets.
@@ -574,7 +620,7 @@ impl Renderer {
             spec.push(second_ends as u32);
             add("first_bounce", shaders::FIRST_BOUNCE, &spec)
         });
-        let wavefront_kernels = !fused;
+        let wavefront_kernels = !fused || bounces > fused_bounces;
         let shade = (wavefront_kernels && !integrator.is_photon_mapper())
             .then(|| add("shade", shaders::SHADE, &shade_spec(false, false)));
         let shade_last = (wavefront_kernels && (0..bounces).any(|d| integrator.ends_paths_at(d)))
@@ -617,8 +663,8 @@ impl Renderer {
                 ],
             )
         });
-        let generate = wavefront_kernels
-            .then(|| add("generate", shaders::GENERATE, &[sampler::kind_id(&sampler)]));
+        let generate =
+            (!fused).then(|| add("generate", shaders::GENERATE, &[sampler::kind_id(&sampler)]));
         let film_gather = add(
             "film_gather",
             shaders::FILM_GATHER,
@@ -656,6 +702,7 @@ impl Renderer {
             accumulate: accumulate.map(&mut take),
             film_gather: take(film_gather),
             first_bounce: first_bounce.map(&mut take),
+            fused_bounces,
         };
         // The photon mappers' kernels and buffers (their buffers are small until a
         // photon map needs more).
@@ -1067,9 +1114,10 @@ impl Renderer {
         Ok(())
     }
 
-    /// Records the bounces of a batch of camera paths (`push`: its paths) where
-    /// `first_bounce` runs them all: it, and queue_args, which counts the rays it
-    /// queued past the bounce budget as cut paths.
+    /// Records the start of a batch of camera paths (`push`: its paths) where
+    /// `first_bounce` runs its first bounce (or two): it, and queue_args, which folds
+    /// the rays it queued into bounce 1's queue (or counts them as cut paths where the
+    /// budget is one bounce).
     fn run_batch_fused(
         &self,
         cmd: &mut CommandList,
@@ -1087,8 +1135,8 @@ impl Renderer {
         cmd.barrier();
     }
 
-    /// Records bounces `0 .. bounces` of a batch whose first rays are in ray queue 0,
-    /// each a dispatch of every stage in order. Bounces are recorded in chunks, the
+    /// Records bounces `range` of a batch whose first rays are in ray queue
+    /// `range.start % 2`, each a dispatch of every stage in order. Bounces are recorded in chunks, the
     /// first of `chunks.0`, each next one twice as long up to `chunks.1`; between chunks
     /// the batch is submitted and stops early once no path is left in the ray queue, so
     /// long bounce budgets cost nothing where paths end sooner (an empty dispatch still
@@ -1103,12 +1151,13 @@ impl Renderer {
         push: &mut Push,
         stages: &[(&Kernel, Over)],
         ending: Option<&[(&Kernel, Over)]>,
-        bounces: u32,
+        range: std::ops::Range<u32>,
         chunks: (u32, u32),
         stats: &mut RenderStats,
     ) -> Result<u32> {
         let wf = &self.wavefront;
-        let mut depth = 0;
+        let bounces = range.end;
+        let mut depth = range.start;
         let mut chunk = chunks.0;
         while depth < bounces {
             let end = (depth + chunk).min(bounces);
@@ -1176,12 +1225,20 @@ impl Renderer {
             ..Default::default()
         };
         let k = &self.kernels;
-        if let Some(fused) = &k.first_bounce {
-            self.run_batch_fused(cmd, &sets, &push, fused);
+        let first = match &k.first_bounce {
+            Some(fused) => {
+                self.run_batch_fused(cmd, &sets, &push, fused);
+                k.fused_bounces
+            }
+            None => {
+                self.start_batch(cmd, &sets, &push)?;
+                0
+            }
+        };
+        if first >= self.bounces {
             self.record_film(cmd, &sets, &push);
             return self.finish_batch(cmd, stats, self.bounces);
         }
-        self.start_batch(cmd, &sets, &push)?;
         let shade = k.shade.as_ref().ok_or_else(|| {
             Error::Options(format!(
                 "integrator '{}' renders photon passes, not batches of paths",
@@ -1205,7 +1262,7 @@ impl Renderer {
             &mut push,
             &stages,
             ending.as_ref().map(|s| &s[..]),
-            self.bounces,
+            first..self.bounces,
             if self.bounces > BOUNCE_CHUNK {
                 LONG_BUDGET_CHUNKS
             } else {

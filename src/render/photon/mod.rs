@@ -603,7 +603,7 @@ impl Renderer {
             &mut push,
             &stages,
             None,
-            max_bounces,
+            0..max_bounces,
             SHORT_BOUNCE_CHUNKS,
             stats,
         )?;

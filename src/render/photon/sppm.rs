@@ -233,7 +233,7 @@ impl Renderer {
             &mut push,
             &stages,
             None,
-            self.bounces,
+            0..self.bounces,
             SHORT_BOUNCE_CHUNKS,
             stats,
         )?;
