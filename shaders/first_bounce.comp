@@ -29,6 +29,7 @@ layout(constant_id = 12) const uint SCENE_SAMPLER_KIND = 0u;
 #define SAMPLER_KIND SCENE_SAMPLER_KIND
 #include "film/film.glsl"
 #include "camera.glsl"
+#include "camera_path.glsl"
 
 // path.glsl leaves a vertex's results in this thread (its sink; the wavefront's is
 // path_queues.glsl): the path's state, and its shadow ray and next ray if the vertex
@@ -119,19 +120,9 @@ void first_bounce_shadow(inout uint rays) {
 void main() {
     uint p = thread_index();
     if (p >= push.path_count) return;
-    // The camera ray and the path's state, as generate makes them.
-    uint pixels = film.region_width * film.region_height;
-    uvec2 qr = divide(push.pixel_base + p, pixels);
-    ivec2 pixel = film_region_pixel(qr.y);
-    uint sample_index = push.sample_base + qr.x;
-    uint key = film_pixel_key(pixel);
-    vec3 origin, dir;
-    float tmax;
-    camera_ray(vec2(pixel) + film_sample_position(key, sample_index), origin, dir, tmax);
-    uint flags = PATH_DELTA | (film.coverage != 0u ? PATH_COVERED : 0u);
-    fb_path = PathState(vec3(1.0), key, vec3(0.0), sample_index, 0.0, flags, 1.0, frame.camera_medium);
-    RayItem r = RayItem(origin, p, dir, tmax);
-
+    // The path's state and camera ray, as generate makes them.
+    RayItem r;
+    camera_path_start(p, fb_path, r);
 
     // Bounce 0: intersect, shade and shadow.
     Hit hit = bvh_closest(r.origin, r.dir, 0.0, r.tmax);

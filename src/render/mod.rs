@@ -259,8 +259,7 @@ const FUSED_MIN_PATHS: u64 = 1 << 21;
 /// scene with an environment runs fused, where its misses cannot have their kernel).
 fn camera_miss_fraction(bvh: &Bvh, cam: &crate::scene::Camera) -> f32 {
     const N: u32 = 16;
-    let tan_x = (cam.fov_x_deg.to_radians() * 0.5).tan();
-    let tan_y = tan_x * cam.height as f32 / cam.width as f32;
+    let [tan_x, tan_y] = cam.tan_half_fov();
     let mut misses = 0;
     for j in 0..N {
         for i in 0..N {
@@ -416,8 +415,11 @@ impl Renderer {
         );
         let [flat_count, flat_kinds] = flat.constants();
         let scene_bounds = photon::SceneBounds::of(&bvh);
-        // For the choice of a fused first bounce (below).
-        let camera_misses = camera_miss_fraction(&bvh, cam);
+        // For the choice of a fused first bounce in a scene with an environment (below;
+        // traced here, before the upload takes the BVH).
+        let camera_misses = (device.info().kind == DeviceKind::Cpu
+            && records.env_emitter != crate::gpu::layout::NONE)
+            .then(|| camera_miss_fraction(&bvh, cam));
 
         let t = Instant::now();
         // The BVH and the large records are moved into the upload, which frees each
@@ -441,10 +443,9 @@ impl Renderer {
             plan.is_split(),
         )?;
         let scene_buffers = SceneBuffers::upload_planned(device, &layout, arrays, plan)?;
-        let tan_x = (cam.fov_x_deg.to_radians() * 0.5).tan();
         let mut frame = Frame {
             camera_to_world: cam.to_world.to_cols_array_2d(),
-            tan_half_fov: [tan_x, tan_x * cam.height as f32 / cam.width as f32],
+            tan_half_fov: cam.tan_half_fov(),
             near_clip: cam.near_clip,
             far_clip: cam.far_clip,
             width: cam.width,
@@ -610,13 +611,12 @@ impl Renderer {
             && !options.wavefront
             && (bounces <= fused_bounces
                 || (expected_paths >= FUSED_MIN_PATHS
-                    && (!partitioned || camera_misses <= 1.0 / 3.0)));
+                    && (!partitioned || camera_misses.is_some_and(|m| m <= 1.0 / 3.0))));
         let first_bounce = fused.then(|| {
             // Shade's constants, with 14 and 20 saying whether bounce 0 or bounce 1
             // ends the paths, and 16-17 the emitter primitives bounce 1 meets.
             let mut spec = shade_spec(second_ends, false).to_vec();
             spec[14] = integrator.ends_paths_at(0) as u32;
-            spec[15] = 0;
             spec.push(second_ends as u32);
             add("first_bounce", shaders::FIRST_BOUNCE, &spec)
         });
@@ -1118,7 +1118,7 @@ impl Renderer {
     /// `first_bounce` runs its first bounce (or two): it, and queue_args, which folds
     /// the rays it queued into bounce 1's queue (or counts them as cut paths where the
     /// budget is one bounce).
-    fn run_batch_fused(
+    fn start_batch_fused(
         &self,
         cmd: &mut CommandList,
         sets: &[&DescriptorSet],
@@ -1136,11 +1136,12 @@ impl Renderer {
     }
 
     /// Records bounces `range` of a batch whose first rays are in ray queue
-    /// `range.start % 2`, each a dispatch of every stage in order. Bounces are recorded in chunks, the
-    /// first of `chunks.0`, each next one twice as long up to `chunks.1`; between chunks
-    /// the batch is submitted and stops early once no path is left in the ray queue, so
-    /// long bounce budgets cost nothing where paths end sooner (an empty dispatch still
-    /// costs some 100 us on lavapipe; a check, a submission and a read-back).
+    /// `range.start % 2`, each a dispatch of every stage in order. Bounces are recorded
+    /// in chunks, the first of `chunks.0`, each next one twice as long up to `chunks.1`;
+    /// between chunks the batch is submitted and stops early once no path is left in the
+    /// ray queue, so long bounce budgets cost nothing where paths end sooner (an empty
+    /// dispatch still costs some 100 us on lavapipe; a check, a submission and a
+    /// read-back).
     /// Bounces that only end paths ([`Integrator::ends_paths_at`]) run `ending`'s
     /// stages where given. Returns the bounces recorded.
     #[allow(clippy::too_many_arguments)]
@@ -1227,7 +1228,7 @@ impl Renderer {
         let k = &self.kernels;
         let first = match &k.first_bounce {
             Some(fused) => {
-                self.run_batch_fused(cmd, &sets, &push, fused);
+                self.start_batch_fused(cmd, &sets, &push, fused);
                 k.fused_bounces
             }
             None => {
@@ -1383,7 +1384,7 @@ pub const MAX_BATCH_PATHS: u32 = 1 << 22;
 /// are the same bits whatever the batches (the film sums samples in order).
 fn default_capacity(device: &Device, paths: u64) -> u32 {
     let (least, most): (u64, u64) = match device.info().kind {
-        crate::gpu::DeviceKind::Cpu => (40 << 20, 160 << 20),
+        DeviceKind::Cpu => (40 << 20, 160 << 20),
         _ => (300 << 20, 300 << 20),
     };
     let per_path = BYTES_PER_PATH + BYTES_PER_SAMPLE_SLOT;
