@@ -382,7 +382,7 @@ struct Push {
     uint sample_slot; // the film's sample slot of path 0 of this batch
     uint film_row;    // film_gather: first crop row
     uint film_rows;   // film_gather: crop rows
-    uint pad0;
+    uint frame_index; // always 0: the index of `frame` in wavefront.glsl's block
     uint pad1;
     uint pad2;
 };

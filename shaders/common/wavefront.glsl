@@ -13,7 +13,18 @@ layout(local_size_x = WORKGROUP_SIZE) in;
 // (queue_ray_count and the like below): llvmpipe loads a uniform block once per SIMD
 // group, where it loads from the storage buffer of the counters lane by lane. One
 // block, because lavapipe 22.3 crashes running a set with a second uniform buffer.
-layout(std140, set = 1, binding = 0) uniform FrameBuffer { Frame frame; uvec4 queue_lengths[3]; };
+// The frame is read as frames[push.frame_index], an index that is always 0 but not a
+// constant (the `frame` macro below): lavapipe 22.3 "inlines uniforms", i.e. where an
+// `if` tests only values loaded from a uniform block at constant offsets, it copies
+// the shader, puts the values in, optimizes it again and looks its machine code up in
+// the disk cache, at every dispatch whose uniforms or descriptor sets were bound anew
+// (all of ours), and keeps doing so for a kernel whose code the values halve.
+// first_bounce (its depth a constant, so `depth + 1 >= frame.max_depth` and the like
+// test the frame alone) paid 11-16 ms a dispatch for it, whatever its size: a 16x16
+// Veach render took 16.7 ms in it, 0.4 ms with the frame indexed. An offset from a
+// push constant is still uniform, so llvmpipe still loads each value once per SIMD
+// group.
+layout(std140, set = 1, binding = 0) uniform FrameBuffer { Frame frames[1]; uvec4 queue_lengths[3]; };
 // Path states and queues are written through 16-byte words, one store per word, and
 // read through texel views of the same buffers (bindings 7-10, imageLoad): llvmpipe
 // turns each divergent storage-buffer access into a loop over the SIMD lanes, an image
@@ -61,6 +72,7 @@ uint queue_part_count(uint p) { return p == 0u ? queue_lengths[2].x : queue_leng
 uint queue_part_back(uint p) { return p == 0u ? queue_lengths[2].z : queue_lengths[2].w; }
 
 layout(push_constant) uniform PushBlock { Push push; };
+#define frame frames[push.frame_index]
 
 // Linear thread index over a 2D grid of workgroups (queues can exceed 65535 groups).
 uint thread_index() {

@@ -632,7 +632,9 @@ pub struct Push {
     /// `film_gather`: the first crop row it gathers, and how many.
     pub film_row: u32,
     pub film_rows: u32,
-    pub pad0: u32,
+    /// Always 0: the index of the frame's parameters in their uniform block
+    /// (shaders/common/wavefront.glsl says why it is not a constant).
+    pub frame_index: u32,
     pub pad1: u32,
     pub pad2: u32,
 }
@@ -1058,7 +1060,7 @@ mod tests {
                 sample_slot,
                 film_row,
                 film_rows,
-                pad0,
+                frame_index,
                 pad1,
                 pad2
             ),

@@ -178,10 +178,11 @@ impl Wavefront {
 mod tests {
     use super::*;
 
-    /// The queue lengths follow the frame in one uniform block (std140) and one
-    /// storage block (std430): both put them at `size_of::<Frame>()` only if the
-    /// frame's size is a multiple of a `uvec4`'s 16 bytes. And the GLSL declares as
-    /// many words as the host writes.
+    /// The queue lengths follow the frame in one uniform block (std140, the frame an
+    /// array of one) and one storage block (std430): both put them at
+    /// `size_of::<Frame>()` only if the frame's size is a multiple of a `uvec4`'s 16
+    /// bytes (std140's array stride). And the GLSL declares as many words as the host
+    /// writes.
     #[test]
     fn queue_lengths_follow_the_frame() {
         assert_eq!(size_of::<Frame>() % 16, 0);
@@ -189,7 +190,7 @@ mod tests {
         let src = std::fs::read_to_string(path).expect("read wavefront.glsl");
         let uvec4s = QUEUE_LENGTH_WORDS / 4;
         assert!(src.contains(&format!(
-            "{{ Frame frame; uvec4 queue_lengths[{uvec4s}]; }}"
+            "{{ Frame frames[1]; uvec4 queue_lengths[{uvec4s}]; }}"
         )));
         assert!(src.contains(&format!("uvec4 queue_lengths_out[{uvec4s}]; }}")));
     }
