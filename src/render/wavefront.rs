@@ -194,4 +194,34 @@ mod tests {
         )));
         assert!(src.contains(&format!("uvec4 queue_lengths_out[{uvec4s}]; }}")));
     }
+
+    /// The kernels read the frame at an index that is a push constant, never at
+    /// constant offsets: lavapipe 22.3 would otherwise re-inline the frame's values
+    /// into first_bounce at every dispatch (11-16 ms each; wavefront.glsl says more).
+    /// The index is always 0.
+    #[test]
+    fn the_frame_is_read_at_a_push_constant_index() {
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/common/wavefront.glsl");
+        let src = std::fs::read_to_string(path).expect("read wavefront.glsl");
+        assert!(src.contains("\n#define frame frames[push.frame_index]\n"));
+        assert_eq!(crate::gpu::layout::Push::default().frame_index, 0);
+        // No kernel declares a frame of its own in the uniform block.
+        let shaders = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders");
+        let mut stack = vec![std::path::PathBuf::from(shaders)];
+        while let Some(dir) = stack.pop() {
+            for entry in std::fs::read_dir(&dir).expect("read shaders") {
+                let p = entry.expect("entry").path();
+                if p.is_dir() {
+                    stack.push(p);
+                } else if p.extension().is_some_and(|e| e == "glsl" || e == "comp") {
+                    let text = std::fs::read_to_string(&p).expect("read shader");
+                    assert!(
+                        !text.contains("uniform FrameBuffer { Frame frame;"),
+                        "{} reads the frame at constant offsets",
+                        p.display()
+                    );
+                }
+            }
+        }
+    }
 }
