@@ -1,8 +1,9 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // first_bounce: generate, intersect, shade and shadow of a batch's first bounce in one
-// kernel, for the integrators of path.glsl in scenes without media or null surfaces
-// on CPU devices (render::Renderer::new says when). Each thread makes its path's
+// kernel, for the integrators of path.glsl (and, in scenes with media or null
+// surfaces, their medium stage: vol_path.glsl, transmittance.glsl) on CPU devices
+// (render::Renderer::new says when). Each thread makes its path's
 // camera ray, finds its hit, shades it and traces its shadow ray; where the second
 // bounce only ends paths (direct lighting: max_depth 2) it runs that too, and the
 // path is done. Otherwise the path's continuation ray goes to ray queue 1, for the
@@ -87,6 +88,18 @@ layout(constant_id = 19) const uint SCENE_FLAT_KINDS = 0u;
 #define BVH_FLAT_PRIMS SCENE_FLAT_PRIMS
 #define BVH_FLAT_KINDS SCENE_FLAT_KINDS
 #include "bvh.glsl"
+// Media or null surfaces (shade's and shadow's constant 4): the camera ray keeps its
+// second-nearest hit (intersect's SCENE_SECOND_HITS), the medium stage runs before
+// path_shade (as in shade.comp) and the shadow ray is attenuated by what it crosses
+// (as in shadow.comp). Without them this code compiles away. (Before path.glsl, which
+// shades medium vertices where medium.glsl came first.)
+layout(constant_id = 4) const bool SCENE_HAS_MEDIA = false;
+#define MEDIA_ENABLED SCENE_HAS_MEDIA
+layout(constant_id = 6) const uint SCENE_MEDIUM_FEATURES = 0xffffffffu;
+#define MEDIUM_FEATURES SCENE_MEDIUM_FEATURES
+layout(constant_id = 7) const bool SCENE_THIN_NULL = false;
+#define THIN_NULL SCENE_THIN_NULL
+#include "medium.glsl"
 layout(constant_id = 8) const bool SCENE_MIS_POWER = false;
 #define MIS_POWER SCENE_MIS_POWER
 // The first bounce ends the paths (max_depth 1: only the emission camera rays find).
@@ -100,6 +113,8 @@ layout(constant_id = 16) const uint SCENE_EMITTER_PRIMS = 0u;
 layout(constant_id = 17) const uint SCENE_EMITTER_PRIM_KINDS = 0xfu;
 #define EMITTER_PRIM_KINDS SCENE_EMITTER_PRIM_KINDS
 #include "path_emitted.glsl"
+#include "vol_path.glsl"
+#include "transmittance.glsl"
 
 layout(constant_id = 0) const uint INTEGRATOR = INTEGRATOR_PATH_MIS;
 layout(constant_id = 13) const bool SCENE_FILM_ALPHA = false;
@@ -112,7 +127,10 @@ layout(constant_id = 20) const bool SCENE_SECOND_ENDS = false;
 void first_bounce_shadow(inout uint rays) {
     if (!fb_shadowed) return;
     rays += 1u;
-    if (!bvh_any(fb_shadow.origin, fb_shadow.dir, 0.0, fb_shadow.tmax)) {
+    if (SCENE_HAS_MEDIA) {
+        vec3 T = transmittance_shadow(fb_shadow, fb_path.pixel, fb_path.sample_index);
+        if (any(greaterThan(T, vec3(0.0)))) fb_path.radiance += fb_shadow.contribution * T;
+    } else if (!bvh_any(fb_shadow.origin, fb_shadow.dir, 0.0, fb_shadow.tmax)) {
         fb_path.radiance += fb_shadow.contribution;
     }
 }
@@ -124,17 +142,29 @@ void main() {
     RayItem r;
     camera_path_start(p, fb_path, r);
 
-    // Bounce 0: intersect, shade and shadow.
-    Hit hit = bvh_closest(r.origin, r.dir, 0.0, r.tmax);
-    HitItem h = HitItem(hit.t, hit.u, hit.v, hit.prim);
-    PathVertex v = path_vertex_surface();
-    if (SCENE_FILM_ALPHA) path_mark_covered(p, fb_path, h, v);
+    // Bounce 0: intersect, the medium stage, shade and shadow.
     fb_depth = 0u;
     fb_shadowed = false;
     fb_continued = false;
-    path_shade(INTEGRATOR, r, h, fb_path, v);
+    Hit hit;
+    Hit second = Hit(r.tmax, 0.0, 0.0, HIT_NONE);
+    if (SCENE_HAS_MEDIA) {
+        hit = bvh_closest_two(r.origin, r.dir, 0.0, r.tmax, second);
+    } else {
+        hit = bvh_closest(r.origin, r.dir, 0.0, r.tmax);
+    }
+    HitItem h = HitItem(hit.t, hit.u, hit.v, hit.prim);
+    PathVertex v = path_vertex_surface();
     uint rays = 1u;
-    first_bounce_shadow(rays);
+    // The path's state as the medium stage leaves it (shade.comp's `path`); a path it
+    // ends (absorbed) keeps the state it had, as the wavefront stores nothing then.
+    PathState path = fb_path;
+    if (!SCENE_HAS_MEDIA
+        || vol_path_traverse(INTEGRATOR, r, h, HitItem(second.t, second.u, second.v, second.prim), path, v)) {
+        if (SCENE_FILM_ALPHA) path_mark_covered(p, path, h, v);
+        path_shade(INTEGRATOR, r, h, path, v);
+        first_bounce_shadow(rays);
+    }
     if (SCENE_SECOND_ENDS) {
         // Bounce 1, which ends the paths: the emitters its rays meet, through a shadow
         // ray (shade_last with path_emitted.glsl). A ray counts as traced, as the

@@ -52,9 +52,9 @@ void main() {
     if (i >= queue_shadow_count()) return;
     ShadowItem s = shadow_load(shadow_slot(i));
     if (SCENE_HAS_MEDIA) {
-        vec3 T = transmittance_shadow(s);
+        PathState p = path_load(s.path);
+        vec3 T = transmittance_shadow(s, p.pixel, p.sample_index);
         if (any(greaterThan(T, vec3(0.0)))) {
-            PathState p = path_load(s.path);
             p.radiance += s.contribution * T;
             path_store_radiance(s.path, p);
         }

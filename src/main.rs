@@ -68,8 +68,9 @@ struct RunArgs {
     #[arg(long, value_parser = clap::value_parser!(u32).range(1..))]
     photons_per_pass: Option<u32>,
     /// Run the wavefront's kernels (a dispatch per stage and bounce) even on a CPU
-    /// device, which otherwise follows each path of a scene without media in one
-    /// kernel, the megakernel. The same image either way up to float rounding.
+    /// device, which otherwise runs each path's first bounce in one kernel,
+    /// first_bounce (the whole path, for direct lighting). The same image either way
+    /// up to float rounding.
     #[arg(long)]
     wavefront: bool,
 }

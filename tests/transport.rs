@@ -357,7 +357,10 @@ fn last_bounce_against_the_emitters_alone_matches_the_full_traversal() {
 /// paths); the normal-mapped wall (path traced under an environment, over several
 /// batches), and the filter scene's RGBA film (a Gaussian filter; which camera paths
 /// cover their pixel). The glossy spheres under a lat-long map keep the wavefront:
-/// 44% of their camera rays miss.
+/// 44% of their camera rays miss. In scenes with media the kernel runs the medium
+/// stage and attenuates shadow rays too: the homogeneous cube (volpath, null boundary),
+/// the smoke grid (delta and ratio tracking), a thin dielectric crossed as a null
+/// surface in fog, and single scattering with equiangular sampling.
 #[test]
 fn first_bounce_in_one_kernel_matches_the_wavefront() {
     let device = device();
@@ -422,6 +425,38 @@ fn first_bounce_in_one_kernel_matches_the_wavefront() {
             Some("direct_mats"),
             None,
             false,
+            true,
+        ),
+        (
+            "scenes/media/cube.xml",
+            vec![("res", "32")],
+            None,
+            None,
+            true,
+            true,
+        ),
+        (
+            "scenes/media/smoke.xml",
+            vec![("res", "32")],
+            None,
+            None,
+            true,
+            true,
+        ),
+        (
+            "scenes/media/thin_textured.xml",
+            vec![("res", "32")],
+            None,
+            None,
+            true,
+            true,
+        ),
+        (
+            "scenes/media/fog_point.xml",
+            vec![("res", "32"), ("sampling", "equiangular")],
+            None,
+            None,
+            true,
             true,
         ),
     ];

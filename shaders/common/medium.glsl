@@ -28,6 +28,13 @@
 // Ratio tracking plays Russian roulette once the transmittance drops below this.
 #define MEDIUM_RR_THRESHOLD 0.1
 
+// Every function here (and in vol_path.glsl, transmittance.glsl) returns once, at its
+// end: the kernels of scenes with media are inlined before lavapipe sees them
+// (gpu::specialize::INLINE_PASSES), and spirv-opt's merge-return turns a function
+// with early returns into a loop around its body, whose bookkeeping llvmpipe pays
+// for inside the tracking and crossing loops (shade +12%, shadow +15% on the media
+// cube before these functions were written so).
+
 // Random numbers for the unbounded loops of tracking: one stream per path, bounce and
 // purpose (0: free flight, 1: shadow transmittance), indexed by a counter. Their
 // dimensions have the top bit set, so they never meet those of rng_dim_bounce; below
@@ -70,9 +77,9 @@ vec4 medium_rng_next(inout MediumRng r) {
 // against it; a shape that bounds no media keeps the current one.
 uint medium_after(uint shape, uint current, vec3 d, vec3 ng) {
     ShapeRecord s = shape_load(shape);
-    if ((s.flags & SHAPE_MEDIUM_TRANSITION) == 0u) return current;
     uint m = dot(d, ng) > 0.0 ? (s.media >> 16) : (s.media & 0xffffu);
-    return m == MEDIUM_NONE16 ? NONE : m;
+    uint after = m == MEDIUM_NONE16 ? NONE : m;
+    return (s.flags & SHAPE_MEDIUM_TRANSITION) == 0u ? current : after;
 }
 
 // Beer-Lambert transmittance e^{-σ t} per channel, with e^{-0·∞} = 1.
@@ -195,9 +202,10 @@ bool medium_walk_begin(MediumRecord m, vec3 o, vec3 d, float tmax, out MajorantW
     w.ol = (m.world_to_grid * vec4(o, 1.0)).xyz;
     w.dl = (m.world_to_grid * vec4(d, 0.0)).xyz;
     float t0 = 0.0, t1 = tmax;
+    bool inside = true;
     for (int a = 0; a < 3; a++) {
         if (abs(w.dl[a]) < 1e-30) {
-            if (w.ol[a] < 0.0 || w.ol[a] > 1.0) return false;
+            if (w.ol[a] < 0.0 || w.ol[a] > 1.0) inside = false;
         } else {
             float inv = 1.0 / w.dl[a];
             float ta = -w.ol[a] * inv, tb = (1.0 - w.ol[a]) * inv;
@@ -205,7 +213,7 @@ bool medium_walk_begin(MediumRecord m, vec3 o, vec3 d, float tmax, out MajorantW
             t1 = min(t1, max(ta, tb));
         }
     }
-    if (!(t0 < t1)) return false;
+    inside = inside && t0 < t1;
     w.t = t0;
     w.t_end = t1;
     vec3 M = vec3(m.maj_res);
@@ -226,7 +234,7 @@ bool medium_walk_begin(MediumRecord m, vec3 o, vec3 d, float tmax, out MajorantW
             w.t_delta[a] = -1.0 / (M[a] * w.dl[a]);
         }
     }
-    return true;
+    return inside;
 }
 
 // The majorant of the walk's current cell and the end of its segment.
@@ -238,14 +246,16 @@ float medium_walk_cell(MediumRecord m, MajorantWalk w, out float t_cell_end) {
 
 // Moves the walk to the next cell; false when the ray has left the grid or tmax.
 bool medium_walk_next(MediumRecord m, inout MajorantWalk w, float t_cell_end) {
-    if (t_cell_end >= w.t_end) return false;
-    w.t = t_cell_end;
-    int a = w.t_next.x <= w.t_next.y ? (w.t_next.x <= w.t_next.z ? 0 : 2)
-                                     : (w.t_next.y <= w.t_next.z ? 1 : 2);
-    w.cell[a] += w.step[a];
-    if (w.cell[a] < 0 || w.cell[a] >= int(m.maj_res[a])) return false;
-    w.t_next[a] += w.t_delta[a];
-    return true;
+    bool going = t_cell_end < w.t_end;
+    if (going) {
+        w.t = t_cell_end;
+        int a = w.t_next.x <= w.t_next.y ? (w.t_next.x <= w.t_next.z ? 0 : 2)
+                                         : (w.t_next.y <= w.t_next.z ? 1 : 2);
+        w.cell[a] += w.step[a];
+        going = w.cell[a] >= 0 && w.cell[a] < int(m.maj_res[a]);
+        if (going) w.t_next[a] += w.t_delta[a];
+    }
+    return going;
 }
 
 // What happens to a ray in a medium before it reaches tmax (a surface, or ∞).
@@ -275,59 +285,61 @@ MediumEvent medium_sample(uint mi, vec3 o, vec3 d, float tmax, inout MediumRng r
     ev.t = tmax;
     ev.weight = vec3(1.0);
     MediumRecord m = medium_load(mi);
+    MajorantWalk w;
     if (MEDIUM_IS_HOMOGENEOUS(m)) {
         vec3 st = m.sigma_t;
         if (all(equal(m.albedo, vec3(0.0)))) {
             ev.weight = medium_tr(st, tmax);
-            return ev;
-        }
-        vec4 u = medium_rng_next(rng);
-        uint c = min(uint(u.x * 3.0), 2u);
-        float sc = st[c];
-        float t = sc > 0.0 ? -log(1.0 - u.y) / sc : MEDIUM_INF;
-        if (t < tmax) {
-            vec3 tr = medium_tr(st, t);
-            float pdf = medium_avg(st * tr);
-            ev.scattered = true;
-            ev.t = t;
-            ev.weight = pdf > 0.0 ? st * m.albedo * tr / pdf : vec3(0.0);
         } else {
-            vec3 tr = medium_tr(st, tmax);
-            float p = medium_avg(tr);
-            ev.weight = p > 0.0 ? tr / p : vec3(0.0);
-        }
-        return ev;
-    }
-    MajorantWalk w;
-    if (!medium_walk_begin(m, o, d, tmax, w)) return ev;
-    uint steps = 0u;
-    while (true) {
-        float t_cell_end;
-        float mu = medium_walk_cell(m, w, t_cell_end);
-        if (mu > 0.0) {
-            while (true) {
-                if (++steps >= MEDIUM_MAX_STEPS) {
-                    ev.weight = vec3(0.0);
-                    return ev;
-                }
-                vec4 u = medium_rng_next(rng);
-                w.t -= log(1.0 - u.x) / mu;
-                if (w.t >= t_cell_end) break;
-                vec3 pl = w.ol + w.t * w.dl;
-                vec3 st = medium_grid_sigma_t(m, pl);
-                float avg_t = medium_avg(st);
-                if (u.y * mu < avg_t) {
-                    ev.scattered = true;
-                    ev.t = w.t;
-                    ev.weight *= st * medium_grid_albedo(m, pl) / avg_t;
-                    return ev;
-                }
-                vec3 sn = max(vec3(mu) - st, vec3(0.0));
-                float avg_n = medium_avg(sn);
-                if (avg_n > 0.0) ev.weight *= sn / avg_n;
+            vec4 u = medium_rng_next(rng);
+            uint c = min(uint(u.x * 3.0), 2u);
+            float sc = st[c];
+            float t = sc > 0.0 ? -log(1.0 - u.y) / sc : MEDIUM_INF;
+            if (t < tmax) {
+                vec3 tr = medium_tr(st, t);
+                float pdf = medium_avg(st * tr);
+                ev.scattered = true;
+                ev.t = t;
+                ev.weight = pdf > 0.0 ? st * m.albedo * tr / pdf : vec3(0.0);
+            } else {
+                vec3 tr = medium_tr(st, tmax);
+                float p = medium_avg(tr);
+                ev.weight = p > 0.0 ? tr / p : vec3(0.0);
             }
         }
-        if (!medium_walk_next(m, w, t_cell_end)) return ev;
+    } else if (medium_walk_begin(m, o, d, tmax, w)) {
+        uint steps = 0u;
+        bool going = true;
+        while (going) {
+            float t_cell_end;
+            float mu = medium_walk_cell(m, w, t_cell_end);
+            if (mu > 0.0) {
+                while (true) {
+                    if (++steps >= MEDIUM_MAX_STEPS) {
+                        ev.weight = vec3(0.0);
+                        going = false;
+                        break;
+                    }
+                    vec4 u = medium_rng_next(rng);
+                    w.t -= log(1.0 - u.x) / mu;
+                    if (w.t >= t_cell_end) break;
+                    vec3 pl = w.ol + w.t * w.dl;
+                    vec3 st = medium_grid_sigma_t(m, pl);
+                    float avg_t = medium_avg(st);
+                    if (u.y * mu < avg_t) {
+                        ev.scattered = true;
+                        ev.t = w.t;
+                        ev.weight *= st * medium_grid_albedo(m, pl) / avg_t;
+                        going = false;
+                        break;
+                    }
+                    vec3 sn = max(vec3(mu) - st, vec3(0.0));
+                    float avg_n = medium_avg(sn);
+                    if (avg_n > 0.0) ev.weight *= sn / avg_n;
+                }
+            }
+            going = going && medium_walk_next(m, w, t_cell_end);
+        }
     }
     return ev;
 }
@@ -339,30 +351,41 @@ MediumEvent medium_sample(uint mi, vec3 o, vec3 d, float tmax, inout MediumRng r
 // MEDIUM_RR_THRESHOLD (survival probability = its largest channel).
 vec3 medium_transmittance(uint mi, vec3 o, vec3 d, float tmax, inout MediumRng rng) {
     MediumRecord m = medium_load(mi);
-    if (MEDIUM_IS_HOMOGENEOUS(m)) return medium_tr(m.sigma_t, tmax);
     vec3 T = vec3(1.0);
     MajorantWalk w;
-    if (!medium_walk_begin(m, o, d, tmax, w)) return T;
-    uint steps = 0u;
-    while (true) {
-        float t_cell_end;
-        float mu = medium_walk_cell(m, w, t_cell_end);
-        if (mu > 0.0) {
-            while (true) {
-                if (++steps >= MEDIUM_MAX_STEPS) return vec3(0.0);
-                vec4 u = medium_rng_next(rng);
-                w.t -= log(1.0 - u.x) / mu;
-                if (w.t >= t_cell_end) break;
-                vec3 st = medium_grid_sigma_t(m, w.ol + w.t * w.dl);
-                T *= max(vec3(mu) - st, vec3(0.0)) / mu;
-                float q = max(T.x, max(T.y, T.z));
-                if (q < MEDIUM_RR_THRESHOLD) {
-                    if (u.y >= q) return vec3(0.0);
-                    T /= q;
+    if (MEDIUM_IS_HOMOGENEOUS(m)) {
+        T = medium_tr(m.sigma_t, tmax);
+    } else if (medium_walk_begin(m, o, d, tmax, w)) {
+        uint steps = 0u;
+        bool going = true;
+        while (going) {
+            float t_cell_end;
+            float mu = medium_walk_cell(m, w, t_cell_end);
+            if (mu > 0.0) {
+                while (true) {
+                    if (++steps >= MEDIUM_MAX_STEPS) {
+                        T = vec3(0.0);
+                        going = false;
+                        break;
+                    }
+                    vec4 u = medium_rng_next(rng);
+                    w.t -= log(1.0 - u.x) / mu;
+                    if (w.t >= t_cell_end) break;
+                    vec3 st = medium_grid_sigma_t(m, w.ol + w.t * w.dl);
+                    T *= max(vec3(mu) - st, vec3(0.0)) / mu;
+                    float q = max(T.x, max(T.y, T.z));
+                    if (q < MEDIUM_RR_THRESHOLD) {
+                        if (u.y >= q) {
+                            T = vec3(0.0);
+                            going = false;
+                            break;
+                        }
+                        T /= q;
+                    }
                 }
             }
+            going = going && medium_walk_next(m, w, t_cell_end);
         }
-        if (!medium_walk_next(m, w, t_cell_end)) return T;
     }
     return T;
 }

@@ -1,7 +1,7 @@
 // Where path.glsl's vertices leave their results in the wavefront kernels (shade,
 // sppm_shade): the words of the path state that changed go to paths[], shadow rays and
-// continuation rays to their queues. The megakernel (megakernel.comp) defines
-// PATH_SINK before including path.glsl and keeps them in registers instead.
+// continuation rays to their queues. first_bounce.comp defines PATH_SINK before
+// including path.glsl and keeps them in registers instead.
 // Needs wavefront.glsl and queue.glsl.
 #ifndef PATH_SINK
 #define PATH_SINK

@@ -44,10 +44,10 @@ float surface_phi_u(float x, float y) {
 vec3 surface_tangent(vec3 dpdu, vec3 n) {
     vec3 t = dpdu - n * dot(n, dpdu);
     float len = length(t);
-    if (len > 0.0) return t / len;
+    // One return (kernels inlined by gpu::specialize: see medium.glsl).
     vec3 s, b;
     frame_basis(n, s, b);
-    return s;
+    return len > 0.0 ? t / len : s;
 }
 
 // The geometry of quadric `prim` (layout.glsl) at the hit point `hit`; `xy`: a

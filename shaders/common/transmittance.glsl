@@ -15,13 +15,18 @@
 #ifndef THIN_NULL
 #define THIN_NULL false
 #endif
+// The bounce of the shadow rays (first_bounce.comp defines its own).
+#ifndef PATH_DEPTH
+#define PATH_DEPTH push.depth
+#endif
 
 // Surfaces one shadow ray may pass before it counts as blocked.
 #define TRANSMITTANCE_MAX_CROSSINGS 64u
 
-vec3 transmittance_shadow(ShadowItem s) {
-    PathState path = path_load(s.path);
-    MediumRng rng = medium_rng(path.pixel, path.sample_index, push.depth, 1u, frame.seed);
+// The transmittance of shadow ray s of the path at `pixel` and `sample_index` (whose
+// numbers draw its tracking's random numbers).
+vec3 transmittance_shadow(ShadowItem s, uint pixel, uint sample_index) {
+    MediumRng rng = medium_rng(pixel, sample_index, PATH_DEPTH, 1u, frame.seed);
     vec3 T = vec3(1.0);
     vec3 o = s.origin;
     uint medium = s.medium;
@@ -32,6 +37,9 @@ vec3 transmittance_shadow(ShadowItem s) {
     // meets nothing else: one traversal instead of two.
     Hit next;
     bool have_next = false;
+    // Whether the ray got out (else it was blocked, or passed too many surfaces). One
+    // return, at the end (medium.glsl says why).
+    bool through = false;
     for (uint crossing = 0u; crossing < TRANSMITTANCE_MAX_CROSSINGS; crossing++) {
         Hit h;
         if (have_next) {
@@ -47,18 +55,21 @@ vec3 transmittance_shadow(ShadowItem s) {
             shape = shape_load(hp.shape);
             thin = THIN_NULL && (shape.flags & SHAPE_THIN_DIELECTRIC) != 0u && shape.emitter == NONE;
             // An opaque surface blocks the ray whatever the media before it.
-            if ((shape.flags & SHAPE_NULL_BSDF) == 0u && !thin) return vec3(0.0);
+            if ((shape.flags & SHAPE_NULL_BSDF) == 0u && !thin) break;
         }
         if (medium != NONE) {
             T *= medium_transmittance(medium, o, s.dir, h.prim == NONE ? remaining : h.t, rng);
-            if (!any(greaterThan(T, vec3(0.0)))) return vec3(0.0);
+            if (!any(greaterThan(T, vec3(0.0)))) break;
         }
-        if (h.prim == NONE) return T;
+        if (h.prim == NONE) {
+            through = true;
+            break;
+        }
         Surface sf = surface_at(h.prim, h.u, h.v, o, s.dir, h.t);
         if (thin) {
             BsdfRecord b = bsdf_textured(bsdf_load(shape.bsdf), sf.uv);
             T *= b.transmittance * (1.0 - fresnel_thin_slab(dot(s.dir, sf.ns), b.eta));
-            if (!any(greaterThan(T, vec3(0.0)))) return vec3(0.0);
+            if (!any(greaterThan(T, vec3(0.0)))) break;
         }
         medium = medium_after(sf.shape, medium, s.dir, sf.ng);
         vec3 next_o = surface_spawn_origin(sf, dot(s.dir, sf.ng) > 0.0 ? sf.ng : -sf.ng);
@@ -68,7 +79,7 @@ vec3 transmittance_shadow(ShadowItem s) {
         // The second surface of the last traversal, unless it was just used.
         have_next = !have_next && bvh_second_goes_on(hp, advance, remaining, next);
     }
-    return vec3(0.0);
+    return through ? T : vec3(0.0);
 }
 
 #endif

@@ -13,8 +13,8 @@
 //                    kind of light, so it is the whole in-scattered estimate); at a
 //                    surface, direct_mis. Distances on camera rays by free flight, or
 //                    equiangular towards the light (vol_path_equiangular).
-// Needs wavefront.glsl, scene_bindings.glsl, bvh.glsl, emitter.glsl, path.glsl and
-// medium.glsl.
+// Needs wavefront.glsl, scene_bindings.glsl, bvh.glsl, emitter.glsl, path.glsl (its
+// PATH_DEPTH: the bounce) and medium.glsl.
 #ifndef VOL_PATH_GLSL
 #define VOL_PATH_GLSL
 
@@ -70,7 +70,7 @@ int vol_path_equiangular(uint integrator, RayItem r, inout PathState path, uint 
         throughput *= T_seg / (1.0 - p_med);
         return VOL_PATH_BEYOND;
     }
-    uint depth = push.depth;
+    uint depth = PATH_DEPTH;
     vec2 u_light = sample_2d(path.pixel, path.sample_index, rng_dim_bounce(depth, RNG_SLOT_EMITTER));
     EmitterSample es0 = emitter_sample(o, u_light);
     EmitterRecord e = emitter_load(es0.emitter == NONE ? 0u : es0.emitter);
@@ -113,9 +113,9 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, HitItem seco
     v = path_vertex_surface();
     bool vol = integrator_is_volumetric(integrator);
     uint medium = vol ? path.medium : NONE;
-    MediumRng rng = medium_rng(path.pixel, path.sample_index, push.depth, 0u, frame.seed);
+    MediumRng rng = medium_rng(path.pixel, path.sample_index, PATH_DEPTH, 0u, frame.seed);
     if (vol) {
-        medium_rng_first(rng, sample_2d(path.pixel, path.sample_index, rng_dim_bounce(push.depth, RNG_SLOT_MEDIUM)));
+        medium_rng_first(rng, sample_2d(path.pixel, path.sample_index, rng_dim_bounce(PATH_DEPTH, RNG_SLOT_MEDIUM)));
     }
     vec3 throughput = path.throughput;
     vec3 o = r.origin;
@@ -126,13 +126,17 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, HitItem seco
     // The surface after h (measured from o), known while have_next.
     Hit next = Hit(second.t, second.u, second.v, second.prim);
     bool have_next = true;
+    // The path goes on (else it was absorbed or stopped); equiangular: vol_path_equiangular
+    // left its medium vertex in path and v. One return, at the end (medium.glsl says why).
+    bool alive = true;
+    bool equiangular = false;
     for (uint crossing = 0u;; crossing++) {
         float seg = h.prim == NONE ? r.tmax - t_base : h.t;
-        if (medium != NONE && integrator == INTEGRATOR_SINGLE_EQUIANGULAR && push.depth == 0u) {
+        if (medium != NONE && integrator == INTEGRATOR_SINGLE_EQUIANGULAR && PATH_DEPTH == 0u) {
             int e = vol_path_equiangular(integrator, r, path, medium, o, seg, throughput, rng, v);
-            if (e == VOL_PATH_SCATTERED) return true;
-            if (e == VOL_PATH_DEAD) return false;
-            if (!any(greaterThan(throughput, vec3(0.0)))) return false;
+            equiangular = e == VOL_PATH_SCATTERED;
+            alive = e != VOL_PATH_DEAD && (equiangular || any(greaterThan(throughput, vec3(0.0))));
+            if (equiangular || !alive) break;
         } else if (medium != NONE) {
             MediumEvent ev = medium_sample(medium, o, r.dir, seg, rng);
             throughput *= ev.weight;
@@ -141,7 +145,8 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, HitItem seco
                 scatter_p = o + ev.t * r.dir;
                 break;
             }
-            if (!any(greaterThan(throughput, vec3(0.0)))) return false;
+            alive = any(greaterThan(throughput, vec3(0.0)));
+            if (!alive) break;
         }
         if (h.prim == NONE) break;
         Prim hp = prim_load(h.prim);
@@ -157,9 +162,11 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, HitItem seco
                 break;
             }
             throughput *= b.transmittance;
-            if (!any(greaterThan(throughput, vec3(0.0)))) return false;
+            alive = any(greaterThan(throughput, vec3(0.0)));
+            if (!alive) break;
         }
-        if (crossing >= VOL_PATH_MAX_CROSSINGS) return false;
+        alive = crossing < VOL_PATH_MAX_CROSSINGS;
+        if (!alive) break;
         if (vol) medium = medium_after(s.shape, medium, r.dir, s.ng);
         vec3 next_o = surface_spawn_origin(s, dot(r.dir, s.ng) > 0.0 ? s.ng : -s.ng);
         float advance = dot(next_o - o, r.dir);
@@ -176,14 +183,16 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, HitItem seco
         }
         h = HitItem(nh.t, nh.u, nh.v, nh.prim);
     }
-    path.throughput = throughput;
-    path.medium = medium;
-    if (scattered) {
-        v = PathVertex(medium, scatter_p, RNG_SLOT_EMITTER);
-    } else if (h.prim != NONE) {
-        h.t += t_base;
+    if (alive && !equiangular) {
+        path.throughput = throughput;
+        path.medium = medium;
+        if (scattered) {
+            v = PathVertex(medium, scatter_p, RNG_SLOT_EMITTER);
+        } else if (h.prim != NONE) {
+            h.t += t_base;
+        }
     }
-    return true;
+    return alive;
 }
 
 #endif

@@ -240,13 +240,14 @@ enum Over {
 
 /// Whether a batch's camera rays and first bounce may run in one kernel, `first_bounce`
 /// (and the second bounce too where it ends the paths), instead of generate and a
-/// dispatch of each stage: on CPU devices, for the integrators of path.glsl in scenes
-/// without media or null surfaces. llvmpipe turns each divergent access to the queues
-/// into a loop over its SIMD lanes, and at the first bounce every lane has a path to
-/// follow, so handing it from kernel to kernel costs and compaction saves nothing.
-/// A GPU keeps the wavefront. (`Renderer::new` decides where it pays.)
-fn fuses_first_bounce(device: &Device, integrator: &Integrator, has_media: bool) -> bool {
-    device.info().kind == DeviceKind::Cpu && integrator.shades_paths() && !has_media
+/// dispatch of each stage: on CPU devices, for the integrators of path.glsl (in scenes
+/// with media or null surfaces too, with their medium stage). llvmpipe turns each
+/// divergent access to the queues into a loop over its SIMD lanes, and at the first
+/// bounce every lane has a path to follow, so handing it from kernel to kernel costs
+/// and compaction saves nothing. A GPU keeps the wavefront. (`Renderer::new` decides
+/// where it pays.)
+fn fuses_first_bounce(device: &Device, integrator: &Integrator) -> bool {
+    device.info().kind == DeviceKind::Cpu && integrator.shades_paths()
 }
 
 /// The fewest paths a render must have for a path tracer's first bounce to run fused
@@ -587,11 +588,13 @@ impl Renderer {
         // Every kernel of the render, created in parallel (Kernel::new_all), the
         // largest first.
         let mut specs: Vec<KernelSpec> = Vec::new();
-        // Scenes without media are inlined before lavapipe sees them (render start-up:
-        // see gpu::specialize::INLINE_PASSES); the medium code's loops would run slower.
-        let inline = has_media == 0;
+        // Every kernel is inlined before lavapipe sees it (render start-up: see
+        // gpu::specialize::INLINE_PASSES). Scenes with media too, since their code
+        // returns once from every function (medium.glsl): the media cube's pipelines
+        // 500-640 -> 120-160 ms, its kernels' instructions +0.1% (callgrind, 256^2
+        // 32 spp, with the fused first bounce).
         let mut add = |name, spirv, spec: &[u32]| {
-            specs.push(KernelSpec::new(name, spirv, spec).inlined(inline));
+            specs.push(KernelSpec::new(name, spirv, spec).inlined(true));
             specs.len() - 1
         };
         // On CPU devices the batch's first bounce runs in one kernel, first_bounce.comp,
@@ -604,10 +607,11 @@ impl Renderer {
         // where over a third of the camera rays leave the scene into an environment,
         // whose misses the wavefront shades apart (`partitions`). callgrind at
         // 64^2 16 spp, fused against not: normal map -16%, textures (23% of camera
-        // rays miss) -7%, glass -6%, Cornell box -4%, envmap_glossy (44%) +9%.
+        // rays miss) -7%, glass -6%, Cornell box -4%, envmap_glossy (44%) +9%; the
+        // media cube at 256^2 32 spp -3.1%.
         let second_ends = bounces == 2 && integrator.ends_paths_at(1) && emitted_only > 0;
         let fused_bounces = 1 + second_ends as u32;
-        let fused = fuses_first_bounce(device, &integrator, has_media != 0)
+        let fused = fuses_first_bounce(device, &integrator)
             && !options.wavefront
             && (bounces <= fused_bounces
                 || (expected_paths >= FUSED_MIN_PATHS
