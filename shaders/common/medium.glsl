@@ -147,26 +147,28 @@ vec3 medium_grid_lookup(MediumRecord m, uint data, uint channels, vec3 pl) {
 // from its packed texels where the record has them (MEDIUM_DENSITY_PACKED;
 // src/render/media.rs pack_density): 2 fetches for one channel, 8 for three.
 vec3 medium_grid_density(MediumRecord m, vec3 pl) {
-    if (MEDIUM_HAS(MEDIUM_FEATURE_DENSITY_WORDS) && (m.flags & MEDIUM_DENSITY_PACKED) == 0u) {
-        return medium_grid_lookup(m, m.data, m.channels, pl);
-    }
-    GridCell c = medium_grid_cell(m.res, pl);
-    if (MEDIUM_HAS(MEDIUM_FEATURE_PACKED1) && m.channels == 1u) {
-        // Texel (x, y, z) holds the values at (x, y), (x+1, y), (x, y+1), (x+1, y+1)
-        // of slice z. Before the first voxel centre of an axis both corners are voxel
-        // 0, but its texel pairs it with voxel 1: weight that one 0 there.
-        vec3 w = mix(c.w, vec3(0.0), lessThan(c.f, vec3(0.0)));
-        vec4 a = grid_packed(m.data + uint((c.i0.z * c.res.y + c.i0.y) * c.res.x + c.i0.x));
-        vec4 b = grid_packed(m.data + uint((c.i1.z * c.res.y + c.i0.y) * c.res.x + c.i0.x));
-        vec2 ra = mix(a.xz, a.yw, w.x); // along x, rows y and y+1 of slice z
-        vec2 rb = mix(b.xz, b.yw, w.x); // of slice z+1
-        return vec3(mix(mix(ra.x, ra.y, w.y), mix(rb.x, rb.y, w.y), w.z));
-    }
     vec3 d = vec3(0.0);
-    for (uint k = 0u; MEDIUM_HAS(MEDIUM_FEATURE_PACKED3) && k < 8u; k++) {
-        float weight;
-        uint idx = medium_grid_corner(c, k, weight);
-        d += weight * grid_packed(m.data + idx).xyz;
+    if (MEDIUM_HAS(MEDIUM_FEATURE_DENSITY_WORDS) && (m.flags & MEDIUM_DENSITY_PACKED) == 0u) {
+        d = medium_grid_lookup(m, m.data, m.channels, pl);
+    } else {
+        GridCell c = medium_grid_cell(m.res, pl);
+        if (MEDIUM_HAS(MEDIUM_FEATURE_PACKED1) && m.channels == 1u) {
+            // Texel (x, y, z) holds the values at (x, y), (x+1, y), (x, y+1), (x+1, y+1)
+            // of slice z. Before the first voxel centre of an axis both corners are
+            // voxel 0, but its texel pairs it with voxel 1: weight that one 0 there.
+            vec3 w = mix(c.w, vec3(0.0), lessThan(c.f, vec3(0.0)));
+            vec4 a = grid_packed(m.data + uint((c.i0.z * c.res.y + c.i0.y) * c.res.x + c.i0.x));
+            vec4 b = grid_packed(m.data + uint((c.i1.z * c.res.y + c.i0.y) * c.res.x + c.i0.x));
+            vec2 ra = mix(a.xz, a.yw, w.x); // along x, rows y and y+1 of slice z
+            vec2 rb = mix(b.xz, b.yw, w.x); // of slice z+1
+            d = vec3(mix(mix(ra.x, ra.y, w.y), mix(rb.x, rb.y, w.y), w.z));
+        } else {
+            for (uint k = 0u; MEDIUM_HAS(MEDIUM_FEATURE_PACKED3) && k < 8u; k++) {
+                float weight;
+                uint idx = medium_grid_corner(c, k, weight);
+                d += weight * grid_packed(m.data + idx).xyz;
+            }
+        }
     }
     return d;
 }
@@ -178,9 +180,12 @@ vec3 medium_grid_sigma_t(MediumRecord m, vec3 pl) {
 
 // Single-scattering albedo at grid-local point pl of a grid medium.
 vec3 medium_grid_albedo(MediumRecord m, vec3 pl) {
-    if (!MEDIUM_HAS(MEDIUM_FEATURE_ALBEDO_GRID) || m.albedo_data == NONE) return m.albedo;
-    uint channels = (m.flags & MEDIUM_ALBEDO_RGB) != 0u ? 3u : 1u;
-    return medium_grid_lookup(m, m.albedo_data, channels, pl);
+    vec3 albedo = m.albedo;
+    if (MEDIUM_HAS(MEDIUM_FEATURE_ALBEDO_GRID) && m.albedo_data != NONE) {
+        uint channels = (m.flags & MEDIUM_ALBEDO_RGB) != 0u ? 3u : 1u;
+        albedo = medium_grid_lookup(m, m.albedo_data, channels, pl);
+    }
+    return albedo;
 }
 
 // A walk through the cells of a grid medium's majorant grid along a ray (Amanatides
