@@ -263,6 +263,41 @@ bool medium_walk_next(MediumRecord m, inout MajorantWalk w, float t_cell_end) {
     return going;
 }
 
+// Outcomes of medium_walk_collide.
+#define MEDIUM_COLLISION 0u // a tentative collision at w.t
+#define MEDIUM_LEFT 1u      // the walk left the grid or reached its end
+#define MEDIUM_STUCK 2u     // MEDIUM_MAX_STEPS tentative collisions taken
+
+// The walk's next tentative collision (delta and ratio tracking share it): within the
+// current cell at rate mu, its majorant, moving on cell by cell where the distance
+// drawn passes the cell's end. u: the numbers drawn for it (u.x took the distance).
+// `steps` counts the collisions of the whole walk.
+uint medium_walk_collide(MediumRecord m, inout MajorantWalk w, inout uint steps,
+                         inout MediumRng rng, out float mu, out vec4 u) {
+    uint outcome = MEDIUM_LEFT;
+    u = vec4(0.0);
+    while (true) {
+        float t_cell_end;
+        mu = medium_walk_cell(m, w, t_cell_end);
+        bool collided = false;
+        if (mu > 0.0) {
+            if (++steps >= MEDIUM_MAX_STEPS) {
+                outcome = MEDIUM_STUCK;
+                break;
+            }
+            u = medium_rng_next(rng);
+            w.t -= log(1.0 - u.x) / mu;
+            collided = w.t < t_cell_end;
+        }
+        if (collided) {
+            outcome = MEDIUM_COLLISION;
+            break;
+        }
+        if (!medium_walk_next(m, w, t_cell_end)) break;
+    }
+    return outcome;
+}
+
 // What happens to a ray in a medium before it reaches tmax (a surface, or ∞).
 struct MediumEvent {
     bool scattered; // a real scattering event at t (else the ray reaches tmax)
@@ -314,36 +349,24 @@ MediumEvent medium_sample(uint mi, vec3 o, vec3 d, float tmax, inout MediumRng r
         }
     } else if (medium_walk_begin(m, o, d, tmax, w)) {
         uint steps = 0u;
-        bool going = true;
-        while (going) {
-            float t_cell_end;
-            float mu = medium_walk_cell(m, w, t_cell_end);
-            if (mu > 0.0) {
-                while (true) {
-                    if (++steps >= MEDIUM_MAX_STEPS) {
-                        ev.weight = vec3(0.0);
-                        going = false;
-                        break;
-                    }
-                    vec4 u = medium_rng_next(rng);
-                    w.t -= log(1.0 - u.x) / mu;
-                    if (w.t >= t_cell_end) break;
-                    vec3 pl = w.ol + w.t * w.dl;
-                    vec3 st = medium_grid_sigma_t(m, pl);
-                    float avg_t = medium_avg(st);
-                    if (u.y * mu < avg_t) {
-                        ev.scattered = true;
-                        ev.t = w.t;
-                        ev.weight *= st * medium_grid_albedo(m, pl) / avg_t;
-                        going = false;
-                        break;
-                    }
-                    vec3 sn = max(vec3(mu) - st, vec3(0.0));
-                    float avg_n = medium_avg(sn);
-                    if (avg_n > 0.0) ev.weight *= sn / avg_n;
-                }
+        while (true) {
+            float mu;
+            vec4 u;
+            uint outcome = medium_walk_collide(m, w, steps, rng, mu, u);
+            if (outcome == MEDIUM_STUCK) ev.weight = vec3(0.0);
+            if (outcome != MEDIUM_COLLISION) break;
+            vec3 pl = w.ol + w.t * w.dl;
+            vec3 st = medium_grid_sigma_t(m, pl);
+            float avg_t = medium_avg(st);
+            if (u.y * mu < avg_t) {
+                ev.scattered = true;
+                ev.t = w.t;
+                ev.weight *= st * medium_grid_albedo(m, pl) / avg_t;
+                break;
             }
-            going = going && medium_walk_next(m, w, t_cell_end);
+            vec3 sn = max(vec3(mu) - st, vec3(0.0));
+            float avg_n = medium_avg(sn);
+            if (avg_n > 0.0) ev.weight *= sn / avg_n;
         }
     }
     return ev;
@@ -362,34 +385,22 @@ vec3 medium_transmittance(uint mi, vec3 o, vec3 d, float tmax, inout MediumRng r
         T = medium_tr(m.sigma_t, tmax);
     } else if (medium_walk_begin(m, o, d, tmax, w)) {
         uint steps = 0u;
-        bool going = true;
-        while (going) {
-            float t_cell_end;
-            float mu = medium_walk_cell(m, w, t_cell_end);
-            if (mu > 0.0) {
-                while (true) {
-                    if (++steps >= MEDIUM_MAX_STEPS) {
-                        T = vec3(0.0);
-                        going = false;
-                        break;
-                    }
-                    vec4 u = medium_rng_next(rng);
-                    w.t -= log(1.0 - u.x) / mu;
-                    if (w.t >= t_cell_end) break;
-                    vec3 st = medium_grid_sigma_t(m, w.ol + w.t * w.dl);
-                    T *= max(vec3(mu) - st, vec3(0.0)) / mu;
-                    float q = max(T.x, max(T.y, T.z));
-                    if (q < MEDIUM_RR_THRESHOLD) {
-                        if (u.y >= q) {
-                            T = vec3(0.0);
-                            going = false;
-                            break;
-                        }
-                        T /= q;
-                    }
+        while (true) {
+            float mu;
+            vec4 u;
+            uint outcome = medium_walk_collide(m, w, steps, rng, mu, u);
+            if (outcome == MEDIUM_STUCK) T = vec3(0.0);
+            if (outcome != MEDIUM_COLLISION) break;
+            vec3 st = medium_grid_sigma_t(m, w.ol + w.t * w.dl);
+            T *= max(vec3(mu) - st, vec3(0.0)) / mu;
+            float q = max(T.x, max(T.y, T.z));
+            if (q < MEDIUM_RR_THRESHOLD) {
+                if (u.y >= q) {
+                    T = vec3(0.0);
+                    break;
                 }
+                T /= q;
             }
-            going = going && medium_walk_next(m, w, t_cell_end);
         }
     }
     return T;
