@@ -439,6 +439,44 @@ fn gpu_rays_through_shared_edges_and_vertices_never_leak() {
     check(&bvh, &rays);
 }
 
+/// A soup of large random triangles crossing each other: a ray meets many, in leaves
+/// whose boxes overlap, so the traversal finds nearer hits after farther ones and the
+/// two-hit query must reorder what it keeps.
+#[test]
+fn gpu_nearest_two_hits_in_a_triangle_soup_equal_brute_force() {
+    let mut rng = SplitMix64(5);
+    let mut soup = Mesh {
+        name: "soup".into(),
+        ..Default::default()
+    };
+    for k in 0..300u32 {
+        let c = in_box(&mut rng, Vec3::splat(-1.0), Vec3::splat(1.0));
+        for _ in 0..3 {
+            soup.positions
+                .push(c + 0.6 * in_box(&mut rng, Vec3::splat(-1.0), Vec3::splat(1.0)));
+            soup.uvs.push(Vec2::ZERO);
+        }
+        soup.indices.push([3 * k, 3 * k + 1, 3 * k + 2]);
+    }
+    let bvh = Bvh::build(prims_from_shapes(&[soup], &[]));
+    let rays: Vec<QueryRay> = (0..20_000)
+        .map(|_| {
+            let o = in_box(&mut rng, Vec3::splat(-2.0), Vec3::splat(2.0));
+            let target = in_box(&mut rng, Vec3::splat(-0.5), Vec3::splat(0.5));
+            QueryRay {
+                origin: o.into(),
+                tmin: 0.0,
+                dir: (target - o).normalize().into(),
+                tmax: f32::INFINITY,
+            }
+        })
+        .collect();
+    check(&bvh, &rays);
+    let second = gpu_queries(&bvh, &rays).second;
+    let found = second.iter().filter(|h| h.prim != u32::MAX).count();
+    assert!(found > 15_000, "only {found} rays met two triangles");
+}
+
 #[test]
 fn gpu_traversal_of_an_empty_scene_misses() {
     let bvh = Bvh::build(Vec::new());
