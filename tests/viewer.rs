@@ -12,6 +12,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use common::repo;
@@ -27,8 +28,26 @@ struct Xvfb {
     display: String,
 }
 
+/// Held while an Xvfb of this process starts or stops. A server killed outright
+/// leaves its lock file (/tmp/.XN-lock) and socket behind, and two servers starting at
+/// once could both find the lock stale, both remove it (the second removing the first's
+/// new one) and both take display N. Servers here start one at a time and stop cleanly
+/// (SIGTERM: Xvfb removes its lock file and socket).
+static XVFB_START_STOP: Mutex<()> = Mutex::new(());
+
 impl Drop for Xvfb {
     fn drop(&mut self) {
+        let _guard = XVFB_START_STOP.lock().unwrap_or_else(|e| e.into_inner());
+        let _ = Command::new("sh")
+            .args(["-c", &format!("kill -TERM {}", self.child.id())])
+            .status();
+        let deadline = Instant::now() + Duration::from_secs(5);
+        while Instant::now() < deadline {
+            if let Ok(Some(_)) = self.child.try_wait() {
+                return;
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        }
         let _ = self.child.kill();
         let _ = self.child.wait();
     }
@@ -79,6 +98,7 @@ fn start_xvfb() -> Result<Xvfb, String> {
     // and writes that number to the given descriptor once it accepts connections.
     // (Choosing numbers here raced: two tests could start an Xvfb on one number, and
     // the loser then used the winner's server, which went away with the other test.)
+    let guard = XVFB_START_STOP.lock().unwrap_or_else(|e| e.into_inner());
     let mut child = Command::new("Xvfb")
         .args([
             "-displayfd",
@@ -88,6 +108,10 @@ fn start_xvfb() -> Result<Xvfb, String> {
             "640x480x24",
             "-nolisten",
             "tcp",
+            // Without it the server resets when its last client leaves (the xdotool
+            // check below), and a viewer connecting during the reset failed to open
+            // the display.
+            "-noreset",
         ])
         .stdout(Stdio::piped())
         .stderr(Stdio::null())
@@ -119,6 +143,8 @@ fn start_xvfb() -> Result<Xvfb, String> {
         .stderr(Stdio::null())
         .status()
         .is_ok_and(|s| s.success());
+    // Before `x` may drop (its Drop takes the lock).
+    drop(guard);
     if connects {
         Ok(x)
     } else {
