@@ -4,7 +4,7 @@
     python3 tools/bench_compare.py SCENE.xml --ref REF.exr [--spp 1,4,16,64,256]
         [--variant scalar_rgb|llvm_ad_rgb] [--integrator NAME] [--max-depth N]
         [-D name=value] [--seed S] [--sampler NAME [--mitsuba-sampler NAME]]
-        [--wavetrace BIN] [--device SEL] [--json OUT.json]
+        [--wavetrace BIN] [--device SEL] [--repeat K] [--json OUT.json]
 
 Both renderers render samples 0..N for every N of --spp and are compared with the
 same reference by the same metrics as `wavetrace bench` (RMSE; relMSE, the mean over
@@ -24,6 +24,13 @@ array (which forces evaluation of the lazy LLVM variants). With `--variant
 llvm_ad_rgb`, each sample count is rendered twice and the second (warm) run is timed,
 since Dr.Jit may compile a kernel per wavefront size; scene loading and the warm-up
 times are reported apart.
+
+--repeat K times each renderer K times, alternating (wavetrace at every sample count,
+then Mitsuba at every sample count, K times over; Mitsuba's scene loaded and warmed up
+once), and takes the median time of each sample count; the fastest is kept too (JSON
+`seconds_min`, `seconds_runs`). Errors are those of the first run (the same seed renders
+the same image). On a shared machine whose timings swing 20-40 % from run to run, this
+is what tells a 5 % step.
 
 The sampler: the scene's own, unless --sampler names one: wavetrace gets `--sampler NAME`
 and Mitsuba the same type in the scene's <sampler> (--mitsuba-sampler for another; the
@@ -187,61 +194,93 @@ def metrics(image, reference):
     return math.sqrt(mse), mse, rel
 
 
-def run_mitsuba(args, spp, defines):
-    import numpy as np
+class MitsubaRun:
+    """Mitsuba with the scene loaded and warmed up once; `rows(spp)` times one render
+    of each sample count."""
 
-    if args.variant.startswith("llvm") and "DRJIT_LIBLLVM_PATH" not in os.environ:
-        for cand in ("/usr/lib/x86_64-linux-gnu/libLLVM-19.so", "/usr/lib/llvm-19/lib/libLLVM-19.so"):
-            if os.path.isfile(cand):
-                os.environ["DRJIT_LIBLLVM_PATH"] = cand
-                break
-    import mitsuba as mi
+    def __init__(self, args, defines):
+        import numpy as np
 
-    mi.set_variant(args.variant)
-    xml, described = prepare_mitsuba_xml(args, defines)
-    mi.file_resolver().prepend(os.path.dirname(os.path.abspath(args.scene)))
-    reference = np.array(mi.Bitmap(args.ref).convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32, False),
-                         dtype=np.float64)
+        if args.variant.startswith("llvm") and "DRJIT_LIBLLVM_PATH" not in os.environ:
+            for cand in ("/usr/lib/x86_64-linux-gnu/libLLVM-19.so", "/usr/lib/llvm-19/lib/libLLVM-19.so"):
+                if os.path.isfile(cand):
+                    os.environ["DRJIT_LIBLLVM_PATH"] = cand
+                    break
+        import mitsuba as mi
 
-    t = time.perf_counter()
-    try:
-        scene = mi.load_string(xml, **defines)
-    except Exception as e:
-        die("%s: %s" % (args.scene, e))
-    load_seconds = time.perf_counter() - t
-    size = tuple(scene.sensors()[0].film().size())
-    if (size[1], size[0]) != reference.shape[:2]:
-        die("reference %s is %dx%d but Mitsuba renders %s at %dx%d"
-            % (args.ref, reference.shape[1], reference.shape[0], args.scene, size[0], size[1]))
+        self.np, self.mi, self.args = np, mi, args
+        mi.set_variant(args.variant)
+        xml, described = prepare_mitsuba_xml(args, defines)
+        mi.file_resolver().prepend(os.path.dirname(os.path.abspath(args.scene)))
+        self.reference = np.array(mi.Bitmap(args.ref).convert(mi.Bitmap.PixelFormat.RGB,
+                                                              mi.Struct.Type.Float32, False),
+                                  dtype=np.float64)
 
-    t = time.perf_counter()
-    np.array(mi.render(scene, spp=1, seed=args.seed + 1_000_000))
-    warmup_seconds = time.perf_counter() - t
-
-    warm_each = args.variant.startswith("llvm")
-    rows = []
-    for n in spp:
-        if warm_each:
-            np.array(mi.render(scene, spp=n, seed=args.seed + 2_000_000))
         t = time.perf_counter()
-        image = np.array(mi.render(scene, spp=n, seed=args.seed))
-        seconds = time.perf_counter() - t
-        rmse, mse, rel = metrics(image[..., :3], reference[..., :3])
-        rendered = scene.sensors()[0].sampler().sample_count()
-        rows.append({"spp": rendered, "requested_spp": n, "seconds": seconds, "rmse": rmse,
-                     "mse": mse, "rel_mse": rel})
-        print("mitsuba %5d spp: %.3f s, relMSE %.4e" % (n, seconds, rel), file=sys.stderr)
-    return {
-        "version": mi.__version__,
-        "variant": args.variant,
-        "integrator": described,
-        "sampler": next(iter(ET.fromstring(xml).iter("sensor"))).find("sampler").get("type"),
-        "libllvm": os.environ.get("DRJIT_LIBLLVM_PATH") if args.variant.startswith("llvm") else None,
-        "load_seconds": load_seconds,
-        "warmup_seconds": warmup_seconds,
-        "warm_run_per_spp": warm_each,
-        "rows": rows,
-    }
+        try:
+            self.scene = mi.load_string(xml, **defines)
+        except Exception as e:
+            die("%s: %s" % (args.scene, e))
+        load_seconds = time.perf_counter() - t
+        size = tuple(self.scene.sensors()[0].film().size())
+        if (size[1], size[0]) != self.reference.shape[:2]:
+            die("reference %s is %dx%d but Mitsuba renders %s at %dx%d"
+                % (args.ref, self.reference.shape[1], self.reference.shape[0], args.scene, size[0],
+                   size[1]))
+
+        t = time.perf_counter()
+        np.array(mi.render(self.scene, spp=1, seed=args.seed + 1_000_000))
+        warmup_seconds = time.perf_counter() - t
+
+        self.warm_each = args.variant.startswith("llvm")
+        self.info = {
+            "version": mi.__version__,
+            "variant": args.variant,
+            "integrator": described,
+            "sampler": next(iter(ET.fromstring(xml).iter("sensor"))).find("sampler").get("type"),
+            "libllvm": os.environ.get("DRJIT_LIBLLVM_PATH") if args.variant.startswith("llvm") else None,
+            "load_seconds": load_seconds,
+            "warmup_seconds": warmup_seconds,
+            "warm_run_per_spp": self.warm_each,
+        }
+
+    def rows(self, spp):
+        np, mi, args, scene = self.np, self.mi, self.args, self.scene
+        rows = []
+        for n in spp:
+            if self.warm_each:
+                np.array(mi.render(scene, spp=n, seed=args.seed + 2_000_000))
+            t = time.perf_counter()
+            image = np.array(mi.render(scene, spp=n, seed=args.seed))
+            seconds = time.perf_counter() - t
+            rmse, mse, rel = metrics(image[..., :3], self.reference[..., :3])
+            rendered = scene.sensors()[0].sampler().sample_count()
+            rows.append({"spp": rendered, "requested_spp": n, "seconds": seconds, "rmse": rmse,
+                         "mse": mse, "rel_mse": rel})
+            print("mitsuba %5d spp: %.3f s, relMSE %.4e" % (n, seconds, rel), file=sys.stderr)
+        return rows
+
+
+def run_mitsuba(args, spp, defines):
+    """Mitsuba's curve: the scene loaded and warmed up, each sample count timed once."""
+    m = MitsubaRun(args, defines)
+    return dict(m.info, rows=m.rows(spp))
+
+
+def median(xs):
+    xs = sorted(xs)
+    k = len(xs) // 2
+    return xs[k] if len(xs) % 2 else 0.5 * (xs[k - 1] + xs[k])
+
+
+def merge_runs(runs):
+    """The rows of the first of several runs of one renderer, each row's `seconds` the
+    median over the runs (`seconds_runs` all of them, `seconds_min` the fastest)."""
+    rows = []
+    for i, row in enumerate(runs[0]):
+        times = [run[i]["seconds"] for run in runs]
+        rows.append(dict(row, seconds=median(times), seconds_min=min(times), seconds_runs=times))
+    return rows
 
 
 def time_for_error(rows, target):
@@ -288,9 +327,11 @@ def compare(ours, theirs):
             "requested_spp": w.get("requested_spp", w["spp"]),
             "mitsuba_spp": m["spp"],
             "wavetrace_seconds": w["seconds"],
+            "wavetrace_seconds_min": w.get("seconds_min", w["seconds"]),
             "wavetrace_rel_mse": w["rel_mse"],
             "wavetrace_mse": w_mse,
             "mitsuba_seconds": m["seconds"],
+            "mitsuba_seconds_min": m.get("seconds_min", m["seconds"]),
             "mitsuba_rel_mse": m["rel_mse"],
             "mitsuba_mse": m["mse"],
             "mse_ratio": w_mse / m["mse"] if m["mse"] > 0 else float("nan"),
@@ -311,6 +352,11 @@ def print_table(ours, theirs, rows):
     print("Mitsuba scene load %.2f s, warm-up %.2f s%s" % (
         theirs["load_seconds"], theirs["warmup_seconds"],
         " (each spp rendered twice, the warm run timed)" if theirs["warm_run_per_spp"] else ""))
+    repeat = len(ours["rows"][0].get("seconds_runs", [0])) if ours["rows"] else 1
+    if repeat > 1:
+        print("times: the median of %d runs of each renderer, alternated; fastest: %s" % (
+            repeat, ", ".join("%d spp wt %.4f s mi %.4f s" % (r["spp"], r["wavetrace_seconds_min"],
+                                                            r["mitsuba_seconds_min"]) for r in rows)))
     print("%6s %10s %11s %11s %10s %11s %11s %9s %10s %10s" % (
         "spp", "wt s", "wt MSE", "wt relMSE", "mi s", "mi MSE", "mi relMSE", "MSE ratio",
         "eff ratio", "t ratio"))
@@ -342,8 +388,12 @@ def main():
     ap.add_argument("--mitsuba-sampler",
                     help="Mitsuba's sampler, when not --sampler's (default for zsobol: independent)")
     ap.add_argument("--device", help="wavetrace --device")
+    ap.add_argument("--repeat", type=int, default=1,
+                    help="time each renderer this many times, alternated, and take the median (default 1)")
     ap.add_argument("--json", help="write both curves and the ratios here")
     args = ap.parse_args()
+    if args.repeat < 1:
+        die("--repeat must be at least 1, not %d" % args.repeat)
 
     spp = parse_spp(args.spp)
     if args.sampler and not args.mitsuba_sampler:
@@ -358,8 +408,13 @@ def main():
         if not os.path.isfile(path):
             die("%s: no such file" % path)
 
-    ours = run_wavetrace(args, spp)
-    theirs = run_mitsuba(args, spp, defines)
+    mitsuba = MitsubaRun(args, defines)
+    ours_runs, theirs_runs = [], []
+    for _ in range(args.repeat):
+        ours_runs.append(run_wavetrace(args, spp))
+        theirs_runs.append(mitsuba.rows(spp))
+    ours = dict(ours_runs[0], rows=merge_runs([o["rows"] for o in ours_runs]))
+    theirs = dict(mitsuba.info, rows=merge_runs(theirs_runs))
     rows = compare(ours, theirs)
     print_table(ours, theirs, rows)
     if args.json:

@@ -123,13 +123,13 @@ def reference(name, refs, seed_base=1000):
     return out
 
 
-def compare(name, ref, variant, seed, spp, wavetrace, sampler):
+def compare(name, ref, variant, seed, spp, wavetrace, sampler, repeat):
     scene, defines, integrator, _ = SUITE[name]
     with tempfile.TemporaryDirectory() as tmp:
         out = os.path.join(tmp, "cmp.json")
         cmd = [sys.executable, os.path.join(TOOLS, "bench_compare.py"), os.path.join(ROOT, scene),
                "--ref", ref, "--spp", ",".join(map(str, spp)), "--variant", variant,
-               "--seed", str(seed), "--json", out]
+               "--seed", str(seed), "--repeat", str(repeat), "--json", out]
         for d in defines:
             cmd += ["-D", d]
         if integrator:
@@ -181,6 +181,9 @@ def main():
     ap.add_argument("--samplers", default="",
                     help="samplers to run each scene with (default: the scene's own)")
     ap.add_argument("--wavetrace", help="wavetrace binary (default: bench_compare.py's)")
+    ap.add_argument("--repeat", type=int, default=1,
+                    help="bench_compare.py --repeat: time each render this many times, alternating the "
+                    "renderers, and take the median (default 1)")
     ap.add_argument("--json", help="write every run and the summary here")
     args = ap.parse_args()
 
@@ -205,7 +208,7 @@ def main():
             for sampler in samplers:
                 per_seed = []
                 for seed in seeds:
-                    result = compare(name, ref, variant, seed, spp, args.wavetrace, sampler)
+                    result = compare(name, ref, variant, seed, spp, args.wavetrace, sampler, args.repeat)
                     runs.append({"scene": name, "variant": variant, "sampler": sampler,
                                  "seed": seed, "result": result})
                     per_seed.append(result["comparison"])
