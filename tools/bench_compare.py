@@ -62,6 +62,7 @@ import argparse
 import json
 import math
 import os
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -267,19 +268,14 @@ def run_mitsuba(args, spp, defines):
     return dict(m.info, rows=m.rows(spp))
 
 
-def median(xs):
-    xs = sorted(xs)
-    k = len(xs) // 2
-    return xs[k] if len(xs) % 2 else 0.5 * (xs[k - 1] + xs[k])
-
-
 def merge_runs(runs):
     """The rows of the first of several runs of one renderer, each row's `seconds` the
     median over the runs (`seconds_runs` all of them, `seconds_min` the fastest)."""
     rows = []
     for i, row in enumerate(runs[0]):
         times = [run[i]["seconds"] for run in runs]
-        rows.append(dict(row, seconds=median(times), seconds_min=min(times), seconds_runs=times))
+        rows.append(dict(row, seconds=statistics.median(times), seconds_min=min(times),
+                         seconds_runs=times))
     return rows
 
 
