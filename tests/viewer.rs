@@ -79,8 +79,9 @@ fn xvfb(test: &str) -> Option<Xvfb> {
         eprintln!("\n*** SKIPPED {message} ***\n");
         return None;
     }
-    // A server that reported its display but takes no client (seen once in CI: the
-    // viewer then found no display) is replaced: up to three tries.
+    // A server that reported its display but takes no client is replaced: up to three
+    // tries. (The viewer's "no display" failures once blamed on such a server were the
+    // reset that -noreset below prevents.)
     let mut why = String::new();
     for _ in 0..3 {
         match start_xvfb() {
