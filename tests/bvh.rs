@@ -8,7 +8,8 @@ use common::stats::SplitMix64;
 use glam::Mat4;
 use glam::{Vec2, Vec3};
 use wavetrace::accel::{
-    brute_force_closest, prims_from_shapes, Bvh, FlatPrims, FLAT_CAPACITY, FLAT_PRIMS_MAX,
+    brute_force_closest, prims_from_shapes, Bvh, FlatPrims, APART_QUADRICS_MAX, FLAT_CAPACITY,
+    FLAT_PRIMS_MAX,
 };
 use wavetrace::gpu::layout::HitItem;
 use wavetrace::gpu::{
@@ -43,11 +44,11 @@ fn gpu_queries(bvh: &Bvh, rays: &[QueryRay]) -> Answers {
 
 /// `gpu_queries` with a traversal stack of `stack_depth` entries.
 fn gpu_queries_with_stack(bvh: &Bvh, rays: &[QueryRay], stack_depth: u32) -> Answers {
-    gpu_queries_with(bvh, rays, stack_depth, FlatPrims::default())
+    gpu_queries_with(bvh, rays, stack_depth, FlatPrims::of(bvh, 0))
 }
 
-/// `gpu_queries` with a traversal stack of `stack_depth` entries, or testing the
-/// primitives in turn where `flat.count > 0`.
+/// `gpu_queries` with a traversal stack of `stack_depth` entries, testing the
+/// primitives in turn as `flat` says (all of them, or those apart before the tree).
 fn gpu_queries_with(bvh: &Bvh, rays: &[QueryRay], stack_depth: u32, flat: FlatPrims) -> Answers {
     let device = common::device();
     let layout = BindingLayout::with_kinds(
@@ -67,7 +68,7 @@ fn gpu_queries_with(bvh: &Bvh, rays: &[QueryRay], stack_depth: u32, flat: FlatPr
         "bvh_query",
         shaders::TESTS_BVH_QUERY,
         &layout,
-        &[stack_depth, flat.count, flat.kinds],
+        &[stack_depth, flat.constants()[0], flat.constants()[1]],
     )
     .unwrap();
     let mut cmd = CommandList::new(&device).unwrap();
@@ -106,10 +107,10 @@ fn t_tolerance(t: f32) -> f32 {
 
 /// Compares GPU results with the CPU brute force and CPU traversal for every ray.
 fn check(bvh: &Bvh, rays: &[QueryRay]) -> usize {
-    check_with(bvh, rays, FlatPrims::default())
+    check_with(bvh, rays, FlatPrims::of(bvh, 0))
 }
 
-/// `check`, the GPU testing the primitives in turn where `flat.count > 0`.
+/// `check`, the GPU testing the primitives in turn as `flat` says.
 fn check_with(bvh: &Bvh, rays: &[QueryRay], flat: FlatPrims) -> usize {
     let Answers {
         closest,
@@ -372,11 +373,21 @@ fn gpu_flat_traversal_of_a_small_scene_equals_brute_force() {
         let bvh = Bvh::build(prims_from_shapes(&[mesh], &quadrics[..quadric_count]));
         let n = bvh.prims.len();
         assert!(n <= FLAT_CAPACITY);
-        let flat = FlatPrims::of(&bvh.prims, FLAT_CAPACITY);
+        let flat = FlatPrims::of(&bvh, FLAT_CAPACITY);
         assert_eq!(flat.count as usize, n);
-        assert_eq!(FlatPrims::of(&bvh.prims, n - 1), FlatPrims::default());
+        assert!(flat.flat_only);
         let hits = check_with(&bvh, &rays, flat);
         assert!(hits > 2_000, "{n} primitives: too few rays hit ({hits})");
+        // The tree: with its quadrics apart where there are few (2), else holding them.
+        let tree = FlatPrims::of(&bvh, n - 1);
+        assert!(!tree.flat_only);
+        let apart = if quadric_count <= APART_QUADRICS_MAX {
+            quadric_count
+        } else {
+            0
+        };
+        assert_eq!((tree.count as usize, bvh.apart as usize), (apart, apart));
+        assert_eq!(check_with(&bvh, &rays, tree), hits, "{n} primitives: tree");
     }
     // The renderer's threshold lies within what the traversal can hold.
     assert!((1..=FLAT_CAPACITY).contains(&FLAT_PRIMS_MAX));

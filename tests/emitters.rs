@@ -9,7 +9,7 @@ mod common;
 
 use common::stats::{chi2, sidak, SphereGrid};
 use glam::Vec3;
-use wavetrace::accel::{prims_from_scene, Bvh};
+use wavetrace::accel::{prims_from_scene, Bvh, FlatPrims};
 use wavetrace::gpu::layout::{Frame, NONE};
 use wavetrace::gpu::{
     shaders, BindingKind, BindingLayout, Buffer, CommandList, DescriptorSet, Kernel, Location,
@@ -70,7 +70,7 @@ fn run_probe(
         "emitter_sample",
         shaders::TESTS_EMITTER_SAMPLE,
         &layout,
-        &[],
+        &FlatPrims::of(bvh, 0).constants(),
     )
     .unwrap();
     let mut push = [0u32; 6];

@@ -12,7 +12,7 @@ mod common;
 
 use glam::Vec3;
 use serde_json::Value;
-use wavetrace::accel::{prims_from_scene, Bvh};
+use wavetrace::accel::{prims_from_scene, Bvh, FlatPrims};
 use wavetrace::gpu::{shaders, BindingKind, BindingLayout, Kernel};
 use wavetrace::render::scene_buffers::{scene_binding_kinds, SceneBuffers, SceneRecords};
 
@@ -53,7 +53,7 @@ fn trace(name: &str, shape: &str, rays: &[(Vec3, Vec3)]) -> Vec<Found> {
         "surface_query",
         shaders::TESTS_SURFACE_QUERY,
         &layout,
-        &[],
+        &FlatPrims::of(&bvh, 0).constants(),
     )
     .unwrap();
     let queries: Vec<[f32; 4]> = rays

@@ -46,17 +46,24 @@
 #define BVH_STACK_DEPTH BVH_STACK_SIZE
 #endif
 
-// A scene of a few primitives is traced without its tree (bvh_trace_flat): the
-// including kernel may #define BVH_FLAT_PRIMS to how many there are (0: traverse the
-// BVH; at most BVH_FLAT_CAPACITY) and BVH_FLAT_KINDS to their PRIM_* kinds, two bits
-// each, primitive k at bit 2k (accel::FlatPrims; specialization constants).
+// The primitives at the start of prims[] that are tested in turn (bvh_trace_flat),
+// and whether the tree follows (accel::FlatPrims; two specialization constants): the
+// including kernel may #define BVH_FLAT_PRIMS to their count (at most
+// BVH_FLAT_CAPACITY), with BVH_FLAT_ONLY set where they are every primitive of the
+// scene (a scene of a few: no tree), and BVH_FLAT_KINDS to their PRIM_* kinds, two
+// bits each, primitive k at bit 2k. Without BVH_FLAT_ONLY they are the scene's few
+// quadrics (accel::Bvh::apart), and the tree holds the triangles alone. 0: the tree
+// holds every primitive.
 #define BVH_FLAT_CAPACITY 16
+#define BVH_FLAT_ONLY 0x10000u
 #ifndef BVH_FLAT_PRIMS
 #define BVH_FLAT_PRIMS 0u
 #endif
 #ifndef BVH_FLAT_KINDS
 #define BVH_FLAT_KINDS 0u
 #endif
+#define BVH_FLAT_COUNT (BVH_FLAT_PRIMS & 0xffffu)
+#define BVH_TREE ((BVH_FLAT_PRIMS & BVH_FLAT_ONLY) == 0u)
 
 // t: distance (tmax on a miss); u, v: triangle barycentrics, p = (1-u-v) p0 + u p1 + v p2,
 // or a disk's object-space (x, y) (0 for spheres and cylinders); prim: index into
@@ -148,11 +155,13 @@ bool bvh_prim_hit_of(uint kinds, Prim p, TriangleRay tr, vec3 o, vec3 d, float t
     return false;
 }
 
-// The kinds a scene's BVH may hold: triangles and the quadrics of BVH_PRIM_KINDS.
+// The kinds a scene's tree may hold: triangles and the quadrics of BVH_PRIM_KINDS, or
+// triangles alone where the quadrics are tested apart.
 #define BVH_KINDS (BVH_KIND_BIT(PRIM_TRIANGLE)                                          \
-    | (BVH_HAS(SURFACE_FEATURE_SPHERES) ? BVH_KIND_BIT(PRIM_SPHERE) : 0u)               \
-    | (BVH_HAS(SURFACE_FEATURE_DISKS) ? BVH_KIND_BIT(PRIM_DISK) : 0u)                   \
-    | (BVH_HAS(SURFACE_FEATURE_CYLINDERS) ? BVH_KIND_BIT(PRIM_CYLINDER) : 0u))
+    | (BVH_FLAT_COUNT > 0u ? 0u :                                                       \
+       ((BVH_HAS(SURFACE_FEATURE_SPHERES) ? BVH_KIND_BIT(PRIM_SPHERE) : 0u)             \
+        | (BVH_HAS(SURFACE_FEATURE_DISKS) ? BVH_KIND_BIT(PRIM_DISK) : 0u)               \
+        | (BVH_HAS(SURFACE_FEATURE_CYLINDERS) ? BVH_KIND_BIT(PRIM_CYLINDER) : 0u))))
 
 bool bvh_prim_hit(Prim p, TriangleRay tr, vec3 o, vec3 d, float tmin, float tmax,
                   out float t, out float u, out float v) {
@@ -180,11 +189,11 @@ void bvh_record(uint mode, inout Hit hit, inout Hit second, Hit found) {
 // The distance beyond which a traversal no longer looks.
 float bvh_bound(uint mode, Hit hit, Hit second) { return mode == BVH_TWO ? second.t : hit.t; }
 
-// Primitive k of a flat scene, tested only for its own kind: once BVH_FLAT_PRIMS and
-// BVH_FLAT_KINDS are specialized, a step past the last primitive compiles away and
-// `kinds` is a constant with one bit.
+// Primitive k of those tested in turn, only for its own kind: once BVH_FLAT_PRIMS and
+// BVH_FLAT_KINDS are specialized, a step past the last one compiles away and `kinds`
+// is a constant with one bit.
 #define BVH_FLAT_STEP(k)                                                                 \
-    if ((k) < BVH_FLAT_PRIMS) {                                                          \
+    if ((k) < BVH_FLAT_COUNT) {                                                          \
         float t, u, v;                                                                   \
         uint kinds = BVH_KIND_BIT((BVH_FLAT_KINDS >> (2u * (k))) & 3u);                  \
         if (bvh_prim_hit_of(kinds, prim_load(k), tr, o, d, tmin,                         \
@@ -193,48 +202,48 @@ float bvh_bound(uint mode, Hit hit, Hit second) { return mode == BVH_TWO ? secon
         }                                                                                \
     }
 
-// Closest hit by testing every primitive in order, as accel::brute_force_closest does
-// (of equal distances, the lowest index). Without a tree there are no node loads, no
-// stack and no leaf loop, and each primitive is loaded from an address common to all
-// lanes and tested for its one kind: on llvmpipe (Mesa 22.3), which loads per lane
-// and runs every branch of a leaf's kind test for every lane, this costs far less than
-// a traversal of a few primitives (accel::FLAT_PRIMS_MAX). Written out step by step
-// because Mesa unrolls no loop with a body this large. Every ray tests every
-// primitive: any-hit queries gain nothing from stopping early on llvmpipe.
-Hit bvh_trace_flat(vec3 o, vec3 d, float tmin, float tmax, uint mode, out Hit second) {
-    TriangleRay tr = triangle_ray_make(d);
-    Hit hit = Hit(tmax, 0.0, 0.0, HIT_NONE);
-    second = hit;
+// The primitives tested in turn (BVH_FLAT_COUNT of them: every one of a small scene,
+// or the quadrics apart from the tree), in order, as accel::brute_force_closest does
+// (of equal distances, the lowest index), recorded into hit and second. Without a tree
+// there are no node loads, no stack and no leaf loop, and each primitive is loaded from
+// an address common to all lanes and tested for its one kind: on llvmpipe (Mesa 22.3),
+// which loads per lane and runs every branch of a leaf's kind test for every lane, this
+// costs far less than a traversal of a few primitives (accel::FLAT_PRIMS_MAX), and a
+// few quadrics cost less here than in the leaves of a tree of triangles
+// (accel::APART_QUADRICS_MAX). Written out step by step because Mesa unrolls no loop
+// with a body this large. Every ray tests every primitive: any-hit queries gain nothing
+// from stopping early on llvmpipe.
+void bvh_trace_flat(vec3 o, vec3 d, TriangleRay tr, float tmin, uint mode, inout Hit hit,
+                    inout Hit second) {
     BVH_FLAT_STEP(0u) BVH_FLAT_STEP(1u) BVH_FLAT_STEP(2u) BVH_FLAT_STEP(3u)
     BVH_FLAT_STEP(4u) BVH_FLAT_STEP(5u) BVH_FLAT_STEP(6u) BVH_FLAT_STEP(7u)
     BVH_FLAT_STEP(8u) BVH_FLAT_STEP(9u) BVH_FLAT_STEP(10u) BVH_FLAT_STEP(11u)
     BVH_FLAT_STEP(12u) BVH_FLAT_STEP(13u) BVH_FLAT_STEP(14u) BVH_FLAT_STEP(15u)
-    return hit;
 }
 
 // Stack traversal visiting the nearer child first, for what `mode` asks (BVH_CLOSEST,
 // BVH_ANY: returns at the first hit found, BVH_TWO: `second` too; a miss in it has
-// t = tmax). Requires 0 <= tmin and d != 0. A flat scene (BVH_FLAT_PRIMS > 0) tests
-// its primitives in turn instead.
+// t = tmax). Requires 0 <= tmin and d != 0. The primitives tested in turn
+// (bvh_trace_flat) come first; the tree, if the scene has one, after them.
 //
 // No return inside the loops (an any-hit query breaks out of both): spirv-opt's
 // merge-return (gpu::specialize's INLINE_PASSES) would turn one into flags tested
 // after each loop.
 Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, uint mode, out Hit second) {
-    if (BVH_FLAT_PRIMS > 0u) {
-        Hit hit = bvh_trace_flat(o, d, tmin, tmax, mode, second);
-        return hit;
-    }
+    TriangleRay tr = triangle_ray_make(d);
+    Hit hit = Hit(tmax, 0.0, 0.0, HIT_NONE);
+    second = hit;
+    if (BVH_FLAT_COUNT > 0u) bvh_trace_flat(o, d, tr, tmin, mode, hit, second);
+    if (!BVH_TREE) return hit;
     BvhRay r;
     r.o = o;
     r.inv = vec3(bvh_inv(d.x), bvh_inv(d.y), bvh_inv(d.z));
     r.neg = lessThan(r.inv, vec3(0.0));
-    TriangleRay tr = triangle_ray_make(d);
-    Hit hit = Hit(tmax, 0.0, 0.0, HIT_NONE);
-    second = hit;
     uint stack[BVH_STACK_DEPTH];
     for (int k = 0; k < BVH_STACK_DEPTH; k++) stack[k] = BVH_DONE;
-    uint item = 0u; // current child reference: inner node 0
+    // The current child reference: inner node 0 (done for an any-hit query already
+    // answered by a primitive tested in turn).
+    uint item = (BVH_FLAT_COUNT > 0u && mode == BVH_ANY && hit.prim != HIT_NONE) ? BVH_DONE : 0u;
     // "While-while" order (Aila, Laine 2009): descend through inner nodes until a leaf
     // is found, then test its primitives. SIMD lanes (llvmpipe, GPU warps) step
     // through inner nodes together and through leaves together, instead of paying for

@@ -7,7 +7,8 @@
 // The traversal stack is specialized to the tree's depth, as in the renderer's kernels.
 layout(constant_id = 0) const int BVH_DEPTH = 32;
 #define BVH_STACK_DEPTH BVH_DEPTH
-// A flat traversal (bvh_trace_flat) of this many primitives of these kinds; 0: the tree.
+// The primitives tested in turn (bvh_trace_flat) and their kinds (accel::FlatPrims):
+// every one, or those apart from the tree; 0: the tree alone.
 layout(constant_id = 1) const uint FLAT_PRIMS = 0u;
 layout(constant_id = 2) const uint FLAT_KINDS = 0u;
 #define BVH_FLAT_PRIMS FLAT_PRIMS

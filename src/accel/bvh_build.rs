@@ -28,11 +28,11 @@ use glam::{Vec3, Vec3A};
 use rayon::prelude::*;
 
 use super::bvh::{
-    prim_bounds, SplitMethod, BVH_MAX_LEAF_SIZE, BVH_STACK_SIZE, MEDIAN_LEAF_SIZE, SAH_BINS,
-    SAH_INTERSECTION_COST, SAH_TRAVERSAL_COST,
+    prim_bounds, SplitMethod, APART_QUADRICS_MAX, BVH_MAX_LEAF_SIZE, BVH_STACK_SIZE,
+    MEDIAN_LEAF_SIZE, SAH_BINS, SAH_INTERSECTION_COST, SAH_TRAVERSAL_COST,
 };
 use super::{quadric_prim, triangle_prim};
-use crate::gpu::layout::{BvhNode, Prim};
+use crate::gpu::layout::{BvhNode, Prim, PRIM_TRIANGLE};
 use crate::scene::{Mesh, Quadric};
 
 /// Subtrees over fewer primitives are built by one thread into one node list.
@@ -46,6 +46,10 @@ const PARALLEL_BINNING_MIN: usize = 1 << 17;
 pub trait PrimSource: Sync {
     fn len(&self) -> usize;
     fn prim(&self, i: usize) -> Prim;
+    /// The `PRIM_*` kind of primitive `i` (a source may know it without making it).
+    fn kind(&self, i: usize) -> u32 {
+        self.prim(i).kind
+    }
     fn is_empty(&self) -> bool {
         self.len() == 0
     }
@@ -107,6 +111,14 @@ impl PrimSource for ShapePrims<'_> {
         } else {
             let k = i - triangles;
             quadric_prim(&self.quadrics[k], (self.meshes.len() + k) as u32, k as u32)
+        }
+    }
+
+    fn kind(&self, i: usize) -> u32 {
+        if i < self.triangles() {
+            PRIM_TRIANGLE
+        } else {
+            self.prim(i).kind
         }
     }
 }
@@ -659,28 +671,49 @@ fn node_count(tree: &Subtree) -> usize {
     }
 }
 
-/// Builds the nodes over `source` and returns them with the primitives in leaf order.
+/// Builds the nodes over `source` and returns them with the primitives in leaf order,
+/// and how many primitives lead that order outside the tree: a scene's quadrics, where
+/// it has triangles and at most [`APART_QUADRICS_MAX`] quadrics (the traversals test
+/// those in turn before the tree, which then holds triangles alone; `Bvh::apart`).
 /// Node 0 is the root and always an inner node.
 pub(super) fn build<S: PrimSource + ?Sized>(
     source: &S,
     method: SplitMethod,
-) -> (Vec<BvhNode>, Vec<Prim>) {
+) -> (Vec<BvhNode>, Vec<Prim>, usize) {
     let n = source.len();
-    let mut prims: Vec<BuildPrim> = (0..n)
+    let quadrics: Vec<usize> = (0..n)
         .into_par_iter()
-        .map(|i| {
-            let b = prim_bounds(&source.prim(i));
-            BuildPrim {
-                min: b.min,
-                index: i as u32,
-                max: b.max,
-            }
-        })
+        .filter(|&i| source.kind(i) != PRIM_TRIANGLE)
         .collect();
-    if n == 0 {
+    let apart =
+        if !quadrics.is_empty() && quadrics.len() <= APART_QUADRICS_MAX && quadrics.len() < n {
+            quadrics
+        } else {
+            Vec::new()
+        };
+    let build_prim = |i: usize| {
+        let b = prim_bounds(&source.prim(i));
+        BuildPrim {
+            min: b.min,
+            index: i as u32,
+            max: b.max,
+        }
+    };
+    let mut prims: Vec<BuildPrim> = if apart.is_empty() {
+        (0..n).into_par_iter().map(build_prim).collect()
+    } else {
+        // A few quadrics: the triangles are all the rest.
+        (0..n)
+            .into_par_iter()
+            .filter(|i| apart.binary_search(i).is_err())
+            .map(build_prim)
+            .collect()
+    };
+    if prims.is_empty() {
         return (
             vec![make_node(&ChildRef::EMPTY, &ChildRef::EMPTY)],
             Vec::new(),
+            0,
         );
     }
     let extent = Extent::of(&prims);
@@ -693,9 +726,20 @@ pub(super) fn build<S: PrimSource + ?Sized>(
         // A single leaf: the root must still be an inner node.
         nodes.push(make_node(&root, &ChildRef::EMPTY));
     }
-    let out: Vec<Prim> = prims
-        .par_iter()
-        .map(|p| source.prim(p.index as usize))
-        .collect();
-    (nodes, out)
+    // The leaves index the output, where the primitives apart come first.
+    if !apart.is_empty() {
+        let shift = apart.len() as u32;
+        for node in &mut nodes {
+            if node.left_count > 0 {
+                node.left_index += shift;
+            }
+            if node.right_count > 0 {
+                node.right_index += shift;
+            }
+        }
+    }
+    let mut out: Vec<Prim> = Vec::with_capacity(apart.len() + prims.len());
+    out.extend(apart.iter().map(|&i| source.prim(i)));
+    out.par_extend(prims.par_iter().map(|p| source.prim(p.index as usize)));
+    (nodes, out, apart.len())
 }

@@ -15,8 +15,8 @@ pub mod sphere;
 pub mod triangle;
 
 pub use bvh::{
-    brute_force_closest, Bvh, BvhStats, FlatPrims, Hit, SplitMethod, BVH_MAX_LEAF_SIZE,
-    BVH_MAX_PRIMS, BVH_STACK_SIZE, FLAT_CAPACITY, FLAT_PRIMS_MAX,
+    brute_force_closest, Bvh, BvhStats, FlatPrims, Hit, SplitMethod, APART_QUADRICS_MAX,
+    BVH_MAX_LEAF_SIZE, BVH_MAX_PRIMS, BVH_STACK_SIZE, FLAT_CAPACITY, FLAT_ONLY, FLAT_PRIMS_MAX,
 };
 
 use bvh_build::PrimSource;

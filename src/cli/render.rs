@@ -373,8 +373,10 @@ pub fn run(mut args: RenderArgs) -> Result<()> {
             s.bvh.build_seconds * 1e3,
             s.bvh.node_count,
             s.bvh.sah_cost,
-            if s.flat_prims > 0 {
+            if s.flat_only {
                 format!("; its {} primitives tested in turn", s.flat_prims)
+            } else if s.flat_prims > 0 {
+                format!("; {} quadrics tested apart", s.flat_prims)
             } else {
                 String::new()
             },

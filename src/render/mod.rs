@@ -97,9 +97,10 @@ pub struct RenderOptions {
 #[derive(Debug, Clone, Default)]
 pub struct SetupStats {
     pub bvh: BvhStats,
-    /// Primitives the kernels test in turn instead of traversing the BVH (0: they
-    /// traverse it).
+    /// Primitives the kernels test in turn: every one, instead of traversing the BVH
+    /// (`flat_only`), or the few quadrics kept out of the tree (`Bvh::apart`), before it.
     pub flat_prims: u32,
+    pub flat_only: bool,
     pub upload_seconds: f64,
     /// Creating the pipelines.
     pub pipeline_seconds: f64,
@@ -407,7 +408,7 @@ impl Renderer {
         let bvh_stats = bvh.stats;
         // Scenes of a few primitives are traced without the tree.
         let flat = FlatPrims::of(
-            &bvh.prims,
+            &bvh,
             if options.traverse_small_scenes {
                 0
             } else {
@@ -747,7 +748,8 @@ impl Renderer {
             sample_count,
             setup: SetupStats {
                 bvh: bvh_stats,
-                flat_prims: flat_count,
+                flat_prims: flat.count,
+                flat_only: flat.flat_only,
                 upload_seconds,
                 pipeline_seconds,
                 first_dispatch_seconds: 0.0,

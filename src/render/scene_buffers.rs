@@ -559,18 +559,8 @@ impl SceneRecords {
         // Power of each emitter; a constant environment's flux through a sphere
         // bounding the scene.
         let radius = bvh
-            .nodes
-            .first()
-            .map(|n| {
-                let lo = Vec3::from(n.left_min).min(Vec3::from(n.right_min));
-                let hi = Vec3::from(n.left_max).max(Vec3::from(n.right_max));
-                if lo.cmple(hi).all() {
-                    0.5 * (hi - lo).length()
-                } else {
-                    1.0
-                }
-            })
-            .unwrap_or(1.0) as f64;
+            .bounds()
+            .map_or(1.0, |(lo, hi)| 0.5 * (hi - lo).length()) as f64;
         let pi = std::f64::consts::PI;
         let power: Vec<f64> = self
             .emitters

@@ -93,18 +93,11 @@ pub struct SceneBounds {
 }
 
 impl SceneBounds {
-    /// The bounds of the BVH's root (a unit sphere at the origin for an empty scene).
+    /// The bounds of the BVH's primitives (a unit sphere at the origin for an empty scene).
     pub fn of(bvh: &Bvh) -> SceneBounds {
         let (lo, hi) = bvh
-            .nodes
-            .first()
-            .map(|n| {
-                (
-                    Vec3::from(n.left_min).min(Vec3::from(n.right_min)),
-                    Vec3::from(n.left_max).max(Vec3::from(n.right_max)),
-                )
-            })
-            .filter(|(lo, hi)| lo.cmple(*hi).all() && lo.is_finite() && hi.is_finite())
+            .bounds()
+            .filter(|(lo, hi)| lo.is_finite() && hi.is_finite())
             .unwrap_or((Vec3::splat(-1.0), Vec3::splat(1.0)));
         SceneBounds {
             center: 0.5 * (lo + hi),
