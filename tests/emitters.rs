@@ -614,7 +614,9 @@ fn textured_scene() -> Scene {
 /// texel gets the share of samples its luminance asks for.
 #[test]
 fn textured_emitters_are_sampled_by_their_texture() {
-    use wavetrace::gpu::layout::{EMITTER_AREA, EMITTER_KIND_BIT_TEXTURE_SAMPLED};
+    use wavetrace::gpu::layout::{
+        EMITTER_AREA, EMITTER_KIND_BIT_TEXTURE_SAMPLED, EMITTER_KIND_BIT_TEXTURE_SPHERE,
+    };
     use wavetrace::scene::textured_emitter::{AffineUvMap, TextureSampling};
     let s = textured_scene();
     let bvh = Bvh::build(prims_from_scene(&s));
@@ -626,10 +628,13 @@ fn textured_emitters_are_sampled_by_their_texture() {
         [8, 8, 8, 0],
         "which emitters sample by their texture"
     );
-    // The kernels' kinds: texture-sampled lights, and the cube's area sampling.
+    // The kernels' kinds: texture-sampled lights (one a sphere), and the cube's area
+    // sampling.
     assert_eq!(
         records.emitter_kinds(),
-        1 << EMITTER_KIND_BIT_TEXTURE_SAMPLED | 1 << EMITTER_AREA
+        1 << EMITTER_KIND_BIT_TEXTURE_SAMPLED
+            | 1 << EMITTER_KIND_BIT_TEXTURE_SPHERE
+            | 1 << EMITTER_AREA
     );
 
     let x = Vec3::new(0.1, -0.2, 0.3);

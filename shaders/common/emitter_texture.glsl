@@ -66,7 +66,7 @@ vec2 emitter_texture_sample(EmitterRecord e, TextureRecord t, vec2 u) {
 // |∂x/∂u × ∂x/∂v| at surface uv s: surface area per unit uv area. A mesh's affine map
 // has it constant; a sphere (uv = (φ/2π, θ/π)) 2π² r² sin θ.
 float emitter_texture_jacobian(EmitterRecord e, vec2 s) {
-    if (e.tri_count > 0u) return length(cross(e.to_world_y.xyz, e.to_world_z.xyz));
+    if (!EMITTER_HAS(EMITTER_KIND_BIT_TEXTURE_SPHERE) || e.tri_count > 0u) return length(cross(e.to_world_y.xyz, e.to_world_z.xyz));
     return 2.0 * PI * PI * e.radius * e.radius * sin(PI * s.y);
 }
 
@@ -94,7 +94,7 @@ EmitterTexturePoint emitter_texture_point(EmitterRecord e, vec2 u) {
     r.texel = texture_bitmap(t, pt);
     float jac = emitter_texture_jacobian(e, s);
     r.pdf = jac > 0.0 ? emitter_texture_density(e, t, pt) / jac : 0.0;
-    if (e.tri_count > 0u) {
+    if (!EMITTER_HAS(EMITTER_KIND_BIT_TEXTURE_SPHERE) || e.tri_count > 0u) {
         r.p = e.to_world_x.xyz + s.x * e.to_world_y.xyz + s.y * e.to_world_z.xyz;
         r.ng = vec3(e.to_world_x.w, e.to_world_y.w, e.to_world_z.w);
     } else {

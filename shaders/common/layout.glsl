@@ -132,6 +132,8 @@ struct BsdfRecord {
 // ... and for area emitters sampled by their texture (dist_width > 0), which set
 // neither EMITTER_AREA's bit nor EMITTER_KIND_BIT_SPHERE_AREA.
 #define EMITTER_KIND_BIT_TEXTURE_SAMPLED 7u
+// ... and, beside it, for a texture-sampled emitter on a sphere.
+#define EMITTER_KIND_BIT_TEXTURE_SPHERE 8u
 // radiance: intensity (W/sr) of point and spot lights, radiance of area and constant
 // ones. Spot: axis, cos_cutoff, cutoff (rad), inv_transition = 1/(cutoff - beam width).
 // Area: shape, total area; a mesh's triangles by area through alias entries

@@ -300,6 +300,9 @@ pub const EMITTER_KIND_BIT_QUADRIC_AREA: u32 = 6;
 /// `EMITTER_AREA`'s bit nor `EMITTER_KIND_BIT_SPHERE_AREA`: where every light is one,
 /// the code of uniform area sampling compiles out.
 pub const EMITTER_KIND_BIT_TEXTURE_SAMPLED: u32 = 7;
+/// Bit of the emitter-kinds mask set beside [`EMITTER_KIND_BIT_TEXTURE_SAMPLED`] where
+/// a texture-sampled emitter lies on a sphere: without it that code compiles out.
+pub const EMITTER_KIND_BIT_TEXTURE_SPHERE: u32 = 8;
 
 /// An emitter. `radiance` is the intensity (W/sr) of point and spot lights and the
 /// radiance of area and constant emitters.
@@ -1162,6 +1165,10 @@ mod tests {
             (
                 "EMITTER_KIND_BIT_TEXTURE_SAMPLED",
                 EMITTER_KIND_BIT_TEXTURE_SAMPLED,
+            ),
+            (
+                "EMITTER_KIND_BIT_TEXTURE_SPHERE",
+                EMITTER_KIND_BIT_TEXTURE_SPHERE,
             ),
         ]);
     }

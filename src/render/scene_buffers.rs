@@ -16,7 +16,7 @@ use crate::gpu::layout::{
 };
 use crate::gpu::layout::{
     surface_feature_of_prim, EMITTER_KIND_BIT_QUADRIC_AREA, EMITTER_KIND_BIT_SPHERE_AREA,
-    EMITTER_KIND_BIT_TEXTURE_SAMPLED,
+    EMITTER_KIND_BIT_TEXTURE_SAMPLED, EMITTER_KIND_BIT_TEXTURE_SPHERE,
 };
 use crate::gpu::{BindingLayout, Buffer, DescriptorSet, Device};
 use crate::scene::envmap;
@@ -328,12 +328,13 @@ impl SceneRecords {
                 // Disks and cylinders keep area sampling (textured_emitter says why).
                 let by_texture = q.kind == QuadricKind::Sphere
                     && sample_by_texture(scene, e, rec, &mut r.distributions);
-                r.quadric_emitter_kinds |= 1
-                    << match q.kind {
-                        _ if by_texture => EMITTER_KIND_BIT_TEXTURE_SAMPLED,
-                        QuadricKind::Sphere => EMITTER_KIND_BIT_SPHERE_AREA,
-                        _ => EMITTER_KIND_BIT_QUADRIC_AREA,
-                    };
+                r.quadric_emitter_kinds |= match q.kind {
+                    _ if by_texture => {
+                        1 << EMITTER_KIND_BIT_TEXTURE_SAMPLED | 1 << EMITTER_KIND_BIT_TEXTURE_SPHERE
+                    }
+                    QuadricKind::Sphere => 1 << EMITTER_KIND_BIT_SPHERE_AREA,
+                    _ => 1 << EMITTER_KIND_BIT_QUADRIC_AREA,
+                };
             }
             let (mflags, media) = medium_flags(q.interior, q.exterior, q.null_bsdf);
             let mut flags = mflags | thin_flag(scene, q.bsdf);
@@ -437,8 +438,9 @@ impl SceneRecords {
     /// The emitter kinds the scene has, a bit per `EMITTER_*` kind (area: on meshes)
     /// plus `EMITTER_KIND_BIT_SPHERE_AREA`, `EMITTER_KIND_BIT_QUADRIC_AREA` (disks
     /// and cylinders) and `EMITTER_KIND_BIT_TEXTURE_SAMPLED` (area emitters sampled
-    /// by their texture, instead of their shape's bit): `shade` compiles the others
-    /// out.
+    /// by their texture, instead of their shape's bit; with
+    /// `EMITTER_KIND_BIT_TEXTURE_SPHERE` where one is a sphere): `shade` compiles the
+    /// others out.
     pub fn emitter_kinds(&self) -> u32 {
         self.emitters
             .iter()
