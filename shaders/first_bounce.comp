@@ -127,12 +127,8 @@ layout(constant_id = 20) const bool SCENE_SECOND_ENDS = false;
 void first_bounce_shadow(inout uint rays) {
     if (!fb_shadowed) return;
     rays += 1u;
-    if (SCENE_HAS_MEDIA) {
-        vec3 T = transmittance_shadow(fb_shadow, fb_path.pixel, fb_path.sample_index);
-        if (any(greaterThan(T, vec3(0.0)))) fb_path.radiance += fb_shadow.contribution * T;
-    } else if (!bvh_any(fb_shadow.origin, fb_shadow.dir, 0.0, fb_shadow.tmax)) {
-        fb_path.radiance += fb_shadow.contribution;
-    }
+    vec3 T = shadow_transmittance(fb_shadow, fb_path.pixel, fb_path.sample_index);
+    if (any(greaterThan(T, vec3(0.0)))) fb_path.radiance += fb_shadow.contribution * T;
 }
 
 void main() {

@@ -51,16 +51,10 @@ void main() {
     uint i = thread_index();
     if (i >= queue_shadow_count()) return;
     ShadowItem s = shadow_load(shadow_slot(i));
-    if (SCENE_HAS_MEDIA) {
-        PathState p = path_load(s.path);
-        vec3 T = transmittance_shadow(s, p.pixel, p.sample_index);
-        if (any(greaterThan(T, vec3(0.0)))) {
-            p.radiance += s.contribution * T;
-            path_store_radiance(s.path, p);
-        }
-    } else if (!bvh_any(s.origin, s.dir, 0.0, s.tmax)) {
-        PathState p = path_load(s.path);
-        p.radiance += s.contribution;
+    PathState p = path_load(s.path);
+    vec3 T = shadow_transmittance(s, p.pixel, p.sample_index);
+    if (any(greaterThan(T, vec3(0.0)))) {
+        p.radiance += s.contribution * T;
         path_store_radiance(s.path, p);
     }
 }

@@ -82,4 +82,15 @@ vec3 transmittance_shadow(ShadowItem s, uint pixel, uint sample_index) {
     return through ? T : vec3(0.0);
 }
 
+// What reaches the end of shadow ray s: its transmittance through media and null
+// surfaces where the scene has them (MEDIA_ENABLED; transmittance_shadow), else 1 or 0
+// by whether anything blocks it. shadow.comp and first_bounce.comp add
+// s.contribution times it to the path's radiance where it is not 0.
+vec3 shadow_transmittance(ShadowItem s, uint pixel, uint sample_index) {
+#if defined(MEDIA_ENABLED)
+    if (MEDIA_ENABLED) return transmittance_shadow(s, pixel, sample_index);
+#endif
+    return bvh_any(s.origin, s.dir, 0.0, s.tmax) ? vec3(0.0) : vec3(1.0);
+}
+
 #endif
