@@ -376,7 +376,11 @@ pub fn run(mut args: RenderArgs) -> Result<()> {
             if s.flat_only {
                 format!("; its {} primitives tested in turn", s.flat_prims)
             } else if s.flat_prims > 0 {
-                format!("; {} quadrics tested apart", s.flat_prims)
+                format!(
+                    "; {} quadric{} tested apart",
+                    s.flat_prims,
+                    if s.flat_prims == 1 { "" } else { "s" }
+                )
             } else {
                 String::new()
             },
