@@ -545,7 +545,7 @@ fn small_scenes_traced_without_the_tree_match_the_traversal() {
                 ..Default::default()
             };
             let (img, _, setup) = render_8spp(&device, &scene, file, &options);
-            (img, setup.flat_prims, setup.flat_only)
+            (img, setup.flat.count, setup.flat.flat_only)
         };
         let (flat, flat_prims, flat_only) = run(false);
         let (tree, tree_flat_prims, tree_flat_only) = run(true);

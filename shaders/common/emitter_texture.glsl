@@ -63,10 +63,17 @@ vec2 emitter_texture_sample(EmitterRecord e, TextureRecord t, vec2 u) {
     return p;
 }
 
+// Whether texture-sampled emitter e is an affine-mapped mesh, not a sphere: true at
+// compile time where no texture-sampled emitter is a sphere
+// (EMITTER_KIND_BIT_TEXTURE_SPHERE), so that the sphere's code compiles away.
+bool emitter_texture_on_mesh(EmitterRecord e) {
+    return !EMITTER_HAS(EMITTER_KIND_BIT_TEXTURE_SPHERE) || e.tri_count > 0u;
+}
+
 // |∂x/∂u × ∂x/∂v| at surface uv s: surface area per unit uv area. A mesh's affine map
 // has it constant; a sphere (uv = (φ/2π, θ/π)) 2π² r² sin θ.
 float emitter_texture_jacobian(EmitterRecord e, vec2 s) {
-    if (!EMITTER_HAS(EMITTER_KIND_BIT_TEXTURE_SPHERE) || e.tri_count > 0u) return length(cross(e.to_world_y.xyz, e.to_world_z.xyz));
+    if (emitter_texture_on_mesh(e)) return length(cross(e.to_world_y.xyz, e.to_world_z.xyz));
     return 2.0 * PI * PI * e.radius * e.radius * sin(PI * s.y);
 }
 
@@ -94,7 +101,7 @@ EmitterTexturePoint emitter_texture_point(EmitterRecord e, vec2 u) {
     r.texel = texture_bitmap(t, pt);
     float jac = emitter_texture_jacobian(e, s);
     r.pdf = jac > 0.0 ? emitter_texture_density(e, t, pt) / jac : 0.0;
-    if (!EMITTER_HAS(EMITTER_KIND_BIT_TEXTURE_SPHERE) || e.tri_count > 0u) {
+    if (emitter_texture_on_mesh(e)) {
         r.p = e.to_world_x.xyz + s.x * e.to_world_y.xyz + s.y * e.to_world_z.xyz;
         r.ng = vec3(e.to_world_x.w, e.to_world_y.w, e.to_world_z.w);
     } else {

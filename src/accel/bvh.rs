@@ -229,6 +229,19 @@ impl Aabb {
     }
 }
 
+/// The boxes of a node's two children (the empty box for an absent one).
+fn child_boxes(n: &BvhNode) -> (Aabb, Aabb) {
+    let l = Aabb {
+        min: n.left_min.into(),
+        max: n.left_max.into(),
+    };
+    let r = Aabb {
+        min: n.right_min.into(),
+        max: n.right_max.into(),
+    };
+    (l, r)
+}
+
 /// The bounds of one primitive (layouts in [`Prim`]).
 pub(super) fn prim_bounds(p: &Prim) -> Aabb {
     let (p0, p1, p2) = (Vec3::from(p.p0), Vec3::from(p.p1), Vec3::from(p.p2));
@@ -315,18 +328,7 @@ impl Bvh {
             node_count: self.nodes.len(),
             ..BvhStats::default()
         };
-        let boxes = |n: &BvhNode| {
-            let l = Aabb {
-                min: n.left_min.into(),
-                max: n.left_max.into(),
-            };
-            let r = Aabb {
-                min: n.right_min.into(),
-                max: n.right_max.into(),
-            };
-            (l, r)
-        };
-        let (l, r) = boxes(&self.nodes[0]);
+        let (l, r) = child_boxes(&self.nodes[0]);
         let mut root = l;
         root.grow(&r);
         let root_area = root.area();
@@ -335,7 +337,7 @@ impl Bvh {
         while let Some((index, depth, bounds)) = todo.pop() {
             s.sah_cost += SAH_TRAVERSAL_COST * rel(bounds.area());
             let n = &self.nodes[index as usize];
-            let (l, r) = boxes(n);
+            let (l, r) = child_boxes(n);
             for (b, index, count) in [
                 (l, n.left_index, n.left_count),
                 (r, n.right_index, n.right_count),
@@ -364,12 +366,9 @@ impl Bvh {
             max: Vec3::NEG_INFINITY,
         };
         if let Some(n) = self.nodes.first() {
-            for (min, max) in [(n.left_min, n.left_max), (n.right_min, n.right_max)] {
-                b.grow(&Aabb {
-                    min: min.into(),
-                    max: max.into(),
-                });
-            }
+            let (l, r) = child_boxes(n);
+            b.grow(&l);
+            b.grow(&r);
         }
         for p in &self.prims[..self.apart as usize] {
             b.grow(&prim_bounds(p));

@@ -373,13 +373,13 @@ pub fn run(mut args: RenderArgs) -> Result<()> {
             s.bvh.build_seconds * 1e3,
             s.bvh.node_count,
             s.bvh.sah_cost,
-            if s.flat_only {
-                format!("; its {} primitives tested in turn", s.flat_prims)
-            } else if s.flat_prims > 0 {
+            if s.flat.flat_only {
+                format!("; its {} primitives tested in turn", s.flat.count)
+            } else if s.flat.count > 0 {
                 format!(
                     "; {} quadric{} tested apart",
-                    s.flat_prims,
-                    if s.flat_prims == 1 { "" } else { "s" }
+                    s.flat.count,
+                    if s.flat.count == 1 { "" } else { "s" }
                 )
             } else {
                 String::new()

@@ -97,10 +97,10 @@ pub struct RenderOptions {
 #[derive(Debug, Clone, Default)]
 pub struct SetupStats {
     pub bvh: BvhStats,
-    /// Primitives the kernels test in turn: every one, instead of traversing the BVH
-    /// (`flat_only`), or the few quadrics kept out of the tree (`Bvh::apart`), before it.
-    pub flat_prims: u32,
-    pub flat_only: bool,
+    /// The primitives the kernels test in turn: every one, instead of traversing the
+    /// BVH (`flat.flat_only`), or the few quadrics kept out of the tree (`Bvh::apart`),
+    /// before it.
+    pub flat: FlatPrims,
     pub upload_seconds: f64,
     /// Creating the pipelines.
     pub pipeline_seconds: f64,
@@ -748,8 +748,7 @@ impl Renderer {
             sample_count,
             setup: SetupStats {
                 bvh: bvh_stats,
-                flat_prims: flat.count,
-                flat_only: flat.flat_only,
+                flat,
                 upload_seconds,
                 pipeline_seconds,
                 first_dispatch_seconds: 0.0,
