@@ -1,7 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // queue_args: one thread, between `shade` and `shadow` of a bounce, turns the queue
-// lengths into indirect dispatch arguments and counts the rays traced: the shadow
+// lengths into indirect dispatch arguments, empties the lists of deferred items
+// (deferral.glsl) and counts the rays traced: the shadow
 // queue `shade` filled (for the `shadow` kernel)
 // and the ray queue it filled, for the next bounce's `intersect` and `shade`. It
 // empties the shadow queue and the ray queue this bounce read, which the next
@@ -11,6 +12,7 @@
 
 #include "wavefront.glsl"
 #include "queue.glsl"
+#include "deferral.glsl"
 
 void main() {
     if (gl_GlobalInvocationID.x != 0u) return;
@@ -29,4 +31,6 @@ void main() {
     counters.ray_count[1u - q] = next;
     queue_lengths_out[0] = q == 0u ? uvec4(0u, next, 0u, ray_back) : uvec4(next, 0u, ray_back, 0u);
     queue_lengths_out[1] = uvec4(shadows, shadow_back, 0u, 0u);
+    // The rays shade deferred are shaded, and the shadow rays are still to come.
+    deferral_reset();
 }

@@ -70,7 +70,15 @@ layout(constant_id = 14) const bool SCENE_SHADE_LAST = false;
 layout(constant_id = 15) const uint SCENE_SHADE_RAYS = 0u;
 #define SHADE_RAYS SCENE_SHADE_RAYS
 #include "path.glsl"
+// Deferral (deferral.glsl; scenes with null surfaces): 0 none; SHADE_FAST, the medium
+// stage never traces and leaves the rays that need it to the full kernel;
+// SHADE_DEFERRED, the full kernel over those rays alone.
+#define SHADE_FAST 1u
+#define SHADE_DEFERRED 2u
+layout(constant_id = 20) const uint SCENE_DEFERRAL = 0u;
+#define VOL_PATH_DEFER (SCENE_DEFERRAL == SHADE_FAST)
 #include "vol_path.glsl"
+#include "deferral.glsl"
 // shade_last in scenes with few emitter primitives and no media: how many there are
 // (frame.emitter_prims); its rays then meet the emitters alone (path_emitted.glsl)
 // and need no intersect before.
@@ -89,10 +97,12 @@ void main() {
     uint i = thread_index();
     uint n = SHADE_RAYS == SHADE_RAYS_HITS ? queue_part_count(PART_HITS)
         : SHADE_RAYS == SHADE_RAYS_MISSES ? queue_part_count(PART_MISSES)
+        : SCENE_DEFERRAL == SHADE_DEFERRED ? deferral_count(DEFERRED_RAYS)
         : queue_ray_count(push.queue_in);
     if (i >= n) return;
     if (SHADE_RAYS == SHADE_RAYS_HITS) i = partition_hit(i);
     if (SHADE_RAYS == SHADE_RAYS_MISSES) i = partition_miss(i);
+    if (SCENE_DEFERRAL == SHADE_DEFERRED) i = deferral_item(DEFERRED_RAYS, i);
     RayItem r = ray_load(ray_slot(push.queue_in, i));
     if (SHADE_LAST && EMITTER_PRIMS > 0u && INTEGRATOR >= INTEGRATOR_DIRECT_EMS) {
         path_shade_emitted(INTEGRATOR, r, path_load(r.path));
@@ -102,7 +112,10 @@ void main() {
     if (INTEGRATOR >= INTEGRATOR_DIRECT_EMS) {
         PathState path = path_load(r.path);
         PathVertex v = path_vertex_surface();
-        if (SCENE_HAS_MEDIA && !vol_path_traverse(INTEGRATOR, r, h, hit_second_load(i), path, v)) return;
+        if (SCENE_HAS_MEDIA && !vol_path_traverse(INTEGRATOR, r, h, hit_second_load(i), path, v)) {
+            if (VOL_PATH_DEFER && vol_path_deferred) deferral_push(DEFERRED_RAYS, i);
+            return;
+        }
         if (SCENE_FILM_ALPHA && push.depth == 0u) path_mark_covered(r.path, path, h, v);
         path_shade(INTEGRATOR, r, h, path, v);
     } else {

@@ -45,14 +45,29 @@ layout(constant_id = 6) const uint SCENE_MEDIUM_FEATURES = 0xffffffffu;
 // Thin dielectrics pass shadow rays (volumetric integrators in scenes with them).
 layout(constant_id = 7) const bool SCENE_THIN_NULL = false;
 #define THIN_NULL SCENE_THIN_NULL
+// Deferral (deferral.glsl; scenes with null surfaces): 0 none; SHADOW_FAST, one
+// traversal per ray, leaving the rest of the rays that need more to the full kernel
+// (transmittance.glsl); SHADOW_DEFERRED, the full kernel over those rests alone.
+#define SHADOW_FAST 1u
+#define SHADOW_DEFERRED 2u
+layout(constant_id = 14) const uint SCENE_DEFERRAL = 0u;
+#define TRANSMITTANCE_DEFER (SCENE_DEFERRAL == SHADOW_FAST)
 #include "transmittance.glsl"
+#include "deferral.glsl"
 
 void main() {
     uint i = thread_index();
-    if (i >= queue_shadow_count()) return;
-    ShadowItem s = shadow_load(shadow_slot(i));
+    bool deferred = SCENE_DEFERRAL == SHADOW_DEFERRED;
+    if (i >= (deferred ? deferral_count(DEFERRED_SHADOWS) : queue_shadow_count())) return;
+    uint slot = deferred ? deferral_item(DEFERRED_SHADOWS, i) : shadow_slot(i);
+    ShadowItem s = shadow_load(slot);
     PathState p = path_load(s.path);
-    vec3 T = shadow_transmittance(s, p.pixel, p.sample_index);
+    vec3 T = shadow_transmittance_from(s, p.pixel, p.sample_index, deferred ? deferral_draws(i) : 0u);
+    if (TRANSMITTANCE_DEFER && transmittance_deferred) {
+        // The rest of the ray, in its slot, for the full kernel.
+        shadow_store(slot, transmittance_rest);
+        deferral_push_shadow(slot, transmittance_rest_draws);
+    }
     if (any(greaterThan(T, vec3(0.0)))) {
         p.radiance += s.contribution * T;
         path_store_radiance(s.path, p);

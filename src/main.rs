@@ -73,6 +73,11 @@ struct RunArgs {
     /// up to float rounding.
     #[arg(long)]
     wavefront: bool,
+    /// In scenes with null surfaces, let shade and shadow trace inside their crossing
+    /// loops instead of leaving the rays that need it to kernels of their own (the
+    /// same image either way; for comparisons).
+    #[arg(long)]
+    no_deferral: bool,
 }
 
 impl RunArgs {
@@ -86,6 +91,7 @@ impl RunArgs {
             max_bounces: self.max_bounces,
             max_photons_per_pass: self.photons_per_pass,
             wavefront: self.wavefront,
+            deferral: self.no_deferral.then_some(false),
             ..RenderOptions::default()
         };
         (options, self.device)

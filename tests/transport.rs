@@ -564,3 +564,80 @@ fn small_scenes_traced_without_the_tree_match_the_traversal() {
         assert_eq!(flat.rgb, tree.rgb, "{file}: the images differ");
     }
 }
+
+/// In scenes with null surfaces, shade and shadow leave the rays that must trace again
+/// to full twins of themselves (shaders/common/deferral.glsl): shade's rays untouched,
+/// shadow rays as the rest of the ray from where they stopped, with the random numbers
+/// their tracking drew. Deferring in every scene (`deferral: Some(true)`), the same
+/// images up to float rounding (within 1e-5 relative; in practice a few values differ
+/// in the last bit), and the same rays, as tracing inside the crossing loops: a
+/// homogeneous cube (isotropic and g = 0.7), a grid medium (ratio tracking draws its
+/// numbers on both sides of the deferral), two media inside a null sphere, a textured
+/// thin dielectric (the null lobe's crossings) and smoke in a Cornell box, in the
+/// wavefront and with the fused first bounce (which defers its shadow rays). By
+/// default only the homogeneous scenes without null spheres defer.
+#[test]
+fn deferred_crossings_match_tracing_in_the_loop() {
+    let device = device();
+    for (file, defines, by_default) in [
+        ("scenes/media/cube.xml", vec![("res", "32")], true),
+        (
+            "scenes/media/cube.xml",
+            vec![("res", "32"), ("g", "0.7")],
+            true,
+        ),
+        ("scenes/media/smoke.xml", vec![("res", "32")], false),
+        ("scenes/media/two_media.xml", vec![("res", "32")], false),
+        ("scenes/media/thin_textured.xml", vec![("res", "32")], true),
+        ("scenes/media/cbox_smoke.xml", vec![("res", "32")], false),
+    ] {
+        let scene = load_shipped(file, &defines);
+        for fused in [false, true] {
+            let run = |deferral: Option<bool>| {
+                let options = RenderOptions {
+                    seed: 3,
+                    wavefront: !fused,
+                    timestamps: true,
+                    deferral,
+                    // Fused: sized as for 2048 spp (past FUSED_MIN_PATHS), in small
+                    // batches.
+                    expected_spp: fused.then_some(2048),
+                    max_batch_paths: fused.then_some(4096),
+                    ..Default::default()
+                };
+                render_8spp(&device, &scene, file, &options)
+            };
+            let (deferring, stats, _) = run(Some(true));
+            let (tracing, tracing_stats, _) = run(Some(false));
+            let (_, default_stats, _) = run(None);
+            let case = format!("{file} {defines:?} fused {fused}");
+            let ran = |s: &RenderStats, k: &str| s.kernel_times.by_kernel.contains_key(k);
+            assert!(ran(&stats, "shadow_deferred"), "{case}");
+            assert!(ran(&stats, "shade_deferred"), "{case}");
+            assert_eq!(ran(&stats, "first_bounce"), fused, "{case}");
+            assert!(!ran(&tracing_stats, "shadow_deferred"), "{case}");
+            assert!(stats.deferred > 0, "{case}: nothing was deferred");
+            assert_eq!(tracing_stats.deferred, 0, "{case}");
+            assert_eq!(
+                ran(&default_stats, "shadow_deferred"),
+                by_default,
+                "{case}: deferring by default"
+            );
+            assert_eq!(deferring.non_finite_count(), 0, "{case}");
+            assert!(mean(&deferring) > 0.0, "{case}: black image");
+            // A deferred shadow ray's contribution is multiplied by the transmittance
+            // up to where it stopped, then by the rest: the product rounds otherwise.
+            let largest = deferring
+                .rgb
+                .iter()
+                .zip(&tracing.rgb)
+                .map(|(a, b)| (a - b).abs() / a.abs().max(b.abs()).max(1e-3))
+                .fold(0.0f32, f32::max);
+            assert!(
+                largest <= 1e-5,
+                "{case}: values differ by up to {largest} (relative)"
+            );
+            assert_eq!(stats.rays, tracing_stats.rays, "{case}: rays traced");
+        }
+    }
+}

@@ -349,6 +349,9 @@ struct MediumRecord {
 #define PART_MISSES 1
 // Words of Counters.tails: a queue segment's tails, COUNTER_TAIL_STRIDE words apart
 // (queue.glsl), each the number of items the segment appended to one queue.
+// Counters.deferred: shade's rays and shadow rays left to the full kernels.
+#define DEFERRED_RAYS 0u
+#define DEFERRED_SHADOWS 1u
 #define TAIL_RAYS 0 // + q: ray queue q
 #define TAIL_SHADOWS 2
 #define TAIL_PART 3 // + PART_HITS, PART_MISSES
@@ -361,7 +364,9 @@ struct Counters {
     uint ray_count[2];    // length of ray queue q (the host's, to stop a batch)
     uint rays_traced;
     uint discarded;
-    uint head_pad[28];
+    uint deferred[2];     // items left to the full kernels (deferral.glsl)
+    uint deferred_total;  // those of the batch's bounces before the current lists
+    uint head_pad[25];
     uint tails[64];       // 2 segments x COUNTER_TAIL_STRIDE
 };
 
@@ -371,6 +376,8 @@ struct DispatchArgs {
     uint shadows[3];
     uint hits[3];   // a partitioned bounce's hits and misses (shade_args)
     uint misses[3];
+    uint deferred_rays[3];    // the items a bounce's fast shade and shadow deferred
+    uint deferred_shadows[3]; // (deferral.glsl)
 };
 
 // Push constants of the wavefront kernels.

@@ -20,13 +20,30 @@
 #define PATH_DEPTH push.depth
 #endif
 
+// TRANSMITTANCE_DEFER (a bool constant): only the shadow ray's first traversal runs.
+// Where the ray passes more surfaces than it found, transmittance_shadow_from sets
+// transmittance_deferred, leaves in transmittance_rest the rest of the ray (from where
+// it stopped, its contribution times the transmittance so far) and in
+// transmittance_rest_draws the random numbers its tracking drew, and returns 0: the
+// kernel leaves the rest to its full twin (deferral.glsl), which goes on with the
+// next of those numbers: the same result as one traversal loop, but for the rounding
+// of the contribution's product.
+#ifndef TRANSMITTANCE_DEFER
+#define TRANSMITTANCE_DEFER false
+#endif
+bool transmittance_deferred = false;
+ShadowItem transmittance_rest;
+uint transmittance_rest_draws;
+
 // Surfaces one shadow ray may pass before it counts as blocked.
 #define TRANSMITTANCE_MAX_CROSSINGS 64u
 
 // The transmittance of shadow ray s of the path at `pixel` and `sample_index` (whose
-// numbers draw its tracking's random numbers).
-vec3 transmittance_shadow(ShadowItem s, uint pixel, uint sample_index) {
+// numbers draw its tracking's random numbers), `draws` of them drawn already (the rest
+// of a deferred ray; 0 for a whole one).
+vec3 transmittance_shadow_from(ShadowItem s, uint pixel, uint sample_index, uint draws) {
     MediumRng rng = medium_rng(pixel, sample_index, PATH_DEPTH, 1u, frame.seed);
+    rng.n = draws;
     vec3 T = vec3(1.0);
     vec3 o = s.origin;
     uint medium = s.medium;
@@ -37,13 +54,23 @@ vec3 transmittance_shadow(ShadowItem s, uint pixel, uint sample_index) {
     // meets nothing else: one traversal instead of two.
     Hit next;
     bool have_next = false;
+    // Deferring, the one traversal runs before the loop, which then holds none.
+    Hit first;
+    if (TRANSMITTANCE_DEFER) first = bvh_closest_two(o, s.dir, 0.0, remaining, next);
     // Whether the ray got out (else it was blocked, or passed too many surfaces). One
     // return, at the end (medium.glsl says why).
     bool through = false;
     for (uint crossing = 0u; crossing < TRANSMITTANCE_MAX_CROSSINGS; crossing++) {
         Hit h;
-        if (have_next) {
+        if (TRANSMITTANCE_DEFER && crossing == 0u) {
+            h = first;
+        } else if (have_next) {
             h = next;
+        } else if (TRANSMITTANCE_DEFER) {
+            transmittance_deferred = true;
+            transmittance_rest = ShadowItem(o, s.path, s.dir, remaining, s.contribution * T, medium);
+            transmittance_rest_draws = rng.n;
+            break;
         } else {
             h = bvh_closest_two(o, s.dir, 0.0, remaining, next);
         }
@@ -82,15 +109,24 @@ vec3 transmittance_shadow(ShadowItem s, uint pixel, uint sample_index) {
     return through ? T : vec3(0.0);
 }
 
+vec3 transmittance_shadow(ShadowItem s, uint pixel, uint sample_index) {
+    return transmittance_shadow_from(s, pixel, sample_index, 0u);
+}
+
 // What reaches the end of shadow ray s: its transmittance through media and null
 // surfaces where the scene has them (MEDIA_ENABLED; transmittance_shadow), else 1 or 0
 // by whether anything blocks it. shadow.comp and first_bounce.comp add
-// s.contribution times it to the path's radiance where it is not 0.
-vec3 shadow_transmittance(ShadowItem s, uint pixel, uint sample_index) {
+// s.contribution times it to the path's radiance where it is not 0. `draws`: as in
+// transmittance_shadow_from.
+vec3 shadow_transmittance_from(ShadowItem s, uint pixel, uint sample_index, uint draws) {
 #if defined(MEDIA_ENABLED)
-    if (MEDIA_ENABLED) return transmittance_shadow(s, pixel, sample_index);
+    if (MEDIA_ENABLED) return transmittance_shadow_from(s, pixel, sample_index, draws);
 #endif
     return bvh_any(s.origin, s.dir, 0.0, s.tmax) ? vec3(0.0) : vec3(1.0);
+}
+
+vec3 shadow_transmittance(ShadowItem s, uint pixel, uint sample_index) {
+    return shadow_transmittance_from(s, pixel, sample_index, 0u);
 }
 
 #endif

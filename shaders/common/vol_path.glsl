@@ -22,6 +22,15 @@
 #include "medium.glsl"
 #include "equiangular.glsl"
 
+// VOL_PATH_DEFER (a bool constant): the stage never traces. Where a ray passes more
+// surfaces than its traversal found, vol_path_traverse sets vol_path_deferred and
+// returns false, having changed nothing: the kernel leaves the ray to its full twin
+// (deferral.glsl), which runs the stage again from the start with the trace.
+#ifndef VOL_PATH_DEFER
+#define VOL_PATH_DEFER false
+#endif
+bool vol_path_deferred = false;
+
 // Null surfaces one ray may cross before the path is dropped (a guard against
 // degenerate geometry; a closed boundary is crossed twice).
 #define VOL_PATH_MAX_CROSSINGS 64u
@@ -177,6 +186,10 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, HitItem seco
         if (have_next && bvh_second_goes_on(hp, advance, remaining, next)) {
             nh = next;
             have_next = false;
+        } else if (VOL_PATH_DEFER) {
+            vol_path_deferred = true;
+            alive = false;
+            break;
         } else {
             nh = bvh_closest_two(o, r.dir, 0.0, remaining, next);
             have_next = true;

@@ -727,7 +727,13 @@ fn report_stats(stats: &RenderStats, samples: u64, profile: bool, renderer: Opti
     }
     if profile {
         for (name, (secs, n)) in &stats.kernel_times.by_kernel {
-            eprintln!("  {name:<12} {:>9.2} ms over {n} dispatches", secs * 1e3);
+            eprintln!("  {name:<15} {:>9.2} ms over {n} dispatches", secs * 1e3);
+        }
+        if stats.deferred > 0 {
+            eprintln!(
+                "  {} rays and shadow rays deferred to shade_deferred and shadow_deferred",
+                stats.deferred
+            );
         }
     }
 }

@@ -591,7 +591,13 @@ pub struct Counters {
     pub rays_traced: u32,
     /// Samples dropped at accumulation because they were NaN or infinite.
     pub discarded: u32,
-    pub head_pad: [u32; 28],
+    /// Items the fast kernels of a bounce left to their full twins (deferral.glsl):
+    /// `DEFERRED_RAYS` (shade's rays) and `DEFERRED_SHADOWS` (shadow rays).
+    pub deferred: [u32; 2],
+    /// Deferred items of the batch's bounces before the current lists (queue_args
+    /// adds each bounce's as it empties them).
+    pub deferred_total: u32,
+    pub head_pad: [u32; 25],
     /// Each segment's append counters, 32 words (128 bytes) apart: `TAIL_*` in
     /// layout.glsl.
     pub tails: [u32; 64],
@@ -612,6 +618,9 @@ pub struct DispatchArgs {
     /// The partitioned bounce's hits and misses (`shade_args`).
     pub hits: [u32; 3],
     pub misses: [u32; 3],
+    /// The items a bounce's fast shade and shadow deferred (deferral.glsl).
+    pub deferred_rays: [u32; 3],
+    pub deferred_shadows: [u32; 3],
 }
 
 /// Push constants of the wavefront kernels.
@@ -1050,8 +1059,25 @@ mod tests {
                 flags,
                 albedo_data
             ),
-            rust_layout!(Counters, ray_count, rays_traced, discarded, head_pad, tails),
-            rust_layout!(DispatchArgs, rays, shadows, hits, misses),
+            rust_layout!(
+                Counters,
+                ray_count,
+                rays_traced,
+                discarded,
+                deferred,
+                deferred_total,
+                head_pad,
+                tails
+            ),
+            rust_layout!(
+                DispatchArgs,
+                rays,
+                shadows,
+                hits,
+                misses,
+                deferred_rays,
+                deferred_shadows
+            ),
             rust_layout!(
                 Push,
                 path_count,

@@ -69,6 +69,7 @@ fn add_stats(a: &mut RenderStats, b: &RenderStats) {
     a.discarded += b.discarded;
     a.batches += b.batches;
     a.cut_paths += b.cut_paths;
+    a.deferred += b.deferred;
     a.kernel_times.add(&b.kernel_times);
     if a.photons.is_none() {
         a.photons = b.photons.clone();

@@ -27,7 +27,9 @@ pub use integrator::Integrator;
 use std::time::Instant;
 
 use crate::accel::{self, Bvh, BvhStats, FlatPrims};
-use crate::gpu::layout::{Counters, DispatchArgs, Frame, Push, WORKGROUP_SIZE};
+use crate::gpu::layout::{
+    Counters, DispatchArgs, Frame, Push, MEDIUM_FEATURE_GRIDS, WORKGROUP_SIZE,
+};
 use crate::gpu::{
     shaders, BindingLayout, CommandList, DescriptorSet, Device, DeviceKind, Kernel, KernelSpec,
     KernelTimes,
@@ -91,6 +93,12 @@ pub struct RenderOptions {
     /// first bounce in one kernel (shaders/first_bounce.comp). The same image either
     /// way, up to float contraction; tests compare the two.
     pub wavefront: bool,
+    /// Whether shade and shadow leave the rays that cross more null surfaces than
+    /// their traversal found to full twins of themselves (shaders/common/deferral.glsl)
+    /// instead of tracing in their crossing loops: `None` where it pays (see
+    /// `Renderer::new`), `Some(false)` never, `Some(true)` in every scene with null
+    /// surfaces. The same image either way but for float rounding; tests compare them.
+    pub deferral: Option<bool>,
 }
 
 /// Time spent before the first sample, in seconds.
@@ -122,6 +130,9 @@ pub struct RenderStats {
     /// Paths still going when the bounce budget ([`integrator::MAX_BOUNCES`]) ran out:
     /// their later vertices are missing from the image.
     pub cut_paths: u64,
+    /// Rays and shadow rays that shade and shadow left to their full twins
+    /// (shaders/common/deferral.glsl; scenes with null surfaces).
+    pub deferred: u64,
     pub kernel_times: KernelTimes,
     /// Photon mappers: photons emitted and stored, passes, where the time went.
     pub photons: Option<PhotonStats>,
@@ -163,6 +174,11 @@ struct Kernels {
     shade_args: Option<Kernel>,
     shade_miss: Option<Kernel>,
     shadow: Option<Kernel>,
+    /// In scenes with null surfaces: the full twins of `shade` and `shadow`, which
+    /// then run without the traversals of their crossing loops and leave the rays
+    /// that need one to these (shaders/common/deferral.glsl).
+    shade_deferred: Option<Kernel>,
+    shadow_deferred: Option<Kernel>,
     queue_args: Kernel,
     /// None where `film_gather` reads the paths ([`Film::reads_paths`]).
     accumulate: Option<Kernel>,
@@ -235,6 +251,10 @@ enum Over {
     Misses,
     /// The shadow queue (indirect dispatch).
     Shadows,
+    /// The rays and the shadow rays the fast shade and shadow deferred (indirect
+    /// dispatches; shaders/common/deferral.glsl).
+    DeferredRays,
+    DeferredShadows,
     /// One workgroup.
     One,
 }
@@ -617,43 +637,71 @@ impl Renderer {
             && (bounces <= fused_bounces
                 || (expected_paths >= FUSED_MIN_PATHS
                     && (!partitioned || camera_misses.is_some_and(|m| m <= 1.0 / 3.0))));
+        let wavefront_kernels = !fused || bounces > fused_bounces;
+        // Deferral (shaders/common/deferral.glsl): in scenes with null surfaces, shade
+        // and shadow run without the traversals of their crossing loops, and their
+        // full twins take the rays that need one; so do first_bounce's shadow rays
+        // (its shade traces: its paths have no bounce 0 in the wavefront). It pays
+        // where few rays defer and a deferred one costs little to run again: not with
+        // a null sphere or cylinder, which every ray that crosses it must trace again
+        // past, nor with grid media, whose tracking shade_deferred repeats. callgrind,
+        // kernels' instructions, deferring against not (the same images):
+        // media/cube.xml 256^2 32 spp (fused) -5.7%, 128^2 16 spp (wavefront) -7.5%;
+        // two_media.xml (a null sphere around the camera) 128^2 16 spp +3.0%,
+        // smoke.xml (a grid) +9.6%.
+        let deferring = has_media != 0
+            && integrator.shades_paths()
+            && options.deferral.unwrap_or_else(|| {
+                !scene.has_curved_crossings() && medium_features & MEDIUM_FEATURE_GRIDS == 0
+            });
+        let deferral = wavefront_kernels && deferring;
+        let first_defers = fused && deferring && !second_ends;
         let first_bounce = fused.then(|| {
             // Shade's constants, with 14 and 20 saying whether bounce 0 or bounce 1
-            // ends the paths, and 16-17 the emitter primitives bounce 1 meets.
+            // ends the paths, 16-17 the emitter primitives bounce 1 meets, and 21
+            // whether its shadow rays defer.
             let mut spec = shade_spec(second_ends, false).to_vec();
             spec[14] = integrator.ends_paths_at(0) as u32;
             spec.push(second_ends as u32);
+            spec.push(first_defers as u32);
             add("first_bounce", shaders::FIRST_BOUNCE, &spec)
         });
-        let wavefront_kernels = !fused || bounces > fused_bounces;
+        let shade_with = |mode: u32| {
+            let mut spec = shade_spec(false, false).to_vec();
+            spec.push(mode);
+            spec
+        };
         let shade = (wavefront_kernels && !integrator.is_photon_mapper())
-            .then(|| add("shade", shaders::SHADE, &shade_spec(false, false)));
+            .then(|| add("shade", shaders::SHADE, &shade_with(deferral as u32)));
+        let shade_deferred = (deferral && !integrator.is_photon_mapper())
+            .then(|| add("shade_deferred", shaders::SHADE, &shade_with(2)));
         let shade_last = (wavefront_kernels && (0..bounces).any(|d| integrator.ends_paths_at(d)))
             .then(|| add("shade_last", shaders::SHADE, &shade_spec(true, false)));
         let shade_miss = (wavefront_kernels && partitioned)
             .then(|| add("shade_miss", shaders::SHADE, &shade_spec(false, true)));
-        let shadow = wavefront_kernels.then(|| {
-            add(
-                "shadow",
-                shaders::SHADOW,
-                &[
-                    prim_kinds,
-                    0,
-                    records.texture_mask(),
-                    0,
-                    has_media,
-                    0,
-                    medium_features,
-                    thin_null,
-                    0,
-                    0,
-                    surface_features,
-                    bvh_depth,
-                    flat_count,
-                    flat_kinds,
-                ],
-            )
-        });
+        let shadow_with = |mode: u32| {
+            [
+                prim_kinds,
+                0,
+                records.texture_mask(),
+                0,
+                has_media,
+                0,
+                medium_features,
+                thin_null,
+                0,
+                0,
+                surface_features,
+                bvh_depth,
+                flat_count,
+                flat_kinds,
+                mode,
+            ]
+        };
+        let shadow = wavefront_kernels
+            .then(|| add("shadow", shaders::SHADOW, &shadow_with(deferral as u32)));
+        let shadow_deferred = (deferral || first_defers)
+            .then(|| add("shadow_deferred", shaders::SHADOW, &shadow_with(2)));
         let intersect = wavefront_kernels.then(|| {
             add(
                 "intersect",
@@ -703,6 +751,8 @@ impl Renderer {
             shade_args: shade_args.map(&mut take),
             shade_miss: shade_miss.map(&mut take),
             shadow: shadow.map(&mut take),
+            shade_deferred: shade_deferred.map(&mut take),
+            shadow_deferred: shadow_deferred.map(&mut take),
             queue_args: take(queue_args),
             accumulate: accumulate.map(&mut take),
             film_gather: take(film_gather),
@@ -855,6 +905,8 @@ impl Renderer {
         kernels.extend(&k.shade_last);
         kernels.extend(&k.shade_args);
         kernels.extend(&k.shade_miss);
+        kernels.extend(&k.shade_deferred);
+        kernels.extend(&k.shadow_deferred);
         kernels.extend(&k.first_bounce);
         let mut sets = vec![&self.scene_buffers.set, &wf.set, &self.film.set];
         if let Some(p) = &self.photon {
@@ -1105,6 +1157,9 @@ impl Renderer {
         let args = DispatchArgs {
             rays: groups_for(path_count),
             shadows: [0, 1, 1],
+            // No deferred items (deferral.glsl), as reset_queues leaves them.
+            deferred_rays: [0, 1, 1],
+            deferred_shadows: [0, 1, 1],
             ..Default::default()
         };
         cmd.update(&wf.dispatch_args, 0, bytemuck::bytes_of(&args));
@@ -1136,6 +1191,12 @@ impl Renderer {
         let p = bytemuck::bytes_of(push);
         cmd.dispatch(fused, sets, p, groups_for(push.path_count));
         cmd.barrier();
+        // The rest of the shadow rays it deferred, before queue_args empties the list.
+        if let Some(d) = &self.kernels.shadow_deferred {
+            let a = Wavefront::DEFERRED_SHADOW_ARGS;
+            cmd.dispatch_indirect(d, sets, p, &self.wavefront.dispatch_args, a);
+            cmd.barrier();
+        }
         cmd.dispatch(&self.kernels.queue_args, sets, p, [1, 1, 1]);
         cmd.barrier();
     }
@@ -1183,6 +1244,8 @@ impl Renderer {
                         Over::Hits => Some(Wavefront::HIT_ARGS),
                         Over::Misses => Some(Wavefront::MISS_ARGS),
                         Over::Shadows => Some(Wavefront::SHADOW_ARGS),
+                        Over::DeferredRays => Some(Wavefront::DEFERRED_RAY_ARGS),
+                        Over::DeferredShadows => Some(Wavefront::DEFERRED_SHADOW_ARGS),
                         Over::One => None,
                     };
                     match args {
@@ -1251,15 +1314,20 @@ impl Renderer {
                 self.integrator.name()
             ))
         })?;
-        let stages = self.bounce_stages(shade)?;
+        let stages = self.bounce_stages(shade, k.shade_deferred.as_ref())?;
         // Bounces that only end paths run shade_last in shade's place.
         let ending = match &k.shade_last {
-            Some(s) if k.last_meets_emitters => Some(vec![
-                (s, Over::Rays),
-                (&k.queue_args, Over::One),
-                (k.shadow()?, Over::Shadows),
-            ]),
-            Some(s) => Some(self.bounce_stages(s)?),
+            Some(s) if k.last_meets_emitters => Some(
+                vec![
+                    (s, Over::Rays),
+                    (&k.queue_args, Over::One),
+                    (k.shadow()?, Over::Shadows),
+                ]
+                .into_iter()
+                .chain(k.shadow_deferred.iter().map(|d| (d, Over::DeferredShadows)))
+                .collect(),
+            ),
+            Some(s) => Some(self.bounce_stages(s, None)?),
             None => None,
         };
         let depth = self.run_bounces(
@@ -1282,16 +1350,24 @@ impl Renderer {
 
     /// The stages of a path batch's bounce with `shade` as its shading kernel:
     /// intersect, shade, queue_args, shadow; partitioned (see [`partitions`]), shade
-    /// takes the hits after `shade_args` and `shade_miss` the misses.
-    fn bounce_stages<'a>(&'a self, shade: &'a Kernel) -> Result<Vec<(&'a Kernel, Over)>> {
+    /// takes the hits after `shade_args` and `shade_miss` the misses; deferring
+    /// (shaders/common/deferral.glsl), `deferred` after shade and shadow's full twin
+    /// after shadow take the rays they left.
+    fn bounce_stages<'a>(
+        &'a self,
+        shade: &'a Kernel,
+        deferred: Option<&'a Kernel>,
+    ) -> Result<Vec<(&'a Kernel, Over)>> {
         let k = &self.kernels;
         let partitioned = k.shade_args.is_some();
         let mut s = vec![(k.intersect()?, Over::Rays)];
         s.extend(k.shade_args.iter().map(|a| (a, Over::One)));
         s.push((shade, if partitioned { Over::Hits } else { Over::Rays }));
+        s.extend(deferred.map(|d| (d, Over::DeferredRays)));
         s.extend(k.shade_miss.iter().map(|m| (m, Over::Misses)));
         s.push((&k.queue_args, Over::One));
         s.push((k.shadow()?, Over::Shadows));
+        s.extend(k.shadow_deferred.iter().map(|d| (d, Over::DeferredShadows)));
         Ok(s)
     }
 
@@ -1328,6 +1404,8 @@ impl Renderer {
         }
         stats.rays += c[0].rays_traced as u64;
         stats.discarded += c[0].discarded as u64;
+        // The last bounce's deferred shadow rays are still in their list.
+        stats.deferred += c[0].deferred_total as u64 + c[0].deferred[1] as u64;
         stats.batches += 1;
         Ok(())
     }

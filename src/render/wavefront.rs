@@ -38,14 +38,16 @@ pub fn wavefront_binding_kinds() -> Vec<BindingKind> {
 }
 
 /// GPU memory one path slot needs, in bytes (path state, two ray queue entries, a
-/// hit, a shadow ray, a queue index in each part of the partition); in scenes whose
+/// hit, a shadow ray, three words of the partition: a queue index in each of its two
+/// parts, or in scenes with null surfaces the lists of deferred rays and shadow rays
+/// and a deferred shadow ray's draws, deferral.glsl); in scenes whose
 /// rays cross null surfaces a second hit adds [`SECOND_HIT_BYTES`] (8% more; the
 /// batch size stays that of the other scenes).
 pub const BYTES_PER_PATH: u64 = (size_of::<PathState>()
     + 2 * size_of::<RayItem>()
     + size_of::<HitItem>()
     + size_of::<ShadowItem>()
-    + 2 * size_of::<u32>()) as u64;
+    + 3 * size_of::<u32>()) as u64;
 
 /// The second-nearest hit a path slot keeps in scenes whose rays cross null surfaces.
 pub const SECOND_HIT_BYTES: u64 = size_of::<HitItem>() as u64;
@@ -107,7 +109,7 @@ impl Wavefront {
         let shade_rays = Buffer::new(
             device,
             "shade partition",
-            2 * n * size_of::<u32>() as u64,
+            3 * n * size_of::<u32>() as u64,
             Location::Gpu,
         )?;
         let counters = Buffer::from_slice(device, "counters", &[Counters::default()])?;
@@ -156,6 +158,12 @@ impl Wavefront {
             ..Default::default()
         };
         cmd.update(&self.counters, 0, bytemuck::bytes_of(&counters));
+        // No deferred items (deferral.glsl), as queue_args leaves them.
+        cmd.update(
+            &self.dispatch_args,
+            Self::DEFERRED_RAY_ARGS,
+            bytemuck::bytes_of(&[0u32, 1, 1, 0, 1, 1]),
+        );
         let mut lengths = [0u32; QUEUE_LENGTH_WORDS];
         lengths[0] = rays;
         cmd.update(
@@ -172,6 +180,9 @@ impl Wavefront {
     /// Byte offsets of the arguments of a partitioned bounce's hits and misses.
     pub const HIT_ARGS: u64 = 24;
     pub const MISS_ARGS: u64 = 36;
+    /// Byte offsets of the arguments of the deferred rays and shadow rays.
+    pub const DEFERRED_RAY_ARGS: u64 = 48;
+    pub const DEFERRED_SHADOW_ARGS: u64 = 60;
 }
 
 #[cfg(test)]

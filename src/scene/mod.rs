@@ -91,6 +91,21 @@ impl Scene {
         self.meshes.iter().any(|m| m.null_bsdf) || self.quadrics.iter().any(|s| s.null_bsdf)
     }
 
+    /// Whether a ray may cross one of its null surfaces or thin dielectrics and then
+    /// meet it again: a sphere or cylinder, past which the second-nearest hit of a
+    /// traversal is not what the ray meets next (bvh.glsl's `bvh_hit_once`), so every
+    /// crossing traces again.
+    pub fn has_curved_crossings(&self) -> bool {
+        self.quadrics.iter().any(|q| {
+            let crossed = q.null_bsdf
+                || self
+                    .bsdfs
+                    .get(q.bsdf as usize)
+                    .is_some_and(|b| b.is_thin_dielectric());
+            crossed && matches!(q.kind, QuadricKind::Sphere | QuadricKind::Cylinder)
+        })
+    }
+
     /// Whether some shape has a `thindielectric` BSDF.
     pub fn has_thin_dielectrics(&self) -> bool {
         let thin = |b: u32| {

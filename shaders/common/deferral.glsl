@@ -1,0 +1,83 @@
+// Deferred items: work a fast kernel leaves to a full twin. In scenes with null
+// surfaces (media boundaries), a ray that passes more surfaces than its traversal
+// found (vol_path.glsl) and a shadow ray likewise (transmittance.glsl) must trace
+// again. On llvmpipe (Mesa 22.3), which runs every branch of a kernel for all its SIMD
+// lanes and every loop at least once per entry, a traversal inside the crossing loop
+// costs every SIMD group a pass through it at every crossing, whether a lane traces or
+// not (callgrind, media/cube.xml 128^2 16 spp --wavefront, those traversals left out: a
+// wrong image, shade -34%, shadow -27%). So shade and shadow come in two forms: the
+// fast one has no traversal in its crossing loop and leaves each item that needs one
+// to the full one, which a second dispatch runs over the deferred items alone:
+// - shade's rays untouched: shade_deferred runs them from the start, with the same
+//   numbers as if the fast kernel had run the full code;
+// - the rest of each shadow ray from where it stopped, written over its slot of the
+//   shadow queue, with the random numbers its tracking drew (transmittance.glsl):
+//   shadow_deferred goes on from there. first_bounce.comp defers its shadow rays so
+//   too (into the slot of its path; the queue is empty at the first bounce).
+// The same image either way, but for the rounding of a deferred shadow ray's product
+// of transmittances.
+//
+// List k (DEFERRED_RAYS: queue indices of shade's rays; DEFERRED_SHADOWS: shadow queue
+// slots) is shade_ray_words[k capacity + j], Counters.deferred[k] long, and a deferred
+// shadow ray's draws are at [2 capacity + j]. A scene with media never partitions its
+// rays, whose parts use those words otherwise (partition.glsl). The pushing lanes size
+// the full kernel's dispatch themselves (atomicMax on its indirect arguments), which
+// saves a one-thread dispatch between the two (some 50-100 us each on lavapipe);
+// queue_args empties both lists and their arguments for the next bounce, adding their
+// lengths to Counters.deferred_total.
+// Needs wavefront.glsl.
+#ifndef DEFERRAL_GLSL
+#define DEFERRAL_GLSL
+
+// The dispatch (x, y) that covers items 0..n (as dispatch_groups, which a growing n
+// only makes larger in each component).
+uvec2 deferral_groups(uint n) {
+    uint groups = (n + WORKGROUP_SIZE - 1u) / WORKGROUP_SIZE;
+    return uvec2(min(groups, 65535u), (groups + 65534u) / 65535u);
+}
+
+// Leaves queue item `index` (a ray's, or a shadow ray's) to list k's full kernel;
+// returns its position in the list.
+uint deferral_push(uint k, uint index) {
+    uint j = atomicAdd(counters.deferred[k], 1u);
+    shade_ray_words[k * push.capacity + j] = index;
+    uvec2 g = deferral_groups(j + 1u);
+    if (k == DEFERRED_RAYS) {
+        atomicMax(dispatch_args.deferred_rays[0], g.x);
+        atomicMax(dispatch_args.deferred_rays[1], g.y);
+    } else {
+        atomicMax(dispatch_args.deferred_shadows[0], g.x);
+        atomicMax(dispatch_args.deferred_shadows[1], g.y);
+    }
+    return j;
+}
+
+// Leaves the rest of a shadow ray (written to shadow queue slot `slot`) to the full
+// shadow kernel, with the number of random numbers its tracking drew
+// (transmittance.glsl).
+void deferral_push_shadow(uint slot, uint draws) {
+    uint j = deferral_push(DEFERRED_SHADOWS, slot);
+    shade_ray_words[2u * push.capacity + j] = draws;
+}
+
+// The random numbers deferred shadow ray j drew before it was deferred.
+uint deferral_draws(uint j) { return imageLoad(shade_ray_texels, int(2u * push.capacity + j)).x; }
+
+// How many items list k holds (read by its full kernel, after the fast one).
+uint deferral_count(uint k) { return counters.deferred[k]; }
+
+// The queue index of item j of list k.
+uint deferral_item(uint k, uint j) {
+    return imageLoad(shade_ray_texels, int(k * push.capacity + j)).x;
+}
+
+// Empties both lists (queue_args, after the full shade and before the fast shadow).
+void deferral_reset() {
+    counters.deferred_total += counters.deferred[DEFERRED_RAYS] + counters.deferred[DEFERRED_SHADOWS];
+    counters.deferred[DEFERRED_RAYS] = 0u;
+    counters.deferred[DEFERRED_SHADOWS] = 0u;
+    dispatch_args.deferred_rays = uint[3](0u, 1u, 1u);
+    dispatch_args.deferred_shadows = uint[3](0u, 1u, 1u);
+}
+
+#endif
