@@ -114,13 +114,7 @@ layout(constant_id = 17) const uint SCENE_EMITTER_PRIM_KINDS = 0xfu;
 #define EMITTER_PRIM_KINDS SCENE_EMITTER_PRIM_KINDS
 #include "path_emitted.glsl"
 #include "vol_path.glsl"
-// Its shadow rays that pass more surfaces than their one traversal found leave their
-// rest to shadow_deferred, which runs after it (deferral.glsl; the host sets this where
-// bounce 1 does not run here).
-layout(constant_id = 21) const bool SCENE_SHADOWS_DEFER = false;
-#define TRANSMITTANCE_DEFER SCENE_SHADOWS_DEFER
 #include "transmittance.glsl"
-#include "deferral.glsl"
 
 layout(constant_id = 0) const uint INTEGRATOR = INTEGRATOR_PATH_MIS;
 layout(constant_id = 13) const bool SCENE_FILM_ALPHA = false;
@@ -129,17 +123,12 @@ layout(constant_id = 13) const bool SCENE_FILM_ALPHA = false;
 layout(constant_id = 20) const bool SCENE_SECOND_ENDS = false;
 
 // The path's shadow ray from its vertex just shaded, if it made one: traced, and its
-// contribution added where nothing blocks it; or, deferring, its rest left in the
-// shadow queue's slot p (the queue is empty at the first bounce).
-void first_bounce_shadow(uint p, inout uint rays) {
+// contribution added where nothing blocks it.
+void first_bounce_shadow(inout uint rays) {
     if (!fb_shadowed) return;
     rays += 1u;
     vec3 T = shadow_transmittance(fb_shadow, fb_path.pixel, fb_path.sample_index);
     if (any(greaterThan(T, vec3(0.0)))) fb_path.radiance += fb_shadow.contribution * T;
-    if (TRANSMITTANCE_DEFER && transmittance_deferred) {
-        shadow_store(p, transmittance_rest);
-        deferral_push_shadow(p, transmittance_rest_draws);
-    }
 }
 
 void main() {
@@ -170,7 +159,7 @@ void main() {
         || vol_path_traverse(INTEGRATOR, r, h, HitItem(second.t, second.u, second.v, second.prim), path, v)) {
         if (SCENE_FILM_ALPHA) path_mark_covered(p, path, h, v);
         path_shade(INTEGRATOR, r, h, path, v);
-        first_bounce_shadow(p, rays);
+        first_bounce_shadow(rays);
     }
     if (SCENE_SECOND_ENDS) {
         // Bounce 1, which ends the paths: the emitters its rays meet, through a shadow
@@ -182,7 +171,7 @@ void main() {
             fb_continued = false;
             path_shade_emitted(INTEGRATOR, fb_ray, fb_path);
             rays += 1u;
-            first_bounce_shadow(p, rays);
+            first_bounce_shadow(rays);
         }
     } else if (fb_continued) {
         // Bounce 1's ray, for the wavefront (or past a budget of one bounce, where

@@ -574,8 +574,8 @@ fn small_scenes_traced_without_the_tree_match_the_traversal() {
 /// homogeneous cube (isotropic and g = 0.7), a grid medium (ratio tracking draws its
 /// numbers on both sides of the deferral), two media inside a null sphere, a textured
 /// thin dielectric (the null lobe's crossings) and smoke in a Cornell box, in the
-/// wavefront and with the fused first bounce (which defers its shadow rays). By
-/// default only the homogeneous scenes without null spheres defer.
+/// wavefront and after the fused first bounce (which traces in its loops). By default
+/// only the homogeneous scenes without null spheres defer.
 #[test]
 fn deferred_crossings_match_tracing_in_the_loop() {
     let device = device();

@@ -12,8 +12,7 @@
 //   numbers as if the fast kernel had run the full code;
 // - the rest of each shadow ray from where it stopped, written over its slot of the
 //   shadow queue, with the random numbers its tracking drew (transmittance.glsl):
-//   shadow_deferred goes on from there. first_bounce.comp defers its shadow rays so
-//   too (into the slot of its path; the queue is empty at the first bounce).
+//   shadow_deferred goes on from there.
 // The same image either way, but for the rounding of a deferred shadow ray's product
 // of transmittances.
 //

@@ -640,30 +640,28 @@ impl Renderer {
         let wavefront_kernels = !fused || bounces > fused_bounces;
         // Deferral (shaders/common/deferral.glsl): in scenes with null surfaces, shade
         // and shadow run without the traversals of their crossing loops, and their
-        // full twins take the rays that need one; so do first_bounce's shadow rays
-        // (its shade traces: its paths have no bounce 0 in the wavefront). It pays
+        // full twins take the rays that need one (first_bounce traces: deferring its
+        // shadow rays too cost the media cube 1.3% more, fused at 256^2 32 spp). It pays
         // where few rays defer and a deferred one costs little to run again: not with
         // a null sphere or cylinder, which every ray that crosses it must trace again
         // past, nor with grid media, whose tracking shade_deferred repeats. callgrind,
         // kernels' instructions, deferring against not (the same images):
         // media/cube.xml 256^2 32 spp (fused) -5.7%, 128^2 16 spp (wavefront) -7.5%;
-        // two_media.xml (a null sphere around the camera) 128^2 16 spp +3.0%,
-        // smoke.xml (a grid) +9.6%.
+        // at 128^2 16 spp thin_textured.xml -6.5%, two_media.xml (a null sphere
+        // around the camera) +3.0%, smoke.xml (a grid) +9.6%, cbox_smoke.xml (a grid)
+        // 0.0%.
         let deferring = has_media != 0
             && integrator.shades_paths()
             && options.deferral.unwrap_or_else(|| {
                 !scene.has_curved_crossings() && medium_features & MEDIUM_FEATURE_GRIDS == 0
             });
         let deferral = wavefront_kernels && deferring;
-        let first_defers = fused && deferring && !second_ends;
         let first_bounce = fused.then(|| {
             // Shade's constants, with 14 and 20 saying whether bounce 0 or bounce 1
-            // ends the paths, 16-17 the emitter primitives bounce 1 meets, and 21
-            // whether its shadow rays defer.
+            // ends the paths, and 16-17 the emitter primitives bounce 1 meets.
             let mut spec = shade_spec(second_ends, false).to_vec();
             spec[14] = integrator.ends_paths_at(0) as u32;
             spec.push(second_ends as u32);
-            spec.push(first_defers as u32);
             add("first_bounce", shaders::FIRST_BOUNCE, &spec)
         });
         let shade_with = |mode: u32| {
@@ -700,8 +698,8 @@ impl Renderer {
         };
         let shadow = wavefront_kernels
             .then(|| add("shadow", shaders::SHADOW, &shadow_with(deferral as u32)));
-        let shadow_deferred = (deferral || first_defers)
-            .then(|| add("shadow_deferred", shaders::SHADOW, &shadow_with(2)));
+        let shadow_deferred =
+            deferral.then(|| add("shadow_deferred", shaders::SHADOW, &shadow_with(2)));
         let intersect = wavefront_kernels.then(|| {
             add(
                 "intersect",
@@ -1191,12 +1189,6 @@ impl Renderer {
         let p = bytemuck::bytes_of(push);
         cmd.dispatch(fused, sets, p, groups_for(push.path_count));
         cmd.barrier();
-        // The rest of the shadow rays it deferred, before queue_args empties the list.
-        if let Some(d) = &self.kernels.shadow_deferred {
-            let a = Wavefront::DEFERRED_SHADOW_ARGS;
-            cmd.dispatch_indirect(d, sets, p, &self.wavefront.dispatch_args, a);
-            cmd.barrier();
-        }
         cmd.dispatch(&self.kernels.queue_args, sets, p, [1, 1, 1]);
         cmd.barrier();
     }
