@@ -65,7 +65,7 @@ uint deferral_draws(uint j) { return imageLoad(shade_ray_texels, int(2u * push.c
 // How many items list k holds (read by its full kernel, after the fast one).
 uint deferral_count(uint k) { return counters.deferred[k]; }
 
-// The queue index of item j of list k.
+// Item j of list k: a ray's queue index, or a shadow ray's slot.
 uint deferral_item(uint k, uint j) {
     return imageLoad(shade_ray_texels, int(k * push.capacity + j)).x;
 }

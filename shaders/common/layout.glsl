@@ -347,11 +347,11 @@ struct MediumRecord {
 // The parts of a partitioned bounce's rays (partition.glsl).
 #define PART_HITS 0
 #define PART_MISSES 1
-// Words of Counters.tails: a queue segment's tails, COUNTER_TAIL_STRIDE words apart
-// (queue.glsl), each the number of items the segment appended to one queue.
 // Counters.deferred: shade's rays and shadow rays left to the full kernels.
 #define DEFERRED_RAYS 0u
 #define DEFERRED_SHADOWS 1u
+// Words of Counters.tails: a queue segment's tails, COUNTER_TAIL_STRIDE words apart
+// (queue.glsl), each the number of items the segment appended to one queue.
 #define TAIL_RAYS 0 // + q: ray queue q
 #define TAIL_SHADOWS 2
 #define TAIL_PART 3 // + PART_HITS, PART_MISSES

@@ -109,12 +109,8 @@ vec3 transmittance_shadow_from(ShadowItem s, uint pixel, uint sample_index, uint
     return through ? T : vec3(0.0);
 }
 
-vec3 transmittance_shadow(ShadowItem s, uint pixel, uint sample_index) {
-    return transmittance_shadow_from(s, pixel, sample_index, 0u);
-}
-
 // What reaches the end of shadow ray s: its transmittance through media and null
-// surfaces where the scene has them (MEDIA_ENABLED; transmittance_shadow), else 1 or 0
+// surfaces where the scene has them (MEDIA_ENABLED; transmittance_shadow_from), else 1 or 0
 // by whether anything blocks it. shadow.comp and first_bounce.comp add
 // s.contribution times it to the path's radiance where it is not 0. `draws`: as in
 // transmittance_shadow_from.
