@@ -573,9 +573,11 @@ fn small_scenes_traced_without_the_tree_match_the_traversal() {
 /// in the last bit), and the same rays, as tracing inside the crossing loops: a
 /// homogeneous cube (isotropic and g = 0.7), a grid medium (ratio tracking draws its
 /// numbers on both sides of the deferral), two media inside a null sphere, a textured
-/// thin dielectric (the null lobe's crossings) and smoke in a Cornell box, in the
-/// wavefront and after the fused first bounce (which traces in its loops). By default
-/// only the homogeneous scenes without null spheres defer.
+/// thin dielectric (the null lobe's crossings), smoke in a Cornell box and single
+/// scattering with equiangular sampling in fog inside a null sphere, in the wavefront
+/// and (but for single scattering, whole in first_bounce) after the fused first
+/// bounce, which traces in its loops. By default only the homogeneous scenes without
+/// null spheres defer.
 #[test]
 fn deferred_crossings_match_tracing_in_the_loop() {
     let device = device();
@@ -590,9 +592,18 @@ fn deferred_crossings_match_tracing_in_the_loop() {
         ("scenes/media/two_media.xml", vec![("res", "32")], false),
         ("scenes/media/thin_textured.xml", vec![("res", "32")], true),
         ("scenes/media/cbox_smoke.xml", vec![("res", "32")], false),
+        (
+            "scenes/media/fog_point.xml",
+            vec![("res", "32"), ("sampling", "equiangular")],
+            false,
+        ),
     ] {
         let scene = load_shipped(file, &defines);
         for fused in [false, true] {
+            // Single scattering's two bounces run whole in first_bounce.
+            if fused && file.contains("fog_point") {
+                continue;
+            }
             let run = |deferral: Option<bool>| {
                 let options = RenderOptions {
                     seed: 3,
