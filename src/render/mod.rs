@@ -27,9 +27,7 @@ pub use integrator::Integrator;
 use std::time::Instant;
 
 use crate::accel::{self, Bvh, BvhStats, FlatPrims};
-use crate::gpu::layout::{
-    Counters, DispatchArgs, Frame, Push, MEDIUM_FEATURE_GRIDS, WORKGROUP_SIZE,
-};
+use crate::gpu::layout::{Counters, Frame, Push, MEDIUM_FEATURE_GRIDS, WORKGROUP_SIZE};
 use crate::gpu::{
     shaders, BindingLayout, CommandList, DescriptorSet, Device, DeviceKind, Kernel, KernelSpec,
     KernelTimes,
@@ -886,7 +884,7 @@ impl Renderer {
         for b in [&wf.paths, &wf.rays, &wf.hits, &wf.shadows, &wf.shade_rays] {
             cmd.fill(b, 0, b.size(), 0);
         }
-        wf.reset_queues(&mut cmd, 0);
+        wf.reset_queues(&mut cmd, 0, 0);
         cmd.barrier();
         let push = Push {
             capacity: wf.capacity,
@@ -1150,17 +1148,7 @@ impl Renderer {
     ) -> Result<()> {
         let wf = &self.wavefront;
         let path_count = push.path_count;
-        wf.reset_queues(cmd, path_count);
-        // The first bounce's dispatch; queue_args writes the later ones.
-        let args = DispatchArgs {
-            rays: groups_for(path_count),
-            shadows: [0, 1, 1],
-            // No deferred items (deferral.glsl), as reset_queues leaves them.
-            deferred_rays: [0, 1, 1],
-            deferred_shadows: [0, 1, 1],
-            ..Default::default()
-        };
-        cmd.update(&wf.dispatch_args, 0, bytemuck::bytes_of(&args));
+        wf.reset_queues(cmd, path_count, path_count);
         cmd.barrier();
         cmd.dispatch(
             self.kernels.generate()?,
@@ -1184,7 +1172,7 @@ impl Renderer {
         fused: &Kernel,
     ) {
         let wf = &self.wavefront;
-        wf.reset_queues(cmd, 0);
+        wf.reset_queues(cmd, 0, 0);
         cmd.barrier();
         let p = bytemuck::bytes_of(push);
         cmd.dispatch(fused, sets, p, groups_for(push.path_count));

@@ -10,6 +10,7 @@ use crate::gpu::{
 };
 
 use super::error::Result;
+use super::groups_for;
 
 /// Bindings of set 1, in order.
 pub const WAVEFRONT_BINDINGS: u32 = 14;
@@ -150,20 +151,25 @@ impl Wavefront {
     }
 
     /// Records emptying the queues for a batch whose first ray queue holds `rays`
-    /// rays (written by `generate`, or appended by `photon_emit`: 0): the counters
-    /// and the queue lengths after the frame.
-    pub fn reset_queues(&self, cmd: &mut CommandList, rays: u32) {
+    /// rays (written by `generate`, or appended by `photon_emit`: 0): the counters,
+    /// the queue lengths after the frame, and the indirect dispatch arguments: the
+    /// ray queue's for `first_dispatch` threads (the first indirect dispatch: the
+    /// batch's first `intersect`, or `photon_emit`; queue_args writes the later ones),
+    /// no shadow rays and no deferred items (deferral.glsl), as queue_args leaves them.
+    pub fn reset_queues(&self, cmd: &mut CommandList, rays: u32, first_dispatch: u32) {
         let counters = Counters {
             ray_count: [rays, 0],
             ..Default::default()
         };
         cmd.update(&self.counters, 0, bytemuck::bytes_of(&counters));
-        // No deferred items (deferral.glsl), as queue_args leaves them.
-        cmd.update(
-            &self.dispatch_args,
-            Self::DEFERRED_RAY_ARGS,
-            bytemuck::bytes_of(&[0u32, 1, 1, 0, 1, 1]),
-        );
+        let args = DispatchArgs {
+            rays: groups_for(first_dispatch),
+            shadows: [0, 1, 1],
+            deferred_rays: [0, 1, 1],
+            deferred_shadows: [0, 1, 1],
+            ..Default::default()
+        };
+        cmd.update(&self.dispatch_args, 0, bytemuck::bytes_of(&args));
         let mut lengths = [0u32; QUEUE_LENGTH_WORDS];
         lengths[0] = rays;
         cmd.update(

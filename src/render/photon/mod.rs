@@ -32,8 +32,7 @@ use glam::Vec3;
 
 use crate::accel::Bvh;
 use crate::gpu::layout::{
-    Counters, DispatchArgs, Photon, PhotonCounters, PhotonParams, PhotonPath, Push, SppmPixel,
-    VisiblePoint,
+    Counters, Photon, PhotonCounters, PhotonParams, PhotonPath, Push, SppmPixel, VisiblePoint,
 };
 use crate::gpu::{
     shaders, BindingKind, BindingLayout, Buffer, CommandList, DescriptorSet, Device, DeviceKind,
@@ -557,13 +556,7 @@ impl Renderer {
         let t = Instant::now();
         let wf = &self.wavefront;
         let ph = self.photons();
-        wf.reset_queues(cmd, 0);
-        let args = DispatchArgs {
-            rays: groups_for(count),
-            shadows: [0, 1, 1],
-            ..Default::default()
-        };
-        cmd.update(&wf.dispatch_args, 0, bytemuck::bytes_of(&args));
+        wf.reset_queues(cmd, 0, count);
         cmd.barrier();
         let sets = [&self.scene_buffers.set, &wf.set, &ph.map.set];
         let mut push = Push {
