@@ -97,23 +97,25 @@ impl Scene {
     /// crossing traces again.
     pub fn has_curved_crossings(&self) -> bool {
         self.quadrics.iter().any(|q| {
-            let crossed = q.null_bsdf
-                || self
-                    .bsdfs
-                    .get(q.bsdf as usize)
-                    .is_some_and(|b| b.is_thin_dielectric());
-            crossed && matches!(q.kind, QuadricKind::Sphere | QuadricKind::Cylinder)
+            (q.null_bsdf || self.is_thin_dielectric(q.bsdf))
+                && matches!(q.kind, QuadricKind::Sphere | QuadricKind::Cylinder)
         })
     }
 
     /// Whether some shape has a `thindielectric` BSDF.
     pub fn has_thin_dielectrics(&self) -> bool {
-        let thin = |b: u32| {
-            self.bsdfs
-                .get(b as usize)
-                .is_some_and(|b| b.is_thin_dielectric())
-        };
-        self.meshes.iter().any(|m| thin(m.bsdf)) || self.quadrics.iter().any(|s| thin(s.bsdf))
+        self.meshes.iter().any(|m| self.is_thin_dielectric(m.bsdf))
+            || self
+                .quadrics
+                .iter()
+                .any(|s| self.is_thin_dielectric(s.bsdf))
+    }
+
+    /// Whether BSDF `b` is a `thindielectric`.
+    fn is_thin_dielectric(&self, b: u32) -> bool {
+        self.bsdfs
+            .get(b as usize)
+            .is_some_and(|b| b.is_thin_dielectric())
     }
 
     /// Whether the kernels need their medium code: media or null surfaces.
