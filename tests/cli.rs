@@ -354,12 +354,7 @@ fn specialized_kernels_render_what_the_driver_renders() {
         }
         let (a, b) = (&images[0], &images[1]);
         assert_eq!((a.width, a.height), (b.width, b.height));
-        let worst = a
-            .rgb
-            .iter()
-            .zip(&b.rgb)
-            .map(|(x, y)| (x - y).abs() / x.abs().max(y.abs()).max(1e-3))
-            .fold(0.0f32, f32::max);
+        let worst = common::largest_relative_difference(a, b);
         assert!(worst < 1e-4, "{scene}: relative difference {worst}");
         assert!(
             wavetrace::image::metrics::mean(a)[0] > 0.0,

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{device, mean, temp_file};
+use common::{device, largest_relative_difference, mean, temp_file};
 use wavetrace::gpu::Device;
 use wavetrace::image::Image;
 use wavetrace::render::{RenderOptions, RenderStats, SetupStats};
@@ -638,12 +638,7 @@ fn deferred_crossings_match_tracing_in_the_loop() {
             assert!(mean(&deferring) > 0.0, "{case}: black image");
             // A deferred shadow ray's contribution is multiplied by the transmittance
             // up to where it stopped, then by the rest: the product rounds otherwise.
-            let largest = deferring
-                .rgb
-                .iter()
-                .zip(&tracing.rgb)
-                .map(|(a, b)| (a - b).abs() / a.abs().max(b.abs()).max(1e-3))
-                .fold(0.0f32, f32::max);
+            let largest = largest_relative_difference(&deferring, &tracing);
             assert!(
                 largest <= 1e-5,
                 "{case}: values differ by up to {largest} (relative)"

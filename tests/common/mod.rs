@@ -193,6 +193,16 @@ pub fn mean(img: &Image) -> f64 {
     img.rgb.iter().map(|&v| v as f64).sum::<f64>() / img.rgb.len() as f64
 }
 
+/// The largest difference between two images' values relative to the larger of the
+/// two (values under 1e-3 count as 1e-3): for images equal up to float rounding.
+pub fn largest_relative_difference(a: &Image, b: &Image) -> f32 {
+    a.rgb
+        .iter()
+        .zip(&b.rgb)
+        .map(|(x, y)| (x - y).abs() / x.abs().max(y.abs()).max(1e-3))
+        .fold(0.0f32, f32::max)
+}
+
 /// The RGB value of pixel (x, y).
 pub fn pixel(img: &Image, x: u32, y: u32) -> [f32; 3] {
     let i = 3 * (y * img.width + x) as usize;
