@@ -5,6 +5,8 @@
 #
 #   tools/lavapipe.sh            build (first run) or reuse (later runs), then print the recipe
 #   tools/lavapipe.sh --env      print only `export VK_ICD_FILENAMES=...` (for eval)
+#   tools/lavapipe.sh --prebuilt no build: Debian's own binary lavapipe from MESA_SUITE and the
+#                                libraries it needs (its libc included), run through a wrapper
 #
 # What it does:
 #   1. installs the build dependencies with apt-get (Debian's LLVM 19, bison, flex, ...) and
@@ -20,10 +22,21 @@
 #   4. builds only lavapipe (no GL, EGL, GBM, X11 or Wayland), release, against Debian's
 #      LLVM 19, and installs it with its ICD manifest into $CACHE/lavapipe-<version>.
 #
+# With --prebuilt (where Debian's source packages cannot be reached but its binary ones can,
+# or to skip the build): downloads the suite's mesa-vulkan-drivers and every package it
+# depends on (apt checks the signed index and each package's checksum), unpacks them into
+# $CACHE/lavapipe-deb-<version>/root, and writes bin/with-lavapipe there: it runs a program
+# (an ELF binary, e.g. target/release/wavetrace) under that root's dynamic loader, so the
+# program and the driver run on the suite's libc and libraries (the driver needs a newer libc
+# than Debian 12's); the processes it starts (spirv-opt) run on the system's.
+#
 # Environment:
 #   WAVETRACE_CACHE  cache folder (default ~/.cache/wavetrace)
-#   MESA_SUITE       Debian suite to take Mesa's source from (default sid)
-#   MESA_VERSION     Debian source version to take (default: the suite's newest)
+#   MESA_SUITE       Debian suite to take Mesa's source (or --prebuilt: its binary) from
+#                    (default sid)
+#   MESA_REFRESH=1   --prebuilt: look for a newer package than the one unpacked
+#   MESA_VERSION     Debian source version to take (default: the suite's newest; not with
+#                    --prebuilt, which takes the suite's current package)
 #   MESA_SOURCE      local Mesa source folder or tarball instead of apt-get source
 #   MESA_SHA256      expected sha256 of the MESA_SOURCE tarball
 #   JOBS             build jobs (default 2)
@@ -75,6 +88,7 @@ EOF
 MODE=build
 case "${1:-}" in
 --env) MODE="env" ;;
+--prebuilt) MODE="prebuilt" ;;
 "") ;;
 -h | --help)
     sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'
@@ -83,7 +97,7 @@ case "${1:-}" in
 *) die "unknown argument '$1' (try --help)" ;;
 esac
 
-if [ -z "${MESA_SOURCE:-}" ] && [ -z "${MESA_VERSION:-}" ]; then
+if [ "$MODE" != prebuilt ] && [ -z "${MESA_SOURCE:-}" ] && [ -z "${MESA_VERSION:-}" ]; then
     if manifest=$(installed_manifest); then
         say "reusing ${manifest%/share/vulkan/icd.d/*}"
         print_recipe "$manifest"
@@ -98,6 +112,94 @@ if [ "$(id -u)" != 0 ]; then
     SUDO=sudo
 fi
 mkdir -p "$CACHE" "$TOOLS"
+
+# A private apt configuration for one Debian suite (lists and downloads under $TOOLS/apt-$1),
+# so that packages of other suites can be downloaded, signature-checked, without touching the
+# system's sources. The mirror is the one the system's apt already uses.
+# shellcheck disable=SC2016 # apt's own $(...) fields, not the shell's
+MIRROR=${MESA_DEBIAN_MIRROR:-$(apt-get indextargets --format '$(REPO_URI) $(LABEL)' | awk '$2 == "Debian" { print $1; exit }')}
+[ -n "$MIRROR" ] || die "no Debian mirror in apt's sources; set MESA_DEBIAN_MIRROR"
+suite_apt() { # suite, deb or deb-src, apt-get or apt-cache, its arguments...
+    local suite=$1 kind=$2 dir=$TOOLS/apt-$1
+    shift 2
+    mkdir -p "$dir/lists/partial" "$dir/cache/archives/partial"
+    echo "$kind [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] $MIRROR $suite main" >"$dir/sources.list"
+    "$1" -qq -o Dir::Etc::sourcelist="$dir/sources.list" -o Dir::Etc::sourceparts=- \
+        -o Dir::State::Lists="$dir/lists" -o Dir::Cache="$dir/cache" \
+        -o Dir::State::status=/var/lib/dpkg/status -o APT::Sandbox::User=root "${@:2}"
+}
+
+# --- --prebuilt: Debian's binary lavapipe and its libraries, under their own loader ---------
+if [ "$MODE" = prebuilt ]; then
+    # A finished unpacking is reused as it is (MESA_REFRESH=1 looks for a newer package).
+    PREFIX=
+    for f in "$CACHE"/lavapipe-deb-*/.complete; do
+        [ -f "$f" ] && PREFIX=$(printf '%s\n%s\n' "$PREFIX" "${f%/.complete}" | sort -V | tail -n 1)
+    done
+    ver=$(cat "$PREFIX/version" 2>/dev/null || true)
+    if [ -z "$ver" ] || [ "${MESA_REFRESH:-0}" = 1 ]; then
+        say "looking up mesa-vulkan-drivers in Debian $SUITE"
+        suite_apt "$SUITE" deb apt-get update
+        ver=$(suite_apt "$SUITE" deb apt-cache show mesa-vulkan-drivers | awk '/^Version:/ { print $2; exit }')
+        [ -n "$ver" ] || die "Debian $SUITE has no package mesa-vulkan-drivers"
+        PREFIX=$CACHE/lavapipe-deb-${ver#*:}
+    fi
+    if [ ! -f "$PREFIX/.complete" ]; then
+        # The package and every package it depends on, recursively (libraries: the suite's
+        # libc, LLVM, libdrm, the X and Wayland client libraries the driver links).
+        pkgs=$(suite_apt "$SUITE" deb apt-cache depends --recurse --no-recommends --no-suggests \
+            --no-conflicts --no-breaks --no-replaces --no-enhances mesa-vulkan-drivers |
+            grep -v '^[ <]' | sort -u)
+        say "downloading $(echo "$pkgs" | wc -l) packages of Debian $SUITE (mesa-vulkan-drivers $ver)"
+        rm -rf "$PREFIX"
+        mkdir -p "$PREFIX/debs" "$PREFIX/root" "$PREFIX/bin"
+        # shellcheck disable=SC2086 # one package name per word
+        (cd "$PREFIX/debs" && suite_apt "$SUITE" deb apt-get download $pkgs) ||
+            die "could not download Debian $SUITE's mesa-vulkan-drivers and its dependencies"
+        for deb in "$PREFIX"/debs/*.deb; do dpkg-deb -x "$deb" "$PREFIX/root"; done
+        rm -rf "$PREFIX/debs"
+        lib=$PREFIX/root/usr/lib/x86_64-linux-gnu
+        if [ ! -f "$lib/libvulkan_lvp.so" ] || [ ! -x "$lib/ld-linux-x86-64.so.2" ]; then
+            die "the unpacked packages have no libvulkan_lvp.so or dynamic loader in $lib"
+        fi
+        # The package's GPU drivers (about 120 MB) and the documentation are not needed.
+        find "$lib" -maxdepth 1 -name 'libvulkan_*.so' ! -name libvulkan_lvp.so -delete
+        rm -rf "$PREFIX/root/usr/share/doc" "$PREFIX/root/usr/share/man"
+        cat >"$PREFIX/lvp_icd.json" <<EOF
+{
+    "ICD": {
+        "api_version": "1.3.0",
+        "library_path": "$lib/libvulkan_lvp.so"
+    },
+    "file_format_version": "1.0.0"
+}
+EOF
+        cat >"$PREFIX/bin/with-lavapipe" <<EOF
+#!/bin/sh
+# Runs an ELF program (the first argument) with lavapipe from Debian $SUITE's Mesa $ver, under
+# the dynamic loader and libraries of $PREFIX/root (tools/lavapipe.sh --prebuilt).
+[ \$# -ge 1 ] || { echo "usage: \$0 PROGRAM [ARGS...]" >&2; exit 2; }
+prog=\$(command -v "\$1") || { echo "\$0: no program \$1" >&2; exit 127; }
+shift
+VK_ICD_FILENAMES="$PREFIX/lvp_icd.json" exec "$lib/ld-linux-x86-64.so.2" --library-path "$lib" "\$prog" "\$@"
+EOF
+        chmod +x "$PREFIX/bin/with-lavapipe"
+        echo "$ver" >"$PREFIX/version"
+        touch "$PREFIX/.complete"
+    else
+        say "reusing $PREFIX"
+    fi
+    cat <<EOF
+
+lavapipe from Debian $SUITE's Mesa $ver is unpacked in $PREFIX.
+Run a wavetrace binary with it ('wavetrace devices' and render's 'device:' line name the LLVM it
+runs on; VK_ICD_FILENAMES alone does not do: the driver needs the libc it was built for):
+
+  $PREFIX/bin/with-lavapipe target/release/wavetrace devices
+  $PREFIX/bin/with-lavapipe target/release/wavetrace render scenes/cbox/cbox_path.xml --spp 64 -o cbox.exr
+EOF
+    exit 0
+fi
 
 # --- 1. build dependencies -----------------------------------------------------------------
 say "installing build dependencies (apt-get)"
@@ -115,22 +217,6 @@ fi
 # has mako and yaml anyway).
 PATH=$(echo "$PATH" | tr ':' '\n' | grep -v '/\.pyenv/' | paste -sd:)
 export PATH="$TOOLS/bin:$TOOLS/venv/bin:/usr/lib/llvm-$LLVM_MAJOR/bin:$PATH"
-
-# A private apt configuration for one Debian suite (lists and downloads under $TOOLS/apt-$1),
-# so that packages of other suites can be downloaded, signature-checked, without touching the
-# system's sources. The mirror is the one the system's apt already uses.
-# shellcheck disable=SC2016 # apt's own $(...) fields, not the shell's
-MIRROR=${MESA_DEBIAN_MIRROR:-$(apt-get indextargets --format '$(REPO_URI) $(LABEL)' | awk '$2 == "Debian" { print $1; exit }')}
-[ -n "$MIRROR" ] || die "no Debian mirror in apt's sources; set MESA_DEBIAN_MIRROR"
-suite_apt() { # suite, deb or deb-src, apt-get or apt-cache, its arguments...
-    local suite=$1 kind=$2 dir=$TOOLS/apt-$1
-    shift 2
-    mkdir -p "$dir/lists/partial" "$dir/cache/archives/partial"
-    echo "$kind [signed-by=/usr/share/keyrings/debian-archive-keyring.gpg] $MIRROR $suite main" >"$dir/sources.list"
-    "$1" -qq -o Dir::Etc::sourcelist="$dir/sources.list" -o Dir::Etc::sourceparts=- \
-        -o Dir::State::Lists="$dir/lists" -o Dir::Cache="$dir/cache" \
-        -o Dir::State::status=/var/lib/dpkg/status -o APT::Sandbox::User=root "${@:2}"
-}
 
 # --- 2. Mesa's source ------------------------------------------------------------------------
 SRC_ROOT=$CACHE/lavapipe-src
