@@ -128,16 +128,27 @@ suite_apt() { # suite, deb or deb-src, apt-get or apt-cache, its arguments...
         -o Dir::State::Lists="$dir/lists" -o Dir::Cache="$dir/cache" \
         -o Dir::State::status=/var/lib/dpkg/status -o APT::Sandbox::User=root "${@:2}"
 }
+# Downloads packages of a suite (the caller has updated its lists) into folder DEBS and unpacks
+# them into folder ROOT (both made afresh): suite, debs, root, packages...
+unpack_debs() {
+    local suite=$1 debs=$2 root=$3 deb
+    shift 3
+    rm -rf "$debs" "$root"
+    mkdir -p "$debs" "$root"
+    (cd "$debs" && suite_apt "$suite" deb apt-get download "$@") ||
+        die "could not download packages of Debian $suite: $*"
+    for deb in "$debs"/*.deb; do dpkg-deb -x "$deb" "$root"; done
+}
 
 # --- --prebuilt: Debian's binary lavapipe and its libraries, under their own loader ---------
 if [ "$MODE" = prebuilt ]; then
-    # A finished unpacking is reused as it is (MESA_REFRESH=1 looks for a newer package).
-    PREFIX=
-    for f in "$CACHE"/lavapipe-deb-*/.complete; do
-        [ -f "$f" ] && PREFIX=$(printf '%s\n%s\n' "$PREFIX" "${f%/.complete}" | sort -V | tail -n 1)
-    done
-    ver=$(cat "$PREFIX/version" 2>/dev/null || true)
-    if [ -z "$ver" ] || [ "${MESA_REFRESH:-0}" = 1 ]; then
+    # The newest finished unpacking is reused as it is (MESA_REFRESH=1 looks for a newer
+    # package); its folder is named by the package's version.
+    PREFIX=$(for f in "$CACHE"/lavapipe-deb-*/.complete; do
+        if [ -f "$f" ]; then echo "${f%/.complete}"; fi
+    done | sort -V | tail -n 1)
+    ver=${PREFIX##*/lavapipe-deb-}
+    if [ -z "$PREFIX" ] || [ "${MESA_REFRESH:-0}" = 1 ]; then
         say "looking up mesa-vulkan-drivers in Debian $SUITE"
         suite_apt "$SUITE" deb apt-get update
         ver=$(suite_apt "$SUITE" deb apt-cache show mesa-vulkan-drivers | awk '/^Version:/ { print $2; exit }')
@@ -152,12 +163,10 @@ if [ "$MODE" = prebuilt ]; then
             grep -v '^[ <]' | sort -u)
         say "downloading $(echo "$pkgs" | wc -l) packages of Debian $SUITE (mesa-vulkan-drivers $ver)"
         rm -rf "$PREFIX"
-        mkdir -p "$PREFIX/debs" "$PREFIX/root" "$PREFIX/bin"
         # shellcheck disable=SC2086 # one package name per word
-        (cd "$PREFIX/debs" && suite_apt "$SUITE" deb apt-get download $pkgs) ||
-            die "could not download Debian $SUITE's mesa-vulkan-drivers and its dependencies"
-        for deb in "$PREFIX"/debs/*.deb; do dpkg-deb -x "$deb" "$PREFIX/root"; done
+        unpack_debs "$SUITE" "$PREFIX/debs" "$PREFIX/root" $pkgs
         rm -rf "$PREFIX/debs"
+        mkdir -p "$PREFIX/bin"
         lib=$PREFIX/root/usr/lib/x86_64-linux-gnu
         if [ ! -f "$lib/libvulkan_lvp.so" ] || [ ! -x "$lib/ld-linux-x86-64.so.2" ]; then
             die "the unpacked packages have no libvulkan_lvp.so or dynamic loader in $lib"
@@ -184,7 +193,6 @@ shift
 VK_ICD_FILENAMES="$PREFIX/lvp_icd.json" exec "$lib/ld-linux-x86-64.so.2" --library-path "$lib" "\$prog" "\$@"
 EOF
         chmod +x "$PREFIX/bin/with-lavapipe"
-        echo "$ver" >"$PREFIX/version"
         touch "$PREFIX/.complete"
     else
         say "reusing $PREFIX"
@@ -282,10 +290,8 @@ if ! version_ge "${sys_glslang:-0}" "$GLSLANG_MIN"; then
     if [ ! -x "$TOOLS/bin/glslangValidator" ]; then
         say "system glslangValidator is ${sys_glslang:-missing} (< $GLSLANG_MIN): using trixie's, under trixie's libc"
         suite_apt trixie deb apt-get update
-        rm -rf "$TOOLS/debs" "$root"
-        mkdir -p "$TOOLS/debs" "$root" "$TOOLS/bin"
-        (cd "$TOOLS/debs" && suite_apt trixie deb apt-get download glslang-tools spirv-tools libc6 libstdc++6 libgcc-s1)
-        for deb in "$TOOLS"/debs/*.deb; do dpkg-deb -x "$deb" "$root"; done
+        unpack_debs trixie "$TOOLS/debs" "$root" glslang-tools spirv-tools libc6 libstdc++6 libgcc-s1
+        mkdir -p "$TOOLS/bin"
         cat >"$TOOLS/bin/glslangValidator" <<EOF
 #!/bin/sh
 exec "$root/usr/lib/x86_64-linux-gnu/ld-linux-x86-64.so.2" --library-path "$root/usr/lib/x86_64-linux-gnu:$root/lib/x86_64-linux-gnu" "$root/usr/bin/glslangValidator" "\$@"
