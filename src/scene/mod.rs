@@ -19,6 +19,7 @@ mod mitsuba;
 mod nori;
 pub mod obj;
 pub mod ply;
+pub mod plugin;
 mod ply_binary;
 pub mod procedural;
 pub mod properties;

@@ -1,0 +1,266 @@
+//! What every plugin family shares: the catalogue entry of one plugin type.
+//!
+//! Each family (`bsdf/`, `emitter/`, `shape/`, ...) keeps one registry, a list of
+//! [`PluginDoc`]s beside the functions that read and pack each type. The parser's
+//! "not supported yet" and "unknown" errors, `wavetrace info` and `docs/plugins.md`
+//! are all derived from those registries, so a plugin is declared in one place
+//! (Mitsuba 3's `MI_REGISTER_PLUGIN`, one line per plugin).
+
+use std::fmt::Write;
+
+use super::xml::{Dialect, Element};
+use super::Error;
+
+/// A plugin family: the XML tag its objects are written with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Family {
+    Bsdf,
+    Emitter,
+    Shape,
+    Sensor,
+    Film,
+    ReconstructionFilter,
+    Sampler,
+    Texture,
+    Medium,
+    Phase,
+    Volume,
+    Integrator,
+}
+
+impl Family {
+    /// The tag of an object of this family in a Mitsuba scene (`rfilter` for
+    /// reconstruction filters; Nori writes some families with other tags).
+    pub fn tag(self) -> &'static str {
+        match self {
+            Family::Bsdf => "bsdf",
+            Family::Emitter => "emitter",
+            Family::Shape => "shape",
+            Family::Sensor => "sensor",
+            Family::Film => "film",
+            Family::ReconstructionFilter => "rfilter",
+            Family::Sampler => "sampler",
+            Family::Texture => "texture",
+            Family::Medium => "medium",
+            Family::Phase => "phase",
+            Family::Volume => "volume",
+            Family::Integrator => "integrator",
+        }
+    }
+}
+
+/// Whether wavetrace renders a plugin type, or knows the name but lacks it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Support {
+    /// Read and rendered.
+    Yes,
+    /// A type of Mitsuba 3 or Nori that wavetrace does not implement yet: a scene
+    /// naming it gets "not supported yet" instead of "unknown".
+    NotYet,
+}
+
+/// One parameter a plugin reads: its name in the scene file, its type as written
+/// there (`float`, `rgb`, `texture`, `string`, `boolean`, `integer`, `point`,
+/// `transform`, ...; `float|texture` where either is accepted), its default (empty
+/// when it has none or must be given) and one line of meaning.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Param {
+    pub name: &'static str,
+    pub ty: &'static str,
+    pub default: &'static str,
+    pub doc: &'static str,
+}
+
+impl Param {
+    pub const fn new(
+        name: &'static str,
+        ty: &'static str,
+        default: &'static str,
+        doc: &'static str,
+    ) -> Param {
+        Param {
+            name,
+            ty,
+            default,
+            doc,
+        }
+    }
+}
+
+/// The catalogue entry of one plugin type of one dialect.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PluginDoc {
+    pub family: Family,
+    /// The `type` attribute that selects it.
+    pub name: &'static str,
+    pub dialect: Dialect,
+    pub support: Support,
+    /// One sentence: what it is.
+    pub summary: &'static str,
+    /// The parameters read, in the order the manual lists them (none for
+    /// [`Support::NotYet`]).
+    pub params: &'static [Param],
+}
+
+impl PluginDoc {
+    /// A supported plugin.
+    pub const fn new(
+        family: Family,
+        dialect: Dialect,
+        name: &'static str,
+        summary: &'static str,
+        params: &'static [Param],
+    ) -> PluginDoc {
+        PluginDoc {
+            family,
+            name,
+            dialect,
+            support: Support::Yes,
+            summary,
+            params,
+        }
+    }
+
+    /// A type of the dialect that wavetrace does not implement yet.
+    pub const fn not_yet(family: Family, dialect: Dialect, name: &'static str) -> PluginDoc {
+        PluginDoc {
+            family,
+            name,
+            dialect,
+            support: Support::NotYet,
+            summary: "",
+            params: &[],
+        }
+    }
+}
+
+/// The error for an object whose `type` no supported entry of `registry` names:
+/// "`<tag>` type 'X' is not supported yet" for a type the registry lists as
+/// [`Support::NotYet`], "unknown `<tag>` type 'X'" (with the supported types) for any
+/// other; at the element's line.
+pub fn unsupported(el: &Element, family: Family, dialect: Dialect, registry: &[PluginDoc]) -> Error {
+    let t = el.attr("type").unwrap_or("");
+    let tag = family.tag();
+    let of_dialect = || registry.iter().filter(|p| p.family == family && p.dialect == dialect);
+    if of_dialect().any(|p| p.name == t && p.support == Support::NotYet) {
+        return el.err(format!("{tag} type '{t}' is not supported yet"));
+    }
+    let known: Vec<&str> = of_dialect()
+        .filter(|p| p.support == Support::Yes)
+        .map(|p| p.name)
+        .collect();
+    if known.is_empty() {
+        el.err(format!("unknown {tag} type '{t}'"))
+    } else {
+        el.err(format!(
+            "unknown {tag} type '{t}' (supported: {})",
+            known.join(", ")
+        ))
+    }
+}
+
+/// The supported entry of `registry` for `family`, `dialect` and type `t`.
+pub fn find<'a>(
+    registry: &'a [PluginDoc],
+    family: Family,
+    dialect: Dialect,
+    t: &str,
+) -> Option<&'a PluginDoc> {
+    registry
+        .iter()
+        .find(|p| p.family == family && p.dialect == dialect && p.name == t && p.support == Support::Yes)
+}
+
+/// `docs/plugins.md`: one section per dialect and family, a table of the supported
+/// types with their parameters, then the types not supported yet.
+pub fn markdown(catalogue: &[PluginDoc]) -> String {
+    let mut s = String::from(
+        "# Plugins\n\n\
+         Every scene object type wavetrace reads, by dialect and family, with the\n\
+         parameters it reads (name, type, default, meaning). Generated from the\n\
+         plugin registries in `src/scene/` (`cargo test --lib plugin_docs` checks it;\n\
+         `WAVETRACE_WRITE_DOCS=1 cargo test --lib plugin_docs` rewrites it).\n",
+    );
+    for (dialect, title) in [(Dialect::Mitsuba, "Mitsuba 3"), (Dialect::Nori, "Nori")] {
+        let mut families: Vec<Family> = catalogue
+            .iter()
+            .filter(|p| p.dialect == dialect)
+            .map(|p| p.family)
+            .collect();
+        families.sort();
+        families.dedup();
+        for family in families {
+            let _ = write!(s, "\n## {title}: `<{}>`\n", family.tag());
+            let of = |support| {
+                catalogue
+                    .iter()
+                    .filter(move |p| p.dialect == dialect && p.family == family && p.support == support)
+            };
+            for p in of(Support::Yes) {
+                let _ = write!(s, "\n### `{}`\n\n{}\n", p.name, p.summary);
+                if !p.params.is_empty() {
+                    s.push_str("\n| parameter | type | default | meaning |\n| --- | --- | --- | --- |\n");
+                    for q in p.params {
+                        let default = if q.default.is_empty() { "—" } else { q.default };
+                        let _ = writeln!(
+                            s,
+                            "| `{}` | {} | {} | {} |",
+                            q.name,
+                            q.ty.replace('|', " or "),
+                            default.replace('|', "\\|"),
+                            q.doc.replace('|', "\\|")
+                        );
+                    }
+                }
+            }
+            let missing: Vec<String> = of(Support::NotYet).map(|p| format!("`{}`", p.name)).collect();
+            if !missing.is_empty() {
+                let _ = write!(s, "\nNot supported yet: {}.\n", missing.join(", "));
+            }
+        }
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const PARAMS: &[Param] = &[Param::new("reflectance", "rgb|texture", "0.5", "albedo")];
+    const REGISTRY: &[PluginDoc] = &[
+        PluginDoc::new(Family::Bsdf, Dialect::Mitsuba, "diffuse", "Lambertian.", PARAMS),
+        PluginDoc::not_yet(Family::Bsdf, Dialect::Mitsuba, "hair"),
+    ];
+
+    /// The first child of a Mitsuba scene holding `xml`.
+    fn element(xml: &str) -> Element {
+        let dir = std::env::temp_dir().join(format!("wavetrace-plugin-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let path = dir.join(format!("{}.xml", xml.len()));
+        std::fs::write(&path, format!(r#"<scene version="3.0.0">{xml}</scene>"#)).expect("write");
+        let doc = super::super::xml::read(&path, &[]).expect("test XML parses");
+        doc.root.children[0].clone()
+    }
+
+    #[test]
+    fn errors_tell_not_yet_from_unknown() {
+        let hair = element(r#"<bsdf type="hair"/>"#);
+        let e = unsupported(&hair, Family::Bsdf, Dialect::Mitsuba, REGISTRY).to_string();
+        assert!(e.contains("bsdf type 'hair' is not supported yet"), "{e}");
+        let typo = element(r#"<bsdf type="difuse"/>"#);
+        let e = unsupported(&typo, Family::Bsdf, Dialect::Mitsuba, REGISTRY).to_string();
+        assert!(e.contains("unknown bsdf type 'difuse' (supported: diffuse)"), "{e}");
+        assert!(find(REGISTRY, Family::Bsdf, Dialect::Mitsuba, "diffuse").is_some());
+        assert!(find(REGISTRY, Family::Bsdf, Dialect::Mitsuba, "hair").is_none());
+        assert!(find(REGISTRY, Family::Bsdf, Dialect::Nori, "diffuse").is_none());
+    }
+
+    #[test]
+    fn markdown_lists_parameters_and_missing_types() {
+        let md = markdown(REGISTRY);
+        assert!(md.contains("## Mitsuba 3: `<bsdf>`"), "{md}");
+        assert!(md.contains("| `reflectance` | rgb or texture | 0.5 | albedo |"), "{md}");
+        assert!(md.contains("Not supported yet: `hair`."), "{md}");
+        assert!(!md.contains("## Nori"), "{md}");
+    }
+}
