@@ -394,3 +394,50 @@ fn int64_queue_stores_render_what_32_bit_stores_render() {
         );
     }
 }
+
+/// An I/O error is said once: the path, then its cause, not the cause again from each
+/// layer it passed through (image, partial, anyhow's chain).
+fn assert_cause_said_once(args: &[&str], path: &str) {
+    let (code, _, err) = wavetrace(args);
+    assert_eq!(code, 1, "exit status for {args:?}; stderr: {err}");
+    assert!(
+        err.contains(path),
+        "stderr for {args:?} lacks {path:?}:\n{err}"
+    );
+    assert_eq!(
+        err.matches("os error 2").count(),
+        1,
+        "stderr for {args:?} should say \"os error 2\" once:\n{err}"
+    );
+}
+
+#[test]
+fn an_unwritable_output_says_its_cause_once() {
+    assert_cause_said_once(
+        &[
+            "render",
+            "scenes/cbox/cbox_path.xml",
+            "--spp",
+            "1",
+            "-D",
+            "res=16",
+            "-q",
+            "-o",
+            "/nonexistent/x.exr",
+        ],
+        "/nonexistent/x.exr",
+    );
+}
+
+#[test]
+fn a_missing_part_says_its_cause_once() {
+    assert_cause_said_once(
+        &[
+            "merge",
+            "/nonexistent/part.exr",
+            "-o",
+            "/nonexistent/merged.exr",
+        ],
+        "/nonexistent/part.exr",
+    );
+}
