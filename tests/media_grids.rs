@@ -6,7 +6,7 @@ mod common;
 
 use common::load_with;
 use common::media::{assert_finite, render_stats, vol_bytes};
-use wavetrace::gpu::{shaders, BindingLayout, Kernel};
+use wavetrace::gpu::{shaders, Kernel};
 
 /// An albedo grid: a grid of 0.5 everywhere (three channels, on the smoke grid's
 /// voxels) gives the same image as the constant albedo 0.5 (the same random numbers
@@ -130,8 +130,7 @@ fn trilinear(res: [usize; 3], ch: usize, data: &[f32], p: [f64; 3], c: usize) ->
 fn gpu_grid_lookups_equal_trilinear_interpolation() {
     use wavetrace::accel::{prims_from_scene, Bvh};
     use wavetrace::gpu::layout::MEDIUM_DENSITY_PACKED;
-    use wavetrace::gpu::BindingKind;
-    use wavetrace::render::scene_buffers::{scene_binding_kinds, SceneBuffers, SceneRecords};
+    use wavetrace::render::scene_buffers::SceneRecords;
 
     let mut rng = common::stats::SplitMix64(7);
     let grids: [([usize; 3], usize); 3] = [([5, 3, 4], 1), ([1, 6, 2], 1), ([4, 5, 3], 3)];
@@ -171,13 +170,7 @@ fn gpu_grid_lookups_equal_trilinear_interpolation() {
     let bvh = Bvh::build(prims_from_scene(&scene));
     let records = SceneRecords::new(&scene, &bvh);
     assert_eq!(records.media.len(), grids.len());
-    let layout = BindingLayout::with_kinds(
-        &device,
-        &[scene_binding_kinds(), vec![BindingKind::Storage; 2]],
-        8,
-    )
-    .unwrap();
-    let buffers = SceneBuffers::upload(&device, &layout, &bvh, &records).unwrap();
+    let (layout, buffers) = common::upload_scene(&device, &bvh, &records, 2, 8);
     let kernel = Kernel::new(&device, "grid_eval", shaders::TESTS_GRID_EVAL, &layout, &[]).unwrap();
     for (m, (res, ch)) in grids.iter().enumerate() {
         assert_ne!(

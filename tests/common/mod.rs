@@ -5,15 +5,42 @@
 
 use std::path::{Path, PathBuf};
 
-use wavetrace::gpu::{BindingLayout, Buffer, CommandList, DescriptorSet, Device, Kernel, Location};
+use wavetrace::accel::Bvh;
+use wavetrace::gpu::{
+    BindingKind, BindingLayout, Buffer, CommandList, DescriptorSet, Device, Kernel, Location,
+};
 use wavetrace::image::metrics::{block_t_test, block_t_test_correlated, rel_mse, BlockTest};
 use wavetrace::image::Image;
+use wavetrace::render::scene_buffers::{scene_binding_kinds, SceneBuffers, SceneRecords};
 use wavetrace::render::{RenderOptions, Renderer};
 use wavetrace::scene::Scene;
 
 pub fn device() -> Device {
     Device::new(std::env::var("WAVETRACE_DEVICE").ok().as_deref())
         .expect("a Vulkan device (run tools/setup.sh)")
+}
+
+/// The scene uploaded for a test kernel: its binding layout (set 0 the scene's
+/// bindings, set 1 `storage_buffers` storage buffers, `push_bytes` of push constants)
+/// and the scene's buffers in set 0.
+pub fn upload_scene(
+    device: &Device,
+    bvh: &Bvh,
+    records: &SceneRecords,
+    storage_buffers: usize,
+    push_bytes: u32,
+) -> (BindingLayout, SceneBuffers) {
+    let layout = BindingLayout::with_kinds(
+        device,
+        &[
+            scene_binding_kinds(),
+            vec![BindingKind::Storage; storage_buffers],
+        ],
+        push_bytes,
+    )
+    .unwrap();
+    let buffers = SceneBuffers::upload(device, &layout, bvh, records).unwrap();
+    (layout, buffers)
 }
 
 /// Runs a test kernel that reads the scene (set 0, `scene_set`) and, in set 1, the
