@@ -1047,10 +1047,7 @@ const BOUNCE_CHUNK: u32 = 64;
 const SHORT_BOUNCE_CHUNKS: (u32, u32) = (4, BOUNCE_CHUNK);
 
 /// The chunks of bounces of path batches whose budget exceeds one chunk (paths of
-/// unbounded length, ended by Russian roulette): most end within a few bounces and the
-/// longest within a few dozen, and a batch of 64 bounces then ran some 40 empty ones,
-/// four dispatches of about 30 us each (scenes/envmap/envmap_glossy.xml at 256x256,
-/// 16 spp: 384 dispatches of each kernel, the last path ending before bounce 24).
-/// Submissions after 8, 24 and 56 bounces let such a batch stop at the first of
-/// them that finds no path left.
+/// unbounded length, ended by Russian roulette): most paths end within a few bounces,
+/// so submissions after 8, 24 and 56 bounces let a batch stop at the first that finds
+/// no path left (docs/performance.md, "Renderer decisions").
 const LONG_BUDGET_CHUNKS: (u32, u32) = (8, BOUNCE_CHUNK);
