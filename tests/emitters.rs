@@ -1,4 +1,4 @@
-//! Emitter sampling in its GLSL form (shaders/common/emitter.glsl, through
+//! Emitter sampling in its GLSL form (shaders/emitter/emitter.glsl, through
 //! shaders/tests/emitter_sample.comp): the emitter is chosen uniformly (as Mitsuba 3
 //! and Nori choose) and a mesh light's triangle in proportion to area (chi-square
 //! tests), and the density that MIS evaluates when a ray hits a light equals the
@@ -498,7 +498,7 @@ fn environment_map_sampling_matches_its_pdf() {
 }
 
 /// With a stratifying sampler the emitter choice hands out whole strata
-/// (shaders/common/emitter.glsl, emitter_choose): emitter i owns strata
+/// (shaders/emitter/emitter.glsl, emitter_choose): emitter i owns strata
 /// [Q_i, Q_{i+1}) of k, Q_i = i + round((k - n) C_i) with C_i the power cdf. The
 /// choice follows those probabilities (chi-square), delta lights report theirs, and the
 /// density MIS evaluates on a hit is still the density of sampling that point.
@@ -608,7 +608,7 @@ fn textured_scene() -> Scene {
 }
 
 /// Textured emitters draw their points by their texture (scene::textured_emitter,
-/// shaders/common/emitter_texture.glsl): the density MIS evaluates on a hit equals the
+/// shaders/emitter/emitter_texture.glsl): the density MIS evaluates on a hit equals the
 /// density of sampling that point, which equals the CPU reference's (the texture-space
 /// density over the rectangle's area per unit uv, to solid angle), and the bright
 /// texel gets the share of samples its luminance asks for.

@@ -1,5 +1,5 @@
 //! The film: reconstruction filters against Mitsuba 3, alpha, crop windows, sampled
-//! borders, split renders and merges (src/render/film.rs, shaders/film_gather.comp).
+//! borders, split renders and merges (src/render/film.rs, shaders/kernels/film_gather.comp).
 
 mod common;
 

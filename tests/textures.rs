@@ -1,4 +1,4 @@
-//! Textures and environment-map lookups in their GLSL form (shaders/common/texture.glsl
+//! Textures and environment-map lookups in their GLSL form (shaders/texture/texture.glsl
 //! and envmap.glsl, through shaders/tests/texture_eval.comp) against the CPU
 //! reference in src/scene/texture.rs and src/scene/envmap.rs, at random points.
 

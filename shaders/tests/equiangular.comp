@@ -4,8 +4,8 @@
 // (o, d) towards c.
 // mode 0 (sample): out[i] = (t, pdf at t, 0, 0); mode 1: out[i].x = pdf(ts[i].x).
 
-#include "equiangular.glsl"
-#include "rng.glsl"
+#include "medium/equiangular.glsl"
+#include "sampling/rng.glsl"
 
 layout(local_size_x = 64) in;
 

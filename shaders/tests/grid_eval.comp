@@ -4,7 +4,7 @@
 // (medium.glsl medium_grid_density, every layout compiled in), so tests/media.rs can
 // compare it with trilinear interpolation on the CPU.
 
-#include "scene_bindings.glsl"
+#include "scene/scene_bindings.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -16,7 +16,7 @@ layout(push_constant) uniform PushBlock {
     uint medium;
 } pc;
 
-#include "medium.glsl"
+#include "medium/medium.glsl"
 
 void main() {
     uint i = gl_GlobalInvocationID.x;

@@ -6,8 +6,8 @@
 //   out[2i+1] = (phase_eval(wo, wi), phase_pdf(wo, wi), 0, 0).
 // mode 1 (evaluate): out[i] = (phase_pdf(wo, dirs[i].xyz), phase_eval(wo, dirs[i].xyz), 0, 0).
 
-#include "phase.glsl"
-#include "rng.glsl"
+#include "medium/phase.glsl"
+#include "sampling/rng.glsl"
 
 layout(local_size_x = 64) in;
 

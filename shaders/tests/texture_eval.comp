@@ -4,7 +4,7 @@
 // emitter `id` along the queried directions (mode 1), so tests/textures.rs can
 // compare texture.glsl and envmap.glsl with their CPU references.
 
-#include "scene_bindings.glsl"
+#include "scene/scene_bindings.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -18,8 +18,8 @@ layout(push_constant) uniform PushBlock {
     uint mode;
 } pc;
 
-#include "texture.glsl"
-#include "envmap.glsl"
+#include "texture/texture.glsl"
+#include "emitter/envmap.glsl"
 
 void main() {
     uint i = gl_GlobalInvocationID.x;

@@ -1,5 +1,5 @@
 //! The BVH: a binned-SAH build on the host ([`super::bvh_build`]), flattened to
-//! [`BvhNode`]s, and a CPU traversal that mirrors `shaders/common/bvh.glsl` step for
+//! [`BvhNode`]s, and a CPU traversal that mirrors `shaders/accel/bvh.glsl` step for
 //! step.
 //!
 //! Layout: node 0 is the root and always an inner node; each node holds both
@@ -23,7 +23,7 @@ use super::{cylinder, disk, sphere, triangle};
 use crate::gpu::layout::{BvhNode, Prim, PRIM_CYLINDER, PRIM_DISK, PRIM_SPHERE};
 use crate::scene::{Mesh, Quadric};
 
-/// Entries in the traversal stack of `shaders/common/bvh.glsl` (`#define
+/// Entries in the traversal stack of `shaders/accel/bvh.glsl` (`#define
 /// BVH_STACK_SIZE`, checked by a test). The build keeps every leaf at depth
 /// `<= BVH_STACK_SIZE` (root = depth 0), which is what a traversal that pushes one
 /// child per level needs.
@@ -953,7 +953,7 @@ mod tests {
 
     #[test]
     fn stack_size_and_constants_match_glsl() {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/common/bvh.glsl");
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/accel/bvh.glsl");
         let src = std::fs::read_to_string(path).expect("bvh.glsl");
         let define = |name: &str| -> String {
             src.lines()
@@ -1003,7 +1003,7 @@ mod tests {
     /// system glslangValidator is installed (the build uses it for real kernels).
     #[test]
     fn glsl_compiles() {
-        let common = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/common");
+        let shaders = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders");
         let dir = std::env::temp_dir().join(format!("wavetrace-bvhcheck-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let comp = dir.join("bvhcheck.comp");
@@ -1012,8 +1012,8 @@ mod tests {
             r#"#version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 64) in;
-#include "scene_bindings.glsl"
-#include "bvh.glsl"
+#include "scene/scene_bindings.glsl"
+#include "accel/bvh.glsl"
 layout(std430, set = 1, binding = 0) buffer Io { vec4 io[]; };
 void main() {
     uint i = gl_GlobalInvocationID.x;
@@ -1026,7 +1026,7 @@ void main() {
         .unwrap();
         let out = std::process::Command::new("glslangValidator")
             .args(["-V", "--target-env", "vulkan1.2"])
-            .arg(format!("-I{common}"))
+            .arg(format!("-I{shaders}"))
             .arg(&comp)
             .arg("-o")
             .arg(dir.join("bvhcheck.spv"))

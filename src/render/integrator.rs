@@ -228,7 +228,7 @@ pub const NAMES: &[&str] = &[
 ];
 
 impl Integrator {
-    /// The id of the shading code (`INTEGRATOR_*` in shaders/common/integrator.glsl).
+    /// The id of the shading code (`INTEGRATOR_*` in shaders/integrator/integrator.glsl).
     pub fn id(&self) -> u32 {
         match self {
             Integrator::Normals => 0,

@@ -82,7 +82,7 @@ pub struct RenderOptions {
     pub max_sppm_pixels: Option<u32>,
     /// Trace the bounces that only end paths through the whole BVH even where the
     /// scene has few emitter primitives (by default those bounces meet the emitters
-    /// alone: shaders/common/path_emitted.glsl). The same image either way; tests
+    /// alone: shaders/integrator/path_emitted.glsl). The same image either way; tests
     /// compare the two.
     pub trace_last_bounce: bool,
     /// Traverse the BVH even where the scene has so few primitives that the kernels
@@ -90,11 +90,11 @@ pub struct RenderOptions {
     /// `bvh_trace_flat`). The same image either way; tests compare the two.
     pub traverse_small_scenes: bool,
     /// Render with the wavefront's kernels alone even where a CPU device would run a
-    /// first bounce in one kernel (shaders/first_bounce.comp). The same image either
+    /// first bounce in one kernel (shaders/kernels/first_bounce.comp). The same image either
     /// way, up to float contraction; tests compare the two.
     pub wavefront: bool,
     /// Whether shade and shadow leave the rays that cross more null surfaces than
-    /// their traversal found to full twins of themselves (shaders/common/deferral.glsl)
+    /// their traversal found to full twins of themselves (shaders/queue/deferral.glsl)
     /// instead of tracing in their crossing loops: `None` where it pays (see
     /// `Renderer::new`), `Some(false)` never, `Some(true)` in every scene with null
     /// surfaces. The same image either way but for float rounding; tests compare them.
@@ -131,7 +131,7 @@ pub struct RenderStats {
     /// their later vertices are missing from the image.
     pub cut_paths: u64,
     /// Rays and shadow rays that shade and shadow left to their full twins
-    /// (shaders/common/deferral.glsl; scenes with null surfaces).
+    /// (shaders/queue/deferral.glsl; scenes with null surfaces).
     pub deferred: u64,
     pub kernel_times: KernelTimes,
     /// Photon mappers: photons emitted and stored, passes, where the time went.
@@ -162,10 +162,10 @@ struct Kernels {
     /// None for the photon mappers, which shade with kernels of their own.
     shade: Option<Kernel>,
     /// `shade` for the bounces whose vertices end their paths (depth + 2 > max_depth:
-    /// only the emission rays find; shaders/common/path.glsl's SHADE_LAST), where a
+    /// only the emission rays find; shaders/integrator/path.glsl's SHADE_LAST), where a
     /// path integrator's depth is bounded.
     shade_last: Option<Kernel>,
-    /// Whether `shade_last` meets the emitters itself (shaders/common/path_emitted.glsl):
+    /// Whether `shade_last` meets the emitters itself (shaders/integrator/path_emitted.glsl):
     /// its bounces then run no `intersect` and send their light through `shadow`.
     last_meets_emitters: bool,
     /// Where `intersect` partitions a bounce's rays into hits and misses (see
@@ -176,7 +176,7 @@ struct Kernels {
     shadow: Option<Kernel>,
     /// In scenes with null surfaces: the full twins of `shade` and `shadow`, which
     /// then run without the traversals of their crossing loops and leave the rays
-    /// that need one to these (shaders/common/deferral.glsl).
+    /// that need one to these (shaders/queue/deferral.glsl).
     shade_deferred: Option<Kernel>,
     shadow_deferred: Option<Kernel>,
     queue_args: Kernel,
@@ -184,7 +184,7 @@ struct Kernels {
     accumulate: Option<Kernel>,
     film_gather: Kernel,
     /// Where a CPU device runs a batch's camera rays and first bounce in one kernel
-    /// (shaders/first_bounce.comp; see [`fuses_first_bounce`]): it, in place of
+    /// (shaders/kernels/first_bounce.comp; see [`fuses_first_bounce`]): it, in place of
     /// generate and bounce 0 (and of bounce 1 where that ends the paths).
     first_bounce: Option<Kernel>,
     /// The bounces `first_bounce` runs: 1, or 2 where bounce 1 ends the paths.
@@ -306,7 +306,7 @@ enum Over {
     /// The shadow queue (indirect dispatch).
     Shadows,
     /// The rays and the shadow rays the fast shade and shadow deferred (indirect
-    /// dispatches; shaders/common/deferral.glsl).
+    /// dispatches; shaders/queue/deferral.glsl).
     DeferredRays,
     DeferredShadows,
     /// One workgroup.
@@ -961,7 +961,7 @@ impl Renderer {
     /// The stages of a path batch's bounce with `shade` as its shading kernel:
     /// intersect, shade, queue_args, shadow; partitioned (see [`partitions`]), shade
     /// takes the hits after `shade_args` and `shade_miss` the misses; deferring
-    /// (shaders/common/deferral.glsl), `deferred` after shade and shadow's full twin
+    /// (shaders/queue/deferral.glsl), `deferred` after shade and shadow's full twin
     /// after shadow take the rays they left.
     fn bounce_stages<'a>(
         &'a self,

@@ -22,7 +22,7 @@ use super::wavefront::{QueueBytes, BYTES_PER_PATH};
 use super::{choose_sampler, sampler, RenderOptions};
 
 /// Most paths in one batch: the kernels divide path and pixel indices by a float
-/// quotient (shaders/common/divide.glsl), exact for quotients below 2^23; a batch of
+/// quotient (shaders/film/divide.glsl), exact for quotients below 2^23; a batch of
 /// at most 2^22 paths keeps every quotient below that, whatever the film.
 pub const MAX_BATCH_PATHS: u32 = 1 << 22;
 
@@ -36,11 +36,11 @@ const FUSED_MIN_PATHS: u64 = 1 << 21;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Stage {
     /// A batch's camera rays and first bounce (or two) in one kernel
-    /// (shaders/first_bounce.comp), in place of generate and bounce 0's stages.
+    /// (shaders/kernels/first_bounce.comp), in place of generate and bounce 0's stages.
     FirstBounce,
     Shade,
     /// In scenes with null surfaces, the full twins of `shade` and `shadow` that take
-    /// the rays the fast ones left (shaders/common/deferral.glsl).
+    /// the rays the fast ones left (shaders/queue/deferral.glsl).
     ShadeDeferred,
     /// `shade` for the bounces whose vertices end their paths (path.glsl's SHADE_LAST).
     ShadeLast,
@@ -119,7 +119,7 @@ pub struct Schedule {
     /// ([`partitions`]).
     pub partitioned: bool,
     /// Where bounces that only end paths meet the emitters alone
-    /// (shaders/common/path_emitted.glsl): the emitter primitives they meet; else 0.
+    /// (shaders/integrator/path_emitted.glsl): the emitter primitives they meet; else 0.
     pub emitted_only: u32,
     /// Whether `first_bounce` runs a batch's first bounce (or two), and how many.
     pub fused: bool,
@@ -128,7 +128,7 @@ pub struct Schedule {
     /// is the whole path).
     pub wavefront_kernels: bool,
     /// Whether shade and shadow defer the rays that cross more null surfaces than
-    /// their traversal found to their full twins (shaders/common/deferral.glsl).
+    /// their traversal found to their full twins (shaders/queue/deferral.glsl).
     pub deferral: bool,
 }
 
@@ -565,7 +565,7 @@ fn camera_miss_fraction(bvh: &Bvh, cam: &crate::scene::Camera) -> f32 {
 }
 
 /// Whether `intersect` partitions a bounce's rays into hits and misses for `shade`
-/// (shaders/common/partition.glsl): llvmpipe runs shade's whole code for a lane whose
+/// (shaders/queue/partition.glsl): llvmpipe runs shade's whole code for a lane whose
 /// ray left the scene, so path integrators in scenes with an environment shade the
 /// rays that found a surface in SIMD groups of their own and the misses in
 /// `shade_miss`, a kernel with only the miss code. The partition costs an atomic per

@@ -1,7 +1,7 @@
 //! Textures: functions of the surface uv that any color or float parameter of a BSDF,
 //! the radiance of an area emitter or a normal map can read.
 //!
-//! The GLSL is `shaders/common/texture.glsl`; [`Texture::eval`] here is its CPU
+//! The GLSL is `shaders/texture/texture.glsl`; [`Texture::eval`] here is its CPU
 //! reference (the GPU test compares them at random uvs) and also gives the means the
 //! host needs (emitter power, sampling weights of plastics).
 //!
