@@ -11,12 +11,26 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+// The table of specialization constants, shared with the crate (`gpu::spec_ids`).
+#[path = "src/gpu/spec_ids.rs"]
+#[allow(dead_code)]
+mod spec_ids;
+
 fn main() {
     let root =
         PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     let shader_dir = root.join("shaders");
     println!("cargo:rerun-if-changed=shaders");
+    println!("cargo:rerun-if-changed=src/gpu/spec_ids.rs");
+    // Headers generated from Rust, included as `generated/NAME.glsl`.
+    let generated = out.join("glsl");
+    fs::create_dir_all(generated.join("generated")).expect("create the generated GLSL folder");
+    fs::write(
+        generated.join("generated/spec_constants.glsl"),
+        spec_ids::glsl_header(),
+    )
+    .expect("write spec_constants.glsl");
 
     let mut kernels = Vec::new();
     collect_kernels(&shader_dir, &mut kernels);
@@ -28,6 +42,7 @@ fn main() {
     let mut failures = Vec::new();
     let mut split_pairs = Vec::new();
     let mut int64_pairs = Vec::new();
+    let mut all = Vec::new();
     for kernel in &kernels {
         let rel = kernel
             .strip_prefix(&shader_dir)
@@ -71,6 +86,7 @@ fn main() {
                 .arg("vulkan1.2")
                 .args(defines)
                 .arg(format!("-I{}", shader_dir.display()))
+                .arg(format!("-I{}", generated.display()))
                 .arg("-o")
                 .arg(&spv)
                 .arg(kernel)
@@ -98,6 +114,7 @@ fn main() {
                         "pub const {name}: &[u8] = include_bytes!({:?});\n",
                         spv.display().to_string()
                     ));
+                    all.push(name);
                 }
             }
         }
@@ -126,6 +143,11 @@ fn main() {
         &int64_pairs,
         "_INT64",
     ));
+    consts.push_str("\n/// Every kernel and variant: (constant name, SPIR-V).\npub const ALL: &[(&str, &[u8])] = &[\n");
+    for name in &all {
+        consts.push_str(&format!("    (\"{name}\", {name}),\n"));
+    }
+    consts.push_str("];\n");
     if !failures.is_empty() {
         eprintln!("GLSL compilation failed:\n{}", failures.join("\n"));
         std::process::exit(1);

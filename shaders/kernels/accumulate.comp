@@ -1,5 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#include "generated/spec_constants.glsl"
 // accumulate: puts each finished path's sample (value, position in its pixel, flags)
 // into its film slot, for film_gather. NaN or infinite samples are kept out (flagged
 // invalid) and counted.
@@ -7,7 +8,7 @@
 
 #include "queue/wavefront.glsl"
 // The sampler kind (SAMPLER_*), which draws the samples' positions in their pixels.
-layout(constant_id = 0) const uint SCENE_SAMPLER_KIND = 0u;
+SPEC(SCENE_SAMPLER_KIND);
 #define SAMPLER_KIND SCENE_SAMPLER_KIND
 #include "film/film.glsl"
 

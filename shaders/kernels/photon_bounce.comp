@@ -1,5 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#include "generated/spec_constants.glsl"
 // photon_bounce: where a photon path meets a surface whose BSDF is not a delta, it
 // stores a photon (from its first surface on with photon_params.store_first, else from
 // its second); then it scatters by BSDF sampling (adjoint refraction) with Russian
@@ -11,11 +12,11 @@
 
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
-layout(constant_id = 0) const uint SCENE_SURFACE_FEATURES = 0xffffffffu;
+SPEC(SCENE_SURFACE_FEATURES);
 #define SURFACE_FEATURES SCENE_SURFACE_FEATURES
-layout(constant_id = 1) const uint SCENE_TEXTURES = 0xffffffffu;
+SPEC(SCENE_TEXTURES);
 #define TEXTURE_KINDS SCENE_TEXTURES
-layout(constant_id = 2) const uint SCENE_BSDF_KINDS = 0xffffffffu;
+SPEC(SCENE_BSDF_KINDS);
 #define BSDF_KINDS SCENE_BSDF_KINDS
 #include "shape/surface.glsl"
 #include "texture/texture.glsl"

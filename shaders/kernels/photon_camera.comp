@@ -1,5 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#include "generated/spec_constants.glsl"
 // photon_camera: one vertex of the photon mapper's camera paths (Nori's photonmapper):
 // the emission the ray finds (times photon_params.emission_scale), then at a delta BSDF
 // (mirror, dielectric) the next ray by BSDF sampling with Russian roulette, and at any
@@ -9,20 +10,20 @@
 
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
-layout(constant_id = 0) const uint SCENE_SURFACE_FEATURES = 0xffffffffu;
+SPEC(SCENE_SURFACE_FEATURES);
 #define SURFACE_FEATURES SCENE_SURFACE_FEATURES
-layout(constant_id = 1) const uint SCENE_TEXTURES = 0xffffffffu;
+SPEC(SCENE_TEXTURES);
 #define TEXTURE_KINDS SCENE_TEXTURES
-layout(constant_id = 2) const uint SCENE_EMITTER_KINDS = 0xffffffffu;
+SPEC(SCENE_EMITTER_KINDS);
 #define EMITTER_KINDS SCENE_EMITTER_KINDS
 #include "emitter/emitter.glsl"
-layout(constant_id = 3) const uint SCENE_BSDF_KINDS = 0xffffffffu;
+SPEC(SCENE_BSDF_KINDS);
 #define BSDF_KINDS SCENE_BSDF_KINDS
 #include "bsdf/bsdf.glsl"
 #include "bsdf/bsdf_textured.glsl"
 #include "queue/queue.glsl"
 // The sampler kind (SAMPLER_*): the other kinds compile away.
-layout(constant_id = 4) const uint SCENE_SAMPLER_KIND = 0u;
+SPEC(SCENE_SAMPLER_KIND);
 #define SAMPLER_KIND SCENE_SAMPLER_KIND
 #include "sampler/sampler_frame.glsl"
 #include "photon/bindings.glsl"

@@ -1,5 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#include "generated/spec_constants.glsl"
 // photon_emit: the first ray of photon paths push.pixel_base .. + path_count of stream
 // photon_params.iteration, one per path slot.
 // Writes: photon paths (path-state buffer), ray queue 0 (appended; the host empties it
@@ -8,15 +9,15 @@
 #include "queue/wavefront.glsl"
 #include "queue/queue.glsl"
 #include "scene/scene_bindings.glsl"
-layout(constant_id = 0) const uint SCENE_SURFACE_FEATURES = 0xffffffffu;
+SPEC(SCENE_SURFACE_FEATURES);
 #define SURFACE_FEATURES SCENE_SURFACE_FEATURES
-layout(constant_id = 1) const uint SCENE_TEXTURES = 0xffffffffu;
+SPEC(SCENE_TEXTURES);
 #define TEXTURE_KINDS SCENE_TEXTURES
-layout(constant_id = 2) const uint SCENE_EMITTER_KINDS = 0xffffffffu;
+SPEC(SCENE_EMITTER_KINDS);
 #define EMITTER_KINDS SCENE_EMITTER_KINDS
 #include "emitter/emitter.glsl"
 // Choose the emitter uniformly (the photonmapper, as Nori) instead of by power.
-layout(constant_id = 3) const bool UNIFORM_EMITTER_CHOICE = false;
+SPEC(UNIFORM_EMITTER_CHOICE);
 #include "photon/bindings.glsl"
 #include "photon/record.glsl"
 #include "photon/random.glsl"

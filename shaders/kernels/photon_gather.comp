@@ -1,5 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#include "generated/spec_constants.glsl"
 // photon_gather: the photon mapper's density estimate at each camera path's visible
 // point, Σ f(wo, wi_p) Φ_p over the photons within photon_params.radius, added to the
 // path's radiance times its throughput and photon_params.gather_scale (1 / (π r² N),
@@ -9,9 +10,9 @@
 
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
-layout(constant_id = 0) const uint SCENE_TEXTURES = 0xffffffffu;
+SPEC(SCENE_TEXTURES);
 #define TEXTURE_KINDS SCENE_TEXTURES
-layout(constant_id = 1) const uint SCENE_BSDF_KINDS = 0xffffffffu;
+SPEC(SCENE_BSDF_KINDS);
 #define BSDF_KINDS SCENE_BSDF_KINDS
 #include "shape/surface.glsl"
 #include "texture/texture.glsl"

@@ -1,5 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#include "generated/spec_constants.glsl"
 // photon_grid_scan: inclusive prefix sum of the bucket counts cells[0 .. n), n =
 // push.path_count a multiple of SCAN_BLOCK, in three stages (a specialization constant):
 //   0: each workgroup scans one block of SCAN_BLOCK counts in place (a serial scan of
@@ -13,7 +14,7 @@
 #include "queue/wavefront.glsl"
 #include "photon/bindings.glsl"
 
-layout(constant_id = 0) const uint SCAN_STAGE = 0u;
+SPEC(SCAN_STAGE);
 #define SCAN_PER_THREAD 8u
 #define SCAN_BLOCK (WORKGROUP_SIZE * SCAN_PER_THREAD)
 

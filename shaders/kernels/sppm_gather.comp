@@ -1,5 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#include "generated/spec_constants.glsl"
 // sppm_gather: at each pixel's visible point, the photons of the grid within the
 // pixel's radius add β Σ f(wo, wi_p) Φ_p to its Φ and their count to its M (pbrt-v4's
 // SPPM; one thread per pixel, so no atomics). An iteration whose photons took several
@@ -8,9 +9,9 @@
 
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
-layout(constant_id = 0) const uint SCENE_TEXTURES = 0xffffffffu;
+SPEC(SCENE_TEXTURES);
 #define TEXTURE_KINDS SCENE_TEXTURES
-layout(constant_id = 1) const uint SCENE_BSDF_KINDS = 0xffffffffu;
+SPEC(SCENE_BSDF_KINDS);
 #define BSDF_KINDS SCENE_BSDF_KINDS
 #include "shape/surface.glsl"
 #include "texture/texture.glsl"

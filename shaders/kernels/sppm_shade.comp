@@ -1,5 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#include "generated/spec_constants.glsl"
 // sppm_shade: one vertex of SPPM's camera paths (pbrt-v4's SPPMIntegrator): the
 // vertex of a path tracer with emitter and BSDF sampling under the power heuristic
 // (path.glsl, path_mis), which adds the light found directly to the path, and, at the
@@ -11,14 +12,14 @@
 
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
-layout(constant_id = 0) const uint SCENE_SURFACE_FEATURES = 0xffffffffu;
+SPEC(SCENE_SURFACE_FEATURES);
 #define SURFACE_FEATURES SCENE_SURFACE_FEATURES
-layout(constant_id = 1) const uint SCENE_TEXTURES = 0xffffffffu;
+SPEC(SCENE_TEXTURES);
 #define TEXTURE_KINDS SCENE_TEXTURES
-layout(constant_id = 2) const uint SCENE_EMITTER_KINDS = 0xffffffffu;
+SPEC(SCENE_EMITTER_KINDS);
 #define EMITTER_KINDS SCENE_EMITTER_KINDS
 #include "emitter/emitter.glsl"
-layout(constant_id = 3) const uint SCENE_BSDF_KINDS = 0xffffffffu;
+SPEC(SCENE_BSDF_KINDS);
 #define BSDF_KINDS SCENE_BSDF_KINDS
 #include "bsdf/bsdf.glsl"
 #include "bsdf/bsdf_textured.glsl"

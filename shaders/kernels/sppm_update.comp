@@ -1,5 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#include "generated/spec_constants.glsl"
 // sppm_update: after an iteration's photons, each pixel that gathered M > 0 of them
 // shrinks its radius and rescales its flux (Hachisuka and Jensen 2009, eqs. 6-7 and
 // 10-11, as pbrt-v4's SPPMIntegrator::Render updates them):
@@ -12,7 +13,7 @@
 #include "photon/bindings.glsl"
 
 // α of the update (Hachisuka and Jensen's alpha; pbrt-v4 fixes it at 2/3).
-layout(constant_id = 0) const float SPPM_ALPHA = 0.6666667;
+SPEC(SPPM_ALPHA);
 
 void main() {
     uint q = thread_index();

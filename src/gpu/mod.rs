@@ -10,6 +10,8 @@ pub mod error;
 pub mod kernel;
 pub mod layout;
 pub mod shaders;
+pub mod spec;
+pub mod spec_ids;
 pub mod specialize;
 pub mod swapchain;
 
@@ -18,4 +20,5 @@ pub use command::{CommandList, KernelTimes};
 pub use device::{Device, DeviceInfo, DeviceKind, SurfaceRequest};
 pub use error::{Error, Result};
 pub use kernel::{BindingKind, BindingLayout, DescriptorSet, Kernel, KernelSpec};
+pub use spec::{Spec, SpecValues};
 pub use swapchain::{Presented, Swapchain};

@@ -37,6 +37,7 @@ use crate::gpu::layout::{
 };
 use crate::gpu::{
     BindingKind, BindingLayout, Buffer, CommandList, DescriptorSet, Device, DeviceInfo, Kernel,
+    Spec, SpecValues,
 };
 use crate::image::{self, Image};
 use crate::scene::film::{ComponentFormat, Crop, FileFormat, Filter, PixelFormat};
@@ -251,12 +252,11 @@ pub struct Film {
 /// The specialization constants of `film_gather` for a film with `filter`: the
 /// filter, whether alpha is kept, whether it reads the samples from the paths
 /// ([`reads_paths`]).
-pub fn gather_constants(filter: &Filter, has_alpha: bool) -> [u32; 3] {
-    [
-        filter_constants(filter).0,
-        has_alpha as u32,
-        reads_paths(filter) as u32,
-    ]
+pub fn gather_constants(filter: &Filter, has_alpha: bool) -> SpecValues {
+    SpecValues::new()
+        .with(Spec::FilmFilter, filter_constants(filter).0)
+        .with(Spec::FilmAlpha, has_alpha as u32)
+        .with(Spec::FilmFromPaths, reads_paths(filter) as u32)
 }
 
 /// Whether `film_gather` reads each pixel's samples from the batch's paths, with no
@@ -348,7 +348,7 @@ impl Film {
 
     /// The specialization constants of `film_gather`: the filter, whether alpha is
     /// kept, whether it reads the samples from the paths ([`Film::reads_paths`]).
-    pub fn gather_constants(&self) -> [u32; 3] {
+    pub fn gather_constants(&self) -> SpecValues {
         gather_constants(&self.filter, self.has_alpha)
     }
 

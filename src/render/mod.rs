@@ -223,7 +223,7 @@ fn make_kernels(
 ) -> Result<Kernels> {
     let specs: Vec<KernelSpec> = planned
         .iter()
-        .map(|k| KernelSpec::new(k.stage.name(), k.stage.spirv(), &k.spec).inlined(true))
+        .map(|k| KernelSpec::named(k.stage.name(), k.stage.spirv(), &k.spec).inlined(true))
         .collect();
     let mut made: Vec<(Stage, Option<Kernel>)> = planned
         .iter()

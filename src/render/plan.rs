@@ -8,7 +8,7 @@
 
 use crate::accel::{self, Bvh, BvhStats, FlatPrims};
 use crate::gpu::layout::{Frame, RayItem, MEDIUM_FEATURE_GRIDS, NONE};
-use crate::gpu::{shaders, DeviceInfo, DeviceKind};
+use crate::gpu::{shaders, DeviceInfo, DeviceKind, Spec, SpecValues};
 use crate::scene::sampler::{SampleCount, Sampler};
 use crate::scene::Scene;
 
@@ -96,11 +96,11 @@ impl Stage {
 }
 
 /// A kernel the render creates: its stage and the values of its specialization
-/// constants (ids 0, 1, ...).
+/// constants.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct PlannedKernel {
     pub stage: Stage,
-    pub spec: Vec<u32>,
+    pub spec: SpecValues,
 }
 
 /// How a batch's bounces run: the choices [`RenderPlan::new`] makes for the scene and
@@ -638,67 +638,60 @@ impl Constants {
 
     /// The constants of `shade`: `last` for shade_last (the bounces that end paths),
     /// `misses` for shade_miss.
-    fn shade(&self, s: &Schedule, last: bool, misses: bool) -> Vec<u32> {
-        vec![
-            self.integrator,
-            self.bsdf_kinds,
-            self.textures,
-            0,
-            s.media as u32,
-            self.prim_kinds,
-            self.medium_features,
-            s.thin_null as u32,
-            self.power_heuristic,
-            self.emitter_kinds,
-            self.surface_features,
-            self.bvh_depth,
-            self.sampler,
-            self.has_alpha,
-            last as u32,
-            // SHADE_RAYS_* (path.glsl): all, hits, misses; shade_last meeting the
-            // emitters itself runs over all its rays.
-            match (s.partitioned && !(last && s.emitted_only > 0), misses) {
-                (false, _) => 0,
-                (true, false) => 1,
-                (true, true) => 2,
-            },
-            if last { s.emitted_only } else { 0 },
-            if last { self.emitter_prim_kinds } else { 0xf },
-            self.flat_count,
-            self.flat_kinds,
-        ]
+    fn shade(&self, s: &Schedule, last: bool, misses: bool) -> SpecValues {
+        // SHADE_RAYS_* (path.glsl): all, hits, misses; shade_last meeting the emitters
+        // itself runs over all its rays.
+        let rays = match (s.partitioned && !(last && s.emitted_only > 0), misses) {
+            (false, _) => 0,
+            (true, false) => 1,
+            (true, true) => 2,
+        };
+        self.scene(s)
+            .with(Spec::Integrator, self.integrator)
+            .with(Spec::BsdfKinds, self.bsdf_kinds)
+            .with(Spec::MisPower, self.power_heuristic)
+            .with(Spec::EmitterKinds, self.emitter_kinds)
+            .with(Spec::SamplerKind, self.sampler)
+            .with(Spec::FilmAlpha, self.has_alpha)
+            .with(Spec::ShadeLast, last as u32)
+            .with(Spec::ShadeRays, rays)
+            .with(Spec::EmitterPrims, if last { s.emitted_only } else { 0 })
+            .with(
+                Spec::EmitterPrimKinds,
+                if last { self.emitter_prim_kinds } else { 0xf },
+            )
+            // No deferral but in shade and its twin (`kernels`).
+            .with(Spec::Deferral, 0)
+    }
+
+    /// What shade and shadow both read of the scene: its textures, media, primitives
+    /// and traversal.
+    fn scene(&self, s: &Schedule) -> SpecValues {
+        SpecValues::new()
+            .with(Spec::Textures, self.textures)
+            .with(Spec::HasMedia, s.media as u32)
+            .with(Spec::PrimKinds, self.prim_kinds)
+            .with(Spec::MediumFeatures, self.medium_features)
+            .with(Spec::ThinNull, s.thin_null as u32)
+            .with(Spec::SurfaceFeatures, self.surface_features)
+            .with(Spec::BvhDepth, self.bvh_depth)
+            .with(Spec::FlatPrims, self.flat_count)
+            .with(Spec::FlatKinds, self.flat_kinds)
     }
 
     /// The constants of `shadow`, `mode` its deferral mode (deferral.glsl).
-    fn shadow(&self, s: &Schedule, mode: u32) -> Vec<u32> {
-        vec![
-            self.prim_kinds,
-            0,
-            self.textures,
-            0,
-            s.media as u32,
-            0,
-            self.medium_features,
-            s.thin_null as u32,
-            0,
-            0,
-            self.surface_features,
-            self.bvh_depth,
-            self.flat_count,
-            self.flat_kinds,
-            mode,
-        ]
+    fn shadow(&self, s: &Schedule, mode: u32) -> SpecValues {
+        self.scene(s).with(Spec::Deferral, mode)
     }
 
-    fn intersect(&self, s: &Schedule) -> Vec<u32> {
-        vec![
-            self.prim_kinds,
-            self.bvh_depth,
-            s.partitioned as u32,
-            self.flat_count,
-            self.flat_kinds,
-            s.media as u32,
-        ]
+    fn intersect(&self, s: &Schedule) -> SpecValues {
+        SpecValues::new()
+            .with(Spec::PrimKinds, self.prim_kinds)
+            .with(Spec::BvhDepth, self.bvh_depth)
+            .with(Spec::Partition, s.partitioned as u32)
+            .with(Spec::FlatPrims, self.flat_count)
+            .with(Spec::FlatKinds, self.flat_kinds)
+            .with(Spec::SecondHits, s.media as u32)
     }
 }
 
@@ -708,27 +701,24 @@ fn kernels(
     integrator: &Integrator,
     s: &Schedule,
     c: &Constants,
-    gather: [u32; 3],
+    gather: SpecValues,
     reads_paths: bool,
 ) -> Vec<PlannedKernel> {
     let mut k = Vec::new();
-    let mut add = |stage, spec: Vec<u32>| k.push(PlannedKernel { stage, spec });
+    let mut add = |stage, spec: SpecValues| k.push(PlannedKernel { stage, spec });
     let wavefront = s.wavefront_kernels;
     let paths = !integrator.is_photon_mapper();
     if s.fused {
-        // Shade's constants, with 14 and 20 saying whether bounce 0 or bounce 1 ends
-        // the paths, and 16-17 the emitter primitives bounce 1 meets.
+        // Shade's constants, saying whether bounce 0 or bounce 1 ends the paths, and
+        // the emitter primitives bounce 1 meets.
         let second_ends = s.fused_bounces == 2;
-        let mut spec = c.shade(s, second_ends, false);
-        spec[14] = c.ends_at_0;
-        spec.push(second_ends as u32);
+        let spec = c
+            .shade(s, second_ends, false)
+            .with(Spec::FirstEnds, c.ends_at_0)
+            .with(Spec::SecondEnds, second_ends as u32);
         add(Stage::FirstBounce, spec);
     }
-    let shade_with = |mode: u32| {
-        let mut spec = c.shade(s, false, false);
-        spec.push(mode);
-        spec
-    };
+    let shade_with = |mode: u32| c.shade(s, false, false).with(Spec::Deferral, mode);
     if wavefront && paths {
         add(Stage::Shade, shade_with(s.deferral as u32));
     }
@@ -750,16 +740,17 @@ fn kernels(
     if wavefront {
         add(Stage::Intersect, c.intersect(s));
     }
+    let sampler = SpecValues::new().with(Spec::SamplerKind, c.sampler);
     if !s.fused {
-        add(Stage::Generate, vec![c.sampler]);
+        add(Stage::Generate, sampler.clone());
     }
-    add(Stage::FilmGather, gather.to_vec());
+    add(Stage::FilmGather, gather);
     if !reads_paths {
-        add(Stage::Accumulate, vec![c.sampler]);
+        add(Stage::Accumulate, sampler);
     }
-    add(Stage::QueueArgs, vec![]);
+    add(Stage::QueueArgs, SpecValues::new());
     if wavefront && s.partitioned {
-        add(Stage::ShadeArgs, vec![]);
+        add(Stage::ShadeArgs, SpecValues::new());
     }
     k
 }
@@ -834,10 +825,11 @@ mod tests {
             q.hits,
             p.capacity as u64 * std::mem::size_of::<HitItem>() as u64
         );
-        // shade and shadow with media off (constant 4) and no medium features (6).
+        // shade and shadow with media off and no medium features.
         for stage in [Stage::Shade, Stage::Shadow] {
             let spec = &p.kernel(stage).expect("made").spec;
-            assert_eq!((spec[4], spec[6]), (0, 0), "{stage:?}");
+            let media = (spec.get(Spec::HasMedia), spec.get(Spec::MediumFeatures));
+            assert_eq!(media, (Some(0), Some(0)), "{stage:?}");
         }
         assert!(p.has(Stage::Intersect) && p.has(Stage::QueueArgs));
         // The path tracer ends its paths at max_depth: shade_last.
@@ -854,11 +846,11 @@ mod tests {
         assert!(p.schedule.media && p.schedule.deferral);
         assert!(p.has(Stage::ShadeDeferred) && p.has(Stage::ShadowDeferred));
         // Shade and shadow leave the rays to their twins (mode 1), which run mode 2.
-        let mode = |stage| *p.kernel(stage).expect("made").spec.last().expect("mode");
-        assert_eq!(mode(Stage::Shade), 1);
-        assert_eq!(mode(Stage::ShadeDeferred), 2);
-        assert_eq!(mode(Stage::Shadow), 1);
-        assert_eq!(mode(Stage::ShadowDeferred), 2);
+        let mode = |stage| p.kernel(stage).expect("made").spec.get(Spec::Deferral);
+        assert_eq!(mode(Stage::Shade), Some(1));
+        assert_eq!(mode(Stage::ShadeDeferred), Some(2));
+        assert_eq!(mode(Stage::Shadow), Some(1));
+        assert_eq!(mode(Stage::ShadowDeferred), Some(2));
         // The medium stage needs the second hits; media scenes never partition.
         let q = p.queue_bytes();
         assert_eq!(
@@ -952,5 +944,35 @@ mod tests {
         // In a scene without media: no shade, the photon kernels shade.
         let p = plan(&scene("cbox/cbox_path.xml"), &options, &lavapipe());
         assert!(!p.has(Stage::Shade) && !p.has(Stage::ShadeDeferred));
+    }
+
+    /// The Rust side sets every constant each kernel declares (none is left at its
+    /// GLSL default), by the table's ids.
+    #[test]
+    fn every_kernel_gets_each_constant_it_declares() {
+        let many = RenderOptions {
+            expected_spp: Some(4096),
+            ..Default::default()
+        };
+        for (file, options) in [
+            ("cbox/cbox_path.xml", RenderOptions::default()),
+            ("cbox/cbox_path.xml", many.clone()),
+            ("media/cube.xml", RenderOptions::default()),
+            ("media/cube.xml", many),
+            ("veach/veach.xml", RenderOptions::default()),
+            ("envmap/envmap_glossy.xml", RenderOptions::default()),
+        ] {
+            let p = plan(&scene(file), &options, &lavapipe());
+            for k in &p.kernels {
+                for (id, name) in crate::gpu::spec::declared(k.stage.spirv()) {
+                    let set = k.spec.iter().any(|(s, _)| s.id() == id);
+                    assert!(
+                        set,
+                        "{file}: {} declares {name} ({id}), unset",
+                        k.stage.name()
+                    );
+                }
+            }
+        }
     }
 }

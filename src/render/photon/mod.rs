@@ -36,7 +36,7 @@ use crate::gpu::layout::{
 };
 use crate::gpu::{
     shaders, BindingKind, BindingLayout, Buffer, CommandList, DescriptorSet, Device, DeviceKind,
-    Kernel, KernelSpec, Location,
+    Kernel, KernelSpec, Location, Spec,
 };
 
 use super::error::{Error, Result};
@@ -309,42 +309,61 @@ impl Photons {
     ) -> Result<Photons> {
         let f = features;
         let uniform_choice = matches!(integrator, Integrator::PhotonMapper(_)) as u32;
+        let named = |name, spirv, spec: &[(Spec, u32)]| {
+            KernelSpec::named(name, spirv, &spec.iter().copied().collect())
+        };
+        let (surface, textures) = (
+            (Spec::SurfaceFeatures, f.surface),
+            (Spec::Textures, f.textures),
+        );
+        let (emitters, bsdfs) = ((Spec::EmitterKinds, f.emitters), (Spec::BsdfKinds, f.bsdfs));
         // Every kernel of the photon mapper, created in parallel (Kernel::new_all) and
         // taken back below in this order.
         let mut specs = vec![
-            KernelSpec::new(
+            named(
                 "photon_emit",
                 shaders::PHOTON_EMIT,
-                &[f.surface, f.textures, f.emitters, uniform_choice],
+                &[
+                    surface,
+                    textures,
+                    emitters,
+                    (Spec::UniformEmitterChoice, uniform_choice),
+                ],
             ),
-            KernelSpec::new(
+            named(
                 "photon_bounce",
                 shaders::PHOTON_BOUNCE,
-                &[f.surface, f.textures, f.bsdfs],
+                &[surface, textures, bsdfs],
             ),
         ];
         match integrator {
             Integrator::Sppm(p) => specs.extend([
-                KernelSpec::new(
+                named(
                     "sppm_shade",
                     shaders::SPPM_SHADE,
-                    &[f.surface, f.textures, f.emitters, f.bsdfs],
+                    &[surface, textures, emitters, bsdfs],
                 ),
-                KernelSpec::new("sppm_record", shaders::SPPM_RECORD, &[]),
-                KernelSpec::new("sppm_gather", shaders::SPPM_GATHER, &[f.textures, f.bsdfs]),
-                KernelSpec::new("sppm_update", shaders::SPPM_UPDATE, &[p.alpha.to_bits()]),
+                named("sppm_record", shaders::SPPM_RECORD, &[]),
+                named("sppm_gather", shaders::SPPM_GATHER, &[textures, bsdfs]),
+                named(
+                    "sppm_update",
+                    shaders::SPPM_UPDATE,
+                    &[(Spec::SppmAlpha, p.alpha.to_bits())],
+                ),
             ]),
             Integrator::PhotonMapper(_) => specs.extend([
-                KernelSpec::new(
+                named(
                     "photon_camera",
                     shaders::PHOTON_CAMERA,
-                    &[f.surface, f.textures, f.emitters, f.bsdfs, f.sampler],
+                    &[
+                        surface,
+                        textures,
+                        emitters,
+                        bsdfs,
+                        (Spec::SamplerKind, f.sampler),
+                    ],
                 ),
-                KernelSpec::new(
-                    "photon_gather",
-                    shaders::PHOTON_GATHER,
-                    &[f.textures, f.bsdfs],
-                ),
+                named("photon_gather", shaders::PHOTON_GATHER, &[textures, bsdfs]),
             ]),
             other => {
                 return Err(Error::Options(format!(
