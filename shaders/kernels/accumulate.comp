@@ -1,11 +1,11 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "generated/spec_constants.glsl"
 // accumulate: puts each finished path's sample (value, position in its pixel, flags)
 // into its film slot, for film_gather. NaN or infinite samples are kept out (flagged
 // invalid) and counted.
 // Reads: paths. Writes: the film's sample ring, counters.discarded.
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 // The sampler kind (SAMPLER_*), which draws the samples' positions in their pixels.
 SPEC(SCENE_SAMPLER_KIND);

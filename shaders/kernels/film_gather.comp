@@ -1,6 +1,5 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "generated/spec_constants.glsl"
 // film_gather: adds to each crop pixel the filter-weighted samples of the pixels
 // within the filter's reach, for every sample index whose last such pixel this batch
 // rendered (so each sample of each pixel is gathered once, complete, whatever the
@@ -15,6 +14,7 @@
 // counted here.
 // Reads: the film's sample ring (or paths). Writes: the film's sums, counters.discarded.
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "film/film.glsl"
 

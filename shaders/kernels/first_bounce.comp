@@ -1,6 +1,5 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "generated/spec_constants.glsl"
 // first_bounce: generate, intersect, shade and shadow of a batch's first bounce in one
 // kernel, for the integrators of path.glsl (and, in scenes with media or null
 // surfaces, their medium stage: vol_path.glsl, transmittance.glsl) on CPU devices
@@ -23,6 +22,7 @@
 // the same image up to float contraction.
 // Writes: paths[p] for path p of the batch, ray queue 1, counters.rays_traced.
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
 #include "queue/queue.glsl"

@@ -1,9 +1,9 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "generated/spec_constants.glsl"
 // generate: one camera ray per path slot of the batch (camera_path.glsl).
 // Writes: paths[p], ray queue 0 item p. The host sets ray_count[0] = path_count.
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 // The sampler kind (SAMPLER_*): the other kinds compile away.
 SPEC(SCENE_SAMPLER_KIND);

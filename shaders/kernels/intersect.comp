@@ -1,9 +1,9 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "generated/spec_constants.glsl"
 // intersect: closest hit through the BVH for every ray of the input queue.
 // Reads: ray queue `queue_in`. Writes: hits[i] for ray i.
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
 #include "queue/partition.glsl"

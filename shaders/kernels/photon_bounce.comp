@@ -1,6 +1,5 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "generated/spec_constants.glsl"
 // photon_bounce: where a photon path meets a surface whose BSDF is not a delta, it
 // stores a photon (from its first surface on with photon_params.store_first, else from
 // its second); then it scatters by BSDF sampling (adjoint refraction) with Russian
@@ -10,6 +9,7 @@
 // photon_counters.stored; only counted beyond photon_params.capacity), photon paths,
 // next ray queue.
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
 SPEC(SCENE_SURFACE_FEATURES);

@@ -1,6 +1,5 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "generated/spec_constants.glsl"
 // photon_camera: one vertex of the photon mapper's camera paths (Nori's photonmapper):
 // the emission the ray finds (times photon_params.emission_scale), then at a delta BSDF
 // (mirror, dielectric) the next ray by BSDF sampling with Russian roulette, and at any
@@ -8,6 +7,7 @@
 // Reads: ray queue `queue_in`, hits, paths. Writes: paths, visible points (by path
 // slot), next ray queue.
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
 SPEC(SCENE_SURFACE_FEATURES);

@@ -1,11 +1,11 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "generated/spec_constants.glsl"
 // photon_emit: the first ray of photon paths push.pixel_base .. + path_count of stream
 // photon_params.iteration, one per path slot.
 // Writes: photon paths (path-state buffer), ray queue 0 (appended; the host empties it
 // and folds it with queue_args).
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "queue/queue.glsl"
 #include "scene/scene_bindings.glsl"

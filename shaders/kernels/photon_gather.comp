@@ -1,6 +1,5 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "generated/spec_constants.glsl"
 // photon_gather: the photon mapper's density estimate at each camera path's visible
 // point, Σ f(wo, wi_p) Φ_p over the photons within photon_params.radius, added to the
 // path's radiance times its throughput and photon_params.gather_scale (1 / (π r² N),
@@ -8,6 +7,7 @@
 // src/render/photon/photonmapper.rs).
 // Reads: visible points (by path slot), grid, paths. Writes: paths' radiance.
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
 SPEC(SCENE_TEXTURES);

@@ -1,6 +1,5 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "generated/spec_constants.glsl"
 // photon_grid_scan: inclusive prefix sum of the bucket counts cells[0 .. n), n =
 // push.path_count a multiple of SCAN_BLOCK, in three stages (a specialization constant):
 //   0: each workgroup scans one block of SCAN_BLOCK counts in place (a serial scan of
@@ -11,6 +10,7 @@
 //   2: each block but the first adds the total of the blocks before it.
 // Reads and writes: cells, scan_sums.
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "photon/bindings.glsl"
 

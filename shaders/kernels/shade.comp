@@ -1,12 +1,12 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "generated/spec_constants.glsl"
 // shade: turns each hit (or miss) into radiance, shadow rays and continuation rays,
 // as the integrator chosen by specialization constant INTEGRATOR says. In scenes with
 // media or null surfaces (SCENE_HAS_MEDIA), path integrators first run the medium
 // stage (vol_path.glsl): free-flight sampling and null-surface crossings.
 // Reads: ray queue `queue_in`, hits. Writes: paths[], shadow queue, next ray queue.
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
 #include "queue/partition.glsl"

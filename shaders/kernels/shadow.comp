@@ -1,6 +1,5 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "generated/spec_constants.glsl"
 // shadow: any-hit occlusion test for every shadow ray; an unblocked ray adds its
 // contribution to its path. In scenes with media or null surfaces (SCENE_HAS_MEDIA)
 // the ray passes null surfaces and is attenuated by the media it crosses
@@ -8,6 +7,7 @@
 // to its radiance does not race.
 // Reads: shadow queue. Writes: paths[].radiance.
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
 // The primitive and vertex features of the scene (SURFACE_FEATURE_* bits): hit geometry

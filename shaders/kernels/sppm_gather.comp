@@ -1,12 +1,12 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "generated/spec_constants.glsl"
 // sppm_gather: at each pixel's visible point, the photons of the grid within the
 // pixel's radius add β Σ f(wo, wi_p) Φ_p to its Φ and their count to its M (pbrt-v4's
 // SPPM; one thread per pixel, so no atomics). An iteration whose photons took several
 // passes gathers once per pass; sppm_update then applies them.
 // Reads: visible points (by pixel), grid. Writes: SPPM pixels (phi, m).
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
 SPEC(SCENE_TEXTURES);

@@ -1,6 +1,5 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "generated/spec_constants.glsl"
 // sppm_shade: one vertex of SPPM's camera paths (pbrt-v4's SPPMIntegrator): the
 // vertex of a path tracer with emitter and BSDF sampling under the power heuristic
 // (path.glsl, path_mis), which adds the light found directly to the path, and, at the
@@ -10,6 +9,7 @@
 // Reads: ray queue `queue_in`, hits, paths, visible points. Writes: paths, shadow
 // queue, next ray queue, visible points (by pixel of the tile).
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
 SPEC(SCENE_SURFACE_FEATURES);

@@ -1,6 +1,5 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#include "generated/spec_constants.glsl"
 // sppm_update: after an iteration's photons, each pixel that gathered M > 0 of them
 // shrinks its radius and rescales its flux (Hachisuka and Jensen 2009, eqs. 6-7 and
 // 10-11, as pbrt-v4's SPPMIntegrator::Render updates them):
@@ -9,6 +8,7 @@
 // grid's cells must hold the largest gather).
 // Reads and writes: SPPM pixels, photon counters.
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "photon/bindings.glsl"
 

@@ -474,8 +474,9 @@ impl SceneRecords {
             })
     }
 
-    /// The texture mask of `shade` and `shadow` (specialization constant 2): a bit per
-    /// texture kind present, and `TEXTURE_FEATURE_*` for what reads textures.
+    /// The texture mask of `shade` and `shadow` (specialization constant
+    /// `SCENE_TEXTURES`): a bit per texture kind present, and `TEXTURE_FEATURE_*` for
+    /// what reads textures.
     pub fn texture_mask(&self) -> u32 {
         use crate::gpu::layout::{
             TEXTURE_FEATURE_AREA, TEXTURE_FEATURE_BSDF, TEXTURE_FEATURE_ENVMAP,
