@@ -11,11 +11,17 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+// What build.rs generates from Rust, shared with the crate: the GPU records
+// (`gpu::records`, their GLSL in `build/records.rs`) and the table of specialization
+// constants (`gpu::spec_ids`).
 #[allow(dead_code)]
 #[path = "src/gpu/records.rs"]
 mod records;
 #[path = "build/records.rs"]
 mod records_glsl;
+#[path = "src/gpu/spec_ids.rs"]
+#[allow(dead_code)]
+mod spec_ids;
 
 fn main() {
     let root =
@@ -23,8 +29,17 @@ fn main() {
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     let shader_dir = root.join("shaders");
     println!("cargo:rerun-if-changed=shaders");
-    // The GLSL side of the GPU records (src/gpu/records.rs), in the include path.
-    records_glsl::write(&out.join("glsl"));
+    println!("cargo:rerun-if-changed=src/gpu/spec_ids.rs");
+    // Headers generated from Rust, included as `generated/NAME.glsl`: the GPU records
+    // (src/gpu/records.rs) and the specialization constants (src/gpu/spec_ids.rs).
+    let generated = out.join("glsl");
+    fs::create_dir_all(generated.join("generated")).expect("create the generated GLSL folder");
+    records_glsl::write(&generated);
+    fs::write(
+        generated.join("generated/spec_constants.glsl"),
+        spec_ids::glsl_header(),
+    )
+    .expect("write spec_constants.glsl");
 
     let mut kernels = Vec::new();
     collect_kernels(&shader_dir, &mut kernels);
@@ -36,6 +51,7 @@ fn main() {
     let mut failures = Vec::new();
     let mut split_pairs = Vec::new();
     let mut int64_pairs = Vec::new();
+    let mut all = Vec::new();
     for kernel in &kernels {
         let rel = kernel
             .strip_prefix(&shader_dir)
@@ -79,7 +95,7 @@ fn main() {
                 .arg("vulkan1.2")
                 .args(defines)
                 .arg(format!("-I{}", shader_dir.display()))
-                .arg(format!("-I{}", out.join("glsl").display()))
+                .arg(format!("-I{}", generated.display()))
                 .arg("-o")
                 .arg(&spv)
                 .arg(kernel)
@@ -107,6 +123,7 @@ fn main() {
                         "pub const {name}: &[u8] = include_bytes!({:?});\n",
                         spv.display().to_string()
                     ));
+                    all.push(name);
                 }
             }
         }
@@ -135,6 +152,11 @@ fn main() {
         &int64_pairs,
         "_INT64",
     ));
+    consts.push_str("\n/// Every kernel and variant: (constant name, SPIR-V).\npub const ALL: &[(&str, &[u8])] = &[\n");
+    for name in &all {
+        consts.push_str(&format!("    (\"{name}\", {name}),\n"));
+    }
+    consts.push_str("];\n");
     if !failures.is_empty() {
         eprintln!("GLSL compilation failed:\n{}", failures.join("\n"));
         std::process::exit(1);
