@@ -34,16 +34,15 @@ use std::collections::{HashMap, HashSet};
 use glam::Vec3;
 
 use super::bsdf::TextureMaps;
-use super::builder::{self, Builder, MeshOptions, UNSUPPORTED_BSDFS, UNSUPPORTED_EMITTERS};
-use super::mesh;
+use super::builder::{self, Builder, MeshOptions, UNSUPPORTED_BSDFS};
+use super::emitter;
+use super::integrator;
+use super::plugin::{self, Family};
 use super::properties::Properties;
-use super::quadric;
 use super::sampler::{self, Sampler};
+use super::shape::{self, Geometry};
 use super::xml::{Dialect, Document, Element};
-use super::{
-    envmap, obj, ply, serialized, Bsdf, Camera, Emitter, Error, Film, IntegratorSpec, Medium,
-    Quadric, Scene, Texture,
-};
+use super::{Bsdf, Camera, Emitter, Error, Film, IntegratorSpec, Medium, Quadric, Scene, Texture};
 
 const SENSORS: &[&str] = &[
     "thinlens",
@@ -52,15 +51,6 @@ const SENSORS: &[&str] = &[
     "irradiancemeter",
     "distant",
     "batch",
-];
-const SHAPES: &[&str] = &[
-    "shapegroup",
-    "instance",
-    "bsplinecurve",
-    "linearcurve",
-    "sdfgrid",
-    "ellipsoids",
-    "ellipsoidsmesh",
 ];
 const FILMS: &[&str] = &["specfilm"];
 /// BSDF types read by [`Bsdf::from_mitsuba`] (besides `twosided`).
@@ -111,7 +101,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
                 if integrator.is_some() {
                     return Err(el.err("more than one <integrator>"));
                 }
-                integrator = Some(integrator_spec(el, Dialect::Mitsuba)?);
+                integrator = Some(integrator::spec(el, Dialect::Mitsuba)?);
             }
             "shape" => l.shape(el)?,
             "bsdf" => {
@@ -171,19 +161,6 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
     })
 }
 
-/// An emitter's `sampling_weight` (Mitsuba 3: how often emitter sampling chooses it
-/// relative to the others; default 1): finite and not negative.
-fn sampling_weight(props: &Properties) -> Result<f32, Error> {
-    let w = props.float("sampling_weight", 1.0)?;
-    if !(w.is_finite() && w >= 0.0) {
-        return Err(props.error(
-            "sampling_weight",
-            format!("sampling_weight must be a finite number >= 0, not {w}"),
-        ));
-    }
-    Ok(w)
-}
-
 /// Every element with an `id`, anywhere in the tree; duplicates are an error.
 fn collect_ids<'a>(el: &'a Element, ids: &mut HashMap<String, &'a Element>) -> Result<(), Error> {
     for c in &el.children {
@@ -201,36 +178,6 @@ fn collect_ids<'a>(el: &'a Element, ids: &mut HashMap<String, &'a Element>) -> R
         collect_ids(c, ids)?;
     }
     Ok(())
-}
-
-/// The parameters of an `<integrator>`, kept unread.
-pub fn integrator_spec(el: &Element, dialect: Dialect) -> Result<IntegratorSpec, Error> {
-    el.check_attrs(&["type", "id", "name"])?;
-    let name = el.require("type")?.to_string();
-    let (props, nested) = Properties::read(el, dialect, false)?;
-    if dialect == Dialect::Mitsuba && name == "moment" {
-        // Mitsuba's `moment` renders its nested integrators and adds each one's second
-        // moment as extra channels (for variance estimates); wavetrace renders the one
-        // nested integrator, and its image is the mean the wrapper reports.
-        props.finish()?;
-        return match nested.as_slice() {
-            [inner] if inner.tag == "integrator" => integrator_spec(inner, dialect),
-            _ => Err(el.err(
-                "a moment integrator needs exactly one nested <integrator> (wavetrace renders one)",
-            )),
-        };
-    }
-    if let Some(n) = nested.first() {
-        return Err(n.err(format!(
-            "<{}> inside an <integrator> is not supported yet",
-            n.tag
-        )));
-    }
-    Ok(IntegratorSpec {
-        name,
-        params: props.into_params()?,
-        line: Some(el.line),
-    })
 }
 
 /// The horizontal field of view in degrees for `fov` measured along `axis` of a
@@ -654,89 +601,12 @@ impl<'a> Loader<'a> {
                 n.tag
             )));
         }
-        let textures = props.textures();
-        let emitter = if let Some((name, index)) = textures.first() {
-            if name != "radiance" {
-                return Err(props.error(
-                    name,
-                    format!("'{name}' of an area emitter cannot be a texture"),
-                ));
-            }
-            let _ = props.color_opt("radiance")?;
-            // wavetrace's extension: a factor on the texture (Mitsuba has none).
-            let scale = props.color("scale", Vec3::ONE)?;
-            Emitter::TexturedArea {
-                texture: *index,
-                scale,
-            }
-        } else {
-            Emitter::Area {
-                radiance: props
-                    .color_opt("radiance")?
-                    .ok_or_else(|| props.object_error("area emitter needs a 'radiance'"))?,
-            }
-        };
-        let weight = sampling_weight(&props)?;
-        props.finish()?;
+        let (emitter, weight) = emitter::area::mitsuba(&props)?;
         if let Some(id) = el.attr("id") {
             self.area_ids
                 .insert(id.to_string(), (emitter.clone(), weight));
         }
         Ok((emitter, weight))
-    }
-
-    /// Mitsuba `envmap`: `filename`, `scale`, `to_world`.
-    fn envmap(&mut self, el: &'a Element, props: &Properties) -> Result<Emitter, Error> {
-        let name = props
-            .string_opt("filename")?
-            .ok_or_else(|| props.object_error("envmap needs a 'filename'"))?;
-        let path = el
-            .resolve(&name)
-            .map_err(|tried| props.error("filename", format!("image file {tried} not found")))?;
-        let (width, height, texels) =
-            super::texture::load_image(&path, false).map_err(|e| props.error("filename", e))?;
-        if height < 2 {
-            return Err(props.error("filename", "an envmap needs at least two rows"));
-        }
-        let scale = props.float("scale", 1.0)?;
-        if !(scale >= 0.0 && scale.is_finite()) {
-            return Err(props.error(
-                "scale",
-                format!("scale must be finite and >= 0, found {scale}"),
-            ));
-        }
-        let m = props.transform("to_world")?;
-        let to_world = envmap::rotation_of(glam::Mat3::from_mat4(m)).ok_or_else(|| {
-            props.error(
-                "to_world",
-                "an envmap's to_world must be a rotation (no shear, mirroring or non-uniform scale)",
-            )
-        })?;
-        props.ignore(&["mis_compensation"]);
-        let importance = match props.string("sampling", "importance")?.as_str() {
-            "importance" => true,
-            "uniform" => false,
-            other => {
-                return Err(props.error(
-                    "sampling",
-                    format!("sampling must be importance or uniform, found '{other}'"),
-                ))
-            }
-        };
-        let texture = self.b.add_texture(Texture::Bitmap {
-            width,
-            height,
-            texels,
-            nearest: false,
-            wrap: super::texture::Wrap::Repeat,
-            to_uv: super::texture::IDENTITY_UV,
-        });
-        Ok(Emitter::EnvMap {
-            texture,
-            scale,
-            to_world,
-            importance,
-        })
     }
 
     fn top_emitter(&mut self, el: &'a Element) -> Result<(), Error> {
@@ -752,8 +622,8 @@ impl<'a> Loader<'a> {
             return Ok(());
         }
         let (props, nested) = Properties::read(el, Dialect::Mitsuba, true)?;
-        if !matches!(t, "point" | "constant" | "spot" | "envmap") {
-            return Err(builder::unsupported(el, "emitter", UNSUPPORTED_EMITTERS));
+        if plugin::find(emitter::REGISTRY, Family::Emitter, Dialect::Mitsuba, t).is_none() {
+            return Err(emitter::unsupported(el, Dialect::Mitsuba));
         }
         if let Some(n) = nested.first() {
             return Err(match n.tag.as_str() {
@@ -762,62 +632,8 @@ impl<'a> Loader<'a> {
                 tag => n.err(format!("unexpected <{tag}> in an emitter")),
             });
         }
-        let emitter = if t == "envmap" {
-            self.envmap(el, &props)?
-        } else if t == "point" {
-            let position = match (
-                props.point_opt("position")?,
-                props.transform_opt("to_world")?,
-            ) {
-                (Some(_), Some(_)) => {
-                    return Err(
-                        props.error("position", "give either 'position' or 'to_world', not both")
-                    )
-                }
-                (Some(p), None) => p,
-                (None, Some(m)) => m.w_axis.truncate(),
-                (None, None) => Vec3::ZERO,
-            };
-            Emitter::Point {
-                position,
-                intensity: props.color("intensity", Vec3::ONE)?,
-            }
-        } else if t == "spot" {
-            let m = props
-                .transform_opt("to_world")?
-                .unwrap_or(glam::Mat4::IDENTITY);
-            let axis = m.transform_vector3(Vec3::Z);
-            if axis.length_squared() == 0.0 || !axis.is_finite() {
-                return Err(
-                    props.error("to_world", "the spot light's transform collapses its axis")
-                );
-            }
-            let cutoff_deg = props.float("cutoff_angle", 20.0)?;
-            if !(cutoff_deg > 0.0 && cutoff_deg <= 180.0) {
-                return Err(
-                    props.error("cutoff_angle", "cutoff_angle must lie in (0, 180] degrees")
-                );
-            }
-            let beam_width_deg = props.float("beam_width", 0.75 * cutoff_deg)?;
-            if !(beam_width_deg >= 0.0 && beam_width_deg <= cutoff_deg) {
-                return Err(props.error(
-                    "beam_width",
-                    "beam_width must lie in [0, cutoff_angle] degrees",
-                ));
-            }
-            Emitter::Spot {
-                position: m.w_axis.truncate(),
-                axis: axis.normalize(),
-                intensity: props.color("intensity", Vec3::ONE)?,
-                cutoff_deg,
-                beam_width_deg,
-            }
-        } else {
-            Emitter::Constant {
-                radiance: props.color("radiance", Vec3::ONE)?,
-            }
-        };
-        let weight = sampling_weight(&props)?;
+        let emitter = emitter::mitsuba(t, el, &props, &mut self.b)?;
+        let weight = emitter::sampling_weight(&props)?;
         props.finish()?;
         self.b.add_weighted_emitter(emitter, weight);
         Ok(())
@@ -860,19 +676,13 @@ impl<'a> Loader<'a> {
                     target.check_attrs(&["type", "id", "name"])?;
                     let et = target.require("type")?;
                     if et != "area" {
-                        return Err(
-                            if via_ref
-                                || UNSUPPORTED_EMITTERS.contains(&et)
-                                || et == "point"
-                                || et == "constant"
-                            {
-                                n.err(format!(
-                                    "a shape can only carry an area emitter, not '{et}'"
-                                ))
-                            } else {
-                                builder::unsupported(target, "emitter", UNSUPPORTED_EMITTERS)
-                            },
-                        );
+                        return Err(if via_ref || emitter::is_known(Dialect::Mitsuba, et) {
+                            n.err(format!(
+                                "a shape can only carry an area emitter, not '{et}'"
+                            ))
+                        } else {
+                            emitter::unsupported(target, Dialect::Mitsuba)
+                        });
                     }
                     radiance = Some(self.area(target)?);
                 }
@@ -905,63 +715,35 @@ impl<'a> Loader<'a> {
         };
         let flip_normals = props.boolean("flip_normals", false)?;
         let null_bsdf = self.null_bsdfs.contains(&bsdf);
-        if let Some((kind, to_world)) = quadric::from_mitsuba(t, &props)? {
-            props.finish()?;
-            let emitter = radiance.map(|(e, w)| self.b.add_weighted_emitter(e, w));
-            return self.b.add_quadric(
-                &props,
-                Quadric {
-                    kind,
-                    to_world,
-                    flip_normals,
-                    bsdf,
-                    emitter,
-                    interior,
-                    exterior,
-                    null_bsdf,
-                },
-            );
-        }
-        let to_world = props.transform("to_world")?;
-        // Mitsuba's mesh base class reads face_normals for every mesh; the built-in
-        // cube and rectangle keep their vertex normals whatever it says.
-        let face_normals = props.boolean("face_normals", false)?;
-        let m = match t {
-            "obj" => {
-                let path = builder::mesh_path(el, &props, "filename")?;
-                let flip_tex = props.boolean("flip_tex_coords", true)?;
-                obj::load(&path, flip_tex)?
+        let (m, to_world, face_normals) = match shape::mitsuba(t, el, &props)? {
+            Geometry::Quadric(kind, to_world) => {
+                props.finish()?;
+                let emitter = radiance.map(|(e, w)| self.b.add_weighted_emitter(e, w));
+                return self.b.add_quadric(
+                    &props,
+                    Quadric {
+                        kind,
+                        to_world,
+                        flip_normals,
+                        bsdf,
+                        emitter,
+                        interior,
+                        exterior,
+                        null_bsdf,
+                    },
+                );
             }
-            "ply" => {
-                let path = builder::mesh_path(el, &props, "filename")?;
-                let flip_tex = props.boolean("flip_tex_coords", false)?;
-                let mut m = ply::load(&path)?;
-                if flip_tex {
-                    m.uvs.iter_mut().for_each(|uv| uv.y = 1.0 - uv.y);
-                }
-                m
-            }
-            "serialized" => {
-                let path = builder::mesh_path(el, &props, "filename")?;
-                let index = props.integer("shape_index", 0)?;
-                let index = u32::try_from(index).map_err(|_| {
-                    props.error(
-                        "shape_index",
-                        format!("shape_index must be >= 0, found {index}"),
-                    )
-                })?;
-                serialized::load(&path, index)?
-            }
-            "rectangle" => mesh::rectangle(),
-            "cube" => mesh::cube(),
-            _ => return Err(builder::unsupported(el, "shape", SHAPES)),
+            Geometry::Mesh {
+                mesh,
+                to_world,
+                face_normals,
+            } => (mesh, to_world, face_normals),
         };
-        let builtin = matches!(t, "rectangle" | "cube");
         props.finish()?;
         let emitter = radiance.map(|(e, w)| self.b.add_weighted_emitter(e, w));
         let options = MeshOptions {
             to_world,
-            face_normals: face_normals && !builtin,
+            face_normals,
             flip_normals,
             compute_normals: true,
         };

@@ -25,14 +25,14 @@
 //!   and `distantdisk` with `thetaA` = 180 (a constant environment: `radiance`;
 //!   `toWorld` is read and has no effect).
 
-use glam::Vec3;
-
-use super::builder::{self, Builder, MeshOptions, UNSUPPORTED_BSDFS, UNSUPPORTED_EMITTERS};
+use super::builder::{self, Builder, MeshOptions, UNSUPPORTED_BSDFS};
+use super::emitter;
 use super::film::Filter;
-use super::mitsuba::integrator_spec;
+use super::integrator;
 use super::properties::Properties;
+use super::shape;
 use super::xml::{Dialect, Document, Element};
-use super::{obj, Bsdf, Camera, Emitter, Error, Film, Medium, Sampler, Scene};
+use super::{Bsdf, Camera, Error, Film, Medium, Sampler, Scene};
 
 /// Loads a Nori scene read by [`super::xml::read`].
 pub fn load(doc: &Document) -> Result<Scene, Error> {
@@ -58,10 +58,10 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
                 if integrator.is_some() {
                     return Err(el.err("more than one <integrator>"));
                 }
-                integrator = Some(integrator_spec(el, Dialect::Nori)?);
+                integrator = Some(integrator::spec(el, Dialect::Nori)?);
             }
             "mesh" => mesh(el, &mut b)?,
-            "emitter" => emitter(el, &mut b)?,
+            "emitter" => top_emitter(el, &mut b)?,
             "test" => return Err(el.err("Nori <test> scenes are not supported yet")),
             "medium" => medium(el, &mut b)?,
             t => return Err(el.err(format!("unexpected <{t}> in a Nori <scene>"))),
@@ -136,7 +136,7 @@ fn sampler(el: &Element) -> Result<(Sampler, u32), Error> {
 fn mesh(el: &Element, b: &mut Builder) -> Result<(), Error> {
     el.check_attrs(&["type"])?;
     if el.require("type")? != "obj" {
-        return Err(builder::unsupported(el, "mesh", &[]));
+        return Err(shape::unsupported(el, Dialect::Nori));
     }
     let (props, nested) = Properties::read(el, Dialect::Nori, false)?;
     let mut bsdf = None;
@@ -144,22 +144,7 @@ fn mesh(el: &Element, b: &mut Builder) -> Result<(), Error> {
     for n in nested {
         match n.tag.as_str() {
             "bsdf" if bsdf.is_none() => bsdf = Some(nori_bsdf(n, b)?),
-            "emitter" if radiance.is_none() => {
-                n.check_attrs(&["type"])?;
-                let et = n.require("type")?;
-                if et != "area" {
-                    return Err(n.err(format!("a mesh can only carry an area emitter, not '{et}'")));
-                }
-                let (p, nn) = Properties::read(n, Dialect::Nori, true)?;
-                if let Some(x) = nn.first() {
-                    return Err(x.err(format!("unexpected <{}> in an emitter", x.tag)));
-                }
-                radiance = Some(
-                    p.color_opt("radiance")?
-                        .ok_or_else(|| p.object_error("area emitter needs a 'radiance'"))?,
-                );
-                p.finish()?;
-            }
+            "emitter" if radiance.is_none() => radiance = Some(emitter::area::nori(n)?),
             "bsdf" | "emitter" => {
                 return Err(n.err(format!("a mesh can have only one <{}>", n.tag)))
             }
@@ -167,15 +152,12 @@ fn mesh(el: &Element, b: &mut Builder) -> Result<(), Error> {
             t => return Err(n.err(format!("unexpected <{t}> in <mesh>"))),
         }
     }
-    let path = builder::mesh_path(el, &props, "filename")?;
-    let to_world = props.transform("toWorld")?;
-    props.finish()?;
-    let m = obj::load(&path, false)?;
+    let (m, to_world) = shape::obj::nori(el, &props)?;
     let bsdf = match bsdf {
         Some(i) => i,
         None => b.default_bsdf(),
     };
-    let emitter = radiance.map(|r| b.add_emitter(Emitter::Area { radiance: r }));
+    let emitter = radiance.map(|e| b.add_emitter(e));
     let options = MeshOptions {
         to_world,
         ..MeshOptions::default()
@@ -237,39 +219,14 @@ fn nori_bsdf(el: &Element, b: &mut Builder) -> Result<u32, Error> {
     Ok(b.add_bsdf(bsdf))
 }
 
-fn emitter(el: &Element, b: &mut Builder) -> Result<(), Error> {
+fn top_emitter(el: &Element, b: &mut Builder) -> Result<(), Error> {
     el.check_attrs(&["type"])?;
     let t = el.require("type")?;
     let (props, nested) = Properties::read(el, Dialect::Nori, true)?;
     if let Some(n) = nested.first() {
         return Err(n.err(format!("unexpected <{}> in <emitter>", n.tag)));
     }
-    let e = match t {
-        "point" => Emitter::Point {
-            position: props.point("position", Vec3::ZERO)?,
-            intensity: props
-                .color_opt("power")?
-                .ok_or_else(|| props.object_error("point emitter needs a 'power'"))?
-                / (4.0 * std::f32::consts::PI),
-        },
-        "distantdisk" => {
-            let theta = props.float("thetaA", 180.0)?;
-            if theta != 180.0 {
-                return Err(props.error(
-                    "thetaA",
-                    format!("distantdisk with thetaA = {theta} is not supported yet (only 180, a constant environment)"),
-                ));
-            }
-            props.transform("toWorld")?;
-            Emitter::Constant {
-                radiance: props
-                    .color_opt("radiance")?
-                    .ok_or_else(|| props.object_error("distantdisk needs a 'radiance'"))?,
-            }
-        }
-        "area" => return Err(el.err("an area emitter must be nested in a <mesh>")),
-        _ => return Err(builder::unsupported(el, "emitter", UNSUPPORTED_EMITTERS)),
-    };
+    let e = emitter::nori(t, el, &props)?;
     props.finish()?;
     b.add_emitter(e);
     Ok(())
@@ -279,6 +236,8 @@ fn emitter(el: &Element, b: &mut Builder) -> Result<(), Error> {
 mod tests {
     use super::*;
     use crate::scene::testutil::{error_at, load, TRI_OBJ};
+    use crate::scene::Emitter;
+    use glam::Vec3;
 
     const SCENE: &str = r#"<scene>
   <integrator type="path_mis"><integer name="maxDepth" value="5"/></integrator>

@@ -47,6 +47,15 @@ impl Family {
             Family::Integrator => "integrator",
         }
     }
+
+    /// The tag in `dialect`: Nori writes shapes as `<mesh>` and sensors as `<camera>`.
+    pub fn tag_in(self, dialect: Dialect) -> &'static str {
+        match (self, dialect) {
+            (Family::Shape, Dialect::Nori) => "mesh",
+            (Family::Sensor, Dialect::Nori) => "camera",
+            _ => self.tag(),
+        }
+    }
 }
 
 /// Whether wavetrace renders a plugin type, or knows the name but lacks it.
@@ -138,10 +147,19 @@ impl PluginDoc {
 /// "`<tag>` type 'X' is not supported yet" for a type the registry lists as
 /// [`Support::NotYet`], "unknown `<tag>` type 'X'" (with the supported types) for any
 /// other; at the element's line.
-pub fn unsupported(el: &Element, family: Family, dialect: Dialect, registry: &[PluginDoc]) -> Error {
+pub fn unsupported(
+    el: &Element,
+    family: Family,
+    dialect: Dialect,
+    registry: &[PluginDoc],
+) -> Error {
     let t = el.attr("type").unwrap_or("");
-    let tag = family.tag();
-    let of_dialect = || registry.iter().filter(|p| p.family == family && p.dialect == dialect);
+    let tag = family.tag_in(dialect);
+    let of_dialect = || {
+        registry
+            .iter()
+            .filter(|p| p.family == family && p.dialect == dialect)
+    };
     if of_dialect().any(|p| p.name == t && p.support == Support::NotYet) {
         return el.err(format!("{tag} type '{t}' is not supported yet"));
     }
@@ -166,9 +184,9 @@ pub fn find<'a>(
     dialect: Dialect,
     t: &str,
 ) -> Option<&'a PluginDoc> {
-    registry
-        .iter()
-        .find(|p| p.family == family && p.dialect == dialect && p.name == t && p.support == Support::Yes)
+    registry.iter().find(|p| {
+        p.family == family && p.dialect == dialect && p.name == t && p.support == Support::Yes
+    })
 }
 
 /// `docs/plugins.md`: one section per dialect and family, a table of the supported
@@ -190,18 +208,24 @@ pub fn markdown(catalogue: &[PluginDoc]) -> String {
         families.sort();
         families.dedup();
         for family in families {
-            let _ = write!(s, "\n## {title}: `<{}>`\n", family.tag());
+            let _ = write!(s, "\n## {title}: `<{}>`\n", family.tag_in(dialect));
             let of = |support| {
-                catalogue
-                    .iter()
-                    .filter(move |p| p.dialect == dialect && p.family == family && p.support == support)
+                catalogue.iter().filter(move |p| {
+                    p.dialect == dialect && p.family == family && p.support == support
+                })
             };
             for p in of(Support::Yes) {
                 let _ = write!(s, "\n### `{}`\n\n{}\n", p.name, p.summary);
                 if !p.params.is_empty() {
-                    s.push_str("\n| parameter | type | default | meaning |\n| --- | --- | --- | --- |\n");
+                    s.push_str(
+                        "\n| parameter | type | default | meaning |\n| --- | --- | --- | --- |\n",
+                    );
                     for q in p.params {
-                        let default = if q.default.is_empty() { "—" } else { q.default };
+                        let default = if q.default.is_empty() {
+                            "—"
+                        } else {
+                            q.default
+                        };
                         let _ = writeln!(
                             s,
                             "| `{}` | {} | {} | {} |",
@@ -213,7 +237,9 @@ pub fn markdown(catalogue: &[PluginDoc]) -> String {
                     }
                 }
             }
-            let missing: Vec<String> = of(Support::NotYet).map(|p| format!("`{}`", p.name)).collect();
+            let missing: Vec<String> = of(Support::NotYet)
+                .map(|p| format!("`{}`", p.name))
+                .collect();
             if !missing.is_empty() {
                 let _ = write!(s, "\nNot supported yet: {}.\n", missing.join(", "));
             }
@@ -228,7 +254,13 @@ mod tests {
 
     const PARAMS: &[Param] = &[Param::new("reflectance", "rgb|texture", "0.5", "albedo")];
     const REGISTRY: &[PluginDoc] = &[
-        PluginDoc::new(Family::Bsdf, Dialect::Mitsuba, "diffuse", "Lambertian.", PARAMS),
+        PluginDoc::new(
+            Family::Bsdf,
+            Dialect::Mitsuba,
+            "diffuse",
+            "Lambertian.",
+            PARAMS,
+        ),
         PluginDoc::not_yet(Family::Bsdf, Dialect::Mitsuba, "hair"),
     ];
 
@@ -249,7 +281,10 @@ mod tests {
         assert!(e.contains("bsdf type 'hair' is not supported yet"), "{e}");
         let typo = element(r#"<bsdf type="difuse"/>"#);
         let e = unsupported(&typo, Family::Bsdf, Dialect::Mitsuba, REGISTRY).to_string();
-        assert!(e.contains("unknown bsdf type 'difuse' (supported: diffuse)"), "{e}");
+        assert!(
+            e.contains("unknown bsdf type 'difuse' (supported: diffuse)"),
+            "{e}"
+        );
         assert!(find(REGISTRY, Family::Bsdf, Dialect::Mitsuba, "diffuse").is_some());
         assert!(find(REGISTRY, Family::Bsdf, Dialect::Mitsuba, "hair").is_none());
         assert!(find(REGISTRY, Family::Bsdf, Dialect::Nori, "diffuse").is_none());
@@ -259,7 +294,10 @@ mod tests {
     fn markdown_lists_parameters_and_missing_types() {
         let md = markdown(REGISTRY);
         assert!(md.contains("## Mitsuba 3: `<bsdf>`"), "{md}");
-        assert!(md.contains("| `reflectance` | rgb or texture | 0.5 | albedo |"), "{md}");
+        assert!(
+            md.contains("| `reflectance` | rgb or texture | 0.5 | albedo |"),
+            "{md}"
+        );
         assert!(md.contains("Not supported yet: `hair`."), "{md}");
         assert!(!md.contains("## Nori"), "{md}");
     }
