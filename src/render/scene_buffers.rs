@@ -64,7 +64,7 @@ pub struct SceneRecords {
     pub media: Vec<MediumRecord>,
     pub grid_data: Vec<f32>,
     pub majorants: Vec<f32>,
-    /// Density grids packed one texel per voxel (`media::pack_density`).
+    /// Density grids packed one texel per voxel (`scene::medium::record::pack_density`).
     pub packed_density: Vec<[f32; 4]>,
     /// The quadric kinds of the scene, as `SURFACE_FEATURE_*` bits.
     quadric_kinds: u32,
@@ -352,8 +352,12 @@ impl SceneRecords {
             });
         }
         for m in &scene.media {
-            let rec =
-                super::media::record(m, &mut r.grid_data, &mut r.packed_density, &mut r.majorants);
+            let rec = crate::scene::medium::record::record(
+                m,
+                &mut r.grid_data,
+                &mut r.packed_density,
+                &mut r.majorants,
+            );
             r.media.push(rec);
         }
         r.build_alias_tables(scene, bvh, &remap);
