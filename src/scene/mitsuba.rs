@@ -1,33 +1,17 @@
-//! The Mitsuba 3 dialect: `<scene version="3.x.y">` with `sensor`, `integrator`,
-//! `shape`, `bsdf`, `emitter`, `ref`/`id` (forward references allowed, as in Mitsuba).
+//! The Mitsuba 3 dialect's tree walker: `<scene version="3.x.y">` with `sensor`,
+//! `integrator`, `shape`, `bsdf`, `emitter`, `medium`, `texture` and `ref`/`id`
+//! (forward references allowed, as in Mitsuba), and `path value="DIR"` (a folder file
+//! names are also searched in, see [`super::xml::SearchPath`]).
 //!
-//! Supported objects (anything else is "not supported yet" or "unknown"):
-//! - `sensor type="perspective"`: `fov` + `fov_axis` (x, y, diagonal, smaller, larger;
-//!   default x) or `focal_length` (35 mm film, default "50mm"), `near_clip` (0.01),
-//!   `far_clip` (10000), `to_world`, `focus_distance` (read, unused); nested
-//!   `film type="hdrfilm"` (`width` 768, `height` 576, crop window, `sample_border`,
-//!   pixel, component and file formats, `rfilter`: see [`super::film`]) and
-//!   `sampler` (independent, stratified, multijitter, orthogonal, ldsampler and
-//!   pbrt-v4's zsobol, with their parameters: [`super::sampler`]).
-//! - `integrator`: any type; its parameters are kept unread in [`IntegratorSpec`].
-//!   `moment` around one nested integrator stands for that integrator (its mean).
-//! - `path value="DIR"`: a folder file names are also searched in (see
-//!   [`super::xml::SearchPath`]).
-//! - shapes as Mitsuba 3.9 makes them (vertex tables, winding, uvs, normals and
-//!   tangent frames): meshes `obj` (`filename`, `flip_tex_coords` = true), `ply`
-//!   (`filename`, `flip_tex_coords` = false), `serialized` (`filename`,
-//!   `shape_index` = 0), `rectangle`, `cube`, all with `face_normals` (no effect on
-//!   `rectangle` and `cube`, as in Mitsuba) and vertex normals computed where a file
-//!   has none; quadrics `sphere` (`center`, `radius`), `disk`, `cylinder` (`p0`,
-//!   `p1`, `radius`), intersected exactly (see [`super::quadric`]); all with
-//!   `to_world` (mirrors included) and `flip_normals`.
-//! - `bsdf`: `diffuse`, `conductor`, `roughconductor`, `dielectric`, `roughdielectric`,
-//!   `plastic`, `roughplastic`, `thindielectric` (parameters in [`Bsdf`]), `twosided` around one BSDF
-//!   without transmission.
-//! - `emitter`: `area` (`radiance`, nested in or referenced by a shape), `point`
-//!   (`position` or `to_world`, `intensity` 1), `constant` (`radiance` 1).
+//! This file resolves references and ids, nesting and what may sit where; each
+//! object's type and parameters are read by its plugin family (`super::sensor`,
+//! `super::shape`, `super::emitter`, `super::bsdf`, `super::texture`,
+//! `super::medium`, `super::integrator`, `super::film`, `super::sampler`), whose
+//! registries list every type with the parameters it reads: `docs/plugins.md` is
+//! generated from them ([`super::plugin::catalogue`]).
 //!
-//! An area emitter referenced by several shapes gives each its own [`Emitter::Area`].
+//! An area emitter referenced by several shapes gives each its own [`Emitter::Area`];
+//! `moment` around one nested integrator stands for that integrator (its mean).
 
 use std::collections::{HashMap, HashSet};
 
@@ -39,20 +23,12 @@ use super::emitter;
 use super::integrator;
 use super::plugin::{self, Family};
 use super::properties::Properties;
-use super::sampler::{self, Sampler};
+use super::sampler::Sampler;
+use super::sensor;
 use super::shape::{self, Geometry};
 use super::xml::{Dialect, Document, Element};
 use super::{Bsdf, Camera, Emitter, Error, Film, IntegratorSpec, Medium, Quadric, Scene, Texture};
 
-const SENSORS: &[&str] = &[
-    "thinlens",
-    "orthographic",
-    "radiancemeter",
-    "irradiancemeter",
-    "distant",
-    "batch",
-];
-const FILMS: &[&str] = &["specfilm"];
 /// BSDF types read by [`Bsdf::from_mitsuba`] (besides `twosided`).
 const BSDFS: &[&str] = &[
     "diffuse",
@@ -64,9 +40,6 @@ const BSDFS: &[&str] = &[
     "plastic",
     "roughplastic",
 ];
-/// Default `<film>` size.
-const FILM_WIDTH: u32 = 768;
-const FILM_HEIGHT: u32 = 576;
 
 /// Loads a Mitsuba 3 scene read by [`super::xml::read`].
 pub fn load(doc: &Document) -> Result<Scene, Error> {
@@ -91,7 +64,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
                 if camera.is_some() {
                     return Err(el.err("more than one <sensor>; wavetrace renders one"));
                 }
-                let (cam, spp, film, medium) = sensor(el)?;
+                let (cam, spp, film, medium) = sensor::mitsuba(el)?;
                 camera = Some((cam, spp, film));
                 if let Some(m) = medium {
                     camera_medium = Some(l.medium_of(m)?);
@@ -180,147 +153,13 @@ fn collect_ids<'a>(el: &'a Element, ids: &mut HashMap<String, &'a Element>) -> R
     Ok(())
 }
 
-/// The horizontal field of view in degrees for `fov` measured along `axis` of a
-/// `width` x `height` image (Mitsuba's `fov_axis`).
-pub fn fov_x(fov_deg: f64, axis: &str, width: u32, height: u32) -> Option<f64> {
-    let aspect = width as f64 / height as f64;
-    let axis = match axis {
-        "smaller" => {
-            if aspect > 1.0 {
-                "y"
-            } else {
-                "x"
-            }
-        }
-        "larger" => {
-            if aspect > 1.0 {
-                "x"
-            } else {
-                "y"
-            }
-        }
-        a => a,
-    };
-    let t = (fov_deg.to_radians() * 0.5).tan();
-    let tx = match axis {
-        "x" => t,
-        "y" => t * aspect,
-        "diagonal" => t / (1.0 + 1.0 / (aspect * aspect)).sqrt(),
-        _ => return None,
-    };
-    Some((2.0 * tx.atan()).to_degrees())
-}
-
-/// What a `<sensor>` says: the camera, its sampler and sample count, its film and the
-/// `<medium>` (or `<ref>` to one) it sits in.
-type SensorParts<'a> = (Camera, (Sampler, u32), Film, Option<&'a Element>);
-
-fn sensor(el: &Element) -> Result<SensorParts<'_>, Error> {
-    el.check_attrs(&["type", "id", "name"])?;
-    if el.require("type")? != "perspective" {
-        return Err(builder::unsupported(el, "sensor", SENSORS));
-    }
-    let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
-    let mut size = None;
-    let mut spp = None;
-    let mut medium = None;
-    for n in nested {
-        match n.tag.as_str() {
-            "film" if size.is_none() => size = Some(film(n)?),
-            "sampler" if spp.is_none() => spp = Some(sampler(n)?),
-            "film" | "sampler" => {
-                return Err(n.err(format!("more than one <{}> in <sensor>", n.tag)))
-            }
-            "medium" | "ref" if medium.is_none() => medium = Some(n),
-            "medium" | "ref" => return Err(n.err("a sensor sits in one medium")),
-            _ => return Err(n.err(format!("unexpected <{}> in <sensor>", n.tag))),
-        }
-    }
-    let (width, height, film) = size.unwrap_or((FILM_WIDTH, FILM_HEIGHT, Film::default()));
-    let fov_x_deg = if props.has("fov") {
-        if props.has("focal_length") {
-            return Err(props.error(
-                "focal_length",
-                "give either 'fov' or 'focal_length', not both",
-            ));
-        }
-        let fov = props.float("fov", 0.0)? as f64;
-        if !(fov > 0.0 && fov < 180.0) {
-            return Err(props.error(
-                "fov",
-                format!("fov must be in (0, 180) degrees, found {fov}"),
-            ));
-        }
-        let axis = props.string("fov_axis", "x")?.to_ascii_lowercase();
-        fov_x(fov, &axis, width, height).ok_or_else(|| {
-            props.error(
-                "fov_axis",
-                format!("fov_axis must be x, y, diagonal, smaller or larger, found '{axis}'"),
-            )
-        })?
-    } else {
-        let s = props.string("focal_length", "50mm")?;
-        let f = s
-            .trim()
-            .strip_suffix("mm")
-            .unwrap_or(s.trim())
-            .trim()
-            .parse::<f64>()
-            .ok()
-            .filter(|f| *f > 0.0 && f.is_finite())
-            .ok_or_else(|| {
-                props.error(
-                    "focal_length",
-                    format!("could not parse focal_length \"{s}\" (expected e.g. \"50mm\")"),
-                )
-            })?;
-        // 35 mm film: the 36 x 24 mm frame's diagonal sees the fov.
-        let diag = (36.0f64 * 36.0 + 24.0 * 24.0).sqrt();
-        let fov = (2.0 * (diag / (2.0 * f)).atan()).to_degrees();
-        if props.has("fov_axis") {
-            return Err(props.error(
-                "fov_axis",
-                "fov_axis applies to 'fov', not to 'focal_length'",
-            ));
-        }
-        fov_x(fov, "diagonal", width, height).unwrap_or(fov)
-    };
-    let near_clip = props.float("near_clip", 0.01)?;
-    let far_clip = props.float("far_clip", 10000.0)?;
-    if !(near_clip > 0.0 && far_clip > near_clip) {
-        return Err(props.object_error(format!(
-            "need 0 < near_clip < far_clip, found near_clip = {near_clip}, far_clip = {far_clip}"
-        )));
-    }
-    let to_world = props.transform("to_world")?;
-    props.ignore(&["focus_distance"]);
-    props.finish()?;
-    Ok((
-        Camera {
-            to_world,
-            fov_x_deg: fov_x_deg as f32,
-            near_clip,
-            far_clip,
-            width,
-            height,
-        },
-        spp.unwrap_or((Sampler::default(), 4)),
-        film,
-        medium,
-    ))
-}
-
-/// The film's size and the rest of it ([`Film::from_mitsuba`]).
-fn film(el: &Element) -> Result<(u32, u32, Film), Error> {
-    el.check_attrs(&["type", "id", "name"])?;
-    if el.require("type")? != "hdrfilm" {
-        return Err(builder::unsupported(el, "film", FILMS));
-    }
-    Film::from_mitsuba(el, FILM_WIDTH, FILM_HEIGHT)
-}
-
-fn sampler(el: &Element) -> Result<(Sampler, u32), Error> {
-    sampler::read(el, Dialect::Mitsuba, "sample_count", 4)
+/// What a `<shape>` nests besides its parameters.
+#[derive(Default)]
+struct ShapeParts {
+    bsdf: Option<u32>,
+    radiance: Option<(Emitter, f32)>,
+    interior: Option<u32>,
+    exterior: Option<u32>,
 }
 
 struct Loader<'a> {
@@ -639,13 +478,9 @@ impl<'a> Loader<'a> {
         Ok(())
     }
 
-    fn shape(&mut self, el: &'a Element) -> Result<(), Error> {
-        el.check_attrs(&["type", "id", "name"])?;
-        let t = el.require("type")?;
-        let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
-        let mut bsdf = None;
-        let mut radiance = None;
-        let (mut interior, mut exterior) = (None, None);
+    /// The BSDF, area emitter and media nested in (or referenced by) a `<shape>`.
+    fn shape_parts(&mut self, nested: Vec<&'a Element>) -> Result<ShapeParts, Error> {
+        let mut p = ShapeParts::default();
         for n in nested {
             let (target, via_ref) = if n.tag == "ref" {
                 (self.deref(n)?, true)
@@ -664,32 +499,21 @@ impl<'a> Loader<'a> {
             }
             match target.tag.as_str() {
                 "bsdf" => {
-                    if bsdf.is_some() {
+                    if p.bsdf.is_some() {
                         return Err(n.err("a shape can have only one bsdf"));
                     }
-                    bsdf = Some(self.bsdf(target)?);
+                    p.bsdf = Some(self.bsdf(target)?);
                 }
                 "emitter" => {
-                    if radiance.is_some() {
+                    if p.radiance.is_some() {
                         return Err(n.err("a shape can carry only one emitter"));
                     }
-                    target.check_attrs(&["type", "id", "name"])?;
-                    let et = target.require("type")?;
-                    if et != "area" {
-                        return Err(if via_ref || emitter::is_known(Dialect::Mitsuba, et) {
-                            n.err(format!(
-                                "a shape can only carry an area emitter, not '{et}'"
-                            ))
-                        } else {
-                            emitter::unsupported(target, Dialect::Mitsuba)
-                        });
-                    }
-                    radiance = Some(self.area(target)?);
+                    p.radiance = Some(self.shape_emitter(n, target, via_ref)?);
                 }
                 "medium" => {
                     let slot = match n.attr("name") {
-                        Some("interior") => &mut interior,
-                        Some("exterior") => &mut exterior,
+                        Some("interior") => &mut p.interior,
+                        Some("exterior") => &mut p.exterior,
                         other => {
                             return Err(n.err(format!(
                             "a shape's medium is named \"interior\" or \"exterior\", found {:?}",
@@ -705,6 +529,41 @@ impl<'a> Loader<'a> {
                 _ => return Err(self.unexpected(n, "<shape>")),
             }
         }
+        Ok(p)
+    }
+
+    /// The emitter a shape carries (`n`, or the `target` of its reference): only an
+    /// area emitter.
+    fn shape_emitter(
+        &mut self,
+        n: &'a Element,
+        target: &'a Element,
+        via_ref: bool,
+    ) -> Result<(Emitter, f32), Error> {
+        target.check_attrs(&["type", "id", "name"])?;
+        let et = target.require("type")?;
+        if et != "area" {
+            return Err(if via_ref || emitter::is_known(Dialect::Mitsuba, et) {
+                n.err(format!(
+                    "a shape can only carry an area emitter, not '{et}'"
+                ))
+            } else {
+                emitter::unsupported(target, Dialect::Mitsuba)
+            });
+        }
+        self.area(target)
+    }
+
+    fn shape(&mut self, el: &'a Element) -> Result<(), Error> {
+        el.check_attrs(&["type", "id", "name"])?;
+        let t = el.require("type")?;
+        let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
+        let ShapeParts {
+            bsdf,
+            radiance,
+            interior,
+            exterior,
+        } = self.shape_parts(nested)?;
         let bsdf = match bsdf {
             Some(b) => b,
             // Mitsuba gives a light without a BSDF a black one (it reflects nothing).
@@ -761,28 +620,12 @@ impl<'a> Loader<'a> {
 mod tests {
     use super::*;
     use crate::scene::bsdf::Distribution;
+    use crate::scene::sensor::perspective::fov_x;
     use crate::scene::testutil::{error_at, load, mitsuba, TRI_OBJ};
     use glam::{Mat4, Vec4};
 
     fn close(a: f32, b: f32) -> bool {
         (a - b).abs() < 1e-4 * (1.0 + b.abs())
-    }
-
-    #[test]
-    fn fov_axis_conversions() {
-        let deg = |x: f64| x.to_radians();
-        // y: tan(fx/2) = tan(fy/2) * aspect.
-        let fx = fov_x(40.0, "y", 200, 100).unwrap();
-        assert!((deg(fx / 2.0).tan() - 2.0 * deg(20.0).tan()).abs() < 1e-12);
-        // smaller/larger pick y/x for a wide image, x/y for a tall one.
-        assert_eq!(fov_x(40.0, "smaller", 200, 100), fov_x(40.0, "y", 200, 100));
-        assert_eq!(fov_x(40.0, "larger", 200, 100), Some(40.0));
-        assert_eq!(fov_x(40.0, "smaller", 100, 200), Some(40.0));
-        assert_eq!(fov_x(40.0, "larger", 100, 200), fov_x(40.0, "y", 100, 200));
-        // diagonal: tan(fx/2) = tan(fd/2) * w / sqrt(w^2 + h^2).
-        let fx = fov_x(60.0, "diagonal", 300, 400).unwrap();
-        assert!((deg(fx / 2.0).tan() - deg(30.0).tan() * 300.0 / 500.0).abs() < 1e-12);
-        assert_eq!(fov_x(60.0, "z", 1, 1), None);
     }
 
     #[test]

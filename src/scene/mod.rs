@@ -25,6 +25,7 @@ pub mod procedural;
 pub mod properties;
 pub mod quadric;
 pub mod sampler;
+pub mod sensor;
 pub mod serialized;
 pub mod shape;
 pub mod spectrum;

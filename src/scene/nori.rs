@@ -1,38 +1,23 @@
-//! The Nori dialect: `<scene>` (no version) with `camera`, `sampler`, `integrator`,
-//! `mesh`, `emitter`.
+//! The Nori dialect's tree walker: `<scene>` (no version) with `camera`, `sampler`,
+//! `integrator`, `mesh` (with a nested `bsdf` and area `emitter`), `emitter` and
+//! `medium`.
 //!
-//! Supported objects (anything else is "not supported yet" or "unknown"):
-//! - `camera type="perspective"`: `toWorld`, `fov` (horizontal degrees, 30), `width`
-//!   1280, `height` 720, `nearClip` 1e-4, `farClip` 1e4; a nested `rfilter`
-//!   (`gaussian`, the default, `mitchell`, `tent`, `box`: [`super::film`]).
-//!   Nori's camera looks down +z like Mitsuba's but puts image column 0 at camera -x.
-//!   `lookat` is orthonormal, as in Nori since its commit 981dfb2 (2015-08-18); before
-//!   that Nori left its `left` and `up` axes unnormalised, of length sin θ (θ between
-//!   `up` and the view direction), which narrows tan(fov / 2) by that factor: the 2015
-//!   course references (veach_mi, odyssey, sphere) are 1-4.4% zoomed in against
-//!   these files (`tests/nori_scenes.rs`).
-//! - `sampler` of any type wavetrace knows (`super::sampler`; Nori itself has only
-//!   `independent`): `sampleCount` (1), `seed` and the type's parameters.
-//! - `integrator`: any type; its parameters are kept unread in [`IntegratorSpec`].
-//! - `mesh type="obj"`: `filename`, `toWorld`, nested `bsdf` (`diffuse`, `mirror`,
-//!   `dielectric`, `microfacet`; parameters in [`Bsdf`]) and `emitter type="area"` (`radiance`). Nori does not flip texture v.
-//! - top-level `medium` (`homogeneous` or `heterogeneous`, parameters as Mitsuba's,
-//!   colors as `<color>`: `sigma_a` + `sigma_s` or `sigma_t` + `albedo`, `scale`,
-//!   nested `<phase>` and `<volume>`) filling the axis-aligned box `bounds_min` ..
-//!   `bounds_max` (points, required): an invisible index-matched box with the medium
-//!   inside, as the volume-with-bounding-box form of Nori course renderers.
-//! - top-level `emitter`: `point` (`position`, `power` in W; intensity = power / 4π)
-//!   and `distantdisk` with `thetaA` = 180 (a constant environment: `radiance`;
-//!   `toWorld` is read and has no effect).
+//! Each object's type and parameters are read by its plugin family (the camera by
+//! `super::sensor`, meshes by `super::shape`, emitters by `super::emitter`, ...), whose
+//! registries list every Nori type with the parameters it reads (`docs/plugins.md`).
+//! Nori has only the `independent` sampler; wavetrace's others may be named too.
+//! A top-level `medium` fills the axis-aligned box `bounds_min` .. `bounds_max`: an
+//! invisible index-matched box with the medium inside, as the volume-with-bounding-box
+//! form of Nori course renderers.
 
 use super::builder::{self, Builder, MeshOptions, UNSUPPORTED_BSDFS};
 use super::emitter;
-use super::film::Filter;
 use super::integrator;
 use super::properties::Properties;
+use super::sensor;
 use super::shape;
 use super::xml::{Dialect, Document, Element};
-use super::{Bsdf, Camera, Error, Film, Medium, Sampler, Scene};
+use super::{Bsdf, Error, Medium, Sampler, Scene};
 
 /// Loads a Nori scene read by [`super::xml::read`].
 pub fn load(doc: &Document) -> Result<Scene, Error> {
@@ -46,13 +31,13 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
                 if camera.is_some() {
                     return Err(el.err("more than one <camera>"));
                 }
-                camera = Some(perspective(el)?);
+                camera = Some(sensor::nori(el)?);
             }
             "sampler" => {
                 if sampler_spp.is_some() {
                     return Err(el.err("more than one <sampler>"));
                 }
-                sampler_spp = Some(sampler(el)?);
+                sampler_spp = Some(super::sampler::read(el, Dialect::Nori, "sampleCount", 1)?);
             }
             "integrator" => {
                 if integrator.is_some() {
@@ -86,51 +71,6 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         camera_medium: None,
         textures: b.textures,
     })
-}
-
-/// The camera and its film (Nori's reconstruction filter sits in the camera).
-fn perspective(el: &Element) -> Result<(Camera, Film), Error> {
-    el.check_attrs(&["type"])?;
-    if el.require("type")? != "perspective" {
-        return Err(builder::unsupported(el, "camera", &[]));
-    }
-    let (props, nested) = Properties::read(el, Dialect::Nori, false)?;
-    let mut filter = None;
-    for n in nested {
-        match n.tag.as_str() {
-            "rfilter" if filter.is_none() => filter = Some(Filter::from_nori(n)?),
-            "rfilter" => return Err(n.err("the camera has more than one reconstruction filter")),
-            _ => return Err(n.err(format!("unexpected <{}> in <camera>", n.tag))),
-        }
-    }
-    let fov = props.float("fov", 30.0)?;
-    if !(fov > 0.0 && fov < 180.0) {
-        return Err(props.error(
-            "fov",
-            format!("fov must be in (0, 180) degrees, found {fov}"),
-        ));
-    }
-    let camera = Camera {
-        // Nori maps image column 0 to camera -x (its sample-to-camera transform scales
-        // x by +1/2 where Mitsuba's scales by -1/2): mirror x into our Mitsuba frame.
-        // Scenes converted from Mitsuba therefore carry <scale value="-1,1,1"/>.
-        to_world: props.transform("toWorld")?
-            * glam::Mat4::from_scale(glam::Vec3::new(-1.0, 1.0, 1.0)),
-        fov_x_deg: fov,
-        near_clip: props.float("nearClip", 1e-4)?,
-        far_clip: props.float("farClip", 1e4)?,
-        width: props.positive("width", 1280)?,
-        height: props.positive("height", 720)?,
-    };
-    if !(camera.near_clip > 0.0 && camera.far_clip > camera.near_clip) {
-        return Err(props.object_error("need 0 < nearClip < farClip"));
-    }
-    props.finish()?;
-    Ok((camera, Film::nori(filter.unwrap_or(Filter::DEFAULT))))
-}
-
-fn sampler(el: &Element) -> Result<(Sampler, u32), Error> {
-    super::sampler::read(el, Dialect::Nori, "sampleCount", 1)
 }
 
 fn mesh(el: &Element, b: &mut Builder) -> Result<(), Error> {
