@@ -12,6 +12,8 @@
 
 use glam::Vec3;
 
+use crate::gpu::layout::{EmitterRecord, EMITTER_AREA, NONE};
+
 use super::{Emitter, SAMPLING_WEIGHT};
 use crate::scene::plugin::{Family, Param, PluginDoc};
 use crate::scene::properties::Properties;
@@ -94,4 +96,26 @@ pub fn nori(n: &Element) -> Result<Emitter, Error> {
         .ok_or_else(|| p.object_error("area emitter needs a 'radiance'"))?;
     p.finish()?;
     Ok(Emitter::Area { radiance })
+}
+
+/// The GPU record of an area emitter (the shape it sits on is filled in by the
+/// caller).
+pub fn record(radiance: Vec3) -> EmitterRecord {
+    EmitterRecord {
+        kind: EMITTER_AREA,
+        radiance: radiance.into(),
+        shape: NONE,
+        ..Default::default()
+    }
+}
+
+/// The GPU record of a textured area emitter (texture `texture` times `scale`).
+pub fn textured_record(texture: u32, scale: Vec3) -> EmitterRecord {
+    EmitterRecord {
+        kind: EMITTER_AREA,
+        radiance: scale.into(),
+        shape: NONE,
+        texture: texture + 1,
+        ..Default::default()
+    }
 }

@@ -7,6 +7,8 @@
 
 use glam::Vec3;
 
+use crate::gpu::layout::{EmitterRecord, EMITTER_CONSTANT, NONE};
+
 use super::{Emitter, SAMPLING_WEIGHT};
 use crate::scene::plugin::{Family, Param, PluginDoc};
 use crate::scene::properties::Properties;
@@ -29,4 +31,14 @@ pub fn mitsuba(props: &Properties) -> Result<Emitter, Error> {
     Ok(Emitter::Constant {
         radiance: props.color("radiance", Vec3::ONE)?,
     })
+}
+
+/// The GPU record of a constant environment.
+pub fn record(radiance: Vec3) -> EmitterRecord {
+    EmitterRecord {
+        kind: EMITTER_CONSTANT,
+        radiance: radiance.into(),
+        shape: NONE,
+        ..Default::default()
+    }
 }

@@ -6,6 +6,7 @@
 //! ```
 
 use super::{Emitter, SAMPLING_WEIGHT};
+use crate::gpu::layout::{EmitterRecord, EMITTER_ENVMAP, NONE};
 use crate::scene::builder::Builder;
 use crate::scene::plugin::{Family, Param, PluginDoc};
 use crate::scene::properties::Properties;
@@ -90,4 +91,43 @@ pub fn mitsuba(el: &Element, props: &Properties, b: &mut Builder) -> Result<Emit
         to_world,
         importance,
     })
+}
+
+/// The GPU record of an envmap whose bitmap is `textures[texture]`, its sampling
+/// distribution appended to `distributions`; and the map's mean luminance.
+pub fn record(
+    texture: u32,
+    scale: f32,
+    to_world: glam::Mat3,
+    importance: bool,
+    textures: &[Texture],
+    distributions: &mut Vec<f32>,
+) -> (EmitterRecord, f64) {
+    let Texture::Bitmap {
+        width,
+        height,
+        texels,
+        ..
+    } = &textures[texture as usize]
+    else {
+        unreachable!("the loader gives an envmap a bitmap")
+    };
+    let dist = envmap::Distribution::build(*width, *height, texels, importance);
+    let offset = distributions.len() as u32;
+    distributions.extend_from_slice(&dist.cdf);
+    let col = |v: glam::Vec3| [v.x, v.y, v.z, 0.0];
+    let rec = EmitterRecord {
+        kind: EMITTER_ENVMAP,
+        radiance: [scale; 3],
+        shape: NONE,
+        texture: texture + 1,
+        dist_offset: offset,
+        dist_width: *width,
+        dist_height: *height,
+        to_world_x: col(to_world.x_axis),
+        to_world_y: col(to_world.y_axis),
+        to_world_z: col(to_world.z_axis),
+        ..Default::default()
+    };
+    (rec, dist.mean_luminance)
 }

@@ -43,6 +43,54 @@ const fn not_yet(name: &'static str) -> PluginDoc {
     PluginDoc::not_yet(Family::Emitter, Dialect::Mitsuba, name)
 }
 
+impl Emitter {
+    /// Its GPU record (the shape an area emitter sits on is filled in by the caller),
+    /// an envmap's sampling distribution appended to `distributions`; and its mean
+    /// luminance relative to its radiance (the texture's for a textured emitter), 1
+    /// for a uniform one.
+    pub fn record(
+        &self,
+        textures: &[super::Texture],
+        distributions: &mut Vec<f32>,
+    ) -> (crate::gpu::layout::EmitterRecord, f64) {
+        match *self {
+            Emitter::Point {
+                position,
+                intensity,
+            } => (point::record(position, intensity), 1.0),
+            Emitter::Spot {
+                position,
+                axis,
+                intensity,
+                cutoff_deg,
+                beam_width_deg,
+            } => (
+                spot::record(position, axis, intensity, cutoff_deg, beam_width_deg),
+                1.0,
+            ),
+            Emitter::Area { radiance } => (area::record(radiance), 1.0),
+            Emitter::Constant { radiance } => (constant::record(radiance), 1.0),
+            Emitter::TexturedArea { texture, scale } => (
+                area::textured_record(texture, scale),
+                super::envmap::luminance(textures[texture as usize].mean()) as f64,
+            ),
+            Emitter::EnvMap {
+                texture,
+                scale,
+                to_world,
+                importance,
+            } => envmap::record(
+                texture,
+                scale,
+                to_world,
+                importance,
+                textures,
+                distributions,
+            ),
+        }
+    }
+}
+
 /// Whether `t` names an emitter type of `dialect` at all (supported or not yet).
 pub fn is_known(dialect: Dialect, t: &str) -> bool {
     REGISTRY.iter().any(|p| p.dialect == dialect && p.name == t)

@@ -9,6 +9,8 @@
 
 use glam::Vec3;
 
+use crate::gpu::layout::{EmitterRecord, EMITTER_POINT, NONE};
+
 use super::{Emitter, SAMPLING_WEIGHT};
 use crate::scene::plugin::{Family, Param, PluginDoc};
 use crate::scene::properties::Properties;
@@ -82,4 +84,15 @@ pub fn nori(props: &Properties) -> Result<Emitter, Error> {
             .ok_or_else(|| props.object_error("point emitter needs a 'power'"))?
             / (4.0 * std::f32::consts::PI),
     })
+}
+
+/// The GPU record of a point light.
+pub fn record(position: Vec3, intensity: Vec3) -> EmitterRecord {
+    EmitterRecord {
+        position: position.into(),
+        kind: EMITTER_POINT,
+        radiance: intensity.into(),
+        shape: NONE,
+        ..Default::default()
+    }
 }

@@ -8,6 +8,8 @@
 
 use glam::Vec3;
 
+use crate::gpu::layout::{EmitterRecord, EMITTER_SPOT, NONE};
+
 use super::{Emitter, SAMPLING_WEIGHT};
 use crate::scene::plugin::{Family, Param, PluginDoc};
 use crate::scene::properties::Properties;
@@ -75,4 +77,27 @@ pub fn mitsuba(props: &Properties) -> Result<Emitter, Error> {
         cutoff_deg,
         beam_width_deg,
     })
+}
+
+/// The GPU record of a spot light.
+pub fn record(
+    position: Vec3,
+    axis: Vec3,
+    intensity: Vec3,
+    cutoff_deg: f32,
+    beam_width_deg: f32,
+) -> EmitterRecord {
+    let (cutoff, beam) = (cutoff_deg.to_radians(), beam_width_deg.to_radians());
+    EmitterRecord {
+        position: position.into(),
+        kind: EMITTER_SPOT,
+        radiance: intensity.into(),
+        shape: NONE,
+        axis: axis.into(),
+        cos_cutoff: cutoff.cos(),
+        cutoff,
+        // A zero-width transition is a hard edge: a huge slope.
+        inv_transition: 1.0 / (cutoff - beam).max(1e-6),
+        ..Default::default()
+    }
 }
