@@ -473,6 +473,19 @@ mod tests {
     use super::*;
     use crate::scene::testutil::{error_at, load};
 
+    /// The registry lists the types the reader knows, in both dialects.
+    #[test]
+    fn registry_lists_every_sampler_kind() {
+        for dialect in [Dialect::Mitsuba, Dialect::Nori] {
+            let names: Vec<&str> = REGISTRY
+                .iter()
+                .filter(|p| p.dialect == dialect)
+                .map(|p| p.name)
+                .collect();
+            assert_eq!(names, SamplerKind::NAMES);
+        }
+    }
+
     /// A Mitsuba scene whose sensor holds `sampler` (on line 3).
     fn with_sampler(sampler: &str) -> String {
         format!(

@@ -378,3 +378,39 @@ pub fn spec(el: &Element, dialect: Dialect) -> Result<IntegratorSpec, Error> {
         line: Some(el.line),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The integrators `--integrator` and the error messages name, in their order.
+    #[test]
+    fn names_are_the_renderable_integrators() {
+        assert_eq!(
+            names(),
+            [
+                "normals",
+                "ao",
+                "simple",
+                "direct_ems",
+                "direct_mats",
+                "direct_mis",
+                "direct",
+                "path_mats",
+                "path_mis",
+                "path",
+                "vol_path_simple",
+                "vol_path_mis",
+                "volpath",
+                "volpathmis",
+                "single_scatter",
+                "photonmapper",
+                "sppm",
+            ]
+        );
+        assert_eq!(
+            parameter_names("path"),
+            ["max_depth", "rr_depth", "hide_emitters", "mis_heuristic"]
+        );
+    }
+}
