@@ -23,7 +23,6 @@ pub mod ply;
 mod ply_binary;
 pub mod procedural;
 pub mod properties;
-pub mod quadric;
 pub mod sampler;
 pub mod sensor;
 pub mod serialized;
