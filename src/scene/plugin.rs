@@ -344,7 +344,7 @@ mod tests {
 
     /// A value tag for parameter `q` that its plugin accepts, or `None` where the
     /// test cannot make one (files, textures, volumes).
-    fn value_tag(q: &Param) -> Option<String> {
+    fn value_tag(q: &Param, dialect: Dialect) -> Option<String> {
         let ty = q.ty.split('|').next().unwrap_or("");
         let number = |fallback: &str| {
             if q.default.parse::<f64>().is_ok() {
@@ -368,12 +368,19 @@ mod tests {
                 let v = if q.default == "true" { "true" } else { "false" };
                 format!(r#"<boolean name="{name}" value="{v}"/>"#)
             }
-            "rgb" | "color" => format!(r#"<rgb name="{name}" value="{}"/>"#, number("0.5")),
-            "point" => {
-                let v = if q.default.is_empty() {
-                    "0,0,0"
+            "rgb" | "color" => {
+                let tag = if dialect == Dialect::Nori {
+                    "color"
                 } else {
-                    q.default
+                    "rgb"
+                };
+                format!(r#"<{tag} name="{name}" value="{}"/>"#, number("0.5"))
+            }
+            "point" => {
+                let v = match (q.default, name) {
+                    (_, "bounds_max") => "1,1,1",
+                    ("", _) => "0,0,0",
+                    (d, _) => d,
                 };
                 format!(r#"<point name="{name}" value="{v}"/>"#)
             }
@@ -454,7 +461,9 @@ mod tests {
                 if ONLY_WITH_OTHERS.contains(&(p.name, q.name)) {
                     continue;
                 }
-                let Some(tag) = value_tag(q) else { continue };
+                let Some(tag) = value_tag(q, Dialect::Mitsuba) else {
+                    continue;
+                };
                 let Some(xml) = scene_with(&p, &tag) else {
                     continue;
                 };
@@ -470,6 +479,93 @@ mod tests {
         }
         assert!(failed.is_empty(), "{}", failed.join("\n"));
         assert!(checked > 50, "only {checked} parameters checked");
+    }
+
+    /// A Nori scene holding plugin `p` with the value tags `body`, or `None` for the
+    /// families this test does not place.
+    fn nori_scene_with(p: &PluginDoc, body: &str) -> Option<String> {
+        let t = p.name;
+        let has = |name: &str| body.contains(&format!(r#"name="{name}""#));
+        let given = |name: &str, tag: &str| {
+            if has(name) {
+                String::new()
+            } else {
+                tag.to_string()
+            }
+        };
+        let camera = r#"<camera type="perspective"/>"#;
+        let objects = match p.family {
+            Family::Sensor => format!(r#"<camera type="{t}">{body}</camera>"#),
+            Family::ReconstructionFilter => {
+                format!(
+                    r#"<camera type="perspective"><rfilter type="{t}">{body}</rfilter></camera>"#
+                )
+            }
+            Family::Sampler => format!(r#"{camera}<sampler type="{t}">{body}</sampler>"#),
+            Family::Emitter if t == "area" => format!(
+                r#"{camera}<mesh type="obj"><string name="filename" value="t.obj"/><emitter type="area">{}{body}</emitter></mesh>"#,
+                given("radiance", r#"<color name="radiance" value="1"/>"#)
+            ),
+            Family::Emitter => format!(
+                r#"{camera}<emitter type="{t}">{}{}{body}</emitter>"#,
+                if t == "point" {
+                    given("power", r#"<color name="power" value="1"/>"#)
+                } else {
+                    String::new()
+                },
+                if t == "distantdisk" {
+                    given("radiance", r#"<color name="radiance" value="1"/>"#)
+                } else {
+                    String::new()
+                },
+            ),
+            Family::Shape => format!(
+                r#"{camera}<mesh type="{t}">{}{body}</mesh>"#,
+                given("filename", r#"<string name="filename" value="t.obj"/>"#)
+            ),
+            Family::Medium => format!(
+                r#"{camera}<medium type="{t}">{}{}{body}</medium>"#,
+                given("bounds_min", r#"<point name="bounds_min" value="0,0,0"/>"#),
+                given("bounds_max", r#"<point name="bounds_max" value="1,1,1"/>"#)
+            ),
+            _ => return None,
+        };
+        Some(format!(
+            "<scene>\n<integrator type=\"normals\"/>\n{objects}\n</scene>\n"
+        ))
+    }
+
+    /// The same for Nori's registries.
+    #[test]
+    fn plugin_docs_list_nori_parameters_the_parser_reads() {
+        let mut checked = 0;
+        let mut failed = Vec::new();
+        for p in catalogue() {
+            if p.dialect != Dialect::Nori || p.support != Support::Yes {
+                continue;
+            }
+            for q in p.params {
+                let Some(tag) = value_tag(q, Dialect::Nori) else {
+                    continue;
+                };
+                let Some(xml) = nori_scene_with(&p, &tag) else {
+                    continue;
+                };
+                let files = [
+                    ("s.xml", xml.as_str()),
+                    ("t.obj", crate::scene::testutil::TRI_OBJ),
+                ];
+                if let Err(e) = crate::scene::testutil::load(&files, &[]) {
+                    failed.push(format!(
+                        "{:?} '{}' parameter '{}': {e}\n{xml}",
+                        p.family, p.name, q.name
+                    ));
+                }
+                checked += 1;
+            }
+        }
+        assert!(failed.is_empty(), "{}", failed.join("\n"));
+        assert!(checked > 30, "only {checked} parameters checked");
     }
 
     /// Every parameter an integrator's registry entry lists is one it reads.
