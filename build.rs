@@ -1,8 +1,11 @@
-//! Compiles every GLSL compute kernel under `shaders/` to SPIR-V with glslang.
+//! Compiles every GLSL compute kernel (`shaders/kernels/*.comp`, and the test kernels
+//! of `shaders/tests/`) to SPIR-V with glslang.
 //!
 //! `glslangValidator` (Debian package `glslang-tools`) is called once per kernel; a
 //! GLSL error fails the build and glslang's message names the file and line. The
-//! generated `shaders.rs` holds one `pub const NAME: &[u8]` per kernel.
+//! generated `shaders.rs` holds one `pub const NAME: &[u8]` per kernel: `SHADE` for
+//! `kernels/shade.comp`, `TESTS_WARP` for `tests/warp.comp`. Includes name their file
+//! from `shaders/` (`#include "bsdf/microfacet.glsl"`), the one include path.
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -29,6 +32,7 @@ fn main() {
         let rel = kernel
             .strip_prefix(&shader_dir)
             .expect("kernel lies under shaders/");
+        let rel = rel.strip_prefix("kernels").unwrap_or(rel);
         let name = rel
             .with_extension("")
             .to_string_lossy()
@@ -66,9 +70,6 @@ fn main() {
                 .arg("--target-env")
                 .arg("vulkan1.2")
                 .args(defines)
-                .arg(format!("-I{}", shader_dir.join("common").display()))
-                // Includes of a topic folder beside common/: "photon/grid.glsl",
-                // "film/filter.glsl".
                 .arg(format!("-I{}", shader_dir.display()))
                 .arg("-o")
                 .arg(&spv)
@@ -132,9 +133,6 @@ fn main() {
     fs::write(out.join("shaders.rs"), consts).expect("write shaders.rs");
 }
 
-/// Whether `file` includes `target`, directly or through the files it includes
-/// (resolved beside it, then in `shaders/common`, then in `shaders`, as glslang's
-/// include paths say).
 /// Source of `pub fn NAME(spirv) -> Option<&[u8]>` (doc comment `doc`), which maps
 /// each kernel constant of `kernels` to its variant, the constant named with `suffix`.
 fn variant_fn(doc: &str, name: &str, kernels: &[String], suffix: &str) -> String {
@@ -149,6 +147,8 @@ fn variant_fn(doc: &str, name: &str, kernels: &[String], suffix: &str) -> String
     s
 }
 
+/// Whether `file` includes `target`, directly or through the files it includes
+/// (resolved beside it, then in `shaders/`, as glslang's include path says).
 fn includes(file: &Path, shader_dir: &Path, target: &str) -> bool {
     let mut todo = vec![file.to_path_buf()];
     let mut seen = std::collections::HashSet::new();
@@ -169,11 +169,7 @@ fn includes(file: &Path, shader_dir: &Path, target: &str) -> bool {
             if inc == target || inc.ends_with(&format!("/{target}")) {
                 return true;
             }
-            let candidates = [
-                f.parent().map(|d| d.join(inc)),
-                Some(shader_dir.join("common").join(inc)),
-                Some(shader_dir.join(inc)),
-            ];
+            let candidates = [f.parent().map(|d| d.join(inc)), Some(shader_dir.join(inc))];
             if let Some(p) = candidates.into_iter().flatten().find(|p| p.exists()) {
                 todo.push(p);
             }

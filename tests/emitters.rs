@@ -1,4 +1,4 @@
-//! Emitter sampling in its GLSL form (shaders/common/emitter.glsl, through
+//! Emitter sampling in its GLSL form (shaders/emitter/emitter.glsl, through
 //! shaders/tests/emitter_sample.comp): the emitter is chosen uniformly (as Mitsuba 3
 //! and Nori choose) and a mesh light's triangle in proportion to area (chi-square
 //! tests), and the density that MIS evaluates when a ray hits a light equals the
@@ -11,10 +11,8 @@ use common::stats::{chi2, sidak, SphereGrid};
 use glam::Vec3;
 use wavetrace::accel::{prims_from_scene, Bvh, FlatPrims};
 use wavetrace::gpu::layout::{Frame, NONE};
-use wavetrace::gpu::{
-    shaders, BindingKind, BindingLayout, Buffer, CommandList, DescriptorSet, Kernel, Location,
-};
-use wavetrace::render::scene_buffers::{scene_binding_kinds, SceneBuffers, SceneRecords};
+use wavetrace::gpu::{shaders, Buffer, CommandList, DescriptorSet, Kernel, Location};
+use wavetrace::render::scene_buffers::SceneRecords;
 use wavetrace::scene::{envmap, Emitter, Scene, Texture};
 
 const N: u32 = 200_000;
@@ -47,14 +45,8 @@ fn run_probe(
     emitter_strata: u32,
 ) -> Vec<Probe> {
     let device = common::device();
-    let layout = BindingLayout::with_kinds(
-        &device,
-        &[scene_binding_kinds(), vec![BindingKind::Storage; 3]],
-        24,
-    )
-    .unwrap();
+    let (layout, buffers) = common::upload_scene(&device, bvh, records, 3, 24);
     let count = dirs.map_or(N, |d| d.len() as u32);
-    let buffers = SceneBuffers::upload(&device, &layout, bvh, records).unwrap();
     let frame = Frame {
         emitter_count: records.emitters.len() as u32,
         env_emitter: records.env_emitter,
@@ -498,7 +490,7 @@ fn environment_map_sampling_matches_its_pdf() {
 }
 
 /// With a stratifying sampler the emitter choice hands out whole strata
-/// (shaders/common/emitter.glsl, emitter_choose): emitter i owns strata
+/// (shaders/emitter/emitter.glsl, emitter_choose): emitter i owns strata
 /// [Q_i, Q_{i+1}) of k, Q_i = i + round((k - n) C_i) with C_i the power cdf. The
 /// choice follows those probabilities (chi-square), delta lights report theirs, and the
 /// density MIS evaluates on a hit is still the density of sampling that point.
@@ -608,7 +600,7 @@ fn textured_scene() -> Scene {
 }
 
 /// Textured emitters draw their points by their texture (scene::textured_emitter,
-/// shaders/common/emitter_texture.glsl): the density MIS evaluates on a hit equals the
+/// shaders/emitter/emitter_texture.glsl): the density MIS evaluates on a hit equals the
 /// density of sampling that point, which equals the CPU reference's (the texture-space
 /// density over the rectangle's area per unit uv, to solid angle), and the bright
 /// texel gets the share of samples its luminance asks for.

@@ -304,7 +304,7 @@ fn point_and_spot_lights_follow_the_inverse_square_law() {
 }
 
 /// Bounces that only end paths meet the emitters alone where a scene has few emitter
-/// primitives and no environment (shaders/common/path_emitted.glsl): the same image as
+/// primitives and no environment (shaders/integrator/path_emitted.glsl): the same image as
 /// tracing their rays through the whole BVH, bit for bit, and the shortcut does run
 /// (no intersect dispatch for those bounces). Veach's plates under four sphere lights
 /// (direct lighting), and textured sphere and rectangle lights (a path tracer of
@@ -346,7 +346,7 @@ fn last_bounce_against_the_emitters_alone_matches_the_full_traversal() {
     }
 }
 
-/// On a CPU device one kernel runs each path's first bounce (shaders/first_bounce.comp)
+/// On a CPU device one kernel runs each path's first bounce (shaders/kernels/first_bounce.comp)
 /// in place of generate, intersect, shade and shadow: the whole path where that is all
 /// (direct lighting; a path tracer of max_depth 1, or cut after one bounce), else the
 /// wavefront goes on from bounce 1 (path tracers, in renders of many paths): the same
@@ -566,7 +566,7 @@ fn small_scenes_traced_without_the_tree_match_the_traversal() {
 }
 
 /// In scenes with null surfaces, shade and shadow leave the rays that must trace again
-/// to full twins of themselves (shaders/common/deferral.glsl): shade's rays untouched,
+/// to full twins of themselves (shaders/queue/deferral.glsl): shade's rays untouched,
 /// shadow rays as the rest of the ray from where they stopped, with the random numbers
 /// their tracking drew. Deferring in every scene (`deferral: Some(true)`), the same
 /// images up to float rounding (within 1e-5 relative; in practice a few values differ

@@ -12,8 +12,8 @@
 #ifndef FILM_GLSL
 #define FILM_GLSL
 
-#include "layout.glsl"
-#include "divide.glsl"
+#include "scene/layout.glsl"
+#include "film/divide.glsl"
 #include "film/sample_offset.glsl"
 
 layout(std140, set = 3, binding = 0) uniform FilmBlock { FilmParams film; };

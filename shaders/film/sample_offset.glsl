@@ -2,7 +2,7 @@
 #ifndef FILM_SAMPLE_OFFSET_GLSL
 #define FILM_SAMPLE_OFFSET_GLSL
 
-#include "rng.glsl"
+#include "sampling/rng.glsl"
 #include "sampler/sampler_frame.glsl"
 
 // The film position of sample `sample_index` of the pixel with key `pixel` (see

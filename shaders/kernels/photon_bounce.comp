@@ -9,19 +9,19 @@
 // photon_counters.stored; only counted beyond photon_params.capacity), photon paths,
 // next ray queue.
 
-#include "wavefront.glsl"
-#include "scene_bindings.glsl"
+#include "queue/wavefront.glsl"
+#include "scene/scene_bindings.glsl"
 layout(constant_id = 0) const uint SCENE_SURFACE_FEATURES = 0xffffffffu;
 #define SURFACE_FEATURES SCENE_SURFACE_FEATURES
 layout(constant_id = 1) const uint SCENE_TEXTURES = 0xffffffffu;
 #define TEXTURE_KINDS SCENE_TEXTURES
 layout(constant_id = 2) const uint SCENE_BSDF_KINDS = 0xffffffffu;
 #define BSDF_KINDS SCENE_BSDF_KINDS
-#include "surface.glsl"
-#include "texture.glsl"
-#include "bsdf.glsl"
-#include "bsdf_textured.glsl"
-#include "queue.glsl"
+#include "shape/surface.glsl"
+#include "texture/texture.glsl"
+#include "bsdf/bsdf.glsl"
+#include "bsdf/bsdf_textured.glsl"
+#include "queue/queue.glsl"
 #include "photon/bindings.glsl"
 #include "photon/record.glsl"
 #include "photon/random.glsl"

@@ -5,16 +5,16 @@
 // Writes: photon paths (path-state buffer), ray queue 0 (appended; the host empties it
 // and folds it with queue_args).
 
-#include "wavefront.glsl"
-#include "queue.glsl"
-#include "scene_bindings.glsl"
+#include "queue/wavefront.glsl"
+#include "queue/queue.glsl"
+#include "scene/scene_bindings.glsl"
 layout(constant_id = 0) const uint SCENE_SURFACE_FEATURES = 0xffffffffu;
 #define SURFACE_FEATURES SCENE_SURFACE_FEATURES
 layout(constant_id = 1) const uint SCENE_TEXTURES = 0xffffffffu;
 #define TEXTURE_KINDS SCENE_TEXTURES
 layout(constant_id = 2) const uint SCENE_EMITTER_KINDS = 0xffffffffu;
 #define EMITTER_KINDS SCENE_EMITTER_KINDS
-#include "emitter.glsl"
+#include "emitter/emitter.glsl"
 // Choose the emitter uniformly (the photonmapper, as Nori) instead of by power.
 layout(constant_id = 3) const bool UNIFORM_EMITTER_CHOICE = false;
 #include "photon/bindings.glsl"

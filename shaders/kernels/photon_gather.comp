@@ -7,18 +7,18 @@
 // src/render/photon/photonmapper.rs).
 // Reads: visible points (by path slot), grid, paths. Writes: paths' radiance.
 
-#include "wavefront.glsl"
-#include "scene_bindings.glsl"
+#include "queue/wavefront.glsl"
+#include "scene/scene_bindings.glsl"
 layout(constant_id = 0) const uint SCENE_TEXTURES = 0xffffffffu;
 #define TEXTURE_KINDS SCENE_TEXTURES
 layout(constant_id = 1) const uint SCENE_BSDF_KINDS = 0xffffffffu;
 #define BSDF_KINDS SCENE_BSDF_KINDS
-#include "surface.glsl"
-#include "texture.glsl"
-#include "bsdf.glsl"
-#include "bsdf_textured.glsl"
-#include "frame.glsl"
-#include "normal_map.glsl"
+#include "shape/surface.glsl"
+#include "texture/texture.glsl"
+#include "bsdf/bsdf.glsl"
+#include "bsdf/bsdf_textured.glsl"
+#include "sampling/frame.glsl"
+#include "bsdf/normal_map.glsl"
 #include "photon/bindings.glsl"
 #include "photon/record.glsl"
 #include "photon/grid.glsl"

@@ -5,7 +5,7 @@
 // past photon_params.path_limit stay out).
 // Reads: photons. Writes: cells (counts; the host zeroes them first).
 
-#include "wavefront.glsl"
+#include "queue/wavefront.glsl"
 #include "photon/bindings.glsl"
 #include "photon/record.glsl"
 #include "photon/grid.glsl"

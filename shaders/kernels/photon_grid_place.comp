@@ -5,7 +5,7 @@
 // (an atomic decrement), so that afterwards cells[b] is the first photon of bucket b.
 // Reads: photons. Writes: grid photons, cells.
 
-#include "wavefront.glsl"
+#include "queue/wavefront.glsl"
 #include "photon/bindings.glsl"
 #include "photon/record.glsl"
 #include "photon/grid.glsl"

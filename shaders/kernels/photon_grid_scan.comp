@@ -10,7 +10,7 @@
 //   2: each block but the first adds the total of the blocks before it.
 // Reads and writes: cells, scan_sums.
 
-#include "wavefront.glsl"
+#include "queue/wavefront.glsl"
 #include "photon/bindings.glsl"
 
 layout(constant_id = 0) const uint SCAN_STAGE = 0u;

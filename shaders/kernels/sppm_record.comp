@@ -6,7 +6,7 @@
 // Reads: paths. Writes: SPPM pixels (of the tile from photon_params.first_pixel),
 // counters.discarded.
 
-#include "wavefront.glsl"
+#include "queue/wavefront.glsl"
 #include "photon/bindings.glsl"
 
 void main() {

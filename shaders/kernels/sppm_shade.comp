@@ -9,21 +9,21 @@
 // Reads: ray queue `queue_in`, hits, paths, visible points. Writes: paths, shadow
 // queue, next ray queue, visible points (by pixel of the tile).
 
-#include "wavefront.glsl"
-#include "scene_bindings.glsl"
+#include "queue/wavefront.glsl"
+#include "scene/scene_bindings.glsl"
 layout(constant_id = 0) const uint SCENE_SURFACE_FEATURES = 0xffffffffu;
 #define SURFACE_FEATURES SCENE_SURFACE_FEATURES
 layout(constant_id = 1) const uint SCENE_TEXTURES = 0xffffffffu;
 #define TEXTURE_KINDS SCENE_TEXTURES
 layout(constant_id = 2) const uint SCENE_EMITTER_KINDS = 0xffffffffu;
 #define EMITTER_KINDS SCENE_EMITTER_KINDS
-#include "emitter.glsl"
+#include "emitter/emitter.glsl"
 layout(constant_id = 3) const uint SCENE_BSDF_KINDS = 0xffffffffu;
 #define BSDF_KINDS SCENE_BSDF_KINDS
-#include "bsdf.glsl"
-#include "bsdf_textured.glsl"
+#include "bsdf/bsdf.glsl"
+#include "bsdf/bsdf_textured.glsl"
 #define MIS_POWER true
-#include "path.glsl"
+#include "integrator/path.glsl"
 #include "photon/bindings.glsl"
 #include "photon/record.glsl"
 #include "photon/scatter.glsl"

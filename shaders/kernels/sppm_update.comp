@@ -8,7 +8,7 @@
 // grid's cells must hold the largest gather).
 // Reads and writes: SPPM pixels, photon counters.
 
-#include "wavefront.glsl"
+#include "queue/wavefront.glsl"
 #include "photon/bindings.glsl"
 
 // α of the update (Hachisuka and Jensen's alpha; pbrt-v4 fixes it at 2/3).

@@ -5,7 +5,7 @@
 // swapchain copies into the window (src/gpu/swapchain.rs); nothing goes to the host.
 // Reads: the film's sums. Writes: the picture's pixels.
 
-#include "layout.glsl"
+#include "scene/layout.glsl"
 #include "display/tonemap.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;

@@ -6,7 +6,7 @@
 #ifndef PHOTON_BINDINGS_GLSL
 #define PHOTON_BINDINGS_GLSL
 
-#include "layout.glsl"
+#include "scene/layout.glsl"
 
 layout(std140, set = 2, binding = 0) uniform PhotonParamsBuffer { PhotonParams photon_params; };
 layout(std430, set = 2, binding = 1) buffer PhotonCounterBuffer { PhotonCounters photon_counters; };

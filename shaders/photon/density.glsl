@@ -9,7 +9,7 @@
 #ifndef PHOTON_DENSITY_GLSL
 #define PHOTON_DENSITY_GLSL
 
-#include "frame.glsl"
+#include "sampling/frame.glsl"
 
 struct PhotonGather {
     vec3 sum;   // Σ f(wo, wi_p) Φ_p

@@ -9,7 +9,7 @@
 #ifndef PHOTON_GRID_GLSL
 #define PHOTON_GRID_GLSL
 
-#include "rng.glsl"
+#include "sampling/rng.glsl"
 
 // Most buckets a gather visits.
 #define GRID_MAX_BUCKETS 8

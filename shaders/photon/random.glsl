@@ -7,7 +7,7 @@
 #ifndef PHOTON_RANDOM_GLSL
 #define PHOTON_RANDOM_GLSL
 
-#include "rng.glsl"
+#include "sampling/rng.glsl"
 
 #define PHOTON_RNG_DIM_BASE 0x40000000u
 // Emission takes dimensions 0 and 1; bounce k (0: the first surface) dimension 2 + k.

@@ -5,8 +5,8 @@
 #ifndef PHOTON_SCATTER_GLSL
 #define PHOTON_SCATTER_GLSL
 
-#include "frame.glsl"
-#include "normal_map.glsl"
+#include "sampling/frame.glsl"
+#include "bsdf/normal_map.glsl"
 
 struct ScatterSurface {
     Surface s;         // s.ns replaced by the normal map's normal where there is one

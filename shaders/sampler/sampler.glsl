@@ -27,8 +27,8 @@
 #ifndef SAMPLER_GLSL
 #define SAMPLER_GLSL
 
-#include "layout.glsl"
-#include "rng.glsl"
+#include "scene/layout.glsl"
+#include "sampling/rng.glsl"
 
 struct Sampler {
     uint kind;   // SAMPLER_*
@@ -43,9 +43,9 @@ struct Sampler {
     uint height;
 };
 
-#include "sampler_hash.glsl"
-#include "sampler_mitsuba.glsl"
-#include "sampler_zsobol.glsl"
+#include "sampler/sampler_hash.glsl"
+#include "sampler/sampler_mitsuba.glsl"
+#include "sampler/sampler_zsobol.glsl"
 
 #ifndef SAMPLER_KIND
 #define SAMPLER_KIND (s.kind)

@@ -3,7 +3,7 @@
 #ifndef SAMPLER_FRAME_GLSL
 #define SAMPLER_FRAME_GLSL
 
-#include "sampler.glsl"
+#include "sampler/sampler.glsl"
 
 Sampler sampler_frame() {
     return Sampler(frame.sampler_kind, frame.sample_count, frame.sampler_res_x, frame.sampler_res_y,

@@ -3,7 +3,7 @@
 // Test kernel: closest-hit, any-hit and two-hit queries for a list of rays, so
 // tests/bvh.rs can compare the GLSL traversal with the CPU brute force.
 
-#include "scene_bindings.glsl"
+#include "scene/scene_bindings.glsl"
 // The traversal stack is specialized to the tree's depth, as in the renderer's kernels.
 layout(constant_id = 0) const int BVH_DEPTH = 32;
 #define BVH_STACK_DEPTH BVH_DEPTH
@@ -13,7 +13,7 @@ layout(constant_id = 1) const uint FLAT_PRIMS = 0u;
 layout(constant_id = 2) const uint FLAT_KINDS = 0u;
 #define BVH_FLAT_PRIMS FLAT_PRIMS
 #define BVH_FLAT_KINDS FLAT_KINDS
-#include "bvh.glsl"
+#include "accel/bvh.glsl"
 
 layout(local_size_x = 64) in;
 

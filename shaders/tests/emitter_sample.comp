@@ -8,7 +8,7 @@
 // density of emitter sampling in that direction, for a chi-square test of the
 // sampled directions.
 
-#include "scene_bindings.glsl"
+#include "scene/scene_bindings.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -30,9 +30,9 @@ layout(constant_id = 0) const uint FLAT_PRIMS = 0u;
 layout(constant_id = 1) const uint FLAT_KINDS = 0u;
 #define BVH_FLAT_PRIMS FLAT_PRIMS
 #define BVH_FLAT_KINDS FLAT_KINDS
-#include "bvh.glsl"
-#include "rng.glsl"
-#include "emitter.glsl"
+#include "accel/bvh.glsl"
+#include "sampling/rng.glsl"
+#include "emitter/emitter.glsl"
 
 void main() {
     uint i = gl_GlobalInvocationID.x;

@@ -1,10 +1,10 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Test kernel: the density of grid medium `medium` at the queried grid-local points
-// (medium.glsl medium_grid_density, every layout compiled in), so tests/media.rs can
+// (medium.glsl medium_grid_density, every layout compiled in), so tests/media_grids.rs can
 // compare it with trilinear interpolation on the CPU.
 
-#include "scene_bindings.glsl"
+#include "scene/scene_bindings.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -16,7 +16,7 @@ layout(push_constant) uniform PushBlock {
     uint medium;
 } pc;
 
-#include "medium.glsl"
+#include "medium/medium.glsl"
 
 void main() {
     uint i = gl_GlobalInvocationID.x;

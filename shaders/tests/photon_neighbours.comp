@@ -5,7 +5,7 @@
 // field: results[q * 256] = how many, then up to 255 of them.
 // Reads: set 3 binding 0 (queries), the grid. Writes: set 3 binding 1.
 
-#include "wavefront.glsl"
+#include "queue/wavefront.glsl"
 #include "photon/bindings.glsl"
 #include "photon/record.glsl"
 #include "photon/grid.glsl"

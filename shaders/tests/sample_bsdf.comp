@@ -7,8 +7,8 @@
 //   out[3i+2] = (bsdf_eval(wo, wi), bsdf_pdf(wo, wi)).
 // mode 1 (evaluate): out[i] = (bsdf_eval(wo, dirs[i].xyz), bsdf_pdf(wo, dirs[i].xyz)).
 
-#include "bsdf.glsl"
-#include "rng.glsl"
+#include "bsdf/bsdf.glsl"
+#include "sampling/rng.glsl"
 
 layout(local_size_x = 64) in;
 

@@ -1,21 +1,21 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Test kernel: the closest hit of each queried ray and the surface there (surface.glsl),
-// so tests/shapes.rs can compare positions, normals, uvs and tangent frames with
-// Mitsuba's surface interactions.
+// so tests/shape_hits_vs_mitsuba.rs can compare positions, normals, uvs and tangent
+// frames with Mitsuba's surface interactions.
 //
 // Four vec4 per ray in: (origin, 0), (direction, 0), unused, unused. Four out:
 // (p, t), (ng, prim or -1 as a float), (ns, u), (ss, v).
 
-#include "scene_bindings.glsl"
+#include "scene/scene_bindings.glsl"
 // The primitives the traversal tests in turn (accel::FlatPrims::constants of the
 // tree: the scene's few quadrics apart from it), as in the renderer's kernels.
 layout(constant_id = 0) const uint FLAT_PRIMS = 0u;
 layout(constant_id = 1) const uint FLAT_KINDS = 0u;
 #define BVH_FLAT_PRIMS FLAT_PRIMS
 #define BVH_FLAT_KINDS FLAT_KINDS
-#include "bvh.glsl"
-#include "surface.glsl"
+#include "accel/bvh.glsl"
+#include "shape/surface.glsl"
 
 layout(local_size_x = 64) in;
 

@@ -1,10 +1,11 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Test kernel: looks up texture `id` at the queried uvs (mode 0), or environment map
-// emitter `id` along the queried directions (mode 1), so tests/textures.rs can
-// compare texture.glsl and envmap.glsl with their CPU references.
+// emitter `id` along the queried directions (mode 1), so
+// tests/texture_lookups_gpu_vs_cpu.rs can compare texture.glsl and envmap.glsl with
+// their CPU references.
 
-#include "scene_bindings.glsl"
+#include "scene/scene_bindings.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -18,8 +19,8 @@ layout(push_constant) uniform PushBlock {
     uint mode;
 } pc;
 
-#include "texture.glsl"
-#include "envmap.glsl"
+#include "texture/texture.glsl"
+#include "emitter/envmap.glsl"
 
 void main() {
     uint i = gl_GlobalInvocationID.x;

@@ -9,9 +9,9 @@
 // mismatched_cosine): cosine-weighted samples against the uniform hemisphere's pdf.
 // mode 0 (sample): out[i] = (point, pdf at the point); mode 1: out[i].x = pdf(points[i]).
 
-#include "warp.glsl"
-#include "microfacet.glsl"
-#include "rng.glsl"
+#include "sampling/warp.glsl"
+#include "bsdf/microfacet.glsl"
+#include "sampling/rng.glsl"
 
 layout(local_size_x = 64) in;
 

@@ -1,5 +1,5 @@
 //! The BVH: a binned-SAH build on the host ([`super::bvh_build`]), flattened to
-//! [`BvhNode`]s, and a CPU traversal that mirrors `shaders/common/bvh.glsl` step for
+//! [`BvhNode`]s, and a CPU traversal that mirrors `shaders/accel/bvh.glsl` step for
 //! step.
 //!
 //! Layout: node 0 is the root and always an inner node; each node holds both
@@ -23,7 +23,7 @@ use super::{cylinder, disk, sphere, triangle};
 use crate::gpu::layout::{BvhNode, Prim, PRIM_CYLINDER, PRIM_DISK, PRIM_SPHERE};
 use crate::scene::{Mesh, Quadric};
 
-/// Entries in the traversal stack of `shaders/common/bvh.glsl` (`#define
+/// Entries in the traversal stack of `shaders/accel/bvh.glsl` (`#define
 /// BVH_STACK_SIZE`, checked by a test). The build keeps every leaf at depth
 /// `<= BVH_STACK_SIZE` (root = depth 0), which is what a traversal that pushes one
 /// child per level needs.
@@ -44,24 +44,19 @@ const _: () = assert!(BVH_MAX_LEAF_SIZE < 1 << BVH_COUNT_BITS);
 pub const FLAT_CAPACITY: usize = 16;
 
 /// Most primitives of a scene that the kernels trace without its BVH, testing each in
-/// turn ([`FlatPrims`], bvh.glsl's `bvh_trace_flat`). Measured with callgrind on
-/// llvmpipe (Mesa 22.3), instructions of the whole render, flat against the tree:
-/// normalmap.xml (4 triangles and a sphere) -17% (intersect -31%, shadow -43%),
-/// envmap_glossy.xml (2 triangles, 2 spheres) -12%; cube.xml (16 triangles) +0.7%,
-/// veach.xml (12 triangles, 4 spheres) +4%, glass.xml (19 primitives) +8%.
+/// turn ([`FlatPrims`], bvh.glsl's `bvh_trace_flat`): up to here that costs llvmpipe
+/// fewer instructions than the tree, beyond it more (docs/performance.md, "Small
+/// scenes without a tree").
 pub const FLAT_PRIMS_MAX: usize = 8;
 
 const _: () = assert!(FLAT_PRIMS_MAX <= FLAT_CAPACITY);
 
 /// Most quadrics (spheres, disks, cylinders) of a scene with triangles that the build
 /// keeps out of the tree ([`Bvh::apart`]): the traversals test them in turn, each for
-/// its own kind, and the tree then holds triangles alone. On llvmpipe (Mesa 22.3) a
-/// leaf's primitive test runs the code of every kind the tree holds for every lane, so
-/// one sphere among triangles made every triangle test pay for a sphere test too.
-/// callgrind, instructions of the kernels at 128² 16 spp, the same images bit for bit:
-/// textures.xml (18 triangles, a sphere) -8.9% (intersect -24%, shadow -23%),
-/// glass.xml (18 triangles, a sphere) -11.8%, veach.xml direct (12 triangles, 4
-/// spheres) -7.3%.
+/// its own kind, and the tree then holds triangles alone: on llvmpipe a leaf's test runs
+/// the code of every kind the tree holds for every lane, so one sphere among triangles
+/// made every triangle test pay for a sphere test too (docs/performance.md, "Quadrics
+/// apart from the tree").
 pub const APART_QUADRICS_MAX: usize = 8;
 
 const _: () = assert!(APART_QUADRICS_MAX <= FLAT_CAPACITY);
@@ -953,7 +948,7 @@ mod tests {
 
     #[test]
     fn stack_size_and_constants_match_glsl() {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/common/bvh.glsl");
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/accel/bvh.glsl");
         let src = std::fs::read_to_string(path).expect("bvh.glsl");
         let define = |name: &str| -> String {
             src.lines()
@@ -1003,7 +998,7 @@ mod tests {
     /// system glslangValidator is installed (the build uses it for real kernels).
     #[test]
     fn glsl_compiles() {
-        let common = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/common");
+        let shaders = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders");
         let dir = std::env::temp_dir().join(format!("wavetrace-bvhcheck-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let comp = dir.join("bvhcheck.comp");
@@ -1012,8 +1007,8 @@ mod tests {
             r#"#version 460
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 64) in;
-#include "scene_bindings.glsl"
-#include "bvh.glsl"
+#include "scene/scene_bindings.glsl"
+#include "accel/bvh.glsl"
 layout(std430, set = 1, binding = 0) buffer Io { vec4 io[]; };
 void main() {
     uint i = gl_GlobalInvocationID.x;
@@ -1026,7 +1021,7 @@ void main() {
         .unwrap();
         let out = std::process::Command::new("glslangValidator")
             .args(["-V", "--target-env", "vulkan1.2"])
-            .arg(format!("-I{common}"))
+            .arg(format!("-I{shaders}"))
             .arg(&comp)
             .arg("-o")
             .arg(dir.join("bvhcheck.spv"))

@@ -8,7 +8,7 @@
 //! [`super::sphere`]). Each root in range is kept if it lies between the ends; the
 //! near one first, so a ray from inside the tube finds the far wall (Mitsuba's order).
 //!
-//! Mirrored line for line by `shaders/common/intersect_cylinder.glsl`.
+//! Mirrored line for line by `shaders/shape/intersect_cylinder.glsl`.
 
 use glam::Vec3;
 

@@ -7,7 +7,7 @@
 //! disk's own parameterization (Mitsuba maps the ray to object space instead; the
 //! point and its (x, y) are the same up to rounding).
 //!
-//! Mirrored line for line by `shaders/common/intersect_disk.glsl`.
+//! Mirrored line for line by `shaders/shape/intersect_disk.glsl`.
 
 use glam::Vec3;
 

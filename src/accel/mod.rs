@@ -4,7 +4,7 @@
 //! into a binned-SAH tree of [`BvhNode`](crate::gpu::layout::BvhNode)s
 //! ([`bvh_build`]; [`Bvh::for_shapes`] builds a scene's without the copy), and
 //! [`Bvh::closest`] / [`Bvh::any`] traverse it on the CPU exactly as
-//! `shaders/common/bvh.glsl` does on the GPU. [`triangle`], [`sphere`], [`disk`] and
+//! `shaders/accel/bvh.glsl` does on the GPU. [`triangle`], [`sphere`], [`disk`] and
 //! [`cylinder`] hold the intersection routines, mirrored by `intersect_*.glsl`.
 
 pub mod bvh;

@@ -10,7 +10,7 @@
 //! - the roots come from `q = b' + sign(b') sqrt(disc)`, `t0 = cc / q`, `t1 = q / a`
 //!   (eq. 7.8, the numerically stable quadratic of Press et al.).
 //!
-//! Mirrored line for line by `shaders/common/intersect_sphere.glsl`.
+//! Mirrored line for line by `shaders/shape/intersect_sphere.glsl`.
 
 use glam::Vec3;
 

@@ -9,7 +9,7 @@
 //! mesh. A ray that hits an edge or vertex exactly (an edge function is 0) is counted
 //! by every triangle sharing it.
 //!
-//! Mirrored line for line by `shaders/common/intersect_triangle.glsl`.
+//! Mirrored line for line by `shaders/shape/intersect_triangle.glsl`.
 //!
 //! Departures from the paper, the same in GLSL:
 //! - no backface culling (the two-sided test of section 4, listing 2 without `#ifdef`);

@@ -1,7 +1,7 @@
 //! Every struct the host shares with the kernels, declared once.
 //!
 //! Each is `#[repr(C)]` with explicit padding to GLSL's std430 rules and mirrored field
-//! for field, with the same names, in `shaders/common/layout.glsl`. The test at the
+//! for field, with the same names, in `shaders/scene/layout.glsl`. The test at the
 //! bottom parses that file, computes std430 offsets and checks them against these.
 
 use bytemuck::{Pod, Zeroable};
@@ -211,7 +211,7 @@ pub struct Vertex {
     pub pad2: u32,
 }
 
-/// BSDF kinds in [`BsdfRecord::kind`] (one GLSL file each in `shaders/common/bsdf/`).
+/// BSDF kinds in [`BsdfRecord::kind`] (one GLSL file each in `shaders/bsdf/`).
 pub const BSDF_DIFFUSE: u32 = 0;
 pub const BSDF_CONDUCTOR: u32 = 1;
 pub const BSDF_ROUGHCONDUCTOR: u32 = 2;
@@ -353,7 +353,7 @@ pub struct EmitterRecord {
     pub to_world_z: [f32; 4],
 }
 
-/// Texture kinds in [`TextureRecord::kind`] (`shaders/common/texture.glsl`).
+/// Texture kinds in [`TextureRecord::kind`] (`shaders/texture/texture.glsl`).
 pub const TEXTURE_BITMAP: u32 = 0;
 pub const TEXTURE_CHECKERBOARD: u32 = 1;
 pub const TEXTURE_NOISE: u32 = 2;
@@ -465,13 +465,13 @@ pub struct Frame {
     pub sampler_width: u32,
     pub sampler_height: u32,
     /// Strata of the first coordinate of a 2-D sample in one pass of the sampler, over
-    /// which the emitter choice hands out whole strata (shaders/common/emitter.glsl,
+    /// which the emitter choice hands out whole strata (shaders/emitter/emitter.glsl,
     /// [`crate::render::sampler::emitter_strata`]); 0: the choice inverts the cdf of
     /// the emitters' sampling weights.
     pub emitter_strata: u32,
     /// The prims (slots of the BVH's prim array) of every area emitter, where they are
     /// at most [`MAX_EMITTER_PRIMS`]: bounces that only end paths then intersect them
-    /// alone (shaders/common/path_emitted.glsl). Four to a word.
+    /// alone (shaders/integrator/path_emitted.glsl). Four to a word.
     pub emitter_prims: [[u32; 4]; 4],
     /// Where photon emission's emitter table (by power) starts among the alias
     /// entries (the one of emitter sampling, uniform, starts at 0).
@@ -579,7 +579,7 @@ pub struct ShadowItem {
 /// A queue is filled from both ends, each by one half of the producing dispatch's
 /// workgroups, which append to their own counter in `tails` (a segment per 128
 /// bytes): lavapipe hands each of its threads one contiguous half of a dispatch, so
-/// the two never contend for one cache line (shaders/common/queue.glsl). Between
+/// the two never contend for one cache line (shaders/queue/queue.glsl). Between
 /// dispatches, `queue_args` and `shade_args` fold the tails into the lengths, which
 /// the kernels read from the frame's uniform buffer (see
 /// [`crate::render::wavefront::Wavefront::reset_queues`]).
@@ -645,7 +645,7 @@ pub struct Push {
     pub film_row: u32,
     pub film_rows: u32,
     /// Always 0: the index of the frame's parameters in their uniform block
-    /// (shaders/common/wavefront.glsl says why it is not a constant).
+    /// (shaders/queue/wavefront.glsl says why it is not a constant).
     pub frame_index: u32,
     pub pad1: u32,
     pub pad2: u32,
@@ -910,7 +910,7 @@ mod tests {
 
     #[test]
     fn glsl_mirror_matches_rust_layout() {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/common/layout.glsl");
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/scene/layout.glsl");
         let src = std::fs::read_to_string(path).expect("read layout.glsl");
         let glsl = parse_glsl(&src);
         let rust = [
@@ -1165,7 +1165,7 @@ mod tests {
 
     /// Asserts that layout.glsl defines each `name` as `value` (`#define NAME 4u`).
     fn assert_glsl_defines(defines: &[(&str, u32)]) {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/common/layout.glsl");
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/scene/layout.glsl");
         let src = std::fs::read_to_string(path).expect("read layout.glsl");
         for (name, value) in defines {
             assert!(
@@ -1310,7 +1310,7 @@ mod tests {
 
     #[test]
     fn workgroup_size_matches_glsl() {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/common/wavefront.glsl");
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/queue/wavefront.glsl");
         let src = std::fs::read_to_string(path).expect("read wavefront.glsl");
         assert!(src.contains(&format!("#define WORKGROUP_SIZE {WORKGROUP_SIZE}\n")));
     }

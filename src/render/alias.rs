@@ -54,7 +54,7 @@ pub fn build(weights: &[f64], prims: &[u32]) -> Vec<AliasEntry> {
 }
 
 /// Stores in each entry's `prim` the cumulative pmf of the entries before it (f32
-/// bits), for sampling by inversion (`alias_sample_cdf` in shaders/common/alias.glsl):
+/// bits), for sampling by inversion (`alias_sample_cdf` in shaders/sampling/alias.glsl):
 /// the emitter table, whose `prim` is otherwise unused.
 pub fn set_cdf(table: &mut [AliasEntry]) {
     let mut sum = 0.0f64;
@@ -65,7 +65,7 @@ pub fn set_cdf(table: &mut [AliasEntry]) {
 }
 
 /// The entry an alias table picks for a uniform `u` in [0, 1), as `alias_sample` in
-/// shaders/common/alias.glsl does.
+/// shaders/sampling/alias.glsl does.
 pub fn sample(table: &[AliasEntry], u: f32) -> usize {
     let n = table.len();
     let x = u * n as f32;

@@ -3,7 +3,7 @@
 //! render ends in; the image is their quotient ([`FilmSums::develop`]).
 //!
 //! How a sample reaches the pixels around it, without atomics and the same whatever
-//! the batching (`shaders/film/film.glsl`, `shaders/film_gather.comp`):
+//! the batching (`shaders/film/film.glsl`, `shaders/kernels/film_gather.comp`):
 //! 1. `generate` starts each camera ray at the sample's position in its pixel
 //!    (`film_sample_position`: the sampler's offset, kept to 1/32768 pixel);
 //! 2. `accumulate` stores each finished sample in its slot of a ring buffer: value,

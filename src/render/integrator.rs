@@ -15,7 +15,7 @@ use super::error::{Error, Result};
 pub const PHOTON_CAMERA_RR_DEPTH: u32 = 5;
 
 impl Integrator {
-    /// The id of the shading code (`INTEGRATOR_*` in shaders/common/integrator.glsl).
+    /// The id of the shading code (`INTEGRATOR_*` in shaders/integrator/integrator.glsl).
     pub fn id(&self) -> u32 {
         match self {
             Integrator::Normals => 0,

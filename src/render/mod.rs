@@ -79,7 +79,7 @@ pub struct RenderOptions {
     pub max_sppm_pixels: Option<u32>,
     /// Trace the bounces that only end paths through the whole BVH even where the
     /// scene has few emitter primitives (by default those bounces meet the emitters
-    /// alone: shaders/common/path_emitted.glsl). The same image either way; tests
+    /// alone: shaders/integrator/path_emitted.glsl). The same image either way; tests
     /// compare the two.
     pub trace_last_bounce: bool,
     /// Traverse the BVH even where the scene has so few primitives that the kernels
@@ -87,11 +87,11 @@ pub struct RenderOptions {
     /// `bvh_trace_flat`). The same image either way; tests compare the two.
     pub traverse_small_scenes: bool,
     /// Render with the wavefront's kernels alone even where a CPU device would run a
-    /// first bounce in one kernel (shaders/first_bounce.comp). The same image either
+    /// first bounce in one kernel (shaders/kernels/first_bounce.comp). The same image either
     /// way, up to float contraction; tests compare the two.
     pub wavefront: bool,
     /// Whether shade and shadow leave the rays that cross more null surfaces than
-    /// their traversal found to full twins of themselves (shaders/common/deferral.glsl)
+    /// their traversal found to full twins of themselves (shaders/queue/deferral.glsl)
     /// instead of tracing in their crossing loops: `None` where it pays (see
     /// `Renderer::new`), `Some(false)` never, `Some(true)` in every scene with null
     /// surfaces. The same image either way but for float rounding; tests compare them.
@@ -128,7 +128,7 @@ pub struct RenderStats {
     /// their later vertices are missing from the image.
     pub cut_paths: u64,
     /// Rays and shadow rays that shade and shadow left to their full twins
-    /// (shaders/common/deferral.glsl; scenes with null surfaces).
+    /// (shaders/queue/deferral.glsl; scenes with null surfaces).
     pub deferred: u64,
     pub kernel_times: KernelTimes,
     /// Photon mappers: photons emitted and stored, passes, where the time went.
@@ -159,10 +159,10 @@ struct Kernels {
     /// None for the photon mappers, which shade with kernels of their own.
     shade: Option<Kernel>,
     /// `shade` for the bounces whose vertices end their paths (depth + 2 > max_depth:
-    /// only the emission rays find; shaders/common/path.glsl's SHADE_LAST), where a
+    /// only the emission rays find; shaders/integrator/path.glsl's SHADE_LAST), where a
     /// path integrator's depth is bounded.
     shade_last: Option<Kernel>,
-    /// Whether `shade_last` meets the emitters itself (shaders/common/path_emitted.glsl):
+    /// Whether `shade_last` meets the emitters itself (shaders/integrator/path_emitted.glsl):
     /// its bounces then run no `intersect` and send their light through `shadow`.
     last_meets_emitters: bool,
     /// Where `intersect` partitions a bounce's rays into hits and misses (see
@@ -173,7 +173,7 @@ struct Kernels {
     shadow: Option<Kernel>,
     /// In scenes with null surfaces: the full twins of `shade` and `shadow`, which
     /// then run without the traversals of their crossing loops and leave the rays
-    /// that need one to these (shaders/common/deferral.glsl).
+    /// that need one to these (shaders/queue/deferral.glsl).
     shade_deferred: Option<Kernel>,
     shadow_deferred: Option<Kernel>,
     queue_args: Kernel,
@@ -181,7 +181,7 @@ struct Kernels {
     accumulate: Option<Kernel>,
     film_gather: Kernel,
     /// Where a CPU device runs a batch's camera rays and first bounce in one kernel
-    /// (shaders/first_bounce.comp; see [`fuses_first_bounce`]): it, in place of
+    /// (shaders/kernels/first_bounce.comp; see [`fuses_first_bounce`]): it, in place of
     /// generate and bounce 0 (and of bounce 1 where that ends the paths).
     first_bounce: Option<Kernel>,
     /// The bounces `first_bounce` runs: 1, or 2 where bounce 1 ends the paths.
@@ -249,7 +249,7 @@ enum Over {
     /// The shadow queue (indirect dispatch).
     Shadows,
     /// The rays and the shadow rays the fast shade and shadow deferred (indirect
-    /// dispatches; shaders/common/deferral.glsl).
+    /// dispatches; shaders/queue/deferral.glsl).
     DeferredRays,
     DeferredShadows,
     /// One workgroup.
@@ -303,7 +303,7 @@ fn camera_miss_fraction(bvh: &Bvh, cam: &crate::scene::Camera) -> f32 {
 }
 
 /// Whether `intersect` partitions a bounce's rays into hits and misses for `shade`
-/// (its specialization constant 2; shaders/common/partition.glsl): llvmpipe runs
+/// (its specialization constant 2; shaders/queue/partition.glsl): llvmpipe runs
 /// shade's whole code for a lane whose ray left the scene, so path integrators in
 /// scenes with an environment shade the rays that found a surface in SIMD groups of
 /// their own and the misses in `shade_miss`, a kernel with only the miss code. The
@@ -635,7 +635,7 @@ impl Renderer {
                 || (expected_paths >= FUSED_MIN_PATHS
                     && (!partitioned || camera_misses.is_some_and(|m| m <= 1.0 / 3.0))));
         let wavefront_kernels = !fused || bounces > fused_bounces;
-        // Deferral (shaders/common/deferral.glsl): in scenes with null surfaces, shade
+        // Deferral (shaders/queue/deferral.glsl): in scenes with null surfaces, shade
         // and shadow run without the traversals of their crossing loops, and their
         // full twins take the rays that need one (first_bounce traces: deferring its
         // shadow rays too cost the media cube 1.3% more, fused at 256^2 32 spp). It pays
@@ -1330,7 +1330,7 @@ impl Renderer {
     /// The stages of a path batch's bounce with `shade` as its shading kernel:
     /// intersect, shade, queue_args, shadow; partitioned (see [`partitions`]), shade
     /// takes the hits after `shade_args` and `shade_miss` the misses; deferring
-    /// (shaders/common/deferral.glsl), `deferred` after shade and shadow's full twin
+    /// (shaders/queue/deferral.glsl), `deferred` after shade and shadow's full twin
     /// after shadow take the rays they left.
     fn bounce_stages<'a>(
         &'a self,
@@ -1425,7 +1425,7 @@ const SHORT_BOUNCE_CHUNKS: (u32, u32) = (4, BOUNCE_CHUNK);
 const LONG_BUDGET_CHUNKS: (u32, u32) = (8, BOUNCE_CHUNK);
 
 /// Most paths in one batch: the kernels divide path and pixel indices by a float
-/// quotient (shaders/common/divide.glsl), exact for quotients below 2^23; a batch of
+/// quotient (shaders/film/divide.glsl), exact for quotients below 2^23; a batch of
 /// at most 2^22 paths keeps every quotient below that, whatever the film.
 pub const MAX_BATCH_PATHS: u32 = 1 << 22;
 

@@ -70,7 +70,7 @@ pub fn set_frame(
 /// (whose uniform choice gives each light two of the eight columns) and 1.08x with
 /// `multijitter`; with whole strata, 1.00x and 1.02x (30 seeds, standard error 0.04).
 /// Each emitter gets one stratum plus its power's share of the rest, rounded
-/// (shaders/common/emitter.glsl: emitter_choose).
+/// (shaders/emitter/emitter.glsl: emitter_choose).
 pub fn emitter_strata(sampler: &Sampler, count: &SampleCount, emitters: u32) -> u32 {
     let strata = match sampler.kind {
         SamplerKind::Independent => 0,

@@ -1,5 +1,5 @@
 //! The scene in GPU buffers: descriptor set 0 of every kernel that reads the scene
-//! (`shaders/common/scene_bindings.glsl`).
+//! (`shaders/scene/scene_bindings.glsl`).
 
 use glam::Vec3;
 

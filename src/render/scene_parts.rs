@@ -462,7 +462,7 @@ mod tests {
     /// format and the parts constant this table gives it.
     #[test]
     fn glsl_bindings_mirror_the_table() {
-        let glsl = include_str!("../../shaders/common/scene_bindings.glsl");
+        let glsl = include_str!("../../shaders/scene/scene_bindings.glsl");
         let declared = |binding: u32, name: &str, format: &str| {
             let decl = format!(
                 "layout(set = 0, binding = {binding}, {format}) uniform readonly uimageBuffer {name};"

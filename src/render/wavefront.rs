@@ -1,5 +1,5 @@
 //! The wavefront's GPU state: path states, ray, hit and shadow queues, counters and
-//! dispatch arguments — descriptor set 1 (`shaders/common/wavefront.glsl`). The film
+//! dispatch arguments — descriptor set 1 (`shaders/queue/wavefront.glsl`). The film
 //! is set 3 ([`super::film`]), the photon mappers' set 2.
 
 use std::mem::size_of;
@@ -16,7 +16,7 @@ use super::groups_for;
 pub const WAVEFRONT_BINDINGS: u32 = 14;
 
 /// Words of the queue lengths that follow the frame in its uniform buffer
-/// (shaders/common/wavefront.glsl: `queue_lengths`, three `uvec4`s): the kernels
+/// (shaders/queue/wavefront.glsl: `queue_lengths`, three `uvec4`s): the kernels
 /// consuming a queue read its length there, once per SIMD group on llvmpipe, where a
 /// read of the counters' storage buffer is a loop over the lanes.
 pub const QUEUE_LENGTH_WORDS: usize = 12;
@@ -203,7 +203,7 @@ mod tests {
     #[test]
     fn queue_lengths_follow_the_frame() {
         assert_eq!(size_of::<Frame>() % 16, 0);
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/common/wavefront.glsl");
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/queue/wavefront.glsl");
         let src = std::fs::read_to_string(path).expect("read wavefront.glsl");
         let uvec4s = QUEUE_LENGTH_WORDS / 4;
         assert!(src.contains(&format!(
@@ -218,7 +218,7 @@ mod tests {
     /// The index is always 0.
     #[test]
     fn the_frame_is_read_at_a_push_constant_index() {
-        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/common/wavefront.glsl");
+        let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/queue/wavefront.glsl");
         let src = std::fs::read_to_string(path).expect("read wavefront.glsl");
         assert!(src.contains("\n#define frame frames[push.frame_index]\n"));
         assert_eq!(crate::gpu::layout::Push::default().frame_index, 0);

@@ -2,7 +2,7 @@
 //!
 //! Each variant's doc comment is its manual: parameters (Mitsuba 3 names, with Nori's
 //! where Nori has the model), defaults and a scene snippet. The GLSL lives in
-//! `shaders/common/bsdf/*.glsl`, one file per model; [`BsdfRecord::from`] packs a
+//! `shaders/bsdf/*.glsl`, one file per model; [`BsdfRecord::from`] packs a
 //! [`Bsdf`] for it (including the host-side precomputation rough plastic needs).
 //!
 //! Parameter reading follows Mitsuba's plugins: `src/bsdfs/*.cpp` for names and
@@ -141,7 +141,7 @@ pub enum Bsdf {
     /// faces away from the viewer (Schüssler et al. 2017); `use_shadowing_function`
     /// scales the value by the shadowing term of Estevez et al. 2019, which darkens
     /// light from grazing directions on strongly tilted normals
-    /// (shaders/common/normal_map.glsl).
+    /// (shaders/bsdf/normal_map.glsl).
     /// `<bsdf type="normalmap"><texture type="bitmap" name="normalmap"><string name="filename" value="n.png"/><boolean name="raw" value="true"/></texture><bsdf type="diffuse"/></bsdf>`
     NormalMap {
         bsdf: Box<Bsdf>,

@@ -27,7 +27,7 @@ pub struct Camera {
 
 impl Camera {
     /// tan of half the horizontal and vertical fields of view (`Frame::tan_half_fov`,
-    /// as shaders/common/camera.glsl spans the film).
+    /// as shaders/sensor/camera.glsl spans the film).
     pub fn tan_half_fov(&self) -> [f32; 2] {
         let tan_x = (self.fov_x_deg.to_radians() * 0.5).tan();
         [tan_x, tan_x * self.height as f32 / self.width as f32]

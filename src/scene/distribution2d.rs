@@ -4,7 +4,7 @@
 //! column, and the point is uniform in the cell. Environment maps (`scene::envmap`)
 //! and textured area emitters (`scene::textured_emitter`) sample by one.
 //!
-//! The GPU mirror is `shaders/common/distribution2d.glsl`; [`Distribution2D::cdf`] is
+//! The GPU mirror is `shaders/sampling/distribution2d.glsl`; [`Distribution2D::cdf`] is
 //! its layout in the distribution buffer: H + 1 marginal values (0 first, 1 last),
 //! then per row W + 1 conditional values.
 

@@ -1,6 +1,6 @@
 //! Environment maps: Mitsuba 3's `envmap` lat-long convention, bilinear evaluation,
 //! and the piecewise-constant 2D distribution that importance-samples it. The GLSL
-//! mirror is `shaders/common/envmap.glsl`; this is its CPU reference.
+//! mirror is `shaders/emitter/envmap.glsl`; this is its CPU reference.
 //!
 //! Convention (measured on Mitsuba 3.9.1's `envmap`): a direction d in the map's own
 //! frame has u = atan2(d.x, −d.z) / 2π (wrapped to [0, 1)) and v = acos(d.y) / π, so

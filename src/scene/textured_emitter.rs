@@ -4,7 +4,7 @@
 //! luminance (src/textures/bitmap.cpp, `sample_position`), mapped back to the
 //! surface's uv by the inverse of `to_uv`, and from there to the surface; its density
 //! per unit area is the texture-space density over |∂x/∂u × ∂x/∂v|. The GLSL mirror is
-//! `shaders/common/emitter_texture.glsl`; this is its CPU reference.
+//! `shaders/emitter/emitter_texture.glsl`; this is its CPU reference.
 //!
 //! Density in texture coordinates (a 2-D distribution over the texels by luminance,
 //! [`Distribution2D`]; texel (i, j) has probability P_ij):

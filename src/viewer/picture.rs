@@ -35,7 +35,7 @@ impl Picture {
         let crop = renderer.film_geometry().crop;
         let (width, height) = (crop.width, crop.height);
         let layout = BindingLayout::new(device, &[2], std::mem::size_of::<TonemapPush>() as u32)?;
-        let kernel = Kernel::new(device, "tonemap", shaders::KERNELS_TONEMAP, &layout, &[])?;
+        let kernel = Kernel::new(device, "tonemap", shaders::TONEMAP, &layout, &[])?;
         let pixels = Buffer::new(
             device,
             "window pixels",

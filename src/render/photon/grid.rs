@@ -99,19 +99,14 @@ impl GridKernels {
     /// The grid's kernels, to create with the photon mapper's others
     /// (Kernel::new_all); [`GridKernels::take`] takes them back in this order.
     pub fn specs() -> [KernelSpec<'static>; 5] {
-        let scan = |level: u32| {
-            KernelSpec::new(
-                "photon_grid_scan",
-                shaders::KERNELS_PHOTON_GRID_SCAN,
-                &[level],
-            )
-        };
+        let scan =
+            |level: u32| KernelSpec::new("photon_grid_scan", shaders::PHOTON_GRID_SCAN, &[level]);
         [
-            KernelSpec::new("photon_grid_count", shaders::KERNELS_PHOTON_GRID_COUNT, &[]),
+            KernelSpec::new("photon_grid_count", shaders::PHOTON_GRID_COUNT, &[]),
             scan(0),
             scan(1),
             scan(2),
-            KernelSpec::new("photon_grid_place", shaders::KERNELS_PHOTON_GRID_PLACE, &[]),
+            KernelSpec::new("photon_grid_place", shaders::PHOTON_GRID_PLACE, &[]),
         ]
     }
 

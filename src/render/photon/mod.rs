@@ -314,12 +314,12 @@ impl Photons {
         let mut specs = vec![
             KernelSpec::new(
                 "photon_emit",
-                shaders::KERNELS_PHOTON_EMIT,
+                shaders::PHOTON_EMIT,
                 &[f.surface, f.textures, f.emitters, uniform_choice],
             ),
             KernelSpec::new(
                 "photon_bounce",
-                shaders::KERNELS_PHOTON_BOUNCE,
+                shaders::PHOTON_BOUNCE,
                 &[f.surface, f.textures, f.bsdfs],
             ),
         ];
@@ -327,30 +327,22 @@ impl Photons {
             Integrator::Sppm(p) => specs.extend([
                 KernelSpec::new(
                     "sppm_shade",
-                    shaders::KERNELS_SPPM_SHADE,
+                    shaders::SPPM_SHADE,
                     &[f.surface, f.textures, f.emitters, f.bsdfs],
                 ),
-                KernelSpec::new("sppm_record", shaders::KERNELS_SPPM_RECORD, &[]),
-                KernelSpec::new(
-                    "sppm_gather",
-                    shaders::KERNELS_SPPM_GATHER,
-                    &[f.textures, f.bsdfs],
-                ),
-                KernelSpec::new(
-                    "sppm_update",
-                    shaders::KERNELS_SPPM_UPDATE,
-                    &[p.alpha.to_bits()],
-                ),
+                KernelSpec::new("sppm_record", shaders::SPPM_RECORD, &[]),
+                KernelSpec::new("sppm_gather", shaders::SPPM_GATHER, &[f.textures, f.bsdfs]),
+                KernelSpec::new("sppm_update", shaders::SPPM_UPDATE, &[p.alpha.to_bits()]),
             ]),
             Integrator::PhotonMapper(_) => specs.extend([
                 KernelSpec::new(
                     "photon_camera",
-                    shaders::KERNELS_PHOTON_CAMERA,
+                    shaders::PHOTON_CAMERA,
                     &[f.surface, f.textures, f.emitters, f.bsdfs, f.sampler],
                 ),
                 KernelSpec::new(
                     "photon_gather",
-                    shaders::KERNELS_PHOTON_GATHER,
+                    shaders::PHOTON_GATHER,
                     &[f.textures, f.bsdfs],
                 ),
             ]),

@@ -12,7 +12,7 @@
 //! `up` axes unnormalised, of length sin θ (θ between `up` and the view direction),
 //! which narrows tan(fov / 2) by that factor: the 2015 course references (veach_mi,
 //! odyssey, sphere) are 1-4.4% zoomed in against these files
-//! (`tests/nori_scenes.rs`).
+//! (`tests/nori_scenes_vs_2015_references.rs`).
 //!
 //! ```xml
 //! <sensor type="perspective"><float name="fov" value="40"/>

@@ -32,7 +32,7 @@ pub const MITSUBA: PluginDoc = PluginDoc::new(
 
 /// The orthonormal basis Mitsuba builds around a unit `n` (`coordinate_system`, the
 /// branchless construction of Duff et al. 2017, "Building an Orthonormal Basis,
-/// Revisited", JCGT 6(1)); `frame_basis` in shaders/common/frame.glsl is the same.
+/// Revisited", JCGT 6(1)); `frame_basis` in shaders/sampling/frame.glsl is the same.
 pub fn coordinate_system(n: Vec3) -> (Vec3, Vec3) {
     let sign = n.z.signum();
     let a = -1.0 / (sign + n.z);

@@ -2,7 +2,7 @@
 //! the radiance of an area emitter or a normal map can read; the texture family, one
 //! file per plugin type with its parameters, and [`REGISTRY`].
 //!
-//! The GLSL is `shaders/common/texture.glsl`; [`Texture::eval`] here is its CPU
+//! The GLSL is `shaders/texture/texture.glsl`; [`Texture::eval`] here is its CPU
 //! reference (the GPU test compares them at random uvs) and also gives the means the
 //! host needs (emitter power, sampling weights of plastics).
 //!
@@ -144,8 +144,8 @@ pub fn load_image(path: &Path, raw: bool) -> Result<(u32, u32, Vec<[f32; 3]>), S
         return Err(format!("image file '{}' not found", path.display()));
     }
     let (w, h, texels, linear) = if ext == "exr" {
-        let img = crate::image::Image::read_exr(path)
-            .map_err(|e| format!("cannot read EXR '{}': {e}", path.display()))?;
+        let img =
+            crate::image::Image::read_exr(path).map_err(|e| format!("cannot read EXR {e}"))?; // e names the file
         let texels = img.rgb.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
         (img.width, img.height, texels, true)
     } else {

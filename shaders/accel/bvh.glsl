@@ -1,0 +1,336 @@
+// BVH traversal: closest hit, any hit, and the two nearest hits (bvh_closest_two). The
+// first two mirror Bvh::trace in src/accel/bvh.rs step for step; the layout is BvhNode /
+// Prim from layout.glsl (Aila, Laine 2009: both children's boxes in the parent;
+// count == 0: inner node, count > 0: leaf).
+//
+// The including kernel must include scene_bindings.glsl (bvh_node_load, prim_load) first.
+// Optional: #define BVH_PRIM_KINDS to the quadric kinds the scene has (a mask of
+// SURFACE_FEATURE_SPHERES, _DISKS, _CYLINDERS; e.g. a specialization constant) before
+// including, so the tests of absent kinds compile out.
+#ifndef BVH_GLSL
+#define BVH_GLSL
+
+#ifndef SCENE_BINDINGS_GLSL
+#error "include scene_bindings.glsl before bvh.glsl"
+#endif
+
+#include "scene/layout.glsl"
+#include "shape/intersect_triangle.glsl"
+#include "shape/intersect_sphere.glsl"
+#include "shape/intersect_disk.glsl"
+#include "shape/intersect_cylinder.glsl"
+
+// Traversal stack entries; the build keeps every leaf at depth <= this (root = 0).
+// Must equal accel::BVH_STACK_SIZE (a Rust test reads this line).
+#define BVH_STACK_SIZE 32
+// Stack entries are child references packed as (index << BVH_COUNT_BITS) | count.
+#define BVH_COUNT_BITS 4u
+#define BVH_COUNT_MASK 15u
+// Item meaning "nothing left to visit" (a leaf reference no BVH can have).
+#define BVH_DONE 0xffffffffu
+// 1 + 2 gamma(3) rounded up to a float (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2)):
+// the box far distance is scaled so rounding never culls a box the ray enters.
+#define BVH_TFAR_SCALE 1.00000048
+#define HIT_NONE 0xffffffffu
+
+#ifndef BVH_PRIM_KINDS
+#define BVH_PRIM_KINDS 0xffffffffu
+#endif
+#define BVH_HAS(f) ((BVH_PRIM_KINDS & (f)) != 0u)
+
+// Entries of the traversal stack: the tree's deepest leaf depth bounds them, so the
+// including kernel may #define BVH_STACK_DEPTH to a specialization constant holding
+// the scene's (BvhStats::stack_depth: the deepest leaf's depth, at least 1, at most
+// BVH_STACK_SIZE).
+#ifndef BVH_STACK_DEPTH
+#define BVH_STACK_DEPTH BVH_STACK_SIZE
+#endif
+
+// The primitives at the start of prims[] that are tested in turn (bvh_trace_flat),
+// and whether the tree follows (accel::FlatPrims; two specialization constants): the
+// including kernel may #define BVH_FLAT_PRIMS to their count (at most
+// BVH_FLAT_CAPACITY), with BVH_FLAT_ONLY set where they are every primitive of the
+// scene (a scene of a few: no tree), and BVH_FLAT_KINDS to their PRIM_* kinds, two
+// bits each, primitive k at bit 2k. Without BVH_FLAT_ONLY they are the scene's few
+// quadrics (accel::Bvh::apart), and the tree holds the triangles alone. 0: the tree
+// holds every primitive.
+#define BVH_FLAT_CAPACITY 16
+#define BVH_FLAT_ONLY 0x10000u
+#ifndef BVH_FLAT_PRIMS
+#define BVH_FLAT_PRIMS 0u
+#endif
+#ifndef BVH_FLAT_KINDS
+#define BVH_FLAT_KINDS 0u
+#endif
+#define BVH_FLAT_COUNT (BVH_FLAT_PRIMS & 0xffffu)
+#define BVH_TREE ((BVH_FLAT_PRIMS & BVH_FLAT_ONLY) == 0u)
+
+// t: distance (tmax on a miss); u, v: triangle barycentrics, p = (1-u-v) p0 + u p1 + v p2,
+// or a disk's object-space (x, y) (0 for spheres and cylinders); prim: index into
+// prims[], HIT_NONE on a miss.
+struct Hit {
+    float t;
+    float u;
+    float v;
+    uint prim;
+};
+
+// Per-ray part of the slab test: inverse direction (+-inf for a zero or denormal
+// component: Vulkan leaves x / y unspecified for |y| < 2^-126) and its sign, which
+// picks each axis' near plane.
+struct BvhRay {
+    vec3 o;
+    vec3 inv;
+    bvec3 neg;
+};
+
+float bvh_inv(float d) {
+    return abs(d) >= 1.17549435e-38 ? 1.0 / d : uintBitsToFloat(d < 0.0 ? 0xff800000u : 0x7f800000u);
+}
+
+// Whether the ray enters the box within [tmin, tmax]; tnear: the entry distance.
+// Compare-and-select, not min/max (undefined on NaN): 0 * inf = NaN, from an origin on
+// the slab plane of a zero direction component, fails the comparison and is ignored.
+// The empty box (min = +inf, max = -inf) is never entered.
+bool bvh_slab(BvhRay r, vec3 bmin, vec3 bmax, float tmin, float tmax, out float tnear) {
+    vec3 t0 = (mix(bmin, bmax, r.neg) - r.o) * r.inv;
+    vec3 t1 = (mix(bmax, bmin, r.neg) - r.o) * r.inv;
+    float tn = tmin;
+    float tf = tmax;
+    tn = t0.x > tn ? t0.x : tn;
+    tf = t1.x < tf ? t1.x : tf;
+    tn = t0.y > tn ? t0.y : tn;
+    tf = t1.y < tf ? t1.y : tf;
+    tn = t0.z > tn ? t0.z : tn;
+    tf = t1.z < tf ? t1.z : tf;
+    tnear = tn;
+    return tn <= tf * BVH_TFAR_SCALE;
+}
+
+// The traversal stack lives in registers and shifts on every push and pop: stack[0]
+// is the top, and popping an empty stack yields BVH_DONE. Once the loops unroll every
+// index is a constant, so a push or a pop is BVH_STACK_DEPTH selects per SIMD vector.
+// An array indexed by a per-lane stack pointer is a scatter or a gather across the
+// lanes instead, which llvmpipe runs as a loop over the lanes that branches on each
+// lane's mask: on lavapipe the shifting stack rendered the Cornell box (depth 6) 28%
+// faster and Nori's table scene (depth 19) 25% faster, and at depth 32 it still wins.
+#define BVH_STACK_PUSH(stack, x)                                                         \
+    {                                                                                    \
+        for (int k_ = BVH_STACK_DEPTH - 1; k_ > 0; k_--) stack[k_] = stack[k_ - 1];      \
+        stack[0] = (x);                                                                  \
+    }
+#define BVH_STACK_POP(stack, x)                                                          \
+    {                                                                                    \
+        x = stack[0];                                                                    \
+        for (int k_ = 0; k_ < BVH_STACK_DEPTH - 1; k_++) stack[k_] = stack[k_ + 1];      \
+        stack[BVH_STACK_DEPTH - 1] = BVH_DONE;                                           \
+    }
+
+// A bit per PRIM_* kind, for bvh_prim_hit_of.
+#define BVH_KIND_BIT(k) (1u << (k))
+
+// Whether ray (o, d) hits primitive p within (tmin, tmax): its distance t and (u, v)
+// as in Hit. tr: triangle_ray_make(d). `kinds` (BVH_KIND_BIT of each kind p may be;
+// a constant) compiles the tests of the others away, and with one kind the test of
+// p.kind too.
+bool bvh_prim_hit_of(uint kinds, Prim p, TriangleRay tr, vec3 o, vec3 d, float tmin,
+                     float tmax, out float t, out float u, out float v) {
+    u = 0.0;
+    v = 0.0;
+    t = tmax;
+    bool one = bitCount(kinds) == 1;
+    if ((kinds & BVH_KIND_BIT(PRIM_SPHERE)) != 0u && (one || p.kind == PRIM_SPHERE)) {
+        return intersect_sphere(o, d, p.p0, length(p.p1), tmin, tmax, t);
+    } else if ((kinds & BVH_KIND_BIT(PRIM_DISK)) != 0u && (one || p.kind == PRIM_DISK)) {
+        vec2 xy;
+        bool found = intersect_disk(o, d, p.p0, p.p1, p.p2, tmin, tmax, t, xy);
+        u = xy.x;
+        v = xy.y;
+        return found;
+    } else if ((kinds & BVH_KIND_BIT(PRIM_CYLINDER)) != 0u && (one || p.kind == PRIM_CYLINDER)) {
+        return intersect_cylinder(o, d, p.p0, p.p2, length(p.p1), tmin, tmax, t);
+    } else if ((kinds & BVH_KIND_BIT(PRIM_TRIANGLE)) != 0u) {
+        return intersect_triangle(tr, o, p.p0, p.p1, p.p2, tmin, tmax, t, u, v);
+    }
+    return false;
+}
+
+// The kinds a scene's tree may hold: triangles and the quadrics of BVH_PRIM_KINDS, or
+// triangles alone where the quadrics are tested apart.
+#define BVH_KINDS (BVH_KIND_BIT(PRIM_TRIANGLE)                                          \
+    | (BVH_FLAT_COUNT > 0u ? 0u :                                                       \
+       ((BVH_HAS(SURFACE_FEATURE_SPHERES) ? BVH_KIND_BIT(PRIM_SPHERE) : 0u)             \
+        | (BVH_HAS(SURFACE_FEATURE_DISKS) ? BVH_KIND_BIT(PRIM_DISK) : 0u)               \
+        | (BVH_HAS(SURFACE_FEATURE_CYLINDERS) ? BVH_KIND_BIT(PRIM_CYLINDER) : 0u))))
+
+bool bvh_prim_hit(Prim p, TriangleRay tr, vec3 o, vec3 d, float tmin, float tmax,
+                  out float t, out float u, out float v) {
+    return bvh_prim_hit_of(BVH_KINDS, p, tr, o, d, tmin, tmax, t, u, v);
+}
+
+// What a traversal looks for (bvh_trace's `mode`, a constant at every call, so the
+// others' code compiles away): the closest hit; any hit (stops at the first found);
+// the two closest hits (the closest, and the nearest of the others, ties included).
+#define BVH_CLOSEST 0u
+#define BVH_ANY 1u
+#define BVH_TWO 2u
+
+// Records a hit at t < the traversal's bound (bvh_bound): in BVH_TWO mode the nearer of
+// the two kept moves to `second` when the new one is nearer, else the new one is second.
+void bvh_record(uint mode, inout Hit hit, inout Hit second, Hit found) {
+    if (mode == BVH_TWO && !(found.t < hit.t)) {
+        second = found;
+    } else {
+        if (mode == BVH_TWO) second = hit;
+        hit = found;
+    }
+}
+
+// The distance beyond which a traversal no longer looks.
+float bvh_bound(uint mode, Hit hit, Hit second) { return mode == BVH_TWO ? second.t : hit.t; }
+
+// Primitive k of those tested in turn, only for its own kind: once BVH_FLAT_PRIMS and
+// BVH_FLAT_KINDS are specialized, a step past the last one compiles away and `kinds`
+// is a constant with one bit.
+#define BVH_FLAT_STEP(k)                                                                 \
+    if ((k) < BVH_FLAT_COUNT) {                                                          \
+        float t, u, v;                                                                   \
+        uint kinds = BVH_KIND_BIT((BVH_FLAT_KINDS >> (2u * (k))) & 3u);                  \
+        if (bvh_prim_hit_of(kinds, prim_load(k), tr, o, d, tmin,                         \
+                            bvh_bound(mode, hit, second), t, u, v)) {                    \
+            bvh_record(mode, hit, second, Hit(t, u, v, k));                              \
+        }                                                                                \
+    }
+
+// The primitives tested in turn (BVH_FLAT_COUNT of them: every one of a small scene,
+// or the quadrics apart from the tree), in order, as accel::brute_force_closest does
+// (of equal distances, the lowest index), recorded into hit and second. Without a tree
+// there are no node loads, no stack and no leaf loop, and each primitive is loaded from
+// an address common to all lanes and tested for its one kind: on llvmpipe (Mesa 22.3),
+// which loads per lane and runs every branch of a leaf's kind test for every lane, this
+// costs far less than a traversal of a few primitives (accel::FLAT_PRIMS_MAX), and a
+// few quadrics cost less here than in the leaves of a tree of triangles
+// (accel::APART_QUADRICS_MAX). Written out step by step because Mesa unrolls no loop
+// with a body this large. Every ray tests every primitive: any-hit queries gain nothing
+// from stopping early on llvmpipe.
+void bvh_trace_flat(vec3 o, vec3 d, TriangleRay tr, float tmin, uint mode, inout Hit hit,
+                    inout Hit second) {
+    BVH_FLAT_STEP(0u) BVH_FLAT_STEP(1u) BVH_FLAT_STEP(2u) BVH_FLAT_STEP(3u)
+    BVH_FLAT_STEP(4u) BVH_FLAT_STEP(5u) BVH_FLAT_STEP(6u) BVH_FLAT_STEP(7u)
+    BVH_FLAT_STEP(8u) BVH_FLAT_STEP(9u) BVH_FLAT_STEP(10u) BVH_FLAT_STEP(11u)
+    BVH_FLAT_STEP(12u) BVH_FLAT_STEP(13u) BVH_FLAT_STEP(14u) BVH_FLAT_STEP(15u)
+}
+
+// Stack traversal visiting the nearer child first, for what `mode` asks (BVH_CLOSEST,
+// BVH_ANY: returns at the first hit found, BVH_TWO: `second` too; a miss in it has
+// t = tmax). Requires 0 <= tmin and d != 0. The primitives tested in turn
+// (bvh_trace_flat) come first; the tree, if the scene has one, after them.
+//
+// No return inside the loops (an any-hit query breaks out of both): spirv-opt's
+// merge-return (gpu::specialize's INLINE_PASSES) would turn one into flags tested
+// after each loop.
+Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, uint mode, out Hit second) {
+    TriangleRay tr = triangle_ray_make(d);
+    Hit hit = Hit(tmax, 0.0, 0.0, HIT_NONE);
+    second = hit;
+    if (BVH_FLAT_COUNT > 0u) bvh_trace_flat(o, d, tr, tmin, mode, hit, second);
+    if (!BVH_TREE) return hit;
+    BvhRay r;
+    r.o = o;
+    r.inv = vec3(bvh_inv(d.x), bvh_inv(d.y), bvh_inv(d.z));
+    r.neg = lessThan(r.inv, vec3(0.0));
+    uint stack[BVH_STACK_DEPTH];
+    for (int k = 0; k < BVH_STACK_DEPTH; k++) stack[k] = BVH_DONE;
+    // The current child reference: inner node 0 (done for an any-hit query already
+    // answered by a primitive tested in turn).
+    uint item = (BVH_FLAT_COUNT > 0u && mode == BVH_ANY && hit.prim != HIT_NONE) ? BVH_DONE : 0u;
+    // "While-while" order (Aila, Laine 2009): descend through inner nodes until a leaf
+    // is found, then test its primitives. SIMD lanes (llvmpipe, GPU warps) step
+    // through inner nodes together and through leaves together, instead of paying for
+    // both in every iteration where some lanes are at a leaf and others are not.
+    // The inner loops are do-whiles behind an if: llvmpipe (Mesa 22.3) tests whether
+    // any lane goes on only at the end of a loop's body, so a while loop also runs
+    // its body (masked off) in the pass in which its condition stops the last lane:
+    // one node visit and one primitive test more per leaf.
+    while (true) {
+        if ((item & BVH_COUNT_MASK) == 0u) do {
+            BvhNode n = bvh_node_load(item >> BVH_COUNT_BITS);
+            float tl, tr_;
+            float bound = bvh_bound(mode, hit, second);
+            bool hit_l = bvh_slab(r, n.left_min, n.left_max, tmin, bound, tl);
+            bool hit_r = bvh_slab(r, n.right_min, n.right_max, tmin, bound, tr_);
+            uint left = (n.left_index << BVH_COUNT_BITS) | n.left_count;
+            uint right = (n.right_index << BVH_COUNT_BITS) | n.right_count;
+            if (hit_l && hit_r) { // go to the nearer, push the other
+                bool left_near = tl <= tr_;
+                BVH_STACK_PUSH(stack, left_near ? right : left);
+                item = left_near ? left : right;
+            } else if (hit_l || hit_r) {
+                item = hit_l ? left : right;
+            } else {
+                BVH_STACK_POP(stack, item);
+            }
+        } while ((item & BVH_COUNT_MASK) == 0u);
+        if (item == BVH_DONE) {
+            break;
+        }
+        uint index = item >> BVH_COUNT_BITS;
+        uint count = item & BVH_COUNT_MASK; // a leaf holds at least one primitive
+        uint i = index;
+        do {
+            float t, u, v;
+            if (bvh_prim_hit(prim_load(i), tr, o, d, tmin, bvh_bound(mode, hit, second), t, u, v)) {
+                bvh_record(mode, hit, second, Hit(t, u, v, i));
+                if (mode == BVH_ANY) break;
+            }
+            i++;
+        } while (i < index + count);
+        // An any-hit query is answered by its first hit.
+        if (mode == BVH_ANY && hit.prim != HIT_NONE) break;
+        BVH_STACK_POP(stack, item);
+    }
+    return hit;
+}
+
+// Closest hit with tmin < t < tmax; prim == HIT_NONE on a miss.
+Hit bvh_closest(vec3 o, vec3 d, float tmin, float tmax) {
+    Hit unused;
+    return bvh_trace(o, d, tmin, tmax, BVH_CLOSEST, unused);
+}
+
+// Whether anything is hit with tmin < t < tmax (shadow rays); stops at the first hit.
+bool bvh_any(vec3 o, vec3 d, float tmin, float tmax) {
+    Hit unused;
+    return bvh_trace(o, d, tmin, tmax, BVH_ANY, unused).prim != HIT_NONE;
+}
+
+// The closest hit with tmin < t < tmax and, in `second`, the nearest of the others
+// (t >= the closest's; prim == HIT_NONE and t = tmax if there is none): a ray that
+// passes through the closest surface (a null boundary) goes on to `second` without a
+// second traversal (transmittance.glsl, vol_path.glsl). Its traversal prunes by the
+// second's distance, so it visits more of the tree than bvh_closest.
+// A primitive is tested once, for its nearest hit: a sphere or a cylinder may be hit
+// again before `second` (bvh_hit_once says where that cannot be).
+Hit bvh_closest_two(vec3 o, vec3 d, float tmin, float tmax, out Hit second) {
+    return bvh_trace(o, d, tmin, tmax, BVH_TWO, second);
+}
+
+// Whether a ray meets primitive p at most once (it is flat): then bvh_closest_two's
+// `second` is what a ray passing through its closest hit meets next.
+bool bvh_hit_once(Prim p) {
+    bool quadrics = BVH_HAS(SURFACE_FEATURE_SPHERES) || BVH_HAS(SURFACE_FEATURE_CYLINDERS);
+    return !quadrics || p.kind == PRIM_TRIANGLE || p.kind == PRIM_DISK;
+}
+
+// A ray passed its closest hit, primitive `crossed`, and goes on from an origin
+// `advance` further along it, with `remaining` left of its range: `second` (from
+// bvh_closest_two) is measured from there (a miss ends at `remaining`), and is the
+// ray's closest hit from there, with no trace, where it lies beyond that origin and
+// `crossed` is flat (not so for a surface coincident with the one passed, or a quadric
+// the ray may meet again: those trace).
+bool bvh_second_goes_on(Prim crossed, float advance, float remaining, inout Hit second) {
+    second.t = second.prim == HIT_NONE ? remaining : second.t - advance;
+    return second.t > 0.0 && bvh_hit_once(crossed);
+}
+
+#endif

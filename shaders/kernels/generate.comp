@@ -1,0 +1,22 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// generate: one camera ray per path slot of the batch (camera_path.glsl).
+// Writes: paths[p], ray queue 0 item p. The host sets ray_count[0] = path_count.
+
+#include "queue/wavefront.glsl"
+// The sampler kind (SAMPLER_*): the other kinds compile away.
+layout(constant_id = 0) const uint SCENE_SAMPLER_KIND = 0u;
+#define SAMPLER_KIND SCENE_SAMPLER_KIND
+#include "film/film.glsl"
+#include "sensor/camera.glsl"
+#include "integrator/camera_path.glsl"
+
+void main() {
+    uint p = thread_index();
+    if (p >= push.path_count) return;
+    PathState path;
+    RayItem r;
+    camera_path_start(p, path, r);
+    path_store(p, path);
+    ray_store(ray_slot_at(0u, p), r);
+}

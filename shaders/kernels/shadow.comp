@@ -1,0 +1,75 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// shadow: any-hit occlusion test for every shadow ray; an unblocked ray adds its
+// contribution to its path. In scenes with media or null surfaces (SCENE_HAS_MEDIA)
+// the ray passes null surfaces and is attenuated by the media it crosses
+// (transmittance.glsl). A path has at most one shadow ray per bounce, so the write
+// to its radiance does not race.
+// Reads: shadow queue. Writes: paths[].radiance.
+
+#include "queue/wavefront.glsl"
+#include "scene/scene_bindings.glsl"
+// The primitive and vertex features of the scene (SURFACE_FEATURE_* bits): hit geometry
+// compiles the others away (surface.glsl).
+layout(constant_id = 10) const uint SCENE_SURFACE_FEATURES = 0xffffffffu;
+#define SURFACE_FEATURES SCENE_SURFACE_FEATURES
+// Texture kinds and features the scene uses: textured thin dielectrics attenuate
+// shadow rays by their textured transmittance.
+layout(constant_id = 2) const uint SCENE_TEXTURES = 0xffffffffu;
+#define TEXTURE_KINDS SCENE_TEXTURES
+#include "texture/texture.glsl"
+#include "bsdf/bsdf_textured.glsl"
+
+// The quadric kinds of the scene (SURFACE_FEATURE_* bits): the traversal compiles the
+// tests of the others out.
+layout(constant_id = 0) const uint SCENE_PRIM_KINDS = 0xffffffffu;
+#define BVH_PRIM_KINDS SCENE_PRIM_KINDS
+// Entries of the traversal stack: the scene BVH's deepest leaf (bvh.glsl).
+layout(constant_id = 11) const int SCENE_BVH_DEPTH = 32;
+#define BVH_STACK_DEPTH SCENE_BVH_DEPTH
+// A scene of a few primitives: how many and their kinds; the traversal tests each
+// in turn (bvh.glsl: bvh_trace_flat; 0: traverse the BVH).
+layout(constant_id = 12) const uint SCENE_FLAT_PRIMS = 0u;
+layout(constant_id = 13) const uint SCENE_FLAT_KINDS = 0u;
+#define BVH_FLAT_PRIMS SCENE_FLAT_PRIMS
+#define BVH_FLAT_KINDS SCENE_FLAT_KINDS
+#include "accel/bvh.glsl"
+// Media or null surfaces in the scene; without them the code below compiles away.
+layout(constant_id = 4) const bool SCENE_HAS_MEDIA = false;
+#include "shape/surface.glsl"
+#define MEDIA_ENABLED SCENE_HAS_MEDIA
+// The medium kinds and grid layouts in the scene (MEDIUM_FEATURE_* bits); the code of
+// the others compiles away (without grids, only the homogeneous code is compiled).
+layout(constant_id = 6) const uint SCENE_MEDIUM_FEATURES = 0xffffffffu;
+#define MEDIUM_FEATURES SCENE_MEDIUM_FEATURES
+// Thin dielectrics pass shadow rays (volumetric integrators in scenes with them).
+layout(constant_id = 7) const bool SCENE_THIN_NULL = false;
+#define THIN_NULL SCENE_THIN_NULL
+// Deferral (deferral.glsl; scenes with null surfaces): 0 none; SHADOW_FAST, one
+// traversal per ray, leaving the rest of the rays that need more to the full kernel
+// (transmittance.glsl); SHADOW_DEFERRED, the full kernel over those rests alone.
+#define SHADOW_FAST 1u
+#define SHADOW_DEFERRED 2u
+layout(constant_id = 14) const uint SCENE_DEFERRAL = 0u;
+#define TRANSMITTANCE_DEFER (SCENE_DEFERRAL == SHADOW_FAST)
+#include "medium/transmittance.glsl"
+#include "queue/deferral.glsl"
+
+void main() {
+    uint i = thread_index();
+    bool deferred = SCENE_DEFERRAL == SHADOW_DEFERRED;
+    if (i >= (deferred ? deferral_count(DEFERRED_SHADOWS) : queue_shadow_count())) return;
+    uint slot = deferred ? deferral_item(DEFERRED_SHADOWS, i) : shadow_slot(i);
+    ShadowItem s = shadow_load(slot);
+    PathState p = path_load(s.path);
+    vec3 T = shadow_transmittance_from(s, p.pixel, p.sample_index, deferred ? deferral_draws(i) : 0u);
+    if (TRANSMITTANCE_DEFER && transmittance_deferred) {
+        // The rest of the ray, in its slot, for the full kernel.
+        shadow_store(slot, transmittance_rest);
+        deferral_push_shadow(slot, transmittance_rest_draws);
+    }
+    if (any(greaterThan(T, vec3(0.0)))) {
+        p.radiance += s.contribution * T;
+        path_store_radiance(s.path, p);
+    }
+}

@@ -1,0 +1,183 @@
+// Descriptor set 1: the wavefront's queues and path states, and the push constants.
+// Bindings are mirrored in src/render/wavefront.rs.
+#ifndef WAVEFRONT_GLSL
+#define WAVEFRONT_GLSL
+
+#include "scene/layout.glsl"
+
+#define WORKGROUP_SIZE 128
+layout(local_size_x = WORKGROUP_SIZE) in;
+
+// The frame's parameters: a uniform block (std140 lays Frame out as std430 does; see
+// layout.glsl). After them, the queue lengths that the kernels consuming a queue read
+// (queue_ray_count and the like below): llvmpipe loads a uniform block once per SIMD
+// group, where it loads from the storage buffer of the counters lane by lane. One
+// block, because lavapipe 22.3 crashes running a set with a second uniform buffer.
+// The frame is read as frames[push.frame_index], an index that is always 0 but not a
+// constant (the `frame` macro below): lavapipe 22.3 "inlines uniforms", i.e. where an
+// `if` tests only values loaded from a uniform block at constant offsets, it copies
+// the shader, puts the values in, optimizes it again and looks its machine code up in
+// the disk cache, at every dispatch whose uniforms or descriptor sets were bound anew
+// (all of ours), and keeps doing so for a kernel whose code the values halve.
+// first_bounce (its depth a constant, so `depth + 1 >= frame.max_depth` and the like
+// test the frame alone) paid 11-16 ms a dispatch for it, whatever its size: a 16x16
+// Veach render took 16.7 ms in it, 0.4 ms with the frame indexed. An offset from a
+// push constant is still uniform, so llvmpipe still loads each value once per SIMD
+// group.
+layout(std140, set = 1, binding = 0) uniform FrameBuffer { Frame frames[1]; uvec4 queue_lengths[3]; };
+// Path states and queues are written through 16-byte words, one store per word, and
+// read through texel views of the same buffers (bindings 7-10, imageLoad): llvmpipe
+// turns each divergent storage-buffer access into a loop over the SIMD lanes, an image
+// load into one inline gather (see BindingKind::Texels in src/gpu/kernel.rs). Use the
+// *_load and *_store functions below, never the arrays.
+//
+// A divergent store costs llvmpipe (Mesa 22.3) a loop over the SIMD lanes per
+// component: the WAVEFRONT_INT64 variant of each kernel (build.rs; devices with
+// shaderInt64) stores a word as two 64-bit components instead of four 32-bit ones
+// (callgrind, veach direct: shade -9%, generate -16% instructions). Store a word
+// through wavefront_word.
+#ifdef WAVEFRONT_INT64
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#define WAVEFRONT_WORD u64vec2
+WAVEFRONT_WORD wavefront_word(uvec4 w) { return u64vec2(packUint2x32(w.xy), packUint2x32(w.zw)); }
+#else
+#define WAVEFRONT_WORD uvec4
+WAVEFRONT_WORD wavefront_word(uvec4 w) { return w; }
+#endif
+layout(std430, set = 1, binding = 1) writeonly buffer PathBuffer { WAVEFRONT_WORD path_words[]; };
+layout(std430, set = 1, binding = 2) writeonly buffer RayBuffer { WAVEFRONT_WORD ray_words[]; };
+layout(std430, set = 1, binding = 3) writeonly buffer HitBuffer { WAVEFRONT_WORD hit_words[]; };
+layout(std430, set = 1, binding = 4) writeonly buffer ShadowBuffer { WAVEFRONT_WORD shadow_words[]; };
+layout(std430, set = 1, binding = 5) buffer CounterBuffer { Counters counters; };
+layout(std430, set = 1, binding = 6) buffer DispatchBuffer { DispatchArgs dispatch_args; };
+layout(set = 1, binding = 7, rgba32ui) uniform readonly uimageBuffer path_texels;
+layout(set = 1, binding = 8, rgba32ui) uniform readonly uimageBuffer ray_texels;
+layout(set = 1, binding = 9, rgba32ui) uniform readonly uimageBuffer hit_texels;
+layout(set = 1, binding = 10, rgba32ui) uniform readonly uimageBuffer shadow_texels;
+// A bounce's rays partitioned by intersect for shade (partition.glsl): written as a
+// storage buffer, read through a word view.
+layout(std430, set = 1, binding = 11) writeonly buffer ShadeRayBuffer { uint shade_ray_words[]; };
+layout(set = 1, binding = 12, r32ui) uniform readonly uimageBuffer shade_ray_texels;
+// The frame's buffer as storage, for queue_args and shade_args to publish the queue
+// lengths they fold (queue.glsl) after the frame: [0] ray queue q's length at q, how
+// many of its items lie at its back end at 2 + q; [1] the shadow queue's length and
+// back count; [2] the partition's parts' (the host sets them at a batch's start:
+// render::wavefront::Wavefront::reset_queues).
+layout(std430, set = 1, binding = 13) writeonly buffer QueueLengthBuffer { Frame frame_unused; uvec4 queue_lengths_out[3]; };
+uint queue_ray_count(uint q) { return q == 0u ? queue_lengths[0].x : queue_lengths[0].y; }
+uint queue_ray_back(uint q) { return q == 0u ? queue_lengths[0].z : queue_lengths[0].w; }
+uint queue_shadow_count() { return queue_lengths[1].x; }
+uint queue_shadow_back() { return queue_lengths[1].y; }
+uint queue_part_count(uint p) { return p == 0u ? queue_lengths[2].x : queue_lengths[2].y; }
+uint queue_part_back(uint p) { return p == 0u ? queue_lengths[2].z : queue_lengths[2].w; }
+
+layout(push_constant) uniform PushBlock { Push push; };
+#define frame frames[push.frame_index]
+
+// Linear thread index over a 2D grid of workgroups (queues can exceed 65535 groups).
+uint thread_index() {
+    return (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * WORKGROUP_SIZE
+        + gl_LocalInvocationID.x;
+}
+
+// Position of item i in a queue of n items of which `back` lie at its back end
+// (queue.glsl): the front's items first, then the back's from the last slot down.
+uint queue_position(uint i, uint n, uint back) {
+    uint front = n - back;
+    return i < front ? i : push.capacity - 1u - (i - front);
+}
+
+// Index of position pos of ray queue q in the ray buffer.
+uint ray_slot_at(uint q, uint pos) { return q * push.capacity + pos; }
+
+// Index of item i of ray queue q in the ray buffer.
+uint ray_slot(uint q, uint i) {
+    return ray_slot_at(q, queue_position(i, queue_ray_count(q), queue_ray_back(q)));
+}
+
+// Index of item i of the shadow queue the shadow kernel traces.
+uint shadow_slot(uint i) { return queue_position(i, queue_shadow_count(), queue_shadow_back()); }
+
+// Workgroups for n items on a 2D grid of at most 65535 x 65535 groups (the indirect
+// dispatch arguments of a queue).
+uvec3 dispatch_groups(uint n) {
+    uint groups = (n + WORKGROUP_SIZE - 1u) / WORKGROUP_SIZE;
+    uint x = min(groups, 65535u);
+    uint y = x == 0u ? 1u : (groups + x - 1u) / x;
+    return uvec3(x, y, 1u);
+}
+
+// PathState: 3 words; RayItem: 2; HitItem: 1; ShadowItem: 3 (layout.glsl).
+PathState path_load(uint i) {
+    int b = int(3u * i);
+    uvec4 w0 = imageLoad(path_texels, b);
+    uvec4 w1 = imageLoad(path_texels, b + 1);
+    uvec4 w2 = imageLoad(path_texels, b + 2);
+    return PathState(uintBitsToFloat(w0.xyz), w0.w, uintBitsToFloat(w1.xyz), w1.w,
+                     uintBitsToFloat(w2.x), w2.y, uintBitsToFloat(w2.z), w2.w);
+}
+
+void path_store(uint i, PathState p) {
+    path_words[3u * i] = wavefront_word(uvec4(floatBitsToUint(p.throughput), p.pixel));
+    path_words[3u * i + 1u] = wavefront_word(uvec4(floatBitsToUint(p.radiance), p.sample_index));
+    path_words[3u * i + 2u] = wavefront_word(uvec4(floatBitsToUint(p.bsdf_pdf), p.flags, floatBitsToUint(p.eta_scale), p.medium));
+}
+
+// Every word of path i but the radiance one: what a bounce changes when the radiance
+// was stored already (path_store_radiance) or did not change.
+void path_store_bounce(uint i, PathState p) {
+    path_words[3u * i] = wavefront_word(uvec4(floatBitsToUint(p.throughput), p.pixel));
+    path_words[3u * i + 2u] = wavefront_word(uvec4(floatBitsToUint(p.bsdf_pdf), p.flags, floatBitsToUint(p.eta_scale), p.medium));
+}
+
+// Only the word with the flags (and the MIS pdf, eta scale and medium) of path i.
+void path_store_flags(uint i, PathState p) {
+    path_words[3u * i + 2u] = wavefront_word(uvec4(floatBitsToUint(p.bsdf_pdf), p.flags, floatBitsToUint(p.eta_scale), p.medium));
+}
+
+// Only the radiance word (with the sample index it shares) of path i.
+void path_store_radiance(uint i, PathState p) {
+    path_words[3u * i + 1u] = wavefront_word(uvec4(floatBitsToUint(p.radiance), p.sample_index));
+}
+
+RayItem ray_load(uint slot) {
+    uvec4 w0 = imageLoad(ray_texels, int(2u * slot));
+    uvec4 w1 = imageLoad(ray_texels, int(2u * slot + 1u));
+    return RayItem(uintBitsToFloat(w0.xyz), w0.w, uintBitsToFloat(w1.xyz), uintBitsToFloat(w1.w));
+}
+
+void ray_store(uint slot, RayItem r) {
+    ray_words[2u * slot] = wavefront_word(uvec4(floatBitsToUint(r.origin), r.path));
+    ray_words[2u * slot + 1u] = wavefront_word(uvec4(floatBitsToUint(r.dir), floatBitsToUint(r.tmax)));
+}
+
+HitItem hit_load(uint i) {
+    uvec4 w = imageLoad(hit_texels, int(i));
+    return HitItem(uintBitsToFloat(w.x), uintBitsToFloat(w.y), uintBitsToFloat(w.z), w.w);
+}
+
+void hit_store(uint i, HitItem h) {
+    hit_words[i] = wavefront_word(uvec4(floatBitsToUint(vec3(h.t, h.u, h.v)), h.prim));
+}
+
+// The second-nearest hit of ray i (bvh_closest_two), which intersect keeps after the
+// nearest ones in scenes whose rays cross null surfaces (vol_path.glsl).
+HitItem hit_second_load(uint i) { return hit_load(push.capacity + i); }
+void hit_second_store(uint i, HitItem h) { hit_store(push.capacity + i, h); }
+
+ShadowItem shadow_load(uint i) {
+    int b = int(3u * i);
+    uvec4 w0 = imageLoad(shadow_texels, b);
+    uvec4 w1 = imageLoad(shadow_texels, b + 1);
+    uvec4 w2 = imageLoad(shadow_texels, b + 2);
+    return ShadowItem(uintBitsToFloat(w0.xyz), w0.w, uintBitsToFloat(w1.xyz), uintBitsToFloat(w1.w),
+                      uintBitsToFloat(w2.xyz), w2.w);
+}
+
+void shadow_store(uint i, ShadowItem s) {
+    shadow_words[3u * i] = wavefront_word(uvec4(floatBitsToUint(s.origin), s.path));
+    shadow_words[3u * i + 1u] = wavefront_word(uvec4(floatBitsToUint(s.dir), floatBitsToUint(s.tmax)));
+    shadow_words[3u * i + 2u] = wavefront_word(uvec4(floatBitsToUint(s.contribution), s.medium));
+}
+
+#endif

@@ -1,0 +1,189 @@
+// The local geometry at a ray hit. Needs scene_bindings.glsl.
+#ifndef SURFACE_GLSL
+#define SURFACE_GLSL
+
+#include "sampling/warp.glsl"
+#include "sampling/frame.glsl"
+#include "shape/ray_offset.glsl"
+
+// The primitive and vertex features of the scene (SURFACE_FEATURE_* bits of
+// layout.glsl); a kernel may define it as a specialization constant so that the code
+// of absent ones compiles away (llvmpipe runs a branch's code whatever its lanes
+// decide: without this, every hit paid the sphere's trigonometry and ten fetches of
+// vertex normals and uvs).
+#ifndef SURFACE_FEATURES
+#define SURFACE_FEATURES 0xffffffffu
+#endif
+#define SURFACE_HAS(f) ((SURFACE_FEATURES & (f)) != 0u)
+
+// γ(n) = n ε / (1 - n ε) with ε = 2^-24 (PBR 4th ed., sec. 6.8.1), rounded up.
+#define SURFACE_GAMMA5 2.9802326e-7
+#define SURFACE_GAMMA7 4.1723283e-7
+
+struct Surface {
+    vec3 p;       // position, interpolated on the primitive (not o + t d)
+    vec3 p_error; // bound on the absolute rounding error of p, per axis
+    vec3 ng;      // geometric normal, unit
+    vec3 ns;      // shading normal, unit, same hemisphere as ng
+    vec2 uv;
+    uint shape;
+    vec3 ss;      // shading tangent, unit, orthogonal to ns: Mitsuba's sh_frame.s, ∂p/∂u
+                  // made orthogonal to ns; the shading frame is (ss, ns × ss, ns)
+};
+
+// u = φ / 2π in [0, 1) of the object-space direction (x, y) (Mitsuba's sphere,
+// disk and cylinder).
+float surface_phi_u(float x, float y) {
+    float u = atan(y, x) * (0.5 * INV_PI);
+    return u < 0.0 ? u + 1.0 : u;
+}
+
+// Mitsuba's shading tangent (SurfaceInteraction::initialize_sh_frame): dpdu made
+// orthogonal to n by Gram-Schmidt, unit; where that leaves nothing, the first axis
+// of frame_basis(n) (Mitsuba's coordinate_system).
+vec3 surface_tangent(vec3 dpdu, vec3 n) {
+    vec3 t = dpdu - n * dot(n, dpdu);
+    float len = length(t);
+    // One return (kernels inlined by gpu::specialize: see medium.glsl).
+    vec3 s, b;
+    frame_basis(n, s, b);
+    return len > 0.0 ? t / len : s;
+}
+
+// The geometry of quadric `prim` (layout.glsl) at the hit point `hit`; `xy`: a
+// disk's object-space (x, y) from intersect_disk. As Mitsuba 3.9's sphere, disk and
+// cylinder compute it: uv and ∂p/∂u from the object-space point, outward normals
+// (a disk's: the inverse transpose of +z; both fixed up by SHAPE_FLIP_NORMALS after).
+void surface_quadric(inout Surface s, Prim prim, ShapeRecord shape, vec3 hit, vec2 xy, out vec3 dpdu) {
+    float mirror = (shape.flags & SHAPE_MIRRORED) != 0u ? -1.0 : 1.0;
+    if (SURFACE_HAS(SURFACE_FEATURE_SPHERES) && prim.kind == PRIM_SPHERE) {
+        float r = length(prim.p1);
+        vec3 a3 = mirror * cross(prim.p1, prim.p2) / r;
+        s.ng = normalize(hit - prim.p0);
+        s.p = prim.p0 + r * s.ng; // re-projected onto the sphere, as Mitsuba does
+        s.p_error = SURFACE_GAMMA5 * abs(s.p);
+        // The unit object-space point; uv = (φ / 2π, θ / π).
+        vec3 l = vec3(dot(s.ng, prim.p1), dot(s.ng, prim.p2), dot(s.ng, a3)) / r;
+        // θ by atan2: llvmpipe's acos is off by up to 1.5e-4 rad.
+        s.uv = vec2(surface_phi_u(l.x, l.y), atan(length(l.xy), l.z) * INV_PI);
+        dpdu = 2.0 * PI * (l.x * prim.p2 - l.y * prim.p1);
+    } else if (SURFACE_HAS(SURFACE_FEATURE_DISKS) && prim.kind == PRIM_DISK) {
+        s.p = prim.p0 + xy.x * prim.p1 + xy.y * prim.p2;
+        s.p_error = SURFACE_GAMMA7 * (abs(prim.p0) + abs(xy.x * prim.p1) + abs(xy.y * prim.p2));
+        s.ng = normalize(cross(prim.p1, prim.p2));
+        float r = length(xy);
+        s.uv = vec2(r, surface_phi_u(xy.x, xy.y));
+        dpdu = r > 0.0 ? (xy.x * prim.p1 + xy.y * prim.p2) / r : vec3(0.0);
+    } else {
+        // Cylinder: p1 = M x (radius r), p2 = the axis M z, M y = ±(axis/|axis|) × M x.
+        float r = length(prim.p1);
+        vec3 a2 = mirror * cross(normalize(prim.p2), prim.p1);
+        vec3 q = hit - prim.p0;
+        float z = dot(q, prim.p2) / dot(prim.p2, prim.p2);
+        vec3 radial = q - z * prim.p2;
+        float len = length(radial);
+        s.ng = len > 0.0 ? radial / len : normalize(prim.p1);
+        s.p = prim.p0 + z * prim.p2 + r * s.ng; // onto the tube, as Mitsuba nudges it
+        s.p_error = SURFACE_GAMMA7 * (abs(prim.p0) + abs(z * prim.p2) + abs(r * s.ng));
+        vec2 l = vec2(dot(s.ng, prim.p1), dot(s.ng, a2)) / r;
+        s.uv = vec2(surface_phi_u(l.x, l.y), z);
+        dpdu = 2.0 * PI * (l.x * a2 - l.y * prim.p1);
+    }
+    s.ns = s.ng;
+}
+
+// Surface at barycentrics (u, v) of primitive `prim`: p = (1-u-v) p0 + u p1 + v p2;
+// for a disk (u, v) is the object-space point, and other quadrics take the point
+// o + t d and re-project it. Normals follow the primitive's orientation
+// (counter-clockwise front, or outwards), flipped by SHAPE_FLIP_NORMALS. The tangent
+// is Mitsuba's: a triangle's ∂p/∂u from its own vertices and uvs (p1 - p0 without
+// uvs), a quadric's from its parameterization.
+Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, float t) {
+    Prim prim = prim_load(prim_index);
+    ShapeRecord shape = shape_load(prim.shape);
+    Surface s;
+    s.shape = prim.shape;
+    vec3 dpdu;
+    if (SURFACE_HAS(SURFACE_FEATURE_SPHERES | SURFACE_FEATURE_DISKS | SURFACE_FEATURE_CYLINDERS)
+        && prim.kind != PRIM_TRIANGLE) {
+        surface_quadric(s, prim, shape, ray_o + t * ray_d, vec2(u, v), dpdu);
+    } else {
+        float w = 1.0 - u - v;
+        s.p = w * prim.p0 + u * prim.p1 + v * prim.p2;
+        // Pharr, Jakob, Humphreys, PBR 4th ed., sec. 6.8.5: error of barycentric
+        // interpolation. It also bounds how far a re-intersection test against this
+        // triangle (whose arithmetic works at the scale of its vertices) can err.
+        s.p_error = SURFACE_GAMMA7 * (abs(w * prim.p0) + abs(u * prim.p1) + abs(v * prim.p2));
+        vec3 dp0 = prim.p1 - prim.p0, dp1 = prim.p2 - prim.p0;
+        vec3 n = cross(dp0, dp1);
+        float len = length(n);
+        // Degenerate triangles are dropped at load time; guard anyway.
+        s.ng = len > 0.0 ? n / len : vec3(0.0, 0.0, 1.0);
+        s.ns = s.ng;
+        s.uv = vec2(u, v);
+        // Without uvs the parameterization is barycentric (Mitsuba's mesh.cpp).
+        dpdu = dp0;
+        if (SURFACE_HAS(SURFACE_FEATURE_NORMALS | SURFACE_FEATURE_UVS)
+            && (shape.flags & (SHAPE_HAS_NORMALS | SHAPE_HAS_UVS)) != 0u) {
+            TriangleRecord tri = triangle_load(prim.index);
+            if (SURFACE_HAS(SURFACE_FEATURE_UVS) && (shape.flags & SHAPE_HAS_UVS) != 0u) {
+                vec2 uv0 = vec2(vertex_texel(tri.v0, 0u).w, vertex_texel(tri.v0, 1u).x);
+                vec2 uv1 = vec2(vertex_texel(tri.v1, 0u).w, vertex_texel(tri.v1, 1u).x);
+                vec2 uv2 = vec2(vertex_texel(tri.v2, 0u).w, vertex_texel(tri.v2, 1u).x);
+                s.uv = w * uv0 + u * uv1 + v * uv2;
+                // ∂p/∂u of the affine map from uv to the triangle (PBR 4th ed., sec.
+                // 6.5.3); a degenerate uv triangle gets an arbitrary tangent of the face.
+                vec2 duv0 = uv1 - uv0, duv1 = uv2 - uv0;
+                float det = duv0.x * duv1.y - duv0.y * duv1.x;
+                if (det != 0.0) {
+                    dpdu = (duv1.y * dp0 - duv0.y * dp1) / det;
+                } else {
+                    vec3 b;
+                    frame_basis(s.ng, dpdu, b);
+                }
+            }
+            if (SURFACE_HAS(SURFACE_FEATURE_NORMALS) && (shape.flags & SHAPE_HAS_NORMALS) != 0u) {
+                vec3 ns = w * vertex_texel(tri.v0, 0u).xyz + u * vertex_texel(tri.v1, 0u).xyz
+                    + v * vertex_texel(tri.v2, 0u).xyz;
+                float l = length(ns);
+                if (l > 0.0) s.ns = ns / l;
+                // Keep the shading normal on the side of the geometric one.
+                if (dot(s.ns, s.ng) < 0.0) s.ng = -s.ng;
+            }
+        }
+    }
+    if ((shape.flags & SHAPE_FLIP_NORMALS) != 0u) {
+        s.ng = -s.ng;
+        s.ns = -s.ns;
+    }
+    s.ss = surface_tangent(dpdu, s.ns);
+    return s;
+}
+
+// A direction in the shading frame (ss, ns × ss, ns) of s, and back.
+vec3 surface_to_local(Surface s, vec3 v) {
+    return vec3(dot(v, s.ss), dot(v, cross(s.ns, s.ss)), dot(v, s.ns));
+}
+
+vec3 surface_to_world(Surface s, vec3 l) {
+    return l.x * s.ss + l.y * cross(s.ns, s.ss) + l.z * s.ns;
+}
+
+// Turns both normals to face direction w (usually towards the viewer), keeping their
+// relative orientation: for two-sided shading of one-sided geometry.
+void surface_face(inout Surface s, vec3 w) {
+    if (dot(s.ng, w) < 0.0) {
+        s.ng = -s.ng;
+        s.ns = -s.ns;
+    }
+}
+
+// Origin for a ray leaving surface s on the side of normal n (n = s.ng or -s.ng):
+// pushed past the error bounds of p along n (PBR 4th ed., sec. 6.8.6), then by a few
+// ulps (Wächter and Binder 2019) so that rounding cannot bring it back.
+vec3 surface_spawn_origin(Surface s, vec3 n) {
+    float d = dot(abs(n), s.p_error);
+    return ray_offset(s.p + d * n, n);
+}
+
+#endif
