@@ -11,12 +11,20 @@ use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+#[allow(dead_code)]
+#[path = "src/gpu/records.rs"]
+mod records;
+#[path = "build/records.rs"]
+mod records_glsl;
+
 fn main() {
     let root =
         PathBuf::from(std::env::var("CARGO_MANIFEST_DIR").expect("cargo sets CARGO_MANIFEST_DIR"));
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     let shader_dir = root.join("shaders");
     println!("cargo:rerun-if-changed=shaders");
+    // The GLSL side of the GPU records (src/gpu/records.rs), in the include path.
+    records_glsl::write(&out.join("glsl"));
 
     let mut kernels = Vec::new();
     collect_kernels(&shader_dir, &mut kernels);
@@ -71,6 +79,7 @@ fn main() {
                 .arg("vulkan1.2")
                 .args(defines)
                 .arg(format!("-I{}", shader_dir.display()))
+                .arg(format!("-I{}", out.join("glsl").display()))
                 .arg("-o")
                 .arg(&spv)
                 .arg(kernel)
