@@ -11,7 +11,6 @@ pub mod error;
 pub mod film;
 pub mod integrator;
 pub mod job;
-pub mod media;
 pub mod partial;
 pub mod photon;
 pub mod plan;

@@ -19,9 +19,7 @@ use crate::gpu::layout::{
     EMITTER_KIND_BIT_TEXTURE_SAMPLED, EMITTER_KIND_BIT_TEXTURE_SPHERE,
 };
 use crate::gpu::{BindingLayout, Buffer, DescriptorSet, Device};
-use crate::scene::envmap;
 use crate::scene::textured_emitter;
-use crate::scene::Texture;
 use crate::scene::{Emitter, QuadricKind, Scene};
 
 use super::error::{Error, Result};
@@ -64,7 +62,7 @@ pub struct SceneRecords {
     pub media: Vec<MediumRecord>,
     pub grid_data: Vec<f32>,
     pub majorants: Vec<f32>,
-    /// Density grids packed one texel per voxel (`media::pack_density`).
+    /// Density grids packed one texel per voxel (`scene::medium::record::pack_density`).
     pub packed_density: Vec<[f32; 4]>,
     /// The quadric kinds of the scene, as `SURFACE_FEATURE_*` bits.
     quadric_kinds: u32,
@@ -138,8 +136,12 @@ impl SceneRecords {
         r.push_meshes(scene, &remap);
         r.push_quadrics(scene, bvh, &remap);
         for m in &scene.media {
-            let rec =
-                super::media::record(m, &mut r.grid_data, &mut r.packed_density, &mut r.majorants);
+            let rec = crate::scene::medium::record::record(
+                m,
+                &mut r.grid_data,
+                &mut r.packed_density,
+                &mut r.majorants,
+            );
             r.media.push(rec);
         }
         r.build_alias_tables(scene, bvh, &remap);
@@ -158,103 +160,12 @@ impl SceneRecords {
         let mut remap = vec![NONE; scene.emitters.len()];
         for (new, &old) in order.iter().enumerate() {
             remap[old] = new as u32;
-            let mut mean = 1.0f64;
-            let rec = match scene.emitters[old] {
-                Emitter::Point {
-                    position,
-                    intensity,
-                } => {
-                    self.point_light_count += 1;
-                    EmitterRecord {
-                        position: position.into(),
-                        kind: EMITTER_POINT,
-                        radiance: intensity.into(),
-                        shape: NONE,
-                        ..Default::default()
-                    }
-                }
-                Emitter::Spot {
-                    position,
-                    axis,
-                    intensity,
-                    cutoff_deg,
-                    beam_width_deg,
-                } => {
-                    let (cutoff, beam) = (cutoff_deg.to_radians(), beam_width_deg.to_radians());
-                    EmitterRecord {
-                        position: position.into(),
-                        kind: EMITTER_SPOT,
-                        radiance: intensity.into(),
-                        shape: NONE,
-                        axis: axis.into(),
-                        cos_cutoff: cutoff.cos(),
-                        cutoff,
-                        // A zero-width transition is a hard edge: a huge slope.
-                        inv_transition: 1.0 / (cutoff - beam).max(1e-6),
-                        ..Default::default()
-                    }
-                }
-                Emitter::Area { radiance } => EmitterRecord {
-                    kind: EMITTER_AREA,
-                    radiance: radiance.into(),
-                    shape: NONE,
-                    ..Default::default()
-                },
-                Emitter::Constant { radiance } => {
-                    self.env_emitter = new as u32;
-                    EmitterRecord {
-                        kind: EMITTER_CONSTANT,
-                        radiance: radiance.into(),
-                        shape: NONE,
-                        ..Default::default()
-                    }
-                }
-                Emitter::TexturedArea { texture, scale } => {
-                    mean = luminance(scene.textures[texture as usize].mean());
-                    EmitterRecord {
-                        kind: EMITTER_AREA,
-                        radiance: scale.into(),
-                        shape: NONE,
-                        texture: texture + 1,
-                        ..Default::default()
-                    }
-                }
-                Emitter::EnvMap {
-                    texture,
-                    scale,
-                    to_world,
-                    importance,
-                } => {
-                    self.env_emitter = new as u32;
-                    let Texture::Bitmap {
-                        width,
-                        height,
-                        texels,
-                        ..
-                    } = &scene.textures[texture as usize]
-                    else {
-                        unreachable!("the loader gives an envmap a bitmap")
-                    };
-                    let dist = envmap::Distribution::build(*width, *height, texels, importance);
-                    mean = dist.mean_luminance;
-                    let offset = self.distributions.len() as u32;
-                    self.distributions.extend_from_slice(&dist.cdf);
-                    let col = |v: Vec3| [v.x, v.y, v.z, 0.0];
-                    EmitterRecord {
-                        kind: EMITTER_ENVMAP,
-                        radiance: [scale; 3],
-                        shape: NONE,
-                        texture: texture + 1,
-                        dist_offset: offset,
-                        dist_width: *width,
-                        dist_height: *height,
-                        to_world_x: col(to_world.x_axis),
-                        to_world_y: col(to_world.y_axis),
-                        to_world_z: col(to_world.z_axis),
-                        ..Default::default()
-                    }
-                }
-            };
+            match scene.emitters[old] {
+                Emitter::Point { .. } => self.point_light_count += 1,
+                Emitter::Constant { .. } | Emitter::EnvMap { .. } => self.env_emitter = new as u32,
+                _ => {}
+            }
+            let (rec, mean) = scene.emitters[old].record(&scene.textures, &mut self.distributions);
             self.emitters.push(rec);
             self.emitter_mean.push(mean);
         }

@@ -28,15 +28,6 @@ pub const UNSUPPORTED_BSDFS: &[&str] = &[
     "hair",
 ];
 
-/// Emitter types we know but do not implement yet.
-pub const UNSUPPORTED_EMITTERS: &[&str] = &[
-    "directional",
-    "sunsky",
-    "projector",
-    "directionalarea",
-    "environment",
-];
-
 /// "bsdf type 'X' is not supported yet" or "unknown bsdf type 'X'".
 pub fn unsupported(el: &Element, kind: &str, known: &[&str]) -> Error {
     let t = el.attr("type").unwrap_or("");
