@@ -2,7 +2,8 @@
 //! the mean of bsdf_sample's weights (importance sampling), for white versions of every
 //! BSDF and many wo. No model may create energy (a <= 1 + 4σ); lossless smooth models
 //! keep all of it (a = 1); microfacet models lose what single scattering cannot return
-//! (light that would scatter again between microfacets), within stated bounds.
+//! (light that would scatter again between microfacets): their albedos must equal an
+//! independent f64 quadrature of the published models (tests/common/albedo.rs).
 //!
 //! Radiance transport scales refracted radiance by 1/η_it² (dielectrics); the test
 //! multiplies refracted weights by η_it² to count energy (Veach 1997, sec. 5.2).
