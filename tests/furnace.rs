@@ -2,7 +2,8 @@
 //! the mean of bsdf_sample's weights (importance sampling), for white versions of every
 //! BSDF and many wo. No model may create energy (a <= 1 + 4σ); lossless smooth models
 //! keep all of it (a = 1); microfacet models lose what single scattering cannot return
-//! (light that would scatter again between microfacets), within stated bounds.
+//! (light that would scatter again between microfacets): their albedos must equal an
+//! independent f64 quadrature of the published models (tests/common/albedo.rs).
 //!
 //! Radiance transport scales refracted radiance by 1/η_it² (dielectrics); the test
 //! multiplies refracted weights by η_it² to count energy (Veach 1997, sec. 5.2).
@@ -14,7 +15,9 @@ use common::stats::{
 };
 use glam::Vec3;
 use wavetrace::gpu::layout::BsdfRecord;
-use wavetrace::scene::bsdf::{rough_reflectance, thin_dielectric_reflectance, Bsdf, Distribution};
+use wavetrace::scene::bsdf::{thin_dielectric_reflectance, Bsdf, Distribution};
+
+use common::albedo::{self, Ndf, Quadrature};
 
 const N: u32 = 100_000;
 
@@ -48,7 +51,13 @@ fn wo_at(cos: f32, phi: f32) -> Vec3 {
 const COS: [f32; 6] = [0.05, 0.2, 0.4, 0.6, 0.8, 1.0];
 
 /// Checks a <= 1 + 4σ for every wo and returns the albedos.
-fn no_gain(probe: &BsdfProbe, name: &str, bsdf: &Bsdf, eta: f32, below: bool) -> Vec<(f32, f64)> {
+fn no_gain(
+    probe: &BsdfProbe,
+    name: &str,
+    bsdf: &Bsdf,
+    eta: f32,
+    below: bool,
+) -> Vec<(f32, f64, f64)> {
     let mut out = Vec::new();
     for (i, &c) in COS.iter().enumerate() {
         for sign in if below { vec![1.0, -1.0] } else { vec![1.0] } {
@@ -59,7 +68,7 @@ fn no_gain(probe: &BsdfProbe, name: &str, bsdf: &Bsdf, eta: f32, below: bool) ->
                 a <= 1.0 + 4.0 * se + 1e-5,
                 "{name}, wo = {wo}: albedo {a} > 1 (± {se})"
             );
-            out.push((wo.z, a));
+            out.push((wo.z, a, se));
         }
     }
     out
@@ -140,7 +149,7 @@ fn lossless_smooth_models() {
         ),
     ];
     for (name, bsdf, eta, below) in &cases {
-        for (c, a) in no_gain(&probe, name, bsdf, *eta, *below) {
+        for (c, a, _) in no_gain(&probe, name, bsdf, *eta, *below) {
             // Deterministic weights of exactly 1 except plastic (MC noise; 100k samples
             // of weights within [0, 2] give σ < 3e-3) and F_dr's quadrature (< 1e-5).
             let tol = if name.starts_with("plastic") {
@@ -156,22 +165,86 @@ fn lossless_smooth_models() {
     }
 }
 
+/// The GPU albedo `a ± se` (N samples) against the independent quadrature `q`: within
+/// 5 standard errors of the N-sample mean (a false failure has probability 6e-7 per
+/// direction, under 2e-4 over the ~250 directions of this file), plus the quadrature's
+/// error bound, plus 2e-4 for the f32 weights. Returns whether it holds, and whether
+/// the same check would reject the reference scaled by 0.95 (the power control: a 5%
+/// energy error is seen).
+fn agrees(a: f64, se: f64, q: Quadrature) -> (bool, bool) {
+    let tol = 5.0 * se + q.error + 2e-4;
+    ((a - q.value).abs() <= tol, (a - 0.95 * q.value).abs() > tol)
+}
+
+/// Each wo of `no_gain` against `reference(cos θo)`: asserts agreement and that a 5%
+/// lower reference would be rejected.
+fn assert_albedos(
+    probe: &BsdfProbe,
+    name: &str,
+    bsdf: &Bsdf,
+    eta: f32,
+    below: bool,
+    reference: impl Fn(f64) -> Quadrature,
+) {
+    for (c, a, se) in no_gain(probe, name, bsdf, eta, below) {
+        let q = reference(c as f64);
+        let (ok, power) = agrees(a, se, q);
+        println!("  quadrature {:.4} ± {:.1e}", q.value, q.error);
+        assert!(
+            ok,
+            "{name}, cos θo = {c}: albedo {a} ± {se}, quadrature {} ± {}",
+            q.value, q.error
+        );
+        assert!(
+            power,
+            "{name}, cos θo = {c}: the check cannot see a 5% error (± {se})"
+        );
+    }
+}
+
+/// The quadrature itself against closed forms: a nearly smooth conductor and dielectric keep all energy, white smooth plastic keeps
+/// all energy, and rough plastic at small α tends to smooth plastic.
 #[test]
-fn microfacet_energy_loss_is_bounded() {
+fn quadrature_reproduces_closed_forms() {
+    for kind in [Ndf::Beckmann, Ndf::Ggx] {
+        let c = albedo::rough_conductor_white(kind, 0.01, 0.7);
+        assert!((c.value - 1.0).abs() < 2e-3, "{kind:?}: conductor {c:?}");
+        for eta in [1.5, 1.0 / 1.5] {
+            let d = albedo::rough_dielectric_white(kind, 0.01, eta, 0.7);
+            assert!(
+                (d.value - 1.0).abs() < 2e-3,
+                "{kind:?} η = {eta}: dielectric {d:?}"
+            );
+        }
+        let rp = albedo::rough_plastic(kind, 0.01, 0.5, 1.5, false, 0.7).total();
+        let p = albedo::plastic(0.5, 1.5, false, 0.7);
+        assert!(
+            (rp.value - p.value).abs() < 5e-3,
+            "{kind:?}: rough {rp:?}, smooth {p:?}"
+        );
+    }
+    for mu in [0.05, 0.5, 1.0] {
+        let p = albedo::plastic(1.0, 1.49, false, mu);
+        assert!(
+            (p.value - 1.0).abs() < 1e-6 + p.error,
+            "plastic, μ = {mu}: {p:?}"
+        );
+    }
+}
+
+/// Single-scattering microfacet models (separable Smith G, as Mitsuba) lose light that
+/// would bounce between microfacets; the GPU's albedos must equal the quadrature of the
+/// published models (tests/common/albedo.rs), from both sides for dielectrics.
+#[test]
+fn microfacet_albedos_match_quadrature() {
     let probe = bsdf_probe();
     let white = Vec3::ONE;
-    for distribution in [Distribution::Beckmann, Distribution::Ggx] {
+    for (distribution, kind) in [
+        (Distribution::Beckmann, Ndf::Beckmann),
+        (Distribution::Ggx, Ndf::Ggx),
+    ] {
         for alpha in [0.05f32, 0.3, 0.8] {
-            // Single-scattering microfacet models (separable Smith G, as Mitsuba) lose
-            // light that would bounce between microfacets: with GGX at α = 0.8 and
-            // normal incidence 39% of the mirrored microfacet directions point below
-            // the horizon. The white rough conductor must match the directional albedo
-            // integrated independently on the CPU (scene::bsdf::rough_reflectance: D cos
-            // θm quadrature, F = 1 via η = 1e8; its 128² grid errs < 5e-3, and up to 2% at cos θo = 0.05). The other
-            // models must stay above the loose envelope 0.85 (1 - 0.75 α) (measured
-            // minima: GGX α = 0.8 dielectric 0.44, α = 0.3 0.74, α = 0.05 0.87).
-            let lower = 0.85 * (1.0 - 0.75 * alpha as f64);
-            let name = format!("roughconductor none {distribution:?} α = {alpha}");
+            let a = alpha as f64;
             let b = Bsdf::RoughConductor {
                 distribution,
                 alpha_u: alpha,
@@ -180,14 +253,10 @@ fn microfacet_energy_loss_is_bounded() {
                 k: Vec3::ONE,
                 specular_reflectance: white,
             };
-            for (c, a) in no_gain(&probe, &name, &b, 1.0, false) {
-                let want = rough_reflectance(distribution, alpha as f64, c as f64, 1e8);
-                assert!(
-                    // The CPU grid resolves narrow lobes at grazing poorly (integrand ∝ 1/μ).
-                    (a - want).abs() < if c < 0.1 { 0.03 } else { 0.01 },
-                    "{name}, cos θo = {c}: albedo {a}, CPU quadrature {want}"
-                );
-            }
+            let name = format!("roughconductor none {distribution:?} α = {alpha}");
+            assert_albedos(&probe, &name, &b, 1.0, false, |mu| {
+                albedo::rough_conductor_white(kind, a, mu)
+            });
             for eta in [1.5f32, 1.0 / 1.5] {
                 let name = format!("roughdielectric {distribution:?} α = {alpha} η = {eta:.3}");
                 let b = Bsdf::RoughDielectric {
@@ -198,44 +267,151 @@ fn microfacet_energy_loss_is_bounded() {
                     specular_reflectance: white,
                     specular_transmittance: white,
                 };
-                for (c, a) in no_gain(&probe, &name, &b, eta, true) {
-                    assert!(
-                        a >= lower,
-                        "{name}, cos θo = {c}: albedo {a} loses too much"
-                    );
-                }
-            }
-            let name = format!("roughplastic white {distribution:?} α = {alpha}");
-            let b = Bsdf::RoughPlastic {
-                distribution,
-                alpha,
-                diffuse_reflectance: white,
-                specular_reflectance: white,
-                eta: 1.49,
-                nonlinear: false,
-            };
-            for (c, a) in no_gain(&probe, &name, &b, 1.0, false) {
-                assert!(
-                    a >= lower,
-                    "{name}, cos θo = {c}: albedo {a} loses too much"
-                );
+                // From below the interface is seen with the inverse index.
+                assert_albedos(&probe, &name, &b, eta, true, |mu| {
+                    let e = if mu > 0.0 {
+                        eta as f64
+                    } else {
+                        1.0 / eta as f64
+                    };
+                    albedo::rough_dielectric_white(kind, a, e, mu.abs())
+                });
             }
         }
     }
     for alpha in [0.1f32, 0.5] {
-        // Nori's microfacet with kd = 0.5 (ks = 0.5): at most 1.
+        // Nori's microfacet with kd = 0.5 (ks = 0.5).
+        let eta = 1.5046 / 1.000277;
         let b = Bsdf::NoriMicrofacet {
             alpha,
-            eta: 1.5046 / 1.000277,
+            eta,
             kd: Vec3::splat(0.5),
         };
-        no_gain(
+        assert_albedos(
             &probe,
             &format!("nori microfacet α = {alpha}"),
             &b,
             1.0,
             false,
+            |mu| albedo::nori_microfacet(alpha as f64, 0.5, eta as f64, mu),
         );
+    }
+}
+
+/// Smooth plastic with a grey base, linear and nonlinear, against the quadrature.
+#[test]
+fn plastic_albedo_matches_quadrature() {
+    let probe = bsdf_probe();
+    for nonlinear in [false, true] {
+        let b = Bsdf::Plastic {
+            diffuse_reflectance: Vec3::splat(0.5),
+            specular_reflectance: Vec3::ONE,
+            eta: 1.49,
+            nonlinear,
+        };
+        let name = format!("plastic 0.5 nonlinear = {nonlinear}");
+        assert_albedos(&probe, &name, &b, 1.0, false, |mu| {
+            albedo::plastic(0.5, 1.49, nonlinear, mu)
+        });
+    }
+}
+
+/// Rough plastic, white base, α up to 1, against the quadrature of Mitsuba's model.
+///
+/// KNOWN WRONG, issue 39 ("fix roughplastic"): the GPU's diffuse part under the rough
+/// coating is too bright (Mitsuba's regression scene: +15% at α = 1.0). With a white
+/// base the error is amplified by 1/(1 - R_int) ≈ 2.5 and shows at every α tested
+/// (measured on lavapipe, GPU / quadrature at cos θo = 1: Beckmann 0.98, 1.00, 1.03,
+/// 1.12 and GGX 0.99, 1.05, 1.18, 1.49 for α = 0.05, 0.3, 0.6, 1.0; at grazing up to
+/// 3.3). The test therefore asserts the discrepancy: at α = 1.0 the GPU is more than 10%
+/// brighter than the reference at every wo, and at each smaller α some wo fails the
+/// comparison. It breaks when the BSDF is fixed: then replace the body by one
+/// `assert_albedos` call per case (as `microfacet_albedos_match_quadrature`).
+/// `rough_plastic_quadrature_matches_mitsuba` shows the reference is Mitsuba's model.
+#[test]
+fn rough_plastic_albedo_matches_quadrature() {
+    let probe = bsdf_probe();
+    for (distribution, kind) in [
+        (Distribution::Beckmann, Ndf::Beckmann),
+        (Distribution::Ggx, Ndf::Ggx),
+    ] {
+        for alpha in [0.05f32, 0.3, 0.6, 1.0] {
+            let name = format!("roughplastic white {distribution:?} α = {alpha}");
+            let b = Bsdf::RoughPlastic {
+                distribution,
+                alpha,
+                diffuse_reflectance: Vec3::ONE,
+                specular_reflectance: Vec3::ONE,
+                eta: 1.49,
+                nonlinear: false,
+            };
+            let mut wrong = 0;
+            for (c, a, se) in no_gain(&probe, &name, &b, 1.0, false) {
+                let q =
+                    albedo::rough_plastic(kind, alpha as f64, 1.0, 1.49, false, c as f64).total();
+                let (ok, power) = agrees(a, se, q);
+                println!(
+                    "  quadrature {:.4} ± {:.1e}: GPU / quadrature {:.3}",
+                    q.value,
+                    q.error,
+                    a / q.value
+                );
+                assert!(
+                    power,
+                    "{name}, cos θo = {c}: the check cannot see a 5% error"
+                );
+                if alpha == 1.0 {
+                    assert!(
+                        a > 1.1 * q.value,
+                        "{name}, cos θo = {c}: albedo {a}, quadrature {}: issue 39's \
+                         excess is gone (fixed?): assert agreement instead",
+                        q.value
+                    );
+                }
+                wrong += usize::from(!ok);
+            }
+            assert!(
+                wrong > 0,
+                "{name}: agrees with the quadrature at every wo: issue 39's roughplastic \
+                 fix has landed, assert agreement instead"
+            );
+        }
+    }
+}
+
+/// The rough-plastic reference is Mitsuba's model: Mitsuba 3.9.1's own roughplastic
+/// (pip `mitsuba`, llvm_ad_rgb, white base, int_ior 1.49), its albedo as the mean
+/// weight of 2^20 `sample` calls per wo (weights in [0, 1.5]: standard error < 1e-3),
+/// against the quadrature. Within 2%: Mitsuba integrates the coating's T(μ) with 32²
+/// Gauss-Legendre visible normals, tabulates it at 64 μ, and takes R_int as a 64-point
+/// mean; those errors are amplified by 1/(1 - R_int) ≈ 2.5 for a white base (at α =
+/// 0.05 they reach 2%, so that α is left out). The GPU errs by 3% to 230% here.
+#[test]
+fn rough_plastic_quadrature_matches_mitsuba() {
+    // (distribution, α, [albedo at cos θo = 0.05, 0.5, 1.0]), measured by
+    // python3 with mi.load_dict({'type': 'roughplastic', 'distribution': ..., 'alpha':
+    // ..., 'int_ior': 1.49, 'ext_ior': 1.0, 'diffuse_reflectance': 1}).
+    let mitsuba = [
+        (Ndf::Beckmann, 0.3, [0.8736, 0.8611, 0.8750]),
+        (Ndf::Beckmann, 1.0, [0.4137, 0.4892, 0.5117]),
+        (Ndf::Ggx, 0.3, [0.6160, 0.6732, 0.6945]),
+        (Ndf::Ggx, 1.0, [0.1591, 0.2626, 0.3401]),
+    ];
+    for (kind, alpha, want) in mitsuba {
+        for (mu, m) in [0.05, 0.5, 1.0].into_iter().zip(want) {
+            let q = albedo::rough_plastic(kind, alpha, 1.0, 1.49, false, mu).total();
+            println!(
+                "{kind:?} α = {alpha} μ = {mu}: quadrature {:.4}, Mitsuba {m:.4}",
+                q.value
+            );
+            assert!(
+                (q.value - m).abs() < 0.02 * m + q.error,
+                "{kind:?} α = {alpha} μ = {mu}: quadrature {}, Mitsuba {m}",
+                q.value
+            );
+            // The power control: a 5% different model is told apart.
+            assert!((0.95 * q.value - m).abs() > 0.02 * m + q.error);
+        }
     }
 }
 

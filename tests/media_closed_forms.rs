@@ -366,4 +366,11 @@ fn dense_scattering_matches_a_float64_random_walk() {
         rel.abs() < 0.02,
         "dense sphere: {mean} ± {se} against the random walk's {walk} ± {walk_se}"
     );
+    // The power control: the 2% band, wide as it is for float32's known -0.9%, still
+    // rejects the render x 0.95 (with 4 standard errors of both estimates to spare).
+    let rel_biased = 0.95 * mean / walk - 1.0;
+    assert!(
+        rel_biased.abs() >= 0.02 + 4.0 * (se / mean + walk_se / walk),
+        "dense sphere: the check cannot see a 5% bias ({rel_biased})"
+    );
 }

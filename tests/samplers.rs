@@ -154,8 +154,18 @@ fn every_kind() -> Vec<Sampler> {
     v
 }
 
-/// Chi-square tests in this file, for the Šidák level.
-const TESTS: usize = 200;
+/// Dimensions of `every_dimension_and_pair_is_uniform`.
+const DIMS: u32 = 6;
+/// Dimensions of `distant_dimensions_are_uncorrelated`: the first against each other.
+const DISTANT: [u32; 5] = [2, 8, 14, 50, 1000];
+
+/// Chi-square tests in this file, for the Šidák level, counted from the loops that run
+/// them: per sampler kind, `every_dimension_and_pair_is_uniform` tests each dimension's
+/// two coordinates and its 2-D grid (3 per dimension), one cross pair and the 1-D draws;
+/// `distant_dimensions_are_uncorrelated` one grid per distant dimension.
+fn tests() -> usize {
+    every_kind().len() * (3 * DIMS as usize + 2 + (DISTANT.len() - 1))
+}
 /// Family-wise false-alarm rate of the chi-square tests of this file.
 const ALPHA: f64 = 0.01;
 
@@ -189,7 +199,7 @@ fn every_dimension_and_pair_is_uniform() {
     let device = common::device();
     for s in every_kind() {
         let p = Probe::new(&device, s, 16);
-        let (px, ns, nd) = (64u32, p.count(), 6u32);
+        let (px, ns, nd) = (64u32, p.count(), DIMS);
         let v = p.eval(0..px, 0..ns, 0..nd, true);
         let at = |pix: u32, smp: u32, d: u32| v[((pix * ns + smp) * nd + d) as usize];
         let n = (px * ns) as f64;
@@ -201,7 +211,7 @@ fn every_dimension_and_pair_is_uniform() {
                     &h,
                     &[n / 16.0; 16],
                     ALPHA,
-                    TESTS,
+                    tests(),
                 );
             }
             let h = histogram_2d(
@@ -216,7 +226,7 @@ fn every_dimension_and_pair_is_uniform() {
                 &h,
                 &[n / 64.0; 64],
                 ALPHA,
-                TESTS,
+                tests(),
             );
         }
         let h = histogram_2d(
@@ -228,13 +238,19 @@ fn every_dimension_and_pair_is_uniform() {
             &h,
             &[n / 64.0; 64],
             ALPHA,
-            TESTS,
+            tests(),
         );
         // 1-D draws are uniform too.
         let w = p.eval(0..px, 0..ns, 0..2, false);
         let h = histogram(w.iter().map(|u| u[0]), 16);
         let n1 = w.len() as f64;
-        assert_fit(&format!("{:?} 1-D", s), &h, &[n1 / 16.0; 16], ALPHA, TESTS);
+        assert_fit(
+            &format!("{:?} 1-D", s),
+            &h,
+            &[n1 / 16.0; 16],
+            ALPHA,
+            tests(),
+        );
     }
 }
 
@@ -481,7 +497,7 @@ fn distant_dimensions_are_uncorrelated() {
     for s in every_kind() {
         let p = Probe::new(&device, s, 16);
         let n = p.count();
-        let dims = [2u32, 8, 14, 50, 1000];
+        let dims = DISTANT;
         let series: Vec<Vec<[f32; 2]>> = dims
             .iter()
             .map(|&d| p.eval(0..64, 0..n, d..d + 1, true))
@@ -510,7 +526,7 @@ fn distant_dimensions_are_uncorrelated() {
             let e = vec![len as f64 / 64.0; 64];
             let r = chi2(&h, &e);
             assert!(
-                r.p_value > common::stats::sidak(ALPHA, TESTS),
+                r.p_value > common::stats::sidak(ALPHA, tests()),
                 "{:?}: dims {} and {} dependent: X² = {:.1}, p = {:.2e}",
                 s,
                 dims[0],

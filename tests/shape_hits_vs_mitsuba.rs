@@ -1,9 +1,9 @@
 //! Shapes as Mitsuba 3.9 makes them: for every Mitsuba shape wavetrace loads, rays
-//! whose hits Mitsuba recorded (tests/data/shape_hits.json, made by
-//! tools/mitsuba_shapes.py from the shapes of scenes/shapes/) are traced on the GPU,
-//! and the hit point, normals, uv and shading tangent (sh_frame.s: ∂p/∂u made
-//! orthogonal to the shading normal, which orients normal maps and anisotropic
-//! BSDFs) must be Mitsuba's. Covers the built-in tables of `cube` and `rectangle`,
+//! whose hits and misses Mitsuba recorded (tests/data/shape_hits.json, made by
+//! tools/mitsuba_shapes.py from the shapes of scenes/shapes/) are traced on the GPU:
+//! Mitsuba's misses must miss (a spurious hit is an error too), and at its hits the
+//! point, normals, uv and shading tangent (sh_frame.s: ∂p/∂u made orthogonal to the
+//! shading normal, which orients normal maps and anisotropic BSDFs) must be Mitsuba's. Covers the built-in tables of `cube` and `rectangle`,
 //! the analytic `disk`, `sphere` and `cylinder`, OBJ, PLY (ascii and binary) and
 //! serialized files with and without vertex normals, `face_normals`,
 //! `flip_tex_coords`, `flip_normals` and `to_world` with shears and mirrors.
@@ -96,12 +96,29 @@ fn every_shape_hits_like_mitsuba() {
     let data: Value = serde_json::from_str(&text).unwrap();
     let mut failures = Vec::new();
     let mut checked = 0;
+    let mut missed = 0;
     for case in data["cases"].as_array().unwrap() {
         let name = case["name"].as_str().unwrap();
         let shape = case["shape"].as_str().unwrap();
         let hits = case["hits"].as_array().unwrap();
-        let rays: Vec<(Vec3, Vec3)> = hits.iter().map(|h| (v3(&h["o"]), v3(&h["d"]))).collect();
+        let misses = case["misses"]
+            .as_array()
+            .expect("misses (python3 tools/mitsuba_shapes.py)");
+        let rays: Vec<(Vec3, Vec3)> = hits
+            .iter()
+            .chain(misses)
+            .map(|h| (v3(&h["o"]), v3(&h["d"])))
+            .collect();
         let found = trace(name, shape, &rays);
+        for (m, f) in misses.iter().zip(&found[hits.len()..]) {
+            missed += 1;
+            if let Some((p, t, ..)) = f {
+                failures.push(format!(
+                    "{name}: miss: ours a hit at {p} (t {t}), Mitsuba's none (ray {} {})",
+                    m["o"], m["d"]
+                ));
+            }
+        }
         let kind = shape.split('"').nth(1).unwrap_or("");
         let wrap = match kind {
             "sphere" | "cylinder" => [true, false],
@@ -161,6 +178,7 @@ fn every_shape_hits_like_mitsuba() {
         }
     }
     assert!(checked > 800, "only {checked} hits recorded");
+    assert!(missed > 300, "only {missed} misses recorded");
     // One example per case and quantity, with how often it happened.
     let mut seen: Vec<(String, usize, String)> = Vec::new();
     for f in &failures {
@@ -176,7 +194,7 @@ fn every_shape_hits_like_mitsuba() {
         .collect();
     assert!(
         failures.is_empty(),
-        "{} of {checked} hits differ from Mitsuba's:\n{}",
+        "{} of {checked} hits and {missed} misses differ from Mitsuba's:\n{}",
         failures.len(),
         summary.join("\n")
     );

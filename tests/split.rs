@@ -349,16 +349,47 @@ fn range_sums_fold_resume_and_spread_over_devices_as_documented() {
     assert!(max_relative_difference(&sums, &unsplit) <= ROUNDING);
 }
 
-/// SIGINT after the first batch: a valid partial EXR saying how many samples it holds,
+/// Samples per pixel of SCENE at 32x32 pixels, one per 1024-path batch, that this
+/// device renders in about `seconds` (at least 64): measured from a 16-sample render's
+/// "rendered in" line, so the interrupted render lasts as long on any machine.
+fn spp_lasting(d: &Path, seconds: f64) -> u32 {
+    let out = d.join("calibrate.exr");
+    let (code, _, err) = wavetrace(&[
+        "render",
+        SCENE,
+        "-D",
+        "res=32",
+        "--spp",
+        "16",
+        "--batch",
+        "1024",
+        "-o",
+        s(&out),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let secs: f64 = err
+        .split("rendered in ")
+        .nth(1)
+        .and_then(|t| t.split(' ').next())
+        .and_then(|t| t.parse().ok())
+        .unwrap_or_else(|| panic!("no \"rendered in\" line: {err}"));
+    ((seconds * 16.0 / secs.max(1e-6)) as u32).clamp(64, 1 << 16)
+}
+
+/// SIGINT at a known point, once the first batch is reported ("progress:" on stderr,
+/// at the first sample boundary): a valid partial EXR saying how many samples it holds,
 /// exit status non-zero with the resume command; `--resume` completes it to the image
 /// of the uninterrupted render, bit for bit.
 #[test]
 fn interrupted_render_resumes_to_the_uninterrupted_image() {
     let d = temp_dir("resume");
-    // 32x32 pixels, 1024 paths per batch: one sample per batch, 256 batches (about
-    // 2 s on lavapipe), so the signal lands long before the end.
+    // 32x32 pixels, 1024 paths per batch: one sample per batch, as many batches as
+    // this device renders in about 2 s (256 on lavapipe), so the signal, sent once the
+    // first is reported, lands long before the end on a slow or a fast device.
+    let spp = spp_lasting(&d, 2.0);
+    let spp_text = spp.to_string();
     let common_args = [
-        "render", SCENE, "-D", "res=32", "--spp", "256", "--batch", "1024", "-q",
+        "render", SCENE, "-D", "res=32", "--spp", &spp_text, "--batch", "1024", "-q",
     ];
     let interrupted = d.join("int.exr");
     let mut child = Command::new(env!("CARGO_BIN_EXE_wavetrace"))
@@ -399,10 +430,13 @@ fn interrupted_render_resumes_to_the_uninterrupted_image() {
     );
     let p = read(&interrupted);
     let done = p.record.samples.count();
-    assert!((1..256).contains(&done), "{done} samples done: {log}");
+    assert!(
+        (1..u64::from(spp)).contains(&done),
+        "{done} samples done: {log}"
+    );
     assert_eq!(p.record.samples, SampleRanges::of(0..done as u32));
     let (_, _, _, text) = exr::read_channels_with_text(&interrupted).expect("read");
-    let words = format!("{done} of 256 samples per pixel");
+    let words = format!("{done} of {spp} samples per pixel");
     assert!(
         text.iter()
             .any(|(k, v)| k == partial::SAMPLES_ATTRIBUTE && v.starts_with(&words)),
@@ -413,7 +447,7 @@ fn interrupted_render_resumes_to_the_uninterrupted_image() {
     let resumed = d.join("resumed.exr");
     let (code, _, err) = wavetrace(&["render", "--resume", s(&interrupted), "-o", s(&resumed)]);
     assert_eq!(code, 0, "{err}");
-    assert!(err.contains(&format!("samples {done}..256")), "{err}");
+    assert!(err.contains(&format!("samples {done}..{spp}")), "{err}");
     let reference = d.join("reference.exr");
     let mut args = common_args.to_vec();
     args.extend(["-o", s(&reference)]);

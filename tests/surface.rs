@@ -40,16 +40,34 @@ fn check(
 }
 
 /// The block t-test of `check`: prints the relMSE and the test of `img` against
-/// `reference` (`against` names its renderer) and fails below p = 0.01.
+/// `reference` (`against` names its renderer) and fails below p = 0.01. The power
+/// control: the render scaled by 0.95 must fail, either the same block test or the
+/// t-test of the whole image per channel (which a small global bias cannot hide in:
+/// its standard error is that of a block over the number of blocks), and the whole
+/// image must pass that second test unscaled, at 1% too (Bonferroni over the two).
 fn assert_blocks_agree(img: &Image, reference: &Image, block: u32, label: &str, against: &str) {
     let test = block_t_test(img, reference, block).unwrap();
+    let whole_side = img.width.max(img.height);
+    let whole = block_t_test(img, reference, whole_side).unwrap();
     println!(
-        "{label}: relMSE {:.3e}; {test}",
+        "{label}: relMSE {:.3e}; {test}; whole image {whole}",
         rel_mse(img, reference).unwrap()
     );
     assert!(
         test.passes(0.01),
         "{label}: disagrees with {against}: {test}"
+    );
+    assert!(
+        whole.passes(0.01),
+        "{label}: the whole image disagrees with {against}: {whole}"
+    );
+    let mut biased = img.clone();
+    biased.rgb.iter_mut().for_each(|v| *v *= 0.95);
+    let b = block_t_test(&biased, reference, block).unwrap();
+    let bw = block_t_test(&biased, reference, whole_side).unwrap();
+    assert!(
+        !b.passes(0.005) || !bw.passes(0.005),
+        "{label}: the check cannot see a 5% bias: blocks {b}; whole image {bw}"
     );
 }
 

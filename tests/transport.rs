@@ -57,8 +57,10 @@ struct Estimate {
 }
 
 impl Estimate {
-    /// Checks `expected` lies within 5 standard errors, and that the test is sharp:
-    /// the standard error is below `max_rel_se` of the value.
+    /// Checks `expected` lies within 5 standard errors (a false failure has
+    /// probability 6e-7 per check, for a mean of many independent pixels), and that
+    /// the test is sharp: the standard error is below `max_rel_se` of the value, and
+    /// the same check rejects `expected` x 0.95 (the power control: a 5% bias is seen).
     fn check(&self, expected: f64, max_rel_se: f64, what: &str) {
         let z = (self.mean - expected) / self.se.max(1e-12);
         println!(
@@ -75,6 +77,12 @@ impl Estimate {
             self.se < max_rel_se * expected,
             "{what}: too noisy to test ({:.5})",
             self.se
+        );
+        let z_biased = (self.mean - 0.95 * expected) / self.se.max(1e-12);
+        assert!(
+            z_biased.abs() >= 5.0,
+            "{what}: the check cannot see a 5% bias (z = {z_biased:.1} against {})",
+            0.95 * expected
         );
     }
 }

@@ -212,6 +212,11 @@ struct Viewer {
     child: Child,
     display: String,
     window: String,
+    /// How much slower than the machine the waits were set on this one is: the
+    /// viewer's start-up (kernels compiled and a first frame shown) over 10 s, at
+    /// least 1. Every wait below is its stated seconds times this, so a slow or loaded
+    /// machine gets longer waits instead of a false failure.
+    slowness: f64,
 }
 
 impl Viewer {
@@ -234,15 +239,18 @@ impl Viewer {
             child,
             display: x.display.clone(),
             window: String::new(),
+            slowness: 1.0,
         };
         // Lavapipe compiles the kernels at their first dispatch: allow for a cold
         // shader cache.
-        let deadline = Instant::now() + Duration::from_secs(180);
+        let started = Instant::now();
+        let deadline = started + Duration::from_secs(180);
         while Instant::now() < deadline {
             viewer.assert_running();
             let out = viewer.xdotool(&["search", "--name", "^wavetrace"]);
             if let Some(id) = out.lines().next().filter(|l| !l.trim().is_empty()) {
                 viewer.window = id.trim().to_string();
+                viewer.slowness = (started.elapsed().as_secs_f64() / 10.0).max(1.0);
                 return viewer;
             }
             std::thread::sleep(Duration::from_millis(100));
@@ -270,13 +278,18 @@ impl Viewer {
         }
     }
 
+    /// The instant `seconds` from now, scaled by this machine's slowness.
+    fn deadline(&self, seconds: u64) -> Instant {
+        Instant::now() + Duration::from_secs_f64(seconds as f64 * self.slowness)
+    }
+
     fn title(&self) -> String {
         self.xdotool(&["getwindowname", &self.window])
     }
 
     /// Waits until the title contains `needle` (the viewer still running).
     fn wait_title(&mut self, needle: &str, seconds: u64) -> String {
-        let deadline = Instant::now() + Duration::from_secs(seconds);
+        let deadline = self.deadline(seconds);
         loop {
             self.assert_running();
             let t = self.title();
@@ -300,7 +313,7 @@ impl Viewer {
 
     /// Waits for the process to end by itself; returns its status and stderr.
     fn wait_exit(mut self, seconds: u64) -> (i32, String) {
-        let deadline = Instant::now() + Duration::from_secs(seconds);
+        let deadline = self.deadline(seconds);
         loop {
             if let Ok(Some(status)) = self.child.try_wait() {
                 let mut err = String::new();
@@ -325,7 +338,7 @@ impl Drop for Viewer {
 
 /// Waits for `path` to exist and be complete (its size stable).
 fn wait_file(path: &Path, viewer: &mut Viewer) {
-    let deadline = Instant::now() + Duration::from_secs(60);
+    let deadline = viewer.deadline(60);
     let mut last = None;
     loop {
         viewer.assert_running();
@@ -451,7 +464,7 @@ fn a_camera_key_moves_the_image_and_restarts_the_samples() {
             .and_then(|s| s.trim().parse().ok())
             .unwrap_or_else(|| panic!("no spp in the title {title:?}"))
     };
-    let deadline = Instant::now() + Duration::from_secs(120);
+    let deadline = v.deadline(120);
     while spp_of(&v.title()) < 4 {
         v.assert_running();
         assert!(Instant::now() < deadline, "the viewer never reached 4 spp");
@@ -463,7 +476,7 @@ fn a_camera_key_moves_the_image_and_restarts_the_samples() {
         .expect("dir")
         .filter_map(|e| e.ok().map(|e| e.path()))
         .find(|p| p.extension().is_some_and(|e| e == "exr"));
-    let deadline = Instant::now() + Duration::from_secs(30);
+    let deadline = v.deadline(30);
     let mut before = before;
     while before.is_none() {
         assert!(Instant::now() < deadline, "P saved nothing");
@@ -482,7 +495,7 @@ fn a_camera_key_moves_the_image_and_restarts_the_samples() {
         v.key("Left");
     }
     v.wait_title("| 0 spp", 20);
-    let deadline = Instant::now() + Duration::from_secs(120);
+    let deadline = v.deadline(120);
     while spp_of(&v.title()) < 4 {
         v.assert_running();
         assert!(
@@ -494,7 +507,7 @@ fn a_camera_key_moves_the_image_and_restarts_the_samples() {
     v.key("p");
     // ... and the image moved: block means (8x8 pixels, so a few samples' noise
     // averages out) differ much more than noise could make them.
-    let deadline = Instant::now() + Duration::from_secs(30);
+    let deadline = v.deadline(30);
     let after = loop {
         let found = dir
             .read_dir()

@@ -11,7 +11,10 @@ non-uniform scale, shear), mirrored and with flip_normals; OBJ, PLY and serializ
 files with and without normals, face_normals and flip_tex_coords. For each, rays from
 random points around the shape aimed at random points of its bounding box; for every
 ray Mitsuba hits, the JSON keeps the ray and Mitsuba's surface interaction: t, p,
-n (geometric normal), the shading frame sh_frame.n and sh_frame.s, uv and dp_du.
+n (geometric normal), the shading frame sh_frame.n and sh_frame.s, uv and dp_du; of
+the rays it misses (aimed at the box, so many pass near the silhouette), up to as many
+again, each missing also as the JSON writes it (rounded to 7 digits), so that a
+spurious hit is seen too.
 Rays are made with a fixed seed, so running it again gives the same file (for the
 same Mitsuba version, which the file records).
 """
@@ -112,6 +115,7 @@ def hits(xml, count, rng):
     center = (lo + hi) * 0.5
     radius = 2.0 * dr_norm(hi - lo) + 1.0
     out = []
+    misses = []
     tries = 0
     while len(out) < count and tries < 100 * count:
         tries += 1
@@ -127,6 +131,10 @@ def hits(xml, count, rng):
         d = d / dr_norm(d)
         si = scene.ray_intersect(mi.Ray3f(o, d))
         if not si.is_valid():
+            miss = {"o": vec(o), "d": vec(d)}
+            rounded = mi.Ray3f(mi.ScalarPoint3f(*miss["o"]), mi.ScalarVector3f(*miss["d"]))
+            if len(misses) < count and not scene.ray_intersect(rounded).is_valid():
+                misses.append(miss)
             continue
         rec = {
             "o": vec(o), "d": vec(d), "t": float("%.7g" % si.t),
@@ -139,7 +147,7 @@ def hits(xml, count, rng):
             print("  skipped a hit with NaN in Mitsuba's interaction:", rec)
             continue
         out.append(rec)
-    return out
+    return out, misses
 
 
 def dr_norm(v):
@@ -154,9 +162,9 @@ def main():
     rng = random.Random(17)
     cases = []
     for name, xml in CASES.items():
-        h = hits(xml, args.rays, rng)
-        print("%-28s %d hits" % (name, len(h)))
-        cases.append({"name": name, "shape": xml, "hits": h})
+        h, m = hits(xml, args.rays, rng)
+        print("%-28s %d hits, %d misses" % (name, len(h), len(m)))
+        cases.append({"name": name, "shape": xml, "hits": h, "misses": m})
     os.makedirs(os.path.dirname(args.out), exist_ok=True)
     with open(args.out, "w") as f:
         json.dump({"mitsuba": mi.__version__, "variant": "scalar_rgb",

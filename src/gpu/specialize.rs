@@ -304,7 +304,19 @@ fn cache_path(
     constants: &[(u32, u32)],
     inline: bool,
 ) -> Option<PathBuf> {
-    let dir = super::device::cache_dir()?.join("spirv");
+    let root = super::device::cache_dir()?;
+    Some(cache_file(&root, name, spirv, constants, inline))
+}
+
+/// [`cache_path`] under the cache folder `root`.
+fn cache_file(
+    root: &std::path::Path,
+    name: &str,
+    spirv: &[u32],
+    constants: &[(u32, u32)],
+    inline: bool,
+) -> PathBuf {
+    let dir = root.join("spirv");
     let passes = (PASSES, inline.then_some(INLINE_PASSES));
     let hash = |salt: u64| {
         let mut h = std::collections::hash_map::DefaultHasher::new();
@@ -315,7 +327,7 @@ fn cache_path(
         .chars()
         .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
         .collect();
-    Some(dir.join(format!("{label}-{:016x}{:016x}.spv", hash(0), hash(1))))
+    dir.join(format!("{label}-{:016x}{:016x}.spv", hash(0), hash(1)))
 }
 
 fn read_cached(path: &PathBuf) -> Option<Vec<u32>> {
@@ -403,15 +415,21 @@ mod tests {
 
     #[test]
     fn cache_keys_differ_by_module_constants_and_passes() {
+        // A cache folder of this test's own, so the keys are compared whatever HOME
+        // and XDG_CACHE_HOME say.
+        let root = std::env::temp_dir().join(format!("wavetrace-cachekeys-{}", std::process::id()));
         let m = module(crate::gpu::shaders::SHADE);
-        let a = cache_path("shade", &m, &[(0, 1)], false);
-        let b = cache_path("shade", &m, &[(0, 2)], false);
-        let c = cache_path("shade", &m[..m.len() - 1], &[(0, 1)], false);
-        if a.is_some() {
-            assert_ne!(a, b);
-            assert_ne!(a, c);
-            assert_eq!(a, cache_path("shade", &m, &[(0, 1)], false));
-            assert_ne!(a, cache_path("shade", &m, &[(0, 1)], true));
-        }
+        let key =
+            |m: &[u32], c: u32, inline: bool| cache_file(&root, "shade", m, &[(0, c)], inline);
+        let a = key(&m, 1, false);
+        assert!(a.starts_with(root.join("spirv")), "{}", a.display());
+        assert_ne!(a, key(&m, 2, false));
+        assert_ne!(a, key(&m[..m.len() - 1], 1, false));
+        assert_eq!(a, key(&m, 1, false));
+        assert_ne!(a, key(&m, 1, true));
+        // An entry stored under the key is read back whole.
+        store_cache_file(&a, bytemuck::cast_slice::<u32, u8>(&m));
+        assert_eq!(read_cached(&a).as_deref(), Some(&m[..]));
+        let _ = std::fs::remove_dir_all(&root);
     }
 }

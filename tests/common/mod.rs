@@ -269,5 +269,6 @@ pub fn downsample(img: &Image, k: u32) -> Image {
     out
 }
 
+pub mod albedo;
 pub mod media;
 pub mod stats;
