@@ -14,7 +14,11 @@ use common::stats::{
 };
 use glam::Vec3;
 use wavetrace::gpu::layout::BsdfRecord;
-use wavetrace::scene::bsdf::{rough_reflectance, thin_dielectric_reflectance, Bsdf, Distribution};
+use wavetrace::scene::bsdf::{
+    rough_reflectance, thin_dielectric_reflectance, Bsdf, Conductor, Dielectric, Diffuse,
+    Distribution, NoriMicrofacet, Plastic, RoughConductor, RoughDielectric, RoughPlastic,
+    ThinDielectric,
+};
 
 const N: u32 = 100_000;
 
@@ -72,33 +76,33 @@ fn lossless_smooth_models() {
     let cases = [
         (
             "diffuse white",
-            Bsdf::Diffuse { reflectance: white },
+            Bsdf::Diffuse(Diffuse { reflectance: white }),
             1.0,
             false,
         ),
         (
             "twosided diffuse white",
-            Bsdf::TwoSided(Box::new(Bsdf::Diffuse { reflectance: white })),
+            Bsdf::TwoSided(Box::new(Bsdf::Diffuse(Diffuse { reflectance: white }))),
             1.0,
             true,
         ),
         (
             "conductor none",
-            Bsdf::Conductor {
+            Bsdf::Conductor(Conductor {
                 eta: Vec3::ZERO,
                 k: Vec3::ONE,
                 specular_reflectance: white,
-            },
+            }),
             1.0,
             false,
         ),
         (
             "dielectric 1.5",
-            Bsdf::Dielectric {
+            Bsdf::Dielectric(Dielectric {
                 eta: 1.5,
                 specular_reflectance: white,
                 specular_transmittance: white,
-            },
+            }),
             1.5,
             true,
         ),
@@ -106,21 +110,21 @@ fn lossless_smooth_models() {
         // radiance scaling, so its energy eta is 1), from either side.
         (
             "thindielectric 1.5",
-            Bsdf::ThinDielectric {
+            Bsdf::ThinDielectric(ThinDielectric {
                 eta: 1.5,
                 specular_reflectance: white,
                 specular_transmittance: white,
-            },
+            }),
             1.0,
             true,
         ),
         (
             "dielectric 1/1.5",
-            Bsdf::Dielectric {
+            Bsdf::Dielectric(Dielectric {
                 eta: 1.0 / 1.5,
                 specular_reflectance: white,
                 specular_transmittance: white,
-            },
+            }),
             1.0 / 1.5,
             true,
         ),
@@ -129,12 +133,12 @@ fn lossless_smooth_models() {
         // 1 - F_dr,ext = η² (1 - F_dr,int) (reciprocity of the diffuse Fresnel terms).
         (
             "plastic white",
-            Bsdf::Plastic {
+            Bsdf::Plastic(Plastic {
                 diffuse_reflectance: white,
                 specular_reflectance: white,
                 eta: 1.49,
                 nonlinear: false,
-            },
+            }),
             1.0,
             false,
         ),
@@ -172,14 +176,14 @@ fn microfacet_energy_loss_is_bounded() {
             // minima: GGX α = 0.8 dielectric 0.44, α = 0.3 0.74, α = 0.05 0.87).
             let lower = 0.85 * (1.0 - 0.75 * alpha as f64);
             let name = format!("roughconductor none {distribution:?} α = {alpha}");
-            let b = Bsdf::RoughConductor {
+            let b = Bsdf::RoughConductor(RoughConductor {
                 distribution,
                 alpha_u: alpha,
                 alpha_v: alpha,
                 eta: Vec3::ZERO,
                 k: Vec3::ONE,
                 specular_reflectance: white,
-            };
+            });
             for (c, a) in no_gain(&probe, &name, &b, 1.0, false) {
                 let want = rough_reflectance(distribution, alpha as f64, c as f64, 1e8);
                 assert!(
@@ -190,14 +194,14 @@ fn microfacet_energy_loss_is_bounded() {
             }
             for eta in [1.5f32, 1.0 / 1.5] {
                 let name = format!("roughdielectric {distribution:?} α = {alpha} η = {eta:.3}");
-                let b = Bsdf::RoughDielectric {
+                let b = Bsdf::RoughDielectric(RoughDielectric {
                     distribution,
                     alpha_u: alpha,
                     alpha_v: alpha,
                     eta,
                     specular_reflectance: white,
                     specular_transmittance: white,
-                };
+                });
                 for (c, a) in no_gain(&probe, &name, &b, eta, true) {
                     assert!(
                         a >= lower,
@@ -206,14 +210,14 @@ fn microfacet_energy_loss_is_bounded() {
                 }
             }
             let name = format!("roughplastic white {distribution:?} α = {alpha}");
-            let b = Bsdf::RoughPlastic {
+            let b = Bsdf::RoughPlastic(RoughPlastic {
                 distribution,
                 alpha,
                 diffuse_reflectance: white,
                 specular_reflectance: white,
                 eta: 1.49,
                 nonlinear: false,
-            };
+            });
             for (c, a) in no_gain(&probe, &name, &b, 1.0, false) {
                 assert!(
                     a >= lower,
@@ -224,11 +228,11 @@ fn microfacet_energy_loss_is_bounded() {
     }
     for alpha in [0.1f32, 0.5] {
         // Nori's microfacet with kd = 0.5 (ks = 0.5): at most 1.
-        let b = Bsdf::NoriMicrofacet {
+        let b = Bsdf::NoriMicrofacet(NoriMicrofacet {
             alpha,
             eta: 1.5046 / 1.000277,
             kd: Vec3::splat(0.5),
-        };
+        });
         no_gain(
             &probe,
             &format!("nori microfacet α = {alpha}"),
@@ -252,11 +256,11 @@ fn thin_dielectric_lobes() {
     let probe = bsdf_probe();
     let (refl, trans) = (Vec3::new(0.9, 0.5, 0.2), Vec3::new(0.3, 0.6, 1.0));
     for eta in [1.5f32, 1.333] {
-        let b = Bsdf::ThinDielectric {
+        let b = Bsdf::ThinDielectric(ThinDielectric {
             eta,
             specular_reflectance: refl,
             specular_transmittance: trans,
-        };
+        });
         for (i, &c) in COS.iter().enumerate() {
             for sign in [1.0f32, -1.0] {
                 let wo = wo_at(c, 0.7 * i as f32) * Vec3::new(1.0, 1.0, sign);

@@ -211,16 +211,6 @@ pub struct Vertex {
     pub pad2: u32,
 }
 
-/// BSDF kinds in [`BsdfRecord::kind`] (one GLSL file each in `shaders/bsdf/`).
-pub const BSDF_DIFFUSE: u32 = 0;
-pub const BSDF_CONDUCTOR: u32 = 1;
-pub const BSDF_ROUGHCONDUCTOR: u32 = 2;
-pub const BSDF_DIELECTRIC: u32 = 3;
-pub const BSDF_ROUGHDIELECTRIC: u32 = 4;
-pub const BSDF_PLASTIC: u32 = 5;
-pub const BSDF_ROUGHPLASTIC: u32 = 6;
-pub const BSDF_NORI_MICROFACET: u32 = 7;
-pub const BSDF_THINDIELECTRIC: u32 = 8;
 /// [`BsdfRecord::flags`]: Mitsuba `twosided` around the model.
 pub const BSDF_TWOSIDED: u32 = 1;
 /// [`BsdfRecord::flags`]: plastics with `nonlinear` = true.
@@ -235,7 +225,8 @@ pub const BSDF_GGX: u32 = 1;
 /// Entries of [`BsdfRecord::table`].
 pub const BSDF_TABLE_SIZE: usize = 32;
 
-/// A BSDF's parameters; made from a `scene::Bsdf` by `BsdfRecord::from`. Fields by kind:
+/// A BSDF's parameters; made from a `scene::Bsdf` by `BsdfRecord::from`. `kind` is the
+/// model's id in `scene::bsdf::kinds::KINDS`. Fields by kind:
 ///
 /// | kind | fields read |
 /// |------|-------------|

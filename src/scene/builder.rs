@@ -12,22 +12,6 @@ use super::shape::{Quadric, QuadricKind};
 use super::xml::Element;
 use super::{Bsdf, Emitter, Error, Medium, Mesh, Texture};
 
-/// BSDF types of Mitsuba 3 or Nori that wavetrace does not implement yet.
-pub const UNSUPPORTED_BSDFS: &[&str] = &[
-    "principled",
-    "principledthin",
-    "blendbsdf",
-    "mask",
-    "bumpmap",
-    "polarizer",
-    "retarder",
-    "circular",
-    "measured",
-    "measured_polarized",
-    "pplastic",
-    "hair",
-];
-
 /// Emitter types we know but do not implement yet.
 pub const UNSUPPORTED_EMITTERS: &[&str] = &[
     "directional",

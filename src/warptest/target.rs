@@ -4,10 +4,11 @@
 use glam::Vec3;
 
 use super::{Axis, Target, Warp};
-use crate::scene::bsdf::{Bsdf, Distribution};
+use crate::scene::bsdf::{self, Distribution, TestParams};
 
-/// Every name [`parse`] knows, for help and error messages.
-pub const NAMES: &[&str] = &[
+/// The warps, microfacet distributions and phase functions [`parse`] knows; its BSDFs
+/// are those of `scene::bsdf`'s registry with a warptest ([`bsdf::warptests`]).
+const NAMES: &[&str] = &[
     "square_to_disk",
     "uniform_triangle",
     "uniform_hemisphere",
@@ -16,16 +17,23 @@ pub const NAMES: &[&str] = &[
     "uniform_cap",
     "beckmann",
     "ggx",
-    "diffuse",
-    "roughconductor",
-    "roughdielectric",
-    "plastic",
-    "roughplastic",
-    "nori_microfacet",
     "hg",
     "isotropic",
     "mismatched_cosine",
 ];
+
+/// Every name [`parse`] knows, for help and error messages: the warps and
+/// distributions, the BSDFs, the phase functions.
+pub fn names() -> Vec<&'static str> {
+    let (before, after) = NAMES.split_at(8);
+    let bsdfs = bsdf::warptests().map(|w| w.kind.name);
+    before
+        .iter()
+        .copied()
+        .chain(bsdfs)
+        .chain(after.iter().copied())
+        .collect()
+}
 
 /// Parameters of a test target; `None` takes the default, and a parameter the
 /// target does not have is an error.
@@ -190,103 +198,48 @@ pub fn parse(name: &str, p: &Params) -> Result<(Target, String), String> {
                 format!("Henyey-Greenstein g = {g}, {}", angle(wo)),
             ))
         }
-        "diffuse" | "roughconductor" | "roughdielectric" | "plastic" | "roughplastic"
-        | "nori_microfacet" => {
-            let bsdf = match name {
-                "diffuse" => {
-                    used(&["theta", "phi"])?;
-                    Bsdf::Diffuse {
-                        reflectance: Vec3::splat(0.5),
-                    }
-                }
-                "roughconductor" => {
-                    used(&[
-                        "alpha",
-                        "alpha-u",
-                        "alpha-v",
-                        "distribution",
-                        "theta",
-                        "phi",
-                    ])?;
-                    let (alpha_u, alpha_v) = roughness(true)?;
-                    Bsdf::RoughConductor {
-                        distribution: distribution()?,
-                        alpha_u,
-                        alpha_v,
-                        // Copper (Mitsuba's "Cu" at the RGB primaries).
-                        eta: Vec3::new(0.2, 0.92, 1.1),
-                        k: Vec3::new(3.9, 2.46, 2.14),
-                        specular_reflectance: Vec3::ONE,
-                    }
-                }
-                "roughdielectric" => {
-                    used(&[
-                        "alpha",
-                        "alpha-u",
-                        "alpha-v",
-                        "distribution",
-                        "eta",
-                        "theta",
-                        "phi",
-                    ])?;
-                    let (alpha_u, alpha_v) = roughness(true)?;
-                    Bsdf::RoughDielectric {
-                        distribution: distribution()?,
-                        alpha_u,
-                        alpha_v,
-                        eta: eta()?,
-                        specular_reflectance: Vec3::ONE,
-                        specular_transmittance: Vec3::ONE,
-                    }
-                }
-                "plastic" => {
-                    used(&["eta", "theta", "phi"])?;
-                    Bsdf::Plastic {
-                        diffuse_reflectance: Vec3::splat(0.5),
-                        specular_reflectance: Vec3::ONE,
-                        eta: eta()?,
-                        nonlinear: false,
-                    }
-                }
-                "roughplastic" => {
-                    used(&["alpha", "distribution", "eta", "theta", "phi"])?;
-                    Bsdf::RoughPlastic {
-                        distribution: distribution()?,
-                        alpha: roughness(false)?.0,
-                        diffuse_reflectance: Vec3::splat(0.5),
-                        specular_reflectance: Vec3::ONE,
-                        eta: eta()?,
-                        nonlinear: false,
-                    }
-                }
-                _ => {
-                    used(&["alpha", "eta", "theta", "phi"])?;
-                    Bsdf::NoriMicrofacet {
-                        alpha: roughness(false)?.0,
-                        eta: eta()?,
-                        kd: Vec3::splat(0.5),
-                    }
-                }
-            };
-            let wo = wo()?;
-            let axis = Axis::for_bsdf(&bsdf);
-            let what = format!("{name} {bsdf:?}, {}", angle(wo));
-            Ok((Target::Bsdf { bsdf, wo, axis }, what))
-        }
-        _ => Err(format!(
-            "unknown warptest target '{name}'; one of: {}",
-            NAMES.join(", ")
-        )),
+        _ => match bsdf::warptests().find(|w| w.kind.name == name) {
+            Some(test) => {
+                let mut allowed = vec!["theta", "phi"];
+                allowed.extend(test.params);
+                used(&allowed)?;
+                let anisotropic = test.params.contains(&"alpha-u");
+                let (alpha_u, alpha_v) = if test.params.contains(&"alpha") {
+                    roughness(anisotropic)?
+                } else {
+                    (0.2, 0.2)
+                };
+                let bsdf = (test.make)(&TestParams {
+                    alpha_u,
+                    alpha_v,
+                    distribution: distribution()?,
+                    eta: if test.params.contains(&"eta") {
+                        eta()?
+                    } else {
+                        1.5
+                    },
+                });
+                let wo = wo()?;
+                let axis = Axis::for_bsdf(&bsdf);
+                let what = format!("{name} {bsdf:?}, {}", angle(wo));
+                Ok((Target::Bsdf { bsdf, wo, axis }, what))
+            }
+            None => Err(format!(
+                "unknown warptest target '{name}'; one of: {}",
+                names().join(", ")
+            )),
+        },
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::bsdf::{Bsdf, RoughConductor};
 
     #[test]
     fn names_parameters_and_errors() {
-        for name in NAMES {
+        for name in names() {
             assert!(parse(name, &Params::default()).is_ok(), "{name}");
         }
         let p = Params {
@@ -300,7 +253,7 @@ mod tests {
             panic!("{t:?}")
         };
         assert!(
-            matches!(bsdf, Bsdf::RoughConductor { alpha_u, alpha_v, .. } if alpha_u == 0.1 && alpha_v == 0.4)
+            matches!(bsdf, Bsdf::RoughConductor(RoughConductor { alpha_u, alpha_v, .. }) if alpha_u == 0.1 && alpha_v == 0.4)
         );
         assert!((wo.z - 0.5).abs() < 1e-6);
         let err = |name: &str, p: Params| parse(name, &p).unwrap_err();
