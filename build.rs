@@ -5,11 +5,18 @@
 //! GLSL error fails the build and glslang's message names the file and line. The
 //! generated `shaders.rs` holds one `pub const NAME: &[u8]` per kernel: `SHADE` for
 //! `kernels/shade.comp`, `TESTS_WARP` for `tests/warp.comp`. Includes name their file
-//! from `shaders/` (`#include "bsdf/microfacet.glsl"`), the one include path.
+//! from `shaders/` (`#include "bsdf/microfacet.glsl"`), or from `$OUT_DIR/glsl/` for
+//! generated files (`bsdf/dispatch.glsl`, build/bsdf_dispatch.rs).
 
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Command;
+
+#[path = "build/bsdf_dispatch.rs"]
+mod bsdf_dispatch;
+#[allow(dead_code)] // the crate uses the rest
+#[path = "src/scene/bsdf/kinds.rs"]
+mod bsdf_kinds;
 
 fn main() {
     let root =
@@ -17,6 +24,9 @@ fn main() {
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     let shader_dir = root.join("shaders");
     println!("cargo:rerun-if-changed=shaders");
+    println!("cargo:rerun-if-changed=build");
+    println!("cargo:rerun-if-changed=src/scene/bsdf/kinds.rs");
+    bsdf_dispatch::write(&out);
 
     let mut kernels = Vec::new();
     collect_kernels(&shader_dir, &mut kernels);
@@ -71,6 +81,7 @@ fn main() {
                 .arg("vulkan1.2")
                 .args(defines)
                 .arg(format!("-I{}", shader_dir.display()))
+                .arg(format!("-I{}", out.join("glsl").display()))
                 .arg("-o")
                 .arg(&spv)
                 .arg(kernel)

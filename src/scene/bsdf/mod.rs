@@ -509,6 +509,32 @@ mod tests {
     }
 
     #[test]
+    fn each_kind_has_its_glsl_file_with_the_functions_the_dispatch_calls() {
+        for k in kinds::KINDS {
+            let path = format!(
+                "{}/shaders/bsdf/{}.glsl",
+                env!("CARGO_MANIFEST_DIR"),
+                k.name
+            );
+            let src = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
+            let mut functions = vec![format!("BsdfSample bsdf_{}_sample(", k.name)];
+            if !k.is_delta() {
+                functions.push(format!("vec3 bsdf_{}_eval(", k.name));
+                functions.push(format!("float bsdf_{}_pdf(", k.name));
+            }
+            if k.hooks & kinds::hooks::LOBES != 0 {
+                functions.push(format!("uint bsdf_{}_lobes(", k.name));
+            }
+            if k.hooks & kinds::hooks::TEXTURED != 0 {
+                functions.push(format!("BsdfRecord bsdf_{}_textured(", k.name));
+            }
+            for f in functions {
+                assert!(src.contains(&f), "{path} lacks {f}...)");
+            }
+        }
+    }
+
+    #[test]
     fn registry_lists_each_type_once() {
         for (i, a) in REGISTRY.iter().enumerate() {
             assert_eq!(a.family, Family::Bsdf);
