@@ -35,6 +35,18 @@ pub fn names() -> Vec<&'static str> {
         .collect()
 }
 
+/// The command line's help for the target: every name, by what it samples.
+pub fn help() -> String {
+    let bsdfs: Vec<&str> = bsdf::warptests().map(|w| w.kind.name).collect();
+    format!(
+        "What to sample: a warp (square_to_disk, uniform_triangle, uniform_hemisphere, \
+         cosine_hemisphere, uniform_sphere, uniform_cap), microfacet normals (beckmann, ggx), \
+         a BSDF ({}), a phase function (hg, isotropic), or mismatched_cosine (a \
+         deliberately wrong pdf: it fails)",
+        bsdfs.join(", ")
+    )
+}
+
 /// Parameters of a test target; `None` takes the default, and a parameter the
 /// target does not have is an error.
 #[derive(Debug, Clone, Default)]
