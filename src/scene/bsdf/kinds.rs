@@ -96,11 +96,6 @@ impl Kind {
     pub const fn is_delta(&self) -> bool {
         self.lobes & (DIFFUSE | GLOSSY) == 0
     }
-
-    /// Its bit in the `BSDF_KINDS` specialization mask.
-    pub const fn bit(&self) -> u32 {
-        1 << self.id
-    }
 }
 
 /// The kind called `name` ([`Kind::name`]), found at compile time in a `const`: a

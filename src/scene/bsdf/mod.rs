@@ -69,9 +69,9 @@ pub use roughdielectric::RoughDielectric;
 pub use roughplastic::{rough_coating_tables, RoughPlastic};
 pub use thindielectric::ThinDielectric;
 
-/// Every BSDF type of both dialects: the supported ones with their readers, then
-/// Mitsuba 3's types not supported yet (its `src/bsdfs/*.cpp`). A new plugin adds
-/// its entries here.
+/// Every BSDF type of both dialects: Mitsuba 3's 23 (the `add_plugin` lines of its
+/// `src/bsdfs/CMakeLists.txt`, August 2026), supported or not yet, then Nori's. A new
+/// plugin adds its entries here.
 pub const PLUGINS: &[Plugin] = &[
     diffuse::MITSUBA,
     conductor::MITSUBA,
@@ -190,8 +190,7 @@ impl Plugin {
         let Read::Props(read) = self.read else {
             return None;
         };
-        Some((|| {
-            let bsdf = read(props)?;
+        Some(read(props).and_then(|bsdf| {
             Ok(match TextureMaps::from_props(self.textures, props)? {
                 Some(maps) => Bsdf::Textured {
                     bsdf: Box::new(bsdf),
@@ -199,7 +198,7 @@ impl Plugin {
                 },
                 None => bsdf,
             })
-        })())
+        }))
     }
 }
 

@@ -27,7 +27,7 @@ pub const MITSUBA: Plugin = Plugin::loader(PluginDoc::new(
     Family::Bsdf,
     Dialect::Mitsuba,
     "normalmap",
-    "The nested BSDF shaded with a normal read from a texture.",
+    "One nested BSDF shaded with a normal read from a texture.",
     &[
         Param::new(
             "normalmap",
@@ -47,7 +47,6 @@ pub const MITSUBA: Plugin = Plugin::loader(PluginDoc::new(
             "true",
             "apply the shadowing term of Estevez et al. 2019",
         ),
-        Param::new("(nested)", "bsdf", "", "the BSDF to shade"),
     ],
 ));
 

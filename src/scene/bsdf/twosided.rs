@@ -11,7 +11,7 @@
 
 use super::{Bsdf, Plugin};
 use crate::gpu::layout::{BsdfRecord, BSDF_TWOSIDED};
-use crate::scene::plugin::{Family, Param, PluginDoc};
+use crate::scene::plugin::{Family, PluginDoc};
 use crate::scene::xml::Dialect;
 
 pub const MITSUBA: Plugin = Plugin::loader(PluginDoc::new(
@@ -19,7 +19,7 @@ pub const MITSUBA: Plugin = Plugin::loader(PluginDoc::new(
     Dialect::Mitsuba,
     "twosided",
     "One nested BSDF (without transmission) used on both faces.",
-    &[Param::new("(nested)", "bsdf", "", "the BSDF of both faces")],
+    &[],
 ));
 
 /// The record of `inner` used on both faces.
