@@ -21,9 +21,8 @@
 //!   has none; quadrics `sphere` (`center`, `radius`), `disk`, `cylinder` (`p0`,
 //!   `p1`, `radius`), intersected exactly (see [`super::quadric`]); all with
 //!   `to_world` (mirrors included) and `flip_normals`.
-//! - `bsdf`: `diffuse`, `conductor`, `roughconductor`, `dielectric`, `roughdielectric`,
-//!   `plastic`, `roughplastic`, `thindielectric` (parameters in [`Bsdf`]), `twosided` around one BSDF
-//!   without transmission.
+//! - `bsdf`: every type of [`super::bsdf::PLUGINS`] (one file each in `scene/bsdf/`);
+//!   this loader reads `twosided`, `normalmap` and `null` itself, as they nest BSDFs.
 //! - `emitter`: `area` (`radiance`, nested in or referenced by a shape), `point`
 //!   (`position` or `to_world`, `intensity` 1), `constant` (`radiance` 1).
 //!

@@ -14,8 +14,8 @@
 //! - `sampler` of any type wavetrace knows (`super::sampler`; Nori itself has only
 //!   `independent`): `sampleCount` (1), `seed` and the type's parameters.
 //! - `integrator`: any type; its parameters are kept unread in [`IntegratorSpec`].
-//! - `mesh type="obj"`: `filename`, `toWorld`, nested `bsdf` (`diffuse`, `mirror`,
-//!   `dielectric`, `microfacet`; parameters in [`Bsdf`]) and `emitter type="area"` (`radiance`). Nori does not flip texture v.
+//! - `mesh type="obj"`: `filename`, `toWorld`, nested `bsdf` (Nori's types of
+//!   [`super::bsdf::PLUGINS`]: `diffuse`, `mirror`, `dielectric`, `microfacet`) and `emitter type="area"` (`radiance`). Nori does not flip texture v.
 //! - top-level `medium` (`homogeneous` or `heterogeneous`, parameters as Mitsuba's,
 //!   colors as `<color>`: `sigma_a` + `sigma_s` or `sigma_t` + `albedo`, `scale`,
 //!   nested `<phase>` and `<volume>`) filling the axis-aligned box `bounds_min` ..

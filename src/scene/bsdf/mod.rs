@@ -407,11 +407,6 @@ pub enum Slot {
     Alpha,
 }
 
-/// The parameters of Mitsuba BSDF type `t` that may be textures, and their slots.
-pub fn texture_slots(t: &str) -> &'static [(&'static str, Slot)] {
-    plugin(Dialect::Mitsuba, t).map_or(&[], |p| p.textures)
-}
-
 impl TextureMaps {
     /// The maps of a BSDF whose parameters `slots` may be textures, from the texture
     /// parameters of `props`; a texture given for a parameter that cannot take one is

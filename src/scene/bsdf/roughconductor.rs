@@ -3,7 +3,7 @@
 //! Fresnel term (Mitsuba 3's `roughconductor.cpp`). One-sided. GLSL:
 //! `shaders/bsdf/roughconductor.glsl`.
 //!
-//! Parameters: those of [`conductor`](super::conductor), plus `distribution`
+//! Parameters: those of [`conductor`], plus `distribution`
 //! (`beckmann` | `ggx`, default `beckmann`) and `alpha` (0.1) or both `alpha_u` and
 //! `alpha_v` (anisotropic), each a float or a texture; `sample_visible` is accepted
 //! (GGX always samples visible normals, Heitz 2018; Beckmann never).
