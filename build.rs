@@ -17,6 +17,11 @@ mod bsdf_dispatch;
 #[allow(dead_code)] // the crate uses the rest
 #[path = "src/scene/bsdf/kinds.rs"]
 mod bsdf_kinds;
+#[allow(dead_code)]
+#[path = "src/gpu/records.rs"]
+mod records;
+#[path = "build/records.rs"]
+mod records_glsl;
 
 fn main() {
     let root =
@@ -24,8 +29,11 @@ fn main() {
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     let shader_dir = root.join("shaders");
     println!("cargo:rerun-if-changed=shaders");
-    println!("cargo:rerun-if-changed=build");
+    // The GLSL side of the GPU records (src/gpu/records.rs), in the include path.
+    records_glsl::write(&out.join("glsl"));
+    // The BSDF kinds and their dispatch (src/scene/bsdf/kinds.rs), likewise.
     println!("cargo:rerun-if-changed=src/scene/bsdf/kinds.rs");
+    println!("cargo:rerun-if-changed=build/bsdf_dispatch.rs");
     bsdf_dispatch::write(&out);
 
     let mut kernels = Vec::new();

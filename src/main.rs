@@ -360,8 +360,9 @@ fn run(cli: Cli) -> Result<()> {
                 outcome.chi2.p_value,
                 if pass { "passes" } else { "FAILS" }
             );
-            warptest::image::write_png(&outcome, &output)
-                .with_context(|| format!("writing {}", output.display()))?;
+            // The error names the file and says why (no "writing" context: it would
+            // name the file twice).
+            warptest::image::write_png(&outcome, &output)?;
             println!(
                 "wrote {} (left: observed counts, middle: expected counts, right: (O - E) / sqrt(E))",
                 output.display()

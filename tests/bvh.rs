@@ -12,10 +12,8 @@ use wavetrace::accel::{
     FLAT_PRIMS_MAX,
 };
 use wavetrace::gpu::layout::HitItem;
-use wavetrace::gpu::{
-    shaders, BindingKind, BindingLayout, Buffer, CommandList, DescriptorSet, Kernel, Location,
-};
-use wavetrace::render::scene_buffers::{scene_binding_kinds, SceneBuffers, SceneRecords};
+use wavetrace::gpu::{shaders, Buffer, CommandList, DescriptorSet, Kernel, Location};
+use wavetrace::render::scene_buffers::SceneRecords;
 use wavetrace::scene::{Mesh, Quadric, QuadricKind};
 
 /// `QueryRay` of shaders/tests/bvh_query.comp.
@@ -51,13 +49,7 @@ fn gpu_queries_with_stack(bvh: &Bvh, rays: &[QueryRay], stack_depth: u32) -> Ans
 /// primitives in turn as `flat` says (all of them, or those apart before the tree).
 fn gpu_queries_with(bvh: &Bvh, rays: &[QueryRay], stack_depth: u32, flat: FlatPrims) -> Answers {
     let device = common::device();
-    let layout = BindingLayout::with_kinds(
-        &device,
-        &[scene_binding_kinds(), vec![BindingKind::Storage; 4]],
-        4,
-    )
-    .unwrap();
-    let scene = SceneBuffers::upload(&device, &layout, bvh, &SceneRecords::default()).unwrap();
+    let (layout, scene) = common::upload_scene(&device, bvh, &SceneRecords::default(), 4, 4);
     let queries = Buffer::from_slice(&device, "queries", rays).unwrap();
     let closest = Buffer::new(&device, "closest", (rays.len() * 16) as u64, Location::Gpu).unwrap();
     let any = Buffer::new(&device, "any", (rays.len() * 4) as u64, Location::Gpu).unwrap();

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{repo, temp_file, wavetrace};
+use common::{repo, temp_dir, temp_file, wavetrace};
 
 fn assert_error(args: &[&str], needles: &[&str]) {
     let (code, _, err) = wavetrace(args);
@@ -128,8 +128,7 @@ fn impossible_parameters_are_refused() {
 
 #[test]
 fn renders_writes_exr_and_png_and_reports_speed() {
-    let dir = std::env::temp_dir().join(format!("wavetrace-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = temp_dir("cli");
     let out = dir.join("ao.exr");
     let scene = repo("scenes/ao/ao.xml");
     let (code, _, err) = render_to(&scene, &out, "2");
@@ -178,8 +177,7 @@ fn info_describes_the_scene() {
 
 #[test]
 fn render_reports_the_rounded_sample_count() {
-    let dir = std::env::temp_dir().join(format!("wavetrace-cli-round-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = temp_dir("cli-round");
     let out = dir.join("ao.exr");
     let scene = repo("scenes/ao/ao.xml");
     let (code, _, err) = wavetrace(&[
@@ -339,8 +337,7 @@ fn render_writes_the_films_formats() {
 #[test]
 fn specialized_kernels_render_what_the_driver_renders() {
     for scene in ["scenes/textures/textures.xml", "scenes/envmap/envmap.xml"] {
-        let dir = std::env::temp_dir().join(format!("wavetrace-test-{}-spec", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let dir = temp_dir("spec");
         let mut images = Vec::new();
         for mode in ["spirv-opt", "driver"] {
             let out = dir.join(format!("{mode}.exr"));
@@ -370,8 +367,7 @@ fn specialized_kernels_render_what_the_driver_renders() {
 /// bounce, a medium, a photon mapper.
 #[test]
 fn int64_queue_stores_render_what_32_bit_stores_render() {
-    let dir = std::env::temp_dir().join(format!("wavetrace-test-{}-int64", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = temp_dir("int64");
     let scenes: [(&str, &[&str]); 4] = [
         ("scenes/envmap/envmap_glossy.xml", &[]),
         ("scenes/veach/veach.xml", &["-D", "integrator=direct"]),
@@ -392,5 +388,94 @@ fn int64_queue_stores_render_what_32_bit_stores_render() {
             wavetrace::image::metrics::mean(&img)[0] > 0.0,
             "{scene} rendered black"
         );
+    }
+}
+
+/// An I/O error is said once: the path, then its cause, not the cause again from each
+/// layer it passed through (image, partial, anyhow's chain).
+fn assert_cause_said_once(args: &[&str], path: &str) {
+    let (code, _, err) = wavetrace(args);
+    assert_eq!(code, 1, "exit status for {args:?}; stderr: {err}");
+    assert!(
+        err.contains(path),
+        "stderr for {args:?} lacks {path:?}:\n{err}"
+    );
+    assert_eq!(
+        err.matches("os error 2").count(),
+        1,
+        "stderr for {args:?} should say \"os error 2\" once:\n{err}"
+    );
+}
+
+#[test]
+fn an_unwritable_output_says_its_cause_once() {
+    assert_cause_said_once(
+        &[
+            "render",
+            "scenes/cbox/cbox_path.xml",
+            "--spp",
+            "1",
+            "-D",
+            "res=16",
+            "-q",
+            "-o",
+            "/nonexistent/x.exr",
+        ],
+        "/nonexistent/x.exr",
+    );
+}
+
+#[test]
+fn a_missing_part_says_its_cause_once() {
+    assert_cause_said_once(
+        &[
+            "merge",
+            "/nonexistent/part.exr",
+            "-o",
+            "/nonexistent/merged.exr",
+        ],
+        "/nonexistent/part.exr",
+    );
+}
+
+/// Bad media input on the command line: an error naming the file and line, exit
+/// status 1, never a panic.
+#[test]
+fn bad_media_input_is_a_clear_error() {
+    let camera = r#"<sensor type="perspective"><film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>"#;
+    let cases = [
+        (
+            "missing_vol",
+            r#"<shape type="cube"><bsdf type="null"/><medium type="heterogeneous" name="interior">
+<volume type="gridvolume" name="sigma_t"><string name="filename" value="nope.vol"/></volume></medium></shape>"#,
+            vec!["missing_vol.xml:4", "nope.vol"],
+        ),
+        (
+            "bad_g",
+            r#"<medium type="homogeneous" id="m"><phase type="hg">
+<float name="g" value="-1.5"/></phase></medium>"#,
+            vec!["bad_g.xml:4", "g must lie in (-1, 1)"],
+        ),
+        (
+            "not_a_medium",
+            r#"<bsdf type="diffuse" id="b"/>
+<shape type="cube"><ref id="b" name="interior"/></shape>"#,
+            vec!["not_a_medium.xml:4"],
+        ),
+        (
+            "bad_sampling",
+            r#"<integrator type="single_scatter"><string name="sampling" value="fancy"/></integrator>"#,
+            vec!["bad_sampling.xml:3", "equiangular"],
+        ),
+    ];
+    for (name, body, needles) in cases {
+        let xml = format!("<scene version=\"3.0.0\">\n{camera}\n{body}\n</scene>\n");
+        let path = common::temp_file("bad_media", &format!("{name}.xml"), &xml);
+        let (code, _, err) = common::wavetrace(&["render", path.to_str().expect("path"), "-q"]);
+        assert_eq!(code, 1, "{name}: exit status; stderr: {err}");
+        assert!(!err.contains("panicked"), "{name}: panic: {err}");
+        for n in needles {
+            assert!(err.contains(n), "{name}: stderr lacks {n:?}:\n{err}");
+        }
     }
 }

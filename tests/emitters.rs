@@ -11,10 +11,8 @@ use common::stats::{chi2, sidak, SphereGrid};
 use glam::Vec3;
 use wavetrace::accel::{prims_from_scene, Bvh, FlatPrims};
 use wavetrace::gpu::layout::{Frame, NONE};
-use wavetrace::gpu::{
-    shaders, BindingKind, BindingLayout, Buffer, CommandList, DescriptorSet, Kernel, Location,
-};
-use wavetrace::render::scene_buffers::{scene_binding_kinds, SceneBuffers, SceneRecords};
+use wavetrace::gpu::{shaders, Buffer, CommandList, DescriptorSet, Kernel, Location};
+use wavetrace::render::scene_buffers::SceneRecords;
 use wavetrace::scene::{envmap, Emitter, Scene, Texture};
 
 const N: u32 = 200_000;
@@ -47,14 +45,8 @@ fn run_probe(
     emitter_strata: u32,
 ) -> Vec<Probe> {
     let device = common::device();
-    let layout = BindingLayout::with_kinds(
-        &device,
-        &[scene_binding_kinds(), vec![BindingKind::Storage; 3]],
-        24,
-    )
-    .unwrap();
+    let (layout, buffers) = common::upload_scene(&device, bvh, records, 3, 24);
     let count = dirs.map_or(N, |d| d.len() as u32);
-    let buffers = SceneBuffers::upload(&device, &layout, bvh, records).unwrap();
     let frame = Frame {
         emitter_count: records.emitters.len() as u32,
         env_emitter: records.env_emitter,

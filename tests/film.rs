@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{device, repo, temp_file};
+use common::{device, load_with, repo, temp_file};
 use wavetrace::gpu::Device;
 use wavetrace::image::Image;
 use wavetrace::render::film::FilmSums;
@@ -23,14 +23,6 @@ fn render_film(
     r.render_film(first, count, &mut |_, _| {})
         .expect("render")
         .0
-}
-
-fn load_with(path: &str, defines: &[(&str, &str)]) -> Scene {
-    let defines: Vec<(String, String)> = defines
-        .iter()
-        .map(|(k, v)| (k.to_string(), v.to_string()))
-        .collect();
-    wavetrace::scene::load(&repo(path), &defines).unwrap_or_else(|e| panic!("{path}: {e}"))
 }
 
 /// An empty world under a constant environment of radiance 0.5, seen by Mitsuba's
@@ -192,7 +184,7 @@ fn filters_match_mitsuba_references() {
         "mitchell",
         "lanczos",
     ] {
-        let scene = load_with(&format!("scenes/filters/{name}.xml"), &[]);
+        let scene = load_with(&repo(&format!("scenes/filters/{name}.xml")), &[]);
         let reference = reference_of(name);
         let [a, b] = seeds(&scene);
         common::assert_matches_filtered_reference(&a, &reference, name, &scene.film.filter);
@@ -216,7 +208,7 @@ fn filters_match_mitsuba_references() {
         (Filter::Box, "gaussian", "gaussian"),
         (Filter::DEFAULT, "gaussian_narrow", "gaussian_narrow"),
     ] {
-        let mut scene = load_with(&format!("scenes/filters/{scene_of}.xml"), &[]);
+        let mut scene = load_with(&repo(&format!("scenes/filters/{scene_of}.xml")), &[]);
         scene.film.filter = filter;
         let [a, b] = seeds(&scene);
         let excess = excess_error(&a, &b, &reference_of(reference));
@@ -241,7 +233,10 @@ fn filters_match_mitsuba_references() {
 #[test]
 fn mitsuba_cornell_box_matches_its_gaussian_reference_and_noise() {
     let dev = device();
-    let scene = load_with("../shared/scenes/mitsuba/cbox/cbox.xml", &[("res", "64")]);
+    let scene = load_with(
+        &repo("../shared/scenes/mitsuba/cbox/cbox.xml"),
+        &[("res", "64")],
+    );
     assert_eq!(scene.film.filter, Filter::DEFAULT);
     let reference = Image::read_exr(repo("scenes/refs/mitsuba_cbox.exr")).expect("reference");
     let sidecar: serde_json::Value = serde_json::from_str(
@@ -296,7 +291,10 @@ fn mitsuba_cornell_box_matches_its_gaussian_reference_and_noise() {
 #[test]
 fn rgba_alpha_matches_mitsuba() {
     let dev = device();
-    let scene = load_with("scenes/filters/gaussian.xml", &[("pixel_format", "rgba")]);
+    let scene = load_with(
+        &repo("scenes/filters/gaussian.xml"),
+        &[("pixel_format", "rgba")],
+    );
     assert_eq!(scene.film.pixel_format, PixelFormat::Rgba);
     let film = render_film(&dev, &scene, &RenderOptions::default(), 0, 64);
     let alpha = film.develop_alpha().expect("alpha");
@@ -348,7 +346,7 @@ fn a_crop_is_the_same_window_of_the_full_render() {
         (Filter::Box, false),
     ] {
         let mut scene = load_with(
-            "scenes/filters/gaussian.xml",
+            &repo("scenes/filters/gaussian.xml"),
             &[("res", "32"), ("pixel_format", "rgba")],
         );
         scene.film.filter = filter;
@@ -394,7 +392,7 @@ fn split_renders_merge_exactly_with_filters() {
             radius: 2.0,
         },
     ] {
-        let mut scene = load_with("scenes/filters/gaussian.xml", &[("res", "24")]);
+        let mut scene = load_with(&repo("scenes/filters/gaussian.xml"), &[("res", "24")]);
         scene.film.filter = filter;
         let mut r = Renderer::new(&dev, &scene, &RenderOptions::default()).expect("setup");
         let mut film = |first, count| {

@@ -16,19 +16,13 @@ use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
-use common::{repo, wavetrace};
+use common::{repo, temp_dir, wavetrace};
 use wavetrace::image::exr;
 use wavetrace::render::job::{self, JobControl};
 use wavetrace::render::partial::{self, Partial, SampleRanges};
 use wavetrace::render::{FilmSums, RenderOptions, Renderer};
 
 const SCENE: &str = "scenes/media/thin_textured.xml";
-
-fn dir(test: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("wavetrace-split-{}-{test}", std::process::id()));
-    std::fs::create_dir_all(&d).expect("temp dir");
-    d
-}
 
 fn s(p: &Path) -> &str {
     p.to_str().expect("utf-8 path")
@@ -91,7 +85,7 @@ const ROUNDING: f32 = 1e-6;
 
 #[test]
 fn parts_merge_into_the_unsplit_render_and_bad_merges_are_refused() {
-    let d = dir("merge");
+    let d = temp_dir("merge");
     let scene = repo(SCENE);
     let whole = d.join("whole.exr");
     render_part(&scene, "0..9", &whole, &[]);
@@ -360,7 +354,7 @@ fn range_sums_fold_resume_and_spread_over_devices_as_documented() {
 /// of the uninterrupted render, bit for bit.
 #[test]
 fn interrupted_render_resumes_to_the_uninterrupted_image() {
-    let d = dir("resume");
+    let d = temp_dir("resume");
     // 32x32 pixels, 1024 paths per batch: one sample per batch, 256 batches (about
     // 2 s on lavapipe), so the signal lands long before the end.
     let common_args = [

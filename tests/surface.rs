@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{device, repo};
+use common::{device, downsample, repo};
 use wavetrace::image::metrics::{block_t_test, rel_mse};
 use wavetrace::image::Image;
 use wavetrace::render::RenderOptions;
@@ -209,25 +209,6 @@ fn glass_and_mirror_every_estimator_matches_mitsuba() {
         "scenes/refs/glass_path.exr",
         32,
     );
-}
-
-/// Box-averages `img` by `f` x `f` pixels.
-fn downsample(img: &Image, f: u32) -> Image {
-    let (w, h) = (img.width / f, img.height / f);
-    let mut out = Image::new(w, h);
-    for y in 0..h {
-        for x in 0..w {
-            let mut sum = [0.0f32; 3];
-            for dy in 0..f {
-                for dx in 0..f {
-                    let p = img.pixel(x * f + dx, y * f + dy);
-                    (0..3).for_each(|c| sum[c] += p[c]);
-                }
-            }
-            out.set_pixel(x, y, sum.map(|v| v / (f * f) as f32));
-        }
-    }
-    out
 }
 
 /// Nori's own scenes against the reference images Nori rendered of them. The film is

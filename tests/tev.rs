@@ -10,7 +10,7 @@ use std::net::TcpListener;
 use std::path::Path;
 use std::process::Command;
 
-use common::repo;
+use common::{repo, temp_dir};
 
 /// One packet as tev reads it.
 #[derive(Debug)]
@@ -145,12 +145,6 @@ fn render(args: &[&str], out: &Path) -> (bool, String) {
         o.status.success(),
         String::from_utf8_lossy(&o.stderr).into_owned(),
     )
-}
-
-fn temp_dir(test: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("wavetrace-tev-{}-{test}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
 }
 
 #[test]

@@ -15,7 +15,7 @@ use std::process::{Child, Command, Stdio};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
-use common::repo;
+use common::{repo, temp_dir};
 
 /// The shipped Cornell box, small: 48x48 pixels keeps each test a few seconds on
 /// lavapipe while leaving the walls, light and boxes several pixels wide.
@@ -154,13 +154,6 @@ fn start_xvfb() -> Result<Xvfb, String> {
             x.display
         ))
     }
-}
-
-fn temp_dir(test: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("wavetrace-view-{}-{test}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
 }
 
 fn bin() -> &'static str {

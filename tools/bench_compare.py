@@ -2,7 +2,8 @@
 """Time against error, wavetrace against Mitsuba 3, on the same scene file.
 
     python3 tools/bench_compare.py SCENE.xml --ref REF.exr [--spp 1,4,16,64,256]
-        [--variant scalar_rgb|llvm_ad_rgb] [--integrator NAME] [--max-depth N]
+        [--variant scalar_rgb|llvm_ad_rgb[@avx2]] [--llvm-target native|avx2]
+        [--integrator NAME] [--max-depth N]
         [-D name=value] [--seed S] [--sampler NAME [--mitsuba-sampler NAME]]
         [--wavetrace BIN] [--device SEL] [--repeat K] [--json OUT.json]
 
@@ -24,6 +25,13 @@ array (which forces evaluation of the lazy LLVM variants). With `--variant
 llvm_ad_rgb`, each sample count is rendered twice and the second (warm) run is timed,
 since Dr.Jit may compile a kernel per wavefront size; scene loading and the warm-up
 times are reported apart.
+
+The host: every speed figure names it. The header prints the host's CPU and vector
+extensions (AVX-512: 16 float32 lanes, AVX2: 8) and the target Mitsuba's LLVM backend
+compiles for, which is the host's full width unless `--llvm-target avx2` (or a variant
+written `llvm_ad_rgb@avx2`) restricts it to an AVX2 host's 8 lanes (Haswell), so one
+AVX-512 machine measures both kinds of host (tools/llvm_target.py). The JSON has both
+under `mitsuba.host` and `mitsuba.llvm_target`.
 
 --repeat K times each renderer K times, alternating (wavetrace at every sample count,
 then Mitsuba at every sample count, K times over; Mitsuba's scene loaded and warmed up
@@ -70,6 +78,7 @@ import time
 import xml.etree.ElementTree as ET
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import llvm_target  # noqa: E402  (same folder)
 import mitsuba_ref  # noqa: E402  (same folder)
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
@@ -207,6 +216,9 @@ class MitsubaRun:
                 if os.path.isfile(cand):
                     os.environ["DRJIT_LIBLLVM_PATH"] = cand
                     break
+        llvm = args.variant.startswith("llvm")
+        if llvm:
+            llvm_target.restrict_llvm(args.llvm_target)
         import mitsuba as mi
 
         self.np, self.mi, self.args = np, mi, args
@@ -233,13 +245,15 @@ class MitsubaRun:
         np.array(mi.render(self.scene, spp=1, seed=args.seed + 1_000_000))
         warmup_seconds = time.perf_counter() - t
 
-        self.warm_each = args.variant.startswith("llvm")
+        self.warm_each = llvm
         self.info = {
             "version": mi.__version__,
             "variant": args.variant,
             "integrator": described,
             "sampler": next(iter(ET.fromstring(xml).iter("sensor"))).find("sampler").get("type"),
-            "libllvm": os.environ.get("DRJIT_LIBLLVM_PATH") if args.variant.startswith("llvm") else None,
+            "libllvm": os.environ.get("DRJIT_LIBLLVM_PATH") if llvm else None,
+            "host": llvm_target.vector_extensions(),
+            "llvm_target": llvm_target.llvm_info() if llvm else None,
             "load_seconds": load_seconds,
             "warmup_seconds": warmup_seconds,
             "warm_run_per_spp": self.warm_each,
@@ -345,6 +359,11 @@ def print_table(ours, theirs, rows):
     print("wavetrace: %s, sampler %s, on %s; Mitsuba %s %s: %s, sampler %s" % (
         ours["integrator"], ours.get("sampler", "independent"), ours["device"], theirs["version"],
         theirs["variant"], theirs["integrator"], theirs["sampler"]))
+    host = theirs["host"]
+    target = theirs.get("llvm_target")
+    print("host: %s, %s (%d float32 lanes)%s" % (
+        host["cpu"], host["name"], host["lanes"],
+        "; Mitsuba's LLVM compiles for %s, %d lanes" % (target["cpu"], target["lanes"]) if target else ""))
     print("Mitsuba scene load %.2f s, warm-up %.2f s%s" % (
         theirs["load_seconds"], theirs["warmup_seconds"],
         " (each spp rendered twice, the warm run timed)" if theirs["warm_run_per_spp"] else ""))
@@ -373,7 +392,11 @@ def main():
     ap.add_argument("scene", help="scene file in Mitsuba 3's XML dialect")
     ap.add_argument("--ref", required=True, help="reference EXR (e.g. scenes/refs/*.exr)")
     ap.add_argument("--spp", default="1,4,16,64,256", help="sample counts (default 1,4,16,64,256)")
-    ap.add_argument("--variant", default="scalar_rgb", help="Mitsuba variant (default scalar_rgb)")
+    ap.add_argument("--variant", default="scalar_rgb",
+                    help="Mitsuba variant (default scalar_rgb); VARIANT@TARGET sets --llvm-target too")
+    ap.add_argument("--llvm-target", default="native", choices=sorted(llvm_target.TARGETS),
+                    help="what Mitsuba's LLVM backend compiles for: the host (native, default) "
+                         "or an AVX2 host's 8 lanes (avx2)")
     ap.add_argument("--integrator", help="wavetrace integrator (Mitsuba gets its twin; see above)")
     ap.add_argument("--max-depth", type=int, help="Mitsuba path max_depth (default: the scene's)")
     ap.add_argument("-D", dest="defines", action="append", default=[], metavar="NAME=VALUE",
@@ -390,6 +413,12 @@ def main():
     args = ap.parse_args()
     if args.repeat < 1:
         die("--repeat must be at least 1, not %d" % args.repeat)
+    if "@" in args.variant:
+        args.variant, args.llvm_target = args.variant.split("@", 1)
+        if args.llvm_target not in llvm_target.TARGETS:
+            die("unknown LLVM target '%s' (known: %s)" % (args.llvm_target, ", ".join(llvm_target.TARGETS)))
+    if args.llvm_target != "native" and not args.variant.startswith("llvm"):
+        die("--llvm-target %s needs an llvm variant, not %s" % (args.llvm_target, args.variant))
 
     spp = parse_spp(args.spp)
     if args.sampler and not args.mitsuba_sampler:

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Large-scene benchmark: loading, BVH build and rendering of height fields of 1, 8
-and 30 M triangles, next to Mitsuba 3 loading the same files (README "Large scenes").
+and 30 M triangles, next to Mitsuba 3 loading the same files (docs/performance.md, "Large scenes").
 
     python3 tools/bench_large.py [--sizes 1M,8M,30M] [--dir target/large] [--runs 2]
                                  [--wavetrace target/release/wavetrace] [--variant scalar_rgb]

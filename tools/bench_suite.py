@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """The speed comparison of the surface and media issues, in one command.
 
-    python3 tools/bench_suite.py [--scenes cbox,veach,...] [--variants scalar_rgb,llvm_ad_rgb]
+    python3 tools/bench_suite.py [--scenes cbox,veach,...]
+        [--variants scalar_rgb,llvm_ad_rgb,llvm_ad_rgb@avx2]
         [--seeds 11,12,13,14] [--spp 16,64] [--samplers independent,multijitter,...]
         [--refs DIR] [--wavetrace BIN] [--json OUT]
 
@@ -12,6 +13,12 @@ efficiency ratio (t x relMSE) wavetrace / (t x relMSE) Mitsuba at each sample co
 per seed, and their geometric mean. Below 1, wavetrace reaches a given error sooner.
 Then the MSE of both at equal spp (mean over seeds) with the ratios of their MSEs and
 relMSEs, each with its standard error over the seeds.
+
+The host: the first line names its CPU and vector extensions (tools/llvm_target.py), and
+the JSON keeps them (`host`). A variant written `llvm_ad_rgb@avx2` is Mitsuba's LLVM
+variant compiled for an AVX2 host's 8 lanes instead of this host's full width
+(bench_compare.py --llvm-target): `--variants llvm_ad_rgb,llvm_ad_rgb@avx2` measures an
+AVX-512 host natively and as an AVX2 host in one run.
 
 References are Mitsuba renders, made once and kept in --refs (default
 target/bench-refs/, outside version control: about 0.8 MB each): with the LLVM variant
@@ -42,6 +49,8 @@ import sys
 import tempfile
 
 TOOLS = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, TOOLS)
+import llvm_target  # noqa: E402  (same folder)
 ROOT = os.path.normpath(os.path.join(TOOLS, ".."))
 LIBLLVM = "/usr/lib/x86_64-linux-gnu/libLLVM-19.so"
 
@@ -200,6 +209,8 @@ def main():
     spp = ints(args.spp, "--spp")
     samplers = [s for s in args.samplers.split(",") if s] or [None]
 
+    host = llvm_target.vector_extensions()
+    print("host: %s" % llvm_target.describe_host(), flush=True)
     runs = []
     summary = []
     for name in names:
@@ -236,7 +247,7 @@ def main():
                         "mitsuba_sampler": runs[-1]["result"]["mitsuba"]["sampler"],
                     })
                     s = summary[-1]
-                    print("%-12s %-12s %-12s %4d spp: ratio %.3f  (seeds %s)  wt %.2f s MSE %.3e  "
+                    print("%-12s %-17s %-12s %4d spp: ratio %.3f  (seeds %s)  wt %.2f s MSE %.3e  "
                           "mi %.2f s MSE %.3e (%s)" % (
                               name, variant, s["sampler"], s["rendered_spp"], s["efficiency_ratio"],
                               " ".join("%.2f" % r for r in ratios), s["wavetrace_seconds"],
@@ -244,15 +255,15 @@ def main():
                               s["mitsuba_sampler"]), flush=True)
 
     print("\nefficiency ratio (t x relMSE) wavetrace / Mitsuba, geometric mean over seeds %s;"
-          " below 1: wavetrace ahead" % ",".join(map(str, seeds)))
-    print("%-12s %-12s %-12s " % ("scene", "variant", "sampler")
+          " below 1: wavetrace ahead; host %s" % (",".join(map(str, seeds)), llvm_target.describe_host()))
+    print("%-12s %-17s %-12s " % ("scene", "variant", "sampler")
           + " ".join("%8s" % ("%d spp" % n) for n in spp))
     for name in names:
         for variant in variants:
             for sampler in samplers:
                 cells = [s for s in summary if s["scene"] == name and s["variant"] == variant
                          and s["sampler"] == (sampler or "scene's")]
-                print("%-12s %-12s %-12s " % (name, variant, sampler or "scene's")
+                print("%-12s %-17s %-12s " % (name, variant, sampler or "scene's")
                       + " ".join("%8.3f" % c["efficiency_ratio"] for c in cells))
     print("\nMSE at equal spp, mean over seeds: wavetrace / Mitsuba (same sampler; Mitsuba "
           "runs independent for zsobol); in brackets the ratio of MSEs and of relMSEs, "
@@ -262,14 +273,14 @@ def main():
             for sampler in samplers:
                 cells = [s for s in summary if s["scene"] == name and s["variant"] == variant
                          and s["sampler"] == (sampler or "scene's")]
-                print("%-12s %-12s %-12s " % (name, variant, sampler or "scene's") + "  ".join(
+                print("%-12s %-17s %-12s " % (name, variant, sampler or "scene's") + "  ".join(
                     "%d spp %.2e / %.2e (MSE %.2f+-%.2f, relMSE %.2f+-%.2f)" % (
                         c["rendered_spp"], c["wavetrace_mse"], c["mitsuba_mse"], c["mse_ratio"],
                         c["mse_ratio_se"], c["rel_mse_ratio"], c["rel_mse_ratio_se"])
                     for c in cells))
     if args.json:
         with open(args.json, "w") as f:
-            json.dump({"summary": summary, "runs": runs}, f, indent=2)
+            json.dump({"host": host, "summary": summary, "runs": runs}, f, indent=2)
             f.write("\n")
         print("wrote %s" % args.json, file=sys.stderr)
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Writes a large height-field mesh as a binary PLY, and a scene that renders it in
 both wavetrace and Mitsuba 3: the input of the large-scene benchmark
-(tools/bench_large.py, README "Large scenes").
+(tools/bench_large.py, docs/performance.md "Large scenes").
 
     python3 tools/make_heightfield.py --triangles 8M -o target/large/hf8m [--obj]
 

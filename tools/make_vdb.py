@@ -10,7 +10,7 @@ OpenVDB writes by default). Run with the system Python, which has the bindings:
   border), placed by the grid's own transform exactly where the .vol's unit cube is:
   voxel (i, j, k) centred at ((i, j, k) + 0.5) / 32, the .vol's voxel centres. So
   `-D vol=smoke.vdb` and `-D vol=smoke_border.vol` in smoke.xml are the same medium
-  (tests/media.rs renders both). Voxels of value 0 are inactive.
+  (tests/media_grids.rs renders both). Voxels of value 0 are inactive.
 - smoke_grids.vdb: several grids in one file, for choosing one by name:
   `temperature` (float, first in the file: 2 - density where the smoke is, else 0,
   under an affine transform that turns the grid 90 degrees about z: a matrix with

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Record what Mitsuba 3 computes where rays hit each of its shapes, for
-tests/shapes.rs: wavetrace must find the same points, normals, uvs and tangent
+tests/shape_hits_vs_mitsuba.rs: wavetrace must find the same points, normals, uvs and tangent
 frames on the GPU.
 
     python3 tools/mitsuba_shapes.py [--out tests/data/shape_hits.json] [--rays 24]

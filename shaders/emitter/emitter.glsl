@@ -2,9 +2,12 @@
 // of that sampling for a point that a BSDF-sampled ray found (for MIS). Needs
 // scene_bindings.glsl and wavefront.glsl (frame).
 //
-// An emitter is chosen in proportion to its power through the alias table at
-// alias table entries [0, emitter_count); a mesh emitter then picks a triangle by area and a
-// uniform point on it, so points are uniform over its whole surface; a disk or
+// An emitter is chosen in proportion to its sampling weight (Mitsuba's
+// `sampling_weight`, 1 by default: uniformly, as Mitsuba 3 and Nori choose) through the
+// alias table at entries [0, emitter_count) (render::scene_buffers; SPPM's photons
+// leave by power from their own table at photon_alias); a mesh emitter then picks a
+// triangle by area and a uniform point on it, so points are uniform over its whole
+// surface; a disk or
 // cylinder a uniform point of its surface (as Mitsuba's sample_position: the
 // concentric map on the disk, uniform angle and height on the cylinder); a sphere
 // emitter samples the cone of directions it subtends (PBR 4th ed., sec. 6.2.4). A

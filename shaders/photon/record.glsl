@@ -22,64 +22,25 @@ vec3 photon_dir_decode(uint e) {
     return normalize(d);
 }
 
-// Photon: 2 words.
-Photon photon_from_words(uvec4 w0, uvec4 w1) {
-    return Photon(uintBitsToFloat(w0.xyz), w0.w, uintBitsToFloat(w1.xyz), w1.w);
-}
-
-Photon photon_load(uint i) {
-    return photon_from_words(imageLoad(photon_texels, int(2u * i)), imageLoad(photon_texels, int(2u * i + 1u)));
-}
-
-void photon_store(uint i, Photon p) {
-    photon_words[2u * i] = uvec4(floatBitsToUint(p.position), p.path);
-    photon_words[2u * i + 1u] = uvec4(floatBitsToUint(p.power), p.wi);
-}
-
-Photon grid_photon_load(uint i) {
-    return photon_from_words(imageLoad(grid_photon_texels, int(2u * i)),
-                             imageLoad(grid_photon_texels, int(2u * i + 1u)));
-}
-
-void grid_photon_store(uint i, Photon p) {
-    grid_photon_words[2u * i] = uvec4(floatBitsToUint(p.position), p.path);
-    grid_photon_words[2u * i + 1u] = uvec4(floatBitsToUint(p.power), p.wi);
-}
-
-// PhotonPath: 2 words of path slot i (the slot of a camera path's 3).
-PhotonPath photon_path_load(uint i) {
-    uvec4 w0 = imageLoad(path_texels, int(2u * i));
-    uvec4 w1 = imageLoad(path_texels, int(2u * i + 1u));
-    return PhotonPath(uintBitsToFloat(w0.xyz), w0.w, uintBitsToFloat(w1.x), w1.y, w1.z, w1.w);
-}
-
-void photon_path_store(uint i, PhotonPath p) {
-    path_words[2u * i] = wavefront_word(uvec4(floatBitsToUint(p.power), p.index));
-    path_words[2u * i + 1u] = wavefront_word(uvec4(floatBitsToUint(p.start_power), p.stored, p.pad0, p.pad1));
-}
-
-// VisiblePoint: 5 words.
-VisiblePoint vp_load(uint i) {
-    int b = int(5u * i);
-    uvec4 w0 = imageLoad(vp_texels, b);
-    uvec4 w1 = imageLoad(vp_texels, b + 1);
-    uvec4 w2 = imageLoad(vp_texels, b + 2);
-    uvec4 w3 = imageLoad(vp_texels, b + 3);
-    uvec4 w4 = imageLoad(vp_texels, b + 4);
-    return VisiblePoint(uintBitsToFloat(w0.xyz), w0.w, uintBitsToFloat(w1.xyz), uintBitsToFloat(w1.w),
-                        uintBitsToFloat(w2.xyz), uintBitsToFloat(w2.w), uintBitsToFloat(w3.xyz),
-                        uintBitsToFloat(w3.w), uintBitsToFloat(w4.xyz), w4.w);
-}
+// Loads through the texel views, stores through the word buffers, a texel of the
+// record at a time (generated: scene/records.glsl). A photon path takes 2 words of
+// path slot i (the slot of a camera path's 3).
+uvec4 photon_texel(uint k) { return imageLoad(photon_texels, int(k)); }
+uvec4 grid_photon_texel(uint k) { return imageLoad(grid_photon_texels, int(k)); }
+uvec4 vp_texel(uint k) { return imageLoad(vp_texels, int(k)); }
+void photon_word_store(uint k, uvec4 w) { photon_words[k] = w; }
+void grid_photon_word_store(uint k, uvec4 w) { grid_photon_words[k] = w; }
+void vp_word_store(uint k, uvec4 w) { vp_words[k] = w; }
+Photon_LOAD(photon_load, photon_texel)
+Photon_STORE(photon_store, photon_word_store)
+Photon_LOAD(grid_photon_load, grid_photon_texel)
+Photon_STORE(grid_photon_store, grid_photon_word_store)
+PhotonPath_LOAD(photon_path_load, path_texel)
+PhotonPath_STORE(photon_path_store, path_word_store)
+VisiblePoint_LOAD(vp_load, vp_texel)
+VisiblePoint_STORE(vp_store, vp_word_store)
 
 // Only the first word: whether slot i holds a visible point (bsdf != NONE).
-uint vp_bsdf(uint i) { return imageLoad(vp_texels, int(5u * i)).w; }
-
-void vp_store(uint i, VisiblePoint v) {
-    vp_words[5u * i] = uvec4(floatBitsToUint(v.p), v.bsdf);
-    vp_words[5u * i + 1u] = uvec4(floatBitsToUint(v.wo), floatBitsToUint(v.u));
-    vp_words[5u * i + 2u] = uvec4(floatBitsToUint(v.n), floatBitsToUint(v.v));
-    vp_words[5u * i + 3u] = uvec4(floatBitsToUint(v.beta), floatBitsToUint(v.alpha2));
-    vp_words[5u * i + 4u] = uvec4(floatBitsToUint(v.n0), v.flags);
-}
+uint vp_bsdf(uint i) { return vp_texel(VisiblePoint_TEXELS * i).w; }
 
 #endif

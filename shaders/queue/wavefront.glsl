@@ -107,77 +107,45 @@ uvec3 dispatch_groups(uint n) {
     return uvec3(x, y, 1u);
 }
 
-// PathState: 3 words; RayItem: 2; HitItem: 1; ShadowItem: 3 (layout.glsl).
-PathState path_load(uint i) {
-    int b = int(3u * i);
-    uvec4 w0 = imageLoad(path_texels, b);
-    uvec4 w1 = imageLoad(path_texels, b + 1);
-    uvec4 w2 = imageLoad(path_texels, b + 2);
-    return PathState(uintBitsToFloat(w0.xyz), w0.w, uintBitsToFloat(w1.xyz), w1.w,
-                     uintBitsToFloat(w2.x), w2.y, uintBitsToFloat(w2.z), w2.w);
-}
-
-void path_store(uint i, PathState p) {
-    path_words[3u * i] = wavefront_word(uvec4(floatBitsToUint(p.throughput), p.pixel));
-    path_words[3u * i + 1u] = wavefront_word(uvec4(floatBitsToUint(p.radiance), p.sample_index));
-    path_words[3u * i + 2u] = wavefront_word(uvec4(floatBitsToUint(p.bsdf_pdf), p.flags, floatBitsToUint(p.eta_scale), p.medium));
-}
+// The queues' records: loads through the texel views, stores through the word
+// buffers, each a texel of the record at a time (generated: scene/records.glsl).
+uvec4 path_texel(uint k) { return imageLoad(path_texels, int(k)); }
+uvec4 ray_texel(uint k) { return imageLoad(ray_texels, int(k)); }
+uvec4 hit_texel(uint k) { return imageLoad(hit_texels, int(k)); }
+uvec4 shadow_texel(uint k) { return imageLoad(shadow_texels, int(k)); }
+void path_word_store(uint k, uvec4 w) { path_words[k] = wavefront_word(w); }
+void ray_word_store(uint k, uvec4 w) { ray_words[k] = wavefront_word(w); }
+void hit_word_store(uint k, uvec4 w) { hit_words[k] = wavefront_word(w); }
+void shadow_word_store(uint k, uvec4 w) { shadow_words[k] = wavefront_word(w); }
+PathState_LOAD(path_load, path_texel)
+PathState_STORE(path_store, path_word_store)
+RayItem_LOAD(ray_load, ray_texel)
+RayItem_STORE(ray_store, ray_word_store)
+HitItem_LOAD(hit_load, hit_texel)
+HitItem_STORE(hit_store, hit_word_store)
+ShadowItem_LOAD(shadow_load, shadow_texel)
+ShadowItem_STORE(shadow_store, shadow_word_store)
 
 // Every word of path i but the radiance one: what a bounce changes when the radiance
 // was stored already (path_store_radiance) or did not change.
 void path_store_bounce(uint i, PathState p) {
-    path_words[3u * i] = wavefront_word(uvec4(floatBitsToUint(p.throughput), p.pixel));
-    path_words[3u * i + 2u] = wavefront_word(uvec4(floatBitsToUint(p.bsdf_pdf), p.flags, floatBitsToUint(p.eta_scale), p.medium));
+    path_word_store(PathState_TEXELS * i, PathState_WORD0(p));
+    path_word_store(PathState_TEXELS * i + 2u, PathState_WORD2(p));
 }
 
 // Only the word with the flags (and the MIS pdf, eta scale and medium) of path i.
 void path_store_flags(uint i, PathState p) {
-    path_words[3u * i + 2u] = wavefront_word(uvec4(floatBitsToUint(p.bsdf_pdf), p.flags, floatBitsToUint(p.eta_scale), p.medium));
+    path_word_store(PathState_TEXELS * i + 2u, PathState_WORD2(p));
 }
 
 // Only the radiance word (with the sample index it shares) of path i.
 void path_store_radiance(uint i, PathState p) {
-    path_words[3u * i + 1u] = wavefront_word(uvec4(floatBitsToUint(p.radiance), p.sample_index));
-}
-
-RayItem ray_load(uint slot) {
-    uvec4 w0 = imageLoad(ray_texels, int(2u * slot));
-    uvec4 w1 = imageLoad(ray_texels, int(2u * slot + 1u));
-    return RayItem(uintBitsToFloat(w0.xyz), w0.w, uintBitsToFloat(w1.xyz), uintBitsToFloat(w1.w));
-}
-
-void ray_store(uint slot, RayItem r) {
-    ray_words[2u * slot] = wavefront_word(uvec4(floatBitsToUint(r.origin), r.path));
-    ray_words[2u * slot + 1u] = wavefront_word(uvec4(floatBitsToUint(r.dir), floatBitsToUint(r.tmax)));
-}
-
-HitItem hit_load(uint i) {
-    uvec4 w = imageLoad(hit_texels, int(i));
-    return HitItem(uintBitsToFloat(w.x), uintBitsToFloat(w.y), uintBitsToFloat(w.z), w.w);
-}
-
-void hit_store(uint i, HitItem h) {
-    hit_words[i] = wavefront_word(uvec4(floatBitsToUint(vec3(h.t, h.u, h.v)), h.prim));
+    path_word_store(PathState_TEXELS * i + 1u, PathState_WORD1(p));
 }
 
 // The second-nearest hit of ray i (bvh_closest_two), which intersect keeps after the
 // nearest ones in scenes whose rays cross null surfaces (vol_path.glsl).
 HitItem hit_second_load(uint i) { return hit_load(push.capacity + i); }
 void hit_second_store(uint i, HitItem h) { hit_store(push.capacity + i, h); }
-
-ShadowItem shadow_load(uint i) {
-    int b = int(3u * i);
-    uvec4 w0 = imageLoad(shadow_texels, b);
-    uvec4 w1 = imageLoad(shadow_texels, b + 1);
-    uvec4 w2 = imageLoad(shadow_texels, b + 2);
-    return ShadowItem(uintBitsToFloat(w0.xyz), w0.w, uintBitsToFloat(w1.xyz), uintBitsToFloat(w1.w),
-                      uintBitsToFloat(w2.xyz), w2.w);
-}
-
-void shadow_store(uint i, ShadowItem s) {
-    shadow_words[3u * i] = wavefront_word(uvec4(floatBitsToUint(s.origin), s.path));
-    shadow_words[3u * i + 1u] = wavefront_word(uvec4(floatBitsToUint(s.dir), floatBitsToUint(s.tmax)));
-    shadow_words[3u * i + 2u] = wavefront_word(uvec4(floatBitsToUint(s.contribution), s.medium));
-}
 
 #endif

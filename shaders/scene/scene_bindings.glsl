@@ -120,137 +120,29 @@ float grid_value(uint k) { return uintBitsToFloat(grid_word(k).x); }
 float majorant_value(uint k) { return uintBitsToFloat(imageLoad(majorant_words, int(k)).x); }
 vec4 grid_packed(uint k) { return uintBitsToFloat(grid_packed_texel(k)); }
 
-// TextureRecord: 6 texels.
-TextureRecord texture_load(uint i) {
-    int b = int(6u * i);
-    uvec4 w0 = imageLoad(texture_texels, b);
-    uvec4 w1 = imageLoad(texture_texels, b + 1);
-    uvec4 w2 = imageLoad(texture_texels, b + 2);
-    uvec4 w3 = imageLoad(texture_texels, b + 3);
-    return TextureRecord(w0.x, w0.y, w0.z, w0.w, w1.x, w1.y, w1.z, w1.w,
-                         uintBitsToFloat(w2.xyz), uintBitsToFloat(w2.w),
-                         uintBitsToFloat(w3.xyz), uintBitsToFloat(w3.w),
-                         uintBitsToFloat(imageLoad(texture_texels, b + 4)),
-                         uintBitsToFloat(imageLoad(texture_texels, b + 5)));
-}
-
-// MediumRecord: 9 texels.
-MediumRecord medium_load(uint i) {
-    int b = int(9u * i);
-    uvec4 w0 = imageLoad(medium_texels, b);
-    uvec4 w1 = imageLoad(medium_texels, b + 1);
-    mat4 to_grid = mat4(uintBitsToFloat(imageLoad(medium_texels, b + 2)),
-                        uintBitsToFloat(imageLoad(medium_texels, b + 3)),
-                        uintBitsToFloat(imageLoad(medium_texels, b + 4)),
-                        uintBitsToFloat(imageLoad(medium_texels, b + 5)));
-    uvec4 w6 = imageLoad(medium_texels, b + 6);
-    uvec4 w7 = imageLoad(medium_texels, b + 7);
-    uvec4 w8 = imageLoad(medium_texels, b + 8);
-    return MediumRecord(uintBitsToFloat(w0.xyz), w0.w, uintBitsToFloat(w1.xyz), uintBitsToFloat(w1.w),
-                        to_grid, w6.xyz, w6.w, w7.xyz, w7.w, uintBitsToFloat(w8.x), w8.y, w8.z, w8.w);
-}
-
-BvhNode bvh_node_load(uint i) {
-    uint base = 4u * i;
-    uvec4 a = bvh_node_texel(base);
-    uvec4 b = bvh_node_texel(base + 1u);
-    uvec4 c = bvh_node_texel(base + 2u);
-    uvec4 d = bvh_node_texel(base + 3u);
-    return BvhNode(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w,
-                   uintBitsToFloat(c.xyz), c.w, uintBitsToFloat(d.xyz), d.w);
-}
-
-Prim prim_load(uint i) {
-    uint base = 3u * i;
-    uvec4 a = prim_texel(base);
-    uvec4 b = prim_texel(base + 1u);
-    uvec4 c = prim_texel(base + 2u);
-    return Prim(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w, uintBitsToFloat(c.xyz), c.w);
-}
-
-ShapeRecord shape_load(uint i) {
-    uvec4 w = imageLoad(shape_texels, int(i));
-    return ShapeRecord(w.x, w.y, w.z, w.w);
-}
-
-TriangleRecord triangle_load(uint i) {
-    uvec4 w = triangle_texel(i);
-    return TriangleRecord(w.x, w.y, w.z, w.w);
-}
+// The records' loaders (generated: scene/records.glsl), `T NAME_load(uint i)`, each
+// reading its array's texels through `NAME_texel`. Vertices are also read a texel at a
+// time (vertex_texel).
+uvec4 shape_texel(uint k) { return imageLoad(shape_texels, int(k)); }
+uvec4 bsdf_texel(uint k) { return imageLoad(bsdf_texels, int(k)); }
+uvec4 emitter_texel(uint k) { return imageLoad(emitter_texels, int(k)); }
+uvec4 alias_texel(uint k) { return imageLoad(alias_texels, int(k)); }
+uvec4 texture_texel(uint k) { return imageLoad(texture_texels, int(k)); }
+uvec4 medium_texel(uint k) { return imageLoad(medium_texels, int(k)); }
+BvhNode_LOAD(bvh_node_load, bvh_node_texel)
+Prim_LOAD(prim_load, prim_texel)
+ShapeRecord_LOAD(shape_load, shape_texel)
+TriangleRecord_LOAD(triangle_load, triangle_texel)
+Vertex_LOAD(vertex_load, vertex_texel_raw)
+BsdfRecord_LOAD(bsdf_load, bsdf_texel)
+EmitterRecord_LOAD(emitter_load, emitter_texel)
+AliasEntry_LOAD(alias_load, alias_texel)
+TextureRecord_LOAD(texture_load, texture_texel)
+MediumRecord_LOAD(medium_load, medium_texel)
 
 // Texel k (0: normal and u; 1: v) of vertex i.
 vec4 vertex_texel(uint i, uint k) {
-    return uintBitsToFloat(vertex_texel_raw(2u * i + k));
-}
-
-Vertex vertex_load(uint i) {
-    uvec4 a = vertex_texel_raw(2u * i);
-    uvec4 b = vertex_texel_raw(2u * i + 1u);
-    return Vertex(uintBitsToFloat(a.x), uintBitsToFloat(a.y), uintBitsToFloat(a.z), uintBitsToFloat(a.w),
-                  uintBitsToFloat(b.x), b.y, b.z, b.w);
-}
-
-// BsdfRecord: 16 texels (6 of fields, the 8 of `table`, 2 of texture maps).
-BsdfRecord bsdf_load(uint i) {
-    int b = int(16u * i);
-    uvec4 w0 = imageLoad(bsdf_texels, b);
-    uvec4 w1 = imageLoad(bsdf_texels, b + 1);
-    uvec4 w2 = imageLoad(bsdf_texels, b + 2);
-    uvec4 w3 = imageLoad(bsdf_texels, b + 3);
-    uvec4 w4 = imageLoad(bsdf_texels, b + 4);
-    uvec4 w5 = imageLoad(bsdf_texels, b + 5);
-    BsdfRecord r;
-    r.reflectance = uintBitsToFloat(w0.xyz);
-    r.kind = w0.w;
-    r.specular = uintBitsToFloat(w1.xyz);
-    r.flags = w1.w;
-    r.transmittance = uintBitsToFloat(w2.xyz);
-    r.eta = uintBitsToFloat(w2.w);
-    r.cond_eta = uintBitsToFloat(w3.xyz);
-    r.alpha_u = uintBitsToFloat(w3.w);
-    r.cond_k = uintBitsToFloat(w4.xyz);
-    r.alpha_v = uintBitsToFloat(w4.w);
-    r.distribution = w5.x;
-    r.specular_weight = uintBitsToFloat(w5.y);
-    r.internal = uintBitsToFloat(w5.z);
-    r.pad0 = w5.w;
-    for (int k = 0; k < 8; k++) {
-        r.table[k] = uintBitsToFloat(imageLoad(bsdf_texels, b + 6 + k));
-    }
-    uvec4 w14 = imageLoad(bsdf_texels, b + 14);
-    uvec4 w15 = imageLoad(bsdf_texels, b + 15);
-    r.tex_reflectance = w14.x;
-    r.tex_specular = w14.y;
-    r.tex_transmittance = w14.z;
-    r.tex_alpha_u = w14.w;
-    r.tex_alpha_v = w15.x;
-    r.normal_map = w15.y;
-    r.pad1 = w15.z;
-    r.pad2 = w15.w;
-    return r;
-}
-
-// EmitterRecord: 9 texels.
-EmitterRecord emitter_load(uint i) {
-    int b = int(9u * i);
-    uvec4 w0 = imageLoad(emitter_texels, b);
-    uvec4 w1 = imageLoad(emitter_texels, b + 1);
-    uvec4 w2 = imageLoad(emitter_texels, b + 2);
-    uvec4 w3 = imageLoad(emitter_texels, b + 3);
-    uvec4 w4 = imageLoad(emitter_texels, b + 4);
-    uvec4 w5 = imageLoad(emitter_texels, b + 5);
-    return EmitterRecord(uintBitsToFloat(w0.xyz), w0.w, uintBitsToFloat(w1.xyz), w1.w,
-                         uintBitsToFloat(w2.xyz), uintBitsToFloat(w2.w),
-                         uintBitsToFloat(w3.x), uintBitsToFloat(w3.y), uintBitsToFloat(w3.z), uintBitsToFloat(w3.w),
-                         w4.x, w4.y, w4.z, w4.w, w5.x, w5.y, w5.z, w5.w,
-                         uintBitsToFloat(imageLoad(emitter_texels, b + 6)),
-                         uintBitsToFloat(imageLoad(emitter_texels, b + 7)),
-                         uintBitsToFloat(imageLoad(emitter_texels, b + 8)));
-}
-
-AliasEntry alias_load(uint i) {
-    uvec4 w = imageLoad(alias_texels, int(i));
-    return AliasEntry(uintBitsToFloat(w.x), w.y, uintBitsToFloat(w.z), w.w);
+    return uintBitsToFloat(vertex_texel_raw(Vertex_TEXELS * i + k));
 }
 
 #endif

@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Test kernel for tests/media.rs: equiangular distance sampling on [a, b] of the ray
-// (o, d) towards c.
+// Test kernel for tests/media_sampling_chi2.rs: equiangular distance sampling on
+// [a, b] of the ray (o, d) towards c.
 // mode 0 (sample): out[i] = (t, pdf at t, 0, 0); mode 1: out[i].x = pdf(ts[i].x).
 
 #include "medium/equiangular.glsl"

@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Test kernel: the density of grid medium `medium` at the queried grid-local points
-// (medium.glsl medium_grid_density, every layout compiled in), so tests/media.rs can
+// (medium.glsl medium_grid_density, every layout compiled in), so tests/media_grids.rs can
 // compare it with trilinear interpolation on the CPU.
 
 #include "scene/scene_bindings.glsl"

@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// Test kernel for tests/media.rs: phase_sample, phase_eval and phase_pdf of
+// Test kernel for tests/media_sampling_chi2.rs: phase_sample, phase_eval and phase_pdf of
 // Henyey-Greenstein with asymmetry g for a fixed wo.
 // mode 0 (sample): out[2i] = (wi, pdf returned by phase_sample),
 //   out[2i+1] = (phase_eval(wo, wi), phase_pdf(wo, wi), 0, 0).

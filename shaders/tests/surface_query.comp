@@ -1,8 +1,8 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Test kernel: the closest hit of each queried ray and the surface there (surface.glsl),
-// so tests/shapes.rs can compare positions, normals, uvs and tangent frames with
-// Mitsuba's surface interactions.
+// so tests/shape_hits_vs_mitsuba.rs can compare positions, normals, uvs and tangent
+// frames with Mitsuba's surface interactions.
 //
 // Four vec4 per ray in: (origin, 0), (direction, 0), unused, unused. Four out:
 // (p, t), (ng, prim or -1 as a float), (ns, u), (ss, v).

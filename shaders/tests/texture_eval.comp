@@ -1,8 +1,9 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Test kernel: looks up texture `id` at the queried uvs (mode 0), or environment map
-// emitter `id` along the queried directions (mode 1), so tests/textures.rs can
-// compare texture.glsl and envmap.glsl with their CPU references.
+// emitter `id` along the queried directions (mode 1), so
+// tests/texture_lookups_gpu_vs_cpu.rs can compare texture.glsl and envmap.glsl with
+// their CPU references.
 
 #include "scene/scene_bindings.glsl"
 

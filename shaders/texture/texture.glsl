@@ -1,7 +1,7 @@
 // Textures: texture_eval(id, uv) for a texture id (index + 1, as BsdfRecord and
 // EmitterRecord store them). Needs scene_bindings.glsl. The CPU reference, with the
 // conventions (Mitsuba 3's bitmap and checkerboard) and the XML parameters, is
-// src/scene/texture.rs; tests/textures.rs checks that the two agree.
+// src/scene/texture.rs; tests/texture_lookups_gpu_vs_cpu.rs checks that the two agree.
 //
 // Kinds a scene does not use compile away: define TEXTURE_KINDS (a bit per
 // TEXTURE_* kind) before including this file; the default keeps all.

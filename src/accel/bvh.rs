@@ -44,24 +44,19 @@ const _: () = assert!(BVH_MAX_LEAF_SIZE < 1 << BVH_COUNT_BITS);
 pub const FLAT_CAPACITY: usize = 16;
 
 /// Most primitives of a scene that the kernels trace without its BVH, testing each in
-/// turn ([`FlatPrims`], bvh.glsl's `bvh_trace_flat`). Measured with callgrind on
-/// llvmpipe (Mesa 22.3), instructions of the whole render, flat against the tree:
-/// normalmap.xml (4 triangles and a sphere) -17% (intersect -31%, shadow -43%),
-/// envmap_glossy.xml (2 triangles, 2 spheres) -12%; cube.xml (16 triangles) +0.7%,
-/// veach.xml (12 triangles, 4 spheres) +4%, glass.xml (19 primitives) +8%.
+/// turn ([`FlatPrims`], bvh.glsl's `bvh_trace_flat`): up to here that costs llvmpipe
+/// fewer instructions than the tree, beyond it more (docs/performance.md, "Small
+/// scenes without a tree").
 pub const FLAT_PRIMS_MAX: usize = 8;
 
 const _: () = assert!(FLAT_PRIMS_MAX <= FLAT_CAPACITY);
 
 /// Most quadrics (spheres, disks, cylinders) of a scene with triangles that the build
 /// keeps out of the tree ([`Bvh::apart`]): the traversals test them in turn, each for
-/// its own kind, and the tree then holds triangles alone. On llvmpipe (Mesa 22.3) a
-/// leaf's primitive test runs the code of every kind the tree holds for every lane, so
-/// one sphere among triangles made every triangle test pay for a sphere test too.
-/// callgrind, instructions of the kernels at 128² 16 spp, the same images bit for bit:
-/// textures.xml (18 triangles, a sphere) -8.9% (intersect -24%, shadow -23%),
-/// glass.xml (18 triangles, a sphere) -11.8%, veach.xml direct (12 triangles, 4
-/// spheres) -7.3%.
+/// its own kind, and the tree then holds triangles alone: on llvmpipe a leaf's test runs
+/// the code of every kind the tree holds for every lane, so one sphere among triangles
+/// made every triangle test pay for a sphere test too (docs/performance.md, "Quadrics
+/// apart from the tree").
 pub const APART_QUADRICS_MAX: usize = 8;
 
 const _: () = assert!(APART_QUADRICS_MAX <= FLAT_CAPACITY);

@@ -67,8 +67,9 @@ pub struct DeviceInfo {
     pub max_workgroups_x: u32,
     /// Whether kernels run their `WAVEFRONT_INT64` variants (64-bit stores of the
     /// wavefront's queues, `shaders::int64_variant`): the device has shaderInt64,
-    /// and the environment variable `WAVETRACE_NO_INT64` is not set (it forces the
-    /// 32-bit variants, which every device runs).
+    /// the driver compiles them ([`int64_stores_work`]), and the environment variable
+    /// `WAVETRACE_NO_INT64` is not set (it forces the 32-bit variants, which every
+    /// device runs).
     pub int64: bool,
     /// Time to load Vulkan, create the instance and the device.
     pub startup_seconds: f64,
@@ -469,8 +470,9 @@ impl Device {
         let swapchain_extension = [ash::khr::swapchain::NAME.as_ptr()];
         // SAFETY: physical device from this instance.
         let supported = unsafe { instance.get_physical_device_features(phys.handle) };
-        let int64 =
-            supported.shader_int64 == vk::TRUE && std::env::var_os("WAVETRACE_NO_INT64").is_none();
+        let int64 = supported.shader_int64 == vk::TRUE
+            && int64_stores_work(&phys.name)
+            && std::env::var_os("WAVETRACE_NO_INT64").is_none();
         let features = vk::PhysicalDeviceFeatures::default().shader_int64(int64);
         let mut device_info = vk::DeviceCreateInfo::default()
             .queue_create_infos(&queue_info)
@@ -615,9 +617,36 @@ impl Drop for Inner {
     }
 }
 
+/// The SIMD width llvmpipe names in its device name, "llvmpipe (LLVM 22.1.8, 512
+/// bits)"; `None` for any other device.
+pub fn llvmpipe_bits(name: &str) -> Option<u32> {
+    let rest = name.strip_prefix("llvmpipe")?;
+    let bits = rest.split(" bits").next()?.rsplit([' ', ',', '(']).next()?;
+    bits.parse().ok()
+}
+
+/// Whether the kernels' 64-bit queue stores (`WAVEFRONT_INT64`) compile on the device
+/// named `name`: llvmpipe wider than 256 bits (`LP_NATIVE_VECTOR_WIDTH=512`; Mesa
+/// 26.2.6 with LLVM 22) aborts inside the driver on them (`*** stack smashing detected
+/// ***`; reproduced alone by `examples/int64_store.rs`, tools/mesa_int64_store.sh), so
+/// there the 32-bit stores run, which render the same image bit for bit.
+pub fn int64_stores_work(name: &str) -> bool {
+    llvmpipe_bits(name).is_none_or(|bits| bits <= 256)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn wide_llvmpipe_runs_32_bit_stores() {
+        assert_eq!(llvmpipe_bits("llvmpipe (LLVM 15.0.6, 256 bits)"), Some(256));
+        assert_eq!(llvmpipe_bits("llvmpipe (LLVM 22.1.8, 512 bits)"), Some(512));
+        assert_eq!(llvmpipe_bits("NVIDIA H100 80GB HBM3"), None);
+        assert!(int64_stores_work("llvmpipe (LLVM 15.0.6, 256 bits)"));
+        assert!(!int64_stores_work("llvmpipe (LLVM 22.1.8, 512 bits)"));
+        assert!(int64_stores_work("AMD Radeon RX 7900 XTX (RADV NAVI31)"));
+    }
 
     /// A GPU's memory is its heap; a CPU device's is the host's where that is larger
     /// (lavapipe's fixed 2 GiB heap must not refuse what the host holds).

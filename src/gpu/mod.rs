@@ -9,6 +9,7 @@ pub mod device;
 pub mod error;
 pub mod kernel;
 pub mod layout;
+pub mod records;
 pub mod shaders;
 pub mod specialize;
 pub mod swapchain;

@@ -1,4 +1,11 @@
 //! Errors from reading, writing and comparing images.
+//!
+//! A message says its cause itself, after the path (`x.exr: No such file or directory
+//! (os error 2)`), and so no variant also hands that cause on as its `source()`: a
+//! printer that walks the chain (anyhow's `{:#}` in `main`) would say it again, and the
+//! EXR crate's error a third time (its I/O variant both shows the I/O error and returns
+//! it as its source). The field is called `cause` because thiserror makes a field named
+//! `source` the source.
 
 use std::path::PathBuf;
 
@@ -6,28 +13,28 @@ use std::path::PathBuf;
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
     /// The EXR library could not read or write the file.
-    #[error("{}: {source}", path.display())]
+    #[error("{}: {cause}", path.display())]
     Exr {
         path: PathBuf,
-        source: ::exr::error::Error,
+        cause: ::exr::error::Error,
     },
     /// The PNG encoder could not write the file.
-    #[error("{}: {source}", path.display())]
+    #[error("{}: {cause}", path.display())]
     Png {
         path: PathBuf,
-        source: ::image::ImageError,
+        cause: ::image::ImageError,
     },
     /// The Radiance HDR encoder could not write the file.
-    #[error("{}: {source}", path.display())]
+    #[error("{}: {cause}", path.display())]
     Rgbe {
         path: PathBuf,
-        source: ::image::ImageError,
+        cause: ::image::ImageError,
     },
     /// Writing a file failed.
-    #[error("{}: {source}", path.display())]
+    #[error("{}: {cause}", path.display())]
     Io {
         path: PathBuf,
-        source: std::io::Error,
+        cause: std::io::Error,
     },
     /// The file was read but is not an image we can use (too large, wrong channels).
     #[error("{}: {message}", path.display())]

@@ -37,9 +37,9 @@ pub fn read(path: impl AsRef<Path>) -> Result<Image, Error> {
             }
         },
     )
-    .map_err(|source| Error::Exr {
+    .map_err(|cause| Error::Exr {
         path: path.to_owned(),
-        source,
+        cause,
     })?;
     exr.layer_data
         .channel_data
@@ -54,9 +54,9 @@ pub fn read(path: impl AsRef<Path>) -> Result<Image, Error> {
 /// [`super::MAX_TEXELS`] pixels: the EXR format allows 10^9 x 10^9, and the pixel
 /// storage is allocated from the header before any pixel is read.
 fn check_size(path: &Path) -> Result<(), Error> {
-    let meta = ::exr::meta::MetaData::read_from_file(path, false).map_err(|source| Error::Exr {
+    let meta = ::exr::meta::MetaData::read_from_file(path, false).map_err(|cause| Error::Exr {
         path: path.to_owned(),
-        source,
+        cause,
     })?;
     let refuse = |message| Error::Format {
         path: path.to_owned(),
@@ -104,9 +104,9 @@ pub fn write(image: &Image, path: impl AsRef<Path>) -> Result<(), Error> {
     ExrImage::from_encoded_channels(size, Encoding::SMALL_LOSSLESS, channels)
         .write()
         .to_file(path)
-        .map_err(|source| Error::Exr {
+        .map_err(|cause| Error::Exr {
             path: path.to_owned(),
-            source,
+            cause,
         })
 }
 
@@ -191,9 +191,9 @@ pub fn write_channels_with_text(
     );
     let mut image = ExrImage::from_layer(layer);
     image.attributes.other.extend(text.get(1).map(attribute));
-    image.write().to_file(path).map_err(|source| Error::Exr {
+    image.write().to_file(path).map_err(|cause| Error::Exr {
         path: path.to_owned(),
-        source,
+        cause,
     })
 }
 
@@ -231,9 +231,9 @@ pub fn read_channels_with_text(
         .first_valid_layer()
         .all_attributes()
         .from_file(path)
-        .map_err(|source| Error::Exr {
+        .map_err(|cause| Error::Exr {
             path: path.to_owned(),
-            source,
+            cause,
         })?;
     let layer = image.layer_data;
     let text = image

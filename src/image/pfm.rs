@@ -44,9 +44,9 @@ pub fn write(
     }
     std::fs::File::create(path)
         .and_then(|mut f| f.write_all(&bytes))
-        .map_err(|source| Error::Io {
+        .map_err(|cause| Error::Io {
             path: path.to_owned(),
-            source,
+            cause,
         })
 }
 

@@ -50,9 +50,9 @@ pub fn write(image: &Image, path: impl AsRef<Path>, exposure: f32) -> Result<(),
         ::image::ExtendedColorType::Rgb8,
         ::image::ImageFormat::Png,
     )
-    .map_err(|source| Error::Png {
+    .map_err(|cause| Error::Png {
         path: path.to_owned(),
-        source,
+        cause,
     })
 }
 
@@ -73,9 +73,9 @@ pub fn write_rgb8(
         ::image::ExtendedColorType::Rgb8,
         ::image::ImageFormat::Png,
     )
-    .map_err(|source| Error::Png {
+    .map_err(|cause| Error::Png {
         path: path.to_owned(),
-        source,
+        cause,
     })
 }
 
@@ -134,9 +134,9 @@ pub fn write_channels(
         color,
         ::image::ImageFormat::Png,
     )
-    .map_err(|source| Error::Png {
+    .map_err(|cause| Error::Png {
         path: path.to_owned(),
-        source,
+        cause,
     })
 }
 

@@ -14,15 +14,15 @@ pub fn write(image: &Image, path: impl AsRef<Path>) -> Result<(), Error> {
         .chunks_exact(3)
         .map(|p| ::image::Rgb([p[0].max(0.0), p[1].max(0.0), p[2].max(0.0)]))
         .collect();
-    let file = std::fs::File::create(path).map_err(|source| Error::Io {
+    let file = std::fs::File::create(path).map_err(|cause| Error::Io {
         path: path.to_owned(),
-        source,
+        cause,
     })?;
     ::image::codecs::hdr::HdrEncoder::new(std::io::BufWriter::new(file))
         .encode(&pixels, image.width as usize, image.height as usize)
-        .map_err(|source| Error::Rgbe {
+        .map_err(|cause| Error::Rgbe {
             path: path.to_owned(),
-            source,
+            cause,
         })
 }
 

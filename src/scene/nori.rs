@@ -10,7 +10,7 @@
 //!   that Nori left its `left` and `up` axes unnormalised, of length sin θ (θ between
 //!   `up` and the view direction), which narrows tan(fov / 2) by that factor: the 2015
 //!   course references (veach_mi, odyssey, sphere) are 1-4.4% zoomed in against
-//!   these files (`tests/nori_scenes.rs`).
+//!   these files (`tests/nori_scenes_vs_2015_references.rs`).
 //! - `sampler` of any type wavetrace knows (`super::sampler`; Nori itself has only
 //!   `independent`): `sampleCount` (1), `seed` and the type's parameters.
 //! - `integrator`: any type; its parameters are kept unread in [`IntegratorSpec`].

@@ -115,8 +115,8 @@ pub fn load_image(path: &Path, raw: bool) -> Result<(u32, u32, Vec<[f32; 3]>), S
         return Err(format!("image file '{}' not found", path.display()));
     }
     let (w, h, texels, linear) = if ext == "exr" {
-        let img = crate::image::Image::read_exr(path)
-            .map_err(|e| format!("cannot read EXR '{}': {e}", path.display()))?;
+        let img =
+            crate::image::Image::read_exr(path).map_err(|e| format!("cannot read EXR {e}"))?; // e names the file
         let texels = img.rgb.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
         (img.width, img.height, texels, true)
     } else {

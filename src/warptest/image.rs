@@ -97,9 +97,14 @@ pub fn render(outcome: &Outcome) -> (u32, u32, Vec<u8>) {
 }
 
 /// Writes [`render`] as a PNG.
-pub fn write_png(outcome: &Outcome, path: &Path) -> Result<(), ::image::ImageError> {
+pub fn write_png(outcome: &Outcome, path: &Path) -> Result<(), crate::image::Error> {
     let (w, h, px) = render(outcome);
-    ::image::save_buffer(path, &px, w, h, ::image::ExtendedColorType::Rgb8)
+    ::image::save_buffer(path, &px, w, h, ::image::ExtendedColorType::Rgb8).map_err(|cause| {
+        crate::image::Error::Png {
+            path: path.to_owned(),
+            cause,
+        }
+    })
 }
 
 #[cfg(test)]

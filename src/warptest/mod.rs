@@ -2,7 +2,7 @@
 //! histogram them, and compare with the counts its own pdf predicts by Pearson's
 //! chi-square test, as Nori's warptest and Mitsuba's `chi2` do. `wavetrace warptest`
 //! runs one test and draws the histograms; tests/chi2.rs, tests/furnace.rs and
-//! tests/media.rs run many.
+//! tests/media_sampling_chi2.rs run many.
 //!
 //! - [`grid`]: the cells (a sphere grid around an axis, or a chart of a planar domain)
 //!   and the quadrature giving each cell's expected count;

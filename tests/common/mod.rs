@@ -5,15 +5,42 @@
 
 use std::path::{Path, PathBuf};
 
-use wavetrace::gpu::{BindingLayout, Buffer, CommandList, DescriptorSet, Device, Kernel, Location};
+use wavetrace::accel::Bvh;
+use wavetrace::gpu::{
+    BindingKind, BindingLayout, Buffer, CommandList, DescriptorSet, Device, Kernel, Location,
+};
 use wavetrace::image::metrics::{block_t_test, block_t_test_correlated, rel_mse, BlockTest};
 use wavetrace::image::Image;
+use wavetrace::render::scene_buffers::{scene_binding_kinds, SceneBuffers, SceneRecords};
 use wavetrace::render::{RenderOptions, Renderer};
 use wavetrace::scene::Scene;
 
 pub fn device() -> Device {
     Device::new(std::env::var("WAVETRACE_DEVICE").ok().as_deref())
         .expect("a Vulkan device (run tools/setup.sh)")
+}
+
+/// The scene uploaded for a test kernel: its binding layout (set 0 the scene's
+/// bindings, set 1 `storage_buffers` storage buffers, `push_bytes` of push constants)
+/// and the scene's buffers in set 0.
+pub fn upload_scene(
+    device: &Device,
+    bvh: &Bvh,
+    records: &SceneRecords,
+    storage_buffers: usize,
+    push_bytes: u32,
+) -> (BindingLayout, SceneBuffers) {
+    let layout = BindingLayout::with_kinds(
+        device,
+        &[
+            scene_binding_kinds(),
+            vec![BindingKind::Storage; storage_buffers],
+        ],
+        push_bytes,
+    )
+    .unwrap();
+    let buffers = SceneBuffers::upload(device, &layout, bvh, records).unwrap();
+    (layout, buffers)
 }
 
 /// Runs a test kernel that reads the scene (set 0, `scene_set`) and, in set 1, the
@@ -63,17 +90,31 @@ pub fn repo(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
 }
 
-/// Writes `text` to a fresh file in a per-test temporary folder and returns its path.
-pub fn temp_file(test: &str, name: &str, text: &str) -> PathBuf {
+/// A temporary folder of this test process for `test` (created if need be).
+pub fn temp_dir(test: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("wavetrace-test-{}-{test}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("create temp dir");
-    let path = dir.join(name);
+    dir
+}
+
+/// Writes `text` to a fresh file in a per-test temporary folder and returns its path.
+pub fn temp_file(test: &str, name: &str, text: &str) -> PathBuf {
+    let path = temp_dir(test).join(name);
     std::fs::write(&path, text).expect("write temp file");
     path
 }
 
 pub fn load(path: &Path) -> Scene {
     wavetrace::scene::load(path, &[]).unwrap_or_else(|e| panic!("loading {}: {e}", path.display()))
+}
+
+/// Loads the scene at `path` with `-D` `defines`.
+pub fn load_with(path: &Path, defines: &[(&str, &str)]) -> Scene {
+    let d: Vec<(String, String)> = defines
+        .iter()
+        .map(|(a, b)| (a.to_string(), b.to_string()))
+        .collect();
+    wavetrace::scene::load(path, &d).unwrap_or_else(|e| panic!("loading {}: {e}", path.display()))
 }
 
 /// Block t-test of `img` against `reference` (image::metrics: per 8x8 block and channel
@@ -208,4 +249,25 @@ pub fn pixel(img: &Image, x: u32, y: u32) -> [f32; 3] {
     let i = 3 * (y * img.width + x) as usize;
     [img.rgb[i], img.rgb[i + 1], img.rgb[i + 2]]
 }
+/// `img` box-averaged over `k` x `k` pixels.
+pub fn downsample(img: &Image, k: u32) -> Image {
+    assert!(img.width.is_multiple_of(k) && img.height.is_multiple_of(k));
+    let mut out = Image::new(img.width / k, img.height / k);
+    let w = 1.0 / (k * k) as f64;
+    for y in 0..out.height {
+        for x in 0..out.width {
+            let mut sum = [0.0f64; 3];
+            for dy in 0..k {
+                for dx in 0..k {
+                    let p = img.pixel(k * x + dx, k * y + dy);
+                    (0..3).for_each(|c| sum[c] += p[c] as f64);
+                }
+            }
+            out.set_pixel(x, y, sum.map(|s| (s * w) as f32));
+        }
+    }
+    out
+}
+
+pub mod media;
 pub mod stats;

@@ -7,9 +7,9 @@ mod common;
 use glam::{Mat3, Vec2, Vec3};
 use wavetrace::accel::{prims_from_scene, Bvh};
 use wavetrace::gpu::layout::EMITTER_ENVMAP;
-use wavetrace::gpu::{shaders, BindingKind, BindingLayout, Kernel};
+use wavetrace::gpu::{shaders, Kernel};
 use wavetrace::image::Image;
-use wavetrace::render::scene_buffers::{scene_binding_kinds, SceneBuffers, SceneRecords};
+use wavetrace::render::scene_buffers::SceneRecords;
 use wavetrace::scene::{envmap, Emitter, Scene, Texture};
 
 const N: u32 = 20_000;
@@ -30,13 +30,7 @@ fn lookup(scene: &Scene, queries: &[[f32; 4]], id: u32, mode: u32) -> Vec<Vec3> 
     let device = common::device();
     let bvh = Bvh::build(prims_from_scene(scene));
     let records = SceneRecords::new(scene, &bvh);
-    let layout = BindingLayout::with_kinds(
-        &device,
-        &[scene_binding_kinds(), vec![BindingKind::Storage; 2]],
-        12,
-    )
-    .unwrap();
-    let buffers = SceneBuffers::upload(&device, &layout, &bvh, &records).unwrap();
+    let (layout, buffers) = common::upload_scene(&device, &bvh, &records, 2, 12);
     let kernel = Kernel::new(
         &device,
         "texture_eval",

@@ -57,7 +57,7 @@ mod common;
 
 use std::path::{Path, PathBuf};
 
-use common::{device, repo};
+use common::{device, downsample, repo};
 use wavetrace::image::metrics::student_t_two_sided_p;
 use wavetrace::image::Image;
 use wavetrace::render::RenderOptions;
@@ -201,26 +201,6 @@ fn rewrite_scaled(file: &Path, era_2015: bool, k: u32) -> String {
     let mut out = text.clone();
     for (range, with) in edits {
         out.replace_range(range, &with);
-    }
-    out
-}
-
-/// `img` box-averaged over `k` x `k` pixels.
-fn downsample(img: &Image, k: u32) -> Image {
-    assert!(img.width.is_multiple_of(k) && img.height.is_multiple_of(k));
-    let mut out = Image::new(img.width / k, img.height / k);
-    let w = 1.0 / (k * k) as f64;
-    for y in 0..out.height {
-        for x in 0..out.width {
-            let mut sum = [0.0f64; 3];
-            for dy in 0..k {
-                for dx in 0..k {
-                    let p = img.pixel(k * x + dx, k * y + dy);
-                    (0..3).for_each(|c| sum[c] += p[c] as f64);
-                }
-            }
-            out.set_pixel(x, y, sum.map(|s| (s * w) as f32));
-        }
     }
     out
 }

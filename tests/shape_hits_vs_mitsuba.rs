@@ -13,8 +13,8 @@ mod common;
 use glam::Vec3;
 use serde_json::Value;
 use wavetrace::accel::{prims_from_scene, Bvh, FlatPrims};
-use wavetrace::gpu::{shaders, BindingKind, BindingLayout, Kernel};
-use wavetrace::render::scene_buffers::{scene_binding_kinds, SceneBuffers, SceneRecords};
+use wavetrace::gpu::{shaders, Kernel};
+use wavetrace::render::scene_buffers::SceneRecords;
 
 fn v3(v: &Value) -> Vec3 {
     let a = v.as_array().expect("a 3-vector");
@@ -41,13 +41,7 @@ fn trace(name: &str, shape: &str, rays: &[(Vec3, Vec3)]) -> Vec<Found> {
     let device = common::device();
     let bvh = Bvh::build(prims_from_scene(&scene));
     let records = SceneRecords::new(&scene, &bvh);
-    let layout = BindingLayout::with_kinds(
-        &device,
-        &[scene_binding_kinds(), vec![BindingKind::Storage; 2]],
-        4,
-    )
-    .unwrap();
-    let buffers = SceneBuffers::upload(&device, &layout, &bvh, &records).unwrap();
+    let (layout, buffers) = common::upload_scene(&device, &bvh, &records, 2, 4);
     let kernel = Kernel::new(
         &device,
         "surface_query",
