@@ -59,27 +59,18 @@ pub mod hooks {
 
 use lobes::{DELTA, DIFFUSE, GLOSSY, NULL, REFLECTION, TRANSMISSION};
 
-/// Every kind, by id.
+/// Every kind, by id: (id, GLSL name, lobes, hooks), one line each.
+#[rustfmt::skip]
 pub const KINDS: &[Kind] = &[
-    kind(0, "diffuse", REFLECTION | DIFFUSE, 0),
-    kind(1, "conductor", REFLECTION | DELTA, 0),
-    kind(2, "roughconductor", REFLECTION | GLOSSY, 0),
-    kind(3, "dielectric", REFLECTION | TRANSMISSION | DELTA, 0),
-    kind(4, "roughdielectric", REFLECTION | TRANSMISSION | GLOSSY, 0),
-    kind(5, "plastic", REFLECTION | DELTA | DIFFUSE, 0),
-    kind(6, "roughplastic", REFLECTION | GLOSSY | DIFFUSE, 0),
-    kind(
-        7,
-        "nori_microfacet",
-        REFLECTION | GLOSSY | DIFFUSE,
-        hooks::LOBES | hooks::TEXTURED,
-    ),
-    kind(
-        8,
-        "thindielectric",
-        REFLECTION | TRANSMISSION | DELTA | NULL,
-        0,
-    ),
+    kind(0, "diffuse",         REFLECTION | DIFFUSE,                   0),
+    kind(1, "conductor",       REFLECTION | DELTA,                     0),
+    kind(2, "roughconductor",  REFLECTION | GLOSSY,                    0),
+    kind(3, "dielectric",      REFLECTION | TRANSMISSION | DELTA,      0),
+    kind(4, "roughdielectric", REFLECTION | TRANSMISSION | GLOSSY,     0),
+    kind(5, "plastic",         REFLECTION | DELTA | DIFFUSE,           0),
+    kind(6, "roughplastic",    REFLECTION | GLOSSY | DIFFUSE,          0),
+    kind(7, "nori_microfacet", REFLECTION | GLOSSY | DIFFUSE,          hooks::LOBES | hooks::TEXTURED),
+    kind(8, "thindielectric",  REFLECTION | TRANSMISSION | DELTA | NULL, 0),
 ];
 
 const fn kind(id: u32, name: &'static str, lobes: u32, hooks: u32) -> Kind {
