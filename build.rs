@@ -6,12 +6,16 @@
 //! generated `shaders.rs` holds one `pub const NAME: &[u8]` per kernel: `SHADE` for
 //! `kernels/shade.comp`, `TESTS_WARP` for `tests/warp.comp`. Includes name their file
 //! from `shaders/` (`#include "bsdf/microfacet.glsl"`), or from `$OUT_DIR/glsl/` for
-//! generated files (`bsdf/dispatch.glsl`, build/bsdf_dispatch.rs).
+//! generated files.
 
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
+// What build.rs generates from Rust, shared with the crate: the GPU records
+// (`gpu::records`, their GLSL in `build/records.rs`), the table of specialization
+// constants (`gpu::spec_ids`) and the BSDF kinds (`scene::bsdf::kinds`, their GLSL
+// dispatch in `build/bsdf_dispatch.rs`).
 #[path = "build/bsdf_dispatch.rs"]
 mod bsdf_dispatch;
 #[allow(dead_code)] // the crate uses the rest
@@ -22,6 +26,9 @@ mod bsdf_kinds;
 mod records;
 #[path = "build/records.rs"]
 mod records_glsl;
+#[path = "src/gpu/spec_ids.rs"]
+#[allow(dead_code)]
+mod spec_ids;
 
 fn main() {
     let root =
@@ -29,12 +36,21 @@ fn main() {
     let out = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     let shader_dir = root.join("shaders");
     println!("cargo:rerun-if-changed=shaders");
-    // The GLSL side of the GPU records (src/gpu/records.rs), in the include path.
-    records_glsl::write(&out.join("glsl"));
-    // The BSDF kinds and their dispatch (src/scene/bsdf/kinds.rs), likewise.
+    println!("cargo:rerun-if-changed=src/gpu/spec_ids.rs");
     println!("cargo:rerun-if-changed=src/scene/bsdf/kinds.rs");
     println!("cargo:rerun-if-changed=build/bsdf_dispatch.rs");
-    bsdf_dispatch::write(&out);
+    // Headers generated from Rust, included as `generated/NAME.glsl`: the GPU records
+    // (src/gpu/records.rs), the specialization constants (src/gpu/spec_ids.rs) and the
+    // BSDF dispatch (src/scene/bsdf/kinds.rs).
+    let generated = out.join("glsl");
+    fs::create_dir_all(generated.join("generated")).expect("create the generated GLSL folder");
+    records_glsl::write(&generated);
+    fs::write(
+        generated.join("generated/spec_constants.glsl"),
+        spec_ids::glsl_header(),
+    )
+    .expect("write spec_constants.glsl");
+    bsdf_dispatch::write(&generated);
 
     let mut kernels = Vec::new();
     collect_kernels(&shader_dir, &mut kernels);
@@ -46,6 +62,7 @@ fn main() {
     let mut failures = Vec::new();
     let mut split_pairs = Vec::new();
     let mut int64_pairs = Vec::new();
+    let mut all = Vec::new();
     for kernel in &kernels {
         let rel = kernel
             .strip_prefix(&shader_dir)
@@ -89,7 +106,7 @@ fn main() {
                 .arg("vulkan1.2")
                 .args(defines)
                 .arg(format!("-I{}", shader_dir.display()))
-                .arg(format!("-I{}", out.join("glsl").display()))
+                .arg(format!("-I{}", generated.display()))
                 .arg("-o")
                 .arg(&spv)
                 .arg(kernel)
@@ -117,6 +134,7 @@ fn main() {
                         "pub const {name}: &[u8] = include_bytes!({:?});\n",
                         spv.display().to_string()
                     ));
+                    all.push(name);
                 }
             }
         }
@@ -145,6 +163,11 @@ fn main() {
         &int64_pairs,
         "_INT64",
     ));
+    consts.push_str("\n/// Every kernel and variant: (constant name, SPIR-V).\npub const ALL: &[(&str, &[u8])] = &[\n");
+    for name in &all {
+        consts.push_str(&format!("    (\"{name}\", {name}),\n"));
+    }
+    consts.push_str("];\n");
     if !failures.is_empty() {
         eprintln!("GLSL compilation failed:\n{}", failures.join("\n"));
         std::process::exit(1);

@@ -1,6 +1,6 @@
 //! The GLSL dispatch of the BSDF family, generated from `src/scene/bsdf/kinds.rs`
-//! (included here as `bsdf_kinds`): `$OUT_DIR/glsl/bsdf/dispatch.glsl`, which
-//! `shaders/bsdf/bsdf.glsl` includes. It holds
+//! (included here as `bsdf_kinds`): `$OUT_DIR/glsl/generated/bsdf_dispatch.glsl`,
+//! which `shaders/bsdf/bsdf.glsl` includes. It holds
 //!
 //! - `#define BSDF_<NAME> id` for every kind, and the `BSDF_LOBE_*` flags;
 //! - the `#include` of every model's file `bsdf/<name>.glsl`;
@@ -17,16 +17,16 @@ use std::path::Path;
 
 use crate::bsdf_kinds::{hooks, lobes, Kind, KINDS};
 
-/// Writes `glsl/bsdf/dispatch.glsl` under `out` (the folder glslang gets as a second
-/// include path).
-pub fn write(out: &Path) {
-    let dir = out.join("glsl").join("bsdf");
-    std::fs::create_dir_all(&dir).expect("create $OUT_DIR/glsl/bsdf");
+/// Writes `generated/bsdf_dispatch.glsl` under `glsl` (the folder glslang gets as a
+/// second include path).
+pub fn write(glsl: &Path) {
+    let dir = glsl.join("generated");
+    std::fs::create_dir_all(&dir).expect("create the generated GLSL folder");
     let text = dispatch();
-    let path = dir.join("dispatch.glsl");
+    let path = dir.join("bsdf_dispatch.glsl");
     // Rewrite only a changed file, so that glslang's inputs keep their times.
     if std::fs::read_to_string(&path).ok().as_deref() != Some(text.as_str()) {
-        std::fs::write(&path, text).expect("write dispatch.glsl");
+        std::fs::write(&path, text).expect("write bsdf_dispatch.glsl");
     }
 }
 

@@ -1,5 +1,5 @@
 //! The GLSL side of the GPU records declared in `src/gpu/records.rs`, written by
-//! build.rs to `$OUT_DIR/glsl/scene/records.glsl` (included by
+//! build.rs to `$OUT_DIR/glsl/generated/records.glsl` (included by
 //! `shaders/scene/layout.glsl`; glslang finds it through `-I$OUT_DIR/glsl`).
 //!
 //! For each record: its struct, laid out by std430 (this generator checks every
@@ -19,12 +19,12 @@ use crate::records::{Field, Record, RECORDS};
 use std::fmt::Write;
 use std::path::Path;
 
-/// Writes `records.glsl` under `glsl_dir` (`glsl_dir/scene/records.glsl`).
+/// Writes `records.glsl` under `glsl_dir` (`glsl_dir/generated/records.glsl`).
 pub fn write(glsl_dir: &Path) {
     println!("cargo:rerun-if-changed=src/gpu/records.rs");
     println!("cargo:rerun-if-changed=build/records.rs");
-    let dir = glsl_dir.join("scene");
-    std::fs::create_dir_all(&dir).expect("create $OUT_DIR/glsl/scene");
+    let dir = glsl_dir.join("generated");
+    std::fs::create_dir_all(&dir).expect("create $OUT_DIR/glsl/generated");
     std::fs::write(dir.join("records.glsl"), glsl(RECORDS)).expect("write records.glsl");
 }
 

@@ -1,4 +1,4 @@
-//! Every GPU record's generated GLSL loader and storer (scene/records.glsl, written by
+//! Every GPU record's generated GLSL loader and storer (generated/records.glsl, written by
 //! build.rs from src/gpu/records.rs) against the Rust layout, on the device: records
 //! whose every 4-byte word differs go through `T_LOAD` into a std430 block and through
 //! `T_STORE` back to texels (shaders/tests/records.comp), and each field must come out

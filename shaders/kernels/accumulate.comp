@@ -5,9 +5,10 @@
 // invalid) and counted.
 // Reads: paths. Writes: the film's sample ring, counters.discarded.
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 // The sampler kind (SAMPLER_*), which draws the samples' positions in their pixels.
-layout(constant_id = 0) const uint SCENE_SAMPLER_KIND = 0u;
+SPEC(SCENE_SAMPLER_KIND);
 #define SAMPLER_KIND SCENE_SAMPLER_KIND
 #include "film/film.glsl"
 

@@ -14,14 +14,15 @@
 // counted here.
 // Reads: the film's sample ring (or paths). Writes: the film's sums, counters.discarded.
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "film/film.glsl"
 
 // The filter (a FILTER_* value) and whether the film keeps alpha sums.
-layout(constant_id = 0) const uint FILM_FILTER = FILTER_GAUSSIAN;
-layout(constant_id = 1) const bool FILM_HAS_ALPHA = false;
+SPEC(FILM_FILTER);
+SPEC(SCENE_FILM_ALPHA);
 // Whether the pixels read their samples from the paths (the box filter; film.rs).
-layout(constant_id = 2) const bool FILM_FROM_PATHS = false;
+SPEC(FILM_FROM_PATHS);
 #include "film/filter.glsl"
 
 void main() {
@@ -49,7 +50,7 @@ void main() {
 
     uint i = c.y * cw + c.x;
     vec4 sum = film_sums[i];
-    float alpha = FILM_HAS_ALPHA ? film_alpha_sums[i] : 0.0;
+    float alpha = SCENE_FILM_ALPHA ? film_alpha_sums[i] : 0.0;
     if (FILM_FROM_PATHS) {
         // Sample k of this pixel is path k P + (its index - pixel_base) of the batch.
         int p = k_first * P + last;
@@ -60,12 +61,12 @@ void main() {
                 atomicAdd(counters.discarded, 1u);
             } else {
                 sum += vec4(L, 1.0);
-                if (FILM_HAS_ALPHA && (path.flags & PATH_COVERED) != 0u) alpha += 1.0;
+                if (SCENE_FILM_ALPHA && (path.flags & PATH_COVERED) != 0u) alpha += 1.0;
             }
             p += P;
         }
         film_sums[i] = sum;
-        if (FILM_HAS_ALPHA) film_alpha_sums[i] = alpha;
+        if (SCENE_FILM_ALPHA) film_alpha_sums[i] = alpha;
         return;
     }
     for (int k = k_first; k <= k_last; k++) {
@@ -86,7 +87,7 @@ void main() {
                     // first: the same value whatever the region's origin.
                     float w = filter_weight(vec2(s - ivec2(x, y)) + 0.5 - fs.offset);
                     acc += w * vec4(fs.value, 1.0);
-                    if (FILM_HAS_ALPHA && (fs.flags & FILM_SAMPLE_COVERED) != 0u) acc_alpha += w;
+                    if (SCENE_FILM_ALPHA && (fs.flags & FILM_SAMPLE_COVERED) != 0u) acc_alpha += w;
                 }
                 slot = slot + 1u == film.slots ? 0u : slot + 1u;
             }
@@ -97,5 +98,5 @@ void main() {
         alpha += acc_alpha;
     }
     film_sums[i] = sum;
-    if (FILM_HAS_ALPHA) film_alpha_sums[i] = alpha;
+    if (SCENE_FILM_ALPHA) film_alpha_sums[i] = alpha;
 }

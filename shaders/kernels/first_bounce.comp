@@ -22,11 +22,12 @@
 // the same image up to float contraction.
 // Writes: paths[p] for path p of the batch, ray queue 1, counters.rays_traced.
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
 #include "queue/queue.glsl"
 // The sampler kind (SAMPLER_*): the other kinds compile away.
-layout(constant_id = 12) const uint SCENE_SAMPLER_KIND = 0u;
+SPEC(SCENE_SAMPLER_KIND);
 #define SAMPLER_KIND SCENE_SAMPLER_KIND
 #include "film/film.glsl"
 #include "sensor/camera.glsl"
@@ -67,24 +68,24 @@ void path_push_ray(vec3 origin, uint path, vec3 dir, float tmax) {
 
 // The scene's features, with shade.comp's constant ids (the host gives both the same
 // constants; see there).
-layout(constant_id = 10) const uint SCENE_SURFACE_FEATURES = 0xffffffffu;
+SPEC(SCENE_SURFACE_FEATURES);
 #define SURFACE_FEATURES SCENE_SURFACE_FEATURES
-layout(constant_id = 2) const uint SCENE_TEXTURES = 0xffffffffu;
+SPEC(SCENE_TEXTURES);
 #define TEXTURE_KINDS SCENE_TEXTURES
-layout(constant_id = 9) const uint SCENE_EMITTER_KINDS = 0xffffffffu;
+SPEC(SCENE_EMITTER_KINDS);
 #define EMITTER_KINDS SCENE_EMITTER_KINDS
 #define EMITTER_STRATA (SCENE_SAMPLER_KIND != SAMPLER_INDEPENDENT)
 #include "emitter/emitter.glsl"
-layout(constant_id = 1) const uint SCENE_BSDF_KINDS = 0xffffffffu;
+SPEC(SCENE_BSDF_KINDS);
 #define BSDF_KINDS SCENE_BSDF_KINDS
 #include "bsdf/bsdf.glsl"
 #include "bsdf/bsdf_textured.glsl"
-layout(constant_id = 5) const uint SCENE_PRIM_KINDS = 0xffffffffu;
+SPEC(SCENE_PRIM_KINDS);
 #define BVH_PRIM_KINDS SCENE_PRIM_KINDS
-layout(constant_id = 11) const int SCENE_BVH_DEPTH = 32;
+SPEC(SCENE_BVH_DEPTH);
 #define BVH_STACK_DEPTH SCENE_BVH_DEPTH
-layout(constant_id = 18) const uint SCENE_FLAT_PRIMS = 0u;
-layout(constant_id = 19) const uint SCENE_FLAT_KINDS = 0u;
+SPEC(SCENE_FLAT_PRIMS);
+SPEC(SCENE_FLAT_KINDS);
 #define BVH_FLAT_PRIMS SCENE_FLAT_PRIMS
 #define BVH_FLAT_KINDS SCENE_FLAT_KINDS
 #include "accel/bvh.glsl"
@@ -93,34 +94,34 @@ layout(constant_id = 19) const uint SCENE_FLAT_KINDS = 0u;
 // path_shade (as in shade.comp) and the shadow ray is attenuated by what it crosses
 // (as in shadow.comp). Without them this code compiles away. (Before path.glsl, which
 // shades medium vertices where medium.glsl came first.)
-layout(constant_id = 4) const bool SCENE_HAS_MEDIA = false;
+SPEC(SCENE_HAS_MEDIA);
 #define MEDIA_ENABLED SCENE_HAS_MEDIA
-layout(constant_id = 6) const uint SCENE_MEDIUM_FEATURES = 0xffffffffu;
+SPEC(SCENE_MEDIUM_FEATURES);
 #define MEDIUM_FEATURES SCENE_MEDIUM_FEATURES
-layout(constant_id = 7) const bool SCENE_THIN_NULL = false;
+SPEC(SCENE_THIN_NULL);
 #define THIN_NULL SCENE_THIN_NULL
 #include "medium/medium.glsl"
-layout(constant_id = 8) const bool SCENE_MIS_POWER = false;
+SPEC(SCENE_MIS_POWER);
 #define MIS_POWER SCENE_MIS_POWER
 // The first bounce ends the paths (max_depth 1: only the emission camera rays find).
-layout(constant_id = 14) const bool SCENE_FIRST_ENDS = false;
+SPEC(SCENE_FIRST_ENDS);
 #define SHADE_LAST SCENE_FIRST_ENDS
 #include "integrator/path.glsl"
 // The second bounce, where it runs here, meets the emitters alone (path_emitted.glsl)
 // in scenes with few emitter primitives: how many, and their kinds (0: it traces).
-layout(constant_id = 16) const uint SCENE_EMITTER_PRIMS = 0u;
+SPEC(SCENE_EMITTER_PRIMS);
 #define EMITTER_PRIMS SCENE_EMITTER_PRIMS
-layout(constant_id = 17) const uint SCENE_EMITTER_PRIM_KINDS = 0xfu;
+SPEC(SCENE_EMITTER_PRIM_KINDS);
 #define EMITTER_PRIM_KINDS SCENE_EMITTER_PRIM_KINDS
 #include "integrator/path_emitted.glsl"
 #include "integrator/vol_path.glsl"
 #include "medium/transmittance.glsl"
 
-layout(constant_id = 0) const uint INTEGRATOR = INTEGRATOR_PATH_MIS;
-layout(constant_id = 13) const bool SCENE_FILM_ALPHA = false;
+SPEC(INTEGRATOR);
+SPEC(SCENE_FILM_ALPHA);
 // The second bounce ends the paths (max_depth 2) and meets the emitters alone
 // (EMITTER_PRIMS > 0): it runs here too.
-layout(constant_id = 20) const bool SCENE_SECOND_ENDS = false;
+SPEC(SCENE_SECOND_ENDS);
 
 // The path's shadow ray from its vertex just shaded, if it made one: traced, and its
 // contribution added where nothing blocks it.

@@ -3,9 +3,10 @@
 // generate: one camera ray per path slot of the batch (camera_path.glsl).
 // Writes: paths[p], ray queue 0 item p. The host sets ray_count[0] = path_count.
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 // The sampler kind (SAMPLER_*): the other kinds compile away.
-layout(constant_id = 0) const uint SCENE_SAMPLER_KIND = 0u;
+SPEC(SCENE_SAMPLER_KIND);
 #define SAMPLER_KIND SCENE_SAMPLER_KIND
 #include "film/film.glsl"
 #include "sensor/camera.glsl"

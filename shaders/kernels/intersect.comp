@@ -3,30 +3,31 @@
 // intersect: closest hit through the BVH for every ray of the input queue.
 // Reads: ray queue `queue_in`. Writes: hits[i] for ray i.
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
 #include "queue/partition.glsl"
 
 // The quadric kinds of the scene (SURFACE_FEATURE_* bits): the traversal compiles the
 // tests of the others out.
-layout(constant_id = 0) const uint SCENE_PRIM_KINDS = 0xffffffffu;
+SPEC(SCENE_PRIM_KINDS);
 #define BVH_PRIM_KINDS SCENE_PRIM_KINDS
 // Entries of the traversal stack: the scene BVH's deepest leaf (bvh.glsl).
-layout(constant_id = 1) const int SCENE_BVH_DEPTH = 32;
+SPEC(SCENE_BVH_DEPTH);
 #define BVH_STACK_DEPTH SCENE_BVH_DEPTH
 // A scene of a few primitives: how many and their kinds; the traversal tests each
 // in turn (bvh.glsl: bvh_trace_flat; 0: traverse the BVH).
-layout(constant_id = 3) const uint SCENE_FLAT_PRIMS = 0u;
-layout(constant_id = 4) const uint SCENE_FLAT_KINDS = 0u;
+SPEC(SCENE_FLAT_PRIMS);
+SPEC(SCENE_FLAT_KINDS);
 #define BVH_FLAT_PRIMS SCENE_FLAT_PRIMS
 #define BVH_FLAT_KINDS SCENE_FLAT_KINDS
 #include "accel/bvh.glsl"
 // Whether the rays are partitioned into hits and misses for shade (partition.glsl);
 // else the kernels that follow read every ray's hit.
-layout(constant_id = 2) const bool SCENE_PARTITION = false;
+SPEC(SCENE_PARTITION);
 // Rays may cross null surfaces: the second-nearest hit is kept too, for shade to go on
 // through the nearest without tracing again (vol_path.glsl).
-layout(constant_id = 5) const bool SCENE_SECOND_HITS = false;
+SPEC(SCENE_SECOND_HITS);
 
 void main() {
     uint i = thread_index();

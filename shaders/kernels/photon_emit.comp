@@ -5,18 +5,19 @@
 // Writes: photon paths (path-state buffer), ray queue 0 (appended; the host empties it
 // and folds it with queue_args).
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "queue/queue.glsl"
 #include "scene/scene_bindings.glsl"
-layout(constant_id = 0) const uint SCENE_SURFACE_FEATURES = 0xffffffffu;
+SPEC(SCENE_SURFACE_FEATURES);
 #define SURFACE_FEATURES SCENE_SURFACE_FEATURES
-layout(constant_id = 1) const uint SCENE_TEXTURES = 0xffffffffu;
+SPEC(SCENE_TEXTURES);
 #define TEXTURE_KINDS SCENE_TEXTURES
-layout(constant_id = 2) const uint SCENE_EMITTER_KINDS = 0xffffffffu;
+SPEC(SCENE_EMITTER_KINDS);
 #define EMITTER_KINDS SCENE_EMITTER_KINDS
 #include "emitter/emitter.glsl"
 // Choose the emitter uniformly (the photonmapper, as Nori) instead of by power.
-layout(constant_id = 3) const bool UNIFORM_EMITTER_CHOICE = false;
+SPEC(UNIFORM_EMITTER_CHOICE);
 #include "photon/bindings.glsl"
 #include "photon/record.glsl"
 #include "photon/random.glsl"

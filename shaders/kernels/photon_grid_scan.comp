@@ -10,10 +10,11 @@
 //   2: each block but the first adds the total of the blocks before it.
 // Reads and writes: cells, scan_sums.
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "photon/bindings.glsl"
 
-layout(constant_id = 0) const uint SCAN_STAGE = 0u;
+SPEC(SCAN_STAGE);
 #define SCAN_PER_THREAD 8u
 #define SCAN_BLOCK (WORKGROUP_SIZE * SCAN_PER_THREAD)
 

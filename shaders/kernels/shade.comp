@@ -6,68 +6,69 @@
 // stage (vol_path.glsl): free-flight sampling and null-surface crossings.
 // Reads: ray queue `queue_in`, hits. Writes: paths[], shadow queue, next ray queue.
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
 #include "queue/partition.glsl"
 // The sampler kind (SAMPLER_*): the other kinds compile away.
-layout(constant_id = 12) const uint SCENE_SAMPLER_KIND = 0u;
+SPEC(SCENE_SAMPLER_KIND);
 #define SAMPLER_KIND SCENE_SAMPLER_KIND
 // The primitive and vertex features of the scene (SURFACE_FEATURE_* bits): hit geometry
 // compiles the others away (surface.glsl).
-layout(constant_id = 10) const uint SCENE_SURFACE_FEATURES = 0xffffffffu;
+SPEC(SCENE_SURFACE_FEATURES);
 #define SURFACE_FEATURES SCENE_SURFACE_FEATURES
 // Texture kinds and features the scene uses (TEXTURE_* kind bits, TEXTURE_FEATURE_*).
-layout(constant_id = 2) const uint SCENE_TEXTURES = 0xffffffffu;
+SPEC(SCENE_TEXTURES);
 #define TEXTURE_KINDS SCENE_TEXTURES
 // The emitter kinds the scene has (a bit per EMITTER_* kind, EMITTER_KIND_BIT_SPHERE_AREA
 // for area lights on spheres): the others compile away.
-layout(constant_id = 9) const uint SCENE_EMITTER_KINDS = 0xffffffffu;
+SPEC(SCENE_EMITTER_KINDS);
 #define EMITTER_KINDS SCENE_EMITTER_KINDS
 // Only stratifying samplers stratify the emitter choice (emitter.glsl).
 #define EMITTER_STRATA (SCENE_SAMPLER_KIND != SAMPLER_INDEPENDENT)
 #include "emitter/emitter.glsl"
 
 // The BSDF kinds the scene uses (a bit per BSDF_* kind): the others compile away.
-layout(constant_id = 1) const uint SCENE_BSDF_KINDS = 0xffffffffu;
+SPEC(SCENE_BSDF_KINDS);
 #define BSDF_KINDS SCENE_BSDF_KINDS
 #include "bsdf/bsdf.glsl"
 #include "bsdf/bsdf_textured.glsl"
 #include "integrator/first_hit.glsl"
 
 // Media or null surfaces in the scene; without them the medium stage compiles away.
-layout(constant_id = 4) const bool SCENE_HAS_MEDIA = false;
+SPEC(SCENE_HAS_MEDIA);
 // The quadric kinds of the scene (SURFACE_FEATURE_* bits; bvh.glsl).
-layout(constant_id = 5) const uint SCENE_PRIM_KINDS = 0xffffffffu;
+SPEC(SCENE_PRIM_KINDS);
 #define BVH_PRIM_KINDS SCENE_PRIM_KINDS
 // Entries of the traversal stack: the scene BVH's deepest leaf (bvh.glsl).
-layout(constant_id = 11) const int SCENE_BVH_DEPTH = 32;
+SPEC(SCENE_BVH_DEPTH);
 #define BVH_STACK_DEPTH SCENE_BVH_DEPTH
 // A scene of a few primitives: how many and their kinds; the traversal tests each
 // in turn (bvh.glsl: bvh_trace_flat; 0: traverse the BVH).
-layout(constant_id = 18) const uint SCENE_FLAT_PRIMS = 0u;
-layout(constant_id = 19) const uint SCENE_FLAT_KINDS = 0u;
+SPEC(SCENE_FLAT_PRIMS);
+SPEC(SCENE_FLAT_KINDS);
 #define BVH_FLAT_PRIMS SCENE_FLAT_PRIMS
 #define BVH_FLAT_KINDS SCENE_FLAT_KINDS
 #include "accel/bvh.glsl"
 #define MEDIA_ENABLED SCENE_HAS_MEDIA
 // The medium kinds and grid layouts in the scene (MEDIUM_FEATURE_* bits); the code of
 // the others compiles away (without grids, only the homogeneous code is compiled).
-layout(constant_id = 6) const uint SCENE_MEDIUM_FEATURES = 0xffffffffu;
+SPEC(SCENE_MEDIUM_FEATURES);
 #define MEDIUM_FEATURES SCENE_MEDIUM_FEATURES
 // Thin dielectrics are null crossings (volumetric integrators in scenes with them).
-layout(constant_id = 7) const bool SCENE_THIN_NULL = false;
+SPEC(SCENE_THIN_NULL);
 #define THIN_NULL SCENE_THIN_NULL
 #include "medium/medium.glsl"
 // MIS weights by the power heuristic instead of the balance heuristic.
-layout(constant_id = 8) const bool SCENE_MIS_POWER = false;
+SPEC(SCENE_MIS_POWER);
 #define MIS_POWER SCENE_MIS_POWER
 // The kernel of the bounces whose vertices end their paths (depth + 2 > max_depth):
 // only the emission rays find (path.glsl).
-layout(constant_id = 14) const bool SCENE_SHADE_LAST = false;
+SPEC(SCENE_SHADE_LAST);
 #define SHADE_LAST SCENE_SHADE_LAST
 // The rays it shades (constant 15; SHADE_RAYS_* in path.glsl): the bounce's queue, or
 // one part of intersect's partition of it (path integrators in scenes without media).
-layout(constant_id = 15) const uint SCENE_SHADE_RAYS = 0u;
+SPEC(SCENE_SHADE_RAYS);
 #define SHADE_RAYS SCENE_SHADE_RAYS
 #include "integrator/path.glsl"
 // Deferral (deferral.glsl; scenes with null surfaces): 0 none; SHADE_FAST, the medium
@@ -75,23 +76,23 @@ layout(constant_id = 15) const uint SCENE_SHADE_RAYS = 0u;
 // SHADE_DEFERRED, the full kernel over those rays alone.
 #define SHADE_FAST 1u
 #define SHADE_DEFERRED 2u
-layout(constant_id = 20) const uint SCENE_DEFERRAL = 0u;
+SPEC(SCENE_DEFERRAL);
 #define VOL_PATH_DEFER (SCENE_DEFERRAL == SHADE_FAST)
 #include "integrator/vol_path.glsl"
 #include "queue/deferral.glsl"
 // shade_last in scenes with few emitter primitives and no media: how many there are
 // (frame.emitter_prims); its rays then meet the emitters alone (path_emitted.glsl)
 // and need no intersect before.
-layout(constant_id = 16) const uint SCENE_EMITTER_PRIMS = 0u;
+SPEC(SCENE_EMITTER_PRIMS);
 #define EMITTER_PRIMS SCENE_EMITTER_PRIMS
 // Their kinds (a bit per PRIM_* kind).
-layout(constant_id = 17) const uint SCENE_EMITTER_PRIM_KINDS = 0xfu;
+SPEC(SCENE_EMITTER_PRIM_KINDS);
 #define EMITTER_PRIM_KINDS SCENE_EMITTER_PRIM_KINDS
 #include "integrator/path_emitted.glsl"
 
-layout(constant_id = 0) const uint INTEGRATOR = INTEGRATOR_AO;
+SPEC(INTEGRATOR);
 // The film keeps an alpha channel: camera paths record whether they cover their pixel.
-layout(constant_id = 13) const bool SCENE_FILM_ALPHA = false;
+SPEC(SCENE_FILM_ALPHA);
 
 void main() {
     uint i = thread_index();

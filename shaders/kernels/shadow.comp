@@ -7,50 +7,51 @@
 // to its radiance does not race.
 // Reads: shadow queue. Writes: paths[].radiance.
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
 // The primitive and vertex features of the scene (SURFACE_FEATURE_* bits): hit geometry
 // compiles the others away (surface.glsl).
-layout(constant_id = 10) const uint SCENE_SURFACE_FEATURES = 0xffffffffu;
+SPEC(SCENE_SURFACE_FEATURES);
 #define SURFACE_FEATURES SCENE_SURFACE_FEATURES
 // Texture kinds and features the scene uses: textured thin dielectrics attenuate
 // shadow rays by their textured transmittance.
-layout(constant_id = 2) const uint SCENE_TEXTURES = 0xffffffffu;
+SPEC(SCENE_TEXTURES);
 #define TEXTURE_KINDS SCENE_TEXTURES
 #include "texture/texture.glsl"
 #include "bsdf/bsdf_textured.glsl"
 
 // The quadric kinds of the scene (SURFACE_FEATURE_* bits): the traversal compiles the
 // tests of the others out.
-layout(constant_id = 0) const uint SCENE_PRIM_KINDS = 0xffffffffu;
+SPEC(SCENE_PRIM_KINDS);
 #define BVH_PRIM_KINDS SCENE_PRIM_KINDS
 // Entries of the traversal stack: the scene BVH's deepest leaf (bvh.glsl).
-layout(constant_id = 11) const int SCENE_BVH_DEPTH = 32;
+SPEC(SCENE_BVH_DEPTH);
 #define BVH_STACK_DEPTH SCENE_BVH_DEPTH
 // A scene of a few primitives: how many and their kinds; the traversal tests each
 // in turn (bvh.glsl: bvh_trace_flat; 0: traverse the BVH).
-layout(constant_id = 12) const uint SCENE_FLAT_PRIMS = 0u;
-layout(constant_id = 13) const uint SCENE_FLAT_KINDS = 0u;
+SPEC(SCENE_FLAT_PRIMS);
+SPEC(SCENE_FLAT_KINDS);
 #define BVH_FLAT_PRIMS SCENE_FLAT_PRIMS
 #define BVH_FLAT_KINDS SCENE_FLAT_KINDS
 #include "accel/bvh.glsl"
 // Media or null surfaces in the scene; without them the code below compiles away.
-layout(constant_id = 4) const bool SCENE_HAS_MEDIA = false;
+SPEC(SCENE_HAS_MEDIA);
 #include "shape/surface.glsl"
 #define MEDIA_ENABLED SCENE_HAS_MEDIA
 // The medium kinds and grid layouts in the scene (MEDIUM_FEATURE_* bits); the code of
 // the others compiles away (without grids, only the homogeneous code is compiled).
-layout(constant_id = 6) const uint SCENE_MEDIUM_FEATURES = 0xffffffffu;
+SPEC(SCENE_MEDIUM_FEATURES);
 #define MEDIUM_FEATURES SCENE_MEDIUM_FEATURES
 // Thin dielectrics pass shadow rays (volumetric integrators in scenes with them).
-layout(constant_id = 7) const bool SCENE_THIN_NULL = false;
+SPEC(SCENE_THIN_NULL);
 #define THIN_NULL SCENE_THIN_NULL
 // Deferral (deferral.glsl; scenes with null surfaces): 0 none; SHADOW_FAST, one
 // traversal per ray, leaving the rest of the rays that need more to the full kernel
 // (transmittance.glsl); SHADOW_DEFERRED, the full kernel over those rests alone.
 #define SHADOW_FAST 1u
 #define SHADOW_DEFERRED 2u
-layout(constant_id = 14) const uint SCENE_DEFERRAL = 0u;
+SPEC(SCENE_DEFERRAL);
 #define TRANSMITTANCE_DEFER (SCENE_DEFERRAL == SHADOW_FAST)
 #include "medium/transmittance.glsl"
 #include "queue/deferral.glsl"

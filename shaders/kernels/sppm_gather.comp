@@ -6,11 +6,12 @@
 // passes gathers once per pass; sppm_update then applies them.
 // Reads: visible points (by pixel), grid. Writes: SPPM pixels (phi, m).
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
-layout(constant_id = 0) const uint SCENE_TEXTURES = 0xffffffffu;
+SPEC(SCENE_TEXTURES);
 #define TEXTURE_KINDS SCENE_TEXTURES
-layout(constant_id = 1) const uint SCENE_BSDF_KINDS = 0xffffffffu;
+SPEC(SCENE_BSDF_KINDS);
 #define BSDF_KINDS SCENE_BSDF_KINDS
 #include "shape/surface.glsl"
 #include "texture/texture.glsl"

@@ -9,16 +9,17 @@
 // Reads: ray queue `queue_in`, hits, paths, visible points. Writes: paths, shadow
 // queue, next ray queue, visible points (by pixel of the tile).
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
-layout(constant_id = 0) const uint SCENE_SURFACE_FEATURES = 0xffffffffu;
+SPEC(SCENE_SURFACE_FEATURES);
 #define SURFACE_FEATURES SCENE_SURFACE_FEATURES
-layout(constant_id = 1) const uint SCENE_TEXTURES = 0xffffffffu;
+SPEC(SCENE_TEXTURES);
 #define TEXTURE_KINDS SCENE_TEXTURES
-layout(constant_id = 2) const uint SCENE_EMITTER_KINDS = 0xffffffffu;
+SPEC(SCENE_EMITTER_KINDS);
 #define EMITTER_KINDS SCENE_EMITTER_KINDS
 #include "emitter/emitter.glsl"
-layout(constant_id = 3) const uint SCENE_BSDF_KINDS = 0xffffffffu;
+SPEC(SCENE_BSDF_KINDS);
 #define BSDF_KINDS SCENE_BSDF_KINDS
 #include "bsdf/bsdf.glsl"
 #include "bsdf/bsdf_textured.glsl"

@@ -8,11 +8,12 @@
 // grid's cells must hold the largest gather).
 // Reads and writes: SPPM pixels, photon counters.
 
+#include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "photon/bindings.glsl"
 
 // α of the update (Hachisuka and Jensen's alpha; pbrt-v4 fixes it at 2/3).
-layout(constant_id = 0) const float SPPM_ALPHA = 0.6666667;
+SPEC(SPPM_ALPHA);
 
 void main() {
     uint q = thread_index();

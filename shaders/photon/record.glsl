@@ -23,7 +23,7 @@ vec3 photon_dir_decode(uint e) {
 }
 
 // Loads through the texel views, stores through the word buffers, a texel of the
-// record at a time (generated: scene/records.glsl). A photon path takes 2 words of
+// record at a time (generated: generated/records.glsl). A photon path takes 2 words of
 // path slot i (the slot of a camera path's 3).
 uvec4 photon_texel(uint k) { return imageLoad(photon_texels, int(k)); }
 uvec4 grid_photon_texel(uint k) { return imageLoad(grid_photon_texels, int(k)); }

@@ -108,7 +108,7 @@ uvec3 dispatch_groups(uint n) {
 }
 
 // The queues' records: loads through the texel views, stores through the word
-// buffers, each a texel of the record at a time (generated: scene/records.glsl).
+// buffers, each a texel of the record at a time (generated: generated/records.glsl).
 uvec4 path_texel(uint k) { return imageLoad(path_texels, int(k)); }
 uvec4 ray_texel(uint k) { return imageLoad(ray_texels, int(k)); }
 uvec4 hit_texel(uint k) { return imageLoad(hit_texels, int(k)); }

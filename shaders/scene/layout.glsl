@@ -1,11 +1,11 @@
 // GPU records shared with the host, and their constants. The records' structs and
-// loaders are generated from src/gpu/records.rs by build.rs (scene/records.glsl in
+// loaders are generated from src/gpu/records.rs by build.rs (generated/records.glsl in
 // $OUT_DIR/glsl); each #define here mirrors a constant of src/gpu/layout.rs, whose
 // tests check them.
 #ifndef LAYOUT_GLSL
 #define LAYOUT_GLSL
 
-#include "scene/records.glsl"
+#include "generated/records.glsl"
 
 // Prim.kind
 #define PRIM_TRIANGLE 0u
@@ -26,7 +26,7 @@
 // No medium in one half of ShapeRecord.media.
 #define MEDIUM_NONE16 0xffffu
 
-// BsdfRecord.kind: BSDF_DIFFUSE, ... in bsdf/dispatch.glsl, generated from
+// BsdfRecord.kind: BSDF_DIFFUSE, ... in generated/bsdf_dispatch.glsl, from
 // src/scene/bsdf/kinds.rs.
 // BsdfRecord.flags
 #define BSDF_TWOSIDED 1u

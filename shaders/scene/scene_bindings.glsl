@@ -120,7 +120,7 @@ float grid_value(uint k) { return uintBitsToFloat(grid_word(k).x); }
 float majorant_value(uint k) { return uintBitsToFloat(imageLoad(majorant_words, int(k)).x); }
 vec4 grid_packed(uint k) { return uintBitsToFloat(grid_packed_texel(k)); }
 
-// The records' loaders (generated: scene/records.glsl), `T NAME_load(uint i)`, each
+// The records' loaders (generated: generated/records.glsl), `T NAME_load(uint i)`, each
 // reading its array's texels through `NAME_texel`. Vertices are also read a texel at a
 // time (vertex_texel).
 uvec4 shape_texel(uint k) { return imageLoad(shape_texels, int(k)); }

@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 // Test kernel: round-trips every GPU record through its generated loader and storer
-// (scene/records.glsl, from src/gpu/records.rs), so tests/records.rs can check both
+// (generated/records.glsl, from src/gpu/records.rs), so tests/records.rs can check both
 // field by field against the Rust layout.
 //
 // In: records 0 and 1 of each record type of RECORDS(X), one type after the other, as

@@ -1022,6 +1022,8 @@ void main() {
         let out = std::process::Command::new("glslangValidator")
             .args(["-V", "--target-env", "vulkan1.2"])
             .arg(format!("-I{shaders}"))
+            // The headers build.rs generates (records, specialization constants).
+            .arg(format!("-I{}/glsl", env!("OUT_DIR")))
             .arg(&comp)
             .arg("-o")
             .arg(dir.join("bvhcheck.spv"))

@@ -249,7 +249,6 @@ pub fn run(mut args: RenderArgs) -> Result<()> {
     if plan.spp == 0 {
         bail!("--spp must be at least 1");
     }
-    let format = sc.film.file_format;
     // A render of some samples (now or when the resumed partial was started) writes a
     // partial; an empty target is the whole render.
     let partial_mode = plan.samples.is_some()
@@ -258,7 +257,115 @@ pub fn run(mut args: RenderArgs) -> Result<()> {
             .resumed
             .as_ref()
             .is_some_and(|(_, p)| p.record.target != SampleRanges::of(0..p.record.spp));
-    let asked_output = args.output.clone().unwrap_or_else(|| {
+    let (output, partial_path) = outputs(&plan, args.output.clone(), partial_mode);
+    let run = args.run;
+    let seed = run.seed.unwrap_or(0);
+    let record_base = (run.integrator.clone(), run.sampler.clone(), run.max_bounces);
+    let (mut options, device) = run.options(args.profile);
+    // The batches are sized for the whole render's samples (a range needs fewer).
+    options.expected_spp = Some(plan.spp);
+    let devices = device_list(device.as_deref())?;
+    install_signal_handler()?;
+
+    // What the render uses, checked before any device is opened.
+    let (integrator, sampler, geometry) = wavetrace::render::plan_render(sc, &options)?;
+    let (kw, kh) = geometry.key_size();
+    let count = sampler
+        .sample_count(plan.spp, kw, kh)
+        .map_err(anyhow::Error::msg)?;
+    if let Some(w) = &count.warning {
+        eprintln!("warning: {w}");
+    }
+    let spp = count.count;
+    if integrator.name() == "sppm" {
+        refuse_sppm_parts(
+            &plan,
+            partial_mode,
+            args.checkpoint.is_some(),
+            devices.len(),
+        )?;
+        STOPPABLE.store(false, Ordering::SeqCst);
+    }
+    let target = sample_share(&plan, spp, &sampler)?;
+
+    // One device: its renderer here; several: one per thread (job::render_on_many).
+    let mut single = if devices.len() <= 1 {
+        Some(open_renderer(devices.first(), sc, &options, load_seconds)?)
+    } else {
+        None
+    };
+    let what = Rendered {
+        integrator: &integrator,
+        sampler: &sampler,
+        geometry: &geometry,
+        spp,
+    };
+    let record = render_record(&plan, &what, &target, seed, record_base)?;
+    let (start, start_done) = match &plan.resumed {
+        Some((_, p)) => (Some(p.sums.clone()), p.record.samples.clone()),
+        None => (None, SampleRanges::default()),
+    };
+    let ranges = RenderRecord {
+        samples: start_done.clone(),
+        ..record.clone()
+    }
+    .to_do();
+    announce(
+        &plan,
+        &what,
+        single.as_ref().map(Renderer::capacity),
+        &ranges,
+    );
+
+    let every = match args.checkpoint {
+        Some(s) if !(s.is_finite() && s > 0.0) => {
+            bail!("--checkpoint takes a positive number of seconds, not {s}")
+        }
+        s => s.map(Duration::from_secs_f64),
+    };
+    let job = Job {
+        plan: &plan,
+        options: &options,
+        devices: &devices,
+        count: &count,
+        ranges: &ranges,
+        start_done: &start_done,
+        record: &record,
+        partial_path: &partial_path,
+        output: &output,
+        every,
+        pixels: u64::from(geometry.region_pixels()),
+        quiet: args.quiet,
+        tev: args.tev.as_deref(),
+        profile: args.profile,
+    };
+    let result = run_job(&job, single.as_mut(), start)?;
+    let Some(sums) = result.sums else {
+        eprintln!("interrupted before the first sample was done: nothing written");
+        std::process::exit(130);
+    };
+    let done = Partial {
+        record: RenderRecord {
+            samples: result.done.clone(),
+            ..record.clone()
+        },
+        sums,
+    };
+    let outputs = Outputs {
+        output: &output,
+        partial: &partial_path,
+        partial_mode,
+        remove_partial: every.is_some() || plan.resumed.is_some(),
+    };
+    write_outputs(&done, result.stopped, &outputs)
+}
+
+/// Where the render writes (`asked`: `-o`): its output, and its partial (when
+/// interrupted, or checkpoints). Partials are EXRs; the whole image is in the film's
+/// format, its partial an EXR beside it when that is another format.
+fn outputs(plan: &Plan, asked: Option<PathBuf>, partial_mode: bool) -> (PathBuf, PathBuf) {
+    let format = plan.scene.film.file_format;
+    let asked_output = asked.unwrap_or_else(|| {
         let stem = crate::default_output(&plan.scene_path).with_extension("");
         match (&plan.samples, plan.part) {
             (Some(r), _) => PathBuf::from(format!("{}_{}-{}.exr", stem.display(), r.start, r.end)),
@@ -266,8 +373,6 @@ pub fn run(mut args: RenderArgs) -> Result<()> {
             _ => crate::default_output(&plan.scene_path),
         }
     });
-    // Partials are EXRs; the whole image is in the film's format, its partial (when
-    // interrupted, or checkpoints) an EXR beside it when that is another format.
     let output = if partial_mode {
         output_path(&asked_output, FileFormat::OpenExr)
     } else {
@@ -290,55 +395,53 @@ pub fn run(mut args: RenderArgs) -> Result<()> {
         );
     }
     let partial_path = output_path(&output, FileFormat::OpenExr);
-    let defines = plan.defines.clone();
-    let run = args.run;
-    let seed = run.seed.unwrap_or(0);
-    let record_base = (run.integrator.clone(), run.sampler.clone(), run.max_bounces);
-    let (mut options, device) = run.options(args.profile);
-    // The batches are sized for the whole render's samples (a range needs fewer).
-    options.expected_spp = Some(plan.spp);
-    let devices = device_list(device.as_deref())?;
-    install_signal_handler()?;
+    (output, partial_path)
+}
 
-    // What the render uses, checked before any device is opened.
-    let (integrator, sampler, geometry) = wavetrace::render::plan_render(sc, &options)?;
-    let (kw, kh) = geometry.key_size();
-    let count = sampler
-        .sample_count(plan.spp, kw, kh)
-        .map_err(anyhow::Error::msg)?;
-    if let Some(w) = &count.warning {
-        eprintln!("warning: {w}");
+/// Why sppm cannot render this (parts of an image, a resumed or checkpointed render,
+/// several devices), if it cannot.
+fn refuse_sppm_parts(
+    plan: &Plan,
+    partial_mode: bool,
+    checkpoint: bool,
+    devices: usize,
+) -> Result<()> {
+    let what = if partial_mode {
+        Some("--samples")
+    } else if plan.resumed.is_some() {
+        Some("--resume")
+    } else if checkpoint {
+        Some("--checkpoint")
+    } else if devices > 1 {
+        Some("several devices")
+    } else {
+        None
+    };
+    if let Some(what) = what {
+        bail!(
+            "sppm cannot render parts of an image ({what}): each iteration shrinks \
+             every pixel's radius from the one before, so its samples are not \
+             independent and do not merge; render it whole, or use path_mis or \
+             photonmapper"
+        );
     }
-    let spp = count.count;
-    if integrator.name() == "sppm" {
-        let what = if partial_mode {
-            Some("--samples")
-        } else if plan.resumed.is_some() {
-            Some("--resume")
-        } else if args.checkpoint.is_some() {
-            Some("--checkpoint")
-        } else if devices.len() > 1 {
-            Some("several devices")
-        } else {
-            None
-        };
-        if let Some(what) = what {
-            bail!(
-                "sppm cannot render parts of an image ({what}): each iteration shrinks \
-                 every pixel's radius from the one before, so its samples are not \
-                 independent and do not merge; render it whole, or use path_mis or \
-                 photonmapper"
-            );
-        }
-        STOPPABLE.store(false, Ordering::SeqCst);
-    }
+    Ok(())
+}
+
+/// The samples this render does of the whole render's `spp` (`--samples`, or
+/// `--part I/N`: its share of the rounded count), checked to lie within it.
+fn sample_share(
+    plan: &Plan,
+    spp: u32,
+    sampler: &wavetrace::scene::sampler::Sampler,
+) -> Result<SampleRanges> {
     // --part I/N: its share of the rounded count.
     let (samples, target) = match plan.part {
         Some((i, n)) => {
             if n > spp {
                 bail!(
                     "--part {i}/{n}: the render's {spp} samples per pixel cannot be cut into \
-                     {n} parts (at most one part per sample)"
+                 {n} parts (at most one part per sample)"
                 );
             }
             let at = |k: u32| (u64::from(k) * u64::from(spp) / u64::from(n)) as u32;
@@ -358,57 +461,169 @@ pub fn run(mut args: RenderArgs) -> Result<()> {
             );
         }
     }
+    Ok(target)
+}
 
-    // One device: its renderer here; several: one per thread (job::render_on_many).
-    let single = if devices.len() <= 1 {
-        let device = Device::new(devices.first().map(String::as_str))?;
-        eprintln!("device: {}", device.info());
-        let renderer = Renderer::new(&device, sc, &options)?;
-        let s = &renderer.setup;
+/// The renderer of `sc` on `device` (`None`: the default device), with its start-up
+/// printed (`load_seconds`: reading the scene).
+fn open_renderer(
+    device: Option<&String>,
+    sc: &Scene,
+    options: &wavetrace::render::RenderOptions,
+    load_seconds: f64,
+) -> Result<Renderer> {
+    let device = Device::new(device.map(String::as_str))?;
+    eprintln!("device: {}", device.info());
+    let renderer = Renderer::new(&device, sc, options)?;
+    let s = &renderer.setup;
+    eprintln!(
+        "start-up: scene {:.0} ms, vulkan {:.0} ms, bvh {:.0} ms ({} nodes, SAH {:.1}{}), upload {:.0} ms, \
+         pipelines {:.0} ms ({}), first dispatch (kernel compile) {:.0} ms",
+        load_seconds * 1e3,
+        device.info().startup_seconds * 1e3,
+        s.bvh.build_seconds * 1e3,
+        s.bvh.node_count,
+        s.bvh.sah_cost,
+        if s.flat.flat_only {
+            format!("; its {} primitives tested in turn", s.flat.count)
+        } else if s.flat.count > 0 {
+            format!(
+                "; {} quadric{} tested apart",
+                s.flat.count,
+                if s.flat.count == 1 { "" } else { "s" }
+            )
+        } else {
+            String::new()
+        },
+        s.upload_seconds * 1e3,
+        s.pipeline_seconds * 1e3,
+        crate::specialization_summary(),
+        s.first_dispatch_seconds * 1e3,
+    );
+    if let Some(why) = wavetrace::gpu::specialize::stats().unavailable {
+        eprintln!("note: kernels were specialized by the driver (slower start-up): {why}");
+    }
+    if let Some(lost) = renderer.film_overridden(&sc.film) {
         eprintln!(
-            "start-up: scene {:.0} ms, vulkan {:.0} ms, bvh {:.0} ms ({} nodes, SAH {:.1}{}), upload {:.0} ms, \
-             pipelines {:.0} ms ({}), first dispatch (kernel compile) {:.0} ms",
-            load_seconds * 1e3,
-            device.info().startup_seconds * 1e3,
-            s.bvh.build_seconds * 1e3,
-            s.bvh.node_count,
-            s.bvh.sah_cost,
-            if s.flat.flat_only {
-                format!("; its {} primitives tested in turn", s.flat.count)
-            } else if s.flat.count > 0 {
-                format!(
-                    "; {} quadric{} tested apart",
-                    s.flat.count,
-                    if s.flat.count == 1 { "" } else { "s" }
-                )
-            } else {
-                String::new()
-            },
-            s.upload_seconds * 1e3,
-            s.pipeline_seconds * 1e3,
-            crate::specialization_summary(),
-            s.first_dispatch_seconds * 1e3,
+            "warning: '{}' does not render this film's {lost}",
+            renderer.integrator().name()
         );
-        if let Some(why) = wavetrace::gpu::specialize::stats().unavailable {
-            eprintln!("note: kernels were specialized by the driver (slower start-up): {why}");
-        }
-        if let Some(lost) = renderer.film_overridden(&sc.film) {
-            eprintln!(
-                "warning: '{}' does not render this film's {lost}",
-                renderer.integrator().name()
-            );
-        }
-        Some(renderer)
+    }
+    Ok(renderer)
+}
+
+/// A progress bar of `len` steps where `draw` (a terminal), else a hidden one.
+fn progress_bar(draw: bool, len: u64) -> ProgressBar {
+    if draw {
+        let bar = ProgressBar::new(len);
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{bar:40} {percent:>3}% {msg} [{elapsed_precise} < {eta_precise}]",
+            )
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
+        );
+        bar
     } else {
-        None
-    };
-    let mut single = single;
-    let film_dbg = format!("{:?}", sc.film);
-    let (w, h) = (geometry.crop.width, geometry.crop.height);
+        ProgressBar::hidden()
+    }
+}
+
+/// The stream of the render's images to tev at `address`, named after `output`;
+/// `None` (with a warning) where tev cannot be reached.
+fn open_tev(address: &str, output: &Path, sc: &Scene, w: u32, h: u32) -> Option<Mutex<TevStream>> {
+    let name = output.file_name().map_or_else(
+        || "wavetrace".to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    let names = sc.film.pixel_format.channel_names();
+    match TevStream::create(address, &name, w, h, &names) {
+        Ok(t) => {
+            eprintln!("streaming to tev at {address} as '{name}'");
+            Some(Mutex::new(t))
+        }
+        Err(e) => {
+            eprintln!("warning: {e}; rendering without it");
+            None
+        }
+    }
+}
+
+/// Where a render's images go.
+struct Outputs<'a> {
+    output: &'a Path,
+    partial: &'a Path,
+    /// The render is of some samples: its output is a partial.
+    partial_mode: bool,
+    /// Remove the partial once the whole image is written (checkpoints, a resume).
+    remove_partial: bool,
+}
+
+/// Writes what a render did: the whole image, a partial render's EXR, or (`stopped`)
+/// the partial to resume from (then exits with 130).
+fn write_outputs(done: &Partial, stopped: bool, outputs: &Outputs) -> Result<()> {
+    let png = outputs.output.with_extension("png");
+    if stopped {
+        let png = outputs.partial.with_extension("png");
+        done.write(outputs.partial, Some(&png))?;
+        eprintln!(
+            "stopped: wrote {} and {} ({}, a partial render)",
+            outputs.partial.display(),
+            png.display(),
+            done.record.samples_in_words()
+        );
+        eprintln!(
+            "resume with: wavetrace render --resume {}{}",
+            outputs.partial.display(),
+            if outputs.partial == outputs.output || outputs.partial_mode {
+                String::new()
+            } else {
+                format!(" -o {}", outputs.output.display())
+            }
+        );
+        std::process::exit(130);
+    }
+    if outputs.partial_mode {
+        done.write(outputs.output, Some(&png))?;
+        eprintln!(
+            "wrote {} and {} ({}; merge the parts with `wavetrace merge`)",
+            outputs.output.display(),
+            png.display(),
+            done.record.samples_in_words()
+        );
+        return Ok(());
+    }
+    write_image(done, outputs.output, &png)?;
+    if outputs.partial != outputs.output && outputs.partial.exists() && outputs.remove_partial {
+        std::fs::remove_file(outputs.partial).ok();
+        std::fs::remove_file(outputs.partial.with_extension("png")).ok();
+    }
+    eprintln!("wrote {} and {}", outputs.output.display(), png.display());
+    Ok(())
+}
+
+/// What a render renders, as [`wavetrace::render::plan_render`] resolves it.
+struct Rendered<'a> {
+    integrator: &'a wavetrace::render::Integrator,
+    sampler: &'a wavetrace::scene::sampler::Sampler,
+    geometry: &'a wavetrace::render::film::FilmGeometry,
+    /// The whole render's samples per pixel, as the sampler rounds them.
+    spp: u32,
+}
+
+/// The record of the render (written into its partials), checked against a resumed
+/// partial's.
+fn render_record(
+    plan: &Plan,
+    what: &Rendered,
+    target: &SampleRanges,
+    seed: u32,
+    (integrator_option, sampler_option, max_bounces): (Option<String>, Option<String>, Option<u32>),
+) -> Result<RenderRecord> {
+    let film_dbg = format!("{:?}", plan.scene.film);
     let (pixel_name, component_name, file_name) = partial::format_names(
-        sc.film.pixel_format,
-        sc.film.component_format,
-        sc.film.file_format,
+        plan.scene.film.pixel_format,
+        plan.scene.film.component_format,
+        plan.scene.film.file_format,
     );
     let scene_abs = std::fs::canonicalize(&plan.scene_path)
         .with_context(|| format!("finding {}", plan.scene_path.display()))?;
@@ -416,23 +631,23 @@ pub fn run(mut args: RenderArgs) -> Result<()> {
         scene: scene_abs.clone(),
         scene_sha256: partial::file_sha256(&scene_abs)
             .with_context(|| format!("reading {}", scene_abs.display()))?,
-        defines,
+        defines: plan.defines.clone(),
         seed,
-        integrator_option: record_base.0,
-        sampler_option: record_base.1,
-        max_bounces: record_base.2,
-        integrator: format!("{integrator:?}"),
-        sampler: format!("{sampler:?}"),
+        integrator_option,
+        sampler_option,
+        max_bounces,
+        integrator: format!("{:?}", what.integrator),
+        sampler: format!("{:?}", what.sampler),
         film: film_dbg,
-        spp,
-        film_size: (geometry.width, geometry.height),
-        crop: geometry.crop,
+        spp: what.spp,
+        film_size: (what.geometry.width, what.geometry.height),
+        crop: what.geometry.crop,
         pixel_format: pixel_name,
         component_format: component_name,
         file_format: file_name,
         samples: SampleRanges::default(),
         target: if target.is_empty() {
-            SampleRanges::of(0..spp)
+            SampleRanges::of(0..what.spp)
         } else {
             target.clone()
         },
@@ -446,59 +661,76 @@ pub fn run(mut args: RenderArgs) -> Result<()> {
             );
         }
     }
-    let (start, start_done) = match &plan.resumed {
-        Some((_, p)) => (Some(p.sums.clone()), p.record.samples.clone()),
-        None => (None, SampleRanges::default()),
-    };
-    let ranges = RenderRecord {
-        samples: start_done.clone(),
-        ..record.clone()
-    }
-    .to_do();
+    Ok(record)
+}
+
+/// Says what the render renders (`capacity`: its paths per batch on one device) and
+/// warns of a scene without emitters.
+fn announce(plan: &Plan, what: &Rendered, capacity: Option<u32>, ranges: &SampleRanges) {
     let todo = ranges.count();
     eprintln!(
-        "rendering {w}x{h} at {spp} spp with '{}', sampler '{}', {}{}{}",
-        integrator.name(),
-        sampler.kind.name(),
-        describe_film(sc),
-        single
-            .as_ref()
-            .map(|r| format!(" ({} paths per batch)", r.capacity()))
+        "rendering {}x{} at {} spp with '{}', sampler '{}', {}{}{}",
+        what.geometry.crop.width,
+        what.geometry.crop.height,
+        what.spp,
+        what.integrator.name(),
+        what.sampler.kind.name(),
+        describe_film(&plan.scene),
+        capacity
+            .map(|c| format!(" ({c} paths per batch)"))
             .unwrap_or_default(),
-        if todo == u64::from(spp) {
+        if todo == u64::from(what.spp) {
             String::new()
         } else {
             format!(": samples {ranges} ({todo} per pixel)")
         }
     );
-    if integrator.needs_emitters() && sc.emitters.is_empty() {
+    if what.integrator.needs_emitters() && plan.scene.emitters.is_empty() {
         eprintln!(
             "warning: {} has no emitters: '{}' will render a black image",
             plan.scene_path.display(),
-            integrator.name()
+            what.integrator.name()
         );
     }
+}
 
+/// What [`run_job`] renders and where its partials go.
+struct Job<'a> {
+    plan: &'a Plan,
+    options: &'a wavetrace::render::RenderOptions,
+    devices: &'a [String],
+    count: &'a wavetrace::scene::sampler::SampleCount,
+    ranges: &'a SampleRanges,
+    /// The samples a resumed partial holds.
+    start_done: &'a SampleRanges,
+    record: &'a RenderRecord,
+    partial_path: &'a Path,
+    output: &'a Path,
+    /// Checkpoint interval.
+    every: Option<Duration>,
+    /// The film's sampled pixels.
+    pixels: u64,
+    /// No progress bar (`-q`); where to stream the images (`--tev`); print the
+    /// kernels' times (`--profile`).
+    quiet: bool,
+    tev: Option<&'a str>,
+    profile: bool,
+}
+
+/// Renders `job`'s samples on `single` (else on the job's devices, one thread each)
+/// from `start` (a resumed partial's sums), with progress, checkpoints and tev, and
+/// reports its statistics.
+fn run_job(job: &Job, single: Option<&mut Renderer>, start: Option<FilmSums>) -> Result<JobResult> {
+    let todo = job.ranges.count();
+    let (w, h) = (job.record.crop.width, job.record.crop.height);
     // Progress: a bar on a terminal, else (logs, batch jobs, -q) a line at the first
     // sample boundary and at most every 10 s after it.
-    let draw_bar = !args.quiet && std::io::stderr().is_terminal();
-    let pixels = u64::from(geometry.region_pixels());
-    let bar = if draw_bar {
-        let bar = ProgressBar::new(pixels * todo);
-        bar.set_style(
-            ProgressStyle::with_template(
-                "{bar:40} {percent:>3}% {msg} [{elapsed_precise} < {eta_precise}]",
-            )
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-        );
-        bar
-    } else {
-        ProgressBar::hidden()
-    };
+    let draw_bar = !job.quiet && std::io::stderr().is_terminal();
+    let bar = progress_bar(draw_bar, job.pixels * todo);
     let last_line: Mutex<Option<Instant>> = Mutex::new(None);
     let progress = |done: u64, _total: u64| {
         bar.set_position(done);
-        bar.set_message(format!("{}/{todo} spp", done / pixels.max(1)));
+        bar.set_message(format!("{}/{todo} spp", done / job.pixels.max(1)));
     };
     let boundary = |done: u64, total: u64| {
         if draw_bar || done >= total {
@@ -514,45 +746,28 @@ pub fn run(mut args: RenderArgs) -> Result<()> {
         let p = Partial {
             record: RenderRecord {
                 samples: done.clone(),
-                ..record.clone()
+                ..job.record.clone()
             },
             sums: sums.clone(),
         };
-        p.write(&partial_path, Some(&partial_path.with_extension("png")))?;
+        p.write(
+            job.partial_path,
+            Some(&job.partial_path.with_extension("png")),
+        )?;
         bar.suspend(|| {
             eprintln!(
                 "checkpoint: wrote {} ({})",
-                partial_path.display(),
+                job.partial_path.display(),
                 p.record.samples_in_words()
             )
         });
         Ok(())
     };
-    let every = match args.checkpoint {
-        Some(s) if !(s.is_finite() && s > 0.0) => {
-            bail!("--checkpoint takes a positive number of seconds, not {s}")
-        }
-        s => s.map(Duration::from_secs_f64),
-    };
     // tev: the image at sample boundaries, every TEV_INTERVAL, and at the end.
-    let tev = args.tev.as_ref().and_then(|address| {
-        let name = output.file_name().map_or_else(
-            || "wavetrace".to_string(),
-            |n| n.to_string_lossy().into_owned(),
-        );
-        let names = sc.film.pixel_format.channel_names();
-        match TevStream::create(address, &name, w, h, &names) {
-            Ok(t) => {
-                eprintln!("streaming to tev at {address} as '{name}'");
-                Some(Mutex::new(t))
-            }
-            Err(e) => {
-                eprintln!("warning: {e}; rendering without it");
-                None
-            }
-        }
-    });
-    let pixel_format = sc.film.pixel_format;
+    let tev = job
+        .tev
+        .and_then(|address| open_tev(address, job.output, &job.plan.scene, w, h));
+    let pixel_format = job.plan.scene.film.pixel_format;
     let show = |sums: &FilmSums| {
         if let Some(t) = &tev {
             send_to_tev(
@@ -564,7 +779,7 @@ pub fn run(mut args: RenderArgs) -> Result<()> {
     };
     let control = JobControl {
         stop: &STOP,
-        checkpoint_every: every,
+        checkpoint_every: job.every,
         checkpoint: &checkpoint,
         boundary: &boundary,
         progress: &progress,
@@ -572,83 +787,33 @@ pub fn run(mut args: RenderArgs) -> Result<()> {
             .is_some()
             .then_some((TEV_INTERVAL, &show as &job::Preview<'_>)),
     };
-    let result: JobResult = match single.as_mut() {
+    let mut single = single;
+    let result: JobResult = match single.as_deref_mut() {
         Some(renderer) => {
-            renderer.set_sample_count(count.clone())?;
-            job::render_on_one(renderer, &ranges, start, &start_done, &control)?
+            renderer.set_sample_count(job.count.clone())?;
+            job::render_on_one(renderer, job.ranges, start, job.start_done, &control)?
         }
         None => job::render_on_many(
-            sc,
-            &options,
-            &devices,
-            count.clone(),
-            &ranges,
+            &job.plan.scene,
+            job.options,
+            job.devices,
+            job.count.clone(),
+            job.ranges,
             start,
-            &start_done,
+            job.start_done,
             &control,
             &mut |name| bar.suspend(|| eprintln!("device: {name}")),
         )?,
     };
     bar.finish_and_clear();
     let stats = &result.stats;
-    let rendered = result.done.count() - start_done.count();
-    report_stats(stats, rendered * pixels, args.profile, single.as_ref());
+    let rendered = result.done.count() - job.start_done.count();
+    report_stats(stats, rendered * job.pixels, job.profile, single.as_deref());
 
     if let Some(sums) = &result.sums {
         show(sums);
     }
-    let Some(sums) = result.sums else {
-        eprintln!("interrupted before the first sample was done: nothing written");
-        std::process::exit(130);
-    };
-    let done = Partial {
-        record: RenderRecord {
-            samples: result.done.clone(),
-            ..record.clone()
-        },
-        sums,
-    };
-    let png = output.with_extension("png");
-    if result.stopped {
-        let png = partial_path.with_extension("png");
-        done.write(&partial_path, Some(&png))?;
-        eprintln!(
-            "stopped: wrote {} and {} ({}, a partial render)",
-            partial_path.display(),
-            png.display(),
-            done.record.samples_in_words()
-        );
-        eprintln!(
-            "resume with: wavetrace render --resume {}{}",
-            partial_path.display(),
-            if partial_path == output || partial_mode {
-                String::new()
-            } else {
-                format!(" -o {}", output.display())
-            }
-        );
-        std::process::exit(130);
-    }
-    if partial_mode {
-        done.write(&output, Some(&png))?;
-        eprintln!(
-            "wrote {} and {} ({}; merge the parts with `wavetrace merge`)",
-            output.display(),
-            png.display(),
-            done.record.samples_in_words()
-        );
-        return Ok(());
-    }
-    write_image(&done, &output, &png)?;
-    if partial_path != output
-        && partial_path.exists()
-        && (every.is_some() || plan.resumed.is_some())
-    {
-        std::fs::remove_file(&partial_path).ok();
-        std::fs::remove_file(partial_path.with_extension("png")).ok();
-    }
-    eprintln!("wrote {} and {}", output.display(), png.display());
-    Ok(())
+    Ok(result)
 }
 
 /// Time between the images a render sends to tev.

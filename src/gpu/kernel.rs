@@ -8,6 +8,7 @@ use ash::vk;
 use super::buffer::Buffer;
 use super::device::{Device, Inner};
 use super::error::{Error, Result, VkContext};
+use super::spec::SpecValues;
 
 /// What a binding holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -76,11 +77,11 @@ impl Drop for LayoutInner {
 }
 
 /// A kernel to create with [`Kernel::new_all`]: its name, SPIR-V and the values of
-/// its own specialization constants (ids 0, 1, ...).
+/// its own specialization constants, `(constant_id, value)`.
 pub struct KernelSpec<'a> {
     pub name: &'a str,
     pub spirv: &'a [u8],
-    pub spec: Vec<u32>,
+    pub spec: Vec<(u32, u32)>,
     /// Inline the module into one function before the driver sees it (see
     /// `specialize::INLINE_PASSES`: faster to create on lavapipe, slower to run where
     /// functions with early returns run inside loops).
@@ -88,11 +89,23 @@ pub struct KernelSpec<'a> {
 }
 
 impl<'a> KernelSpec<'a> {
+    /// A kernel whose constants are numbered by position: `spec[i]` is constant_id `i`
+    /// (the test kernels of shaders/tests/).
     pub fn new(name: &'a str, spirv: &'a [u8], spec: &[u32]) -> KernelSpec<'a> {
         KernelSpec {
             name,
             spirv,
-            spec: spec.to_vec(),
+            spec: (0..).zip(spec.iter().copied()).collect(),
+            inline: false,
+        }
+    }
+
+    /// A kernel whose constants are set by name (the table of `gpu::spec_ids`).
+    pub fn named(name: &'a str, spirv: &'a [u8], spec: &SpecValues) -> KernelSpec<'a> {
+        KernelSpec {
+            name,
+            spirv,
+            spec: spec.ids(),
             inline: false,
         }
     }
@@ -383,13 +396,12 @@ impl Kernel {
             .map_err(|_| Error::BadSpirv(name.into()))?;
         let shared = &layout.inner.spec;
         debug_assert!(
-            shared.iter().all(|&(id, _)| id as usize >= spec.len()),
+            shared
+                .iter()
+                .all(|&(id, _)| spec.iter().all(|&(k, _)| k != id)),
             "kernel '{name}': its specialization constants overlap the layout's"
         );
-        let constants: Vec<(u32, u32)> = (0..spec.len() as u32)
-            .zip(spec.iter().copied())
-            .chain(shared.iter().copied())
-            .collect();
+        let constants: Vec<(u32, u32)> = spec.iter().chain(shared.iter()).copied().collect();
         // The constants written into the module where spirv-opt can (see
         // `specialize`), else given to the driver.
         let specialized = super::specialize::specialize(name, &code, &constants, inline)?;

@@ -539,7 +539,7 @@ mod tests {
     fn glsl_structs() -> HashMap<String, (Vec<(String, usize)>, usize)> {
         let path = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders/scene/layout.glsl");
         let mut src = std::fs::read_to_string(path).expect("read layout.glsl");
-        let path = concat!(env!("OUT_DIR"), "/glsl/scene/records.glsl");
+        let path = concat!(env!("OUT_DIR"), "/glsl/generated/records.glsl");
         src += &std::fs::read_to_string(path).expect("read the generated records.glsl");
         parse_glsl(&src)
     }

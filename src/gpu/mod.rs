@@ -11,6 +11,8 @@ pub mod kernel;
 pub mod layout;
 pub mod records;
 pub mod shaders;
+pub mod spec;
+pub mod spec_ids;
 pub mod specialize;
 pub mod swapchain;
 
@@ -19,4 +21,5 @@ pub use command::{CommandList, KernelTimes};
 pub use device::{Device, DeviceInfo, DeviceKind, SurfaceRequest};
 pub use error::{Error, Result};
 pub use kernel::{BindingKind, BindingLayout, DescriptorSet, Kernel, KernelSpec};
+pub use spec::{Spec, SpecValues};
 pub use swapchain::{Presented, Swapchain};

@@ -4,7 +4,7 @@
 //! std430 rules and names, beside every field's Rust type, its GLSL type. From this
 //! one declaration come the Rust struct (bytemuck `Pod`) and, through build.rs (which
 //! compiles this file too, `build/records.rs`), the GLSL side in
-//! `$OUT_DIR/glsl/scene/records.glsl`: the struct, and for each record whose size is
+//! `$OUT_DIR/glsl/generated/records.glsl`: the struct, and for each record whose size is
 //! whole 16-byte texels the macros that load and store it a texel at a time
 //! (`T_LOAD`, `T_STORE`, `T_WORDk`, `T_TEXELS`; `RECORDS(X)` lists those records).
 //! The constants that go with the records are in `layout.rs`.

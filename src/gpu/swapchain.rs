@@ -383,28 +383,10 @@ impl Swapchain {
     fn record(&self, pixels: &Buffer, image: vk::Image) -> Result<()> {
         let raw = self.device.raw();
         let cmd = self.cmd;
-        let color = vk::ImageSubresourceRange::default()
-            .aspect_mask(vk::ImageAspectFlags::COLOR)
-            .level_count(1)
-            .layer_count(1);
+        let color = color_range();
         let layers = vk::ImageSubresourceLayers::default()
             .aspect_mask(vk::ImageAspectFlags::COLOR)
             .layer_count(1);
-        let transition = |image: vk::Image,
-                          from: vk::ImageLayout,
-                          to: vk::ImageLayout,
-                          src: vk::AccessFlags,
-                          dst: vk::AccessFlags| {
-            vk::ImageMemoryBarrier::default()
-                .image(image)
-                .old_layout(from)
-                .new_layout(to)
-                .src_access_mask(src)
-                .dst_access_mask(dst)
-                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
-                .subresource_range(color)
-        };
         let (pw, ph) = self.picture_size;
         let (x, y, w, h) = letterbox((self.extent.width, self.extent.height), self.picture_size);
         // SAFETY: the command buffer is not in use (the last frame's fence was waited
@@ -582,6 +564,34 @@ impl Drop for Swapchain {
             raw.free_command_buffers(self.device.inner.command_pool, &[self.cmd]);
         }
     }
+}
+
+/// The colour of an image's one level and layer.
+fn color_range() -> vk::ImageSubresourceRange {
+    vk::ImageSubresourceRange::default()
+        .aspect_mask(vk::ImageAspectFlags::COLOR)
+        .level_count(1)
+        .layer_count(1)
+}
+
+/// The barrier taking `image`'s colour from layout `from` to `to`, after accesses `src`
+/// and before `dst`.
+fn transition(
+    image: vk::Image,
+    from: vk::ImageLayout,
+    to: vk::ImageLayout,
+    src: vk::AccessFlags,
+    dst: vk::AccessFlags,
+) -> vk::ImageMemoryBarrier<'static> {
+    vk::ImageMemoryBarrier::default()
+        .image(image)
+        .old_layout(from)
+        .new_layout(to)
+        .src_access_mask(src)
+        .dst_access_mask(dst)
+        .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+        .subresource_range(color_range())
 }
 
 #[cfg(test)]

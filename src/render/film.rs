@@ -35,7 +35,10 @@
 use crate::gpu::layout::{
     FilmParams, Push, FILTER_BOX, FILTER_GAUSSIAN, FILTER_LANCZOS, FILTER_MITCHELL, FILTER_TENT,
 };
-use crate::gpu::{BindingKind, BindingLayout, Buffer, CommandList, DescriptorSet, Device, Kernel};
+use crate::gpu::{
+    BindingKind, BindingLayout, Buffer, CommandList, DescriptorSet, Device, DeviceInfo, Kernel,
+    Spec, SpecValues,
+};
 use crate::image::{self, Image};
 use crate::scene::film::{ComponentFormat, Crop, FileFormat, Filter, PixelFormat};
 
@@ -246,11 +249,28 @@ pub struct Film {
     pub set: DescriptorSet,
 }
 
+/// The specialization constants of `film_gather` for a film with `filter`: the
+/// filter, whether alpha is kept, whether it reads the samples from the paths
+/// ([`reads_paths`]).
+pub fn gather_constants(filter: &Filter, has_alpha: bool) -> SpecValues {
+    SpecValues::new()
+        .with(Spec::FilmFilter, filter_constants(filter).0)
+        .with(Spec::FilmAlpha, has_alpha as u32)
+        .with(Spec::FilmFromPaths, reads_paths(filter) as u32)
+}
+
+/// Whether `film_gather` reads each pixel's samples from the batch's paths, with no
+/// `accumulate` and no ring: the box filter, whose sample weighs 1 in its own pixel
+/// and reaches no other (its position in the pixel does not matter).
+pub fn reads_paths(filter: &Filter) -> bool {
+    matches!(filter, Filter::Box)
+}
+
 impl Film {
     /// Most paths a batch may hold so that the sample ring fits one storage-buffer
     /// binding on `device`.
-    pub fn max_batch_paths(device: &Device, geometry: &FilmGeometry) -> u32 {
-        let slots = device.info().max_storage_buffer_range / BYTES_PER_SAMPLE_SLOT;
+    pub fn max_batch_paths(caps: &DeviceInfo, geometry: &FilmGeometry) -> u32 {
+        let slots = caps.max_storage_buffer_range / BYTES_PER_SAMPLE_SLOT;
         slots
             .saturating_sub(u64::from(geometry.ring_span()))
             .min(u64::from(u32::MAX / 4)) as u32
@@ -328,19 +348,15 @@ impl Film {
 
     /// The specialization constants of `film_gather`: the filter, whether alpha is
     /// kept, whether it reads the samples from the paths ([`Film::reads_paths`]).
-    pub fn gather_constants(&self) -> [u32; 3] {
-        [
-            filter_constants(&self.filter).0,
-            self.has_alpha as u32,
-            self.reads_paths() as u32,
-        ]
+    pub fn gather_constants(&self) -> SpecValues {
+        gather_constants(&self.filter, self.has_alpha)
     }
 
     /// Whether `film_gather` reads each pixel's samples from the batch's paths, with
     /// no `accumulate` and no ring: the box filter, whose sample weighs 1 in its own
     /// pixel and reaches no other (its position in the pixel does not matter).
     pub fn reads_paths(&self) -> bool {
-        matches!(self.filter, Filter::Box)
+        reads_paths(&self.filter)
     }
 
     /// Records zeroing every sum.

@@ -11,9 +11,9 @@ pub mod error;
 pub mod film;
 pub mod integrator;
 pub mod job;
-pub mod media;
 pub mod partial;
 pub mod photon;
+pub mod plan;
 pub mod progressive;
 pub mod sampler;
 pub mod scene_buffers;
@@ -23,24 +23,25 @@ pub mod wavefront;
 pub use error::{Error, Result};
 pub use film::FilmSums;
 pub use integrator::Integrator;
+pub use plan::{plan_render, RenderPlan, MAX_BATCH_PATHS};
 
 use std::time::Instant;
 
-use crate::accel::{self, Bvh, BvhStats, FlatPrims};
-use crate::gpu::layout::{Counters, Frame, Push, MEDIUM_FEATURE_GRIDS, WORKGROUP_SIZE};
+use crate::accel::{BvhStats, FlatPrims};
+use crate::gpu::layout::{Counters, Frame, Push, WORKGROUP_SIZE};
 use crate::gpu::{
-    shaders, BindingLayout, CommandList, DescriptorSet, Device, DeviceKind, Kernel, KernelSpec,
-    KernelTimes,
+    BindingLayout, CommandList, DescriptorSet, Device, Kernel, KernelSpec, KernelTimes,
 };
 use crate::image::Image;
 use crate::scene::sampler::{SampleCount, Sampler, SamplerKind};
 use crate::scene::Scene;
 
-use film::{film_binding_kinds, Film, FilmGeometry, BYTES_PER_SAMPLE_SLOT};
+use film::{film_binding_kinds, Film, FilmGeometry};
 use photon::{photon_binding_kinds, PhotonStats, Photons};
-use scene_buffers::{SceneBuffers, SceneRecords};
-use scene_parts::{array_sizes, scene_binding_kinds, take_scene_arrays, ScenePlan};
-use wavefront::{wavefront_binding_kinds, Wavefront, BYTES_PER_PATH};
+use plan::{PlannedKernel, Schedule, Stage};
+use scene_buffers::SceneBuffers;
+use scene_parts::{scene_binding_kinds, take_scene_arrays, ScenePlan};
+use wavefront::{wavefront_binding_kinds, Wavefront};
 
 /// How to render, beyond what the scene says.
 #[derive(Debug, Clone, Default)]
@@ -210,6 +211,60 @@ fn made<'a>(kernel: &'a Option<Kernel>, name: &str) -> Result<&'a Kernel> {
     })
 }
 
+/// Creates the kernels of `planned` in parallel ([`Kernel::new_all`]), every one
+/// inlined before the driver sees it, since that makes the pipelines much faster to
+/// create on lavapipe (docs/performance.md, "Renderer decisions").
+fn make_kernels(
+    device: &Device,
+    layout: &BindingLayout,
+    planned: &[PlannedKernel],
+    schedule: &Schedule,
+) -> Result<Kernels> {
+    let specs: Vec<KernelSpec> = planned
+        .iter()
+        .map(|k| KernelSpec::named(k.stage.name(), k.stage.spirv(), &k.spec).inlined(true))
+        .collect();
+    let mut made: Vec<(Stage, Option<Kernel>)> = planned
+        .iter()
+        .map(|k| k.stage)
+        .zip(
+            Kernel::new_all(device, layout, &specs)?
+                .into_iter()
+                .map(Some),
+        )
+        .collect();
+    let mut take = |stage: Stage| {
+        made.iter_mut()
+            .find(|(s, _)| *s == stage)
+            .and_then(|(_, k)| k.take())
+    };
+    let required = |kernel: Option<Kernel>, stage: Stage| {
+        kernel.ok_or_else(|| {
+            Error::Options(format!(
+                "internal error: the render plan has no '{}' kernel",
+                stage.name()
+            ))
+        })
+    };
+    Ok(Kernels {
+        generate: take(Stage::Generate),
+        intersect: take(Stage::Intersect),
+        shade: take(Stage::Shade),
+        shade_last: take(Stage::ShadeLast),
+        last_meets_emitters: schedule.emitted_only > 0,
+        shade_args: take(Stage::ShadeArgs),
+        shade_miss: take(Stage::ShadeMiss),
+        shadow: take(Stage::Shadow),
+        shade_deferred: take(Stage::ShadeDeferred),
+        shadow_deferred: take(Stage::ShadowDeferred),
+        queue_args: required(take(Stage::QueueArgs), Stage::QueueArgs)?,
+        accumulate: take(Stage::Accumulate),
+        film_gather: required(take(Stage::FilmGather), Stage::FilmGather)?,
+        first_bounce: take(Stage::FirstBounce),
+        fused_bounces: schedule.fused_bounces,
+    })
+}
+
 /// A scene prepared on a device, ready to render any number of samples.
 pub struct Renderer {
     device: Device,
@@ -257,68 +312,6 @@ enum Over {
     One,
 }
 
-/// Whether a batch's camera rays and first bounce may run in one kernel, `first_bounce`
-/// (and the second bounce too where it ends the paths), instead of generate and a
-/// dispatch of each stage: on CPU devices, for the integrators of path.glsl (in scenes
-/// with media or null surfaces too, with their medium stage). llvmpipe turns each
-/// divergent access to the queues into a loop over its SIMD lanes, and at the first
-/// bounce every lane has a path to follow, so handing it from kernel to kernel costs
-/// and compaction saves nothing. A GPU keeps the wavefront. (`Renderer::new` decides
-/// where it pays.)
-fn fuses_first_bounce(device: &Device, integrator: &Integrator) -> bool {
-    device.info().kind == DeviceKind::Cpu && integrator.shades_paths()
-}
-
-/// The fewest paths a render must have for a path tracer's first bounce to run fused
-/// (see `Renderer::new`): with savings of 4-16% of some 0.5 us per path, what pays for
-/// the extra kernel's creation.
-const FUSED_MIN_PATHS: u64 = 1 << 21;
-
-/// The fraction of a 16 x 16 grid of camera rays through pixel centres that meet
-/// nothing (traced on the host: `Renderer::new` decides with it whether bounce 0 of a
-/// scene with an environment runs fused, where its misses cannot have their kernel).
-fn camera_miss_fraction(bvh: &Bvh, cam: &crate::scene::Camera) -> f32 {
-    const N: u32 = 16;
-    let [tan_x, tan_y] = cam.tan_half_fov();
-    let mut misses = 0;
-    for j in 0..N {
-        for i in 0..N {
-            // As camera.glsl's camera_ray.
-            let ndc = glam::Vec2::new((i as f32 + 0.5) / N as f32, (j as f32 + 0.5) / N as f32);
-            let d = glam::Vec3::new(
-                (1.0 - 2.0 * ndc.x) * tan_x,
-                (1.0 - 2.0 * ndc.y) * tan_y,
-                1.0,
-            );
-            let near = cam.to_world.transform_point3(d * cam.near_clip);
-            let far = cam.to_world.transform_point3(d * cam.far_clip);
-            let span = far - near;
-            let len = span.length();
-            if !(len > 0.0 && len.is_finite()) || bvh.closest(near, span / len, 0.0, len).is_none()
-            {
-                misses += 1;
-            }
-        }
-    }
-    misses as f32 / (N * N) as f32
-}
-
-/// Whether `intersect` partitions a bounce's rays into hits and misses for `shade`
-/// (its specialization constant 2; shaders/queue/partition.glsl): llvmpipe runs
-/// shade's whole code for a lane whose ray left the scene, so path integrators in
-/// scenes with an environment shade the rays that found a surface in SIMD groups of
-/// their own and the misses in `shade_miss`, a kernel with only the miss code. The
-/// partition costs an atomic per ray (intersect +30-50% on llvmpipe): it pays where
-/// many rays miss and the environment lights them (the normal-map scene 256^2, 64
-/// spp: shade 1235 -> 860 ms + shade_miss 100 ms; the glossy env-map scene 16 spp:
-/// shade 415 -> 220 + 60 ms), not in closed scenes (Cornell box: no gain), and
-/// without an environment a miss adds nothing anyway. The first-hit integrators, the
-/// photon mappers and scenes with media (whose medium stage turns misses into
-/// scattering events) shade every ray of the queue in one kernel.
-fn partitions(integrator: &Integrator, has_media: bool, has_environment: bool) -> bool {
-    has_environment && integrator.shades_paths() && !has_media
-}
-
 /// Workgroups for `n` threads on a 2D grid (at most 65535 per dimension); the same
 /// rule as `groups_for` in queue_args.comp.
 pub(crate) fn groups_for(n: u32) -> [u32; 3] {
@@ -328,128 +321,38 @@ pub(crate) fn groups_for(n: u32) -> [u32; 3] {
     [x, y, 1]
 }
 
-/// What a render of `scene` with `options` uses, before any device: the integrator,
-/// the film it renders (SPPM's differs from the scene's, see
-/// [`Renderer::film_overridden`]) and its geometry, and the sampler.
-fn resolve(
-    scene: &Scene,
-    options: &RenderOptions,
-) -> Result<(Integrator, crate::scene::Film, FilmGeometry, Sampler)> {
-    let integrator = Integrator::from_spec(
-        &scene.integrator,
-        options.integrator.as_deref(),
-        &scene.path,
-    )?;
-    let cam = &scene.camera;
-    // SPPM keeps one estimate per pixel (its radius and flux): a box filter over
-    // the whole film, whatever the scene's film asks for (see `film_overridden`).
-    let film_spec = if matches!(integrator, Integrator::Sppm(_)) {
-        crate::scene::Film {
-            filter: crate::scene::film::Filter::Box,
-            crop: None,
-            sample_border: false,
-            ..scene.film.clone()
-        }
-    } else {
-        scene.film.clone()
-    };
-    let geometry = FilmGeometry::new(
-        cam.width,
-        cam.height,
-        film_spec.crop,
-        &film_spec.filter,
-        film_spec.sample_border,
-    )?;
-    let sampler = choose_sampler(scene, options.sampler.as_deref())?;
-    Ok((integrator, film_spec, geometry, sampler))
-}
-
-/// The integrator, sampler and film geometry a render of `scene` with `options` uses,
-/// as [`Renderer::new`] would set them up (without a device); the sampler's
-/// [`Sampler::sample_count`] over the geometry's [`FilmGeometry::key_size`] is the
-/// count [`Renderer::round_sample_count`] gives.
-pub fn plan_render(
-    scene: &Scene,
-    options: &RenderOptions,
-) -> Result<(Integrator, Sampler, FilmGeometry)> {
-    resolve(scene, options).map(|(i, _, g, s)| (i, s, g))
-}
-
 impl Renderer {
+    /// Prepares `scene` on `device`: plans the render ([`RenderPlan::new`]) and builds
+    /// the plan ([`Renderer::build`]).
     pub fn new(device: &Device, scene: &Scene, options: &RenderOptions) -> Result<Renderer> {
-        let (integrator, film_spec, geometry, sampler) = resolve(scene, options)?;
-        let cam = &scene.camera;
-        let pixels = cam.width * cam.height;
-        let key_size = geometry.key_size();
-        let sample_count = sampler
-            .sample_count(scene.spp, key_size.0, key_size.1)
-            .map_err(Error::Options)?;
+        let plan = RenderPlan::new(scene, options, device.info())?;
+        Renderer::build(device, plan, options)
+    }
 
-        if integrator.is_photon_mapper() && scene.needs_medium_code() {
-            return Err(Error::Integrator {
-                file: scene.path.clone(),
-                line: scene.integrator.line,
-                message: format!(
-                    "integrator '{}' traces light between surfaces only: the scene has \
-                     participating media or null (index-matched) surfaces; render it with \
-                     vol_path_mis",
-                    integrator.name()
-                ),
-            });
-        }
-        if integrator.is_photon_mapper() && scene.emitters.is_empty() {
-            return Err(Error::Integrator {
-                file: scene.path.clone(),
-                line: scene.integrator.line,
-                message: format!(
-                    "integrator '{}' needs an emitter to shoot photons from; the scene has none",
-                    integrator.name()
-                ),
-            });
-        }
-        let prims = scene.triangle_count() + scene.quadrics.len();
-        if prims > accel::BVH_MAX_PRIMS {
-            return Err(Error::Options(format!(
-                "the scene has {prims} primitives, more than one BVH holds ({}): use fewer \
-                 triangles (decimate the largest meshes)",
-                accel::BVH_MAX_PRIMS
-            )));
-        }
-        let bvh = Bvh::for_shapes(&scene.meshes, &scene.quadrics);
-        let mut records = SceneRecords::new(scene, &bvh);
-        let emitter_prims = records.emitter_prims(&bvh);
-        // Their kinds, a bit per PRIM_* kind (constant 17 of shade_last).
-        let emitter_prim_kinds = emitter_prims
-            .iter()
-            .flatten()
-            .fold(0u32, |m, &i| m | 1 << bvh.prims[i as usize].kind);
-        let bvh_stats = bvh.stats;
-        // Scenes of a few primitives are traced without the tree.
-        let flat = FlatPrims::of(
-            &bvh,
-            if options.traverse_small_scenes {
-                0
-            } else {
-                accel::FLAT_PRIMS_MAX
-            },
-        );
-        let [flat_count, flat_kinds] = flat.constants();
-        let scene_bounds = photon::SceneBounds::of(&bvh);
-        // For the choice of a fused first bounce in a scene with an environment (below;
-        // traced here, before the upload takes the BVH).
-        let camera_misses = (device.info().kind == DeviceKind::Cpu
-            && records.env_emitter != crate::gpu::layout::NONE)
-            .then(|| camera_miss_fraction(&bvh, cam));
-
+    /// Allocates the buffers and creates the pipelines `plan` says on `device`, and
+    /// dispatches every kernel once (see [`Renderer::warm_up`]).
+    pub fn build(device: &Device, plan: RenderPlan, options: &RenderOptions) -> Result<Renderer> {
+        let RenderPlan {
+            integrator,
+            film_spec,
+            geometry,
+            sampler,
+            sample_count,
+            bvh,
+            mut records,
+            bvh_stats,
+            flat,
+            scene_bounds,
+            scene_plan,
+            frame,
+            capacity,
+            schedule,
+            has_alpha,
+            covered,
+            features,
+            kernels,
+        } = plan;
         let t = Instant::now();
-        // The BVH and the large records are moved into the upload, which frees each
-        // once it is on the device.
-        let arrays = take_scene_arrays(bvh, &mut records);
-        let plan = ScenePlan::for_device(
-            device.info(),
-            array_sizes(&arrays),
-            options.scene_part_shift,
-        )?;
         let layout = BindingLayout::with_spec(
             device,
             &[
@@ -459,67 +362,15 @@ impl Renderer {
                 film_binding_kinds(),
             ],
             std::mem::size_of::<Push>() as u32,
-            &plan.spec(),
-            plan.is_split(),
+            &scene_plan.spec(),
+            scene_plan.is_split(),
         )?;
-        let scene_buffers = SceneBuffers::upload_planned(device, &layout, arrays, plan)?;
-        let mut frame = Frame {
-            camera_to_world: cam.to_world.to_cols_array_2d(),
-            tan_half_fov: cam.tan_half_fov(),
-            near_clip: cam.near_clip,
-            far_clip: cam.far_clip,
-            width: cam.width,
-            height: cam.height,
-            seed: options.seed,
-            point_light_count: records.point_light_count,
-            ao_max_t: match integrator {
-                Integrator::Ao { max_t, .. } => max_t,
-                _ => f32::INFINITY,
-            },
-            ao_uniform: matches!(integrator, Integrator::Ao { uniform: true, .. }) as u32,
-            max_depth: integrator.max_depth(),
-            emitter_count: records.emitters.len() as u32,
-            rr_depth: integrator.rr_depth(),
-            env_emitter: records.env_emitter,
-            hide_emitters: integrator.hide_emitters() as u32,
-            camera_medium: scene.camera_medium.unwrap_or(crate::gpu::layout::NONE),
-            photon_alias: records.photon_alias,
-            ..Default::default()
-        };
-        sampler::set_frame(&mut frame, &sampler, &sample_count, options.seed, key_size);
-        for (k, &slot) in emitter_prims.iter().flatten().enumerate() {
-            frame.emitter_prims[k / 4][k % 4] = slot;
-        }
-        let expected_paths = u64::from(geometry.region_pixels())
-            * u64::from(options.expected_spp.unwrap_or(scene.spp));
-        let capacity = options
-            .max_batch_paths
-            .unwrap_or_else(|| default_capacity(device, expected_paths))
-            .max(1);
-        // Keep every queue inside one storage-buffer binding.
-        let limit = device.info().max_storage_buffer_range
-            / (2 * std::mem::size_of::<crate::gpu::layout::RayItem>() as u64);
-        let capacity = capacity
-            .min(limit as u32)
-            .min(Film::max_batch_paths(device, &geometry))
-            .clamp(1, MAX_BATCH_PATHS);
-        // Media and null surfaces: the medium code of shade and shadow
-        // (constant_id 4 of both; 2-3 belong to textures).
-        // Thin dielectrics are null crossings for the volumetric path tracers
-        // (constant_id 7 of shade and shadow), which need the medium code for them.
-        let thin_null = (scene.has_thin_dielectrics() && integrator.is_volumetric()) as u32;
-        let has_media = (scene.needs_medium_code() || thin_null != 0) as u32;
-        // Where rays cross null surfaces, intersect keeps each ray's second-nearest hit
-        // too (constant_id 5 of intersect; vol_path.glsl).
-        let wavefront = Wavefront::new(device, &layout, capacity, &frame, has_media != 0)?;
-        // Alpha: the film keeps covered weights and shade marks covered camera paths;
-        // a visible environment covers every path of the integrators where Mitsuba
-        // counts it (`valid_ray` of path and volpath). The photon mappers' camera
-        // kernels mark none: no alpha there (see `film_overridden`).
-        let has_alpha = film_spec.pixel_format.has_alpha() && !integrator.is_photon_mapper();
-        let covered = integrator.counts_environment_coverage()
-            && !integrator.hide_emitters()
-            && records.env_emitter != crate::gpu::layout::NONE;
+        // The BVH and the large records are moved into the upload, which frees each
+        // once it is on the device.
+        let arrays = take_scene_arrays(bvh, &mut records);
+        let scene_buffers = SceneBuffers::upload_planned(device, &layout, arrays, scene_plan)?;
+        let wavefront = Wavefront::new(device, &layout, capacity, &frame, schedule.media)?;
+        let key_size = geometry.key_size();
         let film = Film::new(
             device,
             &layout,
@@ -529,232 +380,10 @@ impl Renderer {
             covered,
             capacity,
         )?;
-        let features = photon::SceneFeatures {
-            surface: records.surface_features() | records.prim_kinds(),
-            textures: records.texture_mask(),
-            emitters: records.emitter_kinds(),
-            bsdfs: records.bsdfs.iter().fold(0u32, |m, b| m | 1 << b.kind),
-            sampler: sampler::kind_id(&sampler),
-        };
         let upload_seconds = t.elapsed().as_secs_f64();
 
         let t = Instant::now();
-        // Specialization: code for features the scene lacks is compiled out.
-        // The quadric kinds (SURFACE_FEATURE_* bits): the traversal and the hit
-        // geometry compile the others away.
-        let prim_kinds = records.prim_kinds();
-        // Medium features (constant_id 6): the kinds and grid layouts the scene's media
-        // use; homogeneous-only scenes compile tracking away.
-        let medium_features = records.medium_features();
-        // Surface features (constant_id 10 of shade and shadow): quadric kinds,
-        // vertex normals and uvs; hit geometry compiles the absent ones away.
-        let surface_features = records.surface_features() | prim_kinds;
-        let bsdf_kinds = records.bsdfs.iter().fold(0u32, |m, b| m | 1 << b.kind);
-        // The traversal stack holds at most one entry per level above the deepest
-        // leaf (constant_id 1 of intersect, 11 of shade and shadow; bvh.glsl).
-        let bvh_depth = bvh_stats.stack_depth();
-        let partitioned = partitions(
-            &integrator,
-            has_media != 0,
-            records.env_emitter != crate::gpu::layout::NONE,
-        );
-        // Bounces that only end paths meet the emitters alone (path_emitted.glsl)
-        // where the scene has few emitter prims, no environment and no media, from
-        // the second bounce on (a camera ray's hit also decides its pixel's alpha).
-        let emitted_only = if has_media == 0
-            && !options.trace_last_bounce
-            && records.env_emitter == crate::gpu::layout::NONE
-            && !integrator.ends_paths_at(0)
-        {
-            emitter_prims.as_ref().map_or(0, |p| p.len() as u32)
-        } else {
-            0
-        };
-        let shade_spec = |last: bool, misses: bool| {
-            [
-                integrator.id(),
-                bsdf_kinds,
-                records.texture_mask(),
-                0,
-                has_media,
-                prim_kinds,
-                medium_features,
-                thin_null,
-                integrator.power_heuristic() as u32,
-                records.emitter_kinds(),
-                surface_features,
-                bvh_depth,
-                sampler::kind_id(&sampler),
-                has_alpha as u32,
-                last as u32,
-                // SHADE_RAYS_* (path.glsl): all, hits, misses; shade_last meeting the
-                // emitters itself runs over all its rays.
-                match (partitioned && !(last && emitted_only > 0), misses) {
-                    (false, _) => 0,
-                    (true, false) => 1,
-                    (true, true) => 2,
-                },
-                if last { emitted_only } else { 0 },
-                if last { emitter_prim_kinds } else { 0xf },
-                flat_count,
-                flat_kinds,
-            ]
-        };
-        let bounces = integrator
-            .bounces()
-            .min(options.max_bounces.unwrap_or(u32::MAX))
-            .max(1);
-        // Every kernel of the render, created in parallel (Kernel::new_all), the
-        // largest first.
-        let mut specs: Vec<KernelSpec> = Vec::new();
-        // Every kernel is inlined before lavapipe sees it (render start-up: see
-        // gpu::specialize::INLINE_PASSES). Scenes with media too, since their code
-        // returns once from every function (medium.glsl): the media cube's pipelines
-        // 500-640 -> 120-160 ms, its kernels' instructions +0.1% (callgrind, 256^2
-        // 32 spp, with the fused first bounce).
-        let mut add = |name, spirv, spec: &[u32]| {
-            specs.push(KernelSpec::new(name, spirv, spec).inlined(true));
-            specs.len() - 1
-        };
-        // On CPU devices the batch's first bounce runs in one kernel, first_bounce.comp,
-        // in place of generate and bounce 0's intersect, shade and shadow (and bounce
-        // 1 where it ends the paths meeting the emitters alone: direct lighting in
-        // scenes with few emitter primitives, when the kernel is the whole path and
-        // the others are not made). Where the wavefront goes on after it (path
-        // tracers) it is made beside shade, which costs 60-110 ms of start-up on
-        // lavapipe, so only for renders of FUSED_MIN_PATHS paths or more; and not
-        // where over a third of the camera rays leave the scene into an environment,
-        // whose misses the wavefront shades apart (`partitions`). callgrind at
-        // 64^2 16 spp, fused against not: normal map -16%, textures (23% of camera
-        // rays miss) -7%, glass -6%, Cornell box -4%, envmap_glossy (44%) +9%; the
-        // media cube at 256^2 32 spp -3.1%.
-        let second_ends = bounces == 2 && integrator.ends_paths_at(1) && emitted_only > 0;
-        let fused_bounces = 1 + second_ends as u32;
-        let fused = fuses_first_bounce(device, &integrator)
-            && !options.wavefront
-            && (bounces <= fused_bounces
-                || (expected_paths >= FUSED_MIN_PATHS
-                    && (!partitioned || camera_misses.is_some_and(|m| m <= 1.0 / 3.0))));
-        let wavefront_kernels = !fused || bounces > fused_bounces;
-        // Deferral (shaders/queue/deferral.glsl): in scenes with null surfaces, shade
-        // and shadow run without the traversals of their crossing loops, and their
-        // full twins take the rays that need one (first_bounce traces: deferring its
-        // shadow rays too cost the media cube 1.3% more, fused at 256^2 32 spp). It pays
-        // where few rays defer and a deferred one costs little to run again: not with
-        // a null sphere or cylinder, which every ray that crosses it must trace again
-        // past, nor with grid media, whose tracking shade_deferred repeats. callgrind,
-        // kernels' instructions, deferring against not (the same images):
-        // media/cube.xml 256^2 32 spp (fused) -5.7%, 128^2 16 spp (wavefront) -7.5%;
-        // at 128^2 16 spp thin_textured.xml -6.5%, two_media.xml (a null sphere
-        // around the camera) +3.0%, smoke.xml (a grid) +9.6%, cbox_smoke.xml (a grid)
-        // 0.0%.
-        let deferring = has_media != 0
-            && integrator.shades_paths()
-            && options.deferral.unwrap_or_else(|| {
-                !scene.has_curved_crossings() && medium_features & MEDIUM_FEATURE_GRIDS == 0
-            });
-        let deferral = wavefront_kernels && deferring;
-        let first_bounce = fused.then(|| {
-            // Shade's constants, with 14 and 20 saying whether bounce 0 or bounce 1
-            // ends the paths, and 16-17 the emitter primitives bounce 1 meets.
-            let mut spec = shade_spec(second_ends, false).to_vec();
-            spec[14] = integrator.ends_paths_at(0) as u32;
-            spec.push(second_ends as u32);
-            add("first_bounce", shaders::FIRST_BOUNCE, &spec)
-        });
-        let shade_with = |mode: u32| {
-            let mut spec = shade_spec(false, false).to_vec();
-            spec.push(mode);
-            spec
-        };
-        let shade = (wavefront_kernels && !integrator.is_photon_mapper())
-            .then(|| add("shade", shaders::SHADE, &shade_with(deferral as u32)));
-        let shade_deferred = (deferral && !integrator.is_photon_mapper())
-            .then(|| add("shade_deferred", shaders::SHADE, &shade_with(2)));
-        let shade_last = (wavefront_kernels && (0..bounces).any(|d| integrator.ends_paths_at(d)))
-            .then(|| add("shade_last", shaders::SHADE, &shade_spec(true, false)));
-        let shade_miss = (wavefront_kernels && partitioned)
-            .then(|| add("shade_miss", shaders::SHADE, &shade_spec(false, true)));
-        let shadow_with = |mode: u32| {
-            [
-                prim_kinds,
-                0,
-                records.texture_mask(),
-                0,
-                has_media,
-                0,
-                medium_features,
-                thin_null,
-                0,
-                0,
-                surface_features,
-                bvh_depth,
-                flat_count,
-                flat_kinds,
-                mode,
-            ]
-        };
-        let shadow = wavefront_kernels
-            .then(|| add("shadow", shaders::SHADOW, &shadow_with(deferral as u32)));
-        let shadow_deferred =
-            deferral.then(|| add("shadow_deferred", shaders::SHADOW, &shadow_with(2)));
-        let intersect = wavefront_kernels.then(|| {
-            add(
-                "intersect",
-                shaders::INTERSECT,
-                &[
-                    prim_kinds,
-                    bvh_depth,
-                    partitioned as u32,
-                    flat_count,
-                    flat_kinds,
-                    has_media,
-                ],
-            )
-        });
-        let generate =
-            (!fused).then(|| add("generate", shaders::GENERATE, &[sampler::kind_id(&sampler)]));
-        let film_gather = add(
-            "film_gather",
-            shaders::FILM_GATHER,
-            &film.gather_constants(),
-        );
-        let accumulate = (!film.reads_paths()).then(|| {
-            add(
-                "accumulate",
-                shaders::ACCUMULATE,
-                &[sampler::kind_id(&sampler)],
-            )
-        });
-        let queue_args = add("queue_args", shaders::QUEUE_ARGS, &[]);
-        let shade_args =
-            (wavefront_kernels && partitioned).then(|| add("shade_args", shaders::SHADE_ARGS, &[]));
-        let mut made: Vec<Option<Kernel>> = Kernel::new_all(device, &layout, &specs)?
-            .into_iter()
-            .map(Some)
-            .collect();
-        let mut take = |i: usize| {
-            made[i]
-                .take()
-                .unwrap_or_else(|| unreachable!("kernel {i} taken twice"))
-        };
-        let kernels = Kernels {
-            generate: generate.map(&mut take),
-            intersect: intersect.map(&mut take),
-            shade: shade.map(&mut take),
-            shade_last: shade_last.map(&mut take),
-            last_meets_emitters: emitted_only > 0,
-            shade_args: shade_args.map(&mut take),
-            shade_miss: shade_miss.map(&mut take),
-            shadow: shadow.map(&mut take),
-            shade_deferred: shade_deferred.map(&mut take),
-            shadow_deferred: shadow_deferred.map(&mut take),
-            queue_args: take(queue_args),
-            accumulate: accumulate.map(&mut take),
-            film_gather: take(film_gather),
-            first_bounce: first_bounce.map(&mut take),
-            fused_bounces,
-        };
+        let kernels = make_kernels(device, &layout, &kernels, &schedule)?;
         // The photon mappers' kernels and buffers (their buffers are small until a
         // photon map needs more).
         let photon = if integrator.is_photon_mapper() {
@@ -764,7 +393,7 @@ impl Renderer {
                 &integrator,
                 features,
                 scene_bounds,
-                pixels,
+                frame.width * frame.height,
                 capacity,
                 options.max_photons_per_pass,
                 options.max_sppm_pixels,
@@ -777,15 +406,15 @@ impl Renderer {
 
         let mut renderer = Renderer {
             device: device.clone(),
-            bounces,
+            bounces: schedule.bounces,
             integrator,
             kernels,
             scene_buffers,
             wavefront,
             photon,
             film,
-            width: cam.width,
-            height: cam.height,
+            width: frame.width,
+            height: frame.height,
             key_size,
             timestamps: options.timestamps,
             frame,
@@ -1417,39 +1046,7 @@ const BOUNCE_CHUNK: u32 = 64;
 const SHORT_BOUNCE_CHUNKS: (u32, u32) = (4, BOUNCE_CHUNK);
 
 /// The chunks of bounces of path batches whose budget exceeds one chunk (paths of
-/// unbounded length, ended by Russian roulette): most end within a few bounces and the
-/// longest within a few dozen, and a batch of 64 bounces then ran some 40 empty ones,
-/// four dispatches of about 30 us each (scenes/envmap/envmap_glossy.xml at 256x256,
-/// 16 spp: 384 dispatches of each kernel, the last path ending before bounce 24).
-/// Submissions after 8, 24 and 56 bounces let such a batch stop at the first of
-/// them that finds no path left.
+/// unbounded length, ended by Russian roulette): most paths end within a few bounces,
+/// so submissions after 8, 24 and 56 bounces let a batch stop at the first that finds
+/// no path left (docs/performance.md, "Renderer decisions").
 const LONG_BUDGET_CHUNKS: (u32, u32) = (8, BOUNCE_CHUNK);
-
-/// Most paths in one batch: the kernels divide path and pixel indices by a float
-/// quotient (shaders/film/divide.glsl), exact for quotients below 2^23; a batch of
-/// at most 2^22 paths keeps every quotient below that, whatever the film.
-pub const MAX_BATCH_PATHS: u32 = 1 << 22;
-
-/// Paths per batch of a render of `paths` paths (pixels times spp): bounded by memory
-/// (path state and film samples: on a CPU device 40 MiB at least and 160 MiB at most,
-/// on a GPU 300 MiB) and large enough to fill a GPU.
-/// On lavapipe a batch has costs of its own whatever its size (its camera rays, the
-/// film gather, a submission and a read-back per chunk of bounces, the last paths'
-/// bounces), and larger batches spread them over more paths: from 40 to 160 MiB
-/// (209,715 to 838,860 paths), 64 spp at 256 x 256 (3 runs each, rendered in) took
-/// 2.35-2.44 -> 2.29-2.32 s on the Cornell box, 1.95-2.08 -> 1.84-1.90 s on
-/// media/cube.xml, 1.27-1.35 -> 1.21-1.22 s on textures.xml, 0.79-1.02 -> 0.77-0.79 s
-/// on normalmap.xml, and Veach's plates (direct, 128 x 128) 0.221-0.234 -> 0.197-0.203
-/// s; 320 MiB gained nothing more. The start-up touches the batch's memory once
-/// (`Renderer::warm_up`), about 0.6 ms per MB on lavapipe, so a render of fewer paths
-/// gets a batch no larger than it needs, but no smaller than 40 MiB's (tests and
-/// callers that render more than the scene's spp keep the batches they had). Images
-/// are the same bits whatever the batches (the film sums samples in order).
-fn default_capacity(device: &Device, paths: u64) -> u32 {
-    let (least, most): (u64, u64) = match device.info().kind {
-        DeviceKind::Cpu => (40 << 20, 160 << 20),
-        _ => (300 << 20, 300 << 20),
-    };
-    let per_path = BYTES_PER_PATH + BYTES_PER_SAMPLE_SLOT;
-    paths.clamp(least / per_path, most / per_path) as u32
-}

@@ -19,9 +19,7 @@ use crate::gpu::layout::{
     EMITTER_KIND_BIT_TEXTURE_SAMPLED, EMITTER_KIND_BIT_TEXTURE_SPHERE,
 };
 use crate::gpu::{BindingLayout, Buffer, DescriptorSet, Device};
-use crate::scene::envmap;
 use crate::scene::textured_emitter;
-use crate::scene::Texture;
 use crate::scene::{Emitter, QuadricKind, Scene};
 
 use super::error::{Error, Result};
@@ -64,7 +62,7 @@ pub struct SceneRecords {
     pub media: Vec<MediumRecord>,
     pub grid_data: Vec<f32>,
     pub majorants: Vec<f32>,
-    /// Density grids packed one texel per voxel (`media::pack_density`).
+    /// Density grids packed one texel per voxel (`scene::medium::record::pack_density`).
     pub packed_density: Vec<[f32; 4]>,
     /// The quadric kinds of the scene, as `SURFACE_FEATURE_*` bits.
     quadric_kinds: u32,
@@ -134,115 +132,50 @@ impl SceneRecords {
             let rec = t.record(&mut r.texels);
             r.textures.push(rec);
         }
-        // Emitters: point lights first so the shading code can pick among them by
-        // index; `remap[i]` is the new index of scene emitter i.
+        let remap = r.push_emitters(scene);
+        r.push_meshes(scene, &remap);
+        r.push_quadrics(scene, bvh, &remap);
+        for m in &scene.media {
+            let rec = crate::scene::medium::record::record(
+                m,
+                &mut r.grid_data,
+                &mut r.packed_density,
+                &mut r.majorants,
+            );
+            r.media.push(rec);
+        }
+        r.build_alias_tables(scene, bvh, &remap);
+        r.bsdfs = scene.bsdfs.iter().map(BsdfRecord::from).collect();
+        r
+    }
+}
+
+impl SceneRecords {
+    /// Pushes the emitters' records of `scene`, point lights first so the shading code
+    /// can pick among them by index; returns `remap`, where `remap[i]` is the new index
+    /// of scene emitter i.
+    fn push_emitters(&mut self, scene: &Scene) -> Vec<u32> {
         let mut order: Vec<usize> = (0..scene.emitters.len()).collect();
         order.sort_by_key(|&i| !matches!(scene.emitters[i], Emitter::Point { .. }));
         let mut remap = vec![NONE; scene.emitters.len()];
         for (new, &old) in order.iter().enumerate() {
             remap[old] = new as u32;
-            let mut mean = 1.0f64;
-            let rec = match scene.emitters[old] {
-                Emitter::Point {
-                    position,
-                    intensity,
-                } => {
-                    r.point_light_count += 1;
-                    EmitterRecord {
-                        position: position.into(),
-                        kind: EMITTER_POINT,
-                        radiance: intensity.into(),
-                        shape: NONE,
-                        ..Default::default()
-                    }
-                }
-                Emitter::Spot {
-                    position,
-                    axis,
-                    intensity,
-                    cutoff_deg,
-                    beam_width_deg,
-                } => {
-                    let (cutoff, beam) = (cutoff_deg.to_radians(), beam_width_deg.to_radians());
-                    EmitterRecord {
-                        position: position.into(),
-                        kind: EMITTER_SPOT,
-                        radiance: intensity.into(),
-                        shape: NONE,
-                        axis: axis.into(),
-                        cos_cutoff: cutoff.cos(),
-                        cutoff,
-                        // A zero-width transition is a hard edge: a huge slope.
-                        inv_transition: 1.0 / (cutoff - beam).max(1e-6),
-                        ..Default::default()
-                    }
-                }
-                Emitter::Area { radiance } => EmitterRecord {
-                    kind: EMITTER_AREA,
-                    radiance: radiance.into(),
-                    shape: NONE,
-                    ..Default::default()
-                },
-                Emitter::Constant { radiance } => {
-                    r.env_emitter = new as u32;
-                    EmitterRecord {
-                        kind: EMITTER_CONSTANT,
-                        radiance: radiance.into(),
-                        shape: NONE,
-                        ..Default::default()
-                    }
-                }
-                Emitter::TexturedArea { texture, scale } => {
-                    mean = luminance(scene.textures[texture as usize].mean());
-                    EmitterRecord {
-                        kind: EMITTER_AREA,
-                        radiance: scale.into(),
-                        shape: NONE,
-                        texture: texture + 1,
-                        ..Default::default()
-                    }
-                }
-                Emitter::EnvMap {
-                    texture,
-                    scale,
-                    to_world,
-                    importance,
-                } => {
-                    r.env_emitter = new as u32;
-                    let Texture::Bitmap {
-                        width,
-                        height,
-                        texels,
-                        ..
-                    } = &scene.textures[texture as usize]
-                    else {
-                        unreachable!("the loader gives an envmap a bitmap")
-                    };
-                    let dist = envmap::Distribution::build(*width, *height, texels, importance);
-                    mean = dist.mean_luminance;
-                    let offset = r.distributions.len() as u32;
-                    r.distributions.extend_from_slice(&dist.cdf);
-                    let col = |v: Vec3| [v.x, v.y, v.z, 0.0];
-                    EmitterRecord {
-                        kind: EMITTER_ENVMAP,
-                        radiance: [scale; 3],
-                        shape: NONE,
-                        texture: texture + 1,
-                        dist_offset: offset,
-                        dist_width: *width,
-                        dist_height: *height,
-                        to_world_x: col(to_world.x_axis),
-                        to_world_y: col(to_world.y_axis),
-                        to_world_z: col(to_world.z_axis),
-                        ..Default::default()
-                    }
-                }
-            };
-            r.emitters.push(rec);
-            r.emitter_mean.push(mean);
+            match scene.emitters[old] {
+                Emitter::Point { .. } => self.point_light_count += 1,
+                Emitter::Constant { .. } | Emitter::EnvMap { .. } => self.env_emitter = new as u32,
+                _ => {}
+            }
+            let (rec, mean) = scene.emitters[old].record(&scene.textures, &mut self.distributions);
+            self.emitters.push(rec);
+            self.emitter_mean.push(mean);
         }
-        let emitter_of = |e: Option<u32>| e.map(|i| remap[i as usize]).unwrap_or(NONE);
+        remap
+    }
 
+    /// Pushes the shape, vertex and triangle records of `scene`'s meshes (`remap`: the
+    /// emitters' new indices, [`Self::push_emitters`]).
+    fn push_meshes(&mut self, scene: &Scene, remap: &[u32]) {
+        let emitter_of = |e: Option<u32>| e.map(|i| remap[i as usize]).unwrap_or(NONE);
         // Triangle records lead from a hit to its vertices' normals and uvs; without
         // any (a scanned or generated mesh often has none) they would be 16 bytes a
         // triangle that nothing reads.
@@ -251,7 +184,7 @@ impl SceneRecords {
             .iter()
             .any(|m| !m.normals.is_empty() || !m.uvs.is_empty());
         for (shape_index, mesh) in scene.meshes.iter().enumerate() {
-            let base = r.vertices.len() as u32;
+            let base = self.vertices.len() as u32;
             let has_n = !mesh.normals.is_empty();
             let has_uv = !mesh.uvs.is_empty();
             let mut flags = 0;
@@ -268,7 +201,7 @@ impl SceneRecords {
                 for i in 0..mesh.positions.len() {
                     let n = mesh.normals.get(i).copied().unwrap_or_default();
                     let uv = mesh.uvs.get(i).copied().unwrap_or_default();
-                    r.vertices.push(Vertex {
+                    self.vertices.push(Vertex {
                         nx: n.x,
                         ny: n.y,
                         nz: n.z,
@@ -279,7 +212,7 @@ impl SceneRecords {
                 }
             }
             if with_vertices {
-                r.triangles
+                self.triangles
                     .extend(mesh.indices.iter().map(|t| TriangleRecord {
                         v0: base + t[0],
                         v1: base + t[1],
@@ -288,11 +221,11 @@ impl SceneRecords {
                     }));
             }
             if let Some(e) = mesh.emitter {
-                let rec = &mut r.emitters[remap[e as usize] as usize];
+                let rec = &mut self.emitters[remap[e as usize] as usize];
                 rec.shape = shape_index as u32;
                 if let Some(map) = textured_emitter::AffineUvMap::of_mesh(mesh) {
                     let at = |v: glam::Vec3, w: f32| [v.x, v.y, v.z, w];
-                    if sample_by_texture(scene, e, rec, &mut r.distributions) {
+                    if sample_by_texture(scene, e, rec, &mut self.distributions) {
                         rec.to_world_x = at(map.origin, map.normal.x);
                         rec.to_world_y = at(map.du, map.normal.y);
                         rec.to_world_z = at(map.dv, map.normal.z);
@@ -300,25 +233,30 @@ impl SceneRecords {
                 }
             }
             let (mflags, media) = medium_flags(mesh.interior, mesh.exterior, mesh.null_bsdf);
-            r.shapes.push(ShapeRecord {
+            self.shapes.push(ShapeRecord {
                 bsdf: mesh.bsdf,
                 emitter: emitter_of(mesh.emitter),
                 flags: flags | mflags | thin_flag(scene, mesh.bsdf),
                 media,
             });
         }
+    }
+
+    /// Pushes the shape records of `scene`'s quadrics, whose primitives `bvh` holds.
+    fn push_quadrics(&mut self, scene: &Scene, bvh: &Bvh, remap: &[u32]) {
+        let emitter_of = |e: Option<u32>| e.map(|i| remap[i as usize]).unwrap_or(NONE);
         // BVH slot of every quadric.
         let mut quadric_slot = vec![NONE; scene.quadrics.len()];
         for (i, p) in bvh.prims.iter().enumerate() {
             if p.kind != PRIM_TRIANGLE {
                 quadric_slot[p.index as usize] = i as u32;
-                r.quadric_kinds |= surface_feature_of_prim(p.kind);
+                self.quadric_kinds |= surface_feature_of_prim(p.kind);
             }
         }
         for (k, q) in scene.quadrics.iter().enumerate() {
-            let shape_index = r.shapes.len() as u32;
+            let shape_index = self.shapes.len() as u32;
             if let Some(e) = q.emitter {
-                let rec = &mut r.emitters[remap[e as usize] as usize];
+                let rec = &mut self.emitters[remap[e as usize] as usize];
                 rec.shape = shape_index;
                 rec.prim = quadric_slot[k];
                 rec.prim_kind = crate::accel::quadric_prim(q, 0, 0).kind;
@@ -327,8 +265,8 @@ impl SceneRecords {
                 rec.area = q.area();
                 // Disks and cylinders keep area sampling (textured_emitter says why).
                 let by_texture = q.kind == QuadricKind::Sphere
-                    && sample_by_texture(scene, e, rec, &mut r.distributions);
-                r.quadric_emitter_kinds |= match q.kind {
+                    && sample_by_texture(scene, e, rec, &mut self.distributions);
+                self.quadric_emitter_kinds |= match q.kind {
                     _ if by_texture => {
                         1 << EMITTER_KIND_BIT_TEXTURE_SAMPLED | 1 << EMITTER_KIND_BIT_TEXTURE_SPHERE
                     }
@@ -344,21 +282,13 @@ impl SceneRecords {
             if q.mirrored() {
                 flags |= SHAPE_MIRRORED;
             }
-            r.shapes.push(ShapeRecord {
+            self.shapes.push(ShapeRecord {
                 bsdf: q.bsdf,
                 emitter: emitter_of(q.emitter),
                 flags,
                 media,
             });
         }
-        for m in &scene.media {
-            let rec =
-                super::media::record(m, &mut r.grid_data, &mut r.packed_density, &mut r.majorants);
-            r.media.push(rec);
-        }
-        r.build_alias_tables(scene, bvh, &remap);
-        r.bsdfs = scene.bsdfs.iter().map(BsdfRecord::from).collect();
-        r
     }
 }
 
@@ -455,8 +385,9 @@ impl SceneRecords {
             })
     }
 
-    /// The texture mask of `shade` and `shadow` (specialization constant 2): a bit per
-    /// texture kind present, and `TEXTURE_FEATURE_*` for what reads textures.
+    /// The texture mask of `shade` and `shadow` (specialization constant
+    /// `SCENE_TEXTURES`): a bit per texture kind present, and `TEXTURE_FEATURE_*` for
+    /// what reads textures.
     pub fn texture_mask(&self) -> u32 {
         use crate::gpu::layout::{
             TEXTURE_FEATURE_AREA, TEXTURE_FEATURE_BSDF, TEXTURE_FEATURE_ENVMAP,

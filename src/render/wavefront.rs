@@ -53,6 +53,39 @@ pub const BYTES_PER_PATH: u64 = (size_of::<PathState>()
 /// The second-nearest hit a path slot keeps in scenes whose rays cross null surfaces.
 pub const SECOND_HIT_BYTES: u64 = size_of::<HitItem>() as u64;
 
+/// The sizes of the wavefront's queues for a batch, in bytes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct QueueBytes {
+    pub paths: u64,
+    /// Two ray queues (a bounce reads one and fills the other).
+    pub rays: u64,
+    /// With `second_hits`, each ray's second-nearest hit after the nearest hits.
+    pub hits: u64,
+    pub shadows: u64,
+    /// Three words per path of the partition (or of the deferral lists).
+    pub shade_rays: u64,
+}
+
+impl QueueBytes {
+    /// The queues of a batch of `capacity` paths; `second_hits`: in scenes whose rays
+    /// cross null surfaces.
+    pub fn new(capacity: u32, second_hits: bool) -> QueueBytes {
+        let n = capacity as u64;
+        QueueBytes {
+            paths: n * size_of::<PathState>() as u64,
+            rays: 2 * n * size_of::<RayItem>() as u64,
+            hits: n * size_of::<HitItem>() as u64 + second_hits as u64 * n * SECOND_HIT_BYTES,
+            shadows: n * size_of::<ShadowItem>() as u64,
+            shade_rays: 3 * n * size_of::<u32>() as u64,
+        }
+    }
+
+    /// Every queue's bytes together.
+    pub fn total(&self) -> u64 {
+        self.paths + self.rays + self.hits + self.shadows + self.shade_rays
+    }
+}
+
 pub struct Wavefront {
     pub frame: Buffer,
     pub paths: Buffer,
@@ -77,42 +110,17 @@ impl Wavefront {
         frame: &Frame,
         second_hits: bool,
     ) -> Result<Wavefront> {
-        let n = capacity as u64;
+        let bytes = QueueBytes::new(capacity, second_hits);
         // The frame, then the queue lengths the kernels read with it.
         let mut frame_bytes = bytemuck::bytes_of(frame).to_vec();
         frame_bytes.extend_from_slice(bytemuck::bytes_of(&[0u32; QUEUE_LENGTH_WORDS]));
         let frame_buf = Buffer::from_slice(device, "frame", &frame_bytes)?;
-        let paths = Buffer::new(
-            device,
-            "path states",
-            n * size_of::<PathState>() as u64,
-            Location::Gpu,
-        )?;
-        let rays = Buffer::new(
-            device,
-            "ray queues",
-            2 * n * size_of::<RayItem>() as u64,
-            Location::Gpu,
-        )?;
-        // With `second_hits`, each ray's second-nearest hit after the nearest hits.
-        let hits = Buffer::new(
-            device,
-            "hits",
-            n * size_of::<HitItem>() as u64 + second_hits as u64 * n * SECOND_HIT_BYTES,
-            Location::Gpu,
-        )?;
-        let shadows = Buffer::new(
-            device,
-            "shadow queue",
-            n * size_of::<ShadowItem>() as u64,
-            Location::Gpu,
-        )?;
-        let shade_rays = Buffer::new(
-            device,
-            "shade partition",
-            3 * n * size_of::<u32>() as u64,
-            Location::Gpu,
-        )?;
+        let gpu = |label: &str, size: u64| Buffer::new(device, label, size, Location::Gpu);
+        let paths = gpu("path states", bytes.paths)?;
+        let rays = gpu("ray queues", bytes.rays)?;
+        let hits = gpu("hits", bytes.hits)?;
+        let shadows = gpu("shadow queue", bytes.shadows)?;
+        let shade_rays = gpu("shade partition", bytes.shade_rays)?;
         let counters = Buffer::from_slice(device, "counters", &[Counters::default()])?;
         let dispatch_args =
             Buffer::from_slice(device, "dispatch args", &[DispatchArgs::default()])?;

@@ -42,9 +42,92 @@
 //! scalar variants and Nori look them up in a step table of 31 (Nori 32) entries
 //! over the radius, a slightly wider filter.
 
+use super::plugin::{Family, Param, PluginDoc};
 use super::properties::Properties;
 use super::xml::{Dialect, Element};
 use super::Error;
+
+/// Every film and reconstruction filter type of both dialects. One file holds them:
+/// each is a handful of parameters read by [`Film::from_mitsuba`],
+/// [`Filter::from_mitsuba`] and [`Filter::from_nori`], and the filters' code is one
+/// `match` in `eval` and in `shaders/film/`.
+pub const REGISTRY: &[PluginDoc] = &[
+    PluginDoc::new(
+        Family::Film,
+        Dialect::Mitsuba,
+        "hdrfilm",
+        "A high dynamic range film: the image size, crop window and output format; nests an <rfilter>.",
+        &[
+            Param::new("width", "integer", "768", "film width in pixels"),
+            Param::new("height", "integer", "576", "film height in pixels"),
+            Param::new("crop_offset_x", "integer", "0", "left edge of the rendered window"),
+            Param::new("crop_offset_y", "integer", "0", "top edge of the rendered window"),
+            Param::new("crop_width", "integer", "width", "width of the rendered window"),
+            Param::new("crop_height", "integer", "height", "height of the rendered window"),
+            Param::new("sample_border", "boolean", "false", "also sample the pixels just outside the film that the filter reaches"),
+            Param::new("pixel_format", "string", "rgb", "rgb, rgba, luminance, luminance_alpha, xyz or xyza"),
+            Param::new("component_format", "string", "float16", "float16 or float32"),
+            Param::new("file_format", "string", "openexr", "openexr (exr), rgbe or pfm"),
+            Param::new("banner", "boolean", "", "read and ignored, as in Mitsuba 3"),
+        ],
+    ),
+    PluginDoc::not_yet(Family::Film, Dialect::Mitsuba, "specfilm"),
+    rfilter(Dialect::Mitsuba, "box", "Weight 1 in the sample's pixel.", &[]),
+    rfilter(Dialect::Mitsuba, "tent", "max(0, 1 - |x| / radius).", &[RADIUS_1]),
+    rfilter(
+        Dialect::Mitsuba,
+        "gaussian",
+        "A Gaussian less its value at the radius (4 stddev); the default.",
+        &[Param::new("stddev", "float", "0.5", "standard deviation (pixels)")],
+    ),
+    rfilter(
+        Dialect::Mitsuba,
+        "mitchell",
+        "Mitchell-Netravali, radius 2.",
+        &[MITCHELL_B, MITCHELL_C],
+    ),
+    rfilter(Dialect::Mitsuba, "catmullrom", "Mitchell-Netravali with B = 0, C = 1/2.", &[]),
+    rfilter(
+        Dialect::Mitsuba,
+        "lanczos",
+        "Windowed sinc, radius = lobes.",
+        &[Param::new("lobes", "integer", "3", "lobes, in 1..=64")],
+    ),
+    rfilter(Dialect::Nori, "box", "Weight 1 in the sample's pixel.", &[]),
+    rfilter(Dialect::Nori, "tent", "max(0, 1 - |x|), radius 1.", &[]),
+    rfilter(
+        Dialect::Nori,
+        "gaussian",
+        "A Gaussian less its value at the radius; the default.",
+        &[
+            Param::new("radius", "float", "2", "radius (pixels)"),
+            Param::new("stddev", "float", "0.5", "standard deviation (pixels)"),
+        ],
+    ),
+    rfilter(
+        Dialect::Nori,
+        "mitchell",
+        "Mitchell-Netravali.",
+        &[
+            Param::new("radius", "float", "2", "radius (pixels)"),
+            MITCHELL_B,
+            MITCHELL_C,
+        ],
+    ),
+];
+
+const RADIUS_1: Param = Param::new("radius", "float", "1", "radius (pixels)");
+const MITCHELL_B: Param = Param::new("B", "float", "1/3", "B parameter");
+const MITCHELL_C: Param = Param::new("C", "float", "1/3", "C parameter");
+
+const fn rfilter(
+    dialect: Dialect,
+    name: &'static str,
+    summary: &'static str,
+    params: &'static [Param],
+) -> PluginDoc {
+    PluginDoc::new(Family::ReconstructionFilter, dialect, name, summary, params)
+}
 
 /// A separable reconstruction filter f(x) f(y) (x, y in pixels from the pixel centre).
 #[derive(Debug, Clone, Copy, PartialEq)]

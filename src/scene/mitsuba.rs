@@ -1,70 +1,33 @@
-//! The Mitsuba 3 dialect: `<scene version="3.x.y">` with `sensor`, `integrator`,
-//! `shape`, `bsdf`, `emitter`, `ref`/`id` (forward references allowed, as in Mitsuba).
+//! The Mitsuba 3 dialect's tree walker: `<scene version="3.x.y">` with `sensor`,
+//! `integrator`, `shape`, `bsdf`, `emitter`, `medium`, `texture` and `ref`/`id`
+//! (forward references allowed, as in Mitsuba), and `path value="DIR"` (a folder file
+//! names are also searched in, see [`super::xml::SearchPath`]).
 //!
-//! Supported objects (anything else is "not supported yet" or "unknown"):
-//! - `sensor type="perspective"`: `fov` + `fov_axis` (x, y, diagonal, smaller, larger;
-//!   default x) or `focal_length` (35 mm film, default "50mm"), `near_clip` (0.01),
-//!   `far_clip` (10000), `to_world`, `focus_distance` (read, unused); nested
-//!   `film type="hdrfilm"` (`width` 768, `height` 576, crop window, `sample_border`,
-//!   pixel, component and file formats, `rfilter`: see [`super::film`]) and
-//!   `sampler` (independent, stratified, multijitter, orthogonal, ldsampler and
-//!   pbrt-v4's zsobol, with their parameters: [`super::sampler`]).
-//! - `integrator`: any type; its parameters are kept unread in [`IntegratorSpec`].
-//!   `moment` around one nested integrator stands for that integrator (its mean).
-//! - `path value="DIR"`: a folder file names are also searched in (see
-//!   [`super::xml::SearchPath`]).
-//! - shapes as Mitsuba 3.9 makes them (vertex tables, winding, uvs, normals and
-//!   tangent frames): meshes `obj` (`filename`, `flip_tex_coords` = true), `ply`
-//!   (`filename`, `flip_tex_coords` = false), `serialized` (`filename`,
-//!   `shape_index` = 0), `rectangle`, `cube`, all with `face_normals` (no effect on
-//!   `rectangle` and `cube`, as in Mitsuba) and vertex normals computed where a file
-//!   has none; quadrics `sphere` (`center`, `radius`), `disk`, `cylinder` (`p0`,
-//!   `p1`, `radius`), intersected exactly (see [`super::quadric`]); all with
-//!   `to_world` (mirrors included) and `flip_normals`.
-//! - `bsdf`: every type of [`super::bsdf::PLUGINS`] (one file each in `scene/bsdf/`);
-//!   this loader reads `twosided`, `normalmap` and `null` itself, as they nest BSDFs.
-//! - `emitter`: `area` (`radiance`, nested in or referenced by a shape), `point`
-//!   (`position` or `to_world`, `intensity` 1), `constant` (`radiance` 1).
+//! This file resolves references and ids, nesting and what may sit where; each
+//! object's type and parameters are read by its plugin family (`super::sensor`,
+//! `super::shape`, `super::emitter`, `super::bsdf`, `super::texture`,
+//! `super::medium`, `super::integrator`, `super::film`, `super::sampler`), whose
+//! registries list every type with the parameters it reads: `docs/plugins.md` is
+//! generated from them ([`super::plugin::catalogue`]).
 //!
-//! An area emitter referenced by several shapes gives each its own [`Emitter::Area`].
+//! An area emitter referenced by several shapes gives each its own [`Emitter::Area`];
+//! `moment` around one nested integrator stands for that integrator (its mean).
 
 use std::collections::{HashMap, HashSet};
 
 use glam::Vec3;
 
 use super::bsdf;
-use super::builder::{self, Builder, MeshOptions, UNSUPPORTED_EMITTERS};
-use super::mesh;
+use super::builder::{Builder, MeshOptions};
+use super::emitter;
+use super::integrator;
+use super::plugin::{self, Family};
 use super::properties::Properties;
-use super::quadric;
-use super::sampler::{self, Sampler};
+use super::sampler::Sampler;
+use super::sensor;
+use super::shape::{self, Geometry};
 use super::xml::{Dialect, Document, Element};
-use super::{
-    envmap, obj, ply, serialized, Bsdf, Camera, Emitter, Error, Film, IntegratorSpec, Medium,
-    Quadric, Scene, Texture,
-};
-
-const SENSORS: &[&str] = &[
-    "thinlens",
-    "orthographic",
-    "radiancemeter",
-    "irradiancemeter",
-    "distant",
-    "batch",
-];
-const SHAPES: &[&str] = &[
-    "shapegroup",
-    "instance",
-    "bsplinecurve",
-    "linearcurve",
-    "sdfgrid",
-    "ellipsoids",
-    "ellipsoidsmesh",
-];
-const FILMS: &[&str] = &["specfilm"];
-/// Default `<film>` size.
-const FILM_WIDTH: u32 = 768;
-const FILM_HEIGHT: u32 = 576;
+use super::{Bsdf, Camera, Emitter, Error, Film, IntegratorSpec, Medium, Quadric, Scene, Texture};
 
 /// Loads a Mitsuba 3 scene read by [`super::xml::read`].
 pub fn load(doc: &Document) -> Result<Scene, Error> {
@@ -89,7 +52,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
                 if camera.is_some() {
                     return Err(el.err("more than one <sensor>; wavetrace renders one"));
                 }
-                let (cam, spp, film, medium) = sensor(el)?;
+                let (cam, spp, film, medium) = sensor::mitsuba(el)?;
                 camera = Some((cam, spp, film));
                 if let Some(m) = medium {
                     camera_medium = Some(l.medium_of(m)?);
@@ -99,7 +62,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
                 if integrator.is_some() {
                     return Err(el.err("more than one <integrator>"));
                 }
-                integrator = Some(integrator_spec(el, Dialect::Mitsuba)?);
+                integrator = Some(integrator::spec(el, Dialect::Mitsuba)?);
             }
             "shape" => l.shape(el)?,
             "bsdf" => {
@@ -159,19 +122,6 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
     })
 }
 
-/// An emitter's `sampling_weight` (Mitsuba 3: how often emitter sampling chooses it
-/// relative to the others; default 1): finite and not negative.
-fn sampling_weight(props: &Properties) -> Result<f32, Error> {
-    let w = props.float("sampling_weight", 1.0)?;
-    if !(w.is_finite() && w >= 0.0) {
-        return Err(props.error(
-            "sampling_weight",
-            format!("sampling_weight must be a finite number >= 0, not {w}"),
-        ));
-    }
-    Ok(w)
-}
-
 /// Every element with an `id`, anywhere in the tree; duplicates are an error.
 fn collect_ids<'a>(el: &'a Element, ids: &mut HashMap<String, &'a Element>) -> Result<(), Error> {
     for c in &el.children {
@@ -191,177 +141,13 @@ fn collect_ids<'a>(el: &'a Element, ids: &mut HashMap<String, &'a Element>) -> R
     Ok(())
 }
 
-/// The parameters of an `<integrator>`, kept unread.
-pub fn integrator_spec(el: &Element, dialect: Dialect) -> Result<IntegratorSpec, Error> {
-    el.check_attrs(&["type", "id", "name"])?;
-    let name = el.require("type")?.to_string();
-    let (props, nested) = Properties::read(el, dialect, false)?;
-    if dialect == Dialect::Mitsuba && name == "moment" {
-        // Mitsuba's `moment` renders its nested integrators and adds each one's second
-        // moment as extra channels (for variance estimates); wavetrace renders the one
-        // nested integrator, and its image is the mean the wrapper reports.
-        props.finish()?;
-        return match nested.as_slice() {
-            [inner] if inner.tag == "integrator" => integrator_spec(inner, dialect),
-            _ => Err(el.err(
-                "a moment integrator needs exactly one nested <integrator> (wavetrace renders one)",
-            )),
-        };
-    }
-    if let Some(n) = nested.first() {
-        return Err(n.err(format!(
-            "<{}> inside an <integrator> is not supported yet",
-            n.tag
-        )));
-    }
-    Ok(IntegratorSpec {
-        name,
-        params: props.into_params()?,
-        line: Some(el.line),
-    })
-}
-
-/// The horizontal field of view in degrees for `fov` measured along `axis` of a
-/// `width` x `height` image (Mitsuba's `fov_axis`).
-pub fn fov_x(fov_deg: f64, axis: &str, width: u32, height: u32) -> Option<f64> {
-    let aspect = width as f64 / height as f64;
-    let axis = match axis {
-        "smaller" => {
-            if aspect > 1.0 {
-                "y"
-            } else {
-                "x"
-            }
-        }
-        "larger" => {
-            if aspect > 1.0 {
-                "x"
-            } else {
-                "y"
-            }
-        }
-        a => a,
-    };
-    let t = (fov_deg.to_radians() * 0.5).tan();
-    let tx = match axis {
-        "x" => t,
-        "y" => t * aspect,
-        "diagonal" => t / (1.0 + 1.0 / (aspect * aspect)).sqrt(),
-        _ => return None,
-    };
-    Some((2.0 * tx.atan()).to_degrees())
-}
-
-/// What a `<sensor>` says: the camera, its sampler and sample count, its film and the
-/// `<medium>` (or `<ref>` to one) it sits in.
-type SensorParts<'a> = (Camera, (Sampler, u32), Film, Option<&'a Element>);
-
-fn sensor(el: &Element) -> Result<SensorParts<'_>, Error> {
-    el.check_attrs(&["type", "id", "name"])?;
-    if el.require("type")? != "perspective" {
-        return Err(builder::unsupported(el, "sensor", SENSORS));
-    }
-    let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
-    let mut size = None;
-    let mut spp = None;
-    let mut medium = None;
-    for n in nested {
-        match n.tag.as_str() {
-            "film" if size.is_none() => size = Some(film(n)?),
-            "sampler" if spp.is_none() => spp = Some(sampler(n)?),
-            "film" | "sampler" => {
-                return Err(n.err(format!("more than one <{}> in <sensor>", n.tag)))
-            }
-            "medium" | "ref" if medium.is_none() => medium = Some(n),
-            "medium" | "ref" => return Err(n.err("a sensor sits in one medium")),
-            _ => return Err(n.err(format!("unexpected <{}> in <sensor>", n.tag))),
-        }
-    }
-    let (width, height, film) = size.unwrap_or((FILM_WIDTH, FILM_HEIGHT, Film::default()));
-    let fov_x_deg = if props.has("fov") {
-        if props.has("focal_length") {
-            return Err(props.error(
-                "focal_length",
-                "give either 'fov' or 'focal_length', not both",
-            ));
-        }
-        let fov = props.float("fov", 0.0)? as f64;
-        if !(fov > 0.0 && fov < 180.0) {
-            return Err(props.error(
-                "fov",
-                format!("fov must be in (0, 180) degrees, found {fov}"),
-            ));
-        }
-        let axis = props.string("fov_axis", "x")?.to_ascii_lowercase();
-        fov_x(fov, &axis, width, height).ok_or_else(|| {
-            props.error(
-                "fov_axis",
-                format!("fov_axis must be x, y, diagonal, smaller or larger, found '{axis}'"),
-            )
-        })?
-    } else {
-        let s = props.string("focal_length", "50mm")?;
-        let f = s
-            .trim()
-            .strip_suffix("mm")
-            .unwrap_or(s.trim())
-            .trim()
-            .parse::<f64>()
-            .ok()
-            .filter(|f| *f > 0.0 && f.is_finite())
-            .ok_or_else(|| {
-                props.error(
-                    "focal_length",
-                    format!("could not parse focal_length \"{s}\" (expected e.g. \"50mm\")"),
-                )
-            })?;
-        // 35 mm film: the 36 x 24 mm frame's diagonal sees the fov.
-        let diag = (36.0f64 * 36.0 + 24.0 * 24.0).sqrt();
-        let fov = (2.0 * (diag / (2.0 * f)).atan()).to_degrees();
-        if props.has("fov_axis") {
-            return Err(props.error(
-                "fov_axis",
-                "fov_axis applies to 'fov', not to 'focal_length'",
-            ));
-        }
-        fov_x(fov, "diagonal", width, height).unwrap_or(fov)
-    };
-    let near_clip = props.float("near_clip", 0.01)?;
-    let far_clip = props.float("far_clip", 10000.0)?;
-    if !(near_clip > 0.0 && far_clip > near_clip) {
-        return Err(props.object_error(format!(
-            "need 0 < near_clip < far_clip, found near_clip = {near_clip}, far_clip = {far_clip}"
-        )));
-    }
-    let to_world = props.transform("to_world")?;
-    props.ignore(&["focus_distance"]);
-    props.finish()?;
-    Ok((
-        Camera {
-            to_world,
-            fov_x_deg: fov_x_deg as f32,
-            near_clip,
-            far_clip,
-            width,
-            height,
-        },
-        spp.unwrap_or((Sampler::default(), 4)),
-        film,
-        medium,
-    ))
-}
-
-/// The film's size and the rest of it ([`Film::from_mitsuba`]).
-fn film(el: &Element) -> Result<(u32, u32, Film), Error> {
-    el.check_attrs(&["type", "id", "name"])?;
-    if el.require("type")? != "hdrfilm" {
-        return Err(builder::unsupported(el, "film", FILMS));
-    }
-    Film::from_mitsuba(el, FILM_WIDTH, FILM_HEIGHT)
-}
-
-fn sampler(el: &Element) -> Result<(Sampler, u32), Error> {
-    sampler::read(el, Dialect::Mitsuba, "sample_count", 4)
+/// What a `<shape>` nests besides its parameters.
+#[derive(Default)]
+struct ShapeParts {
+    bsdf: Option<u32>,
+    radiance: Option<(Emitter, f32)>,
+    interior: Option<u32>,
+    exterior: Option<u32>,
 }
 
 struct Loader<'a> {
@@ -627,89 +413,12 @@ impl<'a> Loader<'a> {
                 n.tag
             )));
         }
-        let textures = props.textures();
-        let emitter = if let Some((name, index)) = textures.first() {
-            if name != "radiance" {
-                return Err(props.error(
-                    name,
-                    format!("'{name}' of an area emitter cannot be a texture"),
-                ));
-            }
-            let _ = props.color_opt("radiance")?;
-            // wavetrace's extension: a factor on the texture (Mitsuba has none).
-            let scale = props.color("scale", Vec3::ONE)?;
-            Emitter::TexturedArea {
-                texture: *index,
-                scale,
-            }
-        } else {
-            Emitter::Area {
-                radiance: props
-                    .color_opt("radiance")?
-                    .ok_or_else(|| props.object_error("area emitter needs a 'radiance'"))?,
-            }
-        };
-        let weight = sampling_weight(&props)?;
-        props.finish()?;
+        let (emitter, weight) = emitter::area::mitsuba(&props)?;
         if let Some(id) = el.attr("id") {
             self.area_ids
                 .insert(id.to_string(), (emitter.clone(), weight));
         }
         Ok((emitter, weight))
-    }
-
-    /// Mitsuba `envmap`: `filename`, `scale`, `to_world`.
-    fn envmap(&mut self, el: &'a Element, props: &Properties) -> Result<Emitter, Error> {
-        let name = props
-            .string_opt("filename")?
-            .ok_or_else(|| props.object_error("envmap needs a 'filename'"))?;
-        let path = el
-            .resolve(&name)
-            .map_err(|tried| props.error("filename", format!("image file {tried} not found")))?;
-        let (width, height, texels) =
-            super::texture::load_image(&path, false).map_err(|e| props.error("filename", e))?;
-        if height < 2 {
-            return Err(props.error("filename", "an envmap needs at least two rows"));
-        }
-        let scale = props.float("scale", 1.0)?;
-        if !(scale >= 0.0 && scale.is_finite()) {
-            return Err(props.error(
-                "scale",
-                format!("scale must be finite and >= 0, found {scale}"),
-            ));
-        }
-        let m = props.transform("to_world")?;
-        let to_world = envmap::rotation_of(glam::Mat3::from_mat4(m)).ok_or_else(|| {
-            props.error(
-                "to_world",
-                "an envmap's to_world must be a rotation (no shear, mirroring or non-uniform scale)",
-            )
-        })?;
-        props.ignore(&["mis_compensation"]);
-        let importance = match props.string("sampling", "importance")?.as_str() {
-            "importance" => true,
-            "uniform" => false,
-            other => {
-                return Err(props.error(
-                    "sampling",
-                    format!("sampling must be importance or uniform, found '{other}'"),
-                ))
-            }
-        };
-        let texture = self.b.add_texture(Texture::Bitmap {
-            width,
-            height,
-            texels,
-            nearest: false,
-            wrap: super::texture::Wrap::Repeat,
-            to_uv: super::texture::IDENTITY_UV,
-        });
-        Ok(Emitter::EnvMap {
-            texture,
-            scale,
-            to_world,
-            importance,
-        })
     }
 
     fn top_emitter(&mut self, el: &'a Element) -> Result<(), Error> {
@@ -725,8 +434,8 @@ impl<'a> Loader<'a> {
             return Ok(());
         }
         let (props, nested) = Properties::read(el, Dialect::Mitsuba, true)?;
-        if !matches!(t, "point" | "constant" | "spot" | "envmap") {
-            return Err(builder::unsupported(el, "emitter", UNSUPPORTED_EMITTERS));
+        if plugin::find(emitter::REGISTRY, Family::Emitter, Dialect::Mitsuba, t).is_none() {
+            return Err(emitter::unsupported(el, Dialect::Mitsuba));
         }
         if let Some(n) = nested.first() {
             return Err(match n.tag.as_str() {
@@ -735,74 +444,16 @@ impl<'a> Loader<'a> {
                 tag => n.err(format!("unexpected <{tag}> in an emitter")),
             });
         }
-        let emitter = if t == "envmap" {
-            self.envmap(el, &props)?
-        } else if t == "point" {
-            let position = match (
-                props.point_opt("position")?,
-                props.transform_opt("to_world")?,
-            ) {
-                (Some(_), Some(_)) => {
-                    return Err(
-                        props.error("position", "give either 'position' or 'to_world', not both")
-                    )
-                }
-                (Some(p), None) => p,
-                (None, Some(m)) => m.w_axis.truncate(),
-                (None, None) => Vec3::ZERO,
-            };
-            Emitter::Point {
-                position,
-                intensity: props.color("intensity", Vec3::ONE)?,
-            }
-        } else if t == "spot" {
-            let m = props
-                .transform_opt("to_world")?
-                .unwrap_or(glam::Mat4::IDENTITY);
-            let axis = m.transform_vector3(Vec3::Z);
-            if axis.length_squared() == 0.0 || !axis.is_finite() {
-                return Err(
-                    props.error("to_world", "the spot light's transform collapses its axis")
-                );
-            }
-            let cutoff_deg = props.float("cutoff_angle", 20.0)?;
-            if !(cutoff_deg > 0.0 && cutoff_deg <= 180.0) {
-                return Err(
-                    props.error("cutoff_angle", "cutoff_angle must lie in (0, 180] degrees")
-                );
-            }
-            let beam_width_deg = props.float("beam_width", 0.75 * cutoff_deg)?;
-            if !(beam_width_deg >= 0.0 && beam_width_deg <= cutoff_deg) {
-                return Err(props.error(
-                    "beam_width",
-                    "beam_width must lie in [0, cutoff_angle] degrees",
-                ));
-            }
-            Emitter::Spot {
-                position: m.w_axis.truncate(),
-                axis: axis.normalize(),
-                intensity: props.color("intensity", Vec3::ONE)?,
-                cutoff_deg,
-                beam_width_deg,
-            }
-        } else {
-            Emitter::Constant {
-                radiance: props.color("radiance", Vec3::ONE)?,
-            }
-        };
-        let weight = sampling_weight(&props)?;
+        let emitter = emitter::mitsuba(t, el, &props, &mut self.b)?;
+        let weight = emitter::sampling_weight(&props)?;
         props.finish()?;
         self.b.add_weighted_emitter(emitter, weight);
         Ok(())
     }
 
-    fn shape(&mut self, el: &'a Element) -> Result<(), Error> {
-        el.check_attrs(&["type", "id", "name"])?;
-        let t = el.require("type")?;
-        let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
-        let mut bsdf = None;
-        let mut radiance = None;
-        let (mut interior, mut exterior) = (None, None);
+    /// The BSDF, area emitter and media nested in (or referenced by) a `<shape>`.
+    fn shape_parts(&mut self, nested: Vec<&'a Element>) -> Result<ShapeParts, Error> {
+        let mut p = ShapeParts::default();
         for n in nested {
             let (target, via_ref) = if n.tag == "ref" {
                 (self.deref(n)?, true)
@@ -821,38 +472,21 @@ impl<'a> Loader<'a> {
             }
             match target.tag.as_str() {
                 "bsdf" => {
-                    if bsdf.is_some() {
+                    if p.bsdf.is_some() {
                         return Err(n.err("a shape can have only one bsdf"));
                     }
-                    bsdf = Some(self.bsdf(target)?);
+                    p.bsdf = Some(self.bsdf(target)?);
                 }
                 "emitter" => {
-                    if radiance.is_some() {
+                    if p.radiance.is_some() {
                         return Err(n.err("a shape can carry only one emitter"));
                     }
-                    target.check_attrs(&["type", "id", "name"])?;
-                    let et = target.require("type")?;
-                    if et != "area" {
-                        return Err(
-                            if via_ref
-                                || UNSUPPORTED_EMITTERS.contains(&et)
-                                || et == "point"
-                                || et == "constant"
-                            {
-                                n.err(format!(
-                                    "a shape can only carry an area emitter, not '{et}'"
-                                ))
-                            } else {
-                                builder::unsupported(target, "emitter", UNSUPPORTED_EMITTERS)
-                            },
-                        );
-                    }
-                    radiance = Some(self.area(target)?);
+                    p.radiance = Some(self.shape_emitter(n, target, via_ref)?);
                 }
                 "medium" => {
                     let slot = match n.attr("name") {
-                        Some("interior") => &mut interior,
-                        Some("exterior") => &mut exterior,
+                        Some("interior") => &mut p.interior,
+                        Some("exterior") => &mut p.exterior,
                         other => {
                             return Err(n.err(format!(
                             "a shape's medium is named \"interior\" or \"exterior\", found {:?}",
@@ -868,6 +502,41 @@ impl<'a> Loader<'a> {
                 _ => return Err(self.unexpected(n, "<shape>")),
             }
         }
+        Ok(p)
+    }
+
+    /// The emitter a shape carries (`n`, or the `target` of its reference): only an
+    /// area emitter.
+    fn shape_emitter(
+        &mut self,
+        n: &'a Element,
+        target: &'a Element,
+        via_ref: bool,
+    ) -> Result<(Emitter, f32), Error> {
+        target.check_attrs(&["type", "id", "name"])?;
+        let et = target.require("type")?;
+        if et != "area" {
+            return Err(if via_ref || emitter::is_known(Dialect::Mitsuba, et) {
+                n.err(format!(
+                    "a shape can only carry an area emitter, not '{et}'"
+                ))
+            } else {
+                emitter::unsupported(target, Dialect::Mitsuba)
+            });
+        }
+        self.area(target)
+    }
+
+    fn shape(&mut self, el: &'a Element) -> Result<(), Error> {
+        el.check_attrs(&["type", "id", "name"])?;
+        let t = el.require("type")?;
+        let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
+        let ShapeParts {
+            bsdf,
+            radiance,
+            interior,
+            exterior,
+        } = self.shape_parts(nested)?;
         let bsdf = match bsdf {
             Some(b) => b,
             // Mitsuba gives a light without a BSDF a black one (it reflects nothing).
@@ -878,63 +547,35 @@ impl<'a> Loader<'a> {
         };
         let flip_normals = props.boolean("flip_normals", false)?;
         let null_bsdf = self.null_bsdfs.contains(&bsdf);
-        if let Some((kind, to_world)) = quadric::from_mitsuba(t, &props)? {
-            props.finish()?;
-            let emitter = radiance.map(|(e, w)| self.b.add_weighted_emitter(e, w));
-            return self.b.add_quadric(
-                &props,
-                Quadric {
-                    kind,
-                    to_world,
-                    flip_normals,
-                    bsdf,
-                    emitter,
-                    interior,
-                    exterior,
-                    null_bsdf,
-                },
-            );
-        }
-        let to_world = props.transform("to_world")?;
-        // Mitsuba's mesh base class reads face_normals for every mesh; the built-in
-        // cube and rectangle keep their vertex normals whatever it says.
-        let face_normals = props.boolean("face_normals", false)?;
-        let m = match t {
-            "obj" => {
-                let path = builder::mesh_path(el, &props, "filename")?;
-                let flip_tex = props.boolean("flip_tex_coords", true)?;
-                obj::load(&path, flip_tex)?
+        let (m, to_world, face_normals) = match shape::mitsuba(t, el, &props)? {
+            Geometry::Quadric(kind, to_world) => {
+                props.finish()?;
+                let emitter = radiance.map(|(e, w)| self.b.add_weighted_emitter(e, w));
+                return self.b.add_quadric(
+                    &props,
+                    Quadric {
+                        kind,
+                        to_world,
+                        flip_normals,
+                        bsdf,
+                        emitter,
+                        interior,
+                        exterior,
+                        null_bsdf,
+                    },
+                );
             }
-            "ply" => {
-                let path = builder::mesh_path(el, &props, "filename")?;
-                let flip_tex = props.boolean("flip_tex_coords", false)?;
-                let mut m = ply::load(&path)?;
-                if flip_tex {
-                    m.uvs.iter_mut().for_each(|uv| uv.y = 1.0 - uv.y);
-                }
-                m
-            }
-            "serialized" => {
-                let path = builder::mesh_path(el, &props, "filename")?;
-                let index = props.integer("shape_index", 0)?;
-                let index = u32::try_from(index).map_err(|_| {
-                    props.error(
-                        "shape_index",
-                        format!("shape_index must be >= 0, found {index}"),
-                    )
-                })?;
-                serialized::load(&path, index)?
-            }
-            "rectangle" => mesh::rectangle(),
-            "cube" => mesh::cube(),
-            _ => return Err(builder::unsupported(el, "shape", SHAPES)),
+            Geometry::Mesh {
+                mesh,
+                to_world,
+                face_normals,
+            } => (mesh, to_world, face_normals),
         };
-        let builtin = matches!(t, "rectangle" | "cube");
         props.finish()?;
         let emitter = radiance.map(|(e, w)| self.b.add_weighted_emitter(e, w));
         let options = MeshOptions {
             to_world,
-            face_normals: face_normals && !builtin,
+            face_normals,
             flip_normals,
             compute_normals: true,
         };
@@ -955,28 +596,12 @@ mod tests {
         Conductor, Dielectric, Diffuse, Distribution, Plastic, RoughConductor, RoughDielectric,
         RoughPlastic, ThinDielectric,
     };
+    use crate::scene::sensor::perspective::fov_x;
     use crate::scene::testutil::{error_at, load, mitsuba, TRI_OBJ};
     use glam::{Mat4, Vec4};
 
     fn close(a: f32, b: f32) -> bool {
         (a - b).abs() < 1e-4 * (1.0 + b.abs())
-    }
-
-    #[test]
-    fn fov_axis_conversions() {
-        let deg = |x: f64| x.to_radians();
-        // y: tan(fx/2) = tan(fy/2) * aspect.
-        let fx = fov_x(40.0, "y", 200, 100).unwrap();
-        assert!((deg(fx / 2.0).tan() - 2.0 * deg(20.0).tan()).abs() < 1e-12);
-        // smaller/larger pick y/x for a wide image, x/y for a tall one.
-        assert_eq!(fov_x(40.0, "smaller", 200, 100), fov_x(40.0, "y", 200, 100));
-        assert_eq!(fov_x(40.0, "larger", 200, 100), Some(40.0));
-        assert_eq!(fov_x(40.0, "smaller", 100, 200), Some(40.0));
-        assert_eq!(fov_x(40.0, "larger", 100, 200), fov_x(40.0, "y", 100, 200));
-        // diagonal: tan(fx/2) = tan(fd/2) * w / sqrt(w^2 + h^2).
-        let fx = fov_x(60.0, "diagonal", 300, 400).unwrap();
-        assert!((deg(fx / 2.0).tan() - deg(30.0).tan() * 300.0 / 500.0).abs() < 1e-12);
-        assert_eq!(fov_x(60.0, "z", 1, 1), None);
     }
 
     #[test]

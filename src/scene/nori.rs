@@ -1,39 +1,24 @@
-//! The Nori dialect: `<scene>` (no version) with `camera`, `sampler`, `integrator`,
-//! `mesh`, `emitter`.
+//! The Nori dialect's tree walker: `<scene>` (no version) with `camera`, `sampler`,
+//! `integrator`, `mesh` (with a nested `bsdf` and area `emitter`), `emitter` and
+//! `medium`.
 //!
-//! Supported objects (anything else is "not supported yet" or "unknown"):
-//! - `camera type="perspective"`: `toWorld`, `fov` (horizontal degrees, 30), `width`
-//!   1280, `height` 720, `nearClip` 1e-4, `farClip` 1e4; a nested `rfilter`
-//!   (`gaussian`, the default, `mitchell`, `tent`, `box`: [`super::film`]).
-//!   Nori's camera looks down +z like Mitsuba's but puts image column 0 at camera -x.
-//!   `lookat` is orthonormal, as in Nori since its commit 981dfb2 (2015-08-18); before
-//!   that Nori left its `left` and `up` axes unnormalised, of length sin θ (θ between
-//!   `up` and the view direction), which narrows tan(fov / 2) by that factor: the 2015
-//!   course references (veach_mi, odyssey, sphere) are 1-4.4% zoomed in against
-//!   these files (`tests/nori_scenes_vs_2015_references.rs`).
-//! - `sampler` of any type wavetrace knows (`super::sampler`; Nori itself has only
-//!   `independent`): `sampleCount` (1), `seed` and the type's parameters.
-//! - `integrator`: any type; its parameters are kept unread in [`IntegratorSpec`].
-//! - `mesh type="obj"`: `filename`, `toWorld`, nested `bsdf` (Nori's types of
-//!   [`super::bsdf::PLUGINS`]: `diffuse`, `mirror`, `dielectric`, `microfacet`) and `emitter type="area"` (`radiance`). Nori does not flip texture v.
-//! - top-level `medium` (`homogeneous` or `heterogeneous`, parameters as Mitsuba's,
-//!   colors as `<color>`: `sigma_a` + `sigma_s` or `sigma_t` + `albedo`, `scale`,
-//!   nested `<phase>` and `<volume>`) filling the axis-aligned box `bounds_min` ..
-//!   `bounds_max` (points, required): an invisible index-matched box with the medium
-//!   inside, as the volume-with-bounding-box form of Nori course renderers.
-//! - top-level `emitter`: `point` (`position`, `power` in W; intensity = power / 4π)
-//!   and `distantdisk` with `thetaA` = 180 (a constant environment: `radiance`;
-//!   `toWorld` is read and has no effect).
-
-use glam::Vec3;
+//! Each object's type and parameters are read by its plugin family (the camera by
+//! `super::sensor`, meshes by `super::shape`, emitters by `super::emitter`, ...), whose
+//! registries list every Nori type with the parameters it reads (`docs/plugins.md`).
+//! Nori has only the `independent` sampler; wavetrace's others may be named too.
+//! A top-level `medium` fills the axis-aligned box `bounds_min` .. `bounds_max`: an
+//! invisible index-matched box with the medium inside, as the volume-with-bounding-box
+//! form of Nori course renderers.
 
 use super::bsdf;
-use super::builder::{self, Builder, MeshOptions, UNSUPPORTED_EMITTERS};
-use super::film::Filter;
-use super::mitsuba::integrator_spec;
+use super::builder::{Builder, MeshOptions};
+use super::emitter;
+use super::integrator;
 use super::properties::Properties;
+use super::sensor;
+use super::shape;
 use super::xml::{Dialect, Document, Element};
-use super::{obj, Camera, Emitter, Error, Film, Medium, Sampler, Scene};
+use super::{Error, Medium, Sampler, Scene};
 
 /// Loads a Nori scene read by [`super::xml::read`].
 pub fn load(doc: &Document) -> Result<Scene, Error> {
@@ -47,22 +32,22 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
                 if camera.is_some() {
                     return Err(el.err("more than one <camera>"));
                 }
-                camera = Some(perspective(el)?);
+                camera = Some(sensor::nori(el)?);
             }
             "sampler" => {
                 if sampler_spp.is_some() {
                     return Err(el.err("more than one <sampler>"));
                 }
-                sampler_spp = Some(sampler(el)?);
+                sampler_spp = Some(super::sampler::read(el, Dialect::Nori, "sampleCount", 1)?);
             }
             "integrator" => {
                 if integrator.is_some() {
                     return Err(el.err("more than one <integrator>"));
                 }
-                integrator = Some(integrator_spec(el, Dialect::Nori)?);
+                integrator = Some(integrator::spec(el, Dialect::Nori)?);
             }
             "mesh" => mesh(el, &mut b)?,
-            "emitter" => emitter(el, &mut b)?,
+            "emitter" => top_emitter(el, &mut b)?,
             "test" => return Err(el.err("Nori <test> scenes are not supported yet")),
             "medium" => medium(el, &mut b)?,
             t => return Err(el.err(format!("unexpected <{t}> in a Nori <scene>"))),
@@ -89,55 +74,10 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
     })
 }
 
-/// The camera and its film (Nori's reconstruction filter sits in the camera).
-fn perspective(el: &Element) -> Result<(Camera, Film), Error> {
-    el.check_attrs(&["type"])?;
-    if el.require("type")? != "perspective" {
-        return Err(builder::unsupported(el, "camera", &[]));
-    }
-    let (props, nested) = Properties::read(el, Dialect::Nori, false)?;
-    let mut filter = None;
-    for n in nested {
-        match n.tag.as_str() {
-            "rfilter" if filter.is_none() => filter = Some(Filter::from_nori(n)?),
-            "rfilter" => return Err(n.err("the camera has more than one reconstruction filter")),
-            _ => return Err(n.err(format!("unexpected <{}> in <camera>", n.tag))),
-        }
-    }
-    let fov = props.float("fov", 30.0)?;
-    if !(fov > 0.0 && fov < 180.0) {
-        return Err(props.error(
-            "fov",
-            format!("fov must be in (0, 180) degrees, found {fov}"),
-        ));
-    }
-    let camera = Camera {
-        // Nori maps image column 0 to camera -x (its sample-to-camera transform scales
-        // x by +1/2 where Mitsuba's scales by -1/2): mirror x into our Mitsuba frame.
-        // Scenes converted from Mitsuba therefore carry <scale value="-1,1,1"/>.
-        to_world: props.transform("toWorld")?
-            * glam::Mat4::from_scale(glam::Vec3::new(-1.0, 1.0, 1.0)),
-        fov_x_deg: fov,
-        near_clip: props.float("nearClip", 1e-4)?,
-        far_clip: props.float("farClip", 1e4)?,
-        width: props.positive("width", 1280)?,
-        height: props.positive("height", 720)?,
-    };
-    if !(camera.near_clip > 0.0 && camera.far_clip > camera.near_clip) {
-        return Err(props.object_error("need 0 < nearClip < farClip"));
-    }
-    props.finish()?;
-    Ok((camera, Film::nori(filter.unwrap_or(Filter::DEFAULT))))
-}
-
-fn sampler(el: &Element) -> Result<(Sampler, u32), Error> {
-    super::sampler::read(el, Dialect::Nori, "sampleCount", 1)
-}
-
 fn mesh(el: &Element, b: &mut Builder) -> Result<(), Error> {
     el.check_attrs(&["type"])?;
     if el.require("type")? != "obj" {
-        return Err(builder::unsupported(el, "mesh", &[]));
+        return Err(shape::unsupported(el, Dialect::Nori));
     }
     let (props, nested) = Properties::read(el, Dialect::Nori, false)?;
     let mut bsdf = None;
@@ -145,22 +85,7 @@ fn mesh(el: &Element, b: &mut Builder) -> Result<(), Error> {
     for n in nested {
         match n.tag.as_str() {
             "bsdf" if bsdf.is_none() => bsdf = Some(nori_bsdf(n, b)?),
-            "emitter" if radiance.is_none() => {
-                n.check_attrs(&["type"])?;
-                let et = n.require("type")?;
-                if et != "area" {
-                    return Err(n.err(format!("a mesh can only carry an area emitter, not '{et}'")));
-                }
-                let (p, nn) = Properties::read(n, Dialect::Nori, true)?;
-                if let Some(x) = nn.first() {
-                    return Err(x.err(format!("unexpected <{}> in an emitter", x.tag)));
-                }
-                radiance = Some(
-                    p.color_opt("radiance")?
-                        .ok_or_else(|| p.object_error("area emitter needs a 'radiance'"))?,
-                );
-                p.finish()?;
-            }
+            "emitter" if radiance.is_none() => radiance = Some(emitter::area::nori(n)?),
             "bsdf" | "emitter" => {
                 return Err(n.err(format!("a mesh can have only one <{}>", n.tag)))
             }
@@ -168,15 +93,12 @@ fn mesh(el: &Element, b: &mut Builder) -> Result<(), Error> {
             t => return Err(n.err(format!("unexpected <{t}> in <mesh>"))),
         }
     }
-    let path = builder::mesh_path(el, &props, "filename")?;
-    let to_world = props.transform("toWorld")?;
-    props.finish()?;
-    let m = obj::load(&path, false)?;
+    let (m, to_world) = shape::obj::nori(el, &props)?;
     let bsdf = match bsdf {
         Some(i) => i,
         None => b.default_bsdf(),
     };
-    let emitter = radiance.map(|r| b.add_emitter(Emitter::Area { radiance: r }));
+    let emitter = radiance.map(|e| b.add_emitter(e));
     let options = MeshOptions {
         to_world,
         ..MeshOptions::default()
@@ -238,39 +160,14 @@ fn nori_bsdf(el: &Element, b: &mut Builder) -> Result<u32, Error> {
     Ok(b.add_bsdf(bsdf))
 }
 
-fn emitter(el: &Element, b: &mut Builder) -> Result<(), Error> {
+fn top_emitter(el: &Element, b: &mut Builder) -> Result<(), Error> {
     el.check_attrs(&["type"])?;
     let t = el.require("type")?;
     let (props, nested) = Properties::read(el, Dialect::Nori, true)?;
     if let Some(n) = nested.first() {
         return Err(n.err(format!("unexpected <{}> in <emitter>", n.tag)));
     }
-    let e = match t {
-        "point" => Emitter::Point {
-            position: props.point("position", Vec3::ZERO)?,
-            intensity: props
-                .color_opt("power")?
-                .ok_or_else(|| props.object_error("point emitter needs a 'power'"))?
-                / (4.0 * std::f32::consts::PI),
-        },
-        "distantdisk" => {
-            let theta = props.float("thetaA", 180.0)?;
-            if theta != 180.0 {
-                return Err(props.error(
-                    "thetaA",
-                    format!("distantdisk with thetaA = {theta} is not supported yet (only 180, a constant environment)"),
-                ));
-            }
-            props.transform("toWorld")?;
-            Emitter::Constant {
-                radiance: props
-                    .color_opt("radiance")?
-                    .ok_or_else(|| props.object_error("distantdisk needs a 'radiance'"))?,
-            }
-        }
-        "area" => return Err(el.err("an area emitter must be nested in a <mesh>")),
-        _ => return Err(builder::unsupported(el, "emitter", UNSUPPORTED_EMITTERS)),
-    };
+    let e = emitter::nori(t, el, &props)?;
     props.finish()?;
     b.add_emitter(e);
     Ok(())
@@ -278,9 +175,10 @@ fn emitter(el: &Element, b: &mut Builder) -> Result<(), Error> {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
     use crate::scene::bsdf::{Bsdf, Conductor, Dielectric, Diffuse, NoriMicrofacet};
     use crate::scene::testutil::{error_at, load, TRI_OBJ};
+    use crate::scene::Emitter;
+    use glam::Vec3;
 
     const SCENE: &str = r#"<scene>
   <integrator type="path_mis"><integer name="maxDepth" value="5"/></integrator>

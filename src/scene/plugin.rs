@@ -47,6 +47,15 @@ impl Family {
             Family::Integrator => "integrator",
         }
     }
+
+    /// The tag in `dialect`: Nori writes shapes as `<mesh>` and sensors as `<camera>`.
+    pub fn tag_in(self, dialect: Dialect) -> &'static str {
+        match (self, dialect) {
+            (Family::Shape, Dialect::Nori) => "mesh",
+            (Family::Sensor, Dialect::Nori) => "camera",
+            _ => self.tag(),
+        }
+    }
 }
 
 /// Whether wavetrace renders a plugin type, or knows the name but lacks it.
@@ -145,7 +154,7 @@ pub fn unsupported(
     registry: &[PluginDoc],
 ) -> Error {
     let t = el.attr("type").unwrap_or("");
-    let tag = family.tag();
+    let tag = family.tag_in(dialect);
     let of_dialect = || {
         registry
             .iter()
@@ -180,6 +189,23 @@ pub fn find<'a>(
     })
 }
 
+/// Every plugin type of both dialects, family by family: the registries concatenated.
+/// `docs/plugins.md` is [`markdown`] of it.
+pub fn catalogue() -> Vec<PluginDoc> {
+    [
+        super::bsdf::REGISTRY,
+        super::emitter::REGISTRY,
+        super::shape::REGISTRY,
+        super::sensor::REGISTRY,
+        super::film::REGISTRY,
+        super::sampler::REGISTRY,
+        super::texture::REGISTRY,
+        super::medium::REGISTRY,
+        super::integrator::REGISTRY,
+    ]
+    .concat()
+}
+
 /// `docs/plugins.md`: one section per dialect and family, a table of the supported
 /// types with their parameters, then the types not supported yet.
 pub fn markdown(catalogue: &[PluginDoc]) -> String {
@@ -199,7 +225,7 @@ pub fn markdown(catalogue: &[PluginDoc]) -> String {
         families.sort();
         families.dedup();
         for family in families {
-            let _ = write!(s, "\n## {title}: `<{}>`\n", family.tag());
+            let _ = write!(s, "\n## {title}: `<{}>`\n", family.tag_in(dialect));
             let of = |support| {
                 catalogue.iter().filter(move |p| {
                     p.dialect == dialect && p.family == family && p.support == support
@@ -279,6 +305,315 @@ mod tests {
         assert!(find(REGISTRY, Family::Bsdf, Dialect::Mitsuba, "diffuse").is_some());
         assert!(find(REGISTRY, Family::Bsdf, Dialect::Mitsuba, "hair").is_none());
         assert!(find(REGISTRY, Family::Bsdf, Dialect::Nori, "diffuse").is_none());
+    }
+
+    /// docs/plugins.md is the registries' markdown; `WAVETRACE_WRITE_DOCS=1` rewrites it.
+    #[test]
+    fn plugin_docs_match_the_registries() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/plugins.md");
+        let text = markdown(&catalogue());
+        if std::env::var("WAVETRACE_WRITE_DOCS").as_deref() == Ok("1") {
+            std::fs::create_dir_all(path.parent().expect("docs folder")).expect("mkdir docs");
+            std::fs::write(&path, &text).expect("write docs/plugins.md");
+            return;
+        }
+        let on_disk = std::fs::read_to_string(&path).unwrap_or_default();
+        assert!(
+            on_disk == text,
+            "docs/plugins.md differs from the plugin registries: rewrite it with \
+             WAVETRACE_WRITE_DOCS=1 cargo test --lib plugin_docs"
+        );
+    }
+
+    /// No two entries of one family and dialect share a name.
+    #[test]
+    fn plugin_docs_name_each_type_once() {
+        let all = catalogue();
+        for (i, p) in all.iter().enumerate() {
+            assert!(
+                !all[..i]
+                    .iter()
+                    .any(|q| (q.family, q.dialect, q.name) == (p.family, p.dialect, p.name)),
+                "{:?} {:?} '{}' is listed twice",
+                p.dialect,
+                p.family,
+                p.name
+            );
+        }
+    }
+
+    /// A value tag for parameter `q` that its plugin accepts, or `None` where the
+    /// test cannot make one (files, textures, volumes).
+    fn value_tag(q: &Param, dialect: Dialect) -> Option<String> {
+        let ty = q.ty.split('|').next().unwrap_or("");
+        let number = |fallback: &str| {
+            if q.default.parse::<f64>().is_ok() {
+                q.default.to_string()
+            } else {
+                fallback.to_string()
+            }
+        };
+        let name = q.name;
+        Some(match ty {
+            "float" => format!(r#"<float name="{name}" value="{}"/>"#, number("0.5")),
+            "integer" => {
+                let v = if name == "resolution" {
+                    "8".into()
+                } else {
+                    number("1")
+                };
+                format!(r#"<integer name="{name}" value="{v}"/>"#)
+            }
+            "boolean" => {
+                let v = if q.default == "true" { "true" } else { "false" };
+                format!(r#"<boolean name="{name}" value="{v}"/>"#)
+            }
+            "rgb" | "color" => {
+                let tag = if dialect == Dialect::Nori {
+                    "color"
+                } else {
+                    "rgb"
+                };
+                format!(r#"<{tag} name="{name}" value="{}"/>"#, number("0.5"))
+            }
+            "point" => {
+                let v = match (q.default, name) {
+                    (_, "bounds_max") => "1,1,1",
+                    ("", _) => "0,0,0",
+                    (d, _) => d,
+                };
+                format!(r#"<point name="{name}" value="{v}"/>"#)
+            }
+            "transform" => {
+                format!(r#"<transform name="{name}"><translate value="0,0,0"/></transform>"#)
+            }
+            "string" if !q.default.is_empty() && !q.default.contains(' ') => {
+                format!(r#"<string name="{name}" value="{}"/>"#, q.default)
+            }
+            _ => return None,
+        })
+    }
+
+    /// A Mitsuba scene holding plugin `p` with the value tags `body`, or `None` for
+    /// the families this test does not place.
+    fn scene_with(p: &PluginDoc, body: &str) -> Option<String> {
+        let t = p.name;
+        let sensor = |inner: &str| format!(r#"<sensor type="perspective">{inner}</sensor>"#);
+        let default_sensor = sensor("");
+        let objects = match p.family {
+            Family::Emitter if t == "area" => format!(
+                r#"{default_sensor}<shape type="rectangle"><emitter type="area">{}{body}</emitter></shape>"#,
+                if body.contains(r#"name="radiance""#) {
+                    ""
+                } else {
+                    r#"<rgb name="radiance" value="1"/>"#
+                }
+            ),
+            Family::Emitter => format!(r#"{default_sensor}<emitter type="{t}">{body}</emitter>"#),
+            Family::Shape => format!(r#"{default_sensor}<shape type="{t}">{body}</shape>"#),
+            Family::Sensor => sensor(body).replace("perspective", t),
+            Family::Film => sensor(&format!(r#"<film type="{t}">{body}</film>"#)),
+            Family::ReconstructionFilter => sensor(&format!(
+                r#"<film type="hdrfilm"><rfilter type="{t}">{body}</rfilter></film>"#
+            )),
+            Family::Sampler => sensor(&format!(r#"<sampler type="{t}">{body}</sampler>"#)),
+            Family::Texture => format!(
+                r#"{default_sensor}<shape type="rectangle"><bsdf type="diffuse"><texture type="{t}" name="reflectance">{body}</texture></bsdf></shape>"#
+            ),
+            Family::Medium => format!(
+                r#"{default_sensor}<shape type="cube"><bsdf type="null"/><medium type="{t}" name="interior">{body}</medium></shape>"#
+            ),
+            Family::Phase => format!(
+                r#"{default_sensor}<shape type="cube"><bsdf type="null"/><medium type="homogeneous" name="interior"><phase type="{t}">{body}</phase></medium></shape>"#
+            ),
+            Family::Volume => format!(
+                r#"{default_sensor}<shape type="cube"><bsdf type="null"/><medium type="heterogeneous" name="interior"><volume type="{t}" name="sigma_t">{}{body}</volume></medium></shape>"#,
+                if matches!(t, "cloud" | "perlin") && !body.contains("resolution") {
+                    r#"<integer name="resolution" value="8"/>"#
+                } else {
+                    ""
+                }
+            ),
+            // A normal map needs its texture and a nested BSDF besides its flags.
+            Family::Bsdf if t == "normalmap" => format!(
+                r#"{default_sensor}<shape type="rectangle"><bsdf type="{t}"><texture type="checkerboard" name="normalmap"/><bsdf type="diffuse"/>{body}</bsdf></shape>"#
+            ),
+            Family::Bsdf => format!(
+                r#"{default_sensor}<shape type="rectangle"><bsdf type="{t}">{body}</bsdf></shape>"#
+            ),
+            Family::Integrator => return None,
+        };
+        Some(format!("<scene version=\"3.0.0\">\n{objects}\n</scene>\n"))
+    }
+
+    /// Every parameter a Mitsuba registry lists is one its plugin reads: a scene
+    /// giving it (alone, with a value the plugin accepts) loads without "unknown
+    /// parameter". Plugins that need a file, and parameters of texture or volume
+    /// type, are left out.
+    #[test]
+    fn plugin_docs_list_parameters_the_parser_reads() {
+        // Read only beside another parameter: an area emitter's scale multiplies a
+        // radiance texture; fov_axis says along which axis fov is measured; the
+        // rough models' alpha_u and alpha_v come as a pair.
+        const ONLY_WITH_OTHERS: &[(&str, &str)] = &[
+            ("area", "scale"),
+            ("perspective", "fov_axis"),
+            ("roughconductor", "alpha_u"),
+            ("roughconductor", "alpha_v"),
+            ("roughdielectric", "alpha_u"),
+            ("roughdielectric", "alpha_v"),
+        ];
+        let mut checked = 0;
+        let mut failed = Vec::new();
+        for p in catalogue() {
+            if p.dialect != Dialect::Mitsuba || p.support != Support::Yes {
+                continue;
+            }
+            if p.params.iter().any(|q| q.name == "filename") {
+                continue;
+            }
+            for q in p.params {
+                if ONLY_WITH_OTHERS.contains(&(p.name, q.name)) {
+                    continue;
+                }
+                let Some(tag) = value_tag(q, Dialect::Mitsuba) else {
+                    continue;
+                };
+                let Some(xml) = scene_with(&p, &tag) else {
+                    continue;
+                };
+                let r = crate::scene::testutil::load(&[("s.xml", &xml)], &[]);
+                if let Err(e) = r {
+                    failed.push(format!(
+                        "{:?} '{}' parameter '{}': {e}\n{xml}",
+                        p.family, p.name, q.name
+                    ));
+                }
+                checked += 1;
+            }
+        }
+        assert!(failed.is_empty(), "{}", failed.join("\n"));
+        assert!(checked > 50, "only {checked} parameters checked");
+    }
+
+    /// A Nori scene holding plugin `p` with the value tags `body`, or `None` for the
+    /// families this test does not place.
+    fn nori_scene_with(p: &PluginDoc, body: &str) -> Option<String> {
+        let t = p.name;
+        let has = |name: &str| body.contains(&format!(r#"name="{name}""#));
+        let given = |name: &str, tag: &str| {
+            if has(name) {
+                String::new()
+            } else {
+                tag.to_string()
+            }
+        };
+        let camera = r#"<camera type="perspective"/>"#;
+        let objects = match p.family {
+            Family::Sensor => format!(r#"<camera type="{t}">{body}</camera>"#),
+            Family::ReconstructionFilter => {
+                format!(
+                    r#"<camera type="perspective"><rfilter type="{t}">{body}</rfilter></camera>"#
+                )
+            }
+            Family::Sampler => format!(r#"{camera}<sampler type="{t}">{body}</sampler>"#),
+            Family::Emitter if t == "area" => format!(
+                r#"{camera}<mesh type="obj"><string name="filename" value="t.obj"/><emitter type="area">{}{body}</emitter></mesh>"#,
+                given("radiance", r#"<color name="radiance" value="1"/>"#)
+            ),
+            Family::Emitter => format!(
+                r#"{camera}<emitter type="{t}">{}{}{body}</emitter>"#,
+                if t == "point" {
+                    given("power", r#"<color name="power" value="1"/>"#)
+                } else {
+                    String::new()
+                },
+                if t == "distantdisk" {
+                    given("radiance", r#"<color name="radiance" value="1"/>"#)
+                } else {
+                    String::new()
+                },
+            ),
+            Family::Shape => format!(
+                r#"{camera}<mesh type="{t}">{}{body}</mesh>"#,
+                given("filename", r#"<string name="filename" value="t.obj"/>"#)
+            ),
+            Family::Medium => format!(
+                r#"{camera}<medium type="{t}">{}{}{body}</medium>"#,
+                given("bounds_min", r#"<point name="bounds_min" value="0,0,0"/>"#),
+                given("bounds_max", r#"<point name="bounds_max" value="1,1,1"/>"#)
+            ),
+            Family::Bsdf => format!(
+                r#"{camera}<mesh type="obj"><string name="filename" value="t.obj"/><bsdf type="{t}">{body}</bsdf></mesh>"#
+            ),
+            _ => return None,
+        };
+        Some(format!(
+            "<scene>\n<integrator type=\"normals\"/>\n{objects}\n</scene>\n"
+        ))
+    }
+
+    /// The same for Nori's registries.
+    #[test]
+    fn plugin_docs_list_nori_parameters_the_parser_reads() {
+        let mut checked = 0;
+        let mut failed = Vec::new();
+        for p in catalogue() {
+            if p.dialect != Dialect::Nori || p.support != Support::Yes {
+                continue;
+            }
+            for q in p.params {
+                let Some(tag) = value_tag(q, Dialect::Nori) else {
+                    continue;
+                };
+                let Some(xml) = nori_scene_with(&p, &tag) else {
+                    continue;
+                };
+                let files = [
+                    ("s.xml", xml.as_str()),
+                    ("t.obj", crate::scene::testutil::TRI_OBJ),
+                ];
+                if let Err(e) = crate::scene::testutil::load(&files, &[]) {
+                    failed.push(format!(
+                        "{:?} '{}' parameter '{}': {e}\n{xml}",
+                        p.family, p.name, q.name
+                    ));
+                }
+                checked += 1;
+            }
+        }
+        assert!(failed.is_empty(), "{}", failed.join("\n"));
+        assert!(checked > 30, "only {checked} parameters checked");
+    }
+
+    /// Every parameter an integrator's registry entry lists is one it reads.
+    #[test]
+    fn plugin_docs_list_integrator_parameters_read() {
+        use crate::scene::integrator::{self, IntegratorSpec, Param as Value};
+        for p in integrator::REGISTRY {
+            if p.support != Support::Yes {
+                continue;
+            }
+            for q in p.params {
+                let value = match q.ty {
+                    "integer" => Value::Integer(q.default.parse().unwrap_or(1)),
+                    "float" => Value::Float(q.default.parse().unwrap_or(0.5)),
+                    "boolean" => Value::Bool(false),
+                    _ => Value::String(q.default.split(' ').next().unwrap_or("").to_string()),
+                };
+                let spec = IntegratorSpec {
+                    name: p.name.to_string(),
+                    params: [(q.name.to_string(), value)].into_iter().collect(),
+                    line: Some(1),
+                };
+                if let Err(e) = integrator::read(&spec, None) {
+                    panic!(
+                        "integrator '{}' parameter '{}': {}",
+                        p.name, q.name, e.message
+                    );
+                }
+            }
+        }
     }
 
     #[test]

@@ -30,9 +30,127 @@
 //! </sampler>
 //! ```
 
+use super::plugin::{Family, Param, PluginDoc};
 use super::properties::Properties;
 use super::xml::{Dialect, Element};
 use super::Error;
+
+/// Every sampler type, in both dialects (Nori names the count `sampleCount`). One
+/// file holds them: a sampler is one or two parameters on the host; its code is
+/// `shaders/sampler/`.
+pub const REGISTRY: &[PluginDoc] = &[
+    sampler(
+        Dialect::Mitsuba,
+        "independent",
+        "Independent uniform numbers.",
+        MITSUBA_BASE,
+    ),
+    sampler(
+        Dialect::Mitsuba,
+        "stratified",
+        "Each dimension stratified; the count rounded up to a square.",
+        MITSUBA_JITTER,
+    ),
+    sampler(
+        Dialect::Mitsuba,
+        "multijitter",
+        "Correlated multi-jittered sampling (Kensler 2013).",
+        MITSUBA_JITTER,
+    ),
+    sampler(
+        Dialect::Mitsuba,
+        "orthogonal",
+        "Orthogonal-array sampling (Jarosz et al. 2019).",
+        MITSUBA_ORTHOGONAL,
+    ),
+    sampler(
+        Dialect::Mitsuba,
+        "ldsampler",
+        "Mitsuba's low-discrepancy (0,2)-sequence sampler.",
+        MITSUBA_BASE,
+    ),
+    sampler(
+        Dialect::Mitsuba,
+        "zsobol",
+        "pbrt-v4's Owen-scrambled Sobol' points in Morton order.",
+        MITSUBA_ZSOBOL,
+    ),
+    sampler(
+        Dialect::Nori,
+        "independent",
+        "Independent uniform numbers.",
+        NORI_BASE,
+    ),
+    sampler(
+        Dialect::Nori,
+        "stratified",
+        "Each dimension stratified; the count rounded up to a square.",
+        NORI_JITTER,
+    ),
+    sampler(
+        Dialect::Nori,
+        "multijitter",
+        "Correlated multi-jittered sampling (Kensler 2013).",
+        NORI_JITTER,
+    ),
+    sampler(
+        Dialect::Nori,
+        "orthogonal",
+        "Orthogonal-array sampling (Jarosz et al. 2019).",
+        NORI_ORTHOGONAL,
+    ),
+    sampler(
+        Dialect::Nori,
+        "ldsampler",
+        "Mitsuba's low-discrepancy (0,2)-sequence sampler.",
+        NORI_BASE,
+    ),
+    sampler(
+        Dialect::Nori,
+        "zsobol",
+        "pbrt-v4's Owen-scrambled Sobol' points in Morton order.",
+        NORI_ZSOBOL,
+    ),
+];
+
+const fn sampler(
+    dialect: Dialect,
+    name: &'static str,
+    summary: &'static str,
+    params: &'static [Param],
+) -> PluginDoc {
+    PluginDoc::new(Family::Sampler, dialect, name, summary, params)
+}
+
+const SAMPLE_COUNT: Param = Param::new("sample_count", "integer", "4", "samples per pixel");
+const SAMPLE_COUNT_NORI: Param = Param::new("sampleCount", "integer", "1", "samples per pixel");
+const SEED: Param = Param::new("seed", "integer", "0", "added to the render's seed");
+const JITTER: Param = Param::new(
+    "jitter",
+    "boolean",
+    "true",
+    "random positions within strata",
+);
+const STRENGTH: Param = Param::new(
+    "strength",
+    "integer",
+    "2",
+    "strength of the orthogonal array, in [2, 16]",
+);
+const RANDOMIZATION: Param = Param::new(
+    "randomization",
+    "string",
+    "fastowen",
+    "fastowen, owen, permutedigits or none",
+);
+const MITSUBA_BASE: &[Param] = &[SAMPLE_COUNT, SEED];
+const MITSUBA_JITTER: &[Param] = &[SAMPLE_COUNT, SEED, JITTER];
+const MITSUBA_ORTHOGONAL: &[Param] = &[SAMPLE_COUNT, SEED, JITTER, STRENGTH];
+const MITSUBA_ZSOBOL: &[Param] = &[SAMPLE_COUNT, SEED, RANDOMIZATION];
+const NORI_BASE: &[Param] = &[SAMPLE_COUNT_NORI, SEED];
+const NORI_JITTER: &[Param] = &[SAMPLE_COUNT_NORI, SEED, JITTER];
+const NORI_ORTHOGONAL: &[Param] = &[SAMPLE_COUNT_NORI, SEED, JITTER, STRENGTH];
+const NORI_ZSOBOL: &[Param] = &[SAMPLE_COUNT_NORI, SEED, RANDOMIZATION];
 
 /// Reads a `<sampler>` element: its type, parameters and sample count (under
 /// `count_key`, `default_count` when absent).
@@ -354,6 +472,19 @@ impl IntoWarning for (u64, [u64; 2], &str) {
 mod tests {
     use super::*;
     use crate::scene::testutil::{error_at, load};
+
+    /// The registry lists the types the reader knows, in both dialects.
+    #[test]
+    fn registry_lists_every_sampler_kind() {
+        for dialect in [Dialect::Mitsuba, Dialect::Nori] {
+            let names: Vec<&str> = REGISTRY
+                .iter()
+                .filter(|p| p.dialect == dialect)
+                .map(|p| p.name)
+                .collect();
+            assert_eq!(names, SamplerKind::NAMES);
+        }
+    }
 
     /// A Mitsuba scene whose sensor holds `sampler` (on line 3).
     fn with_sampler(sampler: &str) -> String {

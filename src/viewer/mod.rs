@@ -126,12 +126,7 @@ pub fn run(
     log: &mut dyn FnMut(String),
 ) -> Result<ViewReport> {
     let crop = scene.film.crop;
-    let name = scene
-        .path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "scene".into());
-    let title = format!("wavetrace: {name}");
+    let title = format!("wavetrace: {}", file_name(scene, false, "scene"));
     let (w, h) = crop.map_or((scene.camera.width, scene.camera.height), |c| {
         (c.width, c.height)
     });
@@ -140,44 +135,14 @@ pub fn run(
     // first dispatches take seconds on lavapipe): say so meanwhile.
     let mut window = Window::open(&format!("{title} | setting up"), w, h)?;
     let extensions = window.instance_extensions()?;
-    let device = {
-        let win = &window;
-        let mut create = |instance: u64| win.create_surface(instance);
-        Device::with_surface(
-            options.device.as_deref(),
-            SurfaceRequest {
-                instance_extensions: &extensions,
-                create: &mut create,
-            },
-        )?
-    };
+    let device = open_device(&window, &extensions, options.device.as_deref())?;
     let mut report = ViewReport {
         device: device.info().to_string(),
         ..Default::default()
     };
     log(format!("device: {}", device.info()));
     let mut renderer = Renderer::new(&device, scene, &options.render)?;
-    let spp = options
-        .spp
-        .or_else(|| options.screenshot.is_some().then_some(scene.spp));
-    let end = match spp {
-        Some(spp) => {
-            let count = renderer.round_sample_count(spp)?;
-            if let Some(w) = &count.warning {
-                log(format!("warning: {w}"));
-            }
-            let n = count.count;
-            renderer.set_sample_count(count)?;
-            Some(n)
-        }
-        None => None,
-    };
-    if let Some(lost) = renderer.film_overridden(&scene.film) {
-        log(format!(
-            "warning: '{}' does not render this film's {lost}",
-            renderer.integrator().name()
-        ));
-    }
+    let end = sample_end(&mut renderer, scene, options, log)?;
     let luminance = matches!(
         scene.film.pixel_format,
         PixelFormat::Luminance | PixelFormat::LuminanceAlpha
@@ -200,11 +165,7 @@ pub fn run(
     let mut stale = false;
     let mut dirty = true;
     let mut last_title: Option<Instant> = None;
-    let stem = scene
-        .path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "view".into());
+    let stem = file_name(scene, true, "view");
 
     loop {
         let iteration = Instant::now();
@@ -238,21 +199,7 @@ pub fn run(
 
         let rendering = !acc.progress.finished();
         if rendering {
-            let t = Instant::now();
-            let n = renderer.step(&mut acc.progress, budget)?;
-            let dt = t.elapsed().as_secs_f64();
-            acc.paths += n;
-            report.samples += n;
-            if n > 0 && dt > 0.0 {
-                // Towards a frame's time, at most doubling or halving per frame.
-                let ideal = n as f64 * FRAME_SECONDS / dt;
-                budget = ideal
-                    .clamp(n as f64 * 0.5, n as f64 * 2.0)
-                    .clamp(MIN_STEP_PATHS as f64, capacity as f64) as u32;
-            }
-            if acc.progress.finished() {
-                acc.finished = Some(acc.started.elapsed().as_secs_f64());
-            }
+            budget = step(&mut renderer, &mut acc, budget, &mut report)?;
             dirty = true;
         }
         let shown = redraw(
@@ -416,4 +363,85 @@ fn save(
     )?;
     picture.write_png(png)?;
     Ok(())
+}
+
+/// The scene file's name (its stem with `stem`), or `otherwise`.
+fn file_name(scene: &Scene, stem: bool, otherwise: &str) -> String {
+    let name = if stem {
+        scene.path.file_stem()
+    } else {
+        scene.path.file_name()
+    };
+    name.map_or_else(|| otherwise.into(), |n| n.to_string_lossy().into_owned())
+}
+
+/// The device of `window`, presenting to its surface (`name`: `--device`).
+fn open_device(window: &Window, extensions: &[String], name: Option<&str>) -> Result<Device> {
+    let mut create = |instance: u64| window.create_surface(instance);
+    Ok(Device::with_surface(
+        name,
+        SurfaceRequest {
+            instance_extensions: extensions,
+            create: &mut create,
+        },
+    )?)
+}
+
+/// The sample count the view stops at (`--spp`, or the scene's for a screenshot;
+/// `None`: it goes on), set on `renderer`; logs the sampler's rounding and what of the
+/// film the integrator does not render.
+fn sample_end(
+    renderer: &mut Renderer,
+    scene: &Scene,
+    options: &ViewOptions,
+    log: &mut dyn FnMut(String),
+) -> Result<Option<u32>> {
+    let spp = options
+        .spp
+        .or_else(|| options.screenshot.is_some().then_some(scene.spp));
+    let end = match spp {
+        Some(spp) => {
+            let count = renderer.round_sample_count(spp)?;
+            if let Some(w) = &count.warning {
+                log(format!("warning: {w}"));
+            }
+            let n = count.count;
+            renderer.set_sample_count(count)?;
+            Some(n)
+        }
+        None => None,
+    };
+    if let Some(lost) = renderer.film_overridden(&scene.film) {
+        log(format!(
+            "warning: '{}' does not render this film's {lost}",
+            renderer.integrator().name()
+        ));
+    }
+    Ok(end)
+}
+
+/// Renders one step of `acc` of at most `budget` paths; returns the next step's
+/// budget: towards a frame's time, at most doubling or halving per frame.
+fn step(
+    renderer: &mut Renderer,
+    acc: &mut Accumulation,
+    budget: u32,
+    report: &mut ViewReport,
+) -> Result<u32> {
+    let t = Instant::now();
+    let n = renderer.step(&mut acc.progress, budget)?;
+    let dt = t.elapsed().as_secs_f64();
+    acc.paths += n;
+    report.samples += n;
+    let mut next = budget;
+    if n > 0 && dt > 0.0 {
+        let ideal = n as f64 * FRAME_SECONDS / dt;
+        next = ideal
+            .clamp(n as f64 * 0.5, n as f64 * 2.0)
+            .clamp(MIN_STEP_PATHS as f64, renderer.capacity() as f64) as u32;
+    }
+    if acc.progress.finished() {
+        acc.finished = Some(acc.started.elapsed().as_secs_f64());
+    }
+    Ok(next)
 }

@@ -72,6 +72,36 @@ pub struct Params {
     pub cos_max: Option<f32>,
 }
 
+/// `v` when it is a positive number, else the error for option `--what`.
+fn positive(what: &str, v: f32) -> Result<f32, String> {
+    if v > 0.0 && v.is_finite() {
+        Ok(v)
+    } else {
+        Err(format!("--{what} must be a positive number, found {v}"))
+    }
+}
+
+/// The incident direction of `--theta` and `--phi` (degrees; default 30 and 0).
+fn incident(p: &Params) -> Result<Vec3, String> {
+    let (t, f) = (p.theta.unwrap_or(30.0), p.phi.unwrap_or(0.0));
+    if !(0.0..=180.0).contains(&t) || !f.is_finite() {
+        return Err(format!(
+            "--theta must lie in [0, 180] degrees (and --phi be finite), found {t}, {f}"
+        ));
+    }
+    let (t, f) = (t.to_radians(), f.to_radians());
+    Ok(Vec3::new(t.sin() * f.cos(), t.sin() * f.sin(), t.cos()))
+}
+
+/// `w` as its polar and azimuthal angles, for the description.
+fn angle(w: Vec3) -> String {
+    format!(
+        "wo at θ = {:.1}°, φ = {:.1}°",
+        w.z.clamp(-1.0, 1.0).acos().to_degrees(),
+        w.y.atan2(w.x).to_degrees()
+    )
+}
+
 /// The target called `name` with `p`, and a one-line description of it.
 pub fn parse(name: &str, p: &Params) -> Result<(Target, String), String> {
     let used = |allowed: &[&str]| -> Result<(), String> {
@@ -89,13 +119,6 @@ pub fn parse(name: &str, p: &Params) -> Result<(Target, String), String> {
         match given.iter().find(|(k, set)| *set && !allowed.contains(k)) {
             Some((k, _)) => Err(format!("--{k} does not apply to '{name}'")),
             None => Ok(()),
-        }
-    };
-    let positive = |what: &str, v: f32| {
-        if v > 0.0 && v.is_finite() {
-            Ok(v)
-        } else {
-            Err(format!("--{what} must be a positive number, found {v}"))
         }
     };
     let roughness = |anisotropic: bool| -> Result<(f32, f32), String> {
@@ -130,23 +153,6 @@ pub fn parse(name: &str, p: &Params) -> Result<(Target, String), String> {
         }
         Ok(e)
     };
-    let wo = || -> Result<Vec3, String> {
-        let (t, f) = (p.theta.unwrap_or(30.0), p.phi.unwrap_or(0.0));
-        if !(0.0..=180.0).contains(&t) || !f.is_finite() {
-            return Err(format!(
-                "--theta must lie in [0, 180] degrees (and --phi be finite), found {t}, {f}"
-            ));
-        }
-        let (t, f) = (t.to_radians(), f.to_radians());
-        Ok(Vec3::new(t.sin() * f.cos(), t.sin() * f.sin(), t.cos()))
-    };
-    let angle = |w: Vec3| {
-        format!(
-            "wo at θ = {:.1}°, φ = {:.1}°",
-            w.z.clamp(-1.0, 1.0).acos().to_degrees(),
-            w.y.atan2(w.x).to_degrees()
-        )
-    };
     let warp = |w: Warp, what: &str| Ok((Target::Warp(w), what.to_string()));
     match name {
         "square_to_disk" | "uniform_triangle" | "uniform_hemisphere" | "cosine_hemisphere"
@@ -178,7 +184,7 @@ pub fn parse(name: &str, p: &Params) -> Result<(Target, String), String> {
         "beckmann" | "ggx" => {
             used(&["alpha", "alpha-u", "alpha-v", "theta", "phi"])?;
             let (au, av) = roughness(true)?;
-            let wo = wo()?;
+            let wo = incident(p)?;
             let what = format!("{name} microfacet normals, α = ({au}, {av}), {}", angle(wo));
             warp(
                 Warp::Microfacet {
@@ -204,7 +210,7 @@ pub fn parse(name: &str, p: &Params) -> Result<(Target, String), String> {
             if !(g > -1.0 && g < 1.0) {
                 return Err(format!("--g must lie in (-1, 1), found {g}"));
             }
-            let wo = wo()?;
+            let wo = incident(p)?;
             Ok((
                 Target::Phase { g, wo },
                 format!("Henyey-Greenstein g = {g}, {}", angle(wo)),
@@ -231,7 +237,7 @@ pub fn parse(name: &str, p: &Params) -> Result<(Target, String), String> {
                         1.5
                     },
                 });
-                let wo = wo()?;
+                let wo = incident(p)?;
                 let axis = Axis::for_bsdf(&bsdf);
                 let what = format!("{name} {bsdf:?}, {}", angle(wo));
                 Ok((Target::Bsdf { bsdf, wo, axis }, what))

@@ -13,7 +13,10 @@
 //! gather finds does not.
 
 use crate::gpu::layout::{Push, WORKGROUP_SIZE};
-use crate::gpu::{shaders, BindingLayout, CommandList, DescriptorSet, Device, Kernel, KernelSpec};
+use crate::gpu::{
+    shaders, BindingLayout, CommandList, DescriptorSet, Device, Kernel, KernelSpec, Spec,
+    SpecValues,
+};
 
 use super::super::error::Result;
 use super::super::groups_for;
@@ -99,8 +102,10 @@ impl GridKernels {
     /// The grid's kernels, to create with the photon mapper's others
     /// (Kernel::new_all); [`GridKernels::take`] takes them back in this order.
     pub fn specs() -> [KernelSpec<'static>; 5] {
-        let scan =
-            |level: u32| KernelSpec::new("photon_grid_scan", shaders::PHOTON_GRID_SCAN, &[level]);
+        let scan = |level: u32| {
+            let stage = SpecValues::new().with(Spec::ScanStage, level);
+            KernelSpec::named("photon_grid_scan", shaders::PHOTON_GRID_SCAN, &stage)
+        };
         [
             KernelSpec::new("photon_grid_count", shaders::PHOTON_GRID_COUNT, &[]),
             scan(0),

@@ -36,7 +36,7 @@ use crate::gpu::layout::{
 };
 use crate::gpu::{
     shaders, BindingKind, BindingLayout, Buffer, CommandList, DescriptorSet, Device, DeviceKind,
-    Kernel, KernelSpec, Location,
+    Kernel, KernelSpec, Location, Spec,
 };
 
 use super::error::{Error, Result};
@@ -309,42 +309,61 @@ impl Photons {
     ) -> Result<Photons> {
         let f = features;
         let uniform_choice = matches!(integrator, Integrator::PhotonMapper(_)) as u32;
+        let named = |name, spirv, spec: &[(Spec, u32)]| {
+            KernelSpec::named(name, spirv, &spec.iter().copied().collect())
+        };
+        let (surface, textures) = (
+            (Spec::SurfaceFeatures, f.surface),
+            (Spec::Textures, f.textures),
+        );
+        let (emitters, bsdfs) = ((Spec::EmitterKinds, f.emitters), (Spec::BsdfKinds, f.bsdfs));
         // Every kernel of the photon mapper, created in parallel (Kernel::new_all) and
         // taken back below in this order.
         let mut specs = vec![
-            KernelSpec::new(
+            named(
                 "photon_emit",
                 shaders::PHOTON_EMIT,
-                &[f.surface, f.textures, f.emitters, uniform_choice],
+                &[
+                    surface,
+                    textures,
+                    emitters,
+                    (Spec::UniformEmitterChoice, uniform_choice),
+                ],
             ),
-            KernelSpec::new(
+            named(
                 "photon_bounce",
                 shaders::PHOTON_BOUNCE,
-                &[f.surface, f.textures, f.bsdfs],
+                &[surface, textures, bsdfs],
             ),
         ];
         match integrator {
             Integrator::Sppm(p) => specs.extend([
-                KernelSpec::new(
+                named(
                     "sppm_shade",
                     shaders::SPPM_SHADE,
-                    &[f.surface, f.textures, f.emitters, f.bsdfs],
+                    &[surface, textures, emitters, bsdfs],
                 ),
-                KernelSpec::new("sppm_record", shaders::SPPM_RECORD, &[]),
-                KernelSpec::new("sppm_gather", shaders::SPPM_GATHER, &[f.textures, f.bsdfs]),
-                KernelSpec::new("sppm_update", shaders::SPPM_UPDATE, &[p.alpha.to_bits()]),
+                named("sppm_record", shaders::SPPM_RECORD, &[]),
+                named("sppm_gather", shaders::SPPM_GATHER, &[textures, bsdfs]),
+                named(
+                    "sppm_update",
+                    shaders::SPPM_UPDATE,
+                    &[(Spec::SppmAlpha, p.alpha.to_bits())],
+                ),
             ]),
             Integrator::PhotonMapper(_) => specs.extend([
-                KernelSpec::new(
+                named(
                     "photon_camera",
                     shaders::PHOTON_CAMERA,
-                    &[f.surface, f.textures, f.emitters, f.bsdfs, f.sampler],
+                    &[
+                        surface,
+                        textures,
+                        emitters,
+                        bsdfs,
+                        (Spec::SamplerKind, f.sampler),
+                    ],
                 ),
-                KernelSpec::new(
-                    "photon_gather",
-                    shaders::PHOTON_GATHER,
-                    &[f.textures, f.bsdfs],
-                ),
+                named("photon_gather", shaders::PHOTON_GATHER, &[textures, bsdfs]),
             ]),
             other => {
                 return Err(Error::Options(format!(
@@ -470,6 +489,93 @@ pub struct PhotonPlan {
     /// which the grid leaves out).
     pub first_resident: bool,
     pub resident_photons: u32,
+}
+
+/// The path at which the stored count reaches `target`, among `counts` of paths from
+/// `first` on, with `before` stored before them.
+fn stored_cut(counts: &[u32], first: u32, before: u64, target: u64) -> Option<u32> {
+    let mut sum = before;
+    for (k, &c) in counts.iter().enumerate() {
+        sum += c as u64;
+        if sum >= target {
+            return Some(first + k as u32 + 1);
+        }
+    }
+    None
+}
+
+/// Paths of the next photon batch (of at most `batch`), from path `a` on with `stored`
+/// photons so far: the rest of a path budget; for a stored budget, about as many paths
+/// as the rate so far says are missing, and a tenth more (the batch size changes which
+/// paths are traced together, never which photons the map gets: the cut is found from
+/// per-path counts).
+fn next_photon_batch(budget: Budget, batch: u32, a: u32, stored: u64) -> u32 {
+    match budget {
+        Budget::Paths(n) => batch.min(n - a),
+        Budget::Stored(target) => {
+            let want = if a == 0 || stored == 0 {
+                target as u64
+            } else {
+                let missing = (target as u64).saturating_sub(stored);
+                missing * a as u64 / stored * 11 / 10 + 256
+            };
+            (batch as u64).min(want).min((u32::MAX - a) as u64) as u32
+        }
+    }
+}
+
+/// Refuses photon paths that store nothing: `a` paths traced, `stored` photons.
+fn check_photons_stored(batch: u32, a: u32, stored: u64) -> Result<()> {
+    if a == u32::MAX || (stored == 0 && a as u64 >= 64 * batch as u64) {
+        return Err(Error::Options(format!(
+            "photon paths store no photons: {a} paths left the emitters and \
+             {stored} photons were stored (do they reach a surface that is not a \
+             mirror or glass?)"
+        )));
+    }
+    Ok(())
+}
+
+/// The passes of a photon map of `emitted` paths, whole paths per pass, as many as fit
+/// `capacity`: the resident `first_pass` (with `first_stored` photons), then the paths
+/// from `rest_start` on by their photon `counts`. Returns each pass's paths and photons.
+fn passes_of(
+    first_pass: Range<u32>,
+    first_stored: u64,
+    rest_start: u32,
+    counts: &[u32],
+    emitted: u32,
+    capacity: u32,
+) -> Result<(Vec<Range<u32>>, Vec<u64>)> {
+    let mut passes = Vec::new();
+    let mut stored = Vec::new();
+    if !first_pass.is_empty() {
+        passes.push(first_pass);
+        stored.push(first_stored);
+    }
+    let mut start = rest_start;
+    let mut sum = 0u64;
+    for (k, &c) in counts.iter().enumerate() {
+        let path = rest_start + k as u32;
+        if c as u64 > capacity as u64 {
+            return Err(Error::Options(format!(
+                "photon path {path} stored {c} photons, more than a photon pass holds \
+                 ({capacity}); raise the photon capacity or lower the paths' length"
+            )));
+        }
+        if sum + c as u64 > capacity as u64 {
+            passes.push(start..path);
+            stored.push(sum);
+            start = path;
+            sum = 0;
+        }
+        sum += c as u64;
+    }
+    if start < emitted {
+        passes.push(start..emitted);
+        stored.push(sum);
+    }
+    Ok((passes, stored))
 }
 
 /// What photon passes did, for [`RenderStats::photons`].
@@ -647,47 +753,8 @@ impl Renderer {
         let max_bounces = base.max_bounces;
         self.write_photon_params(cmd, &base);
         self.set_photons_stored(cmd, 0);
-        // The path at which the stored count reaches `target`, among `counts` of paths
-        // from `first` on, with `before` stored before them.
-        let cut = |counts: &[u32], first: u32, before: u64, target: u64| -> Option<u32> {
-            let mut sum = before;
-            for (k, &c) in counts.iter().enumerate() {
-                sum += c as u64;
-                if sum >= target {
-                    return Some(first + k as u32 + 1);
-                }
-            }
-            None
-        };
-        // Paths of the next batch, from path `a` on with `stored` photons so far: the
-        // rest of a path budget; for a stored budget, about as many paths as the rate
-        // so far says are missing, and a tenth more (the batch size changes which
-        // paths are traced together, never which photons the map gets: the cut is
-        // found from per-path counts).
-        let next_count = |a: u32, stored: u64| -> u32 {
-            match budget {
-                Budget::Paths(n) => batch.min(n - a),
-                Budget::Stored(target) => {
-                    let want = if a == 0 || stored == 0 {
-                        target as u64
-                    } else {
-                        let missing = (target as u64).saturating_sub(stored);
-                        missing * a as u64 / stored * 11 / 10 + 256
-                    };
-                    (batch as u64).min(want).min((u32::MAX - a) as u64) as u32
-                }
-            }
-        };
-        let no_photons = |a: u32, stored: u64| -> Result<()> {
-            if a == u32::MAX || (stored == 0 && a as u64 >= 64 * batch as u64) {
-                return Err(Error::Options(format!(
-                    "photon paths store no photons: {a} paths left the emitters and \
-                     {stored} photons were stored (do they reach a surface that is not a \
-                     mirror or glass?)"
-                )));
-            }
-            Ok(())
-        };
+        let next_count = |a: u32, stored: u64| next_photon_batch(budget, batch, a, stored);
+        let no_photons = |a: u32, stored: u64| check_photons_stored(batch, a, stored);
 
         // The first pass: store while the photons fit.
         let mut a = 0u32;
@@ -719,7 +786,7 @@ impl Renderer {
             if let Budget::Stored(target) = budget {
                 if after >= target as u64 {
                     let counts = self.photon_path_counts(n)?;
-                    let end = cut(&counts, a, before, target as u64)
+                    let end = stored_cut(&counts, a, before, target as u64)
                         .expect("the batch reached the target");
                     let stored = before
                         + counts[..(end - a) as usize]
@@ -759,7 +826,7 @@ impl Renderer {
             self.trace_photon_batch(cmd, a, n, max_bounces, stats)?;
             let c = self.photon_path_counts(n)?;
             if let Budget::Stored(target) = budget {
-                if let Some(end) = cut(&c, a, total, target as u64) {
+                if let Some(end) = stored_cut(&c, a, total, target as u64) {
                     counts.extend_from_slice(&c[..(end - a) as usize]);
                     break end;
                 }
@@ -773,34 +840,14 @@ impl Renderer {
         p.retraced += (emitted - rest_start) as u64;
 
         // Whole paths per pass, as many as fit.
-        let mut passes = Vec::new();
-        let mut stored = Vec::new();
-        if !first_pass.is_empty() {
-            passes.push(first_pass);
-            stored.push(first_stored);
-        }
-        let mut start = rest_start;
-        let mut sum = 0u64;
-        for (k, &c) in counts.iter().enumerate() {
-            let path = rest_start + k as u32;
-            if c as u64 > capacity as u64 {
-                return Err(Error::Options(format!(
-                    "photon path {path} stored {c} photons, more than a photon pass holds \
-                     ({capacity}); raise the photon capacity or lower the paths' length"
-                )));
-            }
-            if sum + c as u64 > capacity as u64 {
-                passes.push(start..path);
-                stored.push(sum);
-                start = path;
-                sum = 0;
-            }
-            sum += c as u64;
-        }
-        if start < emitted {
-            passes.push(start..emitted);
-            stored.push(sum);
-        }
+        let (passes, stored) = passes_of(
+            first_pass,
+            first_stored,
+            rest_start,
+            &counts,
+            emitted,
+            capacity,
+        )?;
         Ok(Ok(PhotonPlan {
             emitted,
             first_resident: rest_start > 0,

@@ -3,7 +3,7 @@
 //!
 //! Plain data with no imports: `build.rs` includes this file too
 //! (`build/bsdf_dispatch.rs`), and generates from [`KINDS`] the GLSL dispatch
-//! `bsdf/dispatch.glsl`: a `#define BSDF_<NAME> id` per kind, the include of each
+//! `generated/bsdf_dispatch.glsl`: a `#define BSDF_<NAME> id` per kind, the include of each
 //! model's file, the switches of `bsdf_eval`, `bsdf_pdf` and `bsdf_sample`,
 //! `bsdf_is_delta` and `bsdf_lobes`. A model's file `shaders/bsdf/<name>.glsl` defines
 //! `bsdf_<name>_sample(b, wo, u)`, and unless every lobe is a delta,

@@ -39,67 +39,11 @@ pub fn read_vdb(path: &Path, name: Option<&str>) -> Result<Grid, String> {
     let header = file::read_header(&mut inp)?;
     let d = select(&header.grids, name, &inp.path)?;
     let grid = d.summary();
-    let scalar = d.scalar().expect("select returns scalar grids");
-
-    inp.seek(d.grid_pos, "the grid")?;
-    let mut compression = inp.u32("the grid's compression flags")?;
-    let meta = file::skip_metadata(&mut inp, "the grid's metadata")?;
-    let class = meta
-        .iter()
-        .find(|(k, _)| k == "class")
-        .map(|(_, v)| v.as_str())
-        .unwrap_or("unknown");
-    let index_to_world = file::read_transform(&mut inp, &grid)?;
-    let mut half = d.half;
-    if !d.instance_parent.is_empty() {
-        // The tree is the parent's, after the parent's own header.
-        let parent = header
-            .grids
-            .iter()
-            .find(|g| g.unique_name == d.instance_parent && g.instance_parent.is_empty())
-            .ok_or_else(|| {
-                inp.err(format!(
-                    "grid {grid} shares the tree of grid '{}', which the file does not hold",
-                    d.instance_parent
-                ))
-            })?;
-        if parent.scalar() != Some(scalar) {
-            return Err(inp.err(format!(
-                "grid {grid} shares the tree of grid {}, of another type",
-                parent.summary()
-            )));
-        }
-        inp.seek(parent.grid_pos, "the parent grid")?;
-        compression = inp.u32("the grid's compression flags")?;
-        file::skip_metadata(&mut inp, "the grid's metadata")?;
-        file::read_transform(&mut inp, &grid)?;
-        half = parent.half;
-    }
-    let enc = Encoding {
-        compression,
-        scalar,
-        half,
-    };
+    let (enc, class, index_to_world) = open_grid(&mut inp, &header.grids, d, &grid)?;
 
     // First pass: the leaves and the active bounding box.
     let tree_pos = inp.pos();
-    let mut bounds = Bounds::default();
-    let topo = tree::read_topology(&mut inp, enc, true, &mut |t: Tile| {
-        if t.active {
-            let side = (1i64 << t.log2) - 1;
-            bounds.add(t.origin, t.origin.map(|c| c + side));
-        }
-    })?;
-    for leaf in &topo.leaves {
-        if let Some((lo, hi)) = leaf.active_bounds() {
-            bounds.add(lo, hi);
-        }
-    }
-    let Some((lo, hi)) = bounds.0 else {
-        return Err(format!("{}: grid {grid} has no active voxels", inp.path));
-    };
-    // One voxel around the active box.
-    let (lo, hi) = (lo.map(|c| c - 1), hi.map(|c| c + 1));
+    let (topo, lo, hi) = active_box(&mut inp, enc, &grid)?;
     let res: [i64; 3] = std::array::from_fn(|k| hi[k] - lo[k] + 1);
     let count = res.iter().map(|&r| r as u128).product::<u128>();
     if count > MAX_GRID_VALUES as u128 {
@@ -153,26 +97,7 @@ pub fn read_vdb(path: &Path, name: Option<&str>) -> Result<Grid, String> {
             }
         },
     )?;
-
-    if let Some(i) = data.iter().position(|v| !(v.is_finite() && *v >= 0.0)) {
-        let i = i as i64;
-        let p = [
-            lo[0] + i % res[0],
-            lo[1] + (i / res[0]) % res[1],
-            lo[2] + i / (res[0] * res[1]),
-        ];
-        let hint = if class == "level set" {
-            " (it is a level set, signed distances, not a density: convert it to a fog \
-             volume first)"
-        } else {
-            ""
-        };
-        return Err(format!(
-            "{}: grid {grid} has the value {} at index {p:?}; a density must be finite and \
-             >= 0{hint}",
-            inp.path, data[i as usize]
-        ));
-    }
+    check_densities(&data, lo, res, &class, &grid, &inp.path)?;
 
     // Unit cube -> index space (voxel i's centre at (i + 0.5) / res is index lo + i)
     // -> world space.
@@ -192,6 +117,114 @@ pub fn read_vdb(path: &Path, name: Option<&str>) -> Result<Grid, String> {
         data,
         to_world,
     })
+}
+
+/// Reads grid `d`'s own header (compression, metadata, transform), and where it shares
+/// the tree of another grid, that grid's: how its tree is encoded, its `class` and
+/// its index-to-world transform. Leaves `inp` at the start of the tree.
+fn open_grid(
+    inp: &mut Input,
+    grids: &[Descriptor],
+    d: &Descriptor,
+    grid: &str,
+) -> Result<(Encoding, String, DMat4), String> {
+    let scalar = d.scalar().expect("select returns scalar grids");
+    inp.seek(d.grid_pos, "the grid")?;
+    let mut compression = inp.u32("the grid's compression flags")?;
+    let meta = file::skip_metadata(inp, "the grid's metadata")?;
+    let class = meta
+        .iter()
+        .find(|(k, _)| k == "class")
+        .map(|(_, v)| v.clone())
+        .unwrap_or_else(|| "unknown".to_string());
+    let index_to_world = file::read_transform(inp, grid)?;
+    let mut half = d.half;
+    if !d.instance_parent.is_empty() {
+        // The tree is the parent's, after the parent's own header.
+        let parent = grids
+            .iter()
+            .find(|g| g.unique_name == d.instance_parent && g.instance_parent.is_empty())
+            .ok_or_else(|| {
+                inp.err(format!(
+                    "grid {grid} shares the tree of grid '{}', which the file does not hold",
+                    d.instance_parent
+                ))
+            })?;
+        if parent.scalar() != Some(scalar) {
+            return Err(inp.err(format!(
+                "grid {grid} shares the tree of grid {}, of another type",
+                parent.summary()
+            )));
+        }
+        inp.seek(parent.grid_pos, "the parent grid")?;
+        compression = inp.u32("the grid's compression flags")?;
+        file::skip_metadata(inp, "the grid's metadata")?;
+        file::read_transform(inp, grid)?;
+        half = parent.half;
+    }
+    let enc = Encoding {
+        compression,
+        scalar,
+        half,
+    };
+    Ok((enc, class, index_to_world))
+}
+
+/// The tree's topology and the box of its active voxels and tiles, grown by one
+/// voxel on every side (index space, inclusive).
+fn active_box(
+    inp: &mut Input,
+    enc: Encoding,
+    grid: &str,
+) -> Result<(tree::Topology, [i64; 3], [i64; 3]), String> {
+    let mut bounds = Bounds::default();
+    let topo = tree::read_topology(inp, enc, true, &mut |t: Tile| {
+        if t.active {
+            let side = (1i64 << t.log2) - 1;
+            bounds.add(t.origin, t.origin.map(|c| c + side));
+        }
+    })?;
+    for leaf in &topo.leaves {
+        if let Some((lo, hi)) = leaf.active_bounds() {
+            bounds.add(lo, hi);
+        }
+    }
+    let Some((lo, hi)) = bounds.0 else {
+        return Err(format!("{}: grid {grid} has no active voxels", inp.path));
+    };
+    // One voxel around the active box.
+    Ok((topo, lo.map(|c| c - 1), hi.map(|c| c + 1)))
+}
+
+/// Every value of a density grid is finite and >= 0.
+fn check_densities(
+    data: &[f32],
+    lo: [i64; 3],
+    res: [i64; 3],
+    class: &str,
+    grid: &str,
+    path: &str,
+) -> Result<(), String> {
+    let Some(i) = data.iter().position(|v| !(v.is_finite() && *v >= 0.0)) else {
+        return Ok(());
+    };
+    let i = i as i64;
+    let p = [
+        lo[0] + i % res[0],
+        lo[1] + (i / res[0]) % res[1],
+        lo[2] + i / (res[0] * res[1]),
+    ];
+    let hint = if class == "level set" {
+        " (it is a level set, signed distances, not a density: convert it to a fog \
+         volume first)"
+    } else {
+        ""
+    };
+    Err(format!(
+        "{path}: grid {grid} has the value {} at index {p:?}; a density must be finite and \
+         >= 0{hint}",
+        data[i as usize]
+    ))
 }
 
 /// The grid that `name` (or the default rule) picks.

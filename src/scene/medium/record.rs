@@ -1,12 +1,13 @@
-//! Media as GPU records: the medium record, its density grid and its majorant grid.
+//! Media as GPU records: the medium record, its density grid and its majorant grid
+//! (what `render::scene_buffers` uploads).
 
 use glam::{Mat4, Vec3};
 
+use super::{Grid, Medium, MediumKind};
 use crate::gpu::layout::{
     MediumRecord, MEDIUM_ALBEDO_RGB, MEDIUM_DENSITY_PACKED, MEDIUM_GRID, MEDIUM_HOMOGENEOUS,
     MEDIUM_SAMPLE_EMITTERS, NONE,
 };
-use crate::scene::medium::{Grid, Medium, MediumKind};
 
 /// Relative headroom of majorants over the largest extinction they bound, so that f32
 /// rounding of the trilinear interpolation can never exceed them.

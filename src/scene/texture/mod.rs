@@ -1,5 +1,6 @@
 //! Textures: functions of the surface uv that any color or float parameter of a BSDF,
-//! the radiance of an area emitter or a normal map can read.
+//! the radiance of an area emitter or a normal map can read; the texture family, one
+//! file per plugin type with its parameters, and [`REGISTRY`].
 //!
 //! The GLSL is `shaders/texture/texture.glsl`; [`Texture::eval`] here is its CPU
 //! reference (the GPU test compares them at random uvs) and also gives the means the
@@ -16,8 +17,14 @@ use std::path::Path;
 
 use glam::{Mat4, Vec2, Vec3};
 
+pub mod bitmap;
+pub mod checkerboard;
+pub mod marble;
+pub mod noise;
+
+use super::plugin::{Family, Param, PluginDoc};
 use super::properties::Properties;
-use super::xml::Element;
+use super::xml::{Dialect, Element};
 use super::Error;
 use crate::gpu::layout::{
     TextureRecord, TEXTURE_BITMAP, TEXTURE_CHECKERBOARD, TEXTURE_MARBLE, TEXTURE_NEAREST,
@@ -92,8 +99,30 @@ pub const IDENTITY_UV: [[f32; 3]; 2] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
 /// Most octaves a noise may sum (more are below float precision).
 pub const MAX_OCTAVES: u32 = 16;
 
-/// Texture types of Mitsuba 3 we know but do not implement.
-const UNSUPPORTED: &[&str] = &["volume", "mesh_attribute", "constvolume", "gridvolume"];
+/// Every texture type: the supported ones with the parameters they read, then
+/// Mitsuba 3's not supported yet (and its volumes, which are no surface textures).
+pub const REGISTRY: &[PluginDoc] = &[
+    bitmap::MITSUBA,
+    checkerboard::MITSUBA,
+    noise::MITSUBA,
+    marble::MITSUBA,
+    not_yet("volume"),
+    not_yet("mesh_attribute"),
+    not_yet("constvolume"),
+    not_yet("gridvolume"),
+];
+
+const fn not_yet(name: &'static str) -> PluginDoc {
+    PluginDoc::not_yet(Family::Texture, Dialect::Mitsuba, name)
+}
+
+/// `to_uv` of every texture.
+const TO_UV: Param = Param::new(
+    "to_uv",
+    "transform",
+    "identity",
+    "affine map of the surface uv (rows 0 and 1: x, y and translation)",
+);
 
 /// sRGB transfer function to linear (IEC 61966-2-1).
 pub fn srgb_to_linear(c: f32) -> f32 {
@@ -401,105 +430,18 @@ impl Texture {
     }
 
     /// Reads a Mitsuba `<texture type=t>` (element `el`, whose folder relative file
-    /// names resolve against).
+    /// names resolve against): the registry's dispatch.
     pub fn from_mitsuba(t: &str, props: &Properties, el: &Element) -> Result<Texture, Error> {
         let to_uv = to_uv_from(props.transform("to_uv")?);
         if to_uv.iter().flatten().any(|v| !v.is_finite()) {
             return Err(props.error("to_uv", "to_uv is not finite"));
         }
         let tex = match t {
-            "bitmap" => {
-                let name = props
-                    .string_opt("filename")?
-                    .ok_or_else(|| props.object_error("bitmap texture needs a 'filename'"))?;
-                let raw = props.boolean("raw", false)?;
-                let nearest = match props.string("filter_type", "bilinear")?.as_str() {
-                    "bilinear" => false,
-                    "nearest" => true,
-                    other => {
-                        return Err(props.error(
-                            "filter_type",
-                            format!("filter_type must be bilinear or nearest, found '{other}'"),
-                        ))
-                    }
-                };
-                let wrap = match props.string("wrap_mode", "repeat")?.as_str() {
-                    "repeat" => Wrap::Repeat,
-                    "mirror" => Wrap::Mirror,
-                    "clamp" => Wrap::Clamp,
-                    other => {
-                        return Err(props.error(
-                            "wrap_mode",
-                            format!("wrap_mode must be repeat, mirror or clamp, found '{other}'"),
-                        ))
-                    }
-                };
-                props.ignore(&["format", "accel"]);
-                let path = el.resolve(&name).map_err(|tried| {
-                    props.error("filename", format!("image file {tried} not found"))
-                })?;
-                let (width, height, texels) =
-                    load_image(&path, raw).map_err(|e| props.error("filename", e))?;
-                Texture::Bitmap {
-                    width,
-                    height,
-                    texels,
-                    nearest,
-                    wrap,
-                    to_uv,
-                }
-            }
-            "checkerboard" => Texture::Checkerboard {
-                color0: props.color("color0", Vec3::splat(0.4))?,
-                color1: props.color("color1", Vec3::splat(0.2))?,
-                to_uv,
-            },
-            "noise" | "marble" => {
-                let frequency = props.float("frequency", if t == "noise" { 8.0 } else { 4.0 })?;
-                if !(frequency.is_finite() && frequency > 0.0) {
-                    return Err(props.error("frequency", "frequency must be positive"));
-                }
-                let octaves = props.integer("octaves", 4)?;
-                if !(1..=MAX_OCTAVES as i64).contains(&octaves) {
-                    return Err(props.error(
-                        "octaves",
-                        format!("octaves must be in 1..={MAX_OCTAVES}, found {octaves}"),
-                    ));
-                }
-                let seed = props.integer("seed", 0)?;
-                if !(0..=u32::MAX as i64).contains(&seed) {
-                    return Err(props.error("seed", "seed must be a non-negative 32-bit integer"));
-                }
-                let (color0, color1) = (
-                    props.color("color0", Vec3::ZERO)?,
-                    props.color("color1", Vec3::ONE)?,
-                );
-                if t == "noise" {
-                    Texture::Noise {
-                        color0,
-                        color1,
-                        frequency,
-                        octaves: octaves as u32,
-                        seed: seed as u32,
-                        to_uv,
-                    }
-                } else {
-                    let variation = props.float("variation", 1.0)?;
-                    if !variation.is_finite() {
-                        return Err(props.error("variation", "variation must be finite"));
-                    }
-                    Texture::Marble {
-                        color0,
-                        color1,
-                        frequency,
-                        variation,
-                        octaves: octaves as u32,
-                        seed: seed as u32,
-                        to_uv,
-                    }
-                }
-            }
-            _ if UNSUPPORTED.contains(&t) => {
+            "bitmap" => bitmap::mitsuba(props, el, to_uv)?,
+            "checkerboard" => checkerboard::mitsuba(props, to_uv)?,
+            "noise" => noise::mitsuba(props, to_uv)?,
+            "marble" => marble::mitsuba(props, to_uv)?,
+            _ if REGISTRY.iter().any(|p| p.name == t) => {
                 return Err(props.object_error(format!("texture type '{t}' is not supported")))
             }
             _ => return Err(props.object_error(format!("unknown texture type '{t}'"))),

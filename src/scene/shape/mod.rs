@@ -1,7 +1,119 @@
 //! Shapes: triangle meshes and analytic quadrics (sphere, disk, cylinder), in world
-//! space.
+//! space; the shape family, one file per plugin type (Mitsuba 3's `src/shapes/`),
+//! and [`REGISTRY`], every shape type of both dialects. The mesh file formats are
+//! read by [`crate::scene::obj`], [`crate::scene::ply`] and
+//! [`crate::scene::serialized`]; the dialects' tree walkers attach BSDFs, emitters and
+//! media and bring the shape to world space ([`crate::scene::builder`]).
+
+pub mod cube;
+pub mod cylinder;
+pub mod disk;
+pub mod obj;
+pub mod ply;
+pub mod rectangle;
+pub mod serialized;
+pub mod sphere;
 
 use glam::{Mat3, Mat4, Vec2, Vec3};
+
+use super::plugin::{self, Family, Param, PluginDoc};
+use super::properties::Properties;
+use super::xml::{Dialect, Element};
+use super::Error;
+
+/// Every shape type of both dialects: the supported ones with the parameters they
+/// read, then the Mitsuba 3 types not supported yet.
+pub const REGISTRY: &[PluginDoc] = &[
+    obj::MITSUBA,
+    ply::MITSUBA,
+    serialized::MITSUBA,
+    rectangle::MITSUBA,
+    cube::MITSUBA,
+    sphere::MITSUBA,
+    disk::MITSUBA,
+    cylinder::MITSUBA,
+    not_yet("shapegroup"),
+    not_yet("instance"),
+    not_yet("bsplinecurve"),
+    not_yet("linearcurve"),
+    not_yet("sdfgrid"),
+    not_yet("ellipsoids"),
+    not_yet("ellipsoidsmesh"),
+    not_yet("merge"),
+    obj::NORI,
+];
+
+const fn not_yet(name: &'static str) -> PluginDoc {
+    PluginDoc::not_yet(Family::Shape, Dialect::Mitsuba, name)
+}
+
+/// `to_world` of every Mitsuba shape.
+pub const TO_WORLD: Param = Param::new(
+    "to_world",
+    "transform",
+    "identity",
+    "object to world (mirrors included)",
+);
+/// `flip_normals` of every Mitsuba shape.
+pub const FLIP_NORMALS: Param = Param::new(
+    "flip_normals",
+    "boolean",
+    "false",
+    "turn the geometric and shading normals around",
+);
+/// `face_normals` of every Mitsuba mesh.
+pub const FACE_NORMALS: Param = Param::new(
+    "face_normals",
+    "boolean",
+    "false",
+    "flat shading: drop the vertex normals",
+);
+
+/// What a Mitsuba shape type makes of its parameters.
+pub enum Geometry {
+    /// A unit quadric and its object-to-world map.
+    Quadric(QuadricKind, Mat4),
+    /// A mesh in object space, its `to_world` and whether its vertex normals are
+    /// dropped (`face_normals`).
+    Mesh {
+        mesh: Mesh,
+        to_world: Mat4,
+        face_normals: bool,
+    },
+}
+
+/// Reads a Mitsuba shape of type `t`'s own parameters (not `flip_normals`, nor the
+/// nested BSDF, emitter and media) and loads its geometry: the registry's dispatch.
+pub fn mitsuba(t: &str, el: &Element, props: &Properties) -> Result<Geometry, Error> {
+    match t {
+        "sphere" => return sphere::mitsuba(props),
+        "disk" => return disk::mitsuba(props),
+        "cylinder" => return cylinder::mitsuba(props),
+        _ => {}
+    }
+    let to_world = props.transform("to_world")?;
+    // Mitsuba's mesh base class reads face_normals for every mesh; the built-in
+    // cube and rectangle keep their vertex normals whatever it says.
+    let face_normals = props.boolean("face_normals", false)?;
+    let (mesh, builtin) = match t {
+        "obj" => (obj::mitsuba(el, props)?, false),
+        "ply" => (ply::mitsuba(el, props)?, false),
+        "serialized" => (serialized::mitsuba(el, props)?, false),
+        "rectangle" => (rectangle::mesh(), true),
+        "cube" => (cube::mesh(), true),
+        _ => return Err(unsupported(el, Dialect::Mitsuba)),
+    };
+    Ok(Geometry::Mesh {
+        mesh,
+        to_world,
+        face_normals: face_normals && !builtin,
+    })
+}
+
+/// "shape type 'X' is not supported yet" or "unknown shape type 'X'" (`mesh` in Nori).
+pub fn unsupported(el: &Element, dialect: Dialect) -> Error {
+    plugin::unsupported(el, Family::Shape, dialect, REGISTRY)
+}
 
 /// A triangle mesh in world space.
 ///

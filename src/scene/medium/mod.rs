@@ -38,9 +38,71 @@ use std::path::Path;
 
 use glam::{Mat4, Vec3};
 
+pub mod heterogeneous;
+pub mod homogeneous;
+pub mod phase;
+pub mod record;
+pub mod volume;
+
+use super::plugin::{self, Family, Param, PluginDoc};
 use super::properties::Properties;
 use super::xml::{Dialect, Element};
 use super::Error;
+use volume::Volume;
+
+/// Every medium, phase function and volume type: the supported ones with the
+/// parameters they read, then Mitsuba 3's not supported yet.
+pub const REGISTRY: &[PluginDoc] = &[
+    homogeneous::MITSUBA,
+    heterogeneous::MITSUBA,
+    phase::ISOTROPIC,
+    phase::HG,
+    phase::not_yet("rayleigh"),
+    phase::not_yet("sggx"),
+    phase::not_yet("tabphase"),
+    phase::not_yet("blendphase"),
+    volume::CONSTVOLUME,
+    volume::GRIDVOLUME,
+    volume::CLOUD,
+    volume::PERLIN,
+    homogeneous::NORI,
+    heterogeneous::NORI,
+];
+
+/// The parameters every medium reads besides its extinction.
+const ALBEDO: Param = Param::new(
+    "albedo",
+    "rgb|volume",
+    "0.75",
+    "single-scattering albedo, in [0, 1]",
+);
+const SIGMA_A: Param = Param::new(
+    "sigma_a",
+    "rgb",
+    "",
+    "absorption (with sigma_s, instead of sigma_t and albedo)",
+);
+const SIGMA_S: Param = Param::new("sigma_s", "rgb", "", "scattering (with sigma_a)");
+const SCALE: Param = Param::new("scale", "float", "1", "factor on the extinction");
+const SAMPLE_EMITTERS: Param = Param::new(
+    "sample_emitters",
+    "boolean",
+    "true",
+    "next-event estimation at scattering points",
+);
+/// Nori's box a medium fills.
+const BOUNDS_MIN: Param = Param::new(
+    "bounds_min",
+    "point",
+    "",
+    "the box's low corner (Nori; required)",
+);
+const BOUNDS_MAX: Param = Param::new(
+    "bounds_max",
+    "point",
+    "",
+    "the box's high corner (Nori; required)",
+);
 
 /// A medium.
 #[derive(Debug, Clone, PartialEq)]
@@ -175,111 +237,6 @@ pub fn read_vol(path: &Path) -> Result<Grid, String> {
     })
 }
 
-/// Phase function asymmetry of a nested `<phase>`.
-fn phase(el: &Element) -> Result<f32, Error> {
-    el.check_attrs(&["type", "id", "name"])?;
-    let t = el.require("type")?;
-    let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
-    if let Some(n) = nested.first() {
-        return Err(n.err(format!("unexpected <{}> in a <phase>", n.tag)));
-    }
-    let g = match t {
-        "isotropic" => 0.0,
-        "hg" => {
-            let g = props.float("g", 0.8)?;
-            if !(g > -1.0 && g < 1.0) {
-                return Err(props.error("g", format!("hg: g must lie in (-1, 1), found {g}")));
-            }
-            g
-        }
-        "rayleigh" | "sggx" | "tabphase" | "blendphase" => {
-            return Err(el.err(format!("phase type '{t}' is not supported yet")))
-        }
-        _ => return Err(el.err(format!("unknown phase type '{t}'"))),
-    };
-    props.finish()?;
-    Ok(g)
-}
-
-/// A nested `<volume name=...>`: a constant color (with the `to_world` that places
-/// its unit cube) or a grid.
-enum Volume {
-    Constant(Vec3, Mat4),
-    Grid(Grid),
-}
-
-fn volume(el: &Element) -> Result<Volume, Error> {
-    el.check_attrs(&["type", "id", "name"])?;
-    let t = el.require("type")?;
-    let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
-    if let Some(n) = nested.first() {
-        return Err(n.err(format!("unexpected <{}> in a <volume>", n.tag)));
-    }
-    let v = match t {
-        "constvolume" => Volume::Constant(
-            props.color("value", Vec3::ONE)?,
-            props.transform("to_world")?,
-        ),
-        "gridvolume" => {
-            let name = props
-                .string_opt("filename")?
-                .ok_or_else(|| props.object_error("gridvolume needs a 'filename'"))?;
-            let path = el
-                .resolve(&name)
-                .map_err(|tried| props.error("filename", format!("grid file {tried} not found")))?;
-            let to_world = props.transform("to_world")?;
-            let vdb = path
-                .extension()
-                .is_some_and(|e| e.eq_ignore_ascii_case("vdb"));
-            let grid = if vdb {
-                let grid = props.string_opt("grid")?;
-                if props.has("use_grid_bbox") && !props.boolean("use_grid_bbox", true)? {
-                    return Err(props.error(
-                        "use_grid_bbox",
-                        "a .vdb grid is always placed by its own transform (then to_world)",
-                    ));
-                }
-                let mut g = super::vdb::read_vdb(&path, grid.as_deref()).map_err(|m| {
-                    props.error(if grid.is_some() { "grid" } else { "filename" }, m)
-                })?;
-                g.to_world = to_world * g.to_world;
-                g
-            } else {
-                if props.has("grid") {
-                    return Err(props.error(
-                        "grid",
-                        format!("'grid' picks a grid of a .vdb file; {name} is a .vol file"),
-                    ));
-                }
-                let mut g = read_vol(&path).map_err(|m| props.error("filename", m))?;
-                if !props.boolean("use_grid_bbox", false)? {
-                    g.to_world = Mat4::IDENTITY;
-                }
-                g.to_world = to_world * g.to_world;
-                g
-            };
-            if grid.to_world.determinant().abs() < 1e-30 || !grid.to_world.is_finite() {
-                return Err(props.error("to_world", "the grid's to_world is not invertible"));
-            }
-            match props.string("filter_type", "trilinear")?.as_str() {
-                "trilinear" => {}
-                other => {
-                    return Err(props.error(
-                        "filter_type",
-                        format!("filter_type '{other}' is not supported (trilinear only)"),
-                    ))
-                }
-            }
-            props.ignore(&["raw", "accel", "wrap_mode"]);
-            Volume::Grid(grid)
-        }
-        "cloud" | "perlin" => Volume::Grid(super::procedural::bake(t, &props)?),
-        _ => return Err(el.err(format!("unknown volume type '{t}'"))),
-    };
-    props.finish()?;
-    Ok(v)
-}
-
 fn check_color(props: &Properties, key: &str, c: Vec3, max: Option<f32>) -> Result<Vec3, Error> {
     let ok = c.is_finite() && c.min_element() >= 0.0 && max.is_none_or(|m| c.max_element() <= m);
     if !ok {
@@ -307,80 +264,18 @@ impl Medium {
     ) -> Result<(Medium, T), Error> {
         el.check_attrs(&["type", "id", "name"])?;
         let t = el.require("type")?;
-        if !matches!(t, "homogeneous" | "heterogeneous") {
-            return Err(el.err(format!("unknown medium type '{t}'")));
+        if plugin::find(REGISTRY, Family::Medium, dialect, t).is_none() {
+            return Err(plugin::unsupported(el, Family::Medium, dialect, REGISTRY));
         }
         let (props, nested) = Properties::read(el, dialect, false)?;
-        let mut g = None;
-        let mut volumes: Vec<(&str, Volume, &Element)> = Vec::new();
-        for n in nested {
-            match n.tag.as_str() {
-                "phase" if g.is_none() => g = Some(phase(n)?),
-                "phase" => return Err(n.err("a medium has one <phase>")),
-                "volume" => {
-                    let name = n.require("name")?;
-                    if !matches!(name, "sigma_t" | "albedo") {
-                        return Err(n.err(format!(
-                            "a <volume> of a medium is its 'sigma_t' or 'albedo', not '{name}'"
-                        )));
-                    }
-                    if props.has(name) || volumes.iter().any(|v| v.0 == name) {
-                        return Err(n.err(format!("'{name}' of the medium is given twice")));
-                    }
-                    volumes.push((name, volume(n)?, n));
-                }
-                "ref" => return Err(n.err("references inside a <medium> are not supported yet")),
-                tag => return Err(n.err(format!("unexpected <{tag}> in a <medium>"))),
-            }
-        }
-        let mut sigma_t = props.color_opt("sigma_t")?;
-        let mut albedo = props.color_opt("albedo")?;
-        let mut grid = None;
-        let mut albedo_grid: Option<(Grid, &Element)> = None;
-        // Where a constant sigma_t lives in a Mitsuba heterogeneous medium: the unit
-        // cube under the constvolume's to_world (identity for a plain value).
-        let mut const_to_world = Mat4::IDENTITY;
-        for (name, v, n) in volumes {
-            match (name, v) {
-                ("sigma_t", Volume::Constant(c, m)) => {
-                    sigma_t = Some(c);
-                    const_to_world = m;
-                }
-                (_, Volume::Constant(c, _)) => albedo = Some(c),
-                ("sigma_t", Volume::Grid(gr)) => grid = Some(gr),
-                (_, Volume::Grid(gr)) => albedo_grid = Some((gr, n)),
-            }
-        }
-        if let Some((a, n)) = &albedo_grid {
-            let same = grid
-                .as_ref()
-                .is_some_and(|g| g.res == a.res && g.to_world.abs_diff_eq(a.to_world, 1e-6));
-            if t != "heterogeneous" || !same {
-                return Err(n.err(
-                    "an albedo grid needs a sigma_t grid with the same resolution and placement (to_world)",
-                ));
-            }
-            if a.data.iter().any(|&v| v > 1.0) {
-                return Err(n.err("albedo grid values must lie in [0, 1]"));
-            }
-        }
-        let (sa, ss) = (props.color_opt("sigma_a")?, props.color_opt("sigma_s")?);
-        if sa.is_some() || ss.is_some() {
-            if sigma_t.is_some() || albedo.is_some() || grid.is_some() {
-                return Err(props.object_error(
-                    "give either sigma_a and sigma_s, or sigma_t and albedo, not both",
-                ));
-            }
-            let sa = check_color(&props, "sigma_a", sa.unwrap_or(Vec3::ZERO), None)?;
-            let ss = check_color(&props, "sigma_s", ss.unwrap_or(Vec3::ZERO), None)?;
-            let st = sa + ss;
-            sigma_t = Some(st);
-            albedo = Some(Vec3::select(st.cmpgt(Vec3::ZERO), ss / st, Vec3::ZERO));
-        }
+        let (g, volumes) = nested_objects(&props, nested)?;
+        let mut c = Coefficients::from_volumes(&props, volumes)?;
+        c.check_albedo_grid(t)?;
+        c.read_sigma_a_and_s(&props)?;
         let albedo = check_color(
             &props,
             "albedo",
-            albedo.unwrap_or(Vec3::splat(0.75)),
+            c.albedo.unwrap_or(Vec3::splat(0.75)),
             Some(1.0),
         )?;
         let scale = props.float("scale", 1.0)?;
@@ -392,71 +287,9 @@ impl Medium {
         }
         let sample_emitters = props.boolean("sample_emitters", true)?;
         let kind = if t == "homogeneous" {
-            if grid.is_some() {
-                return Err(
-                    props.object_error("a homogeneous medium takes no grid (use heterogeneous)")
-                );
-            }
-            let st = check_color(&props, "sigma_t", sigma_t.unwrap_or(Vec3::ONE), None)?;
-            let st = st * scale;
-            if !st.is_finite() {
-                return Err(props.error("scale", "sigma_t x scale overflows"));
-            }
-            MediumKind::Homogeneous { sigma_t: st }
+            homogeneous::kind(&props, c.sigma_t, c.grid.is_some(), scale)?
         } else {
-            let factor = props.integer("majorant_resolution_factor", 8)?;
-            if !(0..=1024).contains(&factor) {
-                return Err(props.error(
-                    "majorant_resolution_factor",
-                    format!("majorant_resolution_factor must be in [0, 1024], found {factor}"),
-                ));
-            }
-            props.ignore(&["majorant_factor"]);
-            match grid {
-                Some(grid) => {
-                    let top = (0..grid.channels).fold(0.0f32, |m, c| m.max(grid.max(c)));
-                    if !(top * scale).is_finite() {
-                        return Err(props.error(
-                            "scale",
-                            format!("scale {scale} times the grid's maximum {top} overflows"),
-                        ));
-                    }
-                    MediumKind::Grid {
-                        scale: check_color(&props, "sigma_t", Vec3::ONE, None)? * scale,
-                        grid,
-                        majorant_factor: factor as u32,
-                    }
-                }
-                // A constant sigma_t. Mitsuba bounds a heterogeneous medium by its
-                // sigma_t volume's box, for a constant too (a constvolume's unit cube
-                // under its to_world, [0, 1]³ for a plain value): outside it the medium
-                // is empty. So it is a grid of one voxel there. Nori's form fills the
-                // box it is given: a homogeneous medium.
-                None => {
-                    let st = check_color(&props, "sigma_t", sigma_t.unwrap_or(Vec3::ONE), None)?;
-                    if dialect == Dialect::Mitsuba {
-                        if const_to_world.determinant().abs() < 1e-30 || !const_to_world.is_finite()
-                        {
-                            return Err(props
-                                .object_error("the sigma_t volume's to_world is not invertible"));
-                        }
-                        MediumKind::Grid {
-                            grid: Grid {
-                                res: [1, 1, 1],
-                                channels: 3,
-                                data: st.to_array().to_vec(),
-                                to_world: const_to_world,
-                            },
-                            scale: Vec3::splat(scale),
-                            majorant_factor: 0,
-                        }
-                    } else {
-                        MediumKind::Homogeneous {
-                            sigma_t: st * scale,
-                        }
-                    }
-                }
-            }
+            heterogeneous::kind(&props, dialect, c.sigma_t, c.grid, c.const_to_world, scale)?
         };
         let more = extra(&props)?;
         props.finish()?;
@@ -464,11 +297,115 @@ impl Medium {
             name: el.attr("id").unwrap_or(t).to_string(),
             kind,
             albedo,
-            albedo_grid: albedo_grid.map(|(a, _)| a),
+            albedo_grid: c.albedo_grid.map(|(a, _)| a),
             g: g.unwrap_or(0.0),
             sample_emitters,
         };
         Ok((medium, more))
+    }
+}
+
+/// A medium's nested `<phase>` (its asymmetry) and `<volume>`s (by parameter name).
+type Nested<'a> = (Option<f32>, Vec<(&'a str, Volume, &'a Element)>);
+
+fn nested_objects<'a>(props: &Properties, nested: Vec<&'a Element>) -> Result<Nested<'a>, Error> {
+    let mut g = None;
+    let mut volumes: Vec<(&str, Volume, &Element)> = Vec::new();
+    for n in nested {
+        match n.tag.as_str() {
+            "phase" if g.is_none() => g = Some(phase::read(n)?),
+            "phase" => return Err(n.err("a medium has one <phase>")),
+            "volume" => {
+                let name = n.require("name")?;
+                if !matches!(name, "sigma_t" | "albedo") {
+                    return Err(n.err(format!(
+                        "a <volume> of a medium is its 'sigma_t' or 'albedo', not '{name}'"
+                    )));
+                }
+                if props.has(name) || volumes.iter().any(|v| v.0 == name) {
+                    return Err(n.err(format!("'{name}' of the medium is given twice")));
+                }
+                volumes.push((name, volume::read(n)?, n));
+            }
+            "ref" => return Err(n.err("references inside a <medium> are not supported yet")),
+            tag => return Err(n.err(format!("unexpected <{tag}> in a <medium>"))),
+        }
+    }
+    Ok((g, volumes))
+}
+
+/// A medium's coefficients as given, values or volumes, before its type reads them.
+struct Coefficients<'a> {
+    sigma_t: Option<Vec3>,
+    albedo: Option<Vec3>,
+    grid: Option<Grid>,
+    albedo_grid: Option<(Grid, &'a Element)>,
+    /// Where a constant sigma_t lives in a Mitsuba heterogeneous medium: the unit
+    /// cube under the constvolume's to_world (identity for a plain value).
+    const_to_world: Mat4,
+}
+
+impl<'a> Coefficients<'a> {
+    fn from_volumes(
+        props: &Properties,
+        volumes: Vec<(&str, Volume, &'a Element)>,
+    ) -> Result<Coefficients<'a>, Error> {
+        let mut c = Coefficients {
+            sigma_t: props.color_opt("sigma_t")?,
+            albedo: props.color_opt("albedo")?,
+            grid: None,
+            albedo_grid: None,
+            const_to_world: Mat4::IDENTITY,
+        };
+        for (name, v, n) in volumes {
+            match (name, v) {
+                ("sigma_t", Volume::Constant(col, m)) => {
+                    c.sigma_t = Some(col);
+                    c.const_to_world = m;
+                }
+                (_, Volume::Constant(col, _)) => c.albedo = Some(col),
+                ("sigma_t", Volume::Grid(gr)) => c.grid = Some(gr),
+                (_, Volume::Grid(gr)) => c.albedo_grid = Some((gr, n)),
+            }
+        }
+        Ok(c)
+    }
+
+    /// An albedo grid lies on the sigma_t grid's voxels, values in [0, 1].
+    fn check_albedo_grid(&self, t: &str) -> Result<(), Error> {
+        if let Some((a, n)) = &self.albedo_grid {
+            let same = self
+                .grid
+                .as_ref()
+                .is_some_and(|g| g.res == a.res && g.to_world.abs_diff_eq(a.to_world, 1e-6));
+            if t != "heterogeneous" || !same {
+                return Err(n.err(
+                    "an albedo grid needs a sigma_t grid with the same resolution and placement (to_world)",
+                ));
+            }
+            if a.data.iter().any(|&v| v > 1.0) {
+                return Err(n.err("albedo grid values must lie in [0, 1]"));
+            }
+        }
+        Ok(())
+    }
+
+    /// `sigma_a` and `sigma_s` instead of `sigma_t` and `albedo`.
+    fn read_sigma_a_and_s(&mut self, props: &Properties) -> Result<(), Error> {
+        let (sa, ss) = (props.color_opt("sigma_a")?, props.color_opt("sigma_s")?);
+        if sa.is_some() || ss.is_some() {
+            if self.sigma_t.is_some() || self.albedo.is_some() || self.grid.is_some() {
+                return Err(props.object_error(
+                    "give either sigma_a and sigma_s, or sigma_t and albedo, not both",
+                ));
+            }
+            let sa = check_color(props, "sigma_a", sa.unwrap_or(Vec3::ZERO), None)?;
+            let ss = check_color(props, "sigma_s", ss.unwrap_or(Vec3::ZERO), None)?;
+            let st = sa + ss;
+            self.sigma_t = Some(st);
+            self.albedo = Some(Vec3::select(st.cmpgt(Vec3::ZERO), ss / st, Vec3::ZERO));
+        }
+        Ok(())
     }
 }
 
