@@ -5,15 +5,22 @@
 //! GLSL error fails the build and glslang's message names the file and line. The
 //! generated `shaders.rs` holds one `pub const NAME: &[u8]` per kernel: `SHADE` for
 //! `kernels/shade.comp`, `TESTS_WARP` for `tests/warp.comp`. Includes name their file
-//! from `shaders/` (`#include "bsdf/microfacet.glsl"`), the one include path.
+//! from `shaders/` (`#include "bsdf/microfacet.glsl"`), or from `$OUT_DIR/glsl/` for
+//! generated files.
 
 use std::fs;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 // What build.rs generates from Rust, shared with the crate: the GPU records
-// (`gpu::records`, their GLSL in `build/records.rs`) and the table of specialization
-// constants (`gpu::spec_ids`).
+// (`gpu::records`, their GLSL in `build/records.rs`), the table of specialization
+// constants (`gpu::spec_ids`) and the BSDF kinds (`scene::bsdf::kinds`, their GLSL
+// dispatch in `build/bsdf_dispatch.rs`).
+#[path = "build/bsdf_dispatch.rs"]
+mod bsdf_dispatch;
+#[allow(dead_code)] // the crate uses the rest
+#[path = "src/scene/bsdf/kinds.rs"]
+mod bsdf_kinds;
 #[allow(dead_code)]
 #[path = "src/gpu/records.rs"]
 mod records;
@@ -30,8 +37,11 @@ fn main() {
     let shader_dir = root.join("shaders");
     println!("cargo:rerun-if-changed=shaders");
     println!("cargo:rerun-if-changed=src/gpu/spec_ids.rs");
+    println!("cargo:rerun-if-changed=src/scene/bsdf/kinds.rs");
+    println!("cargo:rerun-if-changed=build/bsdf_dispatch.rs");
     // Headers generated from Rust, included as `generated/NAME.glsl`: the GPU records
-    // (src/gpu/records.rs) and the specialization constants (src/gpu/spec_ids.rs).
+    // (src/gpu/records.rs), the specialization constants (src/gpu/spec_ids.rs) and the
+    // BSDF dispatch (src/scene/bsdf/kinds.rs).
     let generated = out.join("glsl");
     fs::create_dir_all(generated.join("generated")).expect("create the generated GLSL folder");
     records_glsl::write(&generated);
@@ -40,6 +50,7 @@ fn main() {
         spec_ids::glsl_header(),
     )
     .expect("write spec_constants.glsl");
+    bsdf_dispatch::write(&generated);
 
     let mut kernels = Vec::new();
     collect_kernels(&shader_dir, &mut kernels);

@@ -179,11 +179,8 @@ enum Command {
     /// the test accepts the sampler, 1 when it rejects it (or on an error).
     #[command(allow_negative_numbers = true)]
     Warptest {
-        /// What to sample: a warp (square_to_disk, uniform_triangle,
-        /// uniform_hemisphere, cosine_hemisphere, uniform_sphere, uniform_cap),
-        /// microfacet normals (beckmann, ggx), a BSDF (diffuse, roughconductor,
-        /// roughdielectric, plastic, roughplastic, nori_microfacet), a phase function
-        /// (hg, isotropic), or mismatched_cosine (a deliberately wrong pdf: it fails).
+        // What to sample; the BSDFs named from the registry.
+        #[arg(help = warptest::target::help())]
         target: String,
         /// Samples to draw.
         #[arg(long, default_value_t = 1_000_000, value_parser = clap::value_parser!(u32).range(1000..))]

@@ -13,7 +13,10 @@ use common::stats::{
 };
 use glam::{Vec2, Vec3};
 use wavetrace::gpu::layout::BsdfRecord;
-use wavetrace::scene::bsdf::{fresnel_dielectric, Bsdf, Distribution};
+use wavetrace::scene::bsdf::{
+    fresnel_dielectric, Bsdf, Conductor, Dielectric, Diffuse, Distribution, NoriMicrofacet,
+    Plastic, RoughConductor, RoughDielectric, RoughPlastic,
+};
 use wavetrace::warptest::{test_bsdf, test_warp, Axis, Outcome};
 
 /// At least as many chi-square tests as this file runs (90 now; Šidák correction, a
@@ -211,14 +214,14 @@ fn rough_conductors() {
     let (eta, k) = (Vec3::new(0.2, 0.92, 1.1), Vec3::new(3.9, 2.46, 2.14)); // Cu
     for distribution in [Distribution::Beckmann, Distribution::Ggx] {
         for (au, av) in [(0.05, 0.05), (0.3, 0.3), (0.8, 0.8), (0.1, 0.5)] {
-            let b = Bsdf::RoughConductor {
+            let b = Bsdf::RoughConductor(RoughConductor {
                 distribution,
                 alpha_u: au,
                 alpha_v: av,
                 eta,
                 k,
                 specular_reflectance: Vec3::ONE,
-            };
+            });
             for wo in [dir(10.0, 20.0), dir(70.0, 120.0)] {
                 let axis = if au < 0.2 {
                     Axis::Reflect
@@ -245,14 +248,14 @@ fn rough_dielectrics() {
     for distribution in [Distribution::Beckmann, Distribution::Ggx] {
         for (au, av) in [(0.1f32, 0.1f32), (0.3, 0.3), (0.8, 0.8), (0.15, 0.45)] {
             for eta in [1.5f32, 1.0 / 1.5] {
-                let b = Bsdf::RoughDielectric {
+                let b = Bsdf::RoughDielectric(RoughDielectric {
                     distribution,
                     alpha_u: au,
                     alpha_v: av,
                     eta,
                     specular_reflectance: Vec3::ONE,
                     specular_transmittance: Vec3::ONE,
-                };
+                });
                 // From outside, and from inside (wo below the surface).
                 for wo in [dir(30.0, 40.0), dir(150.0, 250.0)] {
                     let axis = if au < 0.2 {
@@ -277,18 +280,18 @@ fn rough_dielectrics() {
 #[test]
 fn diffuse_plastics_and_nori() {
     let probe = bsdf_probe();
-    let diffuse = Bsdf::Diffuse {
+    let diffuse = Bsdf::Diffuse(Diffuse {
         reflectance: Vec3::new(0.2, 0.5, 0.8),
-    };
+    });
     bsdf_case(&probe, "diffuse", &diffuse, dir(40.0, 0.0), Axis::Normal, 5);
-    let twosided = Bsdf::TwoSided(Box::new(Bsdf::RoughConductor {
+    let twosided = Bsdf::TwoSided(Box::new(Bsdf::RoughConductor(RoughConductor {
         distribution: Distribution::Ggx,
         alpha_u: 0.3,
         alpha_v: 0.3,
         eta: Vec3::ZERO,
         k: Vec3::ONE,
         specular_reflectance: Vec3::ONE,
-    }));
+    })));
     bsdf_case(
         &probe,
         "twosided roughconductor (back face)",
@@ -298,12 +301,12 @@ fn diffuse_plastics_and_nori() {
         6,
     );
     for (eta, nonlinear) in [(1.49f32, false), (1.9, true)] {
-        let b = Bsdf::Plastic {
+        let b = Bsdf::Plastic(Plastic {
             diffuse_reflectance: Vec3::new(0.1, 0.27, 0.36),
             specular_reflectance: Vec3::ONE,
             eta,
             nonlinear,
-        };
+        });
         for wo in [dir(20.0, 10.0), dir(80.0, 100.0)] {
             bsdf_case(
                 &probe,
@@ -317,14 +320,14 @@ fn diffuse_plastics_and_nori() {
     }
     for distribution in [Distribution::Beckmann, Distribution::Ggx] {
         for alpha in [0.05f32, 0.3, 0.8] {
-            let b = Bsdf::RoughPlastic {
+            let b = Bsdf::RoughPlastic(RoughPlastic {
                 distribution,
                 alpha,
                 diffuse_reflectance: Vec3::new(0.6, 0.3, 0.2),
                 specular_reflectance: Vec3::ONE,
                 eta: 1.49,
                 nonlinear: false,
-            };
+            });
             for wo in [dir(15.0, 10.0), dir(75.0, 300.0)] {
                 let axis = if alpha < 0.2 {
                     Axis::Reflect
@@ -343,11 +346,11 @@ fn diffuse_plastics_and_nori() {
         }
     }
     for alpha in [0.1f32, 0.5] {
-        let b = Bsdf::NoriMicrofacet {
+        let b = Bsdf::NoriMicrofacet(NoriMicrofacet {
             alpha,
             eta: 1.5046 / 1.000277,
             kd: Vec3::new(0.2, 0.2, 0.4),
-        };
+        });
         for wo in [dir(25.0, 0.0), dir(70.0, 45.0)] {
             let axis = if alpha < 0.2 {
                 Axis::Reflect
@@ -373,11 +376,11 @@ fn smooth_delta_models() {
     let probe = bsdf_probe();
     let n = 200_000u32;
     for eta in [1.5f32, 1.0 / 1.5] {
-        let b = Bsdf::Dielectric {
+        let b = Bsdf::Dielectric(Dielectric {
             eta,
             specular_reflectance: Vec3::ONE,
             specular_transmittance: Vec3::ONE,
-        };
+        });
         for wo in [
             dir(0.0, 0.0),
             dir(35.0, 80.0),
@@ -419,11 +422,11 @@ fn smooth_delta_models() {
         }
     }
     // Conductors: gold at normal incidence reflects ((η-1)² + κ²) / ((η+1)² + κ²).
-    let gold = Bsdf::Conductor {
+    let gold = Bsdf::Conductor(Conductor {
         eta: Vec3::new(0.1456, 0.3729, 1.4414),
         k: Vec3::new(3.9565, 2.3955, 1.6007),
         specular_reflectance: Vec3::ONE,
-    };
+    });
     let s = probe
         .sample(&BsdfRecord::from(&gold), Vec3::Z, 64, 12)
         .expect("bsdf kernel");
@@ -436,11 +439,11 @@ fn smooth_delta_models() {
     assert!(w.x > w.y && w.y > w.z, "gold is yellow: {w}");
     // A one-sided mirror seen from behind absorbs; twosided mirrors it.
     let (e, k) = conductor_none();
-    let mirror = Bsdf::Conductor {
+    let mirror = Bsdf::Conductor(Conductor {
         eta: e,
         k,
         specular_reflectance: Vec3::ONE,
-    };
+    });
     let back = dir(120.0, 10.0);
     assert_eq!(
         probe

@@ -15,7 +15,10 @@ use common::stats::{
 };
 use glam::Vec3;
 use wavetrace::gpu::layout::BsdfRecord;
-use wavetrace::scene::bsdf::{thin_dielectric_reflectance, Bsdf, Distribution};
+use wavetrace::scene::bsdf::{
+    thin_dielectric_reflectance, Bsdf, Conductor, Dielectric, Diffuse, Distribution,
+    NoriMicrofacet, Plastic, RoughConductor, RoughDielectric, RoughPlastic, ThinDielectric,
+};
 
 use common::albedo::{self, Ndf, Quadrature};
 
@@ -81,33 +84,33 @@ fn lossless_smooth_models() {
     let cases = [
         (
             "diffuse white",
-            Bsdf::Diffuse { reflectance: white },
+            Bsdf::Diffuse(Diffuse { reflectance: white }),
             1.0,
             false,
         ),
         (
             "twosided diffuse white",
-            Bsdf::TwoSided(Box::new(Bsdf::Diffuse { reflectance: white })),
+            Bsdf::TwoSided(Box::new(Bsdf::Diffuse(Diffuse { reflectance: white }))),
             1.0,
             true,
         ),
         (
             "conductor none",
-            Bsdf::Conductor {
+            Bsdf::Conductor(Conductor {
                 eta: Vec3::ZERO,
                 k: Vec3::ONE,
                 specular_reflectance: white,
-            },
+            }),
             1.0,
             false,
         ),
         (
             "dielectric 1.5",
-            Bsdf::Dielectric {
+            Bsdf::Dielectric(Dielectric {
                 eta: 1.5,
                 specular_reflectance: white,
                 specular_transmittance: white,
-            },
+            }),
             1.5,
             true,
         ),
@@ -115,21 +118,21 @@ fn lossless_smooth_models() {
         // radiance scaling, so its energy eta is 1), from either side.
         (
             "thindielectric 1.5",
-            Bsdf::ThinDielectric {
+            Bsdf::ThinDielectric(ThinDielectric {
                 eta: 1.5,
                 specular_reflectance: white,
                 specular_transmittance: white,
-            },
+            }),
             1.0,
             true,
         ),
         (
             "dielectric 1/1.5",
-            Bsdf::Dielectric {
+            Bsdf::Dielectric(Dielectric {
                 eta: 1.0 / 1.5,
                 specular_reflectance: white,
                 specular_transmittance: white,
-            },
+            }),
             1.0 / 1.5,
             true,
         ),
@@ -138,12 +141,12 @@ fn lossless_smooth_models() {
         // 1 - F_dr,ext = η² (1 - F_dr,int) (reciprocity of the diffuse Fresnel terms).
         (
             "plastic white",
-            Bsdf::Plastic {
+            Bsdf::Plastic(Plastic {
                 diffuse_reflectance: white,
                 specular_reflectance: white,
                 eta: 1.49,
                 nonlinear: false,
-            },
+            }),
             1.0,
             false,
         ),
@@ -245,28 +248,28 @@ fn microfacet_albedos_match_quadrature() {
     ] {
         for alpha in [0.05f32, 0.3, 0.8] {
             let a = alpha as f64;
-            let b = Bsdf::RoughConductor {
+            let b = Bsdf::RoughConductor(RoughConductor {
                 distribution,
                 alpha_u: alpha,
                 alpha_v: alpha,
                 eta: Vec3::ZERO,
                 k: Vec3::ONE,
                 specular_reflectance: white,
-            };
+            });
             let name = format!("roughconductor none {distribution:?} α = {alpha}");
             assert_albedos(&probe, &name, &b, 1.0, false, |mu| {
                 albedo::rough_conductor_white(kind, a, mu)
             });
             for eta in [1.5f32, 1.0 / 1.5] {
                 let name = format!("roughdielectric {distribution:?} α = {alpha} η = {eta:.3}");
-                let b = Bsdf::RoughDielectric {
+                let b = Bsdf::RoughDielectric(RoughDielectric {
                     distribution,
                     alpha_u: alpha,
                     alpha_v: alpha,
                     eta,
                     specular_reflectance: white,
                     specular_transmittance: white,
-                };
+                });
                 // From below the interface is seen with the inverse index.
                 assert_albedos(&probe, &name, &b, eta, true, |mu| {
                     let e = if mu > 0.0 {
@@ -282,11 +285,11 @@ fn microfacet_albedos_match_quadrature() {
     for alpha in [0.1f32, 0.5] {
         // Nori's microfacet with kd = 0.5 (ks = 0.5).
         let eta = 1.5046 / 1.000277;
-        let b = Bsdf::NoriMicrofacet {
+        let b = Bsdf::NoriMicrofacet(NoriMicrofacet {
             alpha,
             eta,
             kd: Vec3::splat(0.5),
-        };
+        });
         assert_albedos(
             &probe,
             &format!("nori microfacet α = {alpha}"),
@@ -303,12 +306,12 @@ fn microfacet_albedos_match_quadrature() {
 fn plastic_albedo_matches_quadrature() {
     let probe = bsdf_probe();
     for nonlinear in [false, true] {
-        let b = Bsdf::Plastic {
+        let b = Bsdf::Plastic(Plastic {
             diffuse_reflectance: Vec3::splat(0.5),
             specular_reflectance: Vec3::ONE,
             eta: 1.49,
             nonlinear,
-        };
+        });
         let name = format!("plastic 0.5 nonlinear = {nonlinear}");
         assert_albedos(&probe, &name, &b, 1.0, false, |mu| {
             albedo::plastic(0.5, 1.49, nonlinear, mu)
@@ -337,14 +340,14 @@ fn rough_plastic_albedo_matches_quadrature() {
     ] {
         for alpha in [0.05f32, 0.3, 0.6, 1.0] {
             let name = format!("roughplastic white {distribution:?} α = {alpha}");
-            let b = Bsdf::RoughPlastic {
+            let b = Bsdf::RoughPlastic(RoughPlastic {
                 distribution,
                 alpha,
                 diffuse_reflectance: Vec3::ONE,
                 specular_reflectance: Vec3::ONE,
                 eta: 1.49,
                 nonlinear: false,
-            };
+            });
             let mut wrong = 0;
             for (c, a, se) in no_gain(&probe, &name, &b, 1.0, false) {
                 let q =
@@ -428,11 +431,11 @@ fn thin_dielectric_lobes() {
     let probe = bsdf_probe();
     let (refl, trans) = (Vec3::new(0.9, 0.5, 0.2), Vec3::new(0.3, 0.6, 1.0));
     for eta in [1.5f32, 1.333] {
-        let b = Bsdf::ThinDielectric {
+        let b = Bsdf::ThinDielectric(ThinDielectric {
             eta,
             specular_reflectance: refl,
             specular_transmittance: trans,
-        };
+        });
         for (i, &c) in COS.iter().enumerate() {
             for sign in [1.0f32, -1.0] {
                 let wo = wo_at(c, 0.7 * i as f32) * Vec3::new(1.0, 1.0, sign);

@@ -354,28 +354,20 @@ fn last_bounce_against_the_emitters_alone_matches_the_full_traversal() {
     }
 }
 
-/// On a CPU device one kernel runs each path's first bounce (shaders/kernels/first_bounce.comp)
-/// in place of generate, intersect, shade and shadow: the whole path where that is all
-/// (direct lighting; a path tracer of max_depth 1, or cut after one bounce), else the
-/// wavefront goes on from bounce 1 (path tracers, in renders of many paths): the same
-/// image bit for bit, the same rays and cut paths, and the same alpha. Veach's plates
-/// under sphere lights (the last bounce meeting the emitters alone), textured lights
-/// (their textures in both bounces), the Cornell box with emitter sampling alone, at
-/// max_depth 1, cut at one bounce, and path traced (fused only in a render of many
-/// paths); the normal-mapped wall (path traced under an environment, over several
-/// batches), and the filter scene's RGBA film (a Gaussian filter; which camera paths
-/// cover their pixel). The glossy spheres under a lat-long map keep the wavefront:
-/// 44% of their camera rays miss. In scenes with media the kernel runs the medium
-/// stage and attenuates shadow rays too: the homogeneous cube (volpath, null boundary),
-/// the smoke grid (delta and ratio tracking), a thin dielectric crossed as a null
-/// surface in fog, and single scattering with equiangular sampling.
-#[test]
-fn first_bounce_in_one_kernel_matches_the_wavefront() {
-    let device = device();
-    let cpu = device.info().kind == wavetrace::gpu::DeviceKind::Cpu;
+/// A case of [`first_bounce_in_one_kernel_matches_the_wavefront`]: (scene, defines,
+/// integrator, max_bounces, a render of many paths, fused on a CPU).
+type FusedCase = (
+    &'static str,
+    Vec<(&'static str, &'static str)>,
+    Option<&'static str>,
+    Option<u32>,
+    bool,
+    bool,
+);
+
+fn fused_cases() -> Vec<FusedCase> {
     let cbox = "scenes/cbox/cbox_path.xml";
-    // (scene, defines, integrator, max_bounces, a render of many paths, fused on a CPU)
-    let cases = [
+    vec![
         (
             "scenes/veach/veach.xml",
             vec![("integrator", "direct"), ("res", "48")],
@@ -467,7 +459,29 @@ fn first_bounce_in_one_kernel_matches_the_wavefront() {
             true,
             true,
         ),
-    ];
+    ]
+}
+
+/// On a CPU device one kernel runs each path's first bounce (shaders/kernels/first_bounce.comp)
+/// in place of generate, intersect, shade and shadow: the whole path where that is all
+/// (direct lighting; a path tracer of max_depth 1, or cut after one bounce), else the
+/// wavefront goes on from bounce 1 (path tracers, in renders of many paths): the same
+/// image bit for bit, the same rays and cut paths, and the same alpha. Veach's plates
+/// under sphere lights (the last bounce meeting the emitters alone), textured lights
+/// (their textures in both bounces), the Cornell box with emitter sampling alone, at
+/// max_depth 1, cut at one bounce, and path traced (fused only in a render of many
+/// paths); the normal-mapped wall (path traced under an environment, over several
+/// batches), and the filter scene's RGBA film (a Gaussian filter; which camera paths
+/// cover their pixel). The glossy spheres under a lat-long map keep the wavefront:
+/// 44% of their camera rays miss. In scenes with media the kernel runs the medium
+/// stage and attenuates shadow rays too: the homogeneous cube (volpath, null boundary),
+/// the smoke grid (delta and ratio tracking), a thin dielectric crossed as a null
+/// surface in fog, and single scattering with equiangular sampling.
+#[test]
+fn first_bounce_in_one_kernel_matches_the_wavefront() {
+    let device = device();
+    let cpu = device.info().kind == wavetrace::gpu::DeviceKind::Cpu;
+    let cases = fused_cases();
     for (file, defines, integrator, max_bounces, many, fuses) in cases {
         let scene = load_shipped(file, &defines);
         let run = |wavefront: bool| {

@@ -101,10 +101,11 @@ BsdfRecord bsdf_textured_point(BsdfRecord b, vec2 uv, bool normal_map, uint emis
     }
     if (bsdf) {
         if (b.tex_alpha_v != 0u && !alpha_v_own) b.alpha_v = b.alpha_u;
-        // Nori's microfacet: ks = 1 - max(kd).
-        if (b.tex_reflectance != 0u && b.kind == BSDF_NORI_MICROFACET) {
-            b.specular_weight = 1.0 - max(b.reflectance.x, max(b.reflectance.y, b.reflectance.z));
-        }
+#ifdef BSDF_DISPATCH_GLSL
+        // What models derive from textured parameters (their `textured` hooks). A
+        // kernel without bsdf.glsl (shadow) evaluates no model, so needs none.
+        b = bsdf_kind_textured(b);
+#endif
     }
     if (normal_map && TEXTURE_USES(TEXTURE_FEATURE_NORMALMAP) && b.normal_map != 0u) {
         texels.normal = texture_eval(b.normal_map, uv);

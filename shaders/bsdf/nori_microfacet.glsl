@@ -42,3 +42,16 @@ BsdfSample bsdf_nori_microfacet_sample(BsdfRecord b, vec3 wo, vec3 u) {
     if (!(pdf > 0.0)) return s;
     return BsdfSample(wi, bsdf_nori_microfacet_eval(b, wo, wi) / pdf, pdf, BSDF_FLAG_REFLECTION);
 }
+
+// Its lobes (kinds.rs hook `lobes`): the diffuse one only where kd > 0.
+uint bsdf_nori_microfacet_lobes(BsdfRecord b, uint lobes) {
+    return any(greaterThan(b.reflectance, vec3(0.0))) ? lobes : lobes & ~BSDF_LOBE_DIFFUSE;
+}
+
+// With a textured kd (kinds.rs hook `textured`): ks = 1 - max(kd).
+BsdfRecord bsdf_nori_microfacet_textured(BsdfRecord b) {
+    if (b.tex_reflectance != 0u) {
+        b.specular_weight = 1.0 - max(b.reflectance.x, max(b.reflectance.y, b.reflectance.z));
+    }
+    return b;
+}

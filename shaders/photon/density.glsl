@@ -23,7 +23,7 @@ PhotonGather photon_gather(VisiblePoint v, float r) {
     bool mapped = (v.flags & VISIBLE_POINT_NORMAL_MAP) != 0u;
     if (mapped) b.flags &= ~BSDF_TWOSIDED;
     NormalMapFrame nm = NormalMapFrame(v.n0, v.n, v.alpha2);
-    bool transmits = b.kind == BSDF_ROUGHDIELECTRIC;
+    bool transmits = (bsdf_lobes(b) & BSDF_LOBE_TRANSMISSION) != 0u;
     vec3 bx, by;
     frame_basis(v.n, bx, by);
     vec3 wo = vec3(dot(v.wo, bx), dot(v.wo, by), dot(v.wo, v.n));

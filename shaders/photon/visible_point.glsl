@@ -27,8 +27,7 @@ VisiblePoint visible_point_at(ScatterSurface x, vec3 wo, vec3 beta) {
 // blur of photons).
 bool sppm_visible_point_here(BsdfRecord b, bool last) {
     if (bsdf_is_delta(b)) return false;
-    bool diffuse = b.kind == BSDF_DIFFUSE || b.kind == BSDF_PLASTIC || b.kind == BSDF_ROUGHPLASTIC
-        || (b.kind == BSDF_NORI_MICROFACET && any(greaterThan(b.reflectance, vec3(0.0))));
+    bool diffuse = (bsdf_lobes(b) & BSDF_LOBE_DIFFUSE) != 0u;
     return diffuse || last;
 }
 

@@ -26,16 +26,8 @@
 // No medium in one half of ShapeRecord.media.
 #define MEDIUM_NONE16 0xffffu
 
-// BSDF kinds (shaders/bsdf/bsdf.glsl dispatches on them).
-#define BSDF_DIFFUSE 0u
-#define BSDF_CONDUCTOR 1u
-#define BSDF_ROUGHCONDUCTOR 2u
-#define BSDF_DIELECTRIC 3u
-#define BSDF_ROUGHDIELECTRIC 4u
-#define BSDF_PLASTIC 5u
-#define BSDF_ROUGHPLASTIC 6u
-#define BSDF_NORI_MICROFACET 7u
-#define BSDF_THINDIELECTRIC 8u
+// BsdfRecord.kind: BSDF_DIFFUSE, ... in generated/bsdf_dispatch.glsl, from
+// src/scene/bsdf/kinds.rs.
 // BsdfRecord.flags
 #define BSDF_TWOSIDED 1u
 #define BSDF_NONLINEAR 2u

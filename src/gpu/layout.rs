@@ -99,16 +99,8 @@ pub const MEDIUM_FEATURE_ALBEDO_GRID: u32 = 64;
 pub const MEDIUM_FEATURE_GRIDS: u32 =
     MEDIUM_FEATURE_PACKED1 | MEDIUM_FEATURE_PACKED3 | MEDIUM_FEATURE_DENSITY_WORDS;
 
-/// BSDF kinds in [`BsdfRecord::kind`] (one GLSL file each in `shaders/bsdf/`).
-pub const BSDF_DIFFUSE: u32 = 0;
-pub const BSDF_CONDUCTOR: u32 = 1;
-pub const BSDF_ROUGHCONDUCTOR: u32 = 2;
-pub const BSDF_DIELECTRIC: u32 = 3;
-pub const BSDF_ROUGHDIELECTRIC: u32 = 4;
-pub const BSDF_PLASTIC: u32 = 5;
-pub const BSDF_ROUGHPLASTIC: u32 = 6;
-pub const BSDF_NORI_MICROFACET: u32 = 7;
-pub const BSDF_THINDIELECTRIC: u32 = 8;
+/// BSDF kinds in [`BsdfRecord::kind`]: `scene::bsdf::kinds::KINDS`, from which
+/// build.rs generates their GLSL constants and dispatch.
 /// [`BsdfRecord::flags`]: Mitsuba `twosided` around the model.
 pub const BSDF_TWOSIDED: u32 = 1;
 /// [`BsdfRecord::flags`]: plastics with `nonlinear` = true.

@@ -1,6 +1,6 @@
-//! What both dialect loaders share: the growing lists of a [`Scene`], mesh files
-//! resolved against the scene file, and the names of object types we know but do not
-//! support yet (so those get "not supported yet" and a typo gets "unknown").
+//! What both dialect loaders share: the growing lists of a [`Scene`] and mesh files
+//! resolved against the scene file. (The types each family knows but does not
+//! support yet are in its registry; `super::plugin::unsupported` words the errors.)
 
 use std::path::PathBuf;
 
@@ -11,32 +11,6 @@ use super::properties::Properties;
 use super::shape::{Quadric, QuadricKind};
 use super::xml::Element;
 use super::{Bsdf, Emitter, Error, Medium, Mesh, Texture};
-
-/// BSDF types of Mitsuba 3 or Nori that wavetrace does not implement yet.
-pub const UNSUPPORTED_BSDFS: &[&str] = &[
-    "principled",
-    "principledthin",
-    "blendbsdf",
-    "mask",
-    "bumpmap",
-    "polarizer",
-    "retarder",
-    "circular",
-    "measured",
-    "measured_polarized",
-    "pplastic",
-    "hair",
-];
-
-/// "bsdf type 'X' is not supported yet" or "unknown bsdf type 'X'".
-pub fn unsupported(el: &Element, kind: &str, known: &[&str]) -> Error {
-    let t = el.attr("type").unwrap_or("");
-    if known.contains(&t) {
-        el.err(format!("{kind} type '{t}' is not supported yet"))
-    } else {
-        el.err(format!("unknown {kind} type '{t}'"))
-    }
-}
 
 /// The lists a loader fills in.
 #[derive(Default)]

@@ -17,8 +17,8 @@ use std::collections::{HashMap, HashSet};
 
 use glam::Vec3;
 
-use super::bsdf::TextureMaps;
-use super::builder::{self, Builder, MeshOptions, UNSUPPORTED_BSDFS};
+use super::bsdf;
+use super::builder::{Builder, MeshOptions};
 use super::emitter;
 use super::integrator;
 use super::plugin::{self, Family};
@@ -28,18 +28,6 @@ use super::sensor;
 use super::shape::{self, Geometry};
 use super::xml::{Dialect, Document, Element};
 use super::{Bsdf, Camera, Emitter, Error, Film, IntegratorSpec, Medium, Quadric, Scene, Texture};
-
-/// BSDF types read by [`Bsdf::from_mitsuba`] (besides `twosided`).
-const BSDFS: &[&str] = &[
-    "diffuse",
-    "conductor",
-    "roughconductor",
-    "dielectric",
-    "thindielectric",
-    "roughdielectric",
-    "plastic",
-    "roughplastic",
-];
 
 /// Loads a Mitsuba 3 scene read by [`super::xml::read`].
 pub fn load(doc: &Document) -> Result<Scene, Error> {
@@ -309,17 +297,8 @@ impl<'a> Loader<'a> {
                 // Mitsuba's normalmap.cpp: a `normalmap` texture and one nested BSDF.
                 let mut props = props;
                 let rest = self.attach_textures(&mut props, nested, false)?;
-                let normal_map = props
-                    .textures()
-                    .iter()
-                    .find(|(n, _)| n == "normalmap")
-                    .map(|(_, i)| *i)
-                    .ok_or_else(|| {
-                        props.object_error("normalmap needs a <texture name=\"normalmap\">")
-                    })?;
-                props.ignore(&["normalmap"]);
-                let flip_invalid_normals = props.boolean("flip_invalid_normals", true)?;
-                let use_shadowing_function = props.boolean("use_shadowing_function", true)?;
+                let (normal_map, flip_invalid_normals, use_shadowing_function) =
+                    bsdf::normalmap::params(&props)?;
                 props.finish()?;
                 let inner: Vec<&'a Element> = rest
                     .iter()
@@ -343,24 +322,18 @@ impl<'a> Loader<'a> {
                     use_shadowing_function,
                 }))
             }
-            _ if !BSDFS.contains(&t) => Err(builder::unsupported(el, "bsdf", UNSUPPORTED_BSDFS)),
             _ => {
+                let plugin = bsdf::plugin(Dialect::Mitsuba, t)
+                    .ok_or_else(|| bsdf::unsupported(el, Dialect::Mitsuba))?;
                 let mut props = props;
                 let rest = self.attach_textures(&mut props, nested, false)?;
                 if let Some(n) = rest.first() {
                     return Err(n.err(format!("unexpected <{}> in a {t} <bsdf>", n.tag)));
                 }
-                let bsdf = Bsdf::from_mitsuba(t, &props)?
-                    .ok_or_else(|| builder::unsupported(el, "bsdf", UNSUPPORTED_BSDFS))?;
-                let maps = TextureMaps::from_props(t, &props)?;
+                let bsdf = plugin
+                    .read(&props)
+                    .expect("the loader reads null, twosided, normalmap")?;
                 props.finish()?;
-                let bsdf = match maps {
-                    Some(maps) => Bsdf::Textured {
-                        bsdf: Box::new(bsdf),
-                        maps,
-                    },
-                    None => bsdf,
-                };
                 Ok(self.b.add_bsdf(bsdf))
             }
         }
@@ -567,9 +540,9 @@ impl<'a> Loader<'a> {
         let bsdf = match bsdf {
             Some(b) => b,
             // Mitsuba gives a light without a BSDF a black one (it reflects nothing).
-            None if radiance.is_some() => self.b.add_bsdf(Bsdf::Diffuse {
+            None if radiance.is_some() => self.b.add_bsdf(Bsdf::Diffuse(bsdf::Diffuse {
                 reflectance: Vec3::ZERO,
-            }),
+            })),
             None => self.b.default_bsdf(),
         };
         let flip_normals = props.boolean("flip_normals", false)?;
@@ -619,7 +592,10 @@ impl<'a> Loader<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::bsdf::Distribution;
+    use crate::scene::bsdf::{
+        Conductor, Dielectric, Diffuse, Distribution, Plastic, RoughConductor, RoughDielectric,
+        RoughPlastic, ThinDielectric,
+    };
     use crate::scene::sensor::perspective::fov_x;
     use crate::scene::testutil::{error_at, load, mitsuba, TRI_OBJ};
     use glam::{Mat4, Vec4};
@@ -789,9 +765,9 @@ mod tests {
         assert_eq!(s.meshes[0].bsdf, s.meshes[1].bsdf);
         assert_eq!(
             s.bsdfs[s.meshes[0].bsdf as usize],
-            Bsdf::Diffuse {
+            Bsdf::Diffuse(Diffuse {
                 reflectance: Vec3::new(0.8, 0.1, 0.1)
-            }
+            })
         );
         assert_eq!(s.meshes[2].bsdf, s.quadrics[0].bsdf);
         assert_eq!(s.bsdfs[s.meshes[2].bsdf as usize], Bsdf::default());
@@ -902,7 +878,7 @@ mod tests {
 <shape type="sphere"><emitter type="area"><spectrum name="radiance" value="400:0, 500:8, 600:15.6, 700:18.4"/></emitter></shape>"#;
         let s = load(&[("s.xml", &mitsuba(body))], &[]).unwrap();
         let refl = |i: usize| match s.bsdfs[i] {
-            Bsdf::Diffuse { reflectance } => reflectance,
+            Bsdf::Diffuse(Diffuse { reflectance }) => reflectance,
             ref other => panic!("{other:?}"),
         };
         assert_eq!(s.bsdfs[5], Bsdf::TwoSided(Box::new(s.bsdfs[4].clone())));
@@ -1087,67 +1063,71 @@ mod tests {
         let b = &s.bsdfs;
         assert_eq!(
             b[0],
-            Bsdf::Conductor {
+            Bsdf::Conductor(Conductor {
                 eta: Vec3::ZERO,
                 k: Vec3::ONE,
                 specular_reflectance: Vec3::ONE
-            }
+            })
         );
-        let Bsdf::Conductor {
+        let Bsdf::Conductor(Conductor {
             eta,
             k,
             specular_reflectance,
-        } = b[1]
+        }) = b[1]
         else {
             panic!("{:?}", b[1])
         };
         // Gold: low η and high κ in red (yellow colour).
         assert!(eta.x < 0.2 && eta.z > 1.4 && k.x > 3.9, "{eta} {k}");
         assert_eq!(specular_reflectance, Vec3::splat(0.5));
-        assert!(matches!(b[2], Bsdf::Conductor { eta, .. } if eta == Vec3::new(0.2, 0.9, 1.1)));
+        assert!(
+            matches!(b[2], Bsdf::Conductor(Conductor { eta, .. }) if eta == Vec3::new(0.2, 0.9, 1.1))
+        );
         assert!(matches!(
             b[3],
-            Bsdf::RoughConductor { distribution: Distribution::Beckmann, alpha_u, alpha_v, .. }
+            Bsdf::RoughConductor(RoughConductor { distribution: Distribution::Beckmann, alpha_u, alpha_v, .. })
                 if alpha_u == 0.1 && alpha_v == 0.1
         ));
         assert!(matches!(
             b[4],
-            Bsdf::RoughConductor { distribution: Distribution::Ggx, alpha_u, alpha_v, eta, .. }
+            Bsdf::RoughConductor(RoughConductor { distribution: Distribution::Ggx, alpha_u, alpha_v, eta, .. })
                 if alpha_u == 0.05 && alpha_v == 0.3 && eta.y > 0.9
         ));
         // alpha = 0 is clamped to 1e-4 as in Mitsuba.
-        assert!(matches!(b[5], Bsdf::RoughConductor { alpha_u, .. } if alpha_u == 1e-4));
         assert!(
-            matches!(b[6], Bsdf::Dielectric { eta, .. } if (eta - 1.5046 / 1.000277).abs() < 1e-6)
+            matches!(b[5], Bsdf::RoughConductor(RoughConductor { alpha_u, .. }) if alpha_u == 1e-4)
+        );
+        assert!(
+            matches!(b[6], Bsdf::Dielectric(Dielectric { eta, .. }) if (eta - 1.5046 / 1.000277).abs() < 1e-6)
         );
         assert!(matches!(
             b[7],
-            Bsdf::Dielectric { eta, specular_transmittance, .. }
+            Bsdf::Dielectric(Dielectric { eta, specular_transmittance, .. })
                 if (eta - 1.333 / 1.5).abs() < 1e-6 && specular_transmittance == Vec3::splat(0.9)
         ));
         assert!(matches!(
             b[8],
-            Bsdf::RoughDielectric { distribution: Distribution::Ggx, alpha_u, eta, .. }
+            Bsdf::RoughDielectric(RoughDielectric { distribution: Distribution::Ggx, alpha_u, eta, .. })
                 if alpha_u == 0.3 && (eta - 2.419 / 1.000277).abs() < 1e-5
         ));
         assert_eq!(
             b[9],
-            Bsdf::Plastic {
+            Bsdf::Plastic(Plastic {
                 diffuse_reflectance: Vec3::splat(0.5),
                 specular_reflectance: Vec3::ONE,
                 eta: 1.49 / 1.000277,
                 nonlinear: false
-            }
+            })
         );
         assert!(
-            matches!(b[10], Bsdf::Plastic { nonlinear: true, eta, .. } if (eta - 1.9 / 1.000277).abs() < 1e-6)
+            matches!(b[10], Bsdf::Plastic(Plastic { nonlinear: true, eta, .. }) if (eta - 1.9 / 1.000277).abs() < 1e-6)
         );
         assert!(matches!(
             b[11],
-            Bsdf::RoughPlastic { distribution: Distribution::Ggx, alpha, .. } if alpha == 0.2
+            Bsdf::RoughPlastic(RoughPlastic { distribution: Distribution::Ggx, alpha, .. }) if alpha == 0.2
         ));
         assert!(
-            matches!(&b[13], Bsdf::TwoSided(inner) if matches!(**inner, Bsdf::RoughPlastic { .. }))
+            matches!(&b[13], Bsdf::TwoSided(inner) if matches!(**inner, Bsdf::RoughPlastic(RoughPlastic { .. })))
         );
     }
 
@@ -1343,19 +1323,19 @@ mod tests {
         .unwrap();
         assert_eq!(
             s.bsdfs[0],
-            Bsdf::ThinDielectric {
+            Bsdf::ThinDielectric(ThinDielectric {
                 eta: 1.5046 / 1.000277,
                 specular_reflectance: Vec3::ONE,
                 specular_transmittance: Vec3::ONE,
-            }
+            })
         );
         assert_eq!(
             s.bsdfs[1],
-            Bsdf::ThinDielectric {
+            Bsdf::ThinDielectric(ThinDielectric {
                 eta: 1.333,
                 specular_reflectance: Vec3::ONE,
                 specular_transmittance: Vec3::splat(0.5),
-            }
+            })
         );
         assert!(s.bsdfs[0].transmits() && s.bsdfs[0].is_thin_dielectric());
     }

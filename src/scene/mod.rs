@@ -274,6 +274,7 @@ pub(crate) mod testutil {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::bsdf::{Dielectric, Diffuse, NoriMicrofacet};
     use std::path::Path;
 
     /// The shared scene suites, relative to the crate root (as in CI).
@@ -313,9 +314,9 @@ mod tests {
             );
             // The red wall is red, the green wall green.
             let refl = |mesh: usize| match &s.bsdfs[s.meshes[mesh].bsdf as usize] {
-                Bsdf::Diffuse { reflectance } => *reflectance,
+                Bsdf::Diffuse(Diffuse { reflectance }) => *reflectance,
                 Bsdf::TwoSided(inner) => match **inner {
-                    Bsdf::Diffuse { reflectance } => reflectance,
+                    Bsdf::Diffuse(Diffuse { reflectance }) => reflectance,
                     ref other => panic!("{other:?}"),
                 },
                 other => panic!("{other:?}"),
@@ -335,14 +336,13 @@ mod tests {
     fn nori_table_bsdfs_and_missing_mesh() {
         // Nori's table scene: microfacet, dielectrics with intIOR/extIOR, diffuse.
         let s = load(&shared("nori/table/table_path_mis.xml"), &[]).unwrap();
-        assert!(s
-            .bsdfs
-            .iter()
-            .any(|b| matches!(b, Bsdf::NoriMicrofacet { alpha, .. } if *alpha == 0.1)));
+        assert!(s.bsdfs.iter().any(
+            |b| matches!(b, Bsdf::NoriMicrofacet(NoriMicrofacet { alpha, .. }) if *alpha == 0.1)
+        ));
         let dielectrics = s
             .bsdfs
             .iter()
-            .filter(|b| matches!(b, Bsdf::Dielectric { .. }))
+            .filter(|b| matches!(b, Bsdf::Dielectric(Dielectric { .. })))
             .count();
         assert_eq!(dielectrics, 3);
         let e = load(&shared("nori/sphere/sphere_ao_ems.xml"), &[]).unwrap_err();

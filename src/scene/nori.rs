@@ -10,14 +10,15 @@
 //! invisible index-matched box with the medium inside, as the volume-with-bounding-box
 //! form of Nori course renderers.
 
-use super::builder::{self, Builder, MeshOptions, UNSUPPORTED_BSDFS};
+use super::bsdf;
+use super::builder::{Builder, MeshOptions};
 use super::emitter;
 use super::integrator;
 use super::properties::Properties;
 use super::sensor;
 use super::shape;
 use super::xml::{Dialect, Document, Element};
-use super::{Bsdf, Error, Medium, Sampler, Scene};
+use super::{Error, Medium, Sampler, Scene};
 
 /// Loads a Nori scene read by [`super::xml::read`].
 pub fn load(doc: &Document) -> Result<Scene, Error> {
@@ -146,15 +147,15 @@ fn medium(el: &Element, b: &mut Builder) -> Result<(), Error> {
 fn nori_bsdf(el: &Element, b: &mut Builder) -> Result<u32, Error> {
     el.check_attrs(&["type"])?;
     let t = el.require("type")?;
-    if !["diffuse", "mirror", "dielectric", "microfacet"].contains(&t) {
-        return Err(builder::unsupported(el, "bsdf", UNSUPPORTED_BSDFS));
-    }
+    let plugin =
+        bsdf::plugin(Dialect::Nori, t).ok_or_else(|| bsdf::unsupported(el, Dialect::Nori))?;
     let (props, nested) = Properties::read(el, Dialect::Nori, false)?;
     if let Some(n) = nested.first() {
         return Err(n.err(format!("unexpected <{}> in <bsdf>", n.tag)));
     }
-    let bsdf = Bsdf::from_nori(t, &props)?
-        .ok_or_else(|| builder::unsupported(el, "bsdf", UNSUPPORTED_BSDFS))?;
+    let bsdf = plugin
+        .read(&props)
+        .expect("Nori's BSDFs read their parameters")?;
     props.finish()?;
     Ok(b.add_bsdf(bsdf))
 }
@@ -174,7 +175,7 @@ fn top_emitter(el: &Element, b: &mut Builder) -> Result<(), Error> {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use crate::scene::bsdf::{Bsdf, Conductor, Dielectric, Diffuse, NoriMicrofacet};
     use crate::scene::testutil::{error_at, load, TRI_OBJ};
     use crate::scene::Emitter;
     use glam::Vec3;
@@ -254,9 +255,9 @@ mod tests {
         assert_eq!(s.meshes[0].uvs[2], glam::Vec2::new(0.0, 1.0));
         assert_eq!(
             s.bsdfs[s.meshes[0].bsdf as usize],
-            Bsdf::Diffuse {
+            Bsdf::Diffuse(Diffuse {
                 reflectance: Vec3::new(0.2, 0.4, 0.6)
-            }
+            })
         );
         assert_eq!(s.bsdfs[s.meshes[1].bsdf as usize], Bsdf::default());
         assert_eq!(
@@ -320,23 +321,23 @@ mod tests {
         let s = load(&[("s.xml", &xml), ("t.obj", TRI_OBJ)], &[]).unwrap();
         assert_eq!(
             s.bsdfs[0],
-            Bsdf::Conductor {
+            Bsdf::Conductor(Conductor {
                 eta: Vec3::ZERO,
                 k: Vec3::ONE,
                 specular_reflectance: Vec3::ONE
-            }
+            })
         );
         assert!(
-            matches!(s.bsdfs[1], Bsdf::Dielectric { eta, .. } if (eta - 1.5046 / 1.000277).abs() < 1e-6)
+            matches!(s.bsdfs[1], Bsdf::Dielectric(Dielectric { eta, .. }) if (eta - 1.5046 / 1.000277).abs() < 1e-6)
         );
-        assert!(matches!(s.bsdfs[2], Bsdf::Dielectric { eta, .. } if eta == 1.33));
+        assert!(matches!(s.bsdfs[2], Bsdf::Dielectric(Dielectric { eta, .. }) if eta == 1.33));
         assert_eq!(
             s.bsdfs[3],
-            Bsdf::NoriMicrofacet {
+            Bsdf::NoriMicrofacet(NoriMicrofacet {
                 alpha: 0.28,
                 eta: 1.5046 / 1.000277,
                 kd: Vec3::new(0.2, 0.2, 0.4)
-            }
+            })
         );
         let r = crate::gpu::layout::BsdfRecord::from(&s.bsdfs[3]);
         assert!((r.specular_weight - 0.6).abs() < 1e-6, "ks = 1 - max(kd)");

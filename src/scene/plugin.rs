@@ -193,7 +193,7 @@ pub fn find<'a>(
 /// `docs/plugins.md` is [`markdown`] of it.
 pub fn catalogue() -> Vec<PluginDoc> {
     [
-        // BSDFs: the bsdf family's registry joins here.
+        super::bsdf::REGISTRY,
         super::emitter::REGISTRY,
         super::shape::REGISTRY,
         super::sensor::REGISTRY,
@@ -434,7 +434,14 @@ mod tests {
                     ""
                 }
             ),
-            Family::Bsdf | Family::Integrator => return None,
+            // A normal map needs its texture and a nested BSDF besides its flags.
+            Family::Bsdf if t == "normalmap" => format!(
+                r#"{default_sensor}<shape type="rectangle"><bsdf type="{t}"><texture type="checkerboard" name="normalmap"/><bsdf type="diffuse"/>{body}</bsdf></shape>"#
+            ),
+            Family::Bsdf => format!(
+                r#"{default_sensor}<shape type="rectangle"><bsdf type="{t}">{body}</bsdf></shape>"#
+            ),
+            Family::Integrator => return None,
         };
         Some(format!("<scene version=\"3.0.0\">\n{objects}\n</scene>\n"))
     }
@@ -446,8 +453,16 @@ mod tests {
     #[test]
     fn plugin_docs_list_parameters_the_parser_reads() {
         // Read only beside another parameter: an area emitter's scale multiplies a
-        // radiance texture; fov_axis says along which axis fov is measured.
-        const ONLY_WITH_OTHERS: &[(&str, &str)] = &[("area", "scale"), ("perspective", "fov_axis")];
+        // radiance texture; fov_axis says along which axis fov is measured; the
+        // rough models' alpha_u and alpha_v come as a pair.
+        const ONLY_WITH_OTHERS: &[(&str, &str)] = &[
+            ("area", "scale"),
+            ("perspective", "fov_axis"),
+            ("roughconductor", "alpha_u"),
+            ("roughconductor", "alpha_v"),
+            ("roughdielectric", "alpha_u"),
+            ("roughdielectric", "alpha_v"),
+        ];
         let mut checked = 0;
         let mut failed = Vec::new();
         for p in catalogue() {
@@ -527,6 +542,9 @@ mod tests {
                 r#"{camera}<medium type="{t}">{}{}{body}</medium>"#,
                 given("bounds_min", r#"<point name="bounds_min" value="0,0,0"/>"#),
                 given("bounds_max", r#"<point name="bounds_max" value="1,1,1"/>"#)
+            ),
+            Family::Bsdf => format!(
+                r#"{camera}<mesh type="obj"><string name="filename" value="t.obj"/><bsdf type="{t}">{body}</bsdf></mesh>"#
             ),
             _ => return None,
         };

@@ -21,6 +21,7 @@ use glam::Vec3;
 
 use crate::gpu::layout::BsdfRecord;
 use crate::gpu::{Device, Result};
+use crate::scene::bsdf::LobeAxis;
 use crate::scene::Bsdf;
 
 pub use chi2::{chi2, gamma_q, sidak, Chi2};
@@ -78,22 +79,10 @@ impl Axis {
     /// The axis that resolves `bsdf`'s lobe best: the mirror (or refracted) direction
     /// for roughness below 0.2, else the normal.
     pub fn for_bsdf(bsdf: &Bsdf) -> Axis {
-        match bsdf {
-            Bsdf::RoughConductor {
-                alpha_u, alpha_v, ..
-            } if alpha_u.max(*alpha_v) < 0.2 => Axis::Reflect,
-            Bsdf::RoughPlastic { alpha, .. } | Bsdf::NoriMicrofacet { alpha, .. }
-                if *alpha < 0.2 =>
-            {
-                Axis::Reflect
-            }
-            Bsdf::RoughDielectric {
-                alpha_u,
-                alpha_v,
-                eta,
-                ..
-            } if alpha_u.max(*alpha_v) < 0.2 => Axis::Refract(*eta),
-            _ => Axis::Normal,
+        match bsdf.model().lobe_axis() {
+            LobeAxis::Normal => Axis::Normal,
+            LobeAxis::Reflect => Axis::Reflect,
+            LobeAxis::Refract(eta) => Axis::Refract(eta),
         }
     }
 }

@@ -4,10 +4,11 @@
 use glam::Vec3;
 
 use super::{Axis, Target, Warp};
-use crate::scene::bsdf::{Bsdf, Distribution};
+use crate::scene::bsdf::{self, Distribution, TestParams};
 
-/// Every name [`parse`] knows, for help and error messages.
-pub const NAMES: &[&str] = &[
+/// The warps, microfacet distributions and phase functions [`parse`] knows; its BSDFs
+/// are those of `scene::bsdf`'s registry with a warptest ([`bsdf::warptests`]).
+const NAMES: &[&str] = &[
     "square_to_disk",
     "uniform_triangle",
     "uniform_hemisphere",
@@ -16,16 +17,35 @@ pub const NAMES: &[&str] = &[
     "uniform_cap",
     "beckmann",
     "ggx",
-    "diffuse",
-    "roughconductor",
-    "roughdielectric",
-    "plastic",
-    "roughplastic",
-    "nori_microfacet",
     "hg",
     "isotropic",
     "mismatched_cosine",
 ];
+
+/// Every name [`parse`] knows, for help and error messages: the warps and
+/// distributions, the BSDFs, the phase functions.
+pub fn names() -> Vec<&'static str> {
+    let (before, after) = NAMES.split_at(8);
+    let bsdfs = bsdf::warptests().map(|w| w.kind.name);
+    before
+        .iter()
+        .copied()
+        .chain(bsdfs)
+        .chain(after.iter().copied())
+        .collect()
+}
+
+/// The command line's help for the target: every name, by what it samples.
+pub fn help() -> String {
+    let bsdfs: Vec<&str> = bsdf::warptests().map(|w| w.kind.name).collect();
+    format!(
+        "What to sample: a warp (square_to_disk, uniform_triangle, uniform_hemisphere, \
+         cosine_hemisphere, uniform_sphere, uniform_cap), microfacet normals (beckmann, ggx), \
+         a BSDF ({}), a phase function (hg, isotropic), or mismatched_cosine (a \
+         deliberately wrong pdf: it fails)",
+        bsdfs.join(", ")
+    )
+}
 
 /// Parameters of a test target; `None` takes the default, and a parameter the
 /// target does not have is an error.
@@ -52,6 +72,36 @@ pub struct Params {
     pub cos_max: Option<f32>,
 }
 
+/// `v` when it is a positive number, else the error for option `--what`.
+fn positive(what: &str, v: f32) -> Result<f32, String> {
+    if v > 0.0 && v.is_finite() {
+        Ok(v)
+    } else {
+        Err(format!("--{what} must be a positive number, found {v}"))
+    }
+}
+
+/// The incident direction of `--theta` and `--phi` (degrees; default 30 and 0).
+fn incident(p: &Params) -> Result<Vec3, String> {
+    let (t, f) = (p.theta.unwrap_or(30.0), p.phi.unwrap_or(0.0));
+    if !(0.0..=180.0).contains(&t) || !f.is_finite() {
+        return Err(format!(
+            "--theta must lie in [0, 180] degrees (and --phi be finite), found {t}, {f}"
+        ));
+    }
+    let (t, f) = (t.to_radians(), f.to_radians());
+    Ok(Vec3::new(t.sin() * f.cos(), t.sin() * f.sin(), t.cos()))
+}
+
+/// `w` as its polar and azimuthal angles, for the description.
+fn angle(w: Vec3) -> String {
+    format!(
+        "wo at θ = {:.1}°, φ = {:.1}°",
+        w.z.clamp(-1.0, 1.0).acos().to_degrees(),
+        w.y.atan2(w.x).to_degrees()
+    )
+}
+
 /// The target called `name` with `p`, and a one-line description of it.
 pub fn parse(name: &str, p: &Params) -> Result<(Target, String), String> {
     let used = |allowed: &[&str]| -> Result<(), String> {
@@ -69,13 +119,6 @@ pub fn parse(name: &str, p: &Params) -> Result<(Target, String), String> {
         match given.iter().find(|(k, set)| *set && !allowed.contains(k)) {
             Some((k, _)) => Err(format!("--{k} does not apply to '{name}'")),
             None => Ok(()),
-        }
-    };
-    let positive = |what: &str, v: f32| {
-        if v > 0.0 && v.is_finite() {
-            Ok(v)
-        } else {
-            Err(format!("--{what} must be a positive number, found {v}"))
         }
     };
     let roughness = |anisotropic: bool| -> Result<(f32, f32), String> {
@@ -110,23 +153,6 @@ pub fn parse(name: &str, p: &Params) -> Result<(Target, String), String> {
         }
         Ok(e)
     };
-    let wo = || -> Result<Vec3, String> {
-        let (t, f) = (p.theta.unwrap_or(30.0), p.phi.unwrap_or(0.0));
-        if !(0.0..=180.0).contains(&t) || !f.is_finite() {
-            return Err(format!(
-                "--theta must lie in [0, 180] degrees (and --phi be finite), found {t}, {f}"
-            ));
-        }
-        let (t, f) = (t.to_radians(), f.to_radians());
-        Ok(Vec3::new(t.sin() * f.cos(), t.sin() * f.sin(), t.cos()))
-    };
-    let angle = |w: Vec3| {
-        format!(
-            "wo at θ = {:.1}°, φ = {:.1}°",
-            w.z.clamp(-1.0, 1.0).acos().to_degrees(),
-            w.y.atan2(w.x).to_degrees()
-        )
-    };
     let warp = |w: Warp, what: &str| Ok((Target::Warp(w), what.to_string()));
     match name {
         "square_to_disk" | "uniform_triangle" | "uniform_hemisphere" | "cosine_hemisphere"
@@ -158,7 +184,7 @@ pub fn parse(name: &str, p: &Params) -> Result<(Target, String), String> {
         "beckmann" | "ggx" => {
             used(&["alpha", "alpha-u", "alpha-v", "theta", "phi"])?;
             let (au, av) = roughness(true)?;
-            let wo = wo()?;
+            let wo = incident(p)?;
             let what = format!("{name} microfacet normals, α = ({au}, {av}), {}", angle(wo));
             warp(
                 Warp::Microfacet {
@@ -184,109 +210,54 @@ pub fn parse(name: &str, p: &Params) -> Result<(Target, String), String> {
             if !(g > -1.0 && g < 1.0) {
                 return Err(format!("--g must lie in (-1, 1), found {g}"));
             }
-            let wo = wo()?;
+            let wo = incident(p)?;
             Ok((
                 Target::Phase { g, wo },
                 format!("Henyey-Greenstein g = {g}, {}", angle(wo)),
             ))
         }
-        "diffuse" | "roughconductor" | "roughdielectric" | "plastic" | "roughplastic"
-        | "nori_microfacet" => {
-            let bsdf = match name {
-                "diffuse" => {
-                    used(&["theta", "phi"])?;
-                    Bsdf::Diffuse {
-                        reflectance: Vec3::splat(0.5),
-                    }
-                }
-                "roughconductor" => {
-                    used(&[
-                        "alpha",
-                        "alpha-u",
-                        "alpha-v",
-                        "distribution",
-                        "theta",
-                        "phi",
-                    ])?;
-                    let (alpha_u, alpha_v) = roughness(true)?;
-                    Bsdf::RoughConductor {
-                        distribution: distribution()?,
-                        alpha_u,
-                        alpha_v,
-                        // Copper (Mitsuba's "Cu" at the RGB primaries).
-                        eta: Vec3::new(0.2, 0.92, 1.1),
-                        k: Vec3::new(3.9, 2.46, 2.14),
-                        specular_reflectance: Vec3::ONE,
-                    }
-                }
-                "roughdielectric" => {
-                    used(&[
-                        "alpha",
-                        "alpha-u",
-                        "alpha-v",
-                        "distribution",
-                        "eta",
-                        "theta",
-                        "phi",
-                    ])?;
-                    let (alpha_u, alpha_v) = roughness(true)?;
-                    Bsdf::RoughDielectric {
-                        distribution: distribution()?,
-                        alpha_u,
-                        alpha_v,
-                        eta: eta()?,
-                        specular_reflectance: Vec3::ONE,
-                        specular_transmittance: Vec3::ONE,
-                    }
-                }
-                "plastic" => {
-                    used(&["eta", "theta", "phi"])?;
-                    Bsdf::Plastic {
-                        diffuse_reflectance: Vec3::splat(0.5),
-                        specular_reflectance: Vec3::ONE,
-                        eta: eta()?,
-                        nonlinear: false,
-                    }
-                }
-                "roughplastic" => {
-                    used(&["alpha", "distribution", "eta", "theta", "phi"])?;
-                    Bsdf::RoughPlastic {
-                        distribution: distribution()?,
-                        alpha: roughness(false)?.0,
-                        diffuse_reflectance: Vec3::splat(0.5),
-                        specular_reflectance: Vec3::ONE,
-                        eta: eta()?,
-                        nonlinear: false,
-                    }
-                }
-                _ => {
-                    used(&["alpha", "eta", "theta", "phi"])?;
-                    Bsdf::NoriMicrofacet {
-                        alpha: roughness(false)?.0,
-                        eta: eta()?,
-                        kd: Vec3::splat(0.5),
-                    }
-                }
-            };
-            let wo = wo()?;
-            let axis = Axis::for_bsdf(&bsdf);
-            let what = format!("{name} {bsdf:?}, {}", angle(wo));
-            Ok((Target::Bsdf { bsdf, wo, axis }, what))
-        }
-        _ => Err(format!(
-            "unknown warptest target '{name}'; one of: {}",
-            NAMES.join(", ")
-        )),
+        _ => match bsdf::warptests().find(|w| w.kind.name == name) {
+            Some(test) => {
+                let mut allowed = vec!["theta", "phi"];
+                allowed.extend(test.params);
+                used(&allowed)?;
+                let anisotropic = test.params.contains(&"alpha-u");
+                let (alpha_u, alpha_v) = if test.params.contains(&"alpha") {
+                    roughness(anisotropic)?
+                } else {
+                    (0.2, 0.2)
+                };
+                let bsdf = (test.make)(&TestParams {
+                    alpha_u,
+                    alpha_v,
+                    distribution: distribution()?,
+                    eta: if test.params.contains(&"eta") {
+                        eta()?
+                    } else {
+                        1.5
+                    },
+                });
+                let wo = incident(p)?;
+                let axis = Axis::for_bsdf(&bsdf);
+                let what = format!("{name} {bsdf:?}, {}", angle(wo));
+                Ok((Target::Bsdf { bsdf, wo, axis }, what))
+            }
+            None => Err(format!(
+                "unknown warptest target '{name}'; one of: {}",
+                names().join(", ")
+            )),
+        },
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::bsdf::{Bsdf, RoughConductor};
 
     #[test]
     fn names_parameters_and_errors() {
-        for name in NAMES {
+        for name in names() {
             assert!(parse(name, &Params::default()).is_ok(), "{name}");
         }
         let p = Params {
@@ -300,7 +271,7 @@ mod tests {
             panic!("{t:?}")
         };
         assert!(
-            matches!(bsdf, Bsdf::RoughConductor { alpha_u, alpha_v, .. } if alpha_u == 0.1 && alpha_v == 0.4)
+            matches!(bsdf, Bsdf::RoughConductor(RoughConductor { alpha_u, alpha_v, .. }) if alpha_u == 0.1 && alpha_v == 0.4)
         );
         assert!((wo.z - 0.5).abs() < 1e-6);
         let err = |name: &str, p: Params| parse(name, &p).unwrap_err();
