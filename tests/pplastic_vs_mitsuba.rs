@@ -9,13 +9,21 @@
 //! D = exp(-tan²θm / α²) / ... carries its argument's relative error times x =
 //! tan²θm / α². So |GPU - Mitsuba| <= (64 + 4 min(x, 50)) ε |Mitsuba| + 1e-7 max(eval) (the last
 //! for terms that cancel to nothing, e.g. the specular lobe far from the mirror).
+//!
+//! And a scene rendered by both: two pplastic spheres under a constant sky and an
+//! area light (tests/data/pplastic_spheres.xml), against Mitsuba's render
+//! (`python3 tools/mitsuba_ref.py tests/data/pplastic_spheres.xml -o
+//! tests/data/pplastic_spheres_ref.exr --spp 16384 --variant scalar_rgb`) within noise.
 
 mod common;
 
 use common::stats::bsdf_probe;
+use common::{assert_matches_reference_at, device, repo};
 use glam::Vec3;
 use serde_json::Value;
 use wavetrace::gpu::layout::BsdfRecord;
+use wavetrace::image::Image;
+use wavetrace::render::RenderOptions;
 use wavetrace::scene::bsdf::{Bsdf, Distribution, PPlastic};
 
 const EPS: f64 = f32::EPSILON as f64 / 2.0;
@@ -47,7 +55,7 @@ fn exponent(b: &PPlastic, wo: Vec3, wi: Vec3) -> f64 {
 
 #[test]
 fn eval_and_pdf_match_mitsuba() {
-    let text = std::fs::read_to_string(common::repo("tests/data/pplastic_values.json"))
+    let text = std::fs::read_to_string(repo("tests/data/pplastic_values.json"))
         .expect("tests/data/pplastic_values.json (python3 tools/mitsuba_bsdf_values.py)");
     let data: Value = serde_json::from_str(&text).expect("JSON");
     let probe = bsdf_probe();
@@ -116,4 +124,14 @@ fn eval_and_pdf_match_mitsuba() {
         assert!(loosest < 2e-5, "{name}: tolerance {loosest}");
     }
     assert!(checked >= 250, "{checked} pairs");
+}
+
+#[test]
+fn spheres_render_as_mitsuba() {
+    let scene = common::load(&repo("tests/data/pplastic_spheres.xml"));
+    let reference = Image::read_exr(repo("tests/data/pplastic_spheres_ref.exr"))
+        .expect("tests/data/pplastic_spheres_ref.exr");
+    let img = common::render(&device(), &scene, &RenderOptions::default(), 256);
+    assert_eq!(img.non_finite_count(), 0);
+    assert_matches_reference_at(&img, &reference, "pplastic spheres, path, 256 spp", 0.01);
 }
