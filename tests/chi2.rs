@@ -15,13 +15,13 @@ use glam::{Vec2, Vec3};
 use wavetrace::gpu::layout::BsdfRecord;
 use wavetrace::scene::bsdf::{
     fresnel_dielectric, Bsdf, Conductor, Dielectric, Diffuse, Distribution, NoriMicrofacet,
-    Plastic, RoughConductor, RoughDielectric, RoughPlastic,
+    PPlastic, Plastic, RoughConductor, RoughDielectric, RoughPlastic,
 };
 use wavetrace::warptest::{test_bsdf, test_warp, Axis, Outcome};
 
-/// At least as many chi-square tests as this file runs (90 now; Šidák correction, a
+/// At least as many chi-square tests as this file runs (102 now; Šidák correction, a
 /// larger m only makes each test slightly more lenient).
-const TESTS_IN_FILE: usize = 96;
+const TESTS_IN_FILE: usize = 108;
 /// Family-wise significance of the file.
 const ALPHA: f64 = 0.01;
 
@@ -371,6 +371,40 @@ fn diffuse_plastics_and_nori() {
 
 /// Smooth models sample delta lobes only: exact mirror / refraction directions, the
 /// reflected fraction follows Fresnel (binomial 5σ), weights as documented.
+/// Mitsuba's `pplastic`: microfacet lobe with the fixed probability s / (d + s), else
+/// cosine-weighted; both distributions, sharp, rough and anisotropic.
+#[test]
+fn pplastic() {
+    let probe = bsdf_probe();
+    for distribution in [Distribution::Beckmann, Distribution::Ggx] {
+        for (au, av) in [(0.05f32, 0.05f32), (0.4, 0.4), (0.1, 0.5)] {
+            let b = Bsdf::PPlastic(PPlastic {
+                distribution,
+                alpha_u: au,
+                alpha_v: av,
+                diffuse_reflectance: Vec3::new(0.6, 0.3, 0.2),
+                specular_reflectance: Vec3::ONE,
+                eta: 1.49,
+            });
+            for wo in [dir(15.0, 10.0), dir(75.0, 300.0)] {
+                let axis = if au.max(av) < 0.2 {
+                    Axis::Reflect
+                } else {
+                    Axis::Normal
+                };
+                bsdf_case(
+                    &probe,
+                    &format!("pplastic {distribution:?} α = ({au}, {av})"),
+                    &b,
+                    wo,
+                    axis,
+                    10,
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn smooth_delta_models() {
     let probe = bsdf_probe();

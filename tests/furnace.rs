@@ -17,7 +17,8 @@ use glam::Vec3;
 use wavetrace::gpu::layout::BsdfRecord;
 use wavetrace::scene::bsdf::{
     thin_dielectric_reflectance, Bsdf, Conductor, Dielectric, Diffuse, Distribution,
-    NoriMicrofacet, Plastic, RoughConductor, RoughDielectric, RoughPlastic, ThinDielectric,
+    NoriMicrofacet, PPlastic, Plastic, RoughConductor, RoughDielectric, RoughPlastic,
+    ThinDielectric,
 };
 
 use common::albedo::{self, Ndf, Quadrature};
@@ -316,6 +317,33 @@ fn plastic_albedo_matches_quadrature() {
         assert_albedos(&probe, &name, &b, 1.0, false, |mu| {
             albedo::plastic(0.5, 1.49, nonlinear, mu)
         });
+    }
+}
+
+/// Mitsuba's `pplastic`, white and grey bases, both distributions, α up to 1, against
+/// the quadrature of its model (`albedo::pplastic`): it never gains energy, and loses
+/// what its ad-hoc sum drops (no internal scattering between the two refractions).
+#[test]
+fn pplastic_albedo_matches_quadrature() {
+    let probe = bsdf_probe();
+    for (distribution, kind) in [
+        (Distribution::Beckmann, Ndf::Beckmann),
+        (Distribution::Ggx, Ndf::Ggx),
+    ] {
+        for (alpha, rho) in [(0.05f32, 1.0f32), (0.3, 0.5), (1.0, 1.0)] {
+            let b = Bsdf::PPlastic(PPlastic {
+                distribution,
+                alpha_u: alpha,
+                alpha_v: alpha,
+                diffuse_reflectance: Vec3::splat(rho),
+                specular_reflectance: Vec3::ONE,
+                eta: 1.49,
+            });
+            let name = format!("pplastic ρ = {rho} {distribution:?} α = {alpha}");
+            assert_albedos(&probe, &name, &b, 1.0, false, |mu| {
+                albedo::pplastic(kind, alpha as f64, rho as f64, 1.49, mu)
+            });
+        }
     }
 }
 

@@ -303,6 +303,21 @@ pub fn rough_plastic(
     RoughPlastic { specular, diffuse }
 }
 
+/// Mitsuba's `pplastic` (RGB variants) with grey diffuse `rho` and index `eta`: the
+/// rough interface's reflection plus ρ (1 - F(μo)) · 2 ∫ (1 - F(μ)) μ dμ (the
+/// Lambertian lobe seen through a smooth refraction in and one out, no internal
+/// scattering).
+pub fn pplastic(kind: Ndf, alpha: f64, rho: f64, eta: f64, mu: f64) -> Quadrature {
+    let specular = refine(PANELS, |p| interface(kind, alpha, Some(eta), mu, p, true));
+    let diffuse = refine(64, |p| {
+        rho * (1.0 - fresnel(mu, eta)) * cosine_mean(p, |m| 1.0 - fresnel(m, eta))
+    });
+    Quadrature {
+        value: specular.value + diffuse.value,
+        error: specular.error + diffuse.error,
+    }
+}
+
 /// Nori's microfacet (Beckmann) with diffuse `kd` (grey) and relative index `eta`:
 /// kd + ks ∫ D F G (wo·m) / cos θo dm over the upper hemisphere, ks = 1 - kd.
 pub fn nori_microfacet(alpha: f64, kd: f64, eta: f64, mu: f64) -> Quadrature {

@@ -20,6 +20,7 @@
 //! | [`roughdielectric`] | `roughdielectric` | |
 //! | [`plastic`] | `plastic` | |
 //! | [`roughplastic`] | `roughplastic` | |
+//! | [`pplastic`] | `pplastic` | |
 //! | [`nori_microfacet`] | | `microfacet` |
 //! | [`twosided`], [`normalmap`], [`null`] | wrappers the loader reads (they nest BSDFs or none) | |
 //!
@@ -38,6 +39,7 @@ pub mod nori_microfacet;
 pub mod normalmap;
 pub mod null;
 pub mod plastic;
+pub mod pplastic;
 pub mod roughconductor;
 pub mod roughdielectric;
 pub mod roughplastic;
@@ -64,6 +66,7 @@ pub use kinds::Kind;
 pub use microfacet::{rough_reflectance, Distribution};
 pub use nori_microfacet::NoriMicrofacet;
 pub use plastic::Plastic;
+pub use pplastic::PPlastic;
 pub use roughconductor::RoughConductor;
 pub use roughdielectric::RoughDielectric;
 pub use roughplastic::{rough_coating_tables, RoughPlastic};
@@ -81,6 +84,7 @@ pub const PLUGINS: &[Plugin] = &[
     roughdielectric::MITSUBA,
     plastic::MITSUBA,
     roughplastic::MITSUBA,
+    pplastic::MITSUBA,
     twosided::MITSUBA,
     normalmap::MITSUBA,
     null::MITSUBA,
@@ -92,7 +96,6 @@ pub const PLUGINS: &[Plugin] = &[
     Plugin::not_yet("measured"),
     Plugin::not_yet("measured_polarized"),
     Plugin::not_yet("polarizer"),
-    Plugin::not_yet("pplastic"),
     Plugin::not_yet("principled"),
     Plugin::not_yet("principledthin"),
     Plugin::not_yet("retarder"),
@@ -261,6 +264,7 @@ pub enum Bsdf {
     RoughDielectric(RoughDielectric),
     Plastic(Plastic),
     RoughPlastic(RoughPlastic),
+    PPlastic(PPlastic),
     NoriMicrofacet(NoriMicrofacet),
     /// Mitsuba `twosided` with one nested BSDF without transmission: both faces use
     /// it ([`twosided`]).
@@ -297,6 +301,7 @@ impl Bsdf {
             Bsdf::RoughDielectric(m) => m,
             Bsdf::Plastic(m) => m,
             Bsdf::RoughPlastic(m) => m,
+            Bsdf::PPlastic(m) => m,
             Bsdf::NoriMicrofacet(m) => m,
             Bsdf::TwoSided(inner) => inner.model(),
             Bsdf::Textured { bsdf, .. } | Bsdf::NormalMap { bsdf, .. } => bsdf.model(),

@@ -1,0 +1,127 @@
+#!/usr/bin/env python3
+"""Mitsuba 3's own BSDF eval and pdf at fixed (wo, wi) pairs, the reference of
+tests/pplastic_vs_mitsuba.rs.
+
+    python3 tools/mitsuba_bsdf_values.py > tests/data/pplastic_values.json
+
+Runs Mitsuba 3.9.1 (pip `mitsuba`) in `scalar_rgb` (single precision, as the GPU).
+Directions follow wavetrace's convention: `wo` towards the viewer (Mitsuba's
+`si.wi`), `wi` towards the light (the `wo` argument of Mitsuba's `eval`/`pdf`), both
+in the local frame, rounded to f32 before Mitsuba sees them. Each case stores its
+Mitsuba dictionary and the parameters Mitsuba resolved (`eta` read back with
+`mi.traverse`), which the test packs into wavetrace's record directly.
+
+Beckmann cases set `sample_visible` false: wavetrace samples Beckmann's full normal
+distribution (shaders/bsdf/microfacet.glsl), whose pdf is Mitsuba's with that flag;
+eval does not depend on it.
+"""
+import json
+import math
+import random
+import struct
+
+import mitsuba as mi
+
+mi.set_variant("scalar_rgb")
+
+CASES = [
+    ("defaults", {"type": "pplastic", "sample_visible": False}),
+    ("ggx α 0.3, purple, 1.5 / 1.0", {
+        "type": "pplastic", "distribution": "ggx", "alpha": 0.3,
+        "diffuse_reflectance": {"type": "rgb", "value": [0.05, 0.03, 0.1]},
+        "int_ior": 1.5, "ext_ior": 1.0}),
+    ("ggx anisotropic, bk7, tinted specular", {
+        "type": "pplastic", "distribution": "ggx", "alpha_u": 0.1, "alpha_v": 0.4,
+        "diffuse_reflectance": {"type": "rgb", "value": [0.6, 0.3, 0.2]},
+        "specular_reflectance": {"type": "rgb", "value": [0.8, 0.9, 1.0]},
+        "int_ior": "bk7"}),
+    ("beckmann α 0.5, eta 1.33", {
+        "type": "pplastic", "distribution": "beckmann", "alpha": 0.5, "eta": 1.33,
+        "sample_visible": False,
+        "diffuse_reflectance": {"type": "rgb", "value": [0.9, 0.9, 0.9]}}),
+    ("beckmann anisotropic 0.05 / 0.2", {
+        "type": "pplastic", "distribution": "beckmann", "alpha_u": 0.05, "alpha_v": 0.2,
+        "sample_visible": False, "int_ior": 1.9}),
+    ("ggx α 0.03", {
+        "type": "pplastic", "distribution": "ggx", "alpha": 0.03,
+        "diffuse_reflectance": {"type": "rgb", "value": [0.2, 0.5, 0.1]}}),
+]
+
+
+def f32(x):
+    return struct.unpack("f", struct.pack("f", x))[0]
+
+
+def unit(v):
+    n = math.sqrt(sum(c * c for c in v))
+    return [f32(c / n) for c in v]
+
+
+def direction(rng, lower=False):
+    mu = rng.uniform(0.02, 1.0)
+    phi = rng.uniform(0.0, 2.0 * math.pi)
+    s = math.sqrt(1.0 - mu * mu)
+    return unit([s * math.cos(phi), s * math.sin(phi), -mu if lower else mu])
+
+
+def pairs(rng, alpha):
+    out = []
+    for _ in range(24):  # anywhere over the hemisphere
+        out.append((direction(rng), direction(rng)))
+    for _ in range(24):  # near the mirror direction, within the lobe
+        wo = direction(rng)
+        r = [-wo[0], -wo[1], wo[2]]
+        spread = 1.5 * alpha
+        wi = unit([r[0] + rng.gauss(0, spread), r[1] + rng.gauss(0, spread), r[2]])
+        if wi[2] > 0:
+            out.append((wo, wi))
+    out.append((direction(rng), direction(rng, lower=True)))  # below: zero
+    out.append(([0.0, 0.0, 1.0], [0.0, 0.0, 1.0]))  # normal incidence
+    return out
+
+
+def main():
+    rng = random.Random(39)
+    ctx = mi.BSDFContext()
+    cases = []
+    for name, d in CASES:
+        bsdf = mi.load_dict(d)
+        params = mi.traverse(bsdf)
+        if "alpha.value" in params:
+            au = av = float(params["alpha.value"])
+        else:
+            au, av = float(params["alpha_u.value"]), float(params["alpha_v.value"])
+
+        def rgb(key, default):
+            k = key + ".value"
+            if k not in params:
+                return default
+            v = params[k]
+            return [float(c) for c in v] if hasattr(v, "__len__") else [float(v)] * 3
+
+        values = []
+        for wo, wi in pairs(rng, max(au, av)):
+            si = mi.SurfaceInteraction3f()
+            si.wi = mi.Vector3f(wo)
+            si.uv = mi.Point2f(0.5, 0.5)
+            e = bsdf.eval(ctx, si, mi.Vector3f(wi))
+            p = bsdf.pdf(ctx, si, mi.Vector3f(wi))
+            values.append({"wo": wo, "wi": wi, "eval": [float(e[0]), float(e[1]), float(e[2])],
+                           "pdf": float(p)})
+        cases.append({
+            "name": name,
+            "mitsuba": d,
+            "distribution": d.get("distribution", "beckmann"),
+            "alpha_u": au,
+            "alpha_v": av,
+            "diffuse_reflectance": rgb("diffuse_reflectance", [0.5, 0.5, 0.5]),
+            "specular_reflectance": rgb("specular_reflectance", [1.0, 1.0, 1.0]),
+            "eta": float(params["eta.value"]),
+            "values": values,
+        })
+    print(json.dumps({"mitsuba": mi.__version__, "variant": mi.variant(), "cases": cases},
+                     indent=1))
+
+
+if __name__ == "__main__":
+    main()
