@@ -71,13 +71,15 @@ pub enum Support {
 /// One parameter a plugin reads: its name in the scene file, its type as written
 /// there (`float`, `rgb`, `texture`, `string`, `boolean`, `integer`, `point`,
 /// `transform`, ...; `float|texture` where either is accepted), its default (empty
-/// when it has none or must be given) and one line of meaning.
+/// when it has none or must be given) and one line of meaning. `with`: the parameter
+/// it is read only together with (`alpha_u` with `alpha_v`), or empty.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Param {
     pub name: &'static str,
     pub ty: &'static str,
     pub default: &'static str,
     pub doc: &'static str,
+    pub with: &'static str,
 }
 
 impl Param {
@@ -92,6 +94,15 @@ impl Param {
             ty,
             default,
             doc,
+            with: "",
+        }
+    }
+
+    /// The same parameter, read only together with `partner`.
+    pub const fn with(self, partner: &'static str) -> Param {
+        Param {
+            with: partner,
+            ..self
         }
     }
 }
@@ -452,17 +463,10 @@ mod tests {
     /// type, are left out.
     #[test]
     fn plugin_docs_list_parameters_the_parser_reads() {
-        // Read only beside another parameter: an area emitter's scale multiplies a
-        // radiance texture; fov_axis says along which axis fov is measured; the
-        // rough models' alpha_u and alpha_v come as a pair.
-        const ONLY_WITH_OTHERS: &[(&str, &str)] = &[
-            ("area", "scale"),
-            ("perspective", "fov_axis"),
-            ("roughconductor", "alpha_u"),
-            ("roughconductor", "alpha_v"),
-            ("roughdielectric", "alpha_u"),
-            ("roughdielectric", "alpha_v"),
-        ];
+        // Read only beside a parameter of another kind than this test gives: an area
+        // emitter's scale multiplies a radiance texture; fov_axis says along which
+        // axis fov is measured. Pairs (`Param::with`) are given together.
+        const ONLY_WITH_OTHERS: &[(&str, &str)] = &[("area", "scale"), ("perspective", "fov_axis")];
         let mut checked = 0;
         let mut failed = Vec::new();
         for p in catalogue() {
@@ -476,9 +480,21 @@ mod tests {
                 if ONLY_WITH_OTHERS.contains(&(p.name, q.name)) {
                     continue;
                 }
-                let Some(tag) = value_tag(q, Dialect::Mitsuba) else {
+                let Some(mut tag) = value_tag(q, Dialect::Mitsuba) else {
                     continue;
                 };
+                if !q.with.is_empty() {
+                    let partner = p.params.iter().find(|o| o.name == q.with);
+                    let Some(partner_tag) = partner.and_then(|o| value_tag(o, Dialect::Mitsuba))
+                    else {
+                        failed.push(format!(
+                            "'{}' '{}': no partner '{}'",
+                            p.name, q.name, q.with
+                        ));
+                        continue;
+                    };
+                    tag += &partner_tag;
+                }
                 let Some(xml) = scene_with(&p, &tag) else {
                     continue;
                 };

@@ -29,13 +29,15 @@ pub(super) const ALPHA_U: Param = Param::new(
     "float|texture",
     "",
     "anisotropic roughness along the tangent (with alpha_v, instead of alpha)",
-);
+)
+.with("alpha_v");
 pub(super) const ALPHA_V: Param = Param::new(
     "alpha_v",
     "float|texture",
     "",
     "anisotropic roughness along the bitangent (with alpha_u)",
-);
+)
+.with("alpha_u");
 pub(super) const SAMPLE_VISIBLE: Param = Param::new(
     "sample_visible",
     "boolean",

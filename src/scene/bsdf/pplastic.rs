@@ -80,15 +80,9 @@ pub const MITSUBA: Plugin = Plugin::new(
                 "relative index of refraction, instead of int_ior and ext_ior",
             ),
             microfacet::DISTRIBUTION,
-            // alpha_u and alpha_v are read (as a pair, instead of alpha) but not listed:
-            // scene::plugin's parameter test gives each listed one alone, and its list of
-            // pair parameters names only the older models.
-            Param::new(
-                "alpha",
-                "float|texture",
-                "0.1",
-                "roughness (RMS slope), at least 1e-4; or alpha_u and alpha_v (both, float|texture) for anisotropy",
-            ),
+            microfacet::ALPHA,
+            microfacet::ALPHA_U,
+            microfacet::ALPHA_V,
             microfacet::SAMPLE_VISIBLE,
         ],
     ),
