@@ -131,7 +131,7 @@
 #define TAIL_PART 3 // + PART_HITS, PART_MISSES
 #define COUNTER_TAIL_STRIDE 32
 
-// Reconstruction filters (specialization constant 0 of film_gather).
+// Reconstruction filters (specialization constant FILM_FILTER of film_gather).
 #define FILTER_BOX 0u
 #define FILTER_TENT 1u
 #define FILTER_GAUSSIAN 2u

@@ -22,16 +22,17 @@
 // case, a load is the one image load it always was (the split loads' dead code would
 // cost llvmpipe 0.2 s of pipeline creation on every render).
 #ifdef SCENE_SPLIT
-layout(constant_id = 64) const uint SCENE_PART_SHIFT = 27u;
+#include "generated/spec_constants.glsl"
+SPEC(SCENE_PART_SHIFT);
 #define SCENE_PART_MASK ((1u << SCENE_PART_SHIFT) - 1u)
-layout(constant_id = 65) const uint BVH_NODE_PARTS = 1u;
-layout(constant_id = 66) const uint PRIM_PARTS = 1u;
-layout(constant_id = 68) const uint TRIANGLE_PARTS = 1u;
-layout(constant_id = 69) const uint VERTEX_PARTS = 1u;
-layout(constant_id = 74) const uint TEXEL_PARTS = 1u;
-layout(constant_id = 75) const uint DIST_PARTS = 1u;
-layout(constant_id = 77) const uint GRID_PARTS = 1u;
-layout(constant_id = 79) const uint GRID_PACKED_PARTS = 1u;
+SPEC(BVH_NODE_PARTS);
+SPEC(PRIM_PARTS);
+SPEC(TRIANGLE_PARTS);
+SPEC(VERTEX_PARTS);
+SPEC(TEXEL_PARTS);
+SPEC(DIST_PARTS);
+SPEC(GRID_PARTS);
+SPEC(GRID_PACKED_PARTS);
 #endif
 
 // BVH nodes and primitives: 4 and 3 uvec4 texels a record (bvh_node_load, prim_load).

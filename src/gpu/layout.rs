@@ -50,7 +50,7 @@ pub const MEDIUM_SAMPLE_EMITTERS: u32 = 1;
 /// [`MediumRecord::flags`]: the albedo grid has three channels.
 pub const MEDIUM_ALBEDO_RGB: u32 = 2;
 /// [`MediumRecord::flags`]: the density grid is in the packed-density buffer at
-/// `data`, one 16-byte texel per voxel (`render::media::pack_density`), instead of
+/// `data`, one 16-byte texel per voxel (`scene::medium::record::pack_density`), instead of
 /// the grid buffer.
 pub const MEDIUM_DENSITY_PACKED: u32 = 4;
 
@@ -120,7 +120,7 @@ pub const EMITTER_CONSTANT: u32 = 2;
 pub const EMITTER_SPOT: u32 = 3;
 /// Mitsuba `envmap`: a lat-long image around the scene.
 pub const EMITTER_ENVMAP: u32 = 4;
-/// Bit of the emitter-kinds mask (specialization constant 9 of `shade`, a bit per
+/// Bit of the emitter-kinds mask (specialization constant `SCENE_EMITTER_KINDS`, a bit per
 /// kind above) that stands for area emitters on spheres; `EMITTER_AREA`'s bit then
 /// means area emitters on meshes.
 pub const EMITTER_KIND_BIT_SPHERE_AREA: u32 = 5;
@@ -147,7 +147,7 @@ pub const TEXTURE_WRAP_SHIFT: u32 = 1;
 pub const TEXTURE_WRAP_REPEAT: u32 = 0;
 pub const TEXTURE_WRAP_MIRROR: u32 = 1;
 pub const TEXTURE_WRAP_CLAMP: u32 = 2;
-/// Bits of the shade kernel's texture mask (specialization constant 2) beside the
+/// Bits of the shade kernel's texture mask (specialization constant `SCENE_TEXTURES`) beside the
 /// kinds (`1 << TEXTURE_*`): code for features a scene lacks compiles out.
 pub const TEXTURE_FEATURE_BSDF: u32 = 256;
 pub const TEXTURE_FEATURE_NORMALMAP: u32 = 512;
@@ -195,7 +195,7 @@ pub const PATH_THIN_REFLECT: u32 = 2;
 /// `generate` and by `shade` at depth 0, kept through the path.
 pub const PATH_COVERED: u32 = 4;
 
-/// Reconstruction filters: specialization constant 0 of `film_gather`
+/// Reconstruction filters: specialization constant `FILM_FILTER` of `film_gather`
 /// (`scene::film::Filter`).
 pub const FILTER_BOX: u32 = 0;
 pub const FILTER_TENT: u32 = 1;
