@@ -35,6 +35,7 @@
 #include "sampling/warp.glsl"
 #include "bsdf/fresnel.glsl"
 #include "bsdf/microfacet.glsl"
+#include "bsdf/rough_interface.glsl"
 
 #ifndef BSDF_KINDS
 #define BSDF_KINDS 0xffffffffu

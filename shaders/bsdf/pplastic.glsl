@@ -10,14 +10,7 @@
 
 vec3 bsdf_pplastic_eval(BsdfRecord b, vec3 wo, vec3 wi) {
     if (wo.z <= 0.0 || wi.z <= 0.0) return vec3(0.0);
-    Microfacet d = bsdf_microfacet_of(b);
-    vec3 m = normalize(wo + wi);
-    float D = microfacet_d(d, m);
-    vec3 result = vec3(0.0);
-    if (D > 0.0) {
-        float F = fresnel_dielectric_f(dot(wo, m), b.eta);
-        result = b.specular * (F * D * microfacet_g(d, wo, wi, m) / (4.0 * wo.z));
-    }
+    vec3 result = bsdf_rough_dielectric_reflection(b, wo, wi);
     float to = 1.0 - fresnel_dielectric_f(wo.z, b.eta);
     float ti = 1.0 - fresnel_dielectric_f(wi.z, b.eta);
     return result + b.reflectance * (to * ti * wi.z * INV_PI);

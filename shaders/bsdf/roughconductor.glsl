@@ -5,8 +5,6 @@
 // Sampling: a microfacet normal from microfacet_sample, then mirror wo about it;
 // pdf(wi) = pdf(m) / (4 |wi·m|) per unit solid angle (Walter 2007, eq. 14).
 
-Microfacet bsdf_microfacet_of(BsdfRecord b) { return Microfacet(b.distribution, b.alpha_u, b.alpha_v); }
-
 vec3 bsdf_roughconductor_eval(BsdfRecord b, vec3 wo, vec3 wi) {
     if (wo.z <= 0.0 || wi.z <= 0.0) return vec3(0.0);
     Microfacet d = bsdf_microfacet_of(b);

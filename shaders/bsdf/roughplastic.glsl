@@ -45,14 +45,7 @@ float bsdf_roughplastic_prob_specular(BsdfRecord b, float to) {
 
 vec3 bsdf_roughplastic_eval(BsdfRecord b, vec3 wo, vec3 wi) {
     if (wo.z <= 0.0 || wi.z <= 0.0) return vec3(0.0);
-    Microfacet d = bsdf_microfacet_of(b);
-    vec3 m = normalize(wo + wi);
-    float D = microfacet_d(d, m);
-    vec3 result = vec3(0.0);
-    if (D > 0.0) {
-        float F = fresnel_dielectric_f(dot(wo, m), b.eta);
-        result = b.specular * (F * D * microfacet_g(d, wo, wi, m) / (4.0 * wo.z));
-    }
+    vec3 result = bsdf_rough_dielectric_reflection(b, wo, wi);
     vec3 rho = b.reflectance;
     vec3 denom = 1.0 - ((b.flags & BSDF_NONLINEAR) != 0u ? rho * b.internal : vec3(b.internal));
     float to = bsdf_roughplastic_transmittance(b, wo.z);
