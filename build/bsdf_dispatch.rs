@@ -78,44 +78,48 @@ fn dispatch() -> String {
     let smooth: Vec<&Kind> = KINDS.iter().filter(|k| !k.is_delta()).collect();
 
     s.push_str("\n// f(wo, wi) |cos θi| of the record's model; 0 for delta lobes.\n");
-    s.push_str("vec3 bsdf_kind_eval(BsdfRecord b, vec3 wo, vec3 wi) {\n    switch (b.kind) {\n");
+    s.push_str(
+        "vec3 bsdf_kind_eval(BsdfRecord b, vec3 wo, vec3 wi) {\n    vec3 f = vec3(0.0);\n    switch (b.kind) {\n",
+    );
     for k in &smooth {
         let _ = writeln!(
             s,
-            "    case {c}: if (BSDF_HAS({c})) return bsdf_{n}_eval(b, wo, wi); break;",
+            "    case {c}: if (BSDF_HAS({c})) f = bsdf_{n}_eval(b, wo, wi); break;",
             c = constant(k),
             n = k.name
         );
     }
-    s.push_str("    default: break;\n    }\n    return vec3(0.0);\n}\n");
+    s.push_str("    default: break;\n    }\n    return f;\n}\n");
 
     s.push_str(
         "\n// The density of bsdf_kind_sample choosing wi (solid angle); 0 for delta lobes.\n",
     );
-    s.push_str("float bsdf_kind_pdf(BsdfRecord b, vec3 wo, vec3 wi) {\n    switch (b.kind) {\n");
+    s.push_str(
+        "float bsdf_kind_pdf(BsdfRecord b, vec3 wo, vec3 wi) {\n    float pdf = 0.0;\n    switch (b.kind) {\n",
+    );
     for k in &smooth {
         let _ = writeln!(
             s,
-            "    case {c}: if (BSDF_HAS({c})) return bsdf_{n}_pdf(b, wo, wi); break;",
+            "    case {c}: if (BSDF_HAS({c})) pdf = bsdf_{n}_pdf(b, wo, wi); break;",
             c = constant(k),
             n = k.name
         );
     }
-    s.push_str("    default: break;\n    }\n    return 0.0;\n}\n");
+    s.push_str("    default: break;\n    }\n    return pdf;\n}\n");
 
     s.push_str("\n// A sample of the record's model (see bsdf.glsl).\n");
     s.push_str(
-        "BsdfSample bsdf_kind_sample(BsdfRecord b, vec3 wo, vec3 u) {\n    switch (b.kind) {\n",
+        "BsdfSample bsdf_kind_sample(BsdfRecord b, vec3 wo, vec3 u) {\n    BsdfSample s = bsdf_sample_none();\n    switch (b.kind) {\n",
     );
     for k in KINDS {
         let _ = writeln!(
             s,
-            "    case {c}: if (BSDF_HAS({c})) return bsdf_{n}_sample(b, wo, u); break;",
+            "    case {c}: if (BSDF_HAS({c})) s = bsdf_{n}_sample(b, wo, u); break;",
             c = constant(k),
             n = k.name
         );
     }
-    s.push_str("    default: break;\n    }\n    return bsdf_sample_none();\n}\n");
+    s.push_str("    default: break;\n    }\n    return s;\n}\n");
 
     s.push_str("\n// Every lobe is a delta: skip emitter sampling.\nbool bsdf_is_delta(BsdfRecord b) {\n    return ");
     let delta: Vec<String> = KINDS

@@ -488,17 +488,34 @@ mod tests {
                     .find(|l| l.starts_with(&macro_) && l.contains(&format!(" {},", array.glsl)))
                     .unwrap_or_else(|| panic!("no {macro_}.., {}, ..)", array.glsl));
                 let parts = use_.trim_end_matches(')').rsplit(' ').next().unwrap();
-                let decl = format!("layout(constant_id = {id}) const uint {parts} = 1u;");
-                assert!(glsl.contains(&decl), "scene_bindings.glsl lacks `{decl}`");
+                assert_spec_declared(glsl, id, parts, 1);
             }
         }
         assert_eq!(
             glsl.matches("uniform readonly uimageBuffer").count() as u32,
             declarations
         );
-        assert!(glsl.contains(&format!(
-            "layout(constant_id = {SPEC_PART_SHIFT}) const uint SCENE_PART_SHIFT = {DEFAULT_PART_SHIFT}u;"
-        )));
+        assert_spec_declared(
+            glsl,
+            SPEC_PART_SHIFT,
+            "SCENE_PART_SHIFT",
+            DEFAULT_PART_SHIFT,
+        );
+    }
+
+    /// scene_bindings.glsl declares constant `name` by name (`SPEC(name);`), and the
+    /// header build.rs generates from the table of constants gives it `id` and the
+    /// default `value`.
+    fn assert_spec_declared(glsl: &str, id: u32, name: &str, value: u32) {
+        let uses = format!("SPEC({name});");
+        assert!(glsl.contains(&uses), "scene_bindings.glsl lacks `{uses}`");
+        let header = include_str!(concat!(
+            env!("OUT_DIR"),
+            "/glsl/generated/spec_constants.glsl"
+        ));
+        let decl =
+            format!("#define SPEC_{name} layout(constant_id = {id}) const uint {name} = {value}u");
+        assert!(header.contains(&decl), "spec_constants.glsl lacks `{decl}`");
     }
 
     #[test]
