@@ -617,6 +617,30 @@ impl Drop for Inner {
     }
 }
 
+#[cfg(test)]
+impl DeviceInfo {
+    /// lavapipe's capabilities (Mesa 22.3.6 on a 24 GiB host), for tests that plan a
+    /// render without a device.
+    pub(crate) fn lavapipe_for_tests() -> DeviceInfo {
+        DeviceInfo {
+            index: 0,
+            name: "llvmpipe".into(),
+            kind: DeviceKind::Cpu,
+            driver: "llvmpipe".into(),
+            vendor_id: 0,
+            device_id: 0,
+            timestamp_period_ns: None,
+            max_storage_buffer_range: 128 << 20,
+            max_texel_buffer_elements: 1 << 27,
+            max_memory_allocation_size: 2 << 30,
+            device_memory: 24 << 30,
+            max_workgroups_x: 65535,
+            int64: true,
+            startup_seconds: 0.0,
+        }
+    }
+}
+
 /// The SIMD width llvmpipe names in its device name, "llvmpipe (LLVM 22.1.8, 512
 /// bits)"; `None` for any other device.
 pub fn llvmpipe_bits(name: &str) -> Option<u32> {

@@ -765,22 +765,7 @@ mod tests {
 
     /// lavapipe's capabilities (Mesa 22.3.6).
     fn lavapipe() -> DeviceInfo {
-        DeviceInfo {
-            index: 0,
-            name: "llvmpipe".into(),
-            kind: DeviceKind::Cpu,
-            driver: "llvmpipe".into(),
-            vendor_id: 0,
-            device_id: 0,
-            timestamp_period_ns: None,
-            max_storage_buffer_range: 128 << 20,
-            max_texel_buffer_elements: 1 << 27,
-            max_memory_allocation_size: 2 << 30,
-            device_memory: 24 << 30,
-            max_workgroups_x: 65535,
-            int64: true,
-            startup_seconds: 0.0,
-        }
+        DeviceInfo::lavapipe_for_tests()
     }
 
     /// A discrete GPU's.

@@ -551,22 +551,7 @@ mod tests {
 
     #[test]
     fn lavapipe_parts_are_two_gib_of_texels() {
-        let info = DeviceInfo {
-            index: 0,
-            name: "llvmpipe".into(),
-            kind: crate::gpu::DeviceKind::Cpu,
-            driver: "llvmpipe".into(),
-            vendor_id: 0,
-            device_id: 0,
-            timestamp_period_ns: None,
-            max_storage_buffer_range: 128 << 20,
-            max_texel_buffer_elements: 1 << 27,
-            max_memory_allocation_size: 2 << 30,
-            device_memory: 24 << 30,
-            max_workgroups_x: 65535,
-            int64: true,
-            startup_seconds: 0.0,
-        };
+        let info = DeviceInfo::lavapipe_for_tests();
         assert_eq!(device_part_shift(&info), 27);
         let one_gib = DeviceInfo {
             max_memory_allocation_size: 1 << 30,
