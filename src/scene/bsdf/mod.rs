@@ -40,6 +40,7 @@ pub mod normalmap;
 pub mod null;
 pub mod plastic;
 pub mod pplastic;
+mod rough_coating;
 pub mod roughconductor;
 pub mod roughdielectric;
 pub mod roughplastic;
