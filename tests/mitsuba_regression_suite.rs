@@ -268,14 +268,12 @@ scene!(
     Rejects
 );
 scene!(
-    #[ignore = "roughplastic too bright at high roughness"]
     roughplastic_linear,
     "bsdf_spheres",
     "test_roughplastic_linear_path.xml",
     Rejects
 );
 scene!(
-    #[ignore = "roughplastic too bright at high roughness"]
     roughplastic_nonlinear,
     "bsdf_spheres",
     "test_roughplastic_nonlinear_path.xml",
