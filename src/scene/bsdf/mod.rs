@@ -29,6 +29,8 @@
 //! Fresnel terms).
 
 pub mod conductor;
+#[rustfmt::skip]
+mod conductor_presets;
 pub mod dielectric;
 pub mod diffuse;
 pub mod fresnel;
