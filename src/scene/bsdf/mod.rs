@@ -29,6 +29,8 @@
 //! Fresnel terms).
 
 pub mod conductor;
+#[rustfmt::skip]
+mod conductor_presets;
 pub mod dielectric;
 pub mod diffuse;
 pub mod fresnel;
@@ -40,6 +42,7 @@ pub mod normalmap;
 pub mod null;
 pub mod plastic;
 pub mod pplastic;
+mod rough_coating;
 pub mod roughconductor;
 pub mod roughdielectric;
 pub mod roughplastic;
