@@ -70,15 +70,16 @@ float bsdf_table_entry(BsdfRecord b, uint i) {
 }
 
 // Textured table entries (BSDF_TABLE_TEXTURES; principled's scalars, layout in
-// src/scene/bsdf/principled.rs): entry k < 16 of b.table becomes the luminance of
-// texture id (entry 16 + k, bits) at uv, for each bit k of the mask in entry 28. One
-// texture_eval in a loop; the entry is written through constant-indexed selects.
+// src/scene/bsdf/principled.rs): for each bit k of the mask in entry 28, entry k < 16
+// of b.table becomes texture id (entry 16 + k, bits) at uv read as a float
+// (texture_eval_1, Mitsuba's eval_1). One lookup in a loop; the entry is written
+// through constant-indexed selects.
 BsdfRecord bsdf_table_textured(BsdfRecord b, vec2 uv) {
     uint pending = floatBitsToUint(b.table[7].x);
     if (pending != 0u) do {
         uint k = uint(findLSB(pending));
         pending &= pending - 1u;
-        float v = texture_luminance(texture_eval(floatBitsToUint(bsdf_table_entry(b, 16u + k)), uv));
+        float v = texture_eval_1(floatBitsToUint(bsdf_table_entry(b, 16u + k)), uv);
         vec4 row = bsdf_table_row(b, k >> 2u);
         uint c = k & 3u;
         row = vec4(c == 0u ? v : row.x, c == 1u ? v : row.y, c == 2u ? v : row.z, c == 3u ? v : row.w);
