@@ -296,21 +296,18 @@ scene!(
     Rejects
 );
 scene!(
-    #[ignore = "principled BSDF"]
     texturedprincipled1,
     "bsdf_spheres",
     "test_texturedprincipled1_path.xml",
     Rejects
 );
 scene!(
-    #[ignore = "principled BSDF"]
     texturedprincipled2,
     "bsdf_spheres",
     "test_texturedprincipled2_path.xml",
     Rejects
 );
 scene!(
-    #[ignore = "principledthin BSDF"]
     texturedprincipledthin,
     "bsdf_spheres",
     "test_texturedprincipledthin_path.xml",
