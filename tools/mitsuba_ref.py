@@ -44,6 +44,8 @@ different seeds; the film's raw sums (filter-weighted values and weights, Mitsub
 `bitmap(raw=True)`) of all passes are added and divided once, so the result is the
 same estimator as one big pass, whatever the filter (the JIT variants cannot hold a
 whole 16k-spp wavefront in memory).
+The particle tracer (`ptracer`) splats with weight 0 and each pass is already its own
+mean: its passes are averaged, each weighed by its sample count.
 
 Next to OUT.exr it writes OUT.json: the command, spp, passes, seed, variant, Mitsuba version, time
 taken, and SHA-256 of the scene file and of every file it names, so a stale reference
@@ -358,9 +360,14 @@ def main():
         n = min(left, args.pass_spp)
         passes.append(n)
         left -= n
+    # A particle tracer (Mitsuba's AdjointIntegrator) splats with weight 0 and scales
+    # each render to its own sample count: its passes are averaged by their counts.
+    adjoint = isinstance(scene.integrator(), mi.AdjointIntegrator)
     sums = None
     for i, n in enumerate(passes):
         raw = render_raw(mi, scene, sensor, n, args.seed + i)
+        if adjoint:
+            raw = [v * n / spp for v in raw]
         sums = raw if sums is None else [a + b for a, b in zip(sums, raw)]
     values = develop(sums, args.alpha)
     bitmap = to_bitmap(values, sensor.film().crop_size(), args.alpha, mi)

@@ -17,6 +17,7 @@
 // The photon mappers run kernels of their own (shaders/kernels/photon_*, sppm_*).
 #define INTEGRATOR_PHOTONMAPPER 12u
 #define INTEGRATOR_SPPM 13u
+#define INTEGRATOR_PTRACER 14u
 
 bool integrator_is_single_scatter(uint integrator) {
     return integrator == INTEGRATOR_SINGLE_DISTANCE || integrator == INTEGRATOR_SINGLE_EQUIANGULAR;

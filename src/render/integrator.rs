@@ -34,6 +34,7 @@ impl Integrator {
             Integrator::SingleScatter { .. } => 11,
             Integrator::PhotonMapper(_) => 12,
             Integrator::Sppm(_) => 13,
+            Integrator::Ptracer(_) => 14,
         }
     }
 
@@ -62,6 +63,7 @@ impl Integrator {
             Integrator::SingleScatter { .. } => "single_scatter",
             Integrator::PhotonMapper(_) => "photonmapper",
             Integrator::Sppm(_) => "sppm",
+            Integrator::Ptracer(_) => "ptracer",
         }
     }
 
@@ -76,7 +78,8 @@ impl Integrator {
             Integrator::PathMats(p)
             | Integrator::PathMis(p)
             | Integrator::VolPathSimple(p)
-            | Integrator::VolPathMis(p) => p.max_depth.unwrap_or(u32::MAX),
+            | Integrator::VolPathMis(p)
+            | Integrator::Ptracer(p) => p.max_depth.unwrap_or(u32::MAX),
             Integrator::PhotonMapper(_) => u32::MAX,
             // pbrt's maxdepth d samples light at camera vertices 0 .. d-1: d + 1 segments.
             Integrator::Sppm(p) => p.max_depth.map_or(u32::MAX, |d| d + 1),
@@ -101,6 +104,10 @@ impl Integrator {
             Integrator::Sppm(p) => p
                 .max_depth
                 .map_or(MAX_BOUNCES, |d| (d + 1).min(MAX_BOUNCES)),
+            // A light path's surfaces: depths 1 .. max_depth - 1 are connected.
+            Integrator::Ptracer(p) => p
+                .max_depth
+                .map_or(MAX_BOUNCES, |d| (d - 1).min(MAX_BOUNCES)),
         }
     }
 
@@ -124,9 +131,14 @@ impl Integrator {
         !first_hit && !self.is_photon_mapper()
     }
 
-    /// Whether the integrator is a photon mapper (`render::photon` runs it).
+    /// Whether the integrator is a photon mapper (`render::photon` runs it), or the
+    /// particle tracer, which traces light paths with the photon mappers' kernels and
+    /// buffers.
     pub fn is_photon_mapper(&self) -> bool {
-        matches!(self, Integrator::PhotonMapper(_) | Integrator::Sppm(_))
+        matches!(
+            self,
+            Integrator::PhotonMapper(_) | Integrator::Sppm(_) | Integrator::Ptracer(_)
+        )
     }
 
     /// Russian roulette start depth (segments); never for non-path integrators.
@@ -135,7 +147,8 @@ impl Integrator {
             Integrator::PathMats(p)
             | Integrator::PathMis(p)
             | Integrator::VolPathSimple(p)
-            | Integrator::VolPathMis(p) => p.rr_depth,
+            | Integrator::VolPathMis(p)
+            | Integrator::Ptracer(p) => p.rr_depth,
             Integrator::PhotonMapper(_) | Integrator::Sppm(_) => PHOTON_CAMERA_RR_DEPTH,
             _ => u32::MAX,
         }
@@ -182,7 +195,8 @@ impl Integrator {
             Integrator::PathMats(p)
             | Integrator::PathMis(p)
             | Integrator::VolPathSimple(p)
-            | Integrator::VolPathMis(p) => p.hide_emitters,
+            | Integrator::VolPathMis(p)
+            | Integrator::Ptracer(p) => p.hide_emitters,
             _ => false,
         }
     }

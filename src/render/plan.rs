@@ -212,6 +212,10 @@ impl RenderPlan {
             emitters: constants.emitter_kinds,
             bsdfs: constants.bsdf_kinds,
             sampler: constants.sampler,
+            prim_kinds: constants.prim_kinds,
+            bvh_depth: constants.bvh_depth,
+            flat_count: constants.flat_count,
+            flat_kinds: constants.flat_kinds,
         };
         Ok(RenderPlan {
             integrator,
@@ -314,6 +318,15 @@ fn check(scene: &Scene, integrator: &Integrator) -> Result<()> {
              vol_path_mis",
             integrator.name()
         ));
+    }
+    if let Integrator::Ptracer(_) = integrator {
+        if scene.film.filter != crate::scene::film::Filter::Box {
+            return refuse(format!(
+                "integrator 'ptracer' splats into the pixel a light path meets (a box \
+                 filter); the film's {} filter is not supported yet: use <rfilter type=\"box\"/>",
+                scene.film.filter.name()
+            ));
+        }
     }
     if integrator.is_photon_mapper() && scene.emitters.is_empty() {
         return refuse(format!(

@@ -12,6 +12,7 @@ mod first_hit;
 mod moment;
 mod path;
 mod photonmapper;
+mod ptracer;
 mod single_scatter;
 mod sppm;
 
@@ -166,6 +167,24 @@ pub enum Integrator {
     /// <integrator type="sppm"><integer name="maxdepth" value="8"/><float name="radius" value="0.05"/></integrator>
     /// ```
     Sppm(SppmParams),
+    /// Mitsuba 3's particle tracer (`ptracer`): light paths leave the emitters (one
+    /// chosen uniformly, as Mitsuba's `Scene::sample_emitter_ray`) and travel by BSDF
+    /// sampling; every surface they meet is connected to the pinhole camera and its
+    /// light splatted into the pixel it lands in (the adjoint BSDF towards the camera,
+    /// the camera's importance, a shadow ray), with Mitsuba's shading-normal
+    /// correction (Veach 1997, p. 155) and Russian roulette (from `rr_depth` on,
+    /// survival min(max throughput × η², 0.95)). Points on area emitters chosen apart
+    /// are connected directly: the emitters the camera sees (unless `hide_emitters`).
+    /// A sample per pixel is width × height light paths, as in Mitsuba. Deterministic:
+    /// splats are summed as fixed-point integers (`render::photon::ptracer`).
+    ///
+    /// Parameters as `path` (`max_depth`: 1 shows the emitters only, 2 direct light),
+    /// without `mis_heuristic`. Needs a perspective camera and a box filter; no media.
+    ///
+    /// ```xml
+    /// <integrator type="ptracer"><integer name="max_depth" value="8"/></integrator>
+    /// ```
+    Ptracer(PathParams),
 }
 
 /// Parameters of the photon mapper.
@@ -243,9 +262,9 @@ pub const REGISTRY: &[PluginDoc] = &[
     photonmapper::PHOTONMAPPER,
     sppm::SPPM,
     moment::MOMENT,
+    ptracer::PTRACER,
     not_yet("aov"),
     not_yet("depth"),
-    not_yet("ptracer"),
     not_yet("stokes"),
     not_yet("prb"),
     not_yet("prb_basic"),
@@ -330,6 +349,7 @@ pub fn read(spec: &IntegratorSpec, override_name: Option<&str>) -> Result<Integr
         "single_scatter" => single_scatter::read(&mut params),
         "photonmapper" => photonmapper::read(&mut params),
         "sppm" => sppm::read(&mut params),
+        "ptracer" => ptracer::read(&mut params),
         "" => Err(format!(
             "the scene names no integrator; choose one with --integrator ({})",
             names().join(", ")
@@ -406,6 +426,7 @@ mod tests {
                 "single_scatter",
                 "photonmapper",
                 "sppm",
+                "ptracer",
             ]
         );
         assert_eq!(
