@@ -1,14 +1,18 @@
 //! Mitsuba 3's particle tracer (`ptracer`, src/render/photon/ptracer.rs,
 //! shaders/integrator/ptracer.glsl) on lavapipe: against Mitsuba 3.9.1's `ptracer` on
 //! `scenes/ptracer/ptracer_room.xml` (an area light the camera sees, diffuse walls and
-//! a sphere, a box filter), block by block within noise; the emitters alone
+//! a sphere), through a box and a Gaussian filter, block by block within noise; under
+//! a visible constant environment (`ptracer_sky.xml`) against wavetrace's own path
+//! tracer (Mitsuba's ptracer disagrees with Mitsuba's path there); the emitters alone
 //! (`max_depth` 1) and `hide_emitters`; and the determinism the film relies on: the
 //! same bits whatever the batch size, and split renders that merge and resume
 //! exactly as the path tracers' do (src/render/partial.rs).
 
 mod common;
 
-use common::{assert_matches_reference, device, load_with, repo};
+use common::{
+    assert_matches_filtered_reference, assert_matches_reference, device, load_with, repo,
+};
 use wavetrace::image::exr;
 use wavetrace::render::film::FilmSums;
 use wavetrace::render::{RenderOptions, Renderer};
@@ -33,6 +37,34 @@ fn ptracer_matches_mitsuba() {
     let reference = exr::read(repo("scenes/refs/ptracer_room.exr")).expect("reference");
     let img = common::render(&device, &scene(&[]), &RenderOptions::default(), 512);
     assert_matches_reference(&img, &reference, "ptracer_room");
+}
+
+/// Mitsuba's default filter: splats spread over the pixels the Gaussian reaches, each
+/// weight over their sum (Mitsuba's ImageBlock::put). The reference is scalar_rgb's,
+/// whose filter is a 31-step table: close to the exact one at block level.
+#[test]
+fn ptracer_matches_mitsuba_through_a_gaussian() {
+    let device = device();
+    let reference = exr::read(repo("scenes/refs/ptracer_room_gaussian.exr")).expect("reference");
+    let s = scene(&[("filter", "gaussian")]);
+    let img = common::render(&device, &s, &RenderOptions::default(), 512);
+    assert_matches_filtered_reference(&img, &reference, "ptracer_room gaussian", &s.film.filter);
+}
+
+/// The sky the camera sees is connected from the camera along directions the
+/// environment samples, and the light paths that leave it cross the scene's bounding
+/// sphere: the image is the path tracer's.
+#[test]
+fn visible_environment_matches_the_path_tracer() {
+    let device = device();
+    let s = load_with(&repo("scenes/ptracer/ptracer_sky.xml"), &[]);
+    let img = common::render(&device, &s, &RenderOptions::default(), 512);
+    let path = RenderOptions {
+        integrator: Some("path".into()),
+        ..RenderOptions::default()
+    };
+    let reference = common::render(&device, &s, &path, 512);
+    assert_matches_reference(&img, &reference, "ptracer_sky against path");
 }
 
 /// `max_depth` 1: only the emitter the camera sees, which `hide_emitters` hides.

@@ -19,7 +19,7 @@
 // camera samples (partial renders merge and resume as for the path tracers).
 //
 // Needs wavefront.glsl, scene_bindings.glsl, bvh.glsl, surface.glsl, photon/bindings.glsl,
-// film/film.glsl.
+// film/film.glsl and film/filter.glsl (FILM_FILTER).
 #ifndef PTRACER_GLSL
 #define PTRACER_GLSL
 
@@ -40,7 +40,7 @@ struct CameraLink {
     bool ok;        // in front of the camera, within the clip range and the film
     vec3 dir;       // unit, from the point towards the camera
     float dist;     // to the camera
-    uint pixel;     // row-major index in the full film
+    vec2 film_pos;  // where it lands on the film, in pixels (origin top-left)
     float importance; // 1 / (d² cos³θc A)
 };
 
@@ -49,7 +49,7 @@ CameraLink ptracer_camera(vec3 p) {
     c.ok = false;
     c.dir = vec3(0.0, 0.0, 1.0);
     c.dist = 0.0;
-    c.pixel = 0u;
+    c.film_pos = vec2(0.0);
     c.importance = 0.0;
     vec3 eye = frame.camera_to_world[3].xyz;
     vec3 local = inverse(mat3(frame.camera_to_world)) * (p - eye);
@@ -59,14 +59,13 @@ CameraLink ptracer_camera(vec3 p) {
     // camera_ray's film position, inverted.
     vec2 ndc = 0.5 * (1.0 - plane / frame.tan_half_fov);
     if (!(ndc.x >= 0.0 && ndc.x < 1.0 && ndc.y >= 0.0 && ndc.y < 1.0)) return c;
-    uvec2 px = min(uvec2(ndc * vec2(frame.width, frame.height)), uvec2(frame.width - 1u, frame.height - 1u));
     float d2 = dot(local, local);
     float d = sqrt(d2);
     float cos_c = local.z / d;
     float area = 4.0 * frame.tan_half_fov.x * frame.tan_half_fov.y;
     c.dist = length(eye - p);
     c.dir = (eye - p) / c.dist;
-    c.pixel = px.y * frame.width + px.x;
+    c.film_pos = ndc * vec2(frame.width, frame.height);
     c.importance = 1.0 / (d2 * cos_c * cos_c * cos_c * area);
     c.ok = c.importance > 0.0 && !isinf(c.importance);
     return c;
@@ -80,31 +79,62 @@ bool ptracer_camera_visible(Surface s, CameraLink c) {
     return !bvh_any(o, normalize(eye - o), 0.0, tmax);
 }
 
-// Adds v >= 0 (one channel) to the 64-bit word pair at `word`.
+// Adds v (one channel) to the 64-bit two's complement word pair at `word`: negative
+// values (the negative lobes of Mitchell's and Lanczos's filters) wrap around, and
+// the sums stay exact modulo 2^64.
 void ptracer_add(uint word, float v) {
-    float x = floor(v * PTRACER_FIXED_SCALE + 0.5);
+    float x = floor(abs(v) * PTRACER_FIXED_SCALE + 0.5);
     if (!(x >= 1.0) || !(x < PTRACER_FIXED_MAX)) return;
     float hi_f = floor(x * (1.0 / 4294967296.0));
     uint hi = uint(hi_f);
     uint lo = uint(x - hi_f * 4294967296.0);
+    if (v < 0.0) {
+        // -x = ~x + 1
+        lo = ~lo + 1u;
+        hi = ~hi + (lo == 0u ? 1u : 0u);
+    }
     uint old = atomicAdd(splat_words[word], lo);
     if (old + lo < old) hi += 1u;
     if (hi != 0u) atomicAdd(splat_words[word + 1u], hi);
 }
 
-// Splats `value` into full-film pixel `pixel`, if the crop window keeps it.
-void ptracer_splat(uint pixel, vec3 value) {
-    if (any(isnan(value)) || any(isinf(value)) || !any(greaterThan(value, vec3(0.0)))) return;
-    uint x = pixel % frame.width;
-    uint y = pixel / frame.width;
-    if (x < film.crop_x || y < film.crop_y) return;
-    x -= film.crop_x;
-    y -= film.crop_y;
-    if (x >= film.crop_width || y >= film.crop_height) return;
-    uint w = 6u * (y * film.crop_width + x);
-    ptracer_add(w, max(value.x, 0.0));
-    ptracer_add(w + 2u, max(value.y, 0.0));
-    ptracer_add(w + 4u, max(value.z, 0.0));
+// Adds `value` to film pixel `px`, if the crop window keeps it.
+void ptracer_splat_pixel(ivec2 px, vec3 value) {
+    ivec2 c = px - ivec2(film.crop_x, film.crop_y);
+    if (any(lessThan(c, ivec2(0))) || c.x >= int(film.crop_width) || c.y >= int(film.crop_height)) return;
+    uint w = 6u * (uint(c.y) * film.crop_width + uint(c.x));
+    ptracer_add(w, value.x);
+    ptracer_add(w + 2u, value.y);
+    ptracer_add(w + 4u, value.z);
+}
+
+// Splats `value` at film position `pos` through the reconstruction filter, as
+// Mitsuba's ImageBlock::put with normalization: the weights of the pixels within the
+// filter's reach, over their sum (pixels outside the film count in the sum but are not
+// written). The box: the pixel `pos` lies in.
+void ptracer_splat(vec2 pos, vec3 value) {
+    if (any(isnan(value)) || any(isinf(value)) || all(equal(value, vec3(0.0)))) return;
+    ivec2 p = ivec2(floor(pos));
+    if (FILM_FILTER == FILTER_BOX) {
+        ptracer_splat_pixel(p, value);
+        return;
+    }
+    int n = int(film.reach);
+    float sum = 0.0;
+    for (int y = -n; y <= n; y++) {
+        for (int x = -n; x <= n; x++) {
+            sum += filter_weight(vec2(p + ivec2(x, y)) + 0.5 - pos);
+        }
+    }
+    if (!(sum != 0.0)) return;
+    for (int y = -n; y <= n; y++) {
+        for (int x = -n; x <= n; x++) {
+            ivec2 q = p + ivec2(x, y);
+            if (q.x < 0 || q.y < 0 || q.x >= int(frame.width) || q.y >= int(frame.height)) continue;
+            float w = filter_weight(vec2(q) + 0.5 - pos) / sum;
+            if (w != 0.0) ptracer_splat_pixel(q, w * value);
+        }
+    }
 }
 
 #endif

@@ -37,6 +37,9 @@ SPEC(SCENE_FLAT_KINDS);
 #include "photon/random.glsl"
 #include "photon/scatter.glsl"
 #include "film/film.glsl"
+// The film's reconstruction filter (a FILTER_* value), which splats go through.
+SPEC(FILM_FILTER);
+#include "film/filter.glsl"
 #include "integrator/ptracer.glsl"
 
 #define PTRACER_INFINITY uintBitsToFloat(0x7f800000u)
@@ -73,7 +76,7 @@ void main() {
                 float correction = abs((wl_s * wc_ng) / (wc_s * wl_ng));
                 vec3 value = ph.power * f * (correction * c.importance);
                 if (any(greaterThan(value, vec3(0.0))) && ptracer_camera_visible(x.s, c)) {
-                    ptracer_splat(c.pixel, value);
+                    ptracer_splat(c.film_pos, value);
                 }
             }
         }

@@ -35,7 +35,39 @@ SPEC(SCENE_FLAT_KINDS);
 #include "photon/random.glsl"
 #include "photon/emit.glsl"
 #include "film/film.glsl"
+// The film's reconstruction filter (a FILTER_* value), which splats go through.
+SPEC(FILM_FILTER);
+#include "film/filter.glsl"
 #include "integrator/ptracer.glsl"
+
+// The environment seen by the camera along a direction d sampled as the emitter
+// samples it (Mitsuba samples it from the sensor's position): its radiance along d
+// times the importance of d, 1 / (cos³θc A), over the density of d and of the choice
+// (uniform, 1 / n), where nothing blocks the ray from the camera.
+void connect_visible_environment(EmitterRecord e, uint n, vec2 u) {
+    vec3 d;
+    float pdf;
+    if (EMITTER_HAS(EMITTER_ENVMAP) && e.kind == EMITTER_ENVMAP) {
+        if (!TEXTURE_USES(TEXTURE_FEATURE_ENVMAP)) return;
+        d = envmap_sample(e, u, pdf);
+    } else {
+        d = warp_uniform_sphere(u);
+        pdf = warp_uniform_sphere_pdf(d);
+    }
+    if (!(pdf > 0.0)) return;
+    vec3 eye = frame.camera_to_world[3].xyz;
+    // A point far along d stands for the environment: the camera link's importance
+    // is then 1 / (d² cos³θc A) for that distance, d² = 1 here.
+    CameraLink c = ptracer_camera(eye + d * frame.near_clip * 2.0 + d);
+    vec3 local = inverse(mat3(frame.camera_to_world)) * d;
+    if (!c.ok || !(local.z > 0.0)) return;
+    float cos_c = local.z / length(local);
+    float area = 4.0 * frame.tan_half_fov.x * frame.tan_half_fov.y;
+    vec3 value = emitter_env_radiance(e, d) * (float(n) / (pdf * cos_c * cos_c * cos_c * area));
+    if (!any(greaterThan(value, vec3(0.0)))) return;
+    if (bvh_any(eye, d, 0.0, EMITTER_INFINITY)) return;
+    ptracer_splat(c.film_pos, value);
+}
 
 // A point on an area emitter seen by the camera: its radiance towards the camera
 // times cos θ over the density of choosing the point (uniform emitter choice, 1 / area).
@@ -44,6 +76,11 @@ void connect_visible_emitter(uint index, uint it) {
     uint n = frame.emitter_count;
     uint i = min(uint(u.x * float(n)), n - 1u);
     EmitterRecord e = emitter_load(i);
+    if ((EMITTER_HAS(EMITTER_CONSTANT) && e.kind == EMITTER_CONSTANT)
+        || (EMITTER_HAS(EMITTER_ENVMAP) && e.kind == EMITTER_ENVMAP)) {
+        connect_visible_environment(e, n, u.yz);
+        return;
+    }
     if (!EMITTER_HAS_ANY(EMITTER_AREA_BITS) || e.kind != EMITTER_AREA) return;
     Surface ls = emitter_area_point(e, u.yz);
     CameraLink c = ptracer_camera(ls.p);
@@ -55,7 +92,7 @@ void connect_visible_emitter(uint index, uint it) {
     vec3 value = L * (cos_y * e.area * float(n) * c.importance);
     if (!any(greaterThan(value, vec3(0.0)))) return;
     if (!ptracer_camera_visible(ls, c)) return;
-    ptracer_splat(c.pixel, value);
+    ptracer_splat(c.film_pos, value);
 }
 
 void main() {

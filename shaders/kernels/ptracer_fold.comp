@@ -13,7 +13,13 @@
 #include "photon/bindings.glsl"
 #include "film/film.glsl"
 
+// The value of a 64-bit two's complement fixed-point sum.
 float fixed_value(uint lo, uint hi) {
+    if (hi >= 0x80000000u) {
+        lo = ~lo + 1u;
+        hi = ~hi + (lo == 0u ? 1u : 0u);
+        return -(float(hi) * 4294967296.0 + float(lo)) * (1.0 / 16777216.0);
+    }
     return (float(hi) * 4294967296.0 + float(lo)) * (1.0 / 16777216.0);
 }
 

@@ -216,6 +216,7 @@ impl RenderPlan {
             bvh_depth: constants.bvh_depth,
             flat_count: constants.flat_count,
             flat_kinds: constants.flat_kinds,
+            film_filter: film::filter_constants(&film_spec.filter).0,
         };
         Ok(RenderPlan {
             integrator,
@@ -318,15 +319,6 @@ fn check(scene: &Scene, integrator: &Integrator) -> Result<()> {
              vol_path_mis",
             integrator.name()
         ));
-    }
-    if let Integrator::Ptracer(_) = integrator {
-        if scene.film.filter != crate::scene::film::Filter::Box {
-            return refuse(format!(
-                "integrator 'ptracer' splats into the pixel a light path meets (a box \
-                 filter); the film's {} filter is not supported yet: use <rfilter type=\"box\"/>",
-                scene.film.filter.name()
-            ));
-        }
     }
     if integrator.is_photon_mapper() && scene.emitters.is_empty() {
         return refuse(format!(

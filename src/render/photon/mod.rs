@@ -288,6 +288,8 @@ pub struct SceneFeatures {
     pub bvh_depth: u32,
     pub flat_count: u32,
     pub flat_kinds: u32,
+    /// The film's filter (`FILTER_*`), through which the particle tracer splats.
+    pub film_filter: u32,
 }
 
 /// The kernels only one of the photon mappers runs.

@@ -38,6 +38,7 @@ pub fn kernel_specs(f: &SceneFeatures) -> Vec<KernelSpec<'static>> {
         (Spec::FlatKinds, f.flat_kinds),
         (Spec::SurfaceFeatures, f.surface),
         (Spec::Textures, f.textures),
+        (Spec::FilmFilter, f.film_filter),
     ];
     let named = |name, spirv, extra: (Spec, u32)| {
         let spec = traversal.iter().copied().chain([extra]).collect();
