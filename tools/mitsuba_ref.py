@@ -2,7 +2,7 @@
 """Render a wavetrace scene (Mitsuba 3 dialect) with Mitsuba 3, as a reference EXR.
 
     python3 tools/mitsuba_ref.py SCENE.xml -o OUT.exr --spp N [--variant scalar_rgb] [--ao]
-                                 [--integrator path|direct|volpath] [--max-depth N]
+                                 [--integrator path|direct|volpath|depth] [--max-depth N]
                                  [-D name=value] [--keep-filter] [--alpha]
 
 What it changes in the scene before Mitsuba sees it (the file itself is not touched):
@@ -21,7 +21,8 @@ What it changes in the scene before Mitsuba sees it (the file itself is not touc
   sample and one BSDF sample, which is wavetrace's `direct_mis`; it takes no depth)
   or `volpath` (volumetric path tracing, wavetrace's `vol_path_mis`; `--max-depth`). Mitsuba's
   `max_depth` counts path segments from the camera: 1 shows emitters only, 2 is
-  direct lighting, 6 is up to five bounces.
+  direct lighting, 6 is up to five bounces. `--integrator depth`: Mitsuba's `depth`
+  (the first hit's distance), wavetrace's `depth`.
 * With `-D name=value`: Mitsuba's `$name` parameters (the scene's `<default>`s), as
   `wavetrace -D` does.
 * Always: wavetrace-only medium parameters (`majorant_resolution_factor`, which
@@ -145,7 +146,7 @@ def ancestors(el, parent):
 
 
 def set_integrator(root, kind, max_depth):
-    """Replace the scene's integrator by Mitsuba's `path`, `direct` or `volpath`."""
+    """Replace the scene's integrator by Mitsuba's `path`, `direct`, `volpath` or `depth`."""
     parent = parents_of(root)
     for el in [e for e in root.iter("integrator")]:
         parent[el].remove(el)
@@ -283,8 +284,8 @@ def main():
     ap.add_argument("--ao", action="store_true", help="render wavetrace's `ao` integrator (see above)")
     ap.add_argument(
         "--integrator",
-        choices=("path", "direct", "volpath"),
-        help="replace the scene's integrator by Mitsuba's path, direct (MIS) or volpath integrator",
+        choices=("path", "direct", "volpath", "depth"),
+        help="replace the scene's integrator by Mitsuba's path, direct (MIS), volpath or depth integrator",
     )
     ap.add_argument(
         "--max-depth", type=int, default=6, help="max_depth of --integrator path or volpath (default 6)"

@@ -35,6 +35,7 @@ impl Integrator {
             Integrator::PhotonMapper(_) => 12,
             Integrator::Sppm(_) => 13,
             Integrator::Ptracer(_) => 14,
+            Integrator::Depth => 15,
         }
     }
 
@@ -64,13 +65,17 @@ impl Integrator {
             Integrator::PhotonMapper(_) => "photonmapper",
             Integrator::Sppm(_) => "sppm",
             Integrator::Ptracer(_) => "ptracer",
+            Integrator::Depth => "depth",
         }
     }
 
     /// Longest path in segments (`u32::MAX`: unbounded), as the kernels see it.
     pub fn max_depth(&self) -> u32 {
         match self {
-            Integrator::Normals | Integrator::Ao { .. } | Integrator::Simple => 1,
+            Integrator::Normals
+            | Integrator::Ao { .. }
+            | Integrator::Simple
+            | Integrator::Depth => 1,
             Integrator::DirectEms { .. }
             | Integrator::DirectMats { .. }
             | Integrator::DirectMis { .. }
@@ -92,6 +97,7 @@ impl Integrator {
             Integrator::Normals
             | Integrator::Ao { .. }
             | Integrator::Simple
+            | Integrator::Depth
             | Integrator::DirectEms { .. } => 1,
             Integrator::DirectMats { .. }
             | Integrator::DirectMis { .. }
@@ -126,7 +132,7 @@ impl Integrator {
     pub fn shades_paths(&self) -> bool {
         let first_hit = matches!(
             self,
-            Integrator::Normals | Integrator::Ao { .. } | Integrator::Simple
+            Integrator::Normals | Integrator::Ao { .. } | Integrator::Simple | Integrator::Depth
         );
         !first_hit && !self.is_photon_mapper()
     }
@@ -157,7 +163,10 @@ impl Integrator {
     /// Whether the image comes from emitters (everything but the `normals` and `ao`
     /// views): a scene without any renders black.
     pub fn needs_emitters(&self) -> bool {
-        !matches!(self, Integrator::Normals | Integrator::Ao { .. })
+        !matches!(
+            self,
+            Integrator::Normals | Integrator::Ao { .. } | Integrator::Depth
+        )
     }
 
     /// Whether MIS weighs by the power heuristic (else the balance heuristic).

@@ -56,6 +56,14 @@ pub type Params = BTreeMap<String, Param>;
 pub enum Integrator {
     /// Debug view of the shading normal, |n| per component (Nori's `normals`).
     Normals,
+    /// Mitsuba's `depth`: the distance along the camera ray to the first surface
+    /// (from the ray's origin on the near plane, Mitsuba's `si.t`), 0 where the ray
+    /// meets nothing.
+    ///
+    /// ```xml
+    /// <integrator type="depth"/>
+    /// ```
+    Depth,
     /// Ambient occlusion (1/π)∫V(x,ω)cosθ dω over the hemisphere of the shading
     /// normal (Nori's `ao`). Camera rays that hit nothing are black, as in Nori.
     ///
@@ -179,7 +187,8 @@ pub enum Integrator {
     /// splats are summed as fixed-point integers (`render::photon::ptracer`).
     ///
     /// Parameters as `path` (`max_depth`: 1 shows the emitters only, 2 direct light),
-    /// without `mis_heuristic`. Needs a perspective camera and a box filter; no media.
+    /// without `mis_heuristic`. Splats go through the film's filter, each over the sum
+    /// of its weights (Mitsuba's `ImageBlock::put`). A perspective camera; no media.
     ///
     /// ```xml
     /// <integrator type="ptracer"><integer name="max_depth" value="8"/></integrator>
@@ -247,6 +256,7 @@ pub const REGISTRY: &[PluginDoc] = &[
     first_hit::NORMALS,
     first_hit::AO,
     first_hit::SIMPLE,
+    first_hit::DEPTH,
     direct::DIRECT_EMS,
     direct::DIRECT_MATS,
     direct::DIRECT_MIS,
@@ -264,7 +274,6 @@ pub const REGISTRY: &[PluginDoc] = &[
     moment::MOMENT,
     ptracer::PTRACER,
     not_yet("aov"),
-    not_yet("depth"),
     not_yet("stokes"),
     not_yet("prb"),
     not_yet("prb_basic"),
@@ -342,7 +351,7 @@ pub fn read(spec: &IntegratorSpec, override_name: Option<&str>) -> Result<Integr
     };
     let err = |message: String| ReadError { line, message };
     let integrator = match name {
-        "normals" | "simple" | "ao" => first_hit::read(name, &mut params),
+        "normals" | "simple" | "ao" | "depth" => first_hit::read(name, &mut params),
         "direct_ems" | "direct_mats" | "direct_mis" | "direct" => direct::read(name, &mut params),
         "path_mats" | "path_mis" | "path" | "vol_path_simple" | "vol_path_mis" | "volpath"
         | "volpathmis" => path::read(name, &mut params),
@@ -412,6 +421,7 @@ mod tests {
                 "normals",
                 "ao",
                 "simple",
+                "depth",
                 "direct_ems",
                 "direct_mats",
                 "direct_mis",
