@@ -394,7 +394,7 @@ scene!(
     Rejects
 );
 scene!(
-    #[ignore = "BMP image, ptracer integrator"]
+    #[ignore = "BMP image, projector, spot light texture"]
     various_emitters,
     "various_emitters",
     "test_various_emitters_ptracer.xml",
