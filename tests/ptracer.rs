@@ -132,3 +132,22 @@ fn splats_are_deterministic_and_ranges_merge_exactly() {
     assert_eq!(resumed, all, "0..3, then 3..6 from its sums");
     assert!(all.sums.iter().all(|p| p[3] == 6.0), "weight 1 per sample");
 }
+
+/// The viewer's progressive steps (src/render/progressive.rs) of any size render the
+/// same samples: steps of part of a sample index's light paths, and of more.
+#[test]
+fn progressive_steps_render_the_same_samples() {
+    let device = device();
+    let mut r = Renderer::new(&device, &scene(&[]), &RenderOptions::default()).expect("renderer");
+    assert!(r.is_progressive());
+    let whole = film(&mut r, 0, 3);
+    for max_paths in [700, 100_000] {
+        let mut p = r.start_progressive(Some(3)).expect("start");
+        while !p.finished() {
+            assert!(r.step(&mut p, max_paths).expect("step") > 0);
+        }
+        assert_eq!(r.step(&mut p, max_paths).expect("step after the end"), 0);
+        assert_eq!(p.samples_done(), 3);
+        assert_eq!(r.read_film().expect("film"), whole, "steps of {max_paths}");
+    }
+}

@@ -18,7 +18,7 @@
 use std::time::Instant;
 
 use crate::gpu::layout::{PhotonParams, Push};
-use crate::gpu::{shaders, KernelSpec, Spec, SpecValues};
+use crate::gpu::{shaders, CommandList, KernelSpec, Spec, SpecValues};
 use crate::render::film::FilmSums;
 
 use super::super::error::Result;
@@ -60,6 +60,71 @@ pub fn kernel_specs(f: &SceneFeatures) -> Vec<KernelSpec<'static>> {
 }
 
 impl Renderer {
+    /// Light paths per sample index: the full film's pixels.
+    pub(in crate::render) fn ptracer_paths(&self) -> u32 {
+        self.width * self.height
+    }
+
+    /// Records clearing the splats (the start of a render).
+    pub(in crate::render) fn ptracer_clear(&self, cmd: &mut CommandList) {
+        let splats = &self.photons().map.splats;
+        cmd.fill(splats, 0, splats.size(), 0);
+        cmd.barrier();
+    }
+
+    /// Traces light paths `first .. first + count` (at most a batch) of sample index
+    /// `sample`, splatting them; returns after they have run.
+    pub(in crate::render) fn ptracer_batch(
+        &self,
+        cmd: &mut CommandList,
+        sample: u32,
+        first: u32,
+        count: u32,
+        stats: &mut RenderStats,
+    ) -> Result<()> {
+        let base = self.photons().base_params(0, false, self.bounces);
+        self.write_photon_params(
+            cmd,
+            &PhotonParams {
+                iteration: sample,
+                ..base
+            },
+        );
+        self.trace_photon_batch(cmd, first, count, self.bounces, stats)?;
+        stats.batches += 1;
+        // trace_photon_batch's photon statistics: no photon is stored here.
+        stats.photons = None;
+        Ok(())
+    }
+
+    /// Adds the splats of the sample index whose light paths all ran to the film, as
+    /// one sample, and clears them; returns after it has run.
+    pub(in crate::render) fn ptracer_fold(
+        &self,
+        cmd: &mut CommandList,
+        stats: &mut RenderStats,
+    ) -> Result<()> {
+        let ph = self.photons();
+        let IntegratorKernels::Ptracer { fold } = &ph.kernels else {
+            unreachable!("the particle tracer's renderer has its kernels")
+        };
+        let sets = [
+            &self.scene_buffers.set,
+            &self.wavefront.set,
+            &ph.map.set,
+            &self.film.set,
+        ];
+        let push = Push {
+            capacity: self.wavefront.capacity,
+            ..Default::default()
+        };
+        let pixels = self.film.geometry.crop_pixels();
+        cmd.dispatch(fold, &sets, bytemuck::bytes_of(&push), groups_for(pixels));
+        cmd.barrier();
+        stats.kernel_times.add(&cmd.submit_and_wait_timed()?);
+        Ok(())
+    }
+
     /// Renders samples `first .. first + count` of every pixel with the particle
     /// tracer, continuing from `start`'s sums if given; `boundary` may stop it after any
     /// whole sample index (see [`Renderer::render_film_controlled`]).
@@ -76,60 +141,30 @@ impl Renderer {
             spp: count,
             ..Default::default()
         };
-        let ph = self.photons();
-        let IntegratorKernels::Ptracer { fold } = &ph.kernels else {
-            unreachable!("the particle tracer's renderer has its kernels")
-        };
         let mut cmd = self.command_list()?;
         self.start_film(&mut cmd, start)?;
-        cmd.fill(&ph.map.splats, 0, ph.map.splats.size(), 0);
-        cmd.barrier();
-        let paths = self.width * self.height;
+        self.ptracer_clear(&mut cmd);
+        let paths = self.ptracer_paths();
         let batch = self.wavefront.capacity;
-        let max_bounces = self.bounces;
-        let base = ph.base_params(0, false, max_bounces);
-        let crop = self.film.geometry.crop_pixels();
         let total = paths as u64 * count as u64;
         let mut done = 0u64;
         let end = first + count;
         for sample in first..end {
-            self.write_photon_params(
-                &mut cmd,
-                &PhotonParams {
-                    iteration: sample,
-                    ..base
-                },
-            );
             let mut a = 0;
             while a < paths {
                 let n = batch.min(paths - a);
-                self.trace_photon_batch(&mut cmd, a, n, max_bounces, &mut stats)?;
-                stats.batches += 1;
+                self.ptracer_batch(&mut cmd, sample, a, n, &mut stats)?;
                 a += n;
                 done += n as u64;
                 progress(done, total);
             }
-            let sets = [
-                &self.scene_buffers.set,
-                &self.wavefront.set,
-                &ph.map.set,
-                &self.film.set,
-            ];
-            let push = Push {
-                capacity: batch,
-                ..Default::default()
-            };
-            cmd.dispatch(fold, &sets, bytemuck::bytes_of(&push), groups_for(crop));
-            cmd.barrier();
-            stats.kernel_times.add(&cmd.submit_and_wait_timed()?);
+            self.ptracer_fold(&mut cmd, &mut stats)?;
             let rendered = sample + 1 - first;
             if sample + 1 < end && boundary(self, rendered)? {
                 stats.spp = rendered;
                 break;
             }
         }
-        // trace_photon_batch's photon statistics: no photon is stored here.
-        stats.photons = None;
         let film = self.film.read(&self.device)?;
         stats.seconds = t.elapsed().as_secs_f64();
         Ok((film, stats))
