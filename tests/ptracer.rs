@@ -151,3 +151,33 @@ fn progressive_steps_render_the_same_samples() {
         assert_eq!(r.read_film().expect("film"), whole, "steps of {max_paths}");
     }
 }
+
+/// A crop window traces the full film's light paths and keeps the splats that land in
+/// it: the same pixels as the full render, bit for bit (through a Gaussian, whose
+/// splats reach over the window's edge).
+#[test]
+fn a_crop_is_the_same_window_of_the_full_render() {
+    let device = device();
+    let full_scene = scene(&[("filter", "gaussian")]);
+    let mut full =
+        Renderer::new(&device, &full_scene, &RenderOptions::default()).expect("renderer");
+    let all = film(&mut full, 0, 2);
+    let crop = wavetrace::scene::film::Crop {
+        x: 5,
+        y: 7,
+        width: 20,
+        height: 9,
+    };
+    let mut cropped_scene = full_scene.clone();
+    cropped_scene.film.crop = Some(crop);
+    let mut r =
+        Renderer::new(&device, &cropped_scene, &RenderOptions::default()).expect("renderer");
+    let part = film(&mut r, 0, 2);
+    for y in 0..crop.height {
+        for x in 0..crop.width {
+            let p = part.sums[(y * crop.width + x) as usize];
+            let q = all.sums[((y + crop.y) * all.crop.width + x + crop.x) as usize];
+            assert_eq!(p, q, "pixel ({x}, {y}) of the window");
+        }
+    }
+}
