@@ -390,7 +390,7 @@ scene!(
     Rejects
 );
 scene!(
-    #[ignore = "ptracer integrator, spot light texture, projector emitter"]
+    #[ignore = "projector, spot light texture"]
     various_emitters,
     "various_emitters",
     "test_various_emitters_ptracer.xml",
