@@ -2,7 +2,7 @@
 """Time per render of a camera loop from Python: wavetrace against Mitsuba 3.
 
 Both renderers load the Cornell box of scenes/cbox/cbox_path.xml once from the same
-scene dictionary, then render POSES camera poses (an orbit around the box) at SPP
+scene dictionary, then render POSES camera poses, taking turns pose by pose, (an orbit around the box) at SPP
 samples per pixel, changing only the camera between renders: wavetrace with
 ``scene.set_camera`` + ``wt.render``, Mitsuba with ``params['sensor.to_world']``,
 ``params.update()`` + ``mi.render`` (variant llvm_ad_rgb by default, which needs
@@ -81,22 +81,21 @@ def cbox_dict(res, spp, to_world):
     }
 
 
-def loop_wavetrace(args):
+def setup_wavetrace(args):
     import wavetrace as wt
 
     scene = wt.load_dict(cbox_dict(args.res, args.spp, pose(0, args.poses)))
-    times, first = [], None
-    for i in range(args.poses):
+
+    def render(i):
         scene.set_camera(to_world=pose(i, args.poses))
         t = time.perf_counter()
         image = np.asarray(wt.render(scene, spp=args.spp, seed=i))
-        times.append(time.perf_counter() - t)
-        if first is None:
-            first = image.copy()
-    return times, first, wt.devices()[0]["name"]
+        return time.perf_counter() - t, image
+
+    return render, f"wavetrace ({wt.devices()[0]['name']})"
 
 
-def loop_mitsuba(args):
+def setup_mitsuba(args):
     if "DRJIT_LIBLLVM_PATH" not in os.environ:
         found = sorted(glob.glob("/usr/lib/*/libLLVM.so.19*") + glob.glob("/usr/lib/*/libLLVM-19.so"))
         if found:
@@ -107,16 +106,15 @@ def loop_mitsuba(args):
     T = lambda m: mi.ScalarTransform4f(m.tolist())  # noqa: E731
     scene = mi.load_dict(cbox_dict(args.res, args.spp, T(pose(0, args.poses))))
     params = mi.traverse(scene)
-    times, first = [], None
-    for i in range(args.poses):
+
+    def render(i):
         params["sensor.to_world"] = T(pose(i, args.poses))
         params.update()
         t = time.perf_counter()
         image = np.array(mi.render(scene, params, spp=args.spp, seed=i))
-        times.append(time.perf_counter() - t)
-        if first is None:
-            first = image.copy()
-    return times, first, f"Mitsuba {mi.__version__} {args.variant}"
+        return time.perf_counter() - t, image
+
+    return render, f"Mitsuba {mi.__version__} {args.variant}"
 
 
 def report(name, times):
@@ -136,22 +134,34 @@ def main():
     p.add_argument("--variant", default="llvm_ad_rgb")
     p.add_argument("--skip-mitsuba", action="store_true")
     args = p.parse_args()
-    flags = open("/proc/cpuinfo").read().split("flags")[1].split("\n")[0].split()
+    cpuinfo = open("/proc/cpuinfo").read()
+    flags = cpuinfo.split("flags")[1].split("\n")[0].split()
+    model = next((l.split(":", 1)[1].strip() for l in cpuinfo.splitlines()
+                  if l.startswith("model name")), platform.machine())
     simd = [f for f in ("sse4_2", "avx", "avx2", "fma", "avx512f") if f in flags]
-    print(f"host: {platform.processor() or platform.machine()}, {os.cpu_count()} CPUs, "
+    print(f"host: {model}, {os.cpu_count()} CPUs, "
           f"vector extensions {' '.join(simd)}; Cornell box {args.res}x{args.res}, "
           f"{args.spp} spp, {args.poses} poses", flush=True)
-    wt_times, wt_first, device = loop_wavetrace(args)
-    report(f"wavetrace ({device})", wt_times)
-    if args.skip_mitsuba:
-        return
-    mi_times, mi_first, what = loop_mitsuba(args)
-    report(what, mi_times)
-    diff = np.abs(wt_first.mean(axis=(0, 1)) - mi_first[:, :, :3].mean(axis=(0, 1)))
-    print(f"first pose: mean RGB wavetrace {wt_first.mean(axis=(0, 1))}, "
-          f"Mitsuba {mi_first[:, :, :3].mean(axis=(0, 1))} (difference {diff})")
-    print(f"ratio of median times (Mitsuba / wavetrace): "
-          f"{statistics.median(mi_times[1:]) / statistics.median(wt_times[1:]):.2f}")
+    loops = [setup_wavetrace(args)]
+    if not args.skip_mitsuba:
+        loops.append(setup_mitsuba(args))
+    # The renderers take turns pose by pose, so that both see the same load of a
+    # shared machine.
+    times = [[] for _ in loops]
+    firsts = [None for _ in loops]
+    for i in range(args.poses):
+        for k, (render, _) in enumerate(loops):
+            t, image = render(i)
+            times[k].append(t)
+            if firsts[k] is None:
+                firsts[k] = image.copy()
+    for (_, name), ts in zip(loops, times):
+        report(name, ts)
+    if len(loops) == 2:
+        means = [f[:, :, :3].mean(axis=(0, 1)) for f in firsts]
+        print(f"first pose: mean RGB wavetrace {means[0]}, Mitsuba {means[1]}")
+        print(f"ratio of median times (Mitsuba / wavetrace): "
+              f"{statistics.median(times[1][1:]) / statistics.median(times[0][1:]):.2f}")
 
 
 if __name__ == "__main__":
