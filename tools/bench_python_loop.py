@@ -133,6 +133,7 @@ def main():
     p.add_argument("--res", type=int, default=128)
     p.add_argument("--variant", default="llvm_ad_rgb")
     p.add_argument("--skip-mitsuba", action="store_true")
+    p.add_argument("-v", "--verbose", action="store_true", help="print every render's time")
     args = p.parse_args()
     cpuinfo = open("/proc/cpuinfo").read()
     flags = cpuinfo.split("flags")[1].split("\n")[0].split()
@@ -153,6 +154,8 @@ def main():
         for k, (render, _) in enumerate(loops):
             t, image = render(i)
             times[k].append(t)
+            if args.verbose:
+                print(f"pose {i} {loops[k][1]}: {t * 1e3:.0f} ms", flush=True)
             if firsts[k] is None:
                 firsts[k] = image.copy()
     for (_, name), ts in zip(loops, times):
