@@ -415,6 +415,9 @@ fn scene_frame(
         hide_emitters: integrator.hide_emitters() as u32,
         camera_medium: scene.camera_medium.unwrap_or(NONE),
         photon_alias: records.photon_alias,
+        camera_kind: cam.projection.frame_fields().0,
+        aperture_radius: cam.projection.frame_fields().1,
+        focus_distance: cam.projection.frame_fields().2,
         ..Default::default()
     }
 }

@@ -1,4 +1,4 @@
-//! The perspective camera.
+//! The camera: perspective (a pinhole), orthographic or a thin lens.
 
 use glam::Mat4;
 
@@ -23,6 +23,42 @@ pub struct Camera {
     pub far_clip: f32,
     pub width: u32,
     pub height: u32,
+    /// How rays leave the camera.
+    pub projection: Projection,
+}
+
+/// How a camera makes rays (shaders/sensor/camera.glsl).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Projection {
+    /// A pinhole: Mitsuba `perspective`, Nori `perspective`.
+    #[default]
+    Perspective,
+    /// Parallel rays along +z from the film rectangle x ∈ [-1, 1], y ∈ [-1/a, 1/a]
+    /// (a the aspect ratio) on the near plane, before `to_world`: Mitsuba
+    /// `orthographic` (`fov_x_deg` unused).
+    Orthographic,
+    /// A thin lens (Mitsuba `thinlens`): rays from a uniform point of the disk of
+    /// radius `aperture_radius` through the point the pinhole ray meets at depth
+    /// `focus_distance`.
+    ThinLens {
+        aperture_radius: f32,
+        focus_distance: f32,
+    },
+}
+
+impl Projection {
+    /// `CAMERA_*` of `Frame::camera_kind`, aperture radius and focus distance.
+    pub fn frame_fields(&self) -> (u32, f32, f32) {
+        use crate::gpu::layout::{CAMERA_ORTHOGRAPHIC, CAMERA_PERSPECTIVE, CAMERA_THINLENS};
+        match *self {
+            Projection::Perspective => (CAMERA_PERSPECTIVE, 0.0, 0.0),
+            Projection::Orthographic => (CAMERA_ORTHOGRAPHIC, 0.0, 0.0),
+            Projection::ThinLens {
+                aperture_radius,
+                focus_distance,
+            } => (CAMERA_THINLENS, aperture_radius, focus_distance),
+        }
+    }
 }
 
 impl Camera {

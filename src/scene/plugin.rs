@@ -422,6 +422,11 @@ mod tests {
             ),
             Family::Emitter => format!(r#"{default_sensor}<emitter type="{t}">{body}</emitter>"#),
             Family::Shape => format!(r#"{default_sensor}<shape type="{t}">{body}</shape>"#),
+            // A thin lens needs its aperture whatever else is given.
+            Family::Sensor if t == "thinlens" && !body.contains("aperture_radius") => sensor(
+                &format!(r#"<float name="aperture_radius" value="0.1"/>{body}"#),
+            )
+            .replace("perspective", t),
             Family::Sensor => sensor(body).replace("perspective", t),
             Family::Film => sensor(&format!(r#"<film type="{t}">{body}</film>"#)),
             Family::ReconstructionFilter => sensor(&format!(
@@ -466,7 +471,12 @@ mod tests {
         // Read only beside a parameter of another kind than this test gives: an area
         // emitter's scale multiplies a radiance texture; fov_axis says along which
         // axis fov is measured. Pairs (`Param::with`) are given together.
-        const ONLY_WITH_OTHERS: &[(&str, &str)] = &[("area", "scale"), ("perspective", "fov_axis")];
+        const ONLY_WITH_OTHERS: &[(&str, &str)] = &[
+            ("area", "scale"),
+            ("perspective", "fov_axis"),
+            ("thinlens", "fov_axis"),
+            ("projector", "fov_axis"),
+        ];
         let mut checked = 0;
         let mut failed = Vec::new();
         for p in catalogue() {

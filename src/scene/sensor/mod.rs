@@ -3,7 +3,9 @@
 //! dialects. A Mitsuba sensor nests the film ([`crate::scene::film`]) and the sampler
 //! ([`crate::scene::sampler`]).
 
+pub mod orthographic;
 pub mod perspective;
+pub mod thinlens;
 
 use super::plugin::{self, Family, PluginDoc};
 use super::sampler::Sampler;
@@ -13,8 +15,8 @@ use super::{Camera, Error, Film};
 /// Every sensor type of both dialects.
 pub const REGISTRY: &[PluginDoc] = &[
     perspective::MITSUBA,
-    not_yet("thinlens"),
-    not_yet("orthographic"),
+    thinlens::MITSUBA,
+    orthographic::MITSUBA,
     not_yet("radiancemeter"),
     not_yet("irradiancemeter"),
     not_yet("distant"),
@@ -39,6 +41,8 @@ pub fn mitsuba(el: &Element) -> Result<SensorParts<'_>, Error> {
     el.check_attrs(&["type", "id", "name"])?;
     match el.require("type")? {
         "perspective" => perspective::mitsuba(el),
+        "thinlens" => thinlens::mitsuba(el),
+        "orthographic" => orthographic::mitsuba(el),
         _ => Err(plugin::unsupported(
             el,
             Family::Sensor,
