@@ -31,8 +31,9 @@ use super::{Bsdf, Camera, Emitter, Error, Film, IntegratorSpec, Medium, Quadric,
 
 /// Loads a Mitsuba 3 scene read by [`super::xml::read`].
 pub fn load(doc: &Document) -> Result<Scene, Error> {
+    let root = super::inline_refs::inline(&doc.root)?;
     let mut ids = HashMap::new();
-    collect_ids(&doc.root, &mut ids)?;
+    collect_ids(&root, &mut ids)?;
     let mut l = Loader {
         b: Builder::default(),
         ids,
@@ -46,7 +47,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
     let mut camera: Option<(Camera, (Sampler, u32), Film)> = None;
     let mut camera_medium = None;
     let mut integrator: Option<IntegratorSpec> = None;
-    for el in &doc.root.children {
+    for el in &root.children {
         match el.tag.as_str() {
             "sensor" => {
                 if camera.is_some() {
@@ -84,14 +85,14 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         }
     }
     let (camera, (sampler, spp), film) =
-        camera.ok_or_else(|| doc.root.err("the scene has no <sensor>"))?;
+        camera.ok_or_else(|| root.err("the scene has no <sensor>"))?;
     let environments =
         l.b.emitters
             .iter()
             .filter(|e| matches!(e, Emitter::Constant { .. } | Emitter::EnvMap { .. }))
             .count();
     if environments > 1 {
-        return Err(doc.root.err(
+        return Err(root.err(
             "the scene has more than one environment emitter (constant or envmap); wavetrace supports one",
         ));
     }
@@ -105,7 +106,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         ..Default::default()
     });
     Ok(Scene {
-        path: doc.root.file.as_ref().clone(),
+        path: root.file.as_ref().clone(),
         camera,
         film,
         spp,
