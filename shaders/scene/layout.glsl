@@ -41,6 +41,7 @@
 #define CAMERA_PERSPECTIVE 0u
 #define CAMERA_ORTHOGRAPHIC 1u
 #define CAMERA_THINLENS 2u
+#define CAMERA_RADIANCEMETER 3u
 
 // EmitterRecord.kind
 #define EMITTER_POINT 0u

@@ -1,4 +1,4 @@
-// The camera: a pinhole (perspective), orthographic or thin-lens camera, by
+// The camera: a pinhole (perspective), orthographic, thin-lens camera or radiance meter, by
 // frame.camera_kind (scene::Projection). Needs wavefront.glsl (for `frame`).
 #ifndef CAMERA_GLSL
 #define CAMERA_GLSL
@@ -19,6 +19,15 @@ void camera_ray(vec2 film_pos, vec2 u_lens, out vec3 origin, out vec3 dir, out f
         origin = (frame.camera_to_world * vec4(p, 1.0)).xyz;
         dir = normalize(mat3(frame.camera_to_world) * vec3(0.0, 0.0, 1.0));
         tmax = frame.far_clip - frame.near_clip;
+        return;
+    }
+    if (frame.camera_kind == CAMERA_RADIANCEMETER) {
+        // Mitsuba's radiancemeter: one unbounded ray along to_world's +z, its origin
+        // moved by Mitsuba's ray epsilon along it.
+        vec3 d = mat3(frame.camera_to_world) * vec3(0.0, 0.0, 1.0);
+        origin = frame.camera_to_world[3].xyz + 1e-4 * d;
+        dir = normalize(d);
+        tmax = frame.far_clip;
         return;
     }
     vec3 d = vec3((1.0 - 2.0 * ndc.x) * frame.tan_half_fov.x,

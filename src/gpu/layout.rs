@@ -117,6 +117,7 @@ pub const BSDF_GGX: u32 = 1;
 pub const CAMERA_PERSPECTIVE: u32 = 0;
 pub const CAMERA_ORTHOGRAPHIC: u32 = 1;
 pub const CAMERA_THINLENS: u32 = 2;
+pub const CAMERA_RADIANCEMETER: u32 = 3;
 
 /// Emitter kinds in [`EmitterRecord::kind`].
 pub const EMITTER_POINT: u32 = 0;
@@ -635,6 +636,7 @@ mod tests {
             ("CAMERA_PERSPECTIVE", CAMERA_PERSPECTIVE),
             ("CAMERA_ORTHOGRAPHIC", CAMERA_ORTHOGRAPHIC),
             ("CAMERA_THINLENS", CAMERA_THINLENS),
+            ("CAMERA_RADIANCEMETER", CAMERA_RADIANCEMETER),
             ("EMITTER_PROJECTOR", EMITTER_PROJECTOR),
             ("EMITTER_KIND_BIT_SPHERE_AREA", EMITTER_KIND_BIT_SPHERE_AREA),
             (

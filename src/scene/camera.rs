@@ -44,15 +44,21 @@ pub enum Projection {
         aperture_radius: f32,
         focus_distance: f32,
     },
+    /// One ray from the origin of `to_world` along its +z, for every pixel: Mitsuba
+    /// `radiancemeter`.
+    RadianceMeter,
 }
 
 impl Projection {
     /// `CAMERA_*` of `Frame::camera_kind`, aperture radius and focus distance.
     pub fn frame_fields(&self) -> (u32, f32, f32) {
-        use crate::gpu::layout::{CAMERA_ORTHOGRAPHIC, CAMERA_PERSPECTIVE, CAMERA_THINLENS};
+        use crate::gpu::layout::{
+            CAMERA_ORTHOGRAPHIC, CAMERA_PERSPECTIVE, CAMERA_RADIANCEMETER, CAMERA_THINLENS,
+        };
         match *self {
             Projection::Perspective => (CAMERA_PERSPECTIVE, 0.0, 0.0),
             Projection::Orthographic => (CAMERA_ORTHOGRAPHIC, 0.0, 0.0),
+            Projection::RadianceMeter => (CAMERA_RADIANCEMETER, 0.0, 0.0),
             Projection::ThinLens {
                 aperture_radius,
                 focus_distance,

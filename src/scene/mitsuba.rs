@@ -1231,7 +1231,7 @@ mod tests {
             load(
                 &[(
                     "s.xml",
-                    "<scene version=\"3.0.0\">\n<sensor type=\"radiancemeter\"/></scene>",
+                    "<scene version=\"3.0.0\">\n<sensor type=\"irradiancemeter\"/></scene>",
                 )],
                 &[],
             ),
@@ -1239,7 +1239,7 @@ mod tests {
             2,
         );
         assert!(
-            e.contains("sensor type 'radiancemeter' is not supported yet"),
+            e.contains("sensor type 'irradiancemeter' is not supported yet"),
             "{e}"
         );
         let e = error_at(

@@ -395,6 +395,7 @@ mod tests {
                 };
                 format!(r#"<point name="{name}" value="{v}"/>"#)
             }
+            "vector" => format!(r#"<vector name="{name}" value="0,0,1"/>"#),
             "transform" => {
                 format!(r#"<transform name="{name}"><translate value="0,0,0"/></transform>"#)
             }
@@ -426,6 +427,11 @@ mod tests {
             Family::Sensor if t == "thinlens" && !body.contains("aperture_radius") => sensor(
                 &format!(r#"<float name="aperture_radius" value="0.1"/>{body}"#),
             )
+            .replace("perspective", t),
+            // A radiance meter needs a 1 x 1 film.
+            Family::Sensor if t == "radiancemeter" => sensor(&format!(
+                r#"<film type="hdrfilm"><integer name="width" value="1"/><integer name="height" value="1"/></film>{body}"#
+            ))
             .replace("perspective", t),
             Family::Sensor => sensor(body).replace("perspective", t),
             Family::Film => sensor(&format!(r#"<film type="{t}">{body}</film>"#)),

@@ -5,6 +5,7 @@
 
 pub mod orthographic;
 pub mod perspective;
+pub mod radiancemeter;
 pub mod thinlens;
 
 use super::plugin::{self, Family, PluginDoc};
@@ -17,7 +18,7 @@ pub const REGISTRY: &[PluginDoc] = &[
     perspective::MITSUBA,
     thinlens::MITSUBA,
     orthographic::MITSUBA,
-    not_yet("radiancemeter"),
+    radiancemeter::MITSUBA,
     not_yet("irradiancemeter"),
     not_yet("distant"),
     not_yet("batch"),
@@ -43,6 +44,7 @@ pub fn mitsuba(el: &Element) -> Result<SensorParts<'_>, Error> {
         "perspective" => perspective::mitsuba(el),
         "thinlens" => thinlens::mitsuba(el),
         "orthographic" => orthographic::mitsuba(el),
+        "radiancemeter" => perspective::projective(el, "radiancemeter"),
         _ => Err(plugin::unsupported(
             el,
             Family::Sensor,

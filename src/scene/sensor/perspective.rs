@@ -169,20 +169,33 @@ pub(super) fn projective<'a>(el: &'a Element, kind: &str) -> Result<SensorParts<
         }
     }
     let (width, height, film) = size.unwrap_or((FILM_WIDTH, FILM_HEIGHT, Film::default()));
-    let fov_x_deg = if kind == "orthographic" {
+    let fov_x_deg = if matches!(kind, "orthographic" | "radiancemeter") {
         90.0
     } else {
         parse_fov(&props, width, height)?
     };
-    let near_clip = props.float("near_clip", 0.01)?;
-    let far_clip = props.float("far_clip", 10000.0)?;
+    // A radiance meter has no clip planes (Mitsuba's radiancemeter is no projective
+    // camera): its ray is unbounded.
+    let (near_clip, far_clip) = if kind == "radiancemeter" {
+        (0.01, f32::MAX)
+    } else {
+        (
+            props.float("near_clip", 0.01)?,
+            props.float("far_clip", 10000.0)?,
+        )
+    };
     if !(near_clip > 0.0 && far_clip > near_clip) {
         return Err(props.object_error(format!(
             "need 0 < near_clip < far_clip, found near_clip = {near_clip}, far_clip = {far_clip}"
         )));
     }
-    let to_world = props.transform("to_world")?;
+    let to_world = if kind == "radiancemeter" {
+        super::radiancemeter::to_world(&props, width, height)?
+    } else {
+        props.transform("to_world")?
+    };
     let projection = match kind {
+        "radiancemeter" => Projection::RadianceMeter,
         "thinlens" => super::thinlens::lens(&props, to_world, far_clip)?,
         "orthographic" => Projection::Orthographic,
         _ => {
