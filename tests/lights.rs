@@ -130,3 +130,33 @@ fn radiancemeter_sees_the_radiance_along_its_ray() {
     println!("radiancemeter: {got} against {want} (σ < {sigma})");
     assert!((got - want).abs() < 5.0 * sigma, "{got} against {want}");
 }
+
+/// A distant sensor looking straight down at a 2 x 2 diffuse square (albedo ρ) under
+/// a directional light (irradiance E at cos θ = 3/√14) and a sky (radiance L): its rays
+/// start uniformly over the bounding sphere's cross-section (radius √2), a fraction
+/// 4 / 2π of them meets the square, whose radiance is (ρ/π) E cos θ + ρ L, and the rest
+/// see the sky: the pixel is their mix, within 5 standard deviations of 65,536 samples.
+#[test]
+fn distant_sensor_averages_over_the_scene() {
+    let text = r#"<scene version="3.0.0">
+        <integrator type="path"><integer name="max_depth" value="2"/></integrator>
+        <sensor type="distant">
+            <vector name="direction" value="0, 0, -1"/>
+            <film type="hdrfilm"><integer name="width" value="1"/><integer name="height" value="1"/><rfilter type="box"/></film>
+        </sensor>
+        <emitter type="constant"><rgb name="radiance" value="0.2"/></emitter>
+        <emitter type="directional"><vector name="direction" value="-1, -2, -3"/><rgb name="irradiance" value="2"/></emitter>
+        <shape type="rectangle"><bsdf type="diffuse"><rgb name="reflectance" value="0.6"/></bsdf></shape>
+    </scene>"#;
+    let sc = common::load(&temp_file("lights", "distant.xml", text));
+    let spp = 65536;
+    let img = common::render(&device(), &sc, &RenderOptions::default(), spp);
+    let (rho, e, l) = (0.6f64, 2.0f64, 0.2f64);
+    let plane = rho / std::f64::consts::PI * e * 3.0 / 14f64.sqrt() + rho * l;
+    let f = 4.0 / (2.0 * std::f64::consts::PI);
+    let want = f * plane + (1.0 - f) * l;
+    let got = img.rgb[1] as f64;
+    let sigma = 0.4 / (spp as f64).sqrt();
+    println!("distant: {got} against {want} (σ < {sigma})");
+    assert!((got - want).abs() < 5.0 * sigma, "{got} against {want}");
+}

@@ -14,7 +14,8 @@ void camera_path_start(uint p, out PathState path, out RayItem r) {
 
     vec3 origin, dir;
     float tmax;
-    vec2 u_lens = frame.camera_kind == CAMERA_THINLENS ? sample_2d(key, sample_index, RNG_DIM_APERTURE) : vec2(0.0);
+    vec2 u_lens = (frame.camera_kind == CAMERA_THINLENS || frame.camera_kind == CAMERA_DISTANT)
+        ? sample_2d(key, sample_index, RNG_DIM_APERTURE) : vec2(0.0);
     camera_ray(vec2(pixel) + film_sample_position(key, sample_index), u_lens, origin, dir, tmax);
 
     uint flags = PATH_DELTA | (film.coverage != 0u ? PATH_COVERED : 0u);

@@ -42,6 +42,7 @@
 #define CAMERA_ORTHOGRAPHIC 1u
 #define CAMERA_THINLENS 2u
 #define CAMERA_RADIANCEMETER 3u
+#define CAMERA_DISTANT 4u
 
 // EmitterRecord.kind
 #define EMITTER_POINT 0u

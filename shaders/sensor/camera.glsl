@@ -30,6 +30,15 @@ void camera_ray(vec2 film_pos, vec2 u_lens, out vec3 origin, out vec3 dir, out f
         tmax = frame.far_clip;
         return;
     }
+    if (frame.camera_kind == CAMERA_DISTANT) {
+        // Mitsuba's distant: from a uniform point of the bounding sphere's cross-section
+        // (or the target), a sphere radius behind it; camera_to_world holds both
+        // (scene::Projection::distant_frame).
+        origin = (frame.camera_to_world * vec4(warp_square_to_disk(u_lens), -1.0, 1.0)).xyz;
+        dir = normalize(mat3(frame.camera_to_world) * vec3(0.0, 0.0, 1.0));
+        tmax = frame.far_clip;
+        return;
+    }
     vec3 d = vec3((1.0 - 2.0 * ndc.x) * frame.tan_half_fov.x,
                   (1.0 - 2.0 * ndc.y) * frame.tan_half_fov.y,
                   1.0);

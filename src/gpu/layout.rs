@@ -118,6 +118,7 @@ pub const CAMERA_PERSPECTIVE: u32 = 0;
 pub const CAMERA_ORTHOGRAPHIC: u32 = 1;
 pub const CAMERA_THINLENS: u32 = 2;
 pub const CAMERA_RADIANCEMETER: u32 = 3;
+pub const CAMERA_DISTANT: u32 = 4;
 
 /// Emitter kinds in [`EmitterRecord::kind`].
 pub const EMITTER_POINT: u32 = 0;
@@ -637,6 +638,7 @@ mod tests {
             ("CAMERA_ORTHOGRAPHIC", CAMERA_ORTHOGRAPHIC),
             ("CAMERA_THINLENS", CAMERA_THINLENS),
             ("CAMERA_RADIANCEMETER", CAMERA_RADIANCEMETER),
+            ("CAMERA_DISTANT", CAMERA_DISTANT),
             ("EMITTER_PROJECTOR", EMITTER_PROJECTOR),
             ("EMITTER_KIND_BIT_SPHERE_AREA", EMITTER_KIND_BIT_SPHERE_AREA),
             (

@@ -182,6 +182,21 @@ impl RenderPlan {
             options.scene_part_shift,
         )?;
         let mut frame = scene_frame(scene, options, &integrator, &records);
+        if let crate::scene::Projection::Distant { target } = scene.camera.projection {
+            let (lo, hi) = bvh.bounds().unwrap_or((glam::Vec3::ZERO, glam::Vec3::ZERO));
+            let d = scene
+                .camera
+                .to_world
+                .transform_vector3(glam::Vec3::Z)
+                .normalize();
+            let m = crate::scene::Projection::distant_frame(
+                d,
+                target,
+                0.5 * (lo + hi),
+                0.5 * (hi - lo).length(),
+            );
+            frame.camera_to_world = m.to_cols_array_2d();
+        }
         sampler::set_frame(&mut frame, &sampler, &sample_count, options.seed, key_size);
         for (k, &slot) in facts.emitter_prims.iter().flatten().enumerate() {
             frame.emitter_prims[k / 4][k % 4] = slot;

@@ -429,7 +429,7 @@ mod tests {
             )
             .replace("perspective", t),
             // A radiance meter needs a 1 x 1 film.
-            Family::Sensor if t == "radiancemeter" => sensor(&format!(
+            Family::Sensor if matches!(t, "radiancemeter" | "distant") => sensor(&format!(
                 r#"<film type="hdrfilm"><integer name="width" value="1"/><integer name="height" value="1"/></film>{body}"#
             ))
             .replace("perspective", t),

@@ -3,6 +3,7 @@
 //! dialects. A Mitsuba sensor nests the film ([`crate::scene::film`]) and the sampler
 //! ([`crate::scene::sampler`]).
 
+pub mod distant;
 pub mod orthographic;
 pub mod perspective;
 pub mod radiancemeter;
@@ -20,7 +21,7 @@ pub const REGISTRY: &[PluginDoc] = &[
     orthographic::MITSUBA,
     radiancemeter::MITSUBA,
     not_yet("irradiancemeter"),
-    not_yet("distant"),
+    distant::MITSUBA,
     not_yet("batch"),
     perspective::NORI,
 ];
@@ -45,6 +46,7 @@ pub fn mitsuba(el: &Element) -> Result<SensorParts<'_>, Error> {
         "thinlens" => thinlens::mitsuba(el),
         "orthographic" => orthographic::mitsuba(el),
         "radiancemeter" => perspective::projective(el, "radiancemeter"),
+        "distant" => perspective::projective(el, "distant"),
         _ => Err(plugin::unsupported(
             el,
             Family::Sensor,

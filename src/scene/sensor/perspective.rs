@@ -169,14 +169,14 @@ pub(super) fn projective<'a>(el: &'a Element, kind: &str) -> Result<SensorParts<
         }
     }
     let (width, height, film) = size.unwrap_or((FILM_WIDTH, FILM_HEIGHT, Film::default()));
-    let fov_x_deg = if matches!(kind, "orthographic" | "radiancemeter") {
+    let fov_x_deg = if matches!(kind, "orthographic" | "radiancemeter" | "distant") {
         90.0
     } else {
         parse_fov(&props, width, height)?
     };
     // A radiance meter has no clip planes (Mitsuba's radiancemeter is no projective
     // camera): its ray is unbounded.
-    let (near_clip, far_clip) = if kind == "radiancemeter" {
+    let (near_clip, far_clip) = if matches!(kind, "radiancemeter" | "distant") {
         (0.01, f32::MAX)
     } else {
         (
@@ -191,11 +191,16 @@ pub(super) fn projective<'a>(el: &'a Element, kind: &str) -> Result<SensorParts<
     }
     let to_world = if kind == "radiancemeter" {
         super::radiancemeter::to_world(&props, width, height)?
+    } else if kind == "distant" {
+        super::distant::to_world(&props, width, height)?
     } else {
         props.transform("to_world")?
     };
     let projection = match kind {
         "radiancemeter" => Projection::RadianceMeter,
+        "distant" => Projection::Distant {
+            target: props.point_opt("target")?,
+        },
         "thinlens" => super::thinlens::lens(&props, to_world, far_clip)?,
         "orthographic" => Projection::Orthographic,
         _ => {
