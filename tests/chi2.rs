@@ -80,6 +80,22 @@ fn warps() {
     }
 }
 
+/// The sampling routines of sensors and emitters: the thin lens's aperture, a
+/// projector's photon directions (uniform image points through the plane z = 1).
+#[test]
+fn sensor_and_emitter_warps() {
+    let probe = warp_probe();
+    warp_case(&probe, "thin-lens aperture", Warp::ThinLensAperture, 3);
+    for (tan_x, tan_y) in [(1.2, 0.8), (0.3, 0.5)] {
+        warp_case(
+            &probe,
+            &format!("projector, tan half fov {tan_x} x {tan_y}"),
+            Warp::Projector { tan_x, tan_y },
+            3,
+        );
+    }
+}
+
 /// The test can fail: cosine-weighted samples against the uniform hemisphere's pdf
 /// (the test-only warp) are rejected with overwhelming significance.
 #[test]

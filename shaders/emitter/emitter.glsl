@@ -74,6 +74,40 @@ float emitter_spot_falloff(EmitterRecord e, vec3 w_out) {
     return clamp((e.cutoff - theta) * e.inv_transition, 0.0, 1.0);
 }
 
+// A spot light's texture (Mitsuba's `texture`) in direction w_out leaving it: the
+// direction (x, y, z) in the light's frame (rows to_world_*) is looked up at
+// uv = ½ + ½ (x, y) / (z tan cutoff) (e.area holds 1 / tan cutoff; emitter::spot).
+vec3 emitter_spot_texture(EmitterRecord e, vec3 w_out) {
+    vec3 l = vec3(dot(e.to_world_x.xyz, w_out), dot(e.to_world_y.xyz, w_out), dot(e.to_world_z.xyz, w_out));
+    return texture_eval(e.texture, vec2(0.5) + (0.5 * e.area / l.z) * l.xy);
+}
+
+// A spot light's intensity in direction w_out leaving it: falloff and texture.
+vec3 emitter_spot_intensity(EmitterRecord e, vec3 w_out) {
+    float falloff = emitter_spot_falloff(e, w_out);
+    vec3 I = e.radiance * falloff;
+    if (TEXTURE_USES(TEXTURE_FEATURE_EMITTER_PROFILE) && e.texture != 0u && falloff > 0.0) {
+        I *= emitter_spot_texture(e, w_out);
+    }
+    return I;
+}
+
+// Light a projector (emitter::projector) sends to point x, wi the unit direction from
+// x to the projector: π scale irradiance(uv) / (z² cos θ) with (x, y, z) the point in
+// the projector's frame (rows to_world_*), uv its image coordinate
+// (½ - ½ x / (z tan_x), ½ - ½ y / (z tan_y)), tan_x, tan_y in cutoff, inv_transition,
+// and cos θ = -axis · wi (Mitsuba's projector sample_direction); 0 outside the image.
+vec3 emitter_projector_light(EmitterRecord e, vec3 x, vec3 wi) {
+    vec4 xp = vec4(x, 1.0);
+    vec3 l = vec3(dot(e.to_world_x, xp), dot(e.to_world_y, xp), dot(e.to_world_z, xp));
+    if (!(l.z > 0.0)) return vec3(0.0);
+    vec2 uv = vec2(0.5) - (0.5 / l.z) * l.xy / vec2(e.cutoff, e.inv_transition);
+    if (any(lessThan(uv, vec2(0.0))) || any(greaterThan(uv, vec2(1.0)))) return vec3(0.0);
+    vec3 c = e.radiance;
+    if (TEXTURE_USES(TEXTURE_FEATURE_EMITTER_PROFILE) && e.texture != 0u) c *= texture_eval(e.texture, uv);
+    return c / (l.z * l.z * -dot(e.axis, wi));
+}
+
 // Radiance leaving an area emitter towards -d, at a point with geometric normal ng
 // and texture coordinates uv: one-sided, from the front face only; a textured
 // emitter's radiance is its texture at uv times e.radiance (the scale).
@@ -215,7 +249,22 @@ EmitterSample emitter_sample_env(vec3 x, vec2 u, bool env, vec3 d) {
         s.dist = sqrt(d2);
         s.wi = d / s.dist;
         s.Le = e.radiance / d2;
-        if (EMITTER_HAS(EMITTER_SPOT) && e.kind == EMITTER_SPOT) s.Le *= emitter_spot_falloff(e, -s.wi);
+        if (EMITTER_HAS(EMITTER_SPOT) && e.kind == EMITTER_SPOT) s.Le = emitter_spot_intensity(e, -s.wi) / d2;
+        s.pdf = pmf;
+        s.delta = true;
+    } else if (EMITTER_HAS(EMITTER_DIRECTIONAL) && e.kind == EMITTER_DIRECTIONAL) {
+        // Irradiance from infinity against the light's direction (Mitsuba's
+        // directional sample_direction).
+        s.wi = -e.axis;
+        s.dist = EMITTER_INFINITY;
+        s.Le = e.radiance;
+        s.pdf = pmf;
+        s.delta = true;
+    } else if (EMITTER_HAS(EMITTER_PROJECTOR) && e.kind == EMITTER_PROJECTOR) {
+        vec3 d = e.position - x;
+        s.dist = length(d);
+        s.wi = d / s.dist;
+        s.Le = emitter_projector_light(e, x, s.wi);
         s.pdf = pmf;
         s.delta = true;
     } else if (EMITTER_HAS(EMITTER_CONSTANT) && e.kind == EMITTER_CONSTANT) {

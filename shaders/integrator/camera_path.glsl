@@ -14,7 +14,9 @@ void camera_path_start(uint p, out PathState path, out RayItem r) {
 
     vec3 origin, dir;
     float tmax;
-    camera_ray(vec2(pixel) + film_sample_position(key, sample_index), origin, dir, tmax);
+    vec2 u_lens = (frame.camera_kind == CAMERA_THINLENS || frame.camera_kind == CAMERA_DISTANT)
+        ? sample_2d(key, sample_index, RNG_DIM_APERTURE) : vec2(0.0);
+    camera_ray(vec2(pixel) + film_sample_position(key, sample_index), u_lens, origin, dir, tmax);
 
     uint flags = PATH_DELTA | (film.coverage != 0u ? PATH_COVERED : 0u);
     path = PathState(vec3(1.0), key, vec3(0.0), sample_index, 0.0, flags, 1.0, frame.camera_medium);

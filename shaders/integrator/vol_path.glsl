@@ -84,7 +84,8 @@ int vol_path_equiangular(uint integrator, RayItem r, inout PathState path, uint 
     EmitterSample es0 = emitter_sample(o, u_light);
     EmitterRecord e = emitter_load(es0.emitter == NONE ? 0u : es0.emitter);
     bool same_point = es0.emitter != NONE
-        && (e.kind == EMITTER_POINT || e.kind == EMITTER_SPOT || (e.kind == EMITTER_AREA && e.tri_count > 0u));
+        && (e.kind == EMITTER_POINT || e.kind == EMITTER_SPOT || e.kind == EMITTER_PROJECTOR
+            || (e.kind == EMITTER_AREA && e.tri_count > 0u));
     vec3 c = o + es0.wi * min(es0.dist, 1e6);
     Equiangular eq = equiangular_setup(o, r.dir, c, 0.0, seg);
     float t = equiangular_sample(eq, 0.0, seg, u.y);

@@ -5,11 +5,26 @@
 #ifndef PHOTON_EMIT_GLSL
 #define PHOTON_EMIT_GLSL
 
+#include "emitter/projector.glsl"
+
 struct PhotonEmission {
     vec3 origin;
     vec3 dir;
     vec3 power; // zero: no photon
 };
+
+// A projector's photon through image point uv (uniform over the image: density 1 per
+// unit uv, 1 / (A cos³ θ) per unit solid angle), with power π scale irradiance(uv) A.
+PhotonEmission photon_emit_projector(EmitterRecord e, vec2 uv) {
+    PhotonEmission em;
+    vec3 l = emitter_projector_direction(uv, vec2(e.cutoff, e.inv_transition));
+    mat3 to_local = transpose(mat3(e.to_world_x.xyz, e.to_world_y.xyz, e.to_world_z.xyz));
+    em.origin = e.position;
+    em.dir = normalize(inverse(to_local) * l);
+    em.power = e.radiance * e.area;
+    if (TEXTURE_USES(TEXTURE_FEATURE_EMITTER_PROFILE) && e.texture != 0u) em.power *= texture_eval(e.texture, uv);
+    return em;
+}
 
 // Samples a photon path's first ray. The emitter is chosen uniformly with
 // `uniform_choice` (Nori's Scene::getRandomEmitter, the photonmapper) or by power
@@ -38,12 +53,30 @@ PhotonEmission photon_emit_sample(bool uniform_choice, vec4 u0, vec4 u1) {
             // Uniform in the cone of the cutoff angle, weighted by the falloff.
             float one_minus_cos = 1.0 - e.cos_cutoff;
             em.dir = frame_to_world(e.axis, warp_uniform_cone(u0.yz, one_minus_cos));
-            em.power = e.radiance * emitter_spot_falloff(e, em.dir) / (warp_uniform_cone_pdf(one_minus_cos) * pmf);
+            em.power = emitter_spot_intensity(e, em.dir) / (warp_uniform_cone_pdf(one_minus_cos) * pmf);
         } else {
             // Intensity I in every direction: flux 4π I.
             em.dir = warp_uniform_sphere(u0.yz);
             em.power = e.radiance * (4.0 * PI / pmf);
         }
+    } else if (EMITTER_HAS(EMITTER_DIRECTIONAL) && e.kind == EMITTER_DIRECTIONAL) {
+        // From a disk of the scene's bounding-sphere radius R facing the light, behind
+        // the scene: flux E π R² (Mitsuba's directional sample_ray).
+        float R = photon_params.scene_radius;
+        vec3 s, t;
+        frame_basis(e.axis, s, t);
+        vec2 disk = warp_square_to_disk(u0.yz) * R;
+        em.origin = photon_params.scene_center - R * e.axis + disk.x * s + disk.y * t;
+        em.dir = e.axis;
+        em.power = e.radiance * (PI * R * R / pmf);
+    } else if (EMITTER_HAS(EMITTER_PROJECTOR) && e.kind == EMITTER_PROJECTOR) {
+        // Through a uniform point of the image rectangle (area A) at z = 1: power
+        // π scale irradiance(uv) A (emitter::projector; Mitsuba's sample_ray draws uv
+        // by the texture, with the same mean).
+        PhotonEmission p = photon_emit_projector(e, u0.yz);
+        em.origin = p.origin;
+        em.dir = p.dir;
+        em.power = p.power / pmf;
     } else if ((EMITTER_HAS(EMITTER_CONSTANT) && e.kind == EMITTER_CONSTANT)
                || (EMITTER_HAS(EMITTER_ENVMAP) && e.kind == EMITTER_ENVMAP)) {
         // Light from infinity along -d crosses a disk of the scene's bounding-sphere

@@ -38,12 +38,23 @@
 #define BSDF_BECKMANN 0u
 #define BSDF_GGX 1u
 
+// Frame.camera_kind (sensor/camera.glsl)
+#define CAMERA_PERSPECTIVE 0u
+#define CAMERA_ORTHOGRAPHIC 1u
+#define CAMERA_THINLENS 2u
+#define CAMERA_RADIANCEMETER 3u
+#define CAMERA_DISTANT 4u
+
 // EmitterRecord.kind
 #define EMITTER_POINT 0u
 #define EMITTER_AREA 1u
 #define EMITTER_CONSTANT 2u
 #define EMITTER_SPOT 3u
 #define EMITTER_ENVMAP 4u
+// Mitsuba `directional` (axis: the direction light travels) and `projector`; kinds
+// above the mask bits 5-8 below.
+#define EMITTER_DIRECTIONAL 9u
+#define EMITTER_PROJECTOR 10u
 // Bit of the emitter-kinds mask (EMITTER_KINDS, emitter.glsl) for area emitters on
 // spheres; EMITTER_AREA's bit stands for area emitters on meshes.
 #define EMITTER_KIND_BIT_SPHERE_AREA 5u
@@ -75,6 +86,8 @@
 #define TEXTURE_FEATURE_AREA 2048u
 #define TEXTURE_FEATURE_LOOKUP_LOOP 4096u
 #define TEXTURE_FEATURE_TABLE 8192u
+// A spot light's `texture` or a projector's `irradiance` texture.
+#define TEXTURE_FEATURE_EMITTER_PROFILE 16384u
 #define TEXTURE_FEATURE_PARAM_SHIFT 16u
 
 // Sampler kinds (Frame::sampler_kind) and flags (Frame::sampler_flags).

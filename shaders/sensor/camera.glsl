@@ -1,15 +1,60 @@
-// The pinhole perspective camera. Needs wavefront.glsl (for `frame`).
+// The camera: a pinhole (perspective), orthographic, thin-lens camera or radiance meter, by
+// frame.camera_kind (scene::Projection). Needs wavefront.glsl (for `frame`).
 #ifndef CAMERA_GLSL
 #define CAMERA_GLSL
 
-// Primary ray through film position `film_pos` (pixels, origin top-left). Camera space
-// as in Mitsuba and Nori: looking down +z, +y up, +x to the left of the image. The ray
-// starts on the near plane and ends on the far plane (Mitsuba's near_clip/far_clip).
-void camera_ray(vec2 film_pos, out vec3 origin, out vec3 dir, out float tmax) {
+#include "sensor/thinlens.glsl"
+
+// Primary ray through film position `film_pos` (pixels, origin top-left); u_lens, the
+// aperture sample, is read by the thin lens only. Camera space as in Mitsuba and Nori:
+// looking down +z, +y up, +x to the left of the image. The ray starts on the near
+// plane and ends on the far plane (Mitsuba's near_clip/far_clip).
+void camera_ray(vec2 film_pos, vec2 u_lens, out vec3 origin, out vec3 dir, out float tmax) {
     vec2 ndc = film_pos / vec2(frame.width, frame.height);
+    if (frame.camera_kind == CAMERA_ORTHOGRAPHIC) {
+        // Mitsuba's orthographic: the film spans x in [-1, 1], y in [-1/a, 1/a] (a the
+        // aspect ratio) on the near plane, before to_world; rays along its +z.
+        vec3 p = vec3(1.0 - 2.0 * ndc.x, (1.0 - 2.0 * ndc.y) * float(frame.height) / float(frame.width),
+                      frame.near_clip);
+        origin = (frame.camera_to_world * vec4(p, 1.0)).xyz;
+        dir = normalize(mat3(frame.camera_to_world) * vec3(0.0, 0.0, 1.0));
+        tmax = frame.far_clip - frame.near_clip;
+        return;
+    }
+    if (frame.camera_kind == CAMERA_RADIANCEMETER) {
+        // Mitsuba's radiancemeter: one unbounded ray along to_world's +z, its origin
+        // moved by Mitsuba's ray epsilon along it.
+        vec3 d = mat3(frame.camera_to_world) * vec3(0.0, 0.0, 1.0);
+        origin = frame.camera_to_world[3].xyz + 1e-4 * d;
+        dir = normalize(d);
+        tmax = frame.far_clip;
+        return;
+    }
+    if (frame.camera_kind == CAMERA_DISTANT) {
+        // Mitsuba's distant: from a uniform point of the bounding sphere's cross-section
+        // (or the target), a sphere radius behind it; camera_to_world holds both
+        // (scene::Projection::distant_frame).
+        origin = (frame.camera_to_world * vec4(warp_square_to_disk(u_lens), -1.0, 1.0)).xyz;
+        dir = normalize(mat3(frame.camera_to_world) * vec3(0.0, 0.0, 1.0));
+        tmax = frame.far_clip;
+        return;
+    }
     vec3 d = vec3((1.0 - 2.0 * ndc.x) * frame.tan_half_fov.x,
                   (1.0 - 2.0 * ndc.y) * frame.tan_half_fov.y,
                   1.0);
+    if (frame.camera_kind == CAMERA_THINLENS) {
+        // Mitsuba's thinlens sample_ray: from a point of the aperture through the point
+        // the pinhole ray meets at the focus distance; the interval cut at the planes
+        // z = near and z = far.
+        vec3 a = vec3(frame.aperture_radius * camera_thinlens_aperture(u_lens), 0.0);
+        vec3 dl = normalize(d * frame.focus_distance - a);
+        float near_t = frame.near_clip / dl.z;
+        float far_t = frame.far_clip / dl.z;
+        origin = (frame.camera_to_world * vec4(a + dl * near_t, 1.0)).xyz;
+        dir = normalize(mat3(frame.camera_to_world) * dl);
+        tmax = far_t - near_t;
+        return;
+    }
     vec3 p_near = (frame.camera_to_world * vec4(d * frame.near_clip, 1.0)).xyz;
     vec3 p_far = (frame.camera_to_world * vec4(d * frame.far_clip, 1.0)).xyz;
     vec3 span = p_far - p_near;

@@ -6,12 +6,16 @@
 // sphere, 4 spherical cap (param.x = cos θmax), 5 triangle barycentrics (b0, b1),
 // 6 microfacet normal for wo = param.xyz (type, alpha_u, alpha_v in mf),
 // 7 a deliberately mismatched pair for testing the test (wavetrace warptest
-// mismatched_cosine): cosine-weighted samples against the uniform hemisphere's pdf.
+// mismatched_cosine): cosine-weighted samples against the uniform hemisphere's pdf,
+// 8 the thin lens's aperture (x, y on the unit disk), 9 a projector's directions for
+// uniform image points (param.xy = tan of the half fields of view).
 // mode 0 (sample): out[i] = (point, pdf at the point); mode 1: out[i].x = pdf(points[i]).
 
 #include "sampling/warp.glsl"
 #include "bsdf/microfacet.glsl"
 #include "sampling/rng.glsl"
+#include "sensor/thinlens.glsl"
+#include "emitter/projector.glsl"
 
 layout(local_size_x = 64) in;
 
@@ -38,6 +42,8 @@ float warp_pdf(vec3 p) {
     case 4u: return warp_uniform_cap_pdf(p, pc.param.x);
     case 5u: return warp_uniform_triangle_pdf(p.xy);
     case 7u: return warp_uniform_hemisphere_pdf(p);
+    case 8u: return camera_thinlens_aperture_pdf(p.xy);
+    case 9u: return emitter_projector_direction_pdf(p, pc.param.xy);
     default: return microfacet_pdf(mf(), pc.param.xyz, p);
     }
 }
@@ -51,6 +57,8 @@ vec3 warp_sample(vec2 u) {
     case 4u: return warp_uniform_cap(u, pc.param.x);
     case 5u: return vec3(warp_uniform_triangle(u), 0.0);
     case 7u: return warp_cosine_hemisphere(u);
+    case 8u: return vec3(camera_thinlens_aperture(u), 0.0);
+    case 9u: return emitter_projector_direction(u, pc.param.xy);
     default: return microfacet_sample(mf(), pc.param.xyz, u);
     }
 }

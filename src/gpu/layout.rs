@@ -116,6 +116,13 @@ pub const BSDF_TABLE_TEXTURES: u32 = 16;
 pub const BSDF_BECKMANN: u32 = 0;
 pub const BSDF_GGX: u32 = 1;
 
+/// Camera kinds in [`Frame::camera_kind`] (`scene::Projection`).
+pub const CAMERA_PERSPECTIVE: u32 = 0;
+pub const CAMERA_ORTHOGRAPHIC: u32 = 1;
+pub const CAMERA_THINLENS: u32 = 2;
+pub const CAMERA_RADIANCEMETER: u32 = 3;
+pub const CAMERA_DISTANT: u32 = 4;
+
 /// Emitter kinds in [`EmitterRecord::kind`].
 pub const EMITTER_POINT: u32 = 0;
 pub const EMITTER_AREA: u32 = 1;
@@ -123,6 +130,11 @@ pub const EMITTER_CONSTANT: u32 = 2;
 pub const EMITTER_SPOT: u32 = 3;
 /// Mitsuba `envmap`: a lat-long image around the scene.
 pub const EMITTER_ENVMAP: u32 = 4;
+/// Mitsuba `directional`: light from infinity along `EmitterRecord::axis` (kinds start
+/// past the mask bits 5-8 below, as each kind is also a bit of the mask).
+pub const EMITTER_DIRECTIONAL: u32 = 9;
+/// Mitsuba `projector`: a delta-position light through an image plane.
+pub const EMITTER_PROJECTOR: u32 = 10;
 /// Bit of the emitter-kinds mask (specialization constant `SCENE_EMITTER_KINDS`, a bit per
 /// kind above) that stands for area emitters on spheres; `EMITTER_AREA`'s bit then
 /// means area emitters on meshes.
@@ -169,6 +181,9 @@ pub const TEXTURE_FEATURE_LOOKUP_LOOP: u32 = 4096;
 /// Some BSDF record has textured table entries ([`BSDF_TABLE_TEXTURES`]):
 /// `bsdf_textured_point` looks them up.
 pub const TEXTURE_FEATURE_TABLE: u32 = 8192;
+/// A spot light's `texture` or a projector's `irradiance` texture (read by emitter
+/// sampling and photon emission only).
+pub const TEXTURE_FEATURE_EMITTER_PROFILE: u32 = 16384;
 /// Bit `TEXTURE_FEATURE_PARAM_SHIFT + k`: some BSDF textures its parameter k (0
 /// reflectance, 1 specular, 2 transmittance, 3 alpha_u, 4 alpha_v), as
 /// `SURFACE_TEX_*` in bsdf_textured.glsl.
@@ -444,9 +459,9 @@ mod tests {
                 emitter_strata,
                 emitter_prims,
                 photon_alias,
-                pad0,
-                pad1,
-                pad2
+                camera_kind,
+                aperture_radius,
+                focus_distance
             ),
             rust_layout!(
                 PathState,
@@ -631,6 +646,13 @@ mod tests {
             ("EMITTER_CONSTANT", EMITTER_CONSTANT),
             ("EMITTER_SPOT", EMITTER_SPOT),
             ("EMITTER_ENVMAP", EMITTER_ENVMAP),
+            ("EMITTER_DIRECTIONAL", EMITTER_DIRECTIONAL),
+            ("CAMERA_PERSPECTIVE", CAMERA_PERSPECTIVE),
+            ("CAMERA_ORTHOGRAPHIC", CAMERA_ORTHOGRAPHIC),
+            ("CAMERA_THINLENS", CAMERA_THINLENS),
+            ("CAMERA_RADIANCEMETER", CAMERA_RADIANCEMETER),
+            ("CAMERA_DISTANT", CAMERA_DISTANT),
+            ("EMITTER_PROJECTOR", EMITTER_PROJECTOR),
             ("EMITTER_KIND_BIT_SPHERE_AREA", EMITTER_KIND_BIT_SPHERE_AREA),
             (
                 "EMITTER_KIND_BIT_QUADRIC_AREA",
@@ -668,6 +690,10 @@ mod tests {
             ("TEXTURE_FEATURE_AREA", TEXTURE_FEATURE_AREA),
             ("TEXTURE_FEATURE_LOOKUP_LOOP", TEXTURE_FEATURE_LOOKUP_LOOP),
             ("TEXTURE_FEATURE_TABLE", TEXTURE_FEATURE_TABLE),
+            (
+                "TEXTURE_FEATURE_EMITTER_PROFILE",
+                TEXTURE_FEATURE_EMITTER_PROFILE,
+            ),
             ("TEXTURE_FEATURE_PARAM_SHIFT", TEXTURE_FEATURE_PARAM_SHIFT),
         ]);
     }

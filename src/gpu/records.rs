@@ -393,9 +393,11 @@ gpu_record! {
         /// Where photon emission's emitter table (by power) starts among the alias
         /// entries (the one of emitter sampling, uniform, starts at 0).
         pub photon_alias: u32 => uint,
-        pub pad0: u32 => uint,
-        pub pad1: u32 => uint,
-        pub pad2: u32 => uint,
+        /// `CAMERA_*` (`scene::Projection`): how shaders/sensor/camera.glsl makes rays.
+        pub camera_kind: u32 => uint,
+        /// A thin lens's aperture radius and focus distance (Mitsuba `thinlens`).
+        pub aperture_radius: f32 => float,
+        pub focus_distance: f32 => float,
     }
 
     /// The state of one path of the wavefront, indexed by path slot.

@@ -182,6 +182,21 @@ impl RenderPlan {
             options.scene_part_shift,
         )?;
         let mut frame = scene_frame(scene, options, &integrator, &records);
+        if let crate::scene::Projection::Distant { target } = scene.camera.projection {
+            let (lo, hi) = bvh.bounds().unwrap_or((glam::Vec3::ZERO, glam::Vec3::ZERO));
+            let d = scene
+                .camera
+                .to_world
+                .transform_vector3(glam::Vec3::Z)
+                .normalize();
+            let m = crate::scene::Projection::distant_frame(
+                d,
+                target,
+                0.5 * (lo + hi),
+                0.5 * (hi - lo).length(),
+            );
+            frame.camera_to_world = m.to_cols_array_2d();
+        }
         sampler::set_frame(&mut frame, &sampler, &sample_count, options.seed, key_size);
         for (k, &slot) in facts.emitter_prims.iter().flatten().enumerate() {
             frame.emitter_prims[k / 4][k % 4] = slot;
@@ -420,6 +435,9 @@ fn scene_frame(
         hide_emitters: integrator.hide_emitters() as u32,
         camera_medium: scene.camera_medium.unwrap_or(NONE),
         photon_alias: records.photon_alias,
+        camera_kind: cam.projection.frame_fields().0,
+        aperture_radius: cam.projection.frame_fields().1,
+        focus_distance: cam.projection.frame_fields().2,
         ..Default::default()
     }
 }

@@ -6,13 +6,13 @@ use glam::Vec3;
 use crate::accel::Bvh;
 use crate::gpu::layout::{
     shape_media, AliasEntry, BsdfRecord, EmitterRecord, MediumRecord, ShapeRecord, TextureRecord,
-    TriangleRecord, Vertex, EMITTER_AREA, EMITTER_CONSTANT, EMITTER_ENVMAP, EMITTER_POINT,
-    EMITTER_SPOT, MEDIUM_ALBEDO_RGB, MEDIUM_DENSITY_PACKED, MEDIUM_FEATURE_ALBEDO_GRID,
-    MEDIUM_FEATURE_DENSITY_WORDS, MEDIUM_FEATURE_HOMOGENEOUS, MEDIUM_FEATURE_PACKED1,
-    MEDIUM_FEATURE_PACKED3, MEDIUM_FEATURE_WORDS1, MEDIUM_FEATURE_WORDS3, MEDIUM_HOMOGENEOUS, NONE,
-    PRIM_TRIANGLE, SHAPE_FLIP_NORMALS, SHAPE_HAS_NORMALS, SHAPE_HAS_UVS, SHAPE_MEDIUM_TRANSITION,
-    SHAPE_MIRRORED, SHAPE_NULL_BSDF, SHAPE_THIN_DIELECTRIC, SURFACE_FEATURE_NORMALS,
-    SURFACE_FEATURE_UVS,
+    TriangleRecord, Vertex, EMITTER_AREA, EMITTER_CONSTANT, EMITTER_DIRECTIONAL, EMITTER_ENVMAP,
+    EMITTER_POINT, EMITTER_PROJECTOR, EMITTER_SPOT, MEDIUM_ALBEDO_RGB, MEDIUM_DENSITY_PACKED,
+    MEDIUM_FEATURE_ALBEDO_GRID, MEDIUM_FEATURE_DENSITY_WORDS, MEDIUM_FEATURE_HOMOGENEOUS,
+    MEDIUM_FEATURE_PACKED1, MEDIUM_FEATURE_PACKED3, MEDIUM_FEATURE_WORDS1, MEDIUM_FEATURE_WORDS3,
+    MEDIUM_HOMOGENEOUS, NONE, PRIM_TRIANGLE, SHAPE_FLIP_NORMALS, SHAPE_HAS_NORMALS, SHAPE_HAS_UVS,
+    SHAPE_MEDIUM_TRANSITION, SHAPE_MIRRORED, SHAPE_NULL_BSDF, SHAPE_THIN_DIELECTRIC,
+    SURFACE_FEATURE_NORMALS, SURFACE_FEATURE_UVS,
 };
 use crate::gpu::layout::{
     surface_feature_of_prim, EMITTER_KIND_BIT_QUADRIC_AREA, EMITTER_KIND_BIT_SPHERE_AREA,
@@ -459,6 +459,13 @@ impl SceneRecords {
         {
             m |= TEXTURE_FEATURE_AREA;
         }
+        if self
+            .emitters
+            .iter()
+            .any(|e| matches!(e.kind, EMITTER_SPOT | EMITTER_PROJECTOR) && e.texture != 0)
+        {
+            m |= crate::gpu::layout::TEXTURE_FEATURE_EMITTER_PROFILE;
+        }
 
         m
     }
@@ -516,6 +523,10 @@ impl SceneRecords {
                     EMITTER_POINT => 4.0 * pi * l,
                     EMITTER_SPOT => 2.0 * pi * (1.0 - (0.5 * e.cutoff).cos() as f64) * l,
                     EMITTER_AREA => pi * e.area as f64 * l,
+                    // Through a disk of the bounding sphere's radius facing the light.
+                    EMITTER_DIRECTIONAL => pi * radius * radius * l,
+                    // π scale irradiance (in `radiance`) over the image rectangle at z = 1.
+                    EMITTER_PROJECTOR => e.area as f64 * l,
                     EMITTER_ENVMAP => pi * 4.0 * pi * radius * radius * l,
                     _ => pi * 4.0 * pi * radius * radius * l,
                 }

@@ -36,7 +36,7 @@ pub mod vdb;
 pub mod xml;
 
 pub use bsdf::Bsdf;
-pub use camera::Camera;
+pub use camera::{Camera, Projection};
 pub use emitter::Emitter;
 pub use error::Error;
 pub use film::Film;
@@ -147,6 +147,14 @@ impl Scene {
         let has = |p: fn(&Emitter) -> bool| self.emitters.iter().any(p);
         add(has(|e| matches!(e, Emitter::Point { .. })), "point lights");
         add(has(|e| matches!(e, Emitter::Area { .. })), "area lights");
+        add(
+            has(|e| matches!(e, Emitter::Directional { .. })),
+            "directional lights",
+        );
+        add(
+            has(|e| matches!(e, Emitter::Projector { .. })),
+            "projectors",
+        );
         add(
             has(|e| matches!(e, Emitter::Constant { .. })),
             "constant environment",

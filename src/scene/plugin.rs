@@ -395,6 +395,7 @@ mod tests {
                 };
                 format!(r#"<point name="{name}" value="{v}"/>"#)
             }
+            "vector" => format!(r#"<vector name="{name}" value="0,0,1"/>"#),
             "transform" => {
                 format!(r#"<transform name="{name}"><translate value="0,0,0"/></transform>"#)
             }
@@ -422,6 +423,16 @@ mod tests {
             ),
             Family::Emitter => format!(r#"{default_sensor}<emitter type="{t}">{body}</emitter>"#),
             Family::Shape => format!(r#"{default_sensor}<shape type="{t}">{body}</shape>"#),
+            // A thin lens needs its aperture whatever else is given.
+            Family::Sensor if t == "thinlens" && !body.contains("aperture_radius") => sensor(
+                &format!(r#"<float name="aperture_radius" value="0.1"/>{body}"#),
+            )
+            .replace("perspective", t),
+            // A radiance meter needs a 1 x 1 film.
+            Family::Sensor if matches!(t, "radiancemeter" | "distant") => sensor(&format!(
+                r#"<film type="hdrfilm"><integer name="width" value="1"/><integer name="height" value="1"/></film>{body}"#
+            ))
+            .replace("perspective", t),
             Family::Sensor => sensor(body).replace("perspective", t),
             Family::Film => sensor(&format!(r#"<film type="{t}">{body}</film>"#)),
             Family::ReconstructionFilter => sensor(&format!(
@@ -470,6 +481,8 @@ mod tests {
         const ONLY_WITH_OTHERS: &[(&str, &str)] = &[
             ("area", "scale"),
             ("perspective", "fov_axis"),
+            ("thinlens", "fov_axis"),
+            ("projector", "fov_axis"),
             ("mesh_attribute", "name"),
             ("mesh_attribute", "scale"),
         ];

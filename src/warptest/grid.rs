@@ -123,18 +123,31 @@ fn integrate(cells: usize, k: usize, pdf: &[f64], w: &[f64]) -> Vec<f64> {
 
 /// Coordinates on [0, 1]² for a planar domain, chosen so that the domain's edge is the
 /// square's edge (a density jumping to 0 inside a cell would defeat the quadrature).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Chart {
     /// Unit disk: (r², φ / 2π); dA = π du dv.
     Disk,
     /// Triangle b0, b1 >= 0, b0 + b1 <= 1: (b0, b1 / (1 - b0)); dA = (1 - b0) du dv.
     Triangle,
+    /// Directions through the rectangle ±`tan_x` x ±`tan_y` of the plane z = 1 (a
+    /// projector's frustum): (½ + ½ x / (z tan_x), ½ + ½ y / (z tan_y)); a point there
+    /// is a unit direction and dω = 4 tan_x tan_y cos³ θ du dv.
+    Frustum { tan_x: f32, tan_y: f32 },
 }
 
 impl Chart {
     /// The chart coordinates of point `p`; outside [0, 1]² for points off the domain.
-    pub fn to_square(self, p: Vec2) -> Vec2 {
+    pub fn to_square(self, p: Vec3) -> Vec2 {
         match self {
+            Chart::Frustum { tan_x, tan_y } => {
+                if p.z.is_nan() || p.z <= 0.0 {
+                    return Vec2::splat(-1.0);
+                }
+                Vec2::new(
+                    0.5 + 0.5 * p.x / (p.z * tan_x),
+                    0.5 + 0.5 * p.y / (p.z * tan_y),
+                )
+            }
             Chart::Disk => {
                 let phi = p.y.atan2(p.x) / (2.0 * std::f32::consts::PI);
                 Vec2::new(p.length_squared(), phi.rem_euclid(1.0))
@@ -154,6 +167,16 @@ impl Chart {
                 )
             }
             Chart::Triangle => ([u as f32, (v * (1.0 - u)) as f32, 0.0, 0.0], 1.0 - u),
+            Chart::Frustum { tan_x, tan_y } => {
+                let (tx, ty) = (tan_x as f64, tan_y as f64);
+                let (x, y) = ((2.0 * u - 1.0) * tx, (2.0 * v - 1.0) * ty);
+                let len = (x * x + y * y + 1.0).sqrt();
+                let cos = 1.0 / len;
+                (
+                    [(x / len) as f32, (y / len) as f32, cos as f32, 0.0],
+                    4.0 * tx * ty * cos * cos * cos,
+                )
+            }
         }
     }
 }
@@ -167,7 +190,7 @@ pub struct PlaneGrid {
 
 impl PlaneGrid {
     /// The cell of point `p` (x, y); `None` off the domain (beyond rounding).
-    pub fn cell_of(&self, p: Vec2) -> Option<usize> {
+    pub fn cell_of(&self, p: Vec3) -> Option<usize> {
         let q = self.chart.to_square(p);
         let ok = q.x >= 0.0 && q.y >= 0.0 && q.x <= 1.0 + 1e-6 && q.y <= 1.0 + 1e-6;
         if !ok || !q.is_finite() {
@@ -231,7 +254,7 @@ impl Grid {
     pub fn cell_of(&self, p: Vec3) -> Option<usize> {
         match self {
             Grid::Sphere(g) => g.cell_of(p),
-            Grid::Plane(g) => g.cell_of(Vec2::new(p.x, p.y)),
+            Grid::Plane(g) => g.cell_of(p),
         }
     }
 

@@ -157,8 +157,12 @@ fn finish(
 /// sphere cells around +z for directions.
 pub fn warp_grid(warp: Warp) -> Grid {
     match warp {
-        Warp::Disk => Grid::Plane(PlaneGrid {
+        Warp::Disk | Warp::ThinLensAperture => Grid::Plane(PlaneGrid {
             chart: Chart::Disk,
+            res: 32,
+        }),
+        Warp::Projector { tan_x, tan_y } => Grid::Plane(PlaneGrid {
+            chart: Chart::Frustum { tan_x, tan_y },
             res: 32,
         }),
         Warp::Triangle => Grid::Plane(PlaneGrid {

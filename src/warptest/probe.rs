@@ -200,12 +200,21 @@ pub enum Warp {
     /// A deliberately wrong pair for testing the test: cosine-weighted samples
     /// against the uniform hemisphere's pdf. It must fail.
     MismatchedCosine,
+    /// The thin-lens camera's aperture sampling on the unit disk
+    /// (shaders/sensor/thinlens.glsl); pdf per unit area.
+    ThinLensAperture,
+    /// A projector's photon directions for uniform image points, in its frame
+    /// (shaders/emitter/projector.glsl): the image plane z = 1 spans ±`tan_x`, ±`tan_y`.
+    Projector {
+        tan_x: f32,
+        tan_y: f32,
+    },
 }
 
 impl Warp {
     /// Whether the warp's samples are directions (else points in the plane).
     pub fn spherical(&self) -> bool {
-        !matches!(self, Warp::Disk | Warp::Triangle)
+        !matches!(self, Warp::Disk | Warp::Triangle | Warp::ThinLensAperture)
     }
 }
 
@@ -240,6 +249,8 @@ impl Warp {
                 [distribution as f32, alpha_u, alpha_v, 0.0],
             ),
             Warp::MismatchedCosine => (7, [0.0; 4], [0.0; 4]),
+            Warp::ThinLensAperture => (8, [0.0; 4], [0.0; 4]),
+            Warp::Projector { tan_x, tan_y } => (9, [tan_x, tan_y, 0.0, 0.0], [0.0; 4]),
         };
         WarpPush {
             param,

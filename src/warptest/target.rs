@@ -20,6 +20,8 @@ const NAMES: &[&str] = &[
     "hg",
     "isotropic",
     "mismatched_cosine",
+    "thinlens_aperture",
+    "projector",
 ];
 
 /// Every name [`parse`] knows, for help and error messages: the warps and
@@ -41,8 +43,9 @@ pub fn help() -> String {
     format!(
         "What to sample: a warp (square_to_disk, uniform_triangle, uniform_hemisphere, \
          cosine_hemisphere, uniform_sphere, uniform_cap), microfacet normals (beckmann, ggx), \
-         a BSDF ({}), a phase function (hg, isotropic), or mismatched_cosine (a \
-         deliberately wrong pdf: it fails)",
+         a BSDF ({}), a phase function (hg, isotropic), an emitter's or sensor's \
+         sampling (thinlens_aperture; projector: tan of the half fields of view 1.2 x 0.8), \
+         or mismatched_cosine (a deliberately wrong pdf: it fails)",
         bsdfs.join(", ")
     )
 }
@@ -170,6 +173,10 @@ pub fn parse(name: &str, p: &Params) -> Result<(Target, String), String> {
                 ),
             }
         }
+        "thinlens_aperture" | "projector" => {
+            used(&[])?;
+            Ok(endpoint_warp(name))
+        }
         "uniform_cap" => {
             used(&["cos-max"])?;
             let c = p.cos_max.unwrap_or(0.5);
@@ -247,6 +254,26 @@ pub fn parse(name: &str, p: &Params) -> Result<(Target, String), String> {
                 names().join(", ")
             )),
         },
+    }
+}
+
+/// The sampling routines of sensors and emitters: the thin lens's aperture, a
+/// projector's photon directions (a fixed frustum, tan of the half fields of view
+/// 1.2 x 0.8).
+fn endpoint_warp(name: &str) -> (Target, String) {
+    if name == "thinlens_aperture" {
+        (
+            Target::Warp(Warp::ThinLensAperture),
+            "the thin lens's aperture (unit disk)".into(),
+        )
+    } else {
+        (
+            Target::Warp(Warp::Projector {
+                tan_x: 1.2,
+                tan_y: 0.8,
+            }),
+            "a projector's photon directions, tan of the half fields of view 1.2 x 0.8".into(),
+        )
     }
 }
 

@@ -6,9 +6,11 @@
 
 pub mod area;
 pub mod constant;
+pub mod directional;
 pub mod distantdisk;
 pub mod envmap;
 pub mod point;
+pub mod projector;
 pub mod spot;
 
 use glam::{Mat3, Vec3};
@@ -27,9 +29,9 @@ pub const REGISTRY: &[PluginDoc] = &[
     spot::MITSUBA,
     constant::MITSUBA,
     envmap::MITSUBA,
-    not_yet("directional"),
+    directional::MITSUBA,
+    projector::MITSUBA,
     not_yet("directionalarea"),
-    not_yet("projector"),
     not_yet("sunsky"),
     not_yet("timed_sunsky"),
     // Not a Mitsuba 3 name; kept so such scenes keep hearing "not supported yet".
@@ -64,9 +66,37 @@ impl Emitter {
                 intensity,
                 cutoff_deg,
                 beam_width_deg,
+                texture,
+                frame,
             } => (
-                spot::record(position, axis, intensity, cutoff_deg, beam_width_deg),
-                1.0,
+                spot::record(
+                    position,
+                    axis,
+                    intensity,
+                    (cutoff_deg, beam_width_deg),
+                    texture,
+                    frame,
+                ),
+                texture.map_or(1.0, |t| {
+                    super::envmap::luminance(textures[t as usize].mean()) as f64
+                }),
+            ),
+            Emitter::Directional {
+                direction,
+                irradiance,
+            } => (directional::record(direction, irradiance), 1.0),
+            Emitter::Projector {
+                to_world,
+                irradiance,
+                texture,
+                scale,
+                fov_x_deg,
+                aspect,
+            } => (
+                projector::record(to_world, irradiance, texture, scale, fov_x_deg, aspect),
+                texture.map_or(1.0, |t| {
+                    super::envmap::luminance(textures[t as usize].mean()) as f64
+                }),
             ),
             Emitter::Area { radiance } => (area::record(radiance), 1.0),
             Emitter::Constant { radiance } => (constant::record(radiance), 1.0),
@@ -107,6 +137,8 @@ pub fn mitsuba(
     match t {
         "point" => point::mitsuba(props),
         "spot" => spot::mitsuba(props),
+        "directional" => directional::mitsuba(props),
+        "projector" => projector::mitsuba(props, b),
         "constant" => constant::mitsuba(props),
         "envmap" => envmap::mitsuba(el, props, b),
         _ => Err(unsupported(el, Dialect::Mitsuba)),
@@ -171,6 +203,29 @@ pub enum Emitter {
         intensity: Vec3,
         cutoff_deg: f32,
         beam_width_deg: f32,
+        /// Mitsuba's `texture` (a scene texture) over the cone.
+        texture: Option<u32>,
+        /// The linear part of to_world (the light's frame, for the texture's uv).
+        frame: Mat3,
+    },
+    /// Mitsuba `directional`: `irradiance` (W/m²) arriving along `-direction` at every
+    /// point (`direction`: unit, where the light travels). A delta light at infinity.
+    ///
+    /// ```xml
+    /// <emitter type="directional"><vector name="direction" value="0,0,-1"/><rgb name="irradiance" value="1"/></emitter>
+    /// ```
+    Directional { direction: Vec3, irradiance: Vec3 },
+    /// Mitsuba `projector`: `irradiance` (or the texture `texture`) times `scale`
+    /// through an image plane of horizontal field of view `fov_x_deg` and aspect ratio
+    /// `aspect` (the texture's), from the origin of `to_world` down its +z
+    /// (`emitter::projector` has the formulas).
+    Projector {
+        to_world: glam::Mat4,
+        irradiance: Vec3,
+        texture: Option<u32>,
+        scale: f32,
+        fov_x_deg: f32,
+        aspect: f32,
     },
     /// Uniform emission from the surface of the shape that carries it (front side).
     /// Mitsuba and Nori `area` (`radiance`).

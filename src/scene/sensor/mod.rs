@@ -3,7 +3,11 @@
 //! dialects. A Mitsuba sensor nests the film ([`crate::scene::film`]) and the sampler
 //! ([`crate::scene::sampler`]).
 
+pub mod distant;
+pub mod orthographic;
 pub mod perspective;
+pub mod radiancemeter;
+pub mod thinlens;
 
 use super::plugin::{self, Family, PluginDoc};
 use super::sampler::Sampler;
@@ -13,11 +17,11 @@ use super::{Camera, Error, Film};
 /// Every sensor type of both dialects.
 pub const REGISTRY: &[PluginDoc] = &[
     perspective::MITSUBA,
-    not_yet("thinlens"),
-    not_yet("orthographic"),
-    not_yet("radiancemeter"),
+    thinlens::MITSUBA,
+    orthographic::MITSUBA,
+    radiancemeter::MITSUBA,
     not_yet("irradiancemeter"),
-    not_yet("distant"),
+    distant::MITSUBA,
     not_yet("batch"),
     perspective::NORI,
 ];
@@ -39,6 +43,10 @@ pub fn mitsuba(el: &Element) -> Result<SensorParts<'_>, Error> {
     el.check_attrs(&["type", "id", "name"])?;
     match el.require("type")? {
         "perspective" => perspective::mitsuba(el),
+        "thinlens" => thinlens::mitsuba(el),
+        "orthographic" => orthographic::mitsuba(el),
+        "radiancemeter" => perspective::projective(el, "radiancemeter"),
+        "distant" => perspective::projective(el, "distant"),
         _ => Err(plugin::unsupported(
             el,
             Family::Sensor,

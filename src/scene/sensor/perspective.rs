@@ -27,7 +27,7 @@ use crate::scene::plugin::{Family, Param, PluginDoc};
 use crate::scene::properties::Properties;
 use crate::scene::sampler::Sampler;
 use crate::scene::xml::{Dialect, Element};
-use crate::scene::{Camera, Error, Film};
+use crate::scene::{Camera, Error, Film, Projection};
 
 pub const MITSUBA: PluginDoc = PluginDoc::new(
     Family::Sensor,
@@ -91,26 +91,10 @@ pub fn fov_x(fov_deg: f64, axis: &str, width: u32, height: u32) -> Option<f64> {
     Some((2.0 * tx.atan()).to_degrees())
 }
 
-/// A Mitsuba `<sensor type="perspective">` (its type already checked).
-pub fn mitsuba(el: &Element) -> Result<SensorParts<'_>, Error> {
-    let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
-    let mut size = None;
-    let mut spp = None;
-    let mut medium = None;
-    for n in nested {
-        match n.tag.as_str() {
-            "film" if size.is_none() => size = Some(super::film(n)?),
-            "sampler" if spp.is_none() => spp = Some(super::sampler(n)?),
-            "film" | "sampler" => {
-                return Err(n.err(format!("more than one <{}> in <sensor>", n.tag)))
-            }
-            "medium" | "ref" if medium.is_none() => medium = Some(n),
-            "medium" | "ref" => return Err(n.err("a sensor sits in one medium")),
-            _ => return Err(n.err(format!("unexpected <{}> in <sensor>", n.tag))),
-        }
-    }
-    let (width, height, film) = size.unwrap_or((FILM_WIDTH, FILM_HEIGHT, Film::default()));
-    let fov_x_deg = if props.has("fov") {
+/// The horizontal field of view in degrees that `fov` + `fov_axis` or `focal_length`
+/// give a `width` x `height` image (Mitsuba's `parse_fov`; default "50mm").
+pub fn parse_fov(props: &Properties, width: u32, height: u32) -> Result<f64, Error> {
+    Ok(if props.has("fov") {
         if props.has("focal_length") {
             return Err(props.error(
                 "focal_length",
@@ -157,16 +141,73 @@ pub fn mitsuba(el: &Element) -> Result<SensorParts<'_>, Error> {
             ));
         }
         fov_x(fov, "diagonal", width, height).unwrap_or(fov)
+    })
+}
+
+/// A Mitsuba `<sensor type="perspective">` (its type already checked).
+pub fn mitsuba(el: &Element) -> Result<SensorParts<'_>, Error> {
+    projective(el, "perspective")
+}
+
+/// A Mitsuba `perspective`, `thinlens` or `orthographic` sensor (`kind`): what they
+/// share (film, sampler, medium, clip planes, to_world) and what each adds.
+pub(super) fn projective<'a>(el: &'a Element, kind: &str) -> Result<SensorParts<'a>, Error> {
+    let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
+    let mut size = None;
+    let mut spp = None;
+    let mut medium = None;
+    for n in nested {
+        match n.tag.as_str() {
+            "film" if size.is_none() => size = Some(super::film(n)?),
+            "sampler" if spp.is_none() => spp = Some(super::sampler(n)?),
+            "film" | "sampler" => {
+                return Err(n.err(format!("more than one <{}> in <sensor>", n.tag)))
+            }
+            "medium" | "ref" if medium.is_none() => medium = Some(n),
+            "medium" | "ref" => return Err(n.err("a sensor sits in one medium")),
+            _ => return Err(n.err(format!("unexpected <{}> in <sensor>", n.tag))),
+        }
+    }
+    let (width, height, film) = size.unwrap_or((FILM_WIDTH, FILM_HEIGHT, Film::default()));
+    let fov_x_deg = if matches!(kind, "orthographic" | "radiancemeter" | "distant") {
+        90.0
+    } else {
+        parse_fov(&props, width, height)?
     };
-    let near_clip = props.float("near_clip", 0.01)?;
-    let far_clip = props.float("far_clip", 10000.0)?;
+    // A radiance meter has no clip planes (Mitsuba's radiancemeter is no projective
+    // camera): its ray is unbounded.
+    let (near_clip, far_clip) = if matches!(kind, "radiancemeter" | "distant") {
+        (0.01, f32::MAX)
+    } else {
+        (
+            props.float("near_clip", 0.01)?,
+            props.float("far_clip", 10000.0)?,
+        )
+    };
     if !(near_clip > 0.0 && far_clip > near_clip) {
         return Err(props.object_error(format!(
             "need 0 < near_clip < far_clip, found near_clip = {near_clip}, far_clip = {far_clip}"
         )));
     }
-    let to_world = props.transform("to_world")?;
-    props.ignore(&["focus_distance"]);
+    let to_world = if kind == "radiancemeter" {
+        super::radiancemeter::to_world(&props, width, height)?
+    } else if kind == "distant" {
+        super::distant::to_world(&props, width, height)?
+    } else {
+        props.transform("to_world")?
+    };
+    let projection = match kind {
+        "radiancemeter" => Projection::RadianceMeter,
+        "distant" => Projection::Distant {
+            target: props.point_opt("target")?,
+        },
+        "thinlens" => super::thinlens::lens(&props, to_world, far_clip)?,
+        "orthographic" => Projection::Orthographic,
+        _ => {
+            props.ignore(&["focus_distance"]);
+            Projection::Perspective
+        }
+    };
     props.finish()?;
     Ok((
         Camera {
@@ -176,6 +217,7 @@ pub fn mitsuba(el: &Element) -> Result<SensorParts<'_>, Error> {
             far_clip,
             width,
             height,
+            projection,
         },
         spp.unwrap_or((Sampler::default(), 4)),
         film,
@@ -213,6 +255,7 @@ pub fn nori(el: &Element) -> Result<(Camera, Film), Error> {
         far_clip: props.float("farClip", 1e4)?,
         width: props.positive("width", 1280)?,
         height: props.positive("height", 720)?,
+        projection: Projection::Perspective,
     };
     if !(camera.near_clip > 0.0 && camera.far_clip > camera.near_clip) {
         return Err(props.object_error("need 0 < nearClip < farClip"));
