@@ -331,7 +331,6 @@ scene!(
     Rejects
 );
 scene!(
-    #[ignore = "shapegroup and instance"]
     instancing,
     "instancing",
     "test_instancing_path.xml",

@@ -298,3 +298,140 @@ pub fn to_object_rows(bvh: &Bvh, k: u32) -> [Vec4; 3] {
         Vec3::from(a.p2).extend(b.p0[2]),
     ]
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::accel::{brute_force_closest, prims_from_shapes};
+    use crate::scene::{Instance, Mesh, ShapeGroup};
+    use glam::{Quat, Vec4Swizzles};
+
+    /// A scene of `n` instances of a small mesh group, and one mesh of its own.
+    fn scene(n: usize) -> Scene {
+        let tri = |o: Vec3| Mesh {
+            positions: vec![o, o + Vec3::X, o + Vec3::Y, o + Vec3::ONE],
+            indices: vec![[0, 1, 2], [1, 3, 2]],
+            ..Mesh::default()
+        };
+        let mut s = crate::scene::testutil::load(
+            &[(
+                "s.xml",
+                &crate::scene::testutil::mitsuba(r#"<shape type="cube"/>"#),
+            )],
+            &[],
+        )
+        .expect("scene");
+        s.meshes.push(tri(Vec3::ZERO));
+        s.meshes.push(tri(Vec3::Z));
+        s.groups.push(ShapeGroup {
+            name: "g".into(),
+            meshes: vec![1, 2],
+            quadrics: vec![],
+        });
+        for k in 0..n {
+            let to_world = Mat4::from_scale_rotation_translation(
+                Vec3::new(1.0 + k as f32 * 0.1, 0.7, 1.3),
+                Quat::from_rotation_y(0.3 * k as f32),
+                Vec3::new(3.0 * k as f32, 0.5, -2.0),
+            );
+            s.instances.push(Instance { group: 0, to_world });
+        }
+        s
+    }
+
+    #[test]
+    fn layout_of_the_two_levels() {
+        let s = scene(5);
+        let bvh = scene_bvh(&s).expect("bvh");
+        let t = bvh.two_level.expect("two levels");
+        assert_eq!(t.instances, 5);
+        // The cube's 12 triangles and 5 instances on top, the group's 4 triangles
+        // once below, and two records per instance.
+        assert_eq!(t.top_prims, 17);
+        assert_eq!(t.slots, 21);
+        assert_eq!(bvh.prims.len(), 21 + 10);
+        assert_eq!(t.shift, 5);
+        let tops = &bvh.prims[..t.top_prims as usize];
+        assert_eq!(tops.iter().filter(|p| p.kind == PRIM_INSTANCE).count(), 5);
+        for p in tops.iter().filter(|p| p.kind == PRIM_INSTANCE) {
+            // Every instance's root is the group's, a node after the top level.
+            assert_eq!(p.p2[0].to_bits(), t.top_nodes);
+        }
+        // Grouped shapes keep their shape and global triangle numbers.
+        let mut below: Vec<(u32, u32)> = bvh.prims[17..21]
+            .iter()
+            .map(|p| (p.shape, p.index))
+            .collect();
+        below.sort();
+        assert_eq!(below, [(1, 12), (1, 13), (2, 14), (2, 15)]);
+        for (k, inst) in s.instances.iter().enumerate() {
+            let rows = to_object_rows(&bvh, k as u32);
+            let p = Vec3::new(0.3, -0.2, 0.9);
+            let w = inst.to_world.transform_point3(p).extend(1.0);
+            let back = Vec3::new(rows[0].dot(w), rows[1].dot(w), rows[2].dot(w));
+            assert!((back - p).length() < 1e-5, "{back} != {p}");
+        }
+    }
+
+    /// What the kernels compute, on the CPU: the ray in each instance's space against
+    /// the group's primitives by brute force, the same t as the flattened triangles.
+    #[test]
+    fn instances_hit_where_the_flattened_triangles_are() {
+        let s = scene(4);
+        let bvh = scene_bvh(&s).expect("bvh");
+        let t = bvh.two_level.expect("two levels");
+        let group: Vec<Prim> = bvh.prims[t.top_prims as usize..t.slots as usize].to_vec();
+        let mut flat_meshes = Vec::new();
+        for inst in &s.instances {
+            for &m in &s.groups[0].meshes {
+                let mut mesh = s.meshes[m as usize].clone();
+                for p in &mut mesh.positions {
+                    *p = inst.to_world.transform_point3(*p);
+                }
+                flat_meshes.push(mesh);
+            }
+        }
+        let flat = prims_from_shapes(&flat_meshes, &[]);
+        let mut hits = 0;
+        for i in 0..400 {
+            let (a, b) = (i as f32 * 0.618_034, i as f32 * 0.414_213);
+            let o = Vec3::new(-5.0, 0.6 + (a % 1.0), -6.0);
+            let d = Vec3::new(1.0 + 12.0 * (b % 1.0), 0.0, 5.0).normalize();
+            let want = brute_force_closest(&flat, o, d, 0.0, f32::INFINITY);
+            let mut got: Option<f32> = None;
+            for k in 0..s.instances.len() {
+                let r = to_object_rows(&bvh, k as u32);
+                let (ow, dw) = (o.extend(1.0), d.extend(0.0));
+                let oo = Vec3::new(r[0].dot(ow), r[1].dot(ow), r[2].dot(ow));
+                let dd = Vec3::new(
+                    r[0].xyz().dot(dw.xyz()),
+                    r[1].xyz().dot(dw.xyz()),
+                    r[2].xyz().dot(dw.xyz()),
+                );
+                if let Some(h) = brute_force_closest(&group, oo, dd, 0.0, f32::INFINITY) {
+                    got = Some(got.map_or(h.t, |g: f32| g.min(h.t)));
+                }
+            }
+            match (want, got) {
+                (None, None) => {}
+                (Some(w), Some(g)) => {
+                    hits += 1;
+                    assert!((w.t - g).abs() <= 1e-4 * w.t, "ray {i}: t {} vs {g}", w.t);
+                }
+                (w, g) => panic!("ray {i}: flattened {w:?}, instanced {g:?}"),
+            }
+        }
+        assert!(hits > 50, "only {hits} rays hit");
+    }
+
+    #[test]
+    fn scenes_without_groups_keep_their_tree() {
+        let mut s = scene(0);
+        s.groups.clear();
+        let bvh = scene_bvh(&s).expect("bvh");
+        assert!(bvh.two_level.is_none());
+        let plain = Bvh::for_shapes(&s.meshes, &s.quadrics);
+        assert_eq!(bvh.nodes, plain.nodes);
+        assert_eq!(bvh.prims, plain.prims);
+    }
+}

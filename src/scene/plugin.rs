@@ -421,6 +421,10 @@ mod tests {
                 }
             ),
             Family::Emitter => format!(r#"{default_sensor}<emitter type="{t}">{body}</emitter>"#),
+            // An instance needs its group.
+            Family::Shape if t == "instance" => format!(
+                r#"{default_sensor}<shape type="shapegroup" id="g"><shape type="cube"/></shape><shape type="instance"><ref id="g"/>{body}</shape>"#
+            ),
             Family::Shape => format!(r#"{default_sensor}<shape type="{t}">{body}</shape>"#),
             Family::Sensor => sensor(body).replace("perspective", t),
             Family::Film => sensor(&format!(r#"<film type="{t}">{body}</film>"#)),
