@@ -400,7 +400,7 @@ scene!(
     Rejects
 );
 scene!(
-    #[ignore = "shapegroup and instance, sdfgrid"]
+    #[ignore = "sdfgrid"]
     various_shapes,
     "various_shapes",
     "test_various_shapes_path.xml",
