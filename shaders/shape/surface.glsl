@@ -6,6 +6,7 @@
 #include "sampling/frame.glsl"
 #include "shape/ray_offset.glsl"
 #include "accel/instance.glsl"
+#include "texture/texture_hit.glsl"
 
 // The primitive and vertex features of the scene (SURFACE_FEATURE_* bits of
 // layout.glsl); a kernel may define it as a specialization constant so that the code
@@ -103,6 +104,7 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
     // In world space (an instance's primitive mapped by its to_world).
     Prim prim = instance_prim_load(prim_index);
     ShapeRecord shape = shape_load(prim.shape);
+    texture_hit_set(prim.shape, prim.index, vec2(u, v));
     Surface s;
     s.shape = prim.shape;
     vec3 dpdu;
