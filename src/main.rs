@@ -584,7 +584,6 @@ fn print_info(
     spp: Option<u32>,
     sampler: Option<&str>,
 ) -> Result<()> {
-    use wavetrace::accel::Bvh;
     use wavetrace::bench::memory::PeakMeter;
     println!(
         "scene:       {} (loaded in {:.1} ms)",
@@ -652,6 +651,17 @@ fn print_info(
         );
     }
     println!("triangles:   {}", sc.triangle_count());
+    if !sc.groups.is_empty() {
+        // Unique: stored once (a group's once however often it is placed);
+        // instanced: what rays may meet, each instance counting its group's.
+        println!(
+            "instancing:  {} groups, {} instances; triangles {} unique, {} instanced",
+            sc.groups.len(),
+            sc.instances.len(),
+            sc.triangle_count(),
+            sc.instanced_triangle_count()
+        );
+    }
     println!("features:    {}", sc.features().join(", "));
     println!("bsdfs:       {}", sc.bsdfs.len());
     println!("emitters:    {}", sc.emitters.len());
@@ -659,7 +669,7 @@ fn print_info(
         println!("  {e:?}");
     }
     let meter = PeakMeter::start();
-    let bvh = Bvh::for_shapes(&sc.meshes, &sc.quadrics);
+    let bvh = wavetrace::accel::instance::scene_bvh(sc).map_err(anyhow::Error::msg)?;
     let s = &bvh.stats;
     // The build's peak above the loaded scene, where the OS tells it.
     let peak = meter
@@ -682,6 +692,12 @@ fn print_info(
         s.sah_cost,
         s.build_seconds * 1e3
     );
+    if let Some(t) = &bvh.two_level {
+        println!(
+            "two-level:   {} instances; top level {} nodes, {} primitives; traversal stack {}",
+            t.instances, t.top_nodes, t.top_prims, t.stack_depth
+        );
+    }
     print_device_memory(sc, &bvh);
     Ok(())
 }

@@ -327,7 +327,6 @@ scene!(
     Rejects
 );
 scene!(
-    #[ignore = "shapegroup and instance"]
     instancing,
     "instancing",
     "test_instancing_path.xml",
@@ -391,7 +390,7 @@ scene!(
     Rejects
 );
 scene!(
-    #[ignore = "shapegroup and instance, sdfgrid"]
+    #[ignore = "sdfgrid"]
     various_shapes,
     "various_shapes",
     "test_various_shapes_path.xml",

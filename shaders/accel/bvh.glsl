@@ -19,6 +19,7 @@
 #include "shape/intersect_sphere.glsl"
 #include "shape/intersect_disk.glsl"
 #include "shape/intersect_cylinder.glsl"
+#include "accel/instance.glsl"
 
 // Traversal stack entries; the build keeps every leaf at depth <= this (root = 0).
 // Must equal accel::BVH_STACK_SIZE (a Rust test reads this line).
@@ -28,6 +29,9 @@
 #define BVH_COUNT_MASK 15u
 // Item meaning "nothing left to visit" (a leaf reference no BVH can have).
 #define BVH_DONE 0xffffffffu
+// Item meaning "the group's tree of an instance is done: back to world space" (a leaf
+// reference no BVH can have either: leaves hold at most 8 primitives).
+#define BVH_LEAVE 0xfffffffeu
 // 1 + 2 gamma(3) rounded up to a float (Ize 2013, "Robust BVH Ray Traversal", JCGT 2(2)):
 // the box far distance is scaled so rounding never culls a box the ray enters.
 #define BVH_TFAR_SCALE 1.00000048
@@ -241,6 +245,11 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, uint mode, out Hit second)
     r.neg = lessThan(r.inv, vec3(0.0));
     uint stack[BVH_STACK_DEPTH];
     for (int k = 0; k < BVH_STACK_DEPTH; k++) stack[k] = BVH_DONE;
+    // Instances (instance.glsl): the world ray, kept while the ray is in a group's
+    // space, and the instance part of the hit names found there (0 outside).
+    vec3 world_o = o;
+    vec3 world_d = d;
+    uint name = 0u;
     // The current child reference: inner node 0 (done for an any-hit query already
     // answered by a primitive tested in turn).
     uint item = (BVH_FLAT_COUNT > 0u && mode == BVH_ANY && hit.prim != HIT_NONE) ? BVH_DONE : 0u;
@@ -274,19 +283,55 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, uint mode, out Hit second)
         if (item == BVH_DONE) {
             break;
         }
+        if (INSTANCED && item == BVH_LEAVE) { // back from an instance's group
+            o = world_o;
+            d = world_d;
+            tr = triangle_ray_make(d);
+            r.o = o;
+            r.inv = vec3(bvh_inv(d.x), bvh_inv(d.y), bvh_inv(d.z));
+            r.neg = lessThan(r.inv, vec3(0.0));
+            name = 0u;
+            BVH_STACK_POP(stack, item);
+            continue;
+        }
         uint index = item >> BVH_COUNT_BITS;
         uint count = item & BVH_COUNT_MASK; // a leaf holds at least one primitive
         uint i = index;
+        Prim p;
+        bool enter = false;
         do {
             float t, u, v;
-            if (bvh_prim_hit(prim_load(i), tr, o, d, tmin, bvh_bound(mode, hit, second), t, u, v)) {
-                bvh_record(mode, hit, second, Hit(t, u, v, i));
+            p = prim_load(i);
+            if (INSTANCED && p.kind == PRIM_INSTANCE) {
+                enter = true;
+                break;
+            }
+            if (bvh_prim_hit(p, tr, o, d, tmin, bvh_bound(mode, hit, second), t, u, v)) {
+                bvh_record(mode, hit, second, Hit(t, u, v, INSTANCED ? (name | i) : i));
                 if (mode == BVH_ANY) break;
             }
             i++;
         } while (i < index + count);
         // An any-hit query is answered by its first hit.
         if (mode == BVH_ANY && hit.prim != HIT_NONE) break;
+        if (INSTANCED && enter) {
+            // Into instance p.index: the rest of the leaf and the way back wait on the
+            // stack; the ray moves to the group's space (an affine map keeps t), and
+            // the group's tree is walked from its root.
+            uint rest = index + count - (i + 1u);
+            if (rest > 0u) BVH_STACK_PUSH(stack, ((i + 1u) << BVH_COUNT_BITS) | rest);
+            BVH_STACK_PUSH(stack, BVH_LEAVE);
+            InstanceMap m = instance_to_object(p.index);
+            o = instance_point(m, world_o);
+            d = instance_vector(m, world_d);
+            tr = triangle_ray_make(d);
+            r.o = o;
+            r.inv = vec3(bvh_inv(d.x), bvh_inv(d.y), bvh_inv(d.z));
+            r.neg = lessThan(r.inv, vec3(0.0));
+            name = (p.index + 1u) << BVH_INSTANCES;
+            item = floatBitsToUint(p.p2.x) << BVH_COUNT_BITS;
+            continue;
+        }
         BVH_STACK_POP(stack, item);
     }
     return hit;

@@ -108,7 +108,7 @@ PathVertex path_vertex_surface() {
 void path_mark_covered(uint i, inout PathState path, HitItem h, PathVertex v) {
     bool covered = v.medium != NONE || h.prim != NONE;
     if (frame.max_depth <= 1u && v.medium == NONE && h.prim != NONE) {
-        covered = frame.hide_emitters == 0u && shape_load(prim_load(h.prim).shape).emitter != NONE;
+        covered = frame.hide_emitters == 0u && shape_load(prim_load(instance_prim(h.prim)).shape).emitter != NONE;
     }
     if (!covered || (path.flags & PATH_COVERED) != 0u) return;
     path.flags |= PATH_COVERED;

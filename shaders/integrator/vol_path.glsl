@@ -159,7 +159,7 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, HitItem seco
             if (!alive) break;
         }
         if (h.prim == NONE) break;
-        Prim hp = prim_load(h.prim);
+        Prim hp = prim_load(instance_prim(h.prim));
         ShapeRecord shape = shape_load(hp.shape);
         bool thin = THIN_NULL && (shape.flags & SHAPE_THIN_DIELECTRIC) != 0u && shape.emitter == NONE;
         // A surface with a BSDF ends the stage (path_shade computes its geometry).

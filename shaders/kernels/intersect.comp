@@ -6,6 +6,12 @@
 #include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
+// Instances (shaders/accel/instance.glsl): the hit names' shift, 0 without any, and
+// their transform records; set before anything includes instance.glsl.
+SPEC(SCENE_INSTANCES);
+SPEC(SCENE_INSTANCE_SLOTS);
+#define BVH_INSTANCES SCENE_INSTANCES
+#define BVH_INSTANCE_SLOTS SCENE_INSTANCE_SLOTS
 #include "queue/partition.glsl"
 
 // The quadric kinds of the scene (SURFACE_FEATURE_* bits): the traversal compiles the

@@ -9,6 +9,12 @@
 #include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
+// Instances (shaders/accel/instance.glsl): the hit names' shift, 0 without any, and
+// their transform records; set before anything includes instance.glsl.
+SPEC(SCENE_INSTANCES);
+SPEC(SCENE_INSTANCE_SLOTS);
+#define BVH_INSTANCES SCENE_INSTANCES
+#define BVH_INSTANCE_SLOTS SCENE_INSTANCE_SLOTS
 #include "queue/partition.glsl"
 // The sampler kind (SAMPLER_*): the other kinds compile away.
 SPEC(SCENE_SAMPLER_KIND);

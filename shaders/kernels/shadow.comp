@@ -10,6 +10,12 @@
 #include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
+// Instances (shaders/accel/instance.glsl): the hit names' shift, 0 without any, and
+// their transform records; set before anything includes instance.glsl.
+SPEC(SCENE_INSTANCES);
+SPEC(SCENE_INSTANCE_SLOTS);
+#define BVH_INSTANCES SCENE_INSTANCES
+#define BVH_INSTANCE_SLOTS SCENE_INSTANCE_SLOTS
 // The primitive and vertex features of the scene (SURFACE_FEATURE_* bits): hit geometry
 // compiles the others away (surface.glsl).
 SPEC(SCENE_SURFACE_FEATURES);

@@ -78,7 +78,7 @@ vec3 transmittance_shadow_from(ShadowItem s, uint pixel, uint sample_index, uint
         Prim hp;
         bool thin = false;
         if (h.prim != NONE) {
-            hp = prim_load(h.prim);
+            hp = prim_load(instance_prim(h.prim));
             shape = shape_load(hp.shape);
             thin = THIN_NULL && (shape.flags & SHAPE_THIN_DIELECTRIC) != 0u && shape.emitter == NONE;
             // An opaque surface blocks the ray whatever the media before it.

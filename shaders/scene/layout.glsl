@@ -12,6 +12,8 @@
 #define PRIM_SPHERE 1u
 #define PRIM_DISK 2u
 #define PRIM_CYLINDER 3u
+#define PRIM_INSTANCE 4u
+#define PRIM_INSTANCE_DATA 5u
 
 #define NONE 0xffffffffu
 

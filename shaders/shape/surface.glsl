@@ -5,6 +5,7 @@
 #include "sampling/warp.glsl"
 #include "sampling/frame.glsl"
 #include "shape/ray_offset.glsl"
+#include "accel/instance.glsl"
 #include "texture/texture_hit.glsl"
 
 // The primitive and vertex features of the scene (SURFACE_FEATURE_* bits of
@@ -100,7 +101,8 @@ void surface_quadric(inout Surface s, Prim prim, ShapeRecord shape, vec3 hit, ve
 // is Mitsuba's: a triangle's ∂p/∂u from its own vertices and uvs (p1 - p0 without
 // uvs), a quadric's from its parameterization.
 Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, float t) {
-    Prim prim = prim_load(prim_index);
+    // In world space (an instance's primitive mapped by its to_world).
+    Prim prim = instance_prim_load(prim_index);
     ShapeRecord shape = shape_load(prim.shape);
     texture_hit_set(prim.shape, prim.index, vec2(u, v));
     Surface s;
@@ -109,6 +111,10 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
     if (SURFACE_HAS(SURFACE_FEATURE_SPHERES | SURFACE_FEATURE_DISKS | SURFACE_FEATURE_CYLINDERS)
         && prim.kind != PRIM_TRIANGLE) {
         surface_quadric(s, prim, shape, ray_o + t * ray_d, vec2(u, v), dpdu);
+        if (INSTANCED && prim.kind == PRIM_DISK && instance_mirrors(prim_index)) {
+            s.ng = -s.ng;
+            s.ns = s.ng;
+        }
     } else {
         float w = 1.0 - u - v;
         s.p = w * prim.p0 + u * prim.p1 + v * prim.p2;
@@ -121,6 +127,7 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
         float len = length(n);
         // Degenerate triangles are dropped at load time; guard anyway.
         s.ng = len > 0.0 ? n / len : vec3(0.0, 0.0, 1.0);
+        if (INSTANCED && instance_mirrors(prim_index)) s.ng = -s.ng;
         s.ns = s.ng;
         s.uv = vec2(u, v);
         // Without uvs the parameterization is barycentric (Mitsuba's mesh.cpp).
@@ -145,8 +152,9 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
                 }
             }
             if (SURFACE_HAS(SURFACE_FEATURE_NORMALS) && (shape.flags & SHAPE_HAS_NORMALS) != 0u) {
-                vec3 ns = w * vertex_texel(tri.v0, 0u).xyz + u * vertex_texel(tri.v1, 0u).xyz
-                    + v * vertex_texel(tri.v2, 0u).xyz;
+                vec3 ns = instance_normal(prim_index,
+                    w * vertex_texel(tri.v0, 0u).xyz + u * vertex_texel(tri.v1, 0u).xyz
+                    + v * vertex_texel(tri.v2, 0u).xyz);
                 float l = length(ns);
                 if (l > 0.0) s.ns = ns / l;
                 // Keep the shading normal on the side of the geometric one.
@@ -154,6 +162,7 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
             }
         }
     }
+    if (INSTANCED) s.p_error += instance_point_error(prim_index, s.p);
     if ((shape.flags & SHAPE_FLIP_NORMALS) != 0u) {
         s.ng = -s.ng;
         s.ns = -s.ns;

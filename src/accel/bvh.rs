@@ -20,7 +20,7 @@ use glam::Vec3;
 
 use super::bvh_build::{PrimSource, ShapePrims};
 use super::{cylinder, disk, sphere, triangle};
-use crate::gpu::layout::{BvhNode, Prim, PRIM_CYLINDER, PRIM_DISK, PRIM_SPHERE};
+use crate::gpu::layout::{BvhNode, Prim, PRIM_CYLINDER, PRIM_DISK, PRIM_INSTANCE, PRIM_SPHERE};
 use crate::scene::{Mesh, Quadric};
 
 /// Entries in the traversal stack of `shaders/accel/bvh.glsl` (`#define
@@ -191,6 +191,9 @@ pub struct Bvh {
     /// triangles alone; 0 when the tree holds every primitive.
     pub apart: u32,
     pub stats: BvhStats,
+    /// A scene with instances: the top-level tree at node 0, the groups' trees and
+    /// the instances' transforms after it ([`super::instance`]).
+    pub two_level: Option<super::instance::TwoLevel>,
 }
 
 /// An axis-aligned box; `EMPTY` has min = +inf, max = -inf.
@@ -257,6 +260,7 @@ pub(super) fn prim_bounds(p: &Prim) -> Aabb {
                 max: p0 + e,
             }
         }
+        PRIM_INSTANCE => Aabb { min: p0, max: p1 },
         PRIM_CYLINDER => {
             // The end circles: radius |a1| in the plane normal to the axis p2.
             let a2 = p2.normalize_or_zero().cross(p1);
@@ -299,18 +303,28 @@ impl Bvh {
 
     /// Builds over the primitives `source` gives, in parallel.
     pub fn build_from<S: PrimSource + ?Sized>(source: &S, method: SplitMethod) -> Bvh {
+        Bvh::build_tree(source, method, true)
+    }
+
+    /// [`Bvh::build_from`] with every primitive in the tree (none apart).
+    pub fn build_whole<S: PrimSource + ?Sized>(source: &S) -> Bvh {
+        Bvh::build_tree(source, SplitMethod::Sah, false)
+    }
+
+    fn build_tree<S: PrimSource + ?Sized>(source: &S, method: SplitMethod, apart: bool) -> Bvh {
         let start = Instant::now();
         let n = source.len();
         assert!(
             n <= BVH_MAX_PRIMS,
             "BVH over {n} primitives: at most {BVH_MAX_PRIMS} supported"
         );
-        let (nodes, prims, apart) = super::bvh_build::build(source, method);
+        let (nodes, prims, apart) = super::bvh_build::build(source, method, apart);
         let mut bvh = Bvh {
             nodes,
             prims,
             apart: apart as u32,
             stats: BvhStats::default(),
+            two_level: None,
         };
         bvh.stats = bvh.compute_stats();
         bvh.stats.build_seconds = start.elapsed().as_secs_f64();
@@ -516,6 +530,12 @@ pub fn intersect_prim(
         PRIM_DISK => disk::intersect(o, d, p0, p1, p2, tmin, tmax),
         PRIM_CYLINDER => {
             cylinder::intersect(o, d, p0, p2, p1.length(), tmin, tmax).map(|t| (t, 0.0, 0.0))
+        }
+        // An instance's box stands for it (the CPU traversal serves estimates such
+        // as the render plan's camera misses; the kernels trace the group's tree).
+        PRIM_INSTANCE => {
+            let (hit, tn) = BoxRay::new(o, d).slab(p.p0, p.p1, tmin, tmax);
+            hit.then_some((tn, 0.0, 0.0))
         }
         _ => triangle::intersect(tr, o, p0, p1, p2, tmin, tmax).map(|h| (h.t, h.u, h.v)),
     }

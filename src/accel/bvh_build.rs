@@ -676,15 +676,22 @@ fn node_count(tree: &Subtree) -> usize {
 /// it has triangles and at most [`APART_QUADRICS_MAX`] quadrics (the traversals test
 /// those in turn before the tree, which then holds triangles alone; `Bvh::apart`).
 /// Node 0 is the root and always an inner node.
+/// `apart_allowed`: false for the trees of a scene with instances, which hold every
+/// primitive (`accel::instance`).
 pub(super) fn build<S: PrimSource + ?Sized>(
     source: &S,
     method: SplitMethod,
+    apart_allowed: bool,
 ) -> (Vec<BvhNode>, Vec<Prim>, usize) {
     let n = source.len();
-    let quadrics: Vec<usize> = (0..n)
-        .into_par_iter()
-        .filter(|&i| source.kind(i) != PRIM_TRIANGLE)
-        .collect();
+    let quadrics: Vec<usize> = if apart_allowed {
+        (0..n)
+            .into_par_iter()
+            .filter(|&i| source.kind(i) != PRIM_TRIANGLE)
+            .collect()
+    } else {
+        Vec::new()
+    };
     let apart =
         if !quadrics.is_empty() && quadrics.len() <= APART_QUADRICS_MAX && quadrics.len() < n {
             quadrics

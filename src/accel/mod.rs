@@ -11,6 +11,7 @@ pub mod bvh;
 pub mod bvh_build;
 pub mod cylinder;
 pub mod disk;
+pub mod instance;
 pub mod sphere;
 pub mod triangle;
 

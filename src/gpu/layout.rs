@@ -12,6 +12,13 @@ pub const PRIM_TRIANGLE: u32 = 0;
 pub const PRIM_SPHERE: u32 = 1;
 pub const PRIM_DISK: u32 = 2;
 pub const PRIM_CYLINDER: u32 = 3;
+/// An instance in the top-level tree of a scene with instances (`accel::instance`):
+/// `p0`, `p1` its world box (for the build), `p2[0]` the bits of its group's
+/// bottom-level root node, `index` the instance number.
+pub const PRIM_INSTANCE: u32 = 4;
+/// An instance's transforms, two records per instance after every primitive
+/// (`accel::instance`); never in a tree.
+pub const PRIM_INSTANCE_DATA: u32 = 5;
 
 /// Marks an absent index (no emitter, no hit).
 pub const NONE: u32 = u32::MAX;
@@ -710,6 +717,8 @@ mod tests {
             ("PRIM_SPHERE", PRIM_SPHERE),
             ("PRIM_DISK", PRIM_DISK),
             ("PRIM_CYLINDER", PRIM_CYLINDER),
+            ("PRIM_INSTANCE", PRIM_INSTANCE),
+            ("PRIM_INSTANCE_DATA", PRIM_INSTANCE_DATA),
             ("SHAPE_HAS_NORMALS", SHAPE_HAS_NORMALS),
             ("SHAPE_HAS_UVS", SHAPE_HAS_UVS),
             ("SHAPE_FLIP_NORMALS", SHAPE_FLIP_NORMALS),

@@ -40,6 +40,8 @@ pub enum Spec {
     UniformEmitterChoice = 27,
     SppmAlpha = 28,
     ScanStage = 29,
+    Instances = 44,
+    InstanceSlots = 45,
     /// How the scene's arrays are split over bindings (`render::scene_parts`), set by
     /// the binding layout for every kernel that reads the scene: 64, then 65 + the
     /// array's binding for the arrays that may be split.
@@ -186,6 +188,12 @@ pub const SPEC_CONSTANTS: &[SpecConst] = &[
       "The alpha of SPPM's radius update (Hachisuka and Jensen)."),
     c(Spec::ScanStage, "SCAN_STAGE", Uint, "0u",
       "The stage of the photon grid's prefix sum."),
+    c(Spec::Instances, "SCENE_INSTANCES", Uint, "0u",
+      "A scene with instances: hits in instance k are named (k + 1) << this | primitive \
+       (accel::instance, shaders/accel/instance.glsl); 0: no instances, and their code \
+       compiles away."),
+    c(Spec::InstanceSlots, "SCENE_INSTANCE_SLOTS", Uint, "0u",
+      "The first of the instances' transform records in the primitives (instance.glsl)."),
     c(Spec::ScenePartShift, "SCENE_PART_SHIFT", Uint, "27u",
       "log2 of the texels of one part of a split scene array (scene_bindings.glsl)."),
     c(Spec::BvhNodeParts, "BVH_NODE_PARTS", Uint, "1u", "Parts of the BVH nodes."),

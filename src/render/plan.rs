@@ -173,7 +173,7 @@ impl RenderPlan {
             .sample_count(scene.spp, key_size.0, key_size.1)
             .map_err(Error::Options)?;
         check(scene, &integrator)?;
-        let bvh = Bvh::for_shapes(&scene.meshes, &scene.quadrics);
+        let bvh = accel::instance::scene_bvh(scene).map_err(Error::Options)?;
         let records = SceneRecords::new(scene, &bvh);
         let facts = SceneFacts::of(scene, options, caps, &bvh, &records);
         let scene_plan = ScenePlan::for_device(
@@ -335,6 +335,13 @@ fn check(scene: &Scene, integrator: &Integrator) -> Result<()> {
             integrator.name()
         ));
     }
+    if integrator.is_photon_mapper() && !scene.instances.is_empty() {
+        return refuse(format!(
+            "integrator '{}' does not trace instanced shapes yet (shapegroup / instance); \
+             render the scene with path or volpath",
+            integrator.name()
+        ));
+    }
     if integrator.is_photon_mapper() && scene.emitters.is_empty() {
         return refuse(format!(
             "integrator '{}' needs an emitter to shoot photons from; the scene has none",
@@ -362,6 +369,8 @@ struct SceneFacts {
     flat: FlatPrims,
     /// The traversal stack's depth (bvh.glsl).
     bvh_depth: u32,
+    /// SCENE_INSTANCES and SCENE_INSTANCE_SLOTS (accel::instance; 0 without).
+    instances: [u32; 2],
     /// On CPU devices, in scenes with an environment: the fraction of camera rays
     /// that leave the scene ([`camera_miss_fraction`]).
     camera_misses: Option<f32>,
@@ -384,20 +393,28 @@ impl SceneFacts {
             .iter()
             .flatten()
             .fold(0u32, |m, &i| m | 1 << bvh.prims[i as usize].kind);
-        let flat = FlatPrims::of(
-            bvh,
-            if options.traverse_small_scenes {
-                0
-            } else {
-                accel::FLAT_PRIMS_MAX
-            },
-        );
+        // A two-level tree holds every primitive (accel::instance).
+        let flat = if bvh.two_level.is_some() {
+            FlatPrims::default()
+        } else {
+            FlatPrims::of(
+                bvh,
+                if options.traverse_small_scenes {
+                    0
+                } else {
+                    accel::FLAT_PRIMS_MAX
+                },
+            )
+        };
         let environment = records.env_emitter != NONE;
         SceneFacts {
             emitter_prims,
             emitter_prim_kinds,
             flat,
-            bvh_depth: bvh.stats.stack_depth(),
+            bvh_depth: bvh
+                .two_level
+                .map_or(bvh.stats.stack_depth(), |t| t.stack_depth),
+            instances: accel::instance::TwoLevel::constants(bvh.two_level.as_ref()),
             camera_misses: (caps.kind == DeviceKind::Cpu && environment)
                 .then(|| camera_miss_fraction(bvh, &scene.camera)),
             environment,
@@ -626,6 +643,8 @@ struct Constants {
     emitter_prim_kinds: u32,
     flat_count: u32,
     flat_kinds: u32,
+    /// Instances: the hit names' shift (0: none) and their records (accel::instance).
+    instances: [u32; 2],
     /// Whether bounce 0 ends the paths.
     ends_at_0: u32,
 }
@@ -655,6 +674,7 @@ impl Constants {
             emitter_prim_kinds: facts.emitter_prim_kinds,
             flat_count,
             flat_kinds,
+            instances: facts.instances,
             ends_at_0: integrator.ends_paths_at(0) as u32,
         }
     }
@@ -700,6 +720,8 @@ impl Constants {
             .with(Spec::BvhDepth, self.bvh_depth)
             .with(Spec::FlatPrims, self.flat_count)
             .with(Spec::FlatKinds, self.flat_kinds)
+            .with(Spec::Instances, self.instances[0])
+            .with(Spec::InstanceSlots, self.instances[1])
     }
 
     /// The constants of `shadow`, `mode` its deferral mode (deferral.glsl).
@@ -715,6 +737,8 @@ impl Constants {
             .with(Spec::FlatPrims, self.flat_count)
             .with(Spec::FlatKinds, self.flat_kinds)
             .with(Spec::SecondHits, s.media as u32)
+            .with(Spec::Instances, self.instances[0])
+            .with(Spec::InstanceSlots, self.instances[1])
     }
 }
 

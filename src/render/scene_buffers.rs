@@ -258,7 +258,8 @@ impl SceneRecords {
         // BVH slot of every quadric.
         let mut quadric_slot = vec![NONE; scene.quadrics.len()];
         for (i, p) in bvh.prims.iter().enumerate() {
-            if p.kind != PRIM_TRIANGLE {
+            // (Instances and their records, accel::instance, are no quadrics.)
+            if p.kind != PRIM_TRIANGLE && p.kind < crate::gpu::layout::PRIM_INSTANCE {
                 quadric_slot[p.index as usize] = i as u32;
                 self.quadric_kinds |= surface_feature_of_prim(p.kind);
             }

@@ -27,7 +27,10 @@ use super::sampler::Sampler;
 use super::sensor;
 use super::shape::{self, Geometry};
 use super::xml::{Dialect, Document, Element};
-use super::{Bsdf, Camera, Emitter, Error, Film, IntegratorSpec, Medium, Quadric, Scene, Texture};
+use super::{
+    Bsdf, Camera, Emitter, Error, Film, Instance, IntegratorSpec, Medium, Quadric, Scene,
+    ShapeGroup, Texture,
+};
 
 /// Loads a Mitsuba 3 scene read by [`super::xml::read`].
 pub fn load(doc: &Document) -> Result<Scene, Error> {
@@ -43,6 +46,9 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         null_bsdfs: HashSet::new(),
         texture_ids: HashMap::new(),
         building: HashSet::new(),
+        groups: Vec::new(),
+        group_ids: HashMap::new(),
+        instances: Vec::new(),
     };
     let mut camera: Option<(Camera, (Sampler, u32), Film)> = None;
     let mut camera_medium = None;
@@ -114,6 +120,8 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         integrator,
         meshes: l.b.meshes,
         quadrics: l.b.quadrics,
+        groups: l.groups,
+        instances: l.instances,
         bsdfs: l.b.bsdfs,
         emitters: l.b.emitters,
         emitter_weights: l.b.emitter_weights,
@@ -168,6 +176,11 @@ struct Loader<'a> {
     null_bsdfs: HashSet<u32>,
     /// Ids being built (reference cycle guard).
     building: HashSet<String>,
+    /// Shape groups, and those with an id (built once, at their place or at the
+    /// first instance that names them).
+    groups: Vec<ShapeGroup>,
+    group_ids: HashMap<String, u32>,
+    instances: Vec<Instance>,
 }
 
 impl<'a> Loader<'a> {
@@ -537,9 +550,103 @@ impl<'a> Loader<'a> {
         self.area(target)
     }
 
+    /// A `shapegroup` (Mitsuba's shapegroup.cpp): its shapes are loaded as any other
+    /// and listed in the group, which only instances make visible.
+    fn shapegroup(&mut self, el: &'a Element) -> Result<u32, Error> {
+        el.check_attrs(&["type", "id", "name"])?;
+        let id = el.attr("id");
+        if let Some(&g) = id.and_then(|id| self.group_ids.get(id)) {
+            return Ok(g);
+        }
+        let mut group = ShapeGroup {
+            name: id.unwrap_or("").to_string(),
+            ..ShapeGroup::default()
+        };
+        for c in &el.children {
+            if c.tag != "shape" {
+                return Err(c.err(format!(
+                    "a shapegroup holds shapes only, found <{}> (Mitsuba: \"Tried to add an unsupported object\")",
+                    c.tag
+                )));
+            }
+            match c.attr("type") {
+                Some("shapegroup") => {
+                    return Err(c.err("a shapegroup inside a shapegroup: nested shape groups are not permitted (as in Mitsuba)"))
+                }
+                Some("instance") => {
+                    return Err(c.err("an instance inside a shapegroup: nested instancing is not permitted (as in Mitsuba)"))
+                }
+                _ => {}
+            }
+            let (m0, q0) = (self.b.meshes.len(), self.b.quadrics.len());
+            self.shape(c)?;
+            let emitters = self.b.meshes[m0..].iter().any(|m| m.emitter.is_some())
+                || self.b.quadrics[q0..].iter().any(|q| q.emitter.is_some());
+            if emitters {
+                return Err(c.err("a shape in a shapegroup carries an emitter: instancing of emitters is not supported (as in Mitsuba)"));
+            }
+            group.meshes.extend(m0 as u32..self.b.meshes.len() as u32);
+            group
+                .quadrics
+                .extend(q0 as u32..self.b.quadrics.len() as u32);
+        }
+        self.groups.push(group);
+        let g = (self.groups.len() - 1) as u32;
+        if let Some(id) = id {
+            self.group_ids.insert(id.to_string(), g);
+        }
+        Ok(g)
+    }
+
+    /// An `instance` (Mitsuba's instance.cpp): one shapegroup, by reference, placed by
+    /// `to_world`.
+    fn instance(&mut self, el: &'a Element) -> Result<(), Error> {
+        el.check_attrs(&["type", "id", "name"])?;
+        let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
+        let to_world = props.transform("to_world")?;
+        props.finish()?;
+        let mut group = None;
+        for n in nested {
+            let target = match n.tag.as_str() {
+                "ref" => self.deref(n)?,
+                "shape" => n,
+                _ => return Err(self.unexpected(n, "an instance")),
+            };
+            if target.tag != "shape" || target.attr("type") != Some("shapegroup") {
+                let what = match target.attr("type") {
+                    Some(t) => format!("<{} type=\"{t}\">", target.tag),
+                    None => format!("<{}>", target.tag),
+                };
+                return Err(n.err(format!(
+                    "an instance places a shapegroup only, this names a {what} (instances of instances are not permitted, as in Mitsuba)"
+                )));
+            }
+            if group.is_some() {
+                return Err(n.err("an instance names one shapegroup only"));
+            }
+            group = Some(self.shapegroup(target)?);
+        }
+        let group = group.ok_or_else(|| {
+            el.err("an instance needs a shapegroup: <ref id=\"...\"/> naming one")
+        })?;
+        if !shape::instance::placeable(&to_world) {
+            return Err(props.error(
+                "to_world",
+                "an instance's to_world must be finite, affine and invertible",
+            ));
+        }
+        self.instances.push(Instance { group, to_world });
+        Ok(())
+    }
+
     fn shape(&mut self, el: &'a Element) -> Result<(), Error> {
         el.check_attrs(&["type", "id", "name"])?;
         let t = el.require("type")?;
+        match t {
+            "shapegroup" => return self.shapegroup(el).map(|_| ()),
+            "instance" => return self.instance(el),
+            _ => {}
+        }
         let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
         let ShapeParts {
             bsdf,
@@ -1256,7 +1363,7 @@ mod tests {
             ("<bsdf type=\"blendbsdf\"/>", 3, "bsdf type 'blendbsdf' is not supported yet"),
             ("<bsdf type=\"thindielectric\"><texture type=\"checkerboard\" name=\"int_ior\"/></bsdf>", 3, "'int_ior' of bsdf 'thindielectric' cannot be a texture"),
             ("<bsdf type=\"velvet\"/>", 3, "unknown bsdf type 'velvet'"),
-            ("<shape type=\"shapegroup\"/>", 3, "shape type 'shapegroup' is not supported yet"),
+            ("<shape type=\"merge\"/>", 3, "shape type 'merge' is not supported yet"),
             ("<shape type=\"cylinder\">\n<float name=\"radius\" value=\"0\"/></shape>", 4, "cylinder radius must be positive"),
             ("<shape type=\"cylinder\">\n<point name=\"p1\" value=\"0,0,0\"/></shape>", 4, "p0 and p1 apart"),
             ("<shape type=\"cylinder\"><transform name=\"to_world\"><scale value=\"1,2,1\"/></transform></shape>", 3, "non-uniform scale across the axis"),

@@ -43,6 +43,7 @@ pub use film::Film;
 pub use integrator::IntegratorSpec;
 pub use medium::Medium;
 pub use sampler::Sampler;
+pub use shape::instance::{Instance, ShapeGroup};
 pub use shape::{Mesh, Quadric, QuadricKind};
 pub use texture::Texture;
 
@@ -66,6 +67,11 @@ pub struct Scene {
     pub meshes: Vec<Mesh>,
     /// Spheres, disks and cylinders.
     pub quadrics: Vec<Quadric>,
+    /// Shape groups (Mitsuba `shapegroup`): the meshes and quadrics above that are
+    /// seen only through `instances`, in the group's space.
+    pub groups: Vec<ShapeGroup>,
+    /// Placements of the groups (Mitsuba `instance`).
+    pub instances: Vec<Instance>,
     /// Every BSDF, indexed by `Mesh::bsdf` / `Quadric::bsdf`.
     pub bsdfs: Vec<Bsdf>,
     /// Every emitter; area emitters are referenced by the shape that carries them.
@@ -83,9 +89,45 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// Total number of triangles over all meshes.
+    /// Total number of triangles over all meshes (those of shape groups once).
     pub fn triangle_count(&self) -> usize {
         self.meshes.iter().map(|m| m.indices.len()).sum()
+    }
+
+    /// Per shape (meshes, then quadrics: the renderer's shape numbering), whether it
+    /// belongs to a shape group, and so is seen only through instances.
+    pub fn grouped_shapes(&self) -> Vec<bool> {
+        let mut grouped = vec![false; self.meshes.len() + self.quadrics.len()];
+        for g in &self.groups {
+            for &m in &g.meshes {
+                grouped[m as usize] = true;
+            }
+            for &q in &g.quadrics {
+                grouped[self.meshes.len() + q as usize] = true;
+            }
+        }
+        grouped
+    }
+
+    /// Triangles a ray may meet: those outside groups, plus each instance's group's.
+    pub fn instanced_triangle_count(&self) -> u64 {
+        let group_triangles: Vec<u64> = self
+            .groups
+            .iter()
+            .map(|g| {
+                g.meshes
+                    .iter()
+                    .map(|&m| self.meshes[m as usize].indices.len() as u64)
+                    .sum()
+            })
+            .collect();
+        let grouped: u64 = group_triangles.iter().sum();
+        let placed: u64 = self
+            .instances
+            .iter()
+            .map(|i| group_triangles[i.group as usize])
+            .sum();
+        self.triangle_count() as u64 - grouped + placed
     }
 
     /// Whether some shape has a `null` BSDF (a boundary rays pass through).

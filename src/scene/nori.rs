@@ -65,6 +65,8 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         integrator,
         meshes: b.meshes,
         quadrics: b.quadrics,
+        groups: Vec::new(),
+        instances: Vec::new(),
         bsdfs: b.bsdfs,
         emitters: b.emitters,
         emitter_weights: b.emitter_weights,

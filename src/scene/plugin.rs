@@ -422,6 +422,10 @@ mod tests {
                 }
             ),
             Family::Emitter => format!(r#"{default_sensor}<emitter type="{t}">{body}</emitter>"#),
+            // An instance needs its group.
+            Family::Shape if t == "instance" => format!(
+                r#"{default_sensor}<shape type="shapegroup" id="g"><shape type="cube"/></shape><shape type="instance"><ref id="g"/>{body}</shape>"#
+            ),
             Family::Shape => format!(r#"{default_sensor}<shape type="{t}">{body}</shape>"#),
             // A thin lens needs its aperture whatever else is given.
             Family::Sensor if t == "thinlens" && !body.contains("aperture_radius") => sensor(

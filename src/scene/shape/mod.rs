@@ -8,6 +8,7 @@
 pub mod cube;
 pub mod cylinder;
 pub mod disk;
+pub mod instance;
 pub mod obj;
 pub mod ply;
 pub mod rectangle;
@@ -32,8 +33,8 @@ pub const REGISTRY: &[PluginDoc] = &[
     sphere::MITSUBA,
     disk::MITSUBA,
     cylinder::MITSUBA,
-    not_yet("shapegroup"),
-    not_yet("instance"),
+    instance::SHAPEGROUP,
+    instance::INSTANCE,
     not_yet("bsplinecurve"),
     not_yet("linearcurve"),
     not_yet("sdfgrid"),
