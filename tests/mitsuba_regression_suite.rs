@@ -236,7 +236,6 @@ scene!(
     Rejects
 );
 scene!(
-    #[ignore = "rawconstant texture"]
     normalmap_identity_roughconductor,
     "bsdf_spheres",
     "test_normalmap_identity_roughconductor_path.xml",
@@ -296,21 +295,18 @@ scene!(
     Rejects
 );
 scene!(
-    #[ignore = "principled BSDF"]
     texturedprincipled1,
     "bsdf_spheres",
     "test_texturedprincipled1_path.xml",
     Rejects
 );
 scene!(
-    #[ignore = "principled BSDF"]
     texturedprincipled2,
     "bsdf_spheres",
     "test_texturedprincipled2_path.xml",
     Rejects
 );
 scene!(
-    #[ignore = "principledthin BSDF"]
     texturedprincipledthin,
     "bsdf_spheres",
     "test_texturedprincipledthin_path.xml",
@@ -339,21 +335,21 @@ scene!(
     Rejects
 );
 scene!(
-    #[ignore = "directional emitter, mesh_attribute texture"]
+    #[ignore = "directional emitter, blendbsdf"]
     mesh_attributes_1_face,
     "mesh_attributes",
     "test_mesh_attributes_1_face_direct.xml",
     Rejects
 );
 scene!(
-    #[ignore = "directional emitter, mesh_attribute texture"]
+    #[ignore = "directional emitter"]
     mesh_attributes_3_face,
     "mesh_attributes",
     "test_mesh_attributes_3_face_direct.xml",
     Rejects
 );
 scene!(
-    #[ignore = "directional emitter, mesh_attribute texture"]
+    #[ignore = "directional emitter"]
     mesh_attributes_3_vertex,
     "mesh_attributes",
     "test_mesh_attributes_3_vertex_direct.xml",
@@ -388,14 +384,13 @@ scene!(
     Rejects
 );
 scene!(
-    #[ignore = "rawconstant texture"]
     texture_interp,
     "texture_interp",
     "test_texture_interp_direct.xml",
     Rejects
 );
 scene!(
-    #[ignore = "BMP image, ptracer integrator"]
+    #[ignore = "projector, spot light texture"]
     various_emitters,
     "various_emitters",
     "test_various_emitters_ptracer.xml",

@@ -216,9 +216,10 @@ gpu_record! {
     /// | plastic | `reflectance`, `specular`, `eta`, `specular_weight`, `internal` (F_dr inside) |
     /// | roughplastic | + `distribution`, `alpha_u` (= `alpha_v`), `table` (coating transmittance at cos θ = i/63, 64 unorm16 entries, two a word), `internal` (R_int) |
     /// | Nori microfacet | `reflectance` (kd), `specular_weight` (ks), `eta`, `alpha_u` |
+    /// | principled, principledthin | `reflectance` (base_color), `eta`, `table` (scalar parameters, their textures: `scene::bsdf::principled`) |
     ///
     /// `flags`: [`BSDF_TWOSIDED`], [`BSDF_NONLINEAR`], [`BSDF_NORMALMAP_FLIP`],
-    /// [`BSDF_NORMALMAP_SHADOWING`].
+    /// [`BSDF_NORMALMAP_SHADOWING`], [`BSDF_TABLE_TEXTURES`].
     #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
     pub struct BsdfRecord {
         pub reflectance: [f32; 3] => vec3,

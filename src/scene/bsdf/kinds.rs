@@ -72,6 +72,8 @@ pub const KINDS: &[Kind] = &[
     kind(7, "nori_microfacet", REFLECTION | GLOSSY | DIFFUSE,          hooks::LOBES | hooks::TEXTURED),
     kind(8, "thindielectric",  REFLECTION | TRANSMISSION | DELTA | NULL, 0),
     kind(9, "pplastic",        REFLECTION | GLOSSY | DIFFUSE,          0),
+    kind(10, "principled",     REFLECTION | TRANSMISSION | GLOSSY | DIFFUSE, hooks::LOBES),
+    kind(11, "principledthin", REFLECTION | TRANSMISSION | GLOSSY | DIFFUSE, hooks::LOBES),
 ];
 
 const fn kind(id: u32, name: &'static str, lobes: u32, hooks: u32) -> Kind {

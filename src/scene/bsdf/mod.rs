@@ -21,6 +21,7 @@
 //! | [`plastic`] | `plastic` | |
 //! | [`roughplastic`] | `roughplastic` | |
 //! | [`pplastic`] | `pplastic` | |
+//! | [`principled`] | `principled`, `principledthin` | |
 //! | [`nori_microfacet`] | | `microfacet` |
 //! | [`twosided`], [`normalmap`], [`null`] | wrappers the loader reads (they nest BSDFs or none) | |
 //!
@@ -42,6 +43,7 @@ pub mod normalmap;
 pub mod null;
 pub mod plastic;
 pub mod pplastic;
+pub mod principled;
 mod rough_coating;
 pub mod roughconductor;
 pub mod roughdielectric;
@@ -70,6 +72,7 @@ pub use microfacet::{rough_reflectance, Distribution};
 pub use nori_microfacet::NoriMicrofacet;
 pub use plastic::Plastic;
 pub use pplastic::PPlastic;
+pub use principled::Principled;
 pub use roughconductor::RoughConductor;
 pub use roughdielectric::RoughDielectric;
 pub use roughplastic::{rough_coating_tables, RoughPlastic};
@@ -99,8 +102,8 @@ pub const PLUGINS: &[Plugin] = &[
     Plugin::not_yet("measured"),
     Plugin::not_yet("measured_polarized"),
     Plugin::not_yet("polarizer"),
-    Plugin::not_yet("principled"),
-    Plugin::not_yet("principledthin"),
+    principled::MITSUBA,
+    principled::MITSUBA_THIN,
     Plugin::not_yet("retarder"),
     diffuse::NORI,
     conductor::NORI_MIRROR,
@@ -241,6 +244,12 @@ pub trait BsdfModel: std::fmt::Debug {
     fn lobe_axis(&self) -> LobeAxis {
         LobeAxis::Normal
     }
+
+    /// Whether light can pass through: its kind has a transmission lobe (a model
+    /// whose records differ, as `principled`, says so itself).
+    fn transmits(&self) -> bool {
+        self.kind().lobes & kinds::lobes::TRANSMISSION != 0
+    }
 }
 
 /// Where a lobe gathers, for the axis of `wavetrace warptest`'s plots.
@@ -268,6 +277,8 @@ pub enum Bsdf {
     Plastic(Plastic),
     RoughPlastic(RoughPlastic),
     PPlastic(PPlastic),
+    /// `principled` and `principledthin` ([`principled`]).
+    Principled(Principled),
     NoriMicrofacet(NoriMicrofacet),
     /// Mitsuba `twosided` with one nested BSDF without transmission: both faces use
     /// it ([`twosided`]).
@@ -305,6 +316,7 @@ impl Bsdf {
             Bsdf::Plastic(m) => m,
             Bsdf::RoughPlastic(m) => m,
             Bsdf::PPlastic(m) => m,
+            Bsdf::Principled(m) => m,
             Bsdf::NoriMicrofacet(m) => m,
             Bsdf::TwoSided(inner) => inner.model(),
             Bsdf::Textured { bsdf, .. } | Bsdf::NormalMap { bsdf, .. } => bsdf.model(),
@@ -313,7 +325,7 @@ impl Bsdf {
 
     /// Whether light can pass through (dielectrics).
     pub fn transmits(&self) -> bool {
-        self.model().kind().lobes & kinds::lobes::TRANSMISSION != 0
+        self.model().transmits()
     }
 
     /// Whether this is a thin dielectric (crossed as a null surface by the
@@ -401,6 +413,8 @@ pub struct TextureMaps {
     pub transmittance: Option<u32>,
     pub alpha_u: Option<u32>,
     pub alpha_v: Option<u32>,
+    /// Scalar parameters kept in the record's table ([`Slot::Table`]): (entry, texture).
+    pub table: Vec<(u8, u32)>,
 }
 
 /// A parameter slot of the BSDF record a texture can feed.
@@ -413,6 +427,9 @@ pub enum Slot {
     AlphaV,
     /// `alpha`: both roughnesses.
     Alpha,
+    /// Entry k of the record's table, the texture's luminance (`principled`'s scalars;
+    /// looked up where the scene's texture mask has `TEXTURE_FEATURE_TABLE`).
+    Table(u8),
 }
 
 impl TextureMaps {
@@ -454,6 +471,7 @@ impl TextureMaps {
                     maps.alpha_u = Some(index);
                     maps.alpha_v = Some(index);
                 }
+                Slot::Table(k) => maps.table.push((*k, index)),
             }
         }
         Ok(Some(maps))
@@ -468,6 +486,9 @@ impl TextureMaps {
         r.tex_transmittance = id(self.transmittance);
         r.tex_alpha_u = id(self.alpha_u);
         r.tex_alpha_v = id(self.alpha_v);
+        for &(k, index) in &self.table {
+            principled::pack_table_texture(&mut r, k as usize, index);
+        }
         r
     }
 }
