@@ -20,6 +20,8 @@
 //! Mitsuba evaluates this in single precision; here in f64 (the tables agree to about
 //! 1e-6).
 
+use std::sync::OnceLock;
+
 use glam::DVec3;
 
 use super::microfacet::{smith_g1, Distribution};
@@ -116,49 +118,45 @@ fn disk_concentric(sx: f64, sy: f64) -> (f64, f64) {
     (r * phi.cos(), r * phi.sin())
 }
 
-/// Mitsuba's `sample_visible_11`: a slope of the visible normals of the α = 1
-/// distribution for an incident direction of cos θ = `cos_theta`.
-fn sample_visible_11(d: Distribution, cos_theta: f64, sx: f64, sy: f64) -> (f64, f64) {
-    match d {
-        Distribution::Beckmann => {
-            let tan_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt() / cos_theta;
-            let cot_theta = 1.0 / tan_theta;
-            let maxval = erf(cot_theta);
-            let (sx, sy) = (sx.clamp(1e-6, 1.0 - 1e-6), sy.clamp(1e-6, 1.0 - 1e-6));
-            let mut x = maxval - (maxval + 1.0) * erf((-sx.ln()).sqrt());
-            let inv_sqrt_pi = 1.0 / std::f64::consts::PI.sqrt();
-            let tail = if tan_theta == 0.0 {
-                0.0
-            } else {
-                inv_sqrt_pi * tan_theta * (-cot_theta * cot_theta).exp()
-            };
-            let sx = sx * (1.0 + maxval + tail);
-            for _ in 0..3 {
-                let slope = erfinv(x);
-                let value = 1.0 + x + inv_sqrt_pi * tan_theta * (-slope * slope).exp() - sx;
-                let derivative = 1.0 - slope * tan_theta;
-                x -= value / derivative;
-            }
-            (erfinv(x), erfinv(2.0 * sy - 1.0))
-        }
-        Distribution::Ggx => {
-            let (px, py) = disk_concentric(sx, sy);
-            let s = 0.5 * (1.0 + cos_theta);
-            let py = (1.0 - px * px).max(0.0).sqrt() * (1.0 - s) + py * s;
-            let z = (1.0 - px * px - py * py).max(0.0).sqrt();
-            let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
-            let norm = 1.0 / (sin_theta * py + cos_theta * z);
-            ((cos_theta * py - sin_theta * z) * norm, px * norm)
-        }
+/// Mitsuba's `sample_visible_11` for Beckmann, whose two slopes separate: the first
+/// from `sx` (and the incident cos θ), by three Newton steps in the erf domain ...
+fn beckmann_slope_x(cos_theta: f64, sx: f64) -> f64 {
+    let tan_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt() / cos_theta;
+    let cot_theta = 1.0 / tan_theta;
+    let maxval = erf(cot_theta);
+    let sx = sx.clamp(1e-6, 1.0 - 1e-6);
+    let mut x = maxval - (maxval + 1.0) * erf((-sx.ln()).sqrt());
+    let inv_sqrt_pi = 1.0 / std::f64::consts::PI.sqrt();
+    let tail = if tan_theta == 0.0 {
+        0.0
+    } else {
+        inv_sqrt_pi * tan_theta * (-cot_theta * cot_theta).exp()
+    };
+    let sx = sx * (1.0 + maxval + tail);
+    for _ in 0..3 {
+        let slope = erfinv(x);
+        let value = 1.0 + x + inv_sqrt_pi * tan_theta * (-slope * slope).exp() - sx;
+        let derivative = 1.0 - slope * tan_theta;
+        x -= value / derivative;
     }
+    erfinv(x)
 }
 
-/// Mitsuba's visible-normal `sample` for wi in the xz-plane (x >= 0), isotropic α.
-fn sample_visible(d: Distribution, alpha: f64, wi: DVec3, sx: f64, sy: f64) -> DVec3 {
-    // Stretch wi; it stays in the xz-plane, so its φ is 0 (cos φ = 1, sin φ = 0).
-    let wp = DVec3::new(alpha * wi.x, 0.0, wi.z).normalize();
-    let (slope_x, slope_y) = sample_visible_11(d, wp.z, sx, sy);
-    DVec3::new(-slope_x * alpha, -slope_y * alpha, 1.0).normalize()
+/// ... the second from `sy` alone.
+fn beckmann_slope_y(sy: f64) -> f64 {
+    erfinv(2.0 * sy.clamp(1e-6, 1.0 - 1e-6) - 1.0)
+}
+
+/// Mitsuba's `sample_visible_11` for GGX: a slope of the visible normals of the α = 1
+/// distribution for an incident direction of cos θ = `cos_theta`, from the point
+/// (`px`, `py`) of the concentric disk the sample maps to.
+fn ggx_slopes(cos_theta: f64, px: f64, py: f64) -> (f64, f64) {
+    let s = 0.5 * (1.0 + cos_theta);
+    let py = (1.0 - px * px).max(0.0).sqrt() * (1.0 - s) + py * s;
+    let z = (1.0 - px * px - py * py).max(0.0).sqrt();
+    let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
+    let norm = 1.0 / (sin_theta * py + cos_theta * z);
+    ((cos_theta * py - sin_theta * z) * norm, px * norm)
 }
 
 /// Mitsuba's `fresnel(cos_theta_i, eta)` for cos_theta_i >= 0: (F, cos θt <= 0).
@@ -174,6 +172,28 @@ fn fresnel(cos_i: f64, eta: f64) -> (f64, f64) {
     (0.5 * (a_s * a_s + a_p * a_p), -ct)
 }
 
+/// A Gauss-Legendre grid of the unit square and the concentric-disk points of its
+/// nodes (x major).
+struct Grid {
+    nodes: Vec<(f64, f64)>,
+    disk: Vec<(f64, f64)>,
+}
+
+impl Grid {
+    fn new(res: usize) -> Grid {
+        let nodes = gauss_legendre(res);
+        let disk = nodes
+            .iter()
+            .flat_map(|x| {
+                nodes
+                    .iter()
+                    .map(move |y| disk_concentric(0.5 * x.0 + 0.5, 0.5 * y.0 + 0.5))
+            })
+            .collect();
+        Grid { nodes, disk }
+    }
+}
+
 /// Mitsuba's `eval_transmittance` (`transmit`) or `eval_reflectance` of the rough
 /// interface of relative index `eta` at incident cos θ = `mu` (> 0).
 pub fn mitsuba_rough_interface(
@@ -183,13 +203,39 @@ pub fn mitsuba_rough_interface(
     eta: f64,
     transmit: bool,
 ) -> f64 {
+    // The grid (nodes, and for GGX their disk points) does not depend on the
+    // direction: made once per size.
+    static GRIDS: [OnceLock<Grid>; 2] = [OnceLock::new(), OnceLock::new()];
     let res = if eta > 1.0 { 32 } else { 128 };
-    let nodes = gauss_legendre(res);
+    let grid = GRIDS[usize::from(res == 128)].get_or_init(|| Grid::new(res));
+    let nodes = &grid.nodes;
     let wi = DVec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu);
+    // Mitsuba's visible-normal `sample`: stretch wi (it stays in the xz-plane, so its
+    // φ is 0: no rotation), sample a slope of the α = 1 distribution, unstretch.
+    let cos_p = DVec3::new(alpha * wi.x, 0.0, wi.z).normalize().z;
+    let slopes_y: Vec<f64> = match d {
+        Distribution::Beckmann => nodes
+            .iter()
+            .map(|n| beckmann_slope_y(0.5 * n.0 + 0.5))
+            .collect(),
+        Distribution::Ggx => Vec::new(),
+    };
     let mut sum = 0.0;
-    for &(ny, wy) in &nodes {
-        for &(nx, wx) in &nodes {
-            let m = sample_visible(d, alpha, wi, 0.5 * nx + 0.5, 0.5 * ny + 0.5);
+    for (j, &(nx, wx)) in nodes.iter().enumerate() {
+        let sx = 0.5 * nx + 0.5;
+        let slope_x = match d {
+            Distribution::Beckmann => beckmann_slope_x(cos_p, sx),
+            Distribution::Ggx => 0.0,
+        };
+        for (k, &(_, wy)) in nodes.iter().enumerate() {
+            let (slope_x, slope_y) = match d {
+                Distribution::Beckmann => (slope_x, slopes_y[k]),
+                Distribution::Ggx => {
+                    let (px, py) = grid.disk[j * res + k];
+                    ggx_slopes(cos_p, px, py)
+                }
+            };
+            let m = DVec3::new(-slope_x * alpha, -slope_y * alpha, 1.0).normalize();
             let wim = wi.dot(m);
             let (f, cos_t) = fresnel(wim, eta);
             let value = if transmit {
