@@ -259,39 +259,62 @@ impl<'a> Loader<'a> {
                 Ok(index)
             }
             "twosided" => {
-                // One nested BSDF used on both faces (Mitsuba's twosided.cpp).
+                // One nested BSDF used on both faces, or a front and a back one
+                // (Mitsuba's twosided.cpp).
                 props.finish()?;
-                let inner: Vec<&'a Element> = el
-                    .children
-                    .iter()
-                    .filter(|c| c.tag == "bsdf" || c.tag == "ref")
-                    .collect();
-                if inner.len() != 1 || nested.len() != 1 {
-                    return Err(el.err(
-                        "twosided needs exactly one nested <bsdf> (two different sides are not supported yet)",
+                let inner = self.nested_bsdfs(el, nested)?;
+                let sides: Vec<Bsdf> = match inner.as_slice() {
+                    [_] | [_, _] => inner.iter().map(|(i, _)| self.b.bsdfs[*i as usize].clone()).collect(),
+                    _ => return Err(el.err("twosided needs one or two nested <bsdf>s")),
+                };
+                if let Some(k) = sides.iter().position(Bsdf::transmits) {
+                    return Err(inner[k].1.err(
+                        "twosided: only materials without transmission can be nested",
                     ));
                 }
-                let inner = if inner[0].tag == "ref" {
-                    let target = self.deref(inner[0])?;
-                    if target.tag != "bsdf" {
-                        return Err(inner[0].err(format!(
-                            "'{}' is a <{}>, not a <bsdf>",
-                            inner[0].attr("id").unwrap_or(""),
-                            target.tag
-                        )));
-                    }
-                    target
-                } else {
-                    inner[0]
+                let bsdf = match <[Bsdf; 2]>::try_from(sides) {
+                    Ok(pair) => Bsdf::TwoSidedPair(Box::new(pair)),
+                    Err(mut one) => Bsdf::TwoSided(Box::new(one.remove(0))),
                 };
-                let index = self.bsdf(inner)?;
-                let nested_bsdf = self.b.bsdfs[index as usize].clone();
-                if nested_bsdf.transmits() {
-                    return Err(
-                        el.err("twosided: only materials without transmission can be nested")
-                    );
-                }
-                Ok(self.b.add_bsdf(Bsdf::TwoSided(Box::new(nested_bsdf))))
+                Ok(self.b.add_bsdf(bsdf))
+            }
+            "mask" | "blendbsdf" | "bumpmap" => {
+                // Composites (bsdf::composite): an opacity, a weight or a height field,
+                // and their nested BSDFs.
+                let mut props = props;
+                let rest = self.attach_textures(&mut props, nested, false)?;
+                let count = if t == "blendbsdf" { 2 } else { 1 };
+                let bsdf = match t {
+                    "mask" => {
+                        let opacity = bsdf::mask::params(&props)?;
+                        props.finish()?;
+                        let inner = self.nested_bsdf_values(el, rest, count, t)?;
+                        Bsdf::Mask {
+                            opacity,
+                            bsdf: Box::new(inner[0].clone()),
+                        }
+                    }
+                    "blendbsdf" => {
+                        let weight = bsdf::blendbsdf::params(&props)?;
+                        props.finish()?;
+                        let inner = self.nested_bsdf_values(el, rest, count, t)?;
+                        Bsdf::Blend {
+                            weight,
+                            bsdfs: Box::new([inner[0].clone(), inner[1].clone()]),
+                        }
+                    }
+                    _ => {
+                        let (texture, scale) = bsdf::bumpmap::params(&props)?;
+                        props.finish()?;
+                        let inner = self.nested_bsdf_values(el, rest, count, t)?;
+                        Bsdf::BumpMap {
+                            texture,
+                            scale,
+                            bsdf: Box::new(inner[0].clone()),
+                        }
+                    }
+                };
+                Ok(self.b.add_bsdf(bsdf))
             }
             "normalmap" => {
                 // Mitsuba's normalmap.cpp: a `normalmap` texture and one nested BSDF.
@@ -337,6 +360,59 @@ impl<'a> Loader<'a> {
                 Ok(self.b.add_bsdf(bsdf))
             }
         }
+    }
+
+    /// The BSDFs nested in `el` (`<bsdf>`s, or `<ref>`s to them), built, with the
+    /// element that names each; anything else nested is an error.
+    fn nested_bsdfs(
+        &mut self,
+        el: &'a Element,
+        nested: Vec<&'a Element>,
+    ) -> Result<Vec<(u32, &'a Element)>, Error> {
+        let mut out = Vec::new();
+        for n in nested {
+            let target = if n.tag == "ref" { self.deref(n)? } else { n };
+            if target.tag != "bsdf" {
+                return Err(if n.tag == "ref" {
+                    n.err(format!(
+                        "'{}' is a <{}>, not a <bsdf>",
+                        n.attr("id").unwrap_or(""),
+                        target.tag
+                    ))
+                } else {
+                    n.err(format!(
+                        "unexpected <{}> in a {} <bsdf>",
+                        n.tag,
+                        el.attr("type").unwrap_or("")
+                    ))
+                });
+            }
+            out.push((self.bsdf(target)?, n));
+        }
+        Ok(out)
+    }
+
+    /// Exactly `count` nested BSDFs of a `t` composite, as values.
+    fn nested_bsdf_values(
+        &mut self,
+        el: &'a Element,
+        nested: Vec<&'a Element>,
+        count: usize,
+        t: &str,
+    ) -> Result<Vec<Bsdf>, Error> {
+        let inner = self.nested_bsdfs(el, nested)?;
+        if inner.len() != count {
+            let what = if count == 1 {
+                "one nested <bsdf>".to_string()
+            } else {
+                format!("{count} nested <bsdf>s")
+            };
+            return Err(el.err(format!("{t} needs exactly {what}, found {}", inner.len())));
+        }
+        Ok(inner
+            .iter()
+            .map(|(i, _)| self.b.bsdfs[*i as usize].clone())
+            .collect())
     }
 
     /// A `<texture>` (nested, or the target of a `<ref>`): its index and mean.
