@@ -212,10 +212,13 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
             if (BSDF_HAS(BSDF_COMPOSITE)) {
                 // A composite BSDF resolves to one model here (composite.glsl).
                 u_lobe = sample_1d(path.pixel, path.sample_index, rng_dim_bounce(depth, RNG_SLOT_LOBE));
-                CompositeLeaf leaf = bsdf_composite_resolve(bsdf_index, s, -r.dir, u_lobe);
+                CompositeLeaf leaf = bsdf_composite_resolve(bsdf_index, s, h.prim, vec2(h.u, h.v), -r.dir, u_lobe);
                 bsdf_index = leaf.index;
                 bsdf_flags = leaf.flags;
                 u_lobe = leaf.u;
+                // A bump map's frame weighs light as a normal map's (Mitsuba 3.9).
+                mapped = leaf.bumped;
+                nm = leaf.nm;
             }
             bsdf = bsdf_textured_point(bsdf_load(bsdf_index), s.uv, true, emission_texture, texels);
             bsdf.flags |= bsdf_flags;
@@ -230,8 +233,8 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
         // the old normal towards the viewer there, so the nested model is one-sided,
         // as in Mitsuba's twosided around a normalmap.
         if (SHADE_LAST) return;
-        mapped = TEXTURE_USES(TEXTURE_FEATURE_NORMALMAP) && bsdf.normal_map != 0u;
-        if (mapped) {
+        if (TEXTURE_USES(TEXTURE_FEATURE_NORMALMAP) && bsdf.normal_map != 0u) {
+            mapped = true;
             nm = normal_map_frame_texel(bsdf, s, -r.dir, texels.normal);
             s.ns = nm.n;
             // Mitsuba's perturbed frame keeps the old tangent, made orthogonal to n.

@@ -264,13 +264,16 @@ impl<'a> Loader<'a> {
                 props.finish()?;
                 let inner = self.nested_bsdfs(el, nested)?;
                 let sides: Vec<Bsdf> = match inner.as_slice() {
-                    [_] | [_, _] => inner.iter().map(|(i, _)| self.b.bsdfs[*i as usize].clone()).collect(),
+                    [_] | [_, _] => inner
+                        .iter()
+                        .map(|(i, _)| self.b.bsdfs[*i as usize].clone())
+                        .collect(),
                     _ => return Err(el.err("twosided needs one or two nested <bsdf>s")),
                 };
                 if let Some(k) = sides.iter().position(Bsdf::transmits) {
-                    return Err(inner[k].1.err(
-                        "twosided: only materials without transmission can be nested",
-                    ));
+                    return Err(inner[k]
+                        .1
+                        .err("twosided: only materials without transmission can be nested"));
                 }
                 let bsdf = match <[Bsdf; 2]>::try_from(sides) {
                     Ok(pair) => Bsdf::TwoSidedPair(Box::new(pair)),
@@ -304,12 +307,11 @@ impl<'a> Loader<'a> {
                         }
                     }
                     _ => {
-                        let (texture, scale) = bsdf::bumpmap::params(&props)?;
+                        let params = bsdf::bumpmap::params(&props)?;
                         props.finish()?;
                         let inner = self.nested_bsdf_values(el, rest, count, t)?;
                         Bsdf::BumpMap {
-                            texture,
-                            scale,
+                            params,
                             bsdf: Box::new(inner[0].clone()),
                         }
                     }

@@ -26,11 +26,12 @@
 //!
 //! A node record holds: `kind` = [`kinds::COMPOSITE`], `distribution` its
 //! `COMPOSITE_*` operation, `tex_specular` and `tex_transmittance` its two children
-//! (record indices), `eta` its constant weight (blend, mask) or height scale (bump)
-//! and `tex_reflectance` the texture of either (id + 1, 0: none).
+//! (record indices), `eta` its constant weight (blend, mask) or height scale (bump),
+//! `tex_reflectance` the texture of either (id + 1, 0: none), and a bump map's
+//! `flags` its `BSDF_NORMALMAP_FLIP` and `BSDF_NORMALMAP_SHADOWING`.
 
 use super::{kinds, Bsdf};
-use crate::gpu::layout::BsdfRecord;
+use crate::gpu::layout::{BsdfRecord, BSDF_NORMALMAP_FLIP, BSDF_NORMALMAP_SHADOWING};
 use crate::scene::properties::Properties;
 use crate::scene::Error;
 
@@ -59,7 +60,9 @@ impl Weight {
             .into_iter()
             .find(|(n, _)| n == name)
             .map(|(_, i)| i);
-        Ok(props.float_opt(name)?.map(|value| Weight { value, texture }))
+        Ok(props
+            .float_opt(name)?
+            .map(|value| Weight { value, texture }))
     }
 
     /// A constant weight.
@@ -121,17 +124,20 @@ fn node(bsdf: &Bsdf, base: u32, extra: &mut Vec<BsdfRecord>) -> BsdfRecord {
             let c = child(inner, extra);
             node_record(COMPOSITE_TWOSIDED, c, c, Weight::constant(0.0))
         }
-        Bsdf::BumpMap {
-            texture,
-            scale,
-            bsdf,
-        } => {
+        Bsdf::BumpMap { params, bsdf } => {
             let c = child(bsdf, extra);
             let w = Weight {
-                value: *scale,
-                texture: Some(*texture),
+                value: params.scale,
+                texture: Some(params.texture),
             };
-            node_record(COMPOSITE_BUMP, c, c, w)
+            let mut r = node_record(COMPOSITE_BUMP, c, c, w);
+            if params.flip_invalid_normals {
+                r.flags |= BSDF_NORMALMAP_FLIP;
+            }
+            if params.use_shadowing_function {
+                r.flags |= BSDF_NORMALMAP_SHADOWING;
+            }
+            r
         }
         model => BsdfRecord::from(model),
     }
@@ -207,14 +213,22 @@ mod tests {
         assert_eq!(r.len(), 6);
         assert_eq!(r[0], BsdfRecord::from(&diffuse(0.5)));
         assert_eq!(
-            (r[1].kind, r[1].distribution, r[1].tex_specular, r[1].tex_transmittance),
+            (
+                r[1].kind,
+                r[1].distribution,
+                r[1].tex_specular,
+                r[1].tex_transmittance
+            ),
             (kinds::COMPOSITE, COMPOSITE_BLEND, 2, 5)
         );
         assert_eq!((r[1].eta, r[1].tex_reflectance), (0.5, 4));
         assert_eq!(r[2].kind, kinds::find("mask_null").id);
         assert_eq!(r[3].reflectance, [0.1; 3]);
         assert_eq!(r[4].reflectance, [0.9; 3]);
-        assert_eq!((r[5].tex_specular, r[5].tex_transmittance, r[5].eta), (3, 4, 0.25));
+        assert_eq!(
+            (r[5].tex_specular, r[5].tex_transmittance, r[5].eta),
+            (3, 4, 0.25)
+        );
     }
 
     #[test]

@@ -304,11 +304,9 @@ pub enum Bsdf {
     },
     /// Mitsuba `twosided` with two BSDFs: the front's and the back's ([`twosided`]).
     TwoSidedPair(Box<[Bsdf; 2]>),
-    /// Mitsuba `bumpmap`: `bsdf` shaded in the frame of the height field `texture`
-    /// times `scale` ([`bumpmap`]).
+    /// Mitsuba `bumpmap`: `bsdf` shaded in the frame of a height field ([`bumpmap`]).
     BumpMap {
-        texture: u32,
-        scale: f32,
+        params: bumpmap::BumpParams,
         bsdf: Box<Bsdf>,
     },
 }
@@ -388,14 +386,9 @@ impl std::fmt::Debug for Bsdf {
                 .field("bsdf", bsdf)
                 .finish(),
             Bsdf::TwoSidedPair(pair) => f.debug_tuple("TwoSidedPair").field(pair).finish(),
-            Bsdf::BumpMap {
-                texture,
-                scale,
-                bsdf,
-            } => f
+            Bsdf::BumpMap { params, bsdf } => f
                 .debug_struct("BumpMap")
-                .field("texture", texture)
-                .field("scale", scale)
+                .field("params", params)
                 .field("bsdf", bsdf)
                 .finish(),
             model => model.model().fmt(f),
