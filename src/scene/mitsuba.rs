@@ -1270,6 +1270,64 @@ mod tests {
     }
 
     #[test]
+    fn composite_bsdfs() {
+        use crate::scene::bsdf::composite::Weight;
+        let xml = r#"<bsdf type="diffuse" id="d"><rgb name="reflectance" value="0.1,0.2,0.3"/></bsdf>
+<bsdf type="blendbsdf" id="b"><float name="weight" value="0.25"/><ref id="d"/><bsdf type="conductor"/></bsdf>
+<bsdf type="mask" id="m"><texture type="checkerboard" name="opacity"/><ref id="b"/></bsdf>
+<bsdf type="twosided" id="t"><ref id="d"/><bsdf type="diffuse"/></bsdf>
+<bsdf type="bumpmap" id="u"><texture type="checkerboard" name="h"/><ref id="t"/></bsdf>
+<bsdf type="twosided" id="t1"><ref id="b"/></bsdf>"#;
+        let s = load(&[("s.xml", &mitsuba(xml))], &[]).expect("loads");
+        let b = &s.bsdfs;
+        let d = b[0].clone();
+        let Bsdf::Blend { weight, bsdfs } = &b[2] else {
+            panic!("{:?}", b[2])
+        };
+        assert_eq!(*weight, Weight::constant(0.25));
+        assert_eq!(bsdfs[0], d);
+        assert!(matches!(bsdfs[1], Bsdf::Conductor(..)));
+        let Bsdf::Mask { opacity, bsdf } = &b[3] else {
+            panic!("{:?}", b[3])
+        };
+        assert_eq!(opacity.texture, Some(0));
+        assert_eq!(**bsdf, b[2]);
+        assert!(matches!(&b[5], Bsdf::TwoSidedPair(pair) if pair[0] == d));
+        let Bsdf::BumpMap { params, bsdf } = &b[6] else {
+            panic!("{:?}", b[6])
+        };
+        assert_eq!(
+            (
+                params.texture,
+                params.scale,
+                params.flip_invalid_normals,
+                params.use_shadowing_function
+            ),
+            (1, 1.0, true, true)
+        );
+        assert_eq!(**bsdf, b[5]);
+        // A twosided around a composite nests it whole.
+        assert!(matches!(&b[7], Bsdf::TwoSided(inner) if **inner == b[2]));
+        let cases: &[(&str, u32, &str)] = &[
+            ("<bsdf type=\"mask\">\n<bsdf type=\"diffuse\"/></bsdf>", 3, "mask needs an 'opacity'"),
+            ("<bsdf type=\"mask\"><float name=\"opacity\" value=\"0.5\"/></bsdf>", 3, "mask needs exactly one nested <bsdf>, found 0"),
+            ("<bsdf type=\"mask\">\n<string name=\"opacity\" value=\"x\"/><bsdf type=\"diffuse\"/></bsdf>", 4, "'opacity' of bsdf 'mask' must be a float"),
+            ("<bsdf type=\"blendbsdf\"><float name=\"weight\" value=\"0.5\"/><bsdf type=\"diffuse\"/></bsdf>", 3, "blendbsdf needs exactly 2 nested <bsdf>s, found 1"),
+            ("<bsdf type=\"blendbsdf\"><bsdf type=\"diffuse\"/><bsdf type=\"diffuse\"/></bsdf>", 3, "blendbsdf needs a 'weight'"),
+            ("<bsdf type=\"bumpmap\"><bsdf type=\"diffuse\"/></bsdf>", 3, "bumpmap needs one nested <texture>"),
+            ("<bsdf type=\"bumpmap\"><texture type=\"checkerboard\" name=\"a\"/>\n<texture type=\"checkerboard\" name=\"b\"/><bsdf type=\"diffuse\"/></bsdf>", 4, "exactly one nested <texture>"),
+            ("<bsdf type=\"twosided\"><bsdf type=\"diffuse\"/><bsdf type=\"diffuse\"/><bsdf type=\"diffuse\"/></bsdf>", 3, "one or two nested"),
+            ("<bsdf type=\"twosided\"><bsdf type=\"diffuse\"/>\n<bsdf type=\"dielectric\"/></bsdf>", 4, "without transmission"),
+            ("<bsdf type=\"twosided\">\n<bsdf type=\"mask\"><float name=\"opacity\" value=\"0.5\"/><bsdf type=\"diffuse\"/></bsdf></bsdf>", 4, "without transmission"),
+            ("<bsdf type=\"mask\"><float name=\"opacity\" value=\"0.5\"/>\n<ref id=\"nothere\"/></bsdf>", 4, "unknown id 'nothere'"),
+        ];
+        for (body, line, msg) in cases {
+            let e = error_at(load(&[("s.xml", &mitsuba(body))], &[]), "s.xml", *line);
+            assert!(e.contains(msg), "{e}\n  wanted: {msg}");
+        }
+    }
+
+    #[test]
     fn parameter_errors() {
         let cases: &[(&str, u32, &str)] = &[
             ("<shape type=\"cube\">\n<float name=\"radius\" value=\"1\"/></shape>", 4, "unknown parameter 'radius' for shape 'cube'"),
@@ -1277,7 +1335,7 @@ mod tests {
             ("<shape type=\"sphere\">\n<float name=\"radius\" value=\"abc\"/></shape>", 4, "could not parse float \"abc\""),
             ("<shape type=\"sphere\">\n<float name=\"radius\" value=\"nan\"/></shape>", 4, "could not parse float \"nan\""),
             ("<shape type=\"sphere\"><float name=\"radius\" value=\"1\"/>\n<float name=\"radius\" value=\"2\"/></shape>", 4, "given twice"),
-            ("<bsdf type=\"blendbsdf\"/>", 3, "bsdf type 'blendbsdf' is not supported yet"),
+            ("<bsdf type=\"hair\"/>", 3, "bsdf type 'hair' is not supported yet"),
             ("<bsdf type=\"thindielectric\"><texture type=\"checkerboard\" name=\"int_ior\"/></bsdf>", 3, "'int_ior' of bsdf 'thindielectric' cannot be a texture"),
             ("<bsdf type=\"velvet\"/>", 3, "unknown bsdf type 'velvet'"),
             ("<shape type=\"shapegroup\"/>", 3, "shape type 'shapegroup' is not supported yet"),

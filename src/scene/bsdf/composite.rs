@@ -31,7 +31,9 @@
 //! `flags` its `BSDF_NORMALMAP_FLIP` and `BSDF_NORMALMAP_SHADOWING`.
 
 use super::{kinds, Bsdf};
-use crate::gpu::layout::{BsdfRecord, BSDF_NORMALMAP_FLIP, BSDF_NORMALMAP_SHADOWING};
+use crate::gpu::layout::{
+    BsdfRecord, BSDF_NORMALMAP_FLIP, BSDF_NORMALMAP_SHADOWING, BSDF_TWOSIDED,
+};
 use crate::scene::properties::Properties;
 use crate::scene::Error;
 
@@ -91,16 +93,23 @@ pub fn is_composite(bsdf: &Bsdf) -> bool {
 pub fn records(bsdfs: &[Bsdf]) -> Vec<BsdfRecord> {
     let base = bsdfs.len() as u32;
     let mut extra = Vec::new();
-    let mut out: Vec<BsdfRecord> = bsdfs.iter().map(|b| node(b, base, &mut extra)).collect();
+    let mut out: Vec<BsdfRecord> = bsdfs.iter().map(|b| node(b, base, 0, &mut extra)).collect();
     out.extend(extra);
     out
 }
 
-/// The record of `bsdf`; the records of what it nests go to `extra` (whose first one
-/// has index `base`).
-fn node(bsdf: &Bsdf, base: u32, extra: &mut Vec<BsdfRecord>) -> BsdfRecord {
+/// The record of `bsdf`, with `flags` added to its models' records (`BSDF_TWOSIDED`
+/// below a twosided node, so that a record alone, as a visible point of the photon
+/// mappers keeps it, says so too); the records of what it nests go to `extra` (whose
+/// first one has index `base`).
+fn node(bsdf: &Bsdf, base: u32, flags: u32, extra: &mut Vec<BsdfRecord>) -> BsdfRecord {
+    let flags = flags
+        | match bsdf {
+            Bsdf::TwoSidedPair(..) | Bsdf::TwoSided(..) => BSDF_TWOSIDED,
+            _ => 0,
+        };
     let child = |b: &Bsdf, extra: &mut Vec<BsdfRecord>| {
-        let r = node(b, base, extra);
+        let r = node(b, base, flags, extra);
         extra.push(r);
         base + extra.len() as u32 - 1
     };
@@ -139,7 +148,11 @@ fn node(bsdf: &Bsdf, base: u32, extra: &mut Vec<BsdfRecord>) -> BsdfRecord {
             }
             r
         }
-        model => BsdfRecord::from(model),
+        model => {
+            let mut r = BsdfRecord::from(model);
+            r.flags |= flags;
+            r
+        }
     }
 }
 
@@ -229,6 +242,18 @@ mod tests {
             (r[5].tex_specular, r[5].tex_transmittance, r[5].eta),
             (3, 4, 0.25)
         );
+    }
+
+    #[test]
+    fn twosided_nodes_flag_their_models() {
+        let pair = Bsdf::TwoSidedPair(Box::new([diffuse(0.1), diffuse(0.9)]));
+        let r = records(&[pair, diffuse(0.5)]);
+        assert_eq!(
+            (r[0].kind, r[0].distribution),
+            (kinds::COMPOSITE, COMPOSITE_TWOSIDED)
+        );
+        assert_eq!(r[1].flags, 0);
+        assert_eq!((r[2].flags, r[3].flags), (BSDF_TWOSIDED, BSDF_TWOSIDED));
     }
 
     #[test]
