@@ -15,13 +15,13 @@ use glam::{Vec2, Vec3};
 use wavetrace::gpu::layout::BsdfRecord;
 use wavetrace::scene::bsdf::{
     fresnel_dielectric, Bsdf, Conductor, Dielectric, Diffuse, Distribution, NoriMicrofacet,
-    PPlastic, Plastic, RoughConductor, RoughDielectric, RoughPlastic,
+    PPlastic, Plastic, Principled, RoughConductor, RoughDielectric, RoughPlastic,
 };
 use wavetrace::warptest::{test_bsdf, test_warp, Axis, Outcome};
 
-/// At least as many chi-square tests as this file runs (102 now; Šidák correction, a
+/// At least as many chi-square tests as this file runs (113 now; Šidák correction, a
 /// larger m only makes each test slightly more lenient).
-const TESTS_IN_FILE: usize = 108;
+const TESTS_IN_FILE: usize = 119;
 /// Family-wise significance of the file.
 const ALPHA: f64 = 0.01;
 
@@ -402,6 +402,135 @@ fn pplastic() {
                 );
             }
         }
+    }
+}
+
+/// Mitsuba's `principled` and `principledthin`: its lobe probabilities (diffuse,
+/// clearcoat, GGX transmission and reflection; the thin sheet's four), from above, from
+/// inside (principled) and from the other face (principledthin).
+#[test]
+fn principled() {
+    use wavetrace::scene::bsdf::principled::{specular_to_eta, HAS_DIFF_TRANS, HAS_SPEC_TRANS};
+    let probe = bsdf_probe();
+    let coat = Principled {
+        base_color: Vec3::new(0.2, 0.8, 0.1),
+        roughness: 0.15,
+        anisotropic: 0.8,
+        metallic: 0.1,
+        clearcoat: 0.9,
+        sheen: 0.9,
+        eta: specular_to_eta(0.7),
+        ..Default::default()
+    };
+    let glass = Principled {
+        base_color: Vec3::new(0.3, 0.6, 0.8),
+        roughness: 0.3,
+        anisotropic: 0.2,
+        spec_trans: 0.7,
+        clearcoat: 0.6,
+        clearcoat_gloss: 0.5,
+        sheen: 0.2,
+        eta: specular_to_eta(0.4),
+        has: HAS_SPEC_TRANS,
+        ..Default::default()
+    };
+    let everything = Principled {
+        base_color: Vec3::new(0.9, 0.5, 0.2),
+        roughness: 0.6,
+        metallic: 0.3,
+        spec_tint: 0.4,
+        sheen: 0.3,
+        sheen_tint: 0.2,
+        clearcoat: 0.6,
+        clearcoat_gloss: 0.3,
+        spec_trans: 0.4,
+        flatness: 0.5,
+        eta: 1.33,
+        rates: [2.0, 0.5, 3.0, 1.0],
+        has: HAS_SPEC_TRANS,
+        ..Default::default()
+    };
+    let thin = Principled {
+        thin: true,
+        base_color: Vec3::new(0.7, 0.1, 0.1),
+        anisotropic: 0.8,
+        spec_trans: 0.8,
+        diff_trans: 1.4,
+        sheen: 0.8,
+        eta: 1.33,
+        has: HAS_SPEC_TRANS | HAS_DIFF_TRANS,
+        ..Default::default()
+    };
+    let thin_sharp = Principled {
+        thin: true,
+        base_color: Vec3::new(0.2, 0.5, 0.9),
+        roughness: 0.25,
+        spec_trans: 0.5,
+        spec_tint: 0.6,
+        sheen: 0.4,
+        flatness: 0.6,
+        diff_trans: 0.4,
+        eta: 1.6,
+        rates: [2.0, 1.0, 1.0, 0.5],
+        has: HAS_SPEC_TRANS | HAS_DIFF_TRANS,
+        ..Default::default()
+    };
+    let below = |v: Vec3| Vec3::new(v.x, v.y, -v.z);
+    let cases = [
+        ("principled clearcoat", coat, dir(15.0, 10.0), Axis::Reflect),
+        (
+            "principled clearcoat",
+            coat,
+            dir(75.0, 300.0),
+            Axis::Reflect,
+        ),
+        ("principled glass", glass, dir(40.0, 60.0), Axis::Normal),
+        (
+            "principled glass inside",
+            glass,
+            below(dir(30.0, 200.0)),
+            Axis::Normal,
+        ),
+        (
+            "principled every lobe",
+            everything,
+            dir(60.0, 120.0),
+            Axis::Normal,
+        ),
+        (
+            "principled every lobe inside",
+            everything,
+            below(dir(70.0, 20.0)),
+            Axis::Normal,
+        ),
+        ("principledthin", thin, dir(30.0, 45.0), Axis::Normal),
+        (
+            "principledthin other face",
+            thin,
+            below(dir(50.0, 250.0)),
+            Axis::Normal,
+        ),
+        (
+            "principledthin sharp",
+            thin_sharp,
+            dir(20.0, 80.0),
+            Axis::Normal,
+        ),
+        (
+            "principledthin sharp",
+            thin_sharp,
+            below(dir(65.0, 10.0)),
+            Axis::Normal,
+        ),
+        (
+            "principled defaults",
+            Principled::default(),
+            dir(45.0, 0.0),
+            Axis::Normal,
+        ),
+    ];
+    for (name, b, wo, axis) in cases {
+        bsdf_case(&probe, name, &Bsdf::Principled(b), wo, axis, 12);
     }
 }
 

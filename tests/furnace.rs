@@ -347,18 +347,29 @@ fn pplastic_albedo_matches_quadrature() {
     }
 }
 
-/// Rough plastic, white base, α up to 1, against the quadrature of Mitsuba's model.
+/// Mitsuba 3.9.1's own roughplastic albedos (pip `mitsuba`, llvm_ad_rgb, white base,
+/// int_ior 1.49): (distribution, α, [albedo at cos θo = 0.05, 0.5, 1.0]), each the mean
+/// weight of 2^20 `sample` calls (weights in [0, 1.5]: standard error < 1e-3), measured
+/// by python3 with mi.load_dict({'type': 'roughplastic', 'distribution': ..., 'alpha':
+/// ..., 'int_ior': 1.49, 'ext_ior': 1.0, 'diffuse_reflectance': 1}).
+const MITSUBA_ROUGH_PLASTIC: [(Ndf, f64, [f64; 3]); 4] = [
+    (Ndf::Beckmann, 0.3, [0.8736, 0.8611, 0.8750]),
+    (Ndf::Beckmann, 1.0, [0.4137, 0.4892, 0.5117]),
+    (Ndf::Ggx, 0.3, [0.6160, 0.6732, 0.6945]),
+    (Ndf::Ggx, 1.0, [0.1591, 0.2626, 0.3401]),
+];
+
+/// Rough plastic, white base, α up to 1, against the quadrature of Mitsuba's model
+/// (`rough_plastic_quadrature_matches_mitsuba` shows the reference is Mitsuba's model)
+/// and, where measured, against Mitsuba's own albedo.
 ///
-/// KNOWN WRONG, issue 39 ("fix roughplastic"): the GPU's diffuse part under the rough
-/// coating is too bright (Mitsuba's regression scene: +15% at α = 1.0). With a white
-/// base the error is amplified by 1/(1 - R_int) ≈ 2.5 and shows at every α tested
-/// (measured on lavapipe, GPU / quadrature at cos θo = 1: Beckmann 0.98, 1.00, 1.03,
-/// 1.12 and GGX 0.99, 1.05, 1.18, 1.49 for α = 0.05, 0.3, 0.6, 1.0; at grazing up to
-/// 3.3). The test therefore asserts the discrepancy: at α = 1.0 the GPU is more than 10%
-/// brighter than the reference at every wo, and at each smaller α some wo fails the
-/// comparison. It breaks when the BSDF is fixed: then replace the body by one
-/// `assert_albedos` call per case (as `microfacet_albedos_match_quadrature`).
-/// `rough_plastic_quadrature_matches_mitsuba` shows the reference is Mitsuba's model.
+/// The GPU reproduces Mitsuba's tables (its 32² Gauss-Legendre visible-normal
+/// integrals, 64 tabulated μ, R_int as a 64-point mean), whose discretisation the exact
+/// quadrature does not have: up to 1.4% at α = 0.05 (R_int 1.5% low, amplified by
+/// 1/(1 - R_int) for a white base). So the quadrature is met within that 2% on top of
+/// the noise (a 5% error is still told apart), and Mitsuba's own numbers within their
+/// and our noise. Before issue 39's fix the GPU was up to 49% too bright (GGX α = 1:
+/// its coating transmittance was 1 - R, giving back what Smith's shadowing loses).
 #[test]
 fn rough_plastic_albedo_matches_quadrature() {
     let probe = bsdf_probe();
@@ -376,59 +387,53 @@ fn rough_plastic_albedo_matches_quadrature() {
                 eta: 1.49,
                 nonlinear: false,
             });
-            let mut wrong = 0;
+            let mitsuba = MITSUBA_ROUGH_PLASTIC
+                .iter()
+                .find(|(k, a, _)| *k == kind && *a == alpha as f64);
             for (c, a, se) in no_gain(&probe, &name, &b, 1.0, false) {
                 let q =
                     albedo::rough_plastic(kind, alpha as f64, 1.0, 1.49, false, c as f64).total();
-                let (ok, power) = agrees(a, se, q);
+                let tol = 5.0 * se + q.error + 2e-4 + 0.02 * q.value;
                 println!(
-                    "  quadrature {:.4} ± {:.1e}: GPU / quadrature {:.3}",
+                    "  quadrature {:.4} ± {:.1e}: GPU / quadrature {:.4}",
                     q.value,
                     q.error,
                     a / q.value
                 );
                 assert!(
-                    power,
+                    (a - q.value).abs() <= tol,
+                    "{name}, cos θo = {c}: albedo {a} ± {se}, quadrature {} ± {}",
+                    q.value,
+                    q.error
+                );
+                assert!(
+                    (a - 0.95 * q.value).abs() > tol,
                     "{name}, cos θo = {c}: the check cannot see a 5% error"
                 );
-                if alpha == 1.0 {
+                let at = [0.05f32, 0.5, 1.0]
+                    .iter()
+                    .position(|&x| (x - c).abs() < 1e-4);
+                if let (Some((_, _, m)), Some(k)) = (mitsuba, at) {
+                    println!("  Mitsuba {:.4}: GPU / Mitsuba {:.4}", m[k], a / m[k]);
                     assert!(
-                        a > 1.1 * q.value,
-                        "{name}, cos θo = {c}: albedo {a}, quadrature {}: issue 39's \
-                         excess is gone (fixed?): assert agreement instead",
-                        q.value
+                        (a - m[k]).abs() <= 5.0 * se + 5e-3,
+                        "{name}, cos θo = {c}: albedo {a} ± {se}, Mitsuba {}",
+                        m[k]
                     );
                 }
-                wrong += usize::from(!ok);
             }
-            assert!(
-                wrong > 0,
-                "{name}: agrees with the quadrature at every wo: issue 39's roughplastic \
-                 fix has landed, assert agreement instead"
-            );
         }
     }
 }
 
 /// The rough-plastic reference is Mitsuba's model: Mitsuba 3.9.1's own roughplastic
-/// (pip `mitsuba`, llvm_ad_rgb, white base, int_ior 1.49), its albedo as the mean
-/// weight of 2^20 `sample` calls per wo (weights in [0, 1.5]: standard error < 1e-3),
-/// against the quadrature. Within 2%: Mitsuba integrates the coating's T(μ) with 32²
+/// ([`MITSUBA_ROUGH_PLASTIC`]) against the quadrature. Within 2%: Mitsuba integrates the coating's T(μ) with 32²
 /// Gauss-Legendre visible normals, tabulates it at 64 μ, and takes R_int as a 64-point
 /// mean; those errors are amplified by 1/(1 - R_int) ≈ 2.5 for a white base (at α =
-/// 0.05 they reach 2%, so that α is left out). The GPU errs by 3% to 230% here.
+/// 0.05 they reach 2%, so that α is left out).
 #[test]
 fn rough_plastic_quadrature_matches_mitsuba() {
-    // (distribution, α, [albedo at cos θo = 0.05, 0.5, 1.0]), measured by
-    // python3 with mi.load_dict({'type': 'roughplastic', 'distribution': ..., 'alpha':
-    // ..., 'int_ior': 1.49, 'ext_ior': 1.0, 'diffuse_reflectance': 1}).
-    let mitsuba = [
-        (Ndf::Beckmann, 0.3, [0.8736, 0.8611, 0.8750]),
-        (Ndf::Beckmann, 1.0, [0.4137, 0.4892, 0.5117]),
-        (Ndf::Ggx, 0.3, [0.6160, 0.6732, 0.6945]),
-        (Ndf::Ggx, 1.0, [0.1591, 0.2626, 0.3401]),
-    ];
-    for (kind, alpha, want) in mitsuba {
+    for (kind, alpha, want) in MITSUBA_ROUGH_PLASTIC {
         for (mu, m) in [0.05, 0.5, 1.0].into_iter().zip(want) {
             let q = albedo::rough_plastic(kind, alpha, 1.0, 1.49, false, mu).total();
             println!(
@@ -496,6 +501,56 @@ fn thin_dielectric_lobes() {
                     "η = {eta}, cos θo = {}: reflected {share}, R' = {want}",
                     wo.z
                 );
+            }
+        }
+    }
+}
+
+/// Mitsuba's `principled` and `principledthin` (which are not energy conserving:
+/// Disney's lobes are summed): the directional albedo, per RGB channel, against the
+/// mean of Mitsuba 3.9.1's own `sample` weights (tests/data/principled_albedo.json,
+/// `python3 tools/mitsuba_principled_albedo.py`, 200,000 samples per direction), from
+/// above and below, within 4.5 standard errors of the difference (90 comparisons:
+/// a false alarm about once in 1700 runs). A white metal also keeps a <= 1.
+#[test]
+fn principled_albedo_matches_mitsuba() {
+    let text = std::fs::read_to_string(common::repo("tests/data/principled_albedo.json"))
+        .expect("tests/data/principled_albedo.json (python3 tools/mitsuba_principled_albedo.py)");
+    let data: serde_json::Value = serde_json::from_str(&text).expect("JSON");
+    let probe = bsdf_probe();
+    let num = |v: &serde_json::Value| v.as_f64().expect("a number");
+    for (i, case) in data["cases"].as_array().expect("cases").iter().enumerate() {
+        let bsdf = common::bsdf_from_mitsuba_dict(&case["mitsuba"], &format!("furnace{i}"));
+        let rec = BsdfRecord::from(&bsdf);
+        for a in case["albedos"].as_array().expect("albedos") {
+            let wo: Vec<f32> = a["wo"]
+                .as_array()
+                .expect("wo")
+                .iter()
+                .map(|x| num(x) as f32)
+                .collect();
+            let wo = Vec3::new(wo[0], wo[1], wo[2]).normalize();
+            let samples = probe.sample(&rec, wo, N, 23).expect("bsdf kernel");
+            for k in 0..3 {
+                let w: Vec<f64> = samples.iter().map(|s| s.weight[k] as f64).collect();
+                let mean = w.iter().sum::<f64>() / w.len() as f64;
+                let var =
+                    w.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / (w.len() - 1) as f64;
+                let se = (var / w.len() as f64).sqrt();
+                let (want, want_se) = (num(&a["albedo"][k]), num(&a["se"][k]));
+                let sigma = (se * se + want_se * want_se).sqrt();
+                println!(
+                    "{}, wo = {wo:.2}, channel {k}: albedo {mean:.4} ± {se:.4}, Mitsuba {want:.4} ± {want_se:.4}",
+                    case["mitsuba"]
+                );
+                assert!(
+                    (mean - want).abs() <= 4.5 * sigma + 1e-6,
+                    "{}, wo = {wo}, channel {k}: albedo {mean} ± {se}, Mitsuba {want} ± {want_se}",
+                    case["mitsuba"]
+                );
+                if case["mitsuba"]["metallic"].as_f64() == Some(1.0) {
+                    assert!(mean <= 1.0 + 4.0 * se, "white metal gains energy: {mean}");
+                }
             }
         }
     }

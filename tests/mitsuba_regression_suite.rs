@@ -248,14 +248,12 @@ scene!(
     Rejects
 );
 scene!(
-    #[ignore = "roughplastic too bright at high roughness"]
     roughplastic_linear,
     "bsdf_spheres",
     "test_roughplastic_linear_path.xml",
     Rejects
 );
 scene!(
-    #[ignore = "roughplastic too bright at high roughness"]
     roughplastic_nonlinear,
     "bsdf_spheres",
     "test_roughplastic_nonlinear_path.xml",
@@ -268,28 +266,28 @@ scene!(
     Rejects
 );
 scene!(
-    #[ignore = "conductor material a-C"]
+    // a-C loads (Mitsuba's RGB values) and matches Mitsuba with a constant alpha; the
+    // checkerboard-textured alpha does not (fraction 0.747, energy 1.0013; also
+    // isotropic): where the checker cells fall or how they are read.
+    #[ignore = "checkerboard-textured roughness"]
     textured_roughconductor,
     "bsdf_spheres",
     "test_textured_roughconductor_path.xml",
     Rejects
 );
 scene!(
-    #[ignore = "principled BSDF"]
     texturedprincipled1,
     "bsdf_spheres",
     "test_texturedprincipled1_path.xml",
     Rejects
 );
 scene!(
-    #[ignore = "principled BSDF"]
     texturedprincipled2,
     "bsdf_spheres",
     "test_texturedprincipled2_path.xml",
     Rejects
 );
 scene!(
-    #[ignore = "principledthin BSDF"]
     texturedprincipledthin,
     "bsdf_spheres",
     "test_texturedprincipledthin_path.xml",

@@ -38,6 +38,32 @@ fn correct_samplers_pass_and_a_wrong_pdf_fails_with_images() {
                 "200000",
             ],
         ),
+        (
+            "principled",
+            vec![
+                "principled",
+                "--alpha",
+                "0.2",
+                "--theta",
+                "40",
+                "--samples",
+                "200000",
+            ],
+        ),
+        (
+            "principledthin",
+            vec![
+                "principledthin",
+                "--alpha-u",
+                "0.1",
+                "--alpha-v",
+                "0.3",
+                "--theta",
+                "70",
+                "--samples",
+                "200000",
+            ],
+        ),
         ("hg", vec!["hg", "--g", "-0.6", "--samples", "200000"]),
         ("disk", vec!["square_to_disk", "--samples", "200000"]),
     ] {

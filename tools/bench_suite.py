@@ -81,6 +81,8 @@ SUITE = {
     "textures": ("scenes/textures/textures.xml", ["res=256"], None, 4096),
     # A normal-mapped brick wall and sphere under a grazing area light.
     "normalmap": ("scenes/textures/normalmap.xml", ["res=256"], None, 4096),
+    # Mitsuba's principled and principledthin under the environment map.
+    "principled": ("scenes/principled/principled.xml", ["res=256"], None, 1024),
 }
 SURFACES = ["cbox", "veach", "glass"]
 MEDIA = ["cube", "two_media", "smoke", "cbox_smoke"]

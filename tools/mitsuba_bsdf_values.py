@@ -3,6 +3,9 @@
 tests/pplastic_vs_mitsuba.rs.
 
     python3 tools/mitsuba_bsdf_values.py > tests/data/pplastic_values.json
+    python3 tools/mitsuba_bsdf_values.py roughplastic > tests/data/roughplastic_values.json
+
+(the second: tests/roughplastic_vs_mitsuba.rs, the cases ROUGHPLASTIC_CASES).
 
 Runs Mitsuba 3.9.1 (pip `mitsuba`) in `scalar_rgb` (single precision, as the GPU).
 Directions follow wavetrace's convention: `wo` towards the viewer (Mitsuba's
@@ -19,6 +22,7 @@ import json
 import math
 import random
 import struct
+import sys
 
 import mitsuba as mi
 
@@ -45,6 +49,28 @@ CASES = [
     ("ggx α 0.03", {
         "type": "pplastic", "distribution": "ggx", "alpha": 0.03,
         "diffuse_reflectance": {"type": "rgb", "value": [0.2, 0.5, 0.1]}}),
+]
+
+# roughplastic: the regression suite's (GGX, bk7, diffuse (0.02, 0.2, 0.1), nonlinear
+# both ways, alpha 0.1 / 0.4 / 1.0) and some Beckmann.
+ROUGHPLASTIC_CASES = [
+    ("defaults", {"type": "roughplastic", "sample_visible": False}),
+] + [
+    (f"ggx α {a}, bk7, green, nonlinear {nl}", {
+        "type": "roughplastic", "distribution": "ggx", "alpha": a, "int_ior": "bk7",
+        "diffuse_reflectance": {"type": "rgb", "value": [0.02, 0.2, 0.1]},
+        "nonlinear": nl})
+    for a in [0.1, 0.4, 1.0] for nl in [False, True]
+] + [
+    ("beckmann α 0.5, eta 1.33, grey, tinted specular", {
+        "type": "roughplastic", "distribution": "beckmann", "alpha": 0.5,
+        "int_ior": 1.33, "sample_visible": False,
+        "diffuse_reflectance": {"type": "rgb", "value": [0.9, 0.9, 0.9]},
+        "specular_reflectance": {"type": "rgb", "value": [0.8, 0.9, 1.0]}}),
+    ("beckmann α 1.0, eta 1.9, nonlinear", {
+        "type": "roughplastic", "distribution": "beckmann", "alpha": 1.0,
+        "int_ior": 1.9, "sample_visible": False, "nonlinear": True,
+        "diffuse_reflectance": {"type": "rgb", "value": [0.6, 0.3, 0.2]}}),
 ]
 
 
@@ -84,11 +110,14 @@ def main():
     rng = random.Random(39)
     ctx = mi.BSDFContext()
     cases = []
-    for name, d in CASES:
+    rough = sys.argv[1:] == ["roughplastic"]
+    for name, d in ROUGHPLASTIC_CASES if rough else CASES:
         bsdf = mi.load_dict(d)
         params = mi.traverse(bsdf)
         if "alpha.value" in params:
             au = av = float(params["alpha.value"])
+        elif "alpha" in params:  # roughplastic: a plain float
+            au = av = float(params["alpha"])
         else:
             au, av = float(params["alpha_u.value"]), float(params["alpha_v.value"])
 
@@ -116,7 +145,8 @@ def main():
             "alpha_v": av,
             "diffuse_reflectance": rgb("diffuse_reflectance", [0.5, 0.5, 0.5]),
             "specular_reflectance": rgb("specular_reflectance", [1.0, 1.0, 1.0]),
-            "eta": float(params["eta.value"]),
+            "eta": float(params["eta.value"] if "eta.value" in params else params["eta"]),
+            "nonlinear": bool(d.get("nonlinear", False)),
             "values": values,
         })
     print(json.dumps({"mitsuba": mi.__version__, "variant": mi.variant(), "cases": cases},

@@ -12,6 +12,8 @@
 #   xvfb, xdotool        the viewer's tests: a virtual X server and real key presses
 #   g++                  libFuzzer's C++ runtime, for the fuzz targets .ci/run runs
 #                        (tools/fuzz.sh, fuzz/README.md)
+#   vulkan-validationlayers  the Khronos validation layer, under which .ci/run runs part
+#                        of the suite (tools/validation.sh, WAVETRACE_VALIDATION=1)
 # and, for the Slurm test of tools/slurm (tools/slurm/test_slurm.sh, run by .ci/run),
 #   slurmctld slurmd slurm-client munge
 # which are optional: without root or sudo, their absence is only reported.
@@ -52,6 +54,9 @@ done
 command -v Xvfb >/dev/null 2>&1 || missing+=(xvfb)
 command -v xdotool >/dev/null 2>&1 || missing+=(xdotool)
 command -v c++ >/dev/null 2>&1 || missing+=(g++)
+if ! ls /usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json >/dev/null 2>&1; then
+    missing+=(vulkan-validationlayers)
+fi
 
 # Slurm's controller, node daemon and commands, and munge (its authentication).
 optional=()

@@ -48,6 +48,49 @@ bool surface_tex_used(uint k) {
                                      : TEXTURE_USES(1u << (TEXTURE_FEATURE_PARAM_SHIFT + k));
 }
 
+// Row r (0..7) of b.table by selects between constant rows (a dynamic index would put
+// the record in per-lane scratch memory on llvmpipe: roughplastic.glsl says more).
+vec4 bsdf_table_row(BsdfRecord b, uint r) {
+    vec4 row = b.table[0];
+    row = r == 1u ? b.table[1] : row;
+    row = r == 2u ? b.table[2] : row;
+    row = r == 3u ? b.table[3] : row;
+    row = r == 4u ? b.table[4] : row;
+    row = r == 5u ? b.table[5] : row;
+    row = r == 6u ? b.table[6] : row;
+    row = r == 7u ? b.table[7] : row;
+    return row;
+}
+
+// Entry i (0..31) of b.table.
+float bsdf_table_entry(BsdfRecord b, uint i) {
+    vec4 row = bsdf_table_row(b, i >> 2u);
+    uint c = i & 3u;
+    return c == 0u ? row.x : c == 1u ? row.y : c == 2u ? row.z : row.w;
+}
+
+// Textured table entries (BSDF_TABLE_TEXTURES; principled's scalars, layout in
+// src/scene/bsdf/principled.rs): for each bit k of the mask in entry 28, entry k < 16
+// of b.table becomes texture id (entry 16 + k, bits) at uv read as a float
+// (texture_eval_1, Mitsuba's eval_1). One lookup in a loop; the entry is written
+// through constant-indexed selects.
+BsdfRecord bsdf_table_textured(BsdfRecord b, vec2 uv) {
+    uint pending = floatBitsToUint(b.table[7].x);
+    if (pending != 0u) do {
+        uint k = uint(findLSB(pending));
+        pending &= pending - 1u;
+        float v = texture_eval_1(floatBitsToUint(bsdf_table_entry(b, 16u + k)), uv);
+        vec4 row = bsdf_table_row(b, k >> 2u);
+        uint c = k & 3u;
+        row = vec4(c == 0u ? v : row.x, c == 1u ? v : row.y, c == 2u ? v : row.z, c == 3u ? v : row.w);
+        if (k >> 2u == 0u) b.table[0] = row;
+        if (k >> 2u == 1u) b.table[1] = row;
+        if (k >> 2u == 2u) b.table[2] = row;
+        if (k >> 2u == 3u) b.table[3] = row;
+    } while (pending != 0u);
+    return b;
+}
+
 // Lookup slot K of pending (a constant K: the selects fold away).
 #define SURFACE_TEX_ONE(K)                                                               \
     if (surface_tex_used(K) && (pending & (1u << (K))) != 0u) {                          \
@@ -101,6 +144,9 @@ BsdfRecord bsdf_textured_point(BsdfRecord b, vec2 uv, bool normal_map, uint emis
     }
     if (bsdf) {
         if (b.tex_alpha_v != 0u && !alpha_v_own) b.alpha_v = b.alpha_u;
+        if (TEXTURE_USES(TEXTURE_FEATURE_TABLE) && (b.flags & BSDF_TABLE_TEXTURES) != 0u) {
+            b = bsdf_table_textured(b, uv);
+        }
 #ifdef BSDF_DISPATCH_GLSL
         // What models derive from textured parameters (their `textured` hooks). A
         // kernel without bsdf.glsl (shadow) evaluates no model, so needs none.

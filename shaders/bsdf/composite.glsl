@@ -50,8 +50,8 @@ vec2 composite_height_grad(uint id, vec2 uv) {
         grad = vec2(t.to_uv_u.x * dp.x + t.to_uv_v.x * dp.y, t.to_uv_u.y * dp.x + t.to_uv_v.y * dp.y);
     } else {
         const float H = 1e-3;
-        grad = vec2(texture_luminance(texture_eval(id, uv + vec2(H, 0.0))) - texture_luminance(texture_eval(id, uv - vec2(H, 0.0))),
-                    texture_luminance(texture_eval(id, uv + vec2(0.0, H))) - texture_luminance(texture_eval(id, uv - vec2(0.0, H))))
+        grad = vec2(texture_eval_1(id, uv + vec2(H, 0.0)) - texture_eval_1(id, uv - vec2(H, 0.0)),
+                    texture_eval_1(id, uv + vec2(0.0, H)) - texture_eval_1(id, uv - vec2(0.0, H)))
             / (2.0 * H);
     }
     return grad;
@@ -141,8 +141,9 @@ CompositeLeaf bsdf_composite_resolve(uint index, inout Surface s, uint prim, vec
             }
             leaf.index = c0;
         } else {
-            // Blend or mask: w is child 1's probability (Mitsuba clamps it to [0, 1]).
-            float w = b.tex_reflectance != 0u ? texture_luminance(texture_eval(b.tex_reflectance, s.uv)) : b.eta;
+            // Blend or mask: w is child 1's probability, the texture read as Mitsuba's
+            // eval_1 (Mitsuba clamps it to [0, 1]).
+            float w = b.tex_reflectance != 0u ? texture_eval_1(b.tex_reflectance, s.uv) : b.eta;
             w = clamp(w, 0.0, 1.0);
             bool second = leaf.u < w;
             leaf.index = second ? c1 : c0;

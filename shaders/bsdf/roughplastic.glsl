@@ -3,22 +3,24 @@
 // diffuse base seen through it:
 //   f cos θi = spec · F D G / (4 cos θo)
 //            + ρ / (1 - R_int ρ') · (1/η²) T(cos θo) T(cos θi) cos θi / π
-// T(μ) = 1 - (directional albedo of the rough coating's reflection at μ), tabulated
-// on the host at μ = i/31 (b.table, linear interpolation; Mitsuba uses 64 points),
-// R_int = b.internal its hemispherical average from inside. Mitsuba 3,
-// src/bsdfs/roughplastic.cpp. Isotropic; one-sided.
+// T(μ) = the rough coating's transmittance at μ (light that enters and is not
+// shadowed), tabulated on the host at μ = i/63 as Mitsuba does (b.table, linear
+// interpolation), R_int = b.internal its internal reflectance. Mitsuba 3,
+// src/bsdfs/roughplastic.cpp; the tables: src/scene/bsdf/roughplastic.rs. Isotropic;
+// one-sided.
 // Sampling: the specular lobe with probability P_s = (1 - T_o) w / ((1 - T_o) w + T_o (1 - w)),
 // else cosine-weighted; pdf is the mixture, weight = eval / pdf.
 
-// Entry i (0..31) of b.table, picked by selects between constant-indexed entries:
-// llvmpipe (Mesa 22.3) keeps a local array read at a dynamic index (b.table[i >> 2])
-// in per-lane scratch memory, so every shade of a rough-plastic scene copied the whole
-// record there and read it back lane by lane; with selects the record stays in
-// registers. Measured: shade of a rough plastic under a constant sky (320 x 320,
-// 16 spp) 1043-1289 ms -> 396-447 ms, the same image bit for bit.
-float bsdf_roughplastic_table(BsdfRecord b, int i) {
-    int r = i >> 2;
-    vec4 row = b.table[0];
+// Word k (0..31) of b.table (entries 2k and 2k + 1 as unorm16), picked by selects
+// between constant-indexed words: llvmpipe (Mesa 22.3) keeps a local array read at a
+// dynamic index (b.table[k >> 2]) in per-lane scratch memory, so every shade of a
+// rough-plastic scene copied the whole record there and read it back lane by lane;
+// with selects the record stays in registers. Measured: shade of a rough plastic
+// under a constant sky (320 x 320, 16 spp) 1043-1289 ms -> 396-447 ms, the same image
+// bit for bit.
+vec2 bsdf_roughplastic_table_word(BsdfRecord b, int k) {
+    int r = k >> 2;
+    uvec4 row = b.table[0];
     row = r == 1 ? b.table[1] : row;
     row = r == 2 ? b.table[2] : row;
     row = r == 3 ? b.table[3] : row;
@@ -26,15 +28,21 @@ float bsdf_roughplastic_table(BsdfRecord b, int i) {
     row = r == 5 ? b.table[5] : row;
     row = r == 6 ? b.table[6] : row;
     row = r == 7 ? b.table[7] : row;
-    int c = i & 3;
-    return c == 0 ? row.x : c == 1 ? row.y : c == 2 ? row.z : row.w;
+    int c = k & 3;
+    return unpackUnorm2x16(c == 0 ? row.x : c == 1 ? row.y : c == 2 ? row.z : row.w);
 }
 
+// T(mu), linear between the 64 entries at mu = i/63 (Mitsuba's lerp_gather).
 float bsdf_roughplastic_transmittance(BsdfRecord b, float mu) {
-    float x = clamp(mu, 0.0, 1.0) * 31.0;
-    int i = min(int(x), 30);
+    float x = clamp(mu, 0.0, 1.0) * 63.0;
+    int i = min(int(x), 62);
     float w = x - float(i);
-    return mix(bsdf_roughplastic_table(b, i), bsdf_roughplastic_table(b, i + 1), w);
+    // Entries i and i + 1: one word when i is even, two neighbouring words when odd.
+    vec2 lo = bsdf_roughplastic_table_word(b, i >> 1);
+    vec2 hi = bsdf_roughplastic_table_word(b, (i + 1) >> 1);
+    float t0 = (i & 1) == 0 ? lo.x : lo.y;
+    float t1 = (i & 1) == 0 ? lo.y : hi.x;
+    return mix(t0, t1, w);
 }
 
 float bsdf_roughplastic_prob_specular(BsdfRecord b, float to) {

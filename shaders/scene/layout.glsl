@@ -33,6 +33,7 @@
 #define BSDF_NONLINEAR 2u
 #define BSDF_NORMALMAP_FLIP 4u
 #define BSDF_NORMALMAP_SHADOWING 8u
+#define BSDF_TABLE_TEXTURES 16u
 // BsdfRecord.distribution
 #define BSDF_BECKMANN 0u
 #define BSDF_GGX 1u
@@ -70,6 +71,7 @@
 #define TEXTURE_FEATURE_ENVMAP 1024u
 #define TEXTURE_FEATURE_AREA 2048u
 #define TEXTURE_FEATURE_LOOKUP_LOOP 4096u
+#define TEXTURE_FEATURE_TABLE 8192u
 #define TEXTURE_FEATURE_PARAM_SHIFT 16u
 
 // Sampler kinds (Frame::sampler_kind) and flags (Frame::sampler_flags).

@@ -8,6 +8,7 @@ use std::time::Instant;
 use ash::vk;
 
 use super::error::{Error, Result, VkContext};
+use super::validation;
 
 /// What kind of device this is, best first when choosing by default.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
@@ -117,6 +118,8 @@ pub(crate) struct Inner {
     pub pipeline_cache: vk::PipelineCache,
     pipeline_cache_path: Option<PathBuf>,
     pub info: DeviceInfo,
+    /// The validation layer's messenger ([`validation`]), when asked for.
+    messenger: Option<validation::Messenger>,
 }
 
 /// A Vulkan device with one compute queue. Cheap to clone.
@@ -147,10 +150,23 @@ fn create_instance(entry: &ash::Entry, extensions: &[String]) -> Result<ash::Ins
         .iter()
         .filter_map(|e| std::ffi::CString::new(e.as_str()).ok())
         .collect();
-    let pointers: Vec<*const std::ffi::c_char> = names.iter().map(|n| n.as_ptr()).collect();
-    let info = vk::InstanceCreateInfo::default()
+    let mut pointers: Vec<*const std::ffi::c_char> = names.iter().map(|n| n.as_ptr()).collect();
+    let mut layers: Vec<*const std::ffi::c_char> = Vec::new();
+    let enables = validation::features();
+    let mut features = vk::ValidationFeaturesEXT::default().enabled_validation_features(&enables);
+    let validate = validation::requested();
+    if validate {
+        let (names, extension) = validation::instance_needs(entry)?;
+        layers.extend(names.iter().map(|n| n.as_ptr()));
+        pointers.push(extension.as_ptr());
+    }
+    let mut info = vk::InstanceCreateInfo::default()
         .application_info(&app)
-        .enabled_extension_names(&pointers);
+        .enabled_extension_names(&pointers)
+        .enabled_layer_names(&layers);
+    if validate {
+        info = info.push_next(&mut features);
+    }
     // SAFETY: valid create info; the instance is destroyed in Inner::drop.
     unsafe { entry.create_instance(&info, None) }.map_err(|result| match result {
         vk::Result::ERROR_INCOMPATIBLE_DRIVER => Error::NoDevice,
@@ -406,10 +422,28 @@ impl Device {
                 }
             }
         };
+        let messenger = if validation::requested() {
+            match validation::Messenger::new(&entry, &instance) {
+                Ok(m) => Some(m),
+                Err(e) => {
+                    // SAFETY: nothing was created from the instance but the surface.
+                    unsafe {
+                        if let Some(s) = surface {
+                            s.loader.destroy_surface(s.raw, None);
+                        }
+                        instance.destroy_instance(None)
+                    };
+                    return Err(e);
+                }
+            }
+        } else {
+            None
+        };
         let opened = Self::open(&entry, &instance, selector, surface.as_ref(), start);
         match opened {
             Ok(mut inner) => {
                 inner.surface = surface;
+                inner.messenger = messenger;
                 Ok(Device {
                     inner: Arc::new(inner),
                 })
@@ -420,6 +454,9 @@ impl Device {
                 unsafe {
                     if let Some(s) = surface {
                         s.loader.destroy_surface(s.raw, None);
+                    }
+                    if let Some(m) = messenger {
+                        m.destroy();
                     }
                     instance.destroy_instance(None)
                 };
@@ -553,6 +590,7 @@ impl Device {
             pipeline_cache,
             pipeline_cache_path,
             info,
+            messenger: None,
         })
     }
 
@@ -611,6 +649,9 @@ impl Drop for Inner {
             self.raw.destroy_device(None);
             if let Some(s) = &self.surface {
                 s.loader.destroy_surface(s.raw, None);
+            }
+            if let Some(m) = &self.messenger {
+                m.destroy();
             }
             self.instance.destroy_instance(None);
         }

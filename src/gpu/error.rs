@@ -19,6 +19,11 @@ pub enum Error {
          (or run tools/setup.sh)"
     )]
     NoDevice,
+    #[error(
+        "WAVETRACE_VALIDATION=1 asks for the Khronos validation layer, which is not installed\n\
+         install it with: sudo apt-get install vulkan-validationlayers"
+    )]
+    ValidationMissing,
     #[error("cannot show a window with Vulkan: {0}")]
     NoPresentation(String),
     #[error("no Vulkan device matches --device {selector:?}; available:\n{available}")]

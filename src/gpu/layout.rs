@@ -109,6 +109,9 @@ pub const BSDF_NONLINEAR: u32 = 2;
 pub const BSDF_NORMALMAP_FLIP: u32 = 4;
 /// [`BsdfRecord::flags`]: `normalmap` with `use_shadowing_function` = true (Mitsuba's default).
 pub const BSDF_NORMALMAP_SHADOWING: u32 = 8;
+/// [`BsdfRecord::flags`]: textures replace entries of the table (`principled`:
+/// `scene::bsdf::principled::T_TEXTURED`).
+pub const BSDF_TABLE_TEXTURES: u32 = 16;
 /// [`BsdfRecord::distribution`] values.
 pub const BSDF_BECKMANN: u32 = 0;
 pub const BSDF_GGX: u32 = 1;
@@ -156,6 +159,9 @@ pub const TEXTURE_FEATURE_AREA: u32 = 2048;
 /// Surface points need fewer texture lookups than the scene has textured BSDF
 /// parameters and emitters: `bsdf_textured_point` (bsdf_textured.glsl) loops over them.
 pub const TEXTURE_FEATURE_LOOKUP_LOOP: u32 = 4096;
+/// Some BSDF record has textured table entries ([`BSDF_TABLE_TEXTURES`]):
+/// `bsdf_textured_point` looks them up.
+pub const TEXTURE_FEATURE_TABLE: u32 = 8192;
 /// Bit `TEXTURE_FEATURE_PARAM_SHIFT + k`: some BSDF textures its parameter k (0
 /// reflectance, 1 specular, 2 transmittance, 3 alpha_u, 4 alpha_v), as
 /// `SURFACE_TEX_*` in bsdf_textured.glsl.
@@ -651,6 +657,7 @@ mod tests {
             ("TEXTURE_FEATURE_ENVMAP", TEXTURE_FEATURE_ENVMAP),
             ("TEXTURE_FEATURE_AREA", TEXTURE_FEATURE_AREA),
             ("TEXTURE_FEATURE_LOOKUP_LOOP", TEXTURE_FEATURE_LOOKUP_LOOP),
+            ("TEXTURE_FEATURE_TABLE", TEXTURE_FEATURE_TABLE),
             ("TEXTURE_FEATURE_PARAM_SHIFT", TEXTURE_FEATURE_PARAM_SHIFT),
         ]);
     }
@@ -740,6 +747,7 @@ mod tests {
             ("BSDF_NONLINEAR", BSDF_NONLINEAR),
             ("BSDF_NORMALMAP_FLIP", BSDF_NORMALMAP_FLIP),
             ("BSDF_NORMALMAP_SHADOWING", BSDF_NORMALMAP_SHADOWING),
+            ("BSDF_TABLE_TEXTURES", BSDF_TABLE_TEXTURES),
         ]);
     }
 

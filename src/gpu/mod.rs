@@ -15,6 +15,7 @@ pub mod spec;
 pub mod spec_ids;
 pub mod specialize;
 pub mod swapchain;
+pub mod validation;
 
 pub use buffer::{Buffer, ByteSize, Location};
 pub use command::{CommandList, KernelTimes};

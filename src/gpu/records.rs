@@ -93,7 +93,7 @@ macro_rules! gpu_record {
     (@len $len:literal) => { $len };
 }
 
-/// Entries of [`BsdfRecord::table`].
+/// Words of [`BsdfRecord::table`] (each two 16-bit entries).
 pub const BSDF_TABLE_SIZE: usize = 32;
 
 gpu_record! {
@@ -214,11 +214,12 @@ gpu_record! {
     /// | dielectric | `specular`, `transmittance`, `eta` |
     /// | roughdielectric | + `distribution`, `alpha_u`, `alpha_v` |
     /// | plastic | `reflectance`, `specular`, `eta`, `specular_weight`, `internal` (F_dr inside) |
-    /// | roughplastic | + `distribution`, `alpha_u` (= `alpha_v`), `table` (coating transmittance at cos θ = i/31), `internal` (R_int) |
+    /// | roughplastic | + `distribution`, `alpha_u` (= `alpha_v`), `table` (coating transmittance at cos θ = i/63, 64 unorm16 entries, two a word), `internal` (R_int) |
     /// | Nori microfacet | `reflectance` (kd), `specular_weight` (ks), `eta`, `alpha_u` |
+    /// | principled, principledthin | `reflectance` (base_color), `eta`, `table` (scalar parameters, their textures: `scene::bsdf::principled`) |
     ///
     /// `flags`: [`BSDF_TWOSIDED`], [`BSDF_NONLINEAR`], [`BSDF_NORMALMAP_FLIP`],
-    /// [`BSDF_NORMALMAP_SHADOWING`].
+    /// [`BSDF_NORMALMAP_SHADOWING`], [`BSDF_TABLE_TEXTURES`].
     #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
     pub struct BsdfRecord {
         pub reflectance: [f32; 3] => vec3,
@@ -235,7 +236,7 @@ gpu_record! {
         pub specular_weight: f32 => float,
         pub internal: f32 => float,
         pub pad0: u32 => uint,
-        pub table: [[f32; 4]; BSDF_TABLE_SIZE / 4] => vec4[8],
+        pub table: [[u32; 4]; BSDF_TABLE_SIZE / 4] => uvec4[8],
         /// Textures replacing the constants above at a hit, as texture index + 1 (0: the
         /// constant applies): `reflectance`, `specular`, `transmittance` (colors),
         /// `alpha_u`, `alpha_v` (luminance of the texture).

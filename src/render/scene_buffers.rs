@@ -440,6 +440,7 @@ impl SceneRecords {
         if params.count_ones() + area as u32 > per_point {
             m |= TEXTURE_FEATURE_LOOKUP_LOOP;
         }
+        m |= crate::scene::bsdf::principled::texture_feature(b);
         if b.iter().any(|b| b.normal_map != 0) {
             m |= TEXTURE_FEATURE_NORMALMAP;
         }

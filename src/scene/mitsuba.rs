@@ -31,8 +31,9 @@ use super::{Bsdf, Camera, Emitter, Error, Film, IntegratorSpec, Medium, Quadric,
 
 /// Loads a Mitsuba 3 scene read by [`super::xml::read`].
 pub fn load(doc: &Document) -> Result<Scene, Error> {
+    let root = super::inline_refs::inline(&doc.root)?;
     let mut ids = HashMap::new();
-    collect_ids(&doc.root, &mut ids)?;
+    collect_ids(&root, &mut ids)?;
     let mut l = Loader {
         b: Builder::default(),
         ids,
@@ -46,7 +47,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
     let mut camera: Option<(Camera, (Sampler, u32), Film)> = None;
     let mut camera_medium = None;
     let mut integrator: Option<IntegratorSpec> = None;
-    for el in &doc.root.children {
+    for el in &root.children {
         match el.tag.as_str() {
             "sensor" => {
                 if camera.is_some() {
@@ -84,14 +85,14 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         }
     }
     let (camera, (sampler, spp), film) =
-        camera.ok_or_else(|| doc.root.err("the scene has no <sensor>"))?;
+        camera.ok_or_else(|| root.err("the scene has no <sensor>"))?;
     let environments =
         l.b.emitters
             .iter()
             .filter(|e| matches!(e, Emitter::Constant { .. } | Emitter::EnvMap { .. }))
             .count();
     if environments > 1 {
-        return Err(doc.root.err(
+        return Err(root.err(
             "the scene has more than one environment emitter (constant or envmap); wavetrace supports one",
         ));
     }
@@ -105,7 +106,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         ..Default::default()
     });
     Ok(Scene {
-        path: doc.root.file.as_ref().clone(),
+        path: root.file.as_ref().clone(),
         camera,
         film,
         spp,
@@ -1238,6 +1239,45 @@ mod tests {
         assert_eq!(flags, vec![(true, true, both), (false, false, 0)]);
     }
 
+    /// Every named conductor of Mitsuba loads (the issue's example `a-C` among them,
+    /// with Mitsuba's RGB values), and `eta` / `k` as a float or spectrum.
+    #[test]
+    fn named_conductors_and_spectral_eta() {
+        let mut body: String = crate::scene::bsdf::CONDUCTOR_PRESETS
+            .iter()
+            .map(|p| format!("<bsdf type=\"roughconductor\"><string name=\"material\" value=\"{}\"/></bsdf>\n", p.0))
+            .collect();
+        body += r#"<bsdf type="conductor"><string name="material" value="a-C"/></bsdf>
+<bsdf type="conductor"><spectrum name="eta" value="400:1.5, 700:1.5"/><float name="k" value="2"/></bsdf>"#;
+        let s = load(&[("s.xml", &mitsuba(&body))], &[]).unwrap();
+        let n = crate::scene::bsdf::CONDUCTOR_PRESETS.len();
+        assert_eq!(s.bsdfs.len(), n + 2);
+        let Bsdf::Conductor(Conductor { eta, k, .. }) = s.bsdfs[n] else {
+            panic!("{:?}", s.bsdfs[n])
+        };
+        // Mitsuba 3.9.1 (scalar_rgb) prints eta [2.94405, 2.22714, 1.96816], k
+        // [0.887465, 0.799299, 0.81529] for a-C.
+        assert!(
+            (eta - Vec3::new(2.94405, 2.22714, 1.96816))
+                .abs()
+                .max_element()
+                < 1e-5,
+            "{eta}"
+        );
+        assert!(
+            (k - Vec3::new(0.887465, 0.799299, 0.81529))
+                .abs()
+                .max_element()
+                < 1e-5,
+            "{k}"
+        );
+        let Bsdf::Conductor(Conductor { eta, k, .. }) = s.bsdfs[n + 1] else {
+            panic!("{:?}", s.bsdfs[n + 1])
+        };
+        assert!((eta - Vec3::splat(1.5)).abs().max_element() < 0.02, "{eta}");
+        assert_eq!(k, Vec3::splat(2.0));
+    }
+
     #[test]
     fn bsdf_errors() {
         let cases: &[(&str, u32, &str)] = &[
@@ -1247,6 +1287,11 @@ mod tests {
             ("<bsdf type=\"roughconductor\"><float name=\"alpha\" value=\"0.1\"/>\n<float name=\"alpha_u\" value=\"0.1\"/></bsdf>", 3, "either 'alpha' or 'alpha_u'"),
             ("<bsdf type=\"roughplastic\">\n<float name=\"alpha_u\" value=\"0.1\"/><float name=\"alpha_v\" value=\"0.2\"/></bsdf>", 4, "does not support anisotropic"),
             ("<bsdf type=\"conductor\">\n<string name=\"material\" value=\"Unobtainium\"/></bsdf>", 4, "unknown conductor material 'Unobtainium'"),
+            ("<bsdf type=\"conductor\">\n<string name=\"material\" value=\"Unobtainium\"/></bsdf>", 4, "known: Ag, Al, AlAs, AlAs_palik, AlSb"),
+            ("<bsdf type=\"roughconductor\">\n<string name=\"material\" value=\"Unobtainium\"/></bsdf>", 4, "W, a-C, d-C, d-C_palik, none"),
+            ("<bsdf type=\"conductor\">\n<string name=\"material\" value=\"au\"/></bsdf>", 4, "unknown conductor material 'au' (did you mean 'Au'?)"),
+            ("<bsdf type=\"conductor\">\n<texture type=\"checkerboard\" name=\"eta\"/></bsdf>", 4, "'eta' of bsdf 'conductor' cannot be a texture"),
+            ("<bsdf type=\"roughconductor\">\n<texture type=\"checkerboard\" name=\"k\"/></bsdf>", 4, "'k' of bsdf 'roughconductor' cannot be a texture"),
             ("<bsdf type=\"conductor\">\n<string name=\"material\" value=\"Au\"/><rgb name=\"eta\" value=\"1\"/></bsdf>", 4, "not both"),
             ("<bsdf type=\"dielectric\">\n<string name=\"int_ior\" value=\"glass\"/></bsdf>", 4, "unknown index of refraction 'glass'"),
             ("<bsdf type=\"dielectric\">\n<float name=\"int_ior\" value=\"-1.5\"/></bsdf>", 4, "must be positive"),

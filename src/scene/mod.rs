@@ -12,6 +12,7 @@ pub mod envmap;
 pub mod error;
 mod file_bytes;
 pub mod film;
+mod inline_refs;
 pub mod integrator;
 pub mod medium;
 pub mod mesh;

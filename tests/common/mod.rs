@@ -272,3 +272,32 @@ pub fn downsample(img: &Image, k: u32) -> Image {
 pub mod albedo;
 pub mod media;
 pub mod stats;
+
+/// The BSDF a Mitsuba dictionary of numbers and `{"type": "rgb", "value": [..]}`
+/// colors describes (as the tools/ scripts pass them to `mi.load_dict`), read by
+/// wavetrace's scene loader; `test` names the temporary file.
+pub fn bsdf_from_mitsuba_dict(d: &serde_json::Value, test: &str) -> wavetrace::scene::bsdf::Bsdf {
+    use serde_json::Value;
+    let mut body = String::new();
+    for (k, v) in d.as_object().expect("a dictionary") {
+        match v {
+            Value::Number(x) => body += &format!("<float name=\"{k}\" value=\"{x}\"/>"),
+            Value::Object(o) => {
+                let c: Vec<String> = o["value"]
+                    .as_array()
+                    .expect("rgb values")
+                    .iter()
+                    .map(|x| x.to_string())
+                    .collect();
+                body += &format!("<rgb name=\"{k}\" value=\"{}\"/>", c.join(", "))
+            }
+            _ => {}
+        }
+    }
+    let xml = format!(
+        "<scene version=\"3.0.0\"><sensor type=\"perspective\"/><bsdf type=\"{}\" id=\"m\">{body}</bsdf></scene>",
+        d["type"].as_str().expect("type")
+    );
+    let scene = load(&temp_file(test, "bsdf.xml", &xml));
+    scene.bsdfs[0].clone()
+}

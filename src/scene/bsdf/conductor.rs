@@ -5,8 +5,8 @@
 //!
 //! | parameter | type | default |
 //! |-----------|------|---------|
-//! | `material` | string: `Ag`, `Al`, `Au`, `Cr`, `Cu` or `none` ([`CONDUCTOR_PRESETS`]) | `none` (a perfect mirror) |
-//! | `eta`, `k` | spectrum (not with `material`) | 0, 1 |
+//! | `material` | string: any of Mitsuba's named conductors (`Au`, `Cu`, `a-C`, ... [`CONDUCTOR_PRESETS`]) or `none` | `none` (a perfect mirror) |
+//! | `eta`, `k` | float, rgb or spectrum (not with `material`; not textures) | 0, 1 |
 //! | `specular_reflectance` | spectrum or texture | 1 |
 //!
 //! Nori `mirror` takes no parameters.
@@ -43,11 +43,20 @@ pub(super) const MATERIAL: Param = Param::new(
     "material",
     "string",
     "none",
-    "named conductor: Ag, Al, Au, Cr, Cu, or none (a perfect mirror); not with eta, k",
+    "named conductor: any of Mitsuba 3's 71 (a-C, Ag, Al, AlAs, AlSb, Au, Be, Cr, CsI, Cu, Cu2O, CuO, d-C, Hg, HgTe, Ir, K, Li, MgO, Mo, Na_palik, Nb, Ni_palik, Rh, Se, SiC, SnTe, Ta, Te, ThF4, TiC, TiN, TiO2, VC, V_palik, VN, W and their _palik / -e variants), or none (a perfect mirror); not with eta, k",
 );
-pub(super) const ETA: Param = Param::new("eta", "rgb", "0", "real part of the index of refraction");
-pub(super) const K: Param =
-    Param::new("k", "rgb", "1", "imaginary part of the index of refraction");
+pub(super) const ETA: Param = Param::new(
+    "eta",
+    "float|rgb|spectrum",
+    "0",
+    "real part of the index of refraction",
+);
+pub(super) const K: Param = Param::new(
+    "k",
+    "float|rgb|spectrum",
+    "1",
+    "imaginary part of the index of refraction",
+);
 pub(super) const SPECULAR_REFLECTANCE: Param = Param::new(
     "specular_reflectance",
     "rgb|texture",

@@ -72,7 +72,9 @@ pub const KINDS: &[Kind] = &[
     kind(7, "nori_microfacet", REFLECTION | GLOSSY | DIFFUSE,          hooks::LOBES | hooks::TEXTURED),
     kind(8, "thindielectric",  REFLECTION | TRANSMISSION | DELTA | NULL, 0),
     kind(9, "pplastic",        REFLECTION | GLOSSY | DIFFUSE,          0),
-    kind(10, "mask_null",      TRANSMISSION | DELTA | NULL,            0),
+    kind(10, "principled",     REFLECTION | TRANSMISSION | GLOSSY | DIFFUSE, hooks::LOBES),
+    kind(11, "principledthin", REFLECTION | TRANSMISSION | GLOSSY | DIFFUSE, hooks::LOBES),
+    kind(12, "mask_null",      TRANSMISSION | DELTA | NULL,            0),
 ];
 
 /// `BsdfRecord::kind` of the node records of composite BSDFs (`mask`, `blendbsdf`,

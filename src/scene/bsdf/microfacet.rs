@@ -129,7 +129,7 @@ pub(super) fn distribution_id(d: Distribution) -> u32 {
 }
 
 /// Smith G1 for an isotropic distribution (as microfacet.glsl).
-fn smith_g1(d: Distribution, alpha: f64, v: DVec3, m: DVec3) -> f64 {
+pub(super) fn smith_g1(d: Distribution, alpha: f64, v: DVec3, m: DVec3) -> f64 {
     if v.dot(m) * v.z <= 0.0 {
         return 0.0;
     }

@@ -21,6 +21,7 @@
 //! | [`plastic`] | `plastic` | |
 //! | [`roughplastic`] | `roughplastic` | |
 //! | [`pplastic`] | `pplastic` | |
+//! | [`principled`] | `principled`, `principledthin` | |
 //! | [`nori_microfacet`] | | `microfacet` |
 //! | [`twosided`], [`normalmap`], [`null`] | wrappers the loader reads (they nest BSDFs or none) | |
 //! | [`mask`], [`blendbsdf`], [`bumpmap`] | composites the loader reads, resolved per hit ([`composite`]) | |
@@ -33,6 +34,8 @@ pub mod blendbsdf;
 pub mod bumpmap;
 pub mod composite;
 pub mod conductor;
+#[rustfmt::skip]
+mod conductor_presets;
 pub mod dielectric;
 pub mod diffuse;
 pub mod fresnel;
@@ -45,6 +48,8 @@ pub mod normalmap;
 pub mod null;
 pub mod plastic;
 pub mod pplastic;
+pub mod principled;
+mod rough_coating;
 pub mod roughconductor;
 pub mod roughdielectric;
 pub mod roughplastic;
@@ -72,6 +77,7 @@ pub use microfacet::{rough_reflectance, Distribution};
 pub use nori_microfacet::NoriMicrofacet;
 pub use plastic::Plastic;
 pub use pplastic::PPlastic;
+pub use principled::Principled;
 pub use roughconductor::RoughConductor;
 pub use roughdielectric::RoughDielectric;
 pub use roughplastic::{rough_coating_tables, RoughPlastic};
@@ -101,8 +107,8 @@ pub const PLUGINS: &[Plugin] = &[
     Plugin::not_yet("measured"),
     Plugin::not_yet("measured_polarized"),
     Plugin::not_yet("polarizer"),
-    Plugin::not_yet("principled"),
-    Plugin::not_yet("principledthin"),
+    principled::MITSUBA,
+    principled::MITSUBA_THIN,
     Plugin::not_yet("retarder"),
     diffuse::NORI,
     conductor::NORI_MIRROR,
@@ -243,6 +249,12 @@ pub trait BsdfModel: std::fmt::Debug {
     fn lobe_axis(&self) -> LobeAxis {
         LobeAxis::Normal
     }
+
+    /// Whether light can pass through: its kind has a transmission lobe (a model
+    /// whose records differ, as `principled`, says so itself).
+    fn transmits(&self) -> bool {
+        self.kind().lobes & kinds::lobes::TRANSMISSION != 0
+    }
 }
 
 /// Where a lobe gathers, for the axis of `wavetrace warptest`'s plots.
@@ -270,6 +282,8 @@ pub enum Bsdf {
     Plastic(Plastic),
     RoughPlastic(RoughPlastic),
     PPlastic(PPlastic),
+    /// `principled` and `principledthin` ([`principled`]).
+    Principled(Principled),
     NoriMicrofacet(NoriMicrofacet),
     /// Mitsuba `twosided` with one nested BSDF without transmission: both faces use
     /// it ([`twosided`]).
@@ -324,6 +338,7 @@ impl Bsdf {
             Bsdf::Plastic(m) => m,
             Bsdf::RoughPlastic(m) => m,
             Bsdf::PPlastic(m) => m,
+            Bsdf::Principled(m) => m,
             Bsdf::NoriMicrofacet(m) => m,
             Bsdf::TwoSided(inner) => inner.model(),
             Bsdf::Textured { bsdf, .. } | Bsdf::NormalMap { bsdf, .. } => bsdf.model(),
@@ -341,7 +356,7 @@ impl Bsdf {
             Bsdf::Blend { .. } | Bsdf::TwoSidedPair(..) | Bsdf::BumpMap { .. } => {
                 composite::children(self).iter().any(|b| b.transmits())
             }
-            _ => self.model().kind().lobes & kinds::lobes::TRANSMISSION != 0,
+            _ => self.model().transmits(),
         }
     }
 
@@ -450,6 +465,8 @@ pub struct TextureMaps {
     pub transmittance: Option<u32>,
     pub alpha_u: Option<u32>,
     pub alpha_v: Option<u32>,
+    /// Scalar parameters kept in the record's table ([`Slot::Table`]): (entry, texture).
+    pub table: Vec<(u8, u32)>,
 }
 
 /// A parameter slot of the BSDF record a texture can feed.
@@ -462,6 +479,9 @@ pub enum Slot {
     AlphaV,
     /// `alpha`: both roughnesses.
     Alpha,
+    /// Entry k of the record's table, the texture's luminance (`principled`'s scalars;
+    /// looked up where the scene's texture mask has `TEXTURE_FEATURE_TABLE`).
+    Table(u8),
 }
 
 impl TextureMaps {
@@ -503,6 +523,7 @@ impl TextureMaps {
                     maps.alpha_u = Some(index);
                     maps.alpha_v = Some(index);
                 }
+                Slot::Table(k) => maps.table.push((*k, index)),
             }
         }
         Ok(Some(maps))
@@ -517,6 +538,9 @@ impl TextureMaps {
         r.tex_transmittance = id(self.transmittance);
         r.tex_alpha_u = id(self.alpha_u);
         r.tex_alpha_v = id(self.alpha_v);
+        for &(k, index) in &self.table {
+            principled::pack_table_texture(&mut r, k as usize, index);
+        }
         r
     }
 }

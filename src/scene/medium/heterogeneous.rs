@@ -12,8 +12,8 @@
 use glam::{Mat4, Vec3};
 
 use super::{
-    check_color, Grid, MediumKind, ALBEDO, BOUNDS_MAX, BOUNDS_MIN, SAMPLE_EMITTERS, SCALE, SIGMA_A,
-    SIGMA_S,
+    check_color, Grid, MediumKind, ALBEDO, BOUNDS_MAX, BOUNDS_MIN, HAS_SPECTRAL_EXTINCTION,
+    SAMPLE_EMITTERS, SCALE, SIGMA_A, SIGMA_S,
 };
 use crate::scene::plugin::{Family, Param, PluginDoc};
 use crate::scene::properties::Properties;
@@ -46,6 +46,7 @@ pub const MITSUBA: PluginDoc = PluginDoc::new(
         SIGMA_S,
         SCALE,
         SAMPLE_EMITTERS,
+        HAS_SPECTRAL_EXTINCTION,
         MAJORANT,
         MAJORANT_FACTOR,
     ],

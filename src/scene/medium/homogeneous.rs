@@ -7,8 +7,8 @@
 use glam::Vec3;
 
 use super::{
-    check_color, MediumKind, ALBEDO, BOUNDS_MAX, BOUNDS_MIN, SAMPLE_EMITTERS, SCALE, SIGMA_A,
-    SIGMA_S,
+    check_color, MediumKind, ALBEDO, BOUNDS_MAX, BOUNDS_MIN, HAS_SPECTRAL_EXTINCTION,
+    SAMPLE_EMITTERS, SCALE, SIGMA_A, SIGMA_S,
 };
 use crate::scene::plugin::{Family, Param, PluginDoc};
 use crate::scene::properties::Properties;
@@ -27,7 +27,15 @@ pub const MITSUBA: PluginDoc = PluginDoc::new(
     Dialect::Mitsuba,
     "homogeneous",
     "Constant extinction; a nested <phase> (isotropic by default).",
-    &[SIGMA_T, ALBEDO, SIGMA_A, SIGMA_S, SCALE, SAMPLE_EMITTERS],
+    &[
+        SIGMA_T,
+        ALBEDO,
+        SIGMA_A,
+        SIGMA_S,
+        SCALE,
+        SAMPLE_EMITTERS,
+        HAS_SPECTRAL_EXTINCTION,
+    ],
 );
 
 pub const NORI: PluginDoc = PluginDoc::new(

@@ -90,6 +90,16 @@ const SAMPLE_EMITTERS: Param = Param::new(
     "true",
     "next-event estimation at scattering points",
 );
+/// Mitsuba's hint that the extinction varies by channel (its volpath then weighs each
+/// free flight by the ratio of the channels' transmittances to the sampled one's;
+/// with `false` it skips that ratio, exact for a gray extinction). wavetrace always
+/// weighs, so the hint changes no image where it is true to the medium.
+const HAS_SPECTRAL_EXTINCTION: Param = Param::new(
+    "has_spectral_extinction",
+    "boolean",
+    "true",
+    "Mitsuba's hint that sigma_t varies by channel (accepted; images are the same for a gray sigma_t)",
+);
 /// Nori's box a medium fills.
 const BOUNDS_MIN: Param = Param::new(
     "bounds_min",
@@ -286,6 +296,9 @@ impl Medium {
             ));
         }
         let sample_emitters = props.boolean("sample_emitters", true)?;
+        if dialect == Dialect::Mitsuba {
+            props.boolean("has_spectral_extinction", true)?;
+        }
         let kind = if t == "homogeneous" {
             homogeneous::kind(&props, c.sigma_t, c.grid.is_some(), scale)?
         } else {
