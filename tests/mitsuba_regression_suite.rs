@@ -217,7 +217,6 @@ scene!(bumpmap, "bsdf_spheres", "test_bumpmap_path.xml", Rejects);
 scene!(constant, "bsdf_spheres", "test_constant_path.xml", Rejects);
 scene!(envmap, "bsdf_spheres", "test_envmap_path.xml", Rejects);
 scene!(
-    #[ignore = "rawconstant texture"]
     normalmap_identity_roughconductor,
     "bsdf_spheres",
     "test_normalmap_identity_roughconductor_path.xml",
@@ -316,21 +315,21 @@ scene!(
     Rejects
 );
 scene!(
-    #[ignore = "directional emitter, mesh_attribute texture"]
+    #[ignore = "directional emitter, blendbsdf"]
     mesh_attributes_1_face,
     "mesh_attributes",
     "test_mesh_attributes_1_face_direct.xml",
     Rejects
 );
 scene!(
-    #[ignore = "directional emitter, mesh_attribute texture"]
+    #[ignore = "directional emitter"]
     mesh_attributes_3_face,
     "mesh_attributes",
     "test_mesh_attributes_3_face_direct.xml",
     Rejects
 );
 scene!(
-    #[ignore = "directional emitter, mesh_attribute texture"]
+    #[ignore = "directional emitter"]
     mesh_attributes_3_vertex,
     "mesh_attributes",
     "test_mesh_attributes_3_vertex_direct.xml",
@@ -365,14 +364,13 @@ scene!(
     Rejects
 );
 scene!(
-    #[ignore = "rawconstant texture"]
     texture_interp,
     "texture_interp",
     "test_texture_interp_direct.xml",
     Rejects
 );
 scene!(
-    #[ignore = "BMP image, ptracer integrator"]
+    #[ignore = "projector, spot light texture"]
     various_emitters,
     "various_emitters",
     "test_various_emitters_ptracer.xml",

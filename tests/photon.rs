@@ -36,7 +36,7 @@ fn gpu_neighbours(photons: &[Photon], queries: &[[f32; 4]], max_radius: f32) -> 
     )
     .expect("layout");
     let n = photons.len() as u32;
-    let map = PhotonMap::new(&device, &layout, n, 1, 1).expect("photon map");
+    let map = PhotonMap::new(&device, &layout, n, 1, 1, 1).expect("photon map");
     map.store
         .photons
         .write(&device, 0, bytemuck::cast_slice(photons))

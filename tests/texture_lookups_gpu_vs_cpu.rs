@@ -10,6 +10,7 @@ use wavetrace::gpu::layout::EMITTER_ENVMAP;
 use wavetrace::gpu::{shaders, Kernel};
 use wavetrace::image::Image;
 use wavetrace::render::scene_buffers::SceneRecords;
+use wavetrace::scene::texture::mesh_attribute;
 use wavetrace::scene::{envmap, Emitter, Scene, Texture};
 
 const N: u32 = 20_000;
@@ -91,12 +92,14 @@ fn gpu_texture_lookups_equal_the_cpu_reference() {
     <texture type="noise" id="t6"><float name="frequency" value="5"/><integer name="octaves" value="6"/><integer name="seed" value="9"/>
         <rgb name="color0" value="0.1, 0.2, 0.3"/><rgb name="color1" value="0.9, 0.8, 0.1"/></texture>
     <texture type="marble" id="t7"><float name="frequency" value="3"/><float name="variation" value="2.5"/><integer name="octaves" value="3"/></texture>
+    <texture type="rawconstant" id="t8"><vector name="value" value="-0.5, 2.0, 0.25"/></texture>
+    <texture type="rawconstant" id="t9"><float name="value" value="1.75"/></texture>
     <shape type="rectangle"><bsdf type="diffuse"><ref name="reflectance" id="t0"/></bsdf></shape>
 </scene>"#;
     let path = dir.join("scene.xml");
     std::fs::write(&path, xml).unwrap();
     let scene = common::load(&path);
-    assert_eq!(scene.textures.len(), 8);
+    assert_eq!(scene.textures.len(), 10);
 
     let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
     // Uvs over [-2, 3]²: every wrap mode sees several periods; one in 16 over
@@ -131,6 +134,8 @@ fn gpu_texture_lookups_equal_the_cpu_reference() {
             Texture::Checkerboard { .. } => "checkerboard",
             Texture::Noise { .. } => "noise",
             Texture::Marble { .. } => "marble",
+            Texture::Constant { .. } => "rawconstant",
+            Texture::MeshAttribute { .. } => "mesh_attribute",
         };
         println!(
             "texture {k} ({kind}): worst relative difference {worst:.2e}, {differ} of {N} differ"
@@ -208,4 +213,135 @@ fn gpu_envmap_lookups_equal_the_cpu_reference() {
         differ <= 5,
         "{differ} of {N} envmap lookups differ from the CPU reference"
     );
+}
+
+/// A binary PLY of a fan of `n` triangles around vertex 0 in the z = 0 plane, as one
+/// polygon face (so the fan's triangles share its face attributes) plus a lone
+/// triangle; vertex attributes `r g b` (uchar: values as written, as Mitsuba's) and
+/// `w_x` (float), face attributes `color_0..2` and `weight_0`.
+fn write_attribute_ply(path: &std::path::Path) {
+    let n = 5u32;
+    let mut head = String::from("ply\nformat binary_little_endian 1.0\n");
+    head += &format!("element vertex {}\n", n + 2 + 3);
+    for p in ["x", "y", "z"] {
+        head += &format!("property float {p}\n");
+    }
+    head += "property uchar r\nproperty uchar g\nproperty uchar b\nproperty float w_x\n";
+    head += "element face 2\nproperty list uchar int vertex_indices\n";
+    head += "property float color_0\nproperty float color_1\nproperty float color_2\nproperty float weight_0\nend_header\n";
+    let mut b = head.into_bytes();
+    let vertex = |b: &mut Vec<u8>, p: [f32; 3], c: [u8; 3], w: f32| {
+        for v in p {
+            b.extend_from_slice(&v.to_le_bytes());
+        }
+        b.extend_from_slice(&c);
+        b.extend_from_slice(&w.to_le_bytes());
+    };
+    vertex(&mut b, [0.0, 0.0, 0.0], [10, 20, 30], 0.5);
+    for k in 0..=n {
+        let a = k as f32 * 0.5;
+        vertex(
+            &mut b,
+            [a.cos(), a.sin(), 0.0],
+            [k as u8 * 40, 255 - k as u8 * 30, 7],
+            k as f32 * 1.5 - 2.0,
+        );
+    }
+    for (k, p) in [[3.0, 0.0, 0.0], [4.0, 0.0, 0.0], [3.0, 1.0, 0.0]]
+        .iter()
+        .enumerate()
+    {
+        vertex(&mut b, *p, [200, k as u8, 100], -1.0);
+    }
+    b.push(n as u8 + 2);
+    for i in 0..n + 2 {
+        b.extend_from_slice(&(i as i32).to_le_bytes());
+    }
+    for v in [0.25f32, 0.5, 0.75, 3.0] {
+        b.extend_from_slice(&v.to_le_bytes());
+    }
+    b.push(3);
+    for i in [n + 2, n + 3, n + 4] {
+        b.extend_from_slice(&(i as i32).to_le_bytes());
+    }
+    for v in [0.9f32, 0.1, 0.2, -4.0] {
+        b.extend_from_slice(&v.to_le_bytes());
+    }
+    std::fs::write(path, b).unwrap();
+}
+
+/// Mesh attributes (vertex ones interpolated, face ones per face, 1 and 3 channels,
+/// scaled) looked up on the GPU at the surface point of a primitive equal
+/// mesh_attribute::eval, on a mesh that follows another (its vertex and triangle
+/// numbers do not start at 0) and whose polygon is fan-triangulated.
+#[test]
+fn gpu_mesh_attribute_lookups_equal_the_cpu_reference() {
+    let dir = common::temp_file("textures-attr", "x", "")
+        .parent()
+        .unwrap()
+        .to_path_buf();
+    write_attribute_ply(&dir.join("fan.ply"));
+    let names = ["vertex_color", "vertex_w", "face_color", "face_weight"];
+    let textures: String = names
+        .iter()
+        .enumerate()
+        .map(|(i, n)| {
+            format!(
+                r#"<texture type="mesh_attribute" id="t{i}"><string name="name" value="{n}"/><float name="scale" value="{}"/></texture>"#,
+                1.0 + i as f32 * 0.5
+            )
+        })
+        .collect();
+    let xml = format!(
+        r#"<scene version="3.0.0">
+    <sensor type="perspective"><film type="hdrfilm"><integer name="width" value="4"/><integer name="height" value="4"/></film></sensor>
+    {textures}
+    <shape type="rectangle"><transform name="to_world"><translate z="5"/></transform></shape>
+    <shape type="ply"><string name="filename" value="fan.ply"/><bsdf type="diffuse"><ref name="reflectance" id="t0"/></bsdf></shape>
+    <shape type="sphere"><point name="center" x="0" y="0" z="-5"/></shape>
+</scene>"#
+    );
+    let path = dir.join("attr.xml");
+    std::fs::write(&path, xml).unwrap();
+    let scene = common::load(&path);
+    let bvh = Bvh::build(prims_from_scene(&scene));
+    let mesh = &scene.meshes[1];
+    assert_eq!(mesh.indices.len(), 6);
+    let mut rng = Rng(0x5eed_1234_abcd_ef01);
+    let mut queries = Vec::new();
+    let mut want: Vec<Vec<Vec3>> = vec![Vec::new(); names.len()];
+    for (slot, prim) in bvh.prims.iter().enumerate() {
+        if prim.shape != 1 {
+            continue;
+        }
+        let k = prim.index as usize - scene.meshes[0].indices.len();
+        for _ in 0..8 {
+            let (mut u, mut v) = (rng.next(), rng.next());
+            if u + v > 1.0 {
+                (u, v) = (1.0 - u, 1.0 - v);
+            }
+            queries.push([f32::from_bits(slot as u32), u, v, 0.0]);
+            for (i, n) in names.iter().enumerate() {
+                let scale = 1.0 + i as f32 * 0.5;
+                want[i].push(mesh_attribute::eval(mesh, n, scale, k, u, v).unwrap());
+            }
+        }
+    }
+    assert_eq!(queries.len(), 48);
+    for (i, n) in names.iter().enumerate() {
+        let gpu = lookup(&scene, &queries, i as u32 + 1, 2);
+        for (g, c) in gpu.iter().zip(&want[i]) {
+            let err = (*g - *c).abs().max_element() / (1.0 + c.abs().max_element());
+            assert!(err < 1e-5, "{n}: GPU {g} vs CPU {c}");
+        }
+        println!("{n}: {} lookups agree", gpu.len());
+    }
+    // The PLY's values as written (uchar 255 stays 255) and the fan sharing its face.
+    assert!(want[0][0].max_element() > 1.0);
+    let face = mesh
+        .attributes
+        .iter()
+        .find(|a| a.name == "face_weight")
+        .unwrap();
+    assert_eq!(face.values, vec![3.0, 3.0, 3.0, 3.0, 3.0, -4.0]);
 }

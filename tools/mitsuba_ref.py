@@ -2,7 +2,7 @@
 """Render a wavetrace scene (Mitsuba 3 dialect) with Mitsuba 3, as a reference EXR.
 
     python3 tools/mitsuba_ref.py SCENE.xml -o OUT.exr --spp N [--variant scalar_rgb] [--ao]
-                                 [--integrator path|direct|volpath] [--max-depth N]
+                                 [--integrator path|direct|volpath|depth] [--max-depth N]
                                  [-D name=value] [--keep-filter] [--alpha]
 
 What it changes in the scene before Mitsuba sees it (the file itself is not touched):
@@ -21,7 +21,8 @@ What it changes in the scene before Mitsuba sees it (the file itself is not touc
   sample and one BSDF sample, which is wavetrace's `direct_mis`; it takes no depth)
   or `volpath` (volumetric path tracing, wavetrace's `vol_path_mis`; `--max-depth`). Mitsuba's
   `max_depth` counts path segments from the camera: 1 shows emitters only, 2 is
-  direct lighting, 6 is up to five bounces.
+  direct lighting, 6 is up to five bounces. `--integrator depth`: Mitsuba's `depth`
+  (the first hit's distance), wavetrace's `depth`.
 * With `-D name=value`: Mitsuba's `$name` parameters (the scene's `<default>`s), as
   `wavetrace -D` does.
 * Always: wavetrace-only medium parameters (`majorant_resolution_factor`, which
@@ -44,6 +45,8 @@ different seeds; the film's raw sums (filter-weighted values and weights, Mitsub
 `bitmap(raw=True)`) of all passes are added and divided once, so the result is the
 same estimator as one big pass, whatever the filter (the JIT variants cannot hold a
 whole 16k-spp wavefront in memory).
+The particle tracer (`ptracer`) splats with weight 0 and each pass is already its own
+mean: its passes are averaged, each weighed by its sample count.
 
 Next to OUT.exr it writes OUT.json: the command, spp, passes, seed, variant, Mitsuba version, time
 taken, and SHA-256 of the scene file and of every file it names, so a stale reference
@@ -143,7 +146,7 @@ def ancestors(el, parent):
 
 
 def set_integrator(root, kind, max_depth):
-    """Replace the scene's integrator by Mitsuba's `path`, `direct` or `volpath`."""
+    """Replace the scene's integrator by Mitsuba's `path`, `direct`, `volpath` or `depth`."""
     parent = parents_of(root)
     for el in [e for e in root.iter("integrator")]:
         parent[el].remove(el)
@@ -281,8 +284,8 @@ def main():
     ap.add_argument("--ao", action="store_true", help="render wavetrace's `ao` integrator (see above)")
     ap.add_argument(
         "--integrator",
-        choices=("path", "direct", "volpath"),
-        help="replace the scene's integrator by Mitsuba's path, direct (MIS) or volpath integrator",
+        choices=("path", "direct", "volpath", "depth"),
+        help="replace the scene's integrator by Mitsuba's path, direct (MIS), volpath or depth integrator",
     )
     ap.add_argument(
         "--max-depth", type=int, default=6, help="max_depth of --integrator path or volpath (default 6)"
@@ -358,9 +361,14 @@ def main():
         n = min(left, args.pass_spp)
         passes.append(n)
         left -= n
+    # A particle tracer (Mitsuba's AdjointIntegrator) splats with weight 0 and scales
+    # each render to its own sample count: its passes are averaged by their counts.
+    adjoint = isinstance(scene.integrator(), mi.AdjointIntegrator)
     sums = None
     for i, n in enumerate(passes):
         raw = render_raw(mi, scene, sensor, n, args.seed + i)
+        if adjoint:
+            raw = [v * n / spp for v in raw]
         sums = raw if sums is None else [a + b for a, b in zip(sums, raw)]
     values = develop(sums, args.alpha)
     bitmap = to_bitmap(values, sensor.film().crop_size(), args.alpha, mi)

@@ -50,8 +50,8 @@ bool surface_tex_used(uint k) {
 
 // Row r (0..7) of b.table by selects between constant rows (a dynamic index would put
 // the record in per-lane scratch memory on llvmpipe: roughplastic.glsl says more).
-vec4 bsdf_table_row(BsdfRecord b, uint r) {
-    vec4 row = b.table[0];
+uvec4 bsdf_table_row(BsdfRecord b, uint r) {
+    uvec4 row = b.table[0];
     row = r == 1u ? b.table[1] : row;
     row = r == 2u ? b.table[2] : row;
     row = r == 3u ? b.table[3] : row;
@@ -62,9 +62,9 @@ vec4 bsdf_table_row(BsdfRecord b, uint r) {
     return row;
 }
 
-// Entry i (0..31) of b.table.
-float bsdf_table_entry(BsdfRecord b, uint i) {
-    vec4 row = bsdf_table_row(b, i >> 2u);
+// Entry i (0..31) of b.table (its 32 bits; principled's scalars are f32 bits).
+uint bsdf_table_entry(BsdfRecord b, uint i) {
+    uvec4 row = bsdf_table_row(b, i >> 2u);
     uint c = i & 3u;
     return c == 0u ? row.x : c == 1u ? row.y : c == 2u ? row.z : row.w;
 }
@@ -75,14 +75,14 @@ float bsdf_table_entry(BsdfRecord b, uint i) {
 // (texture_eval_1, Mitsuba's eval_1). One lookup in a loop; the entry is written
 // through constant-indexed selects.
 BsdfRecord bsdf_table_textured(BsdfRecord b, vec2 uv) {
-    uint pending = floatBitsToUint(b.table[7].x);
+    uint pending = b.table[7].x;
     if (pending != 0u) do {
         uint k = uint(findLSB(pending));
         pending &= pending - 1u;
-        float v = texture_eval_1(floatBitsToUint(bsdf_table_entry(b, 16u + k)), uv);
-        vec4 row = bsdf_table_row(b, k >> 2u);
+        uint v = floatBitsToUint(texture_eval_1(bsdf_table_entry(b, 16u + k), uv));
+        uvec4 row = bsdf_table_row(b, k >> 2u);
         uint c = k & 3u;
-        row = vec4(c == 0u ? v : row.x, c == 1u ? v : row.y, c == 2u ? v : row.z, c == 3u ? v : row.w);
+        row = uvec4(c == 0u ? v : row.x, c == 1u ? v : row.y, c == 2u ? v : row.z, c == 3u ? v : row.w);
         if (k >> 2u == 0u) b.table[0] = row;
         if (k >> 2u == 1u) b.table[1] = row;
         if (k >> 2u == 2u) b.table[2] = row;

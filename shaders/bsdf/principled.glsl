@@ -28,20 +28,20 @@ struct Principled {
 Principled principled_of(BsdfRecord b) {
     Principled p;
     p.base_color = b.reflectance;
-    p.roughness = b.table[0].x;
-    p.anisotropic = b.table[0].y;
-    p.metallic = b.table[0].z;
-    p.spec_trans = b.table[0].w;
-    p.spec_tint = b.table[1].x;
-    p.sheen = b.table[1].y;
-    p.sheen_tint = b.table[1].z;
-    p.flatness = b.table[1].w;
-    p.clearcoat = b.table[2].x;
-    p.clearcoat_gloss = b.table[2].y;
-    p.diff_trans = b.table[2].z;
-    p.eta = b.table[2].w;
-    p.rates = b.table[3];
-    p.has = floatBitsToUint(b.table[7].y);
+    p.roughness = uintBitsToFloat(b.table[0].x);
+    p.anisotropic = uintBitsToFloat(b.table[0].y);
+    p.metallic = uintBitsToFloat(b.table[0].z);
+    p.spec_trans = uintBitsToFloat(b.table[0].w);
+    p.spec_tint = uintBitsToFloat(b.table[1].x);
+    p.sheen = uintBitsToFloat(b.table[1].y);
+    p.sheen_tint = uintBitsToFloat(b.table[1].z);
+    p.flatness = uintBitsToFloat(b.table[1].w);
+    p.clearcoat = uintBitsToFloat(b.table[2].x);
+    p.clearcoat_gloss = uintBitsToFloat(b.table[2].y);
+    p.diff_trans = uintBitsToFloat(b.table[2].z);
+    p.eta = uintBitsToFloat(b.table[2].w);
+    p.rates = uintBitsToFloat(b.table[3]);
+    p.has = b.table[7].y;
     return p;
 }
 
@@ -284,6 +284,6 @@ BsdfSample bsdf_principled_sample(BsdfRecord b, vec3 wo, vec3 u) {
 
 // Its lobes (kinds.rs hook `lobes`): transmission only where spec_trans was given.
 uint bsdf_principled_lobes(BsdfRecord b, uint lobes) {
-    uint has = floatBitsToUint(b.table[7].y);
+    uint has = b.table[7].y;
     return (has & PRINCIPLED_HAS_SPEC_TRANS) != 0u ? lobes : lobes & ~BSDF_LOBE_TRANSMISSION;
 }

@@ -132,7 +132,7 @@ BsdfSample bsdf_principledthin_sample(BsdfRecord b, vec3 wo, vec3 u) {
 // Its lobes (kinds.rs hook `lobes`): transmission only where spec_trans or diff_trans
 // was given.
 uint bsdf_principledthin_lobes(BsdfRecord b, uint lobes) {
-    uint has = floatBitsToUint(b.table[7].y);
+    uint has = b.table[7].y;
     return (has & (PRINCIPLED_HAS_SPEC_TRANS | PRINCIPLED_HAS_DIFF_TRANS)) != 0u ? lobes
                                                                                  : lobes & ~BSDF_LOBE_TRANSMISSION;
 }

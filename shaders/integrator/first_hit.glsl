@@ -1,5 +1,6 @@
 // The integrators that shade only the first hit: `normals` (Nori's: |n_s| per
-// component), `ao` (ambient occlusion, ao.glsl) and `simple` (point lights on diffuse
+// component), `depth` (Mitsuba's: the hit's distance along the camera ray, from its
+// origin on the near plane as Mitsuba's si.t), `ao` (ambient occlusion, ao.glsl) and `simple` (point lights on diffuse
 // surfaces, Nori's first lighting integrator). Nothing emits in them: a ray that
 // escapes (even a camera ray, as in Nori) carries no radiance. Surfaces are shaded
 // from both sides. Needs wavefront.glsl, scene_bindings.glsl.
@@ -16,6 +17,11 @@ void first_hit_shade(uint integrator, RayItem r, HitItem h) {
     if (h.prim == NONE) return;
     PathState path = path_load(r.path);
     Surface s = surface_at(h.prim, h.u, h.v, r.origin, r.dir, h.t);
+    if (integrator == INTEGRATOR_DEPTH) {
+        path.radiance += vec3(h.t);
+        path_store_radiance(r.path, path);
+        return;
+    }
     if (integrator == INTEGRATOR_NORMALS) {
         path.radiance += abs(s.ns); // before facing the viewer
         path_store_radiance(r.path, path);

@@ -17,6 +17,14 @@
 // The photon mappers run kernels of their own (shaders/kernels/photon_*, sppm_*).
 #define INTEGRATOR_PHOTONMAPPER 12u
 #define INTEGRATOR_SPPM 13u
+#define INTEGRATOR_PTRACER 14u
+// Mitsuba's `depth`: a first-hit integrator (first_hit.glsl), numbered after the others.
+#define INTEGRATOR_DEPTH 15u
+
+// Whether `shade` runs the integrator's first hit only (first_hit.glsl).
+bool integrator_is_first_hit(uint integrator) {
+    return integrator < INTEGRATOR_DIRECT_EMS || integrator == INTEGRATOR_DEPTH;
+}
 
 bool integrator_is_single_scatter(uint integrator) {
     return integrator == INTEGRATOR_SINGLE_DISTANCE || integrator == INTEGRATOR_SINGLE_EQUIANGULAR;

@@ -105,12 +105,12 @@ void main() {
     if (SHADE_RAYS == SHADE_RAYS_MISSES) i = partition_miss(i);
     if (SCENE_DEFERRAL == SHADE_DEFERRED) i = deferral_item(DEFERRED_RAYS, i);
     RayItem r = ray_load(ray_slot(push.queue_in, i));
-    if (SHADE_LAST && EMITTER_PRIMS > 0u && INTEGRATOR >= INTEGRATOR_DIRECT_EMS) {
+    if (SHADE_LAST && EMITTER_PRIMS > 0u && !integrator_is_first_hit(INTEGRATOR)) {
         path_shade_emitted(INTEGRATOR, r, path_load(r.path));
         return;
     }
     HitItem h = SHADE_RAYS == SHADE_RAYS_MISSES ? HitItem(r.tmax, 0.0, 0.0, NONE) : hit_load(i);
-    if (INTEGRATOR >= INTEGRATOR_DIRECT_EMS) {
+    if (!integrator_is_first_hit(INTEGRATOR)) {
         PathState path = path_load(r.path);
         PathVertex v = path_vertex_surface();
         if (SCENE_HAS_MEDIA && !vol_path_traverse(INTEGRATOR, r, h, hit_second_load(i), path, v)) {

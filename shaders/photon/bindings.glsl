@@ -25,5 +25,8 @@ layout(set = 2, binding = 9, rgba32ui) uniform readonly uimageBuffer vp_texels;
 layout(std430, set = 2, binding = 10) buffer SppmPixelBuffer { SppmPixel sppm_pixels[]; };
 // Block sums of the bucket prefix sum (photon_grid_scan.comp).
 layout(std430, set = 2, binding = 11) buffer ScanBuffer { uint scan_sums[]; };
+// The particle tracer's splats of one sample index (integrator/ptracer.glsl): per
+// pixel of the film, three channels of 64-bit fixed point as (low, high) words.
+layout(std430, set = 2, binding = 12) buffer SplatBuffer { uint splat_words[]; };
 
 #endif

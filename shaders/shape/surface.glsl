@@ -5,6 +5,7 @@
 #include "sampling/warp.glsl"
 #include "sampling/frame.glsl"
 #include "shape/ray_offset.glsl"
+#include "texture/texture_hit.glsl"
 
 // The primitive and vertex features of the scene (SURFACE_FEATURE_* bits of
 // layout.glsl); a kernel may define it as a specialization constant so that the code
@@ -101,6 +102,7 @@ void surface_quadric(inout Surface s, Prim prim, ShapeRecord shape, vec3 hit, ve
 Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, float t) {
     Prim prim = prim_load(prim_index);
     ShapeRecord shape = shape_load(prim.shape);
+    texture_hit_set(prim.shape, prim.index, vec2(u, v));
     Surface s;
     s.shape = prim.shape;
     vec3 dpdu;

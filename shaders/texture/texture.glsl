@@ -16,6 +16,8 @@
 // parameters, normal maps, environment maps, textured area emitters.
 #define TEXTURE_USES(f) ((TEXTURE_KINDS & (f)) != 0u)
 
+#include "texture/texture_hit.glsl"
+
 // A texel index brought into [0, n) by the wrap mode (as Mitsuba's, on indices).
 // The remainder of i by m comes from a float quotient, corrected by one step either
 // way: llvmpipe (Mesa 22.3) has no vector integer division and divides lane by lane
@@ -135,10 +137,44 @@ float texture_fbm(vec2 p, uint octaves, uint seed) {
     return norm > 0.0 ? sum / norm : 0.0;
 }
 
+// Channel values k.. of a mesh attribute of `dim` channels (1: broadcast).
+vec3 texture_attribute_at(uint k, uint dim) {
+    float x = texel_value(k);
+    return dim == 1u ? vec3(x) : vec3(x, texel_value(k + 1u), texel_value(k + 2u));
+}
+
+// Mitsuba's mesh_attribute at the hit of the latest surface_at (texture_hit.glsl):
+// a face attribute as stored for the triangle, a vertex attribute interpolated by the
+// barycentrics (Mesh::interpolate_attribute), times the scale; 0 on a shape without
+// it (the loader refuses those that read it). The shape's table word is the start
+// of its values, offset so that the global triangle or vertex number indexes them.
+vec3 texture_mesh_attribute(TextureRecord t) {
+    uint base = texel_word(t.offset + texture_hit_shape).x;
+    if (base == NONE) return vec3(0.0);
+    uint dim = t.width;
+    vec3 value;
+    if ((t.flags & TEXTURE_ATTRIBUTE_FACE) != 0u) {
+        value = texture_attribute_at(base + dim * texture_hit_triangle, dim);
+    } else {
+        TriangleRecord tri = triangle_load(texture_hit_triangle);
+        vec2 b = texture_hit_bary;
+        value = texture_attribute_at(base + dim * tri.v0, dim) * (1.0 - b.x - b.y)
+            + texture_attribute_at(base + dim * tri.v1, dim) * b.x
+            + texture_attribute_at(base + dim * tri.v2, dim) * b.y;
+    }
+    return value * t.frequency;
+}
+
 vec3 texture_eval(uint id, vec2 uv) {
     TextureRecord t = texture_load(id - 1u);
     vec2 p = vec2(dot(t.to_uv_u.xyz, vec3(uv, 1.0)), dot(t.to_uv_v.xyz, vec3(uv, 1.0)));
     switch (t.kind) {
+    case TEXTURE_CONSTANT:
+        if (TEXTURE_HAS(TEXTURE_CONSTANT)) return t.color0;
+        break;
+    case TEXTURE_MESH_ATTRIBUTE:
+        if (TEXTURE_HAS(TEXTURE_MESH_ATTRIBUTE)) return texture_mesh_attribute(t);
+        break;
     case TEXTURE_BITMAP:
         if (TEXTURE_HAS(TEXTURE_BITMAP)) return texture_bitmap(t, p);
         break;

@@ -143,6 +143,13 @@ pub const TEXTURE_BITMAP: u32 = 0;
 pub const TEXTURE_CHECKERBOARD: u32 = 1;
 pub const TEXTURE_NOISE: u32 = 2;
 pub const TEXTURE_MARBLE: u32 = 3;
+/// Mitsuba `rawconstant`: `color0` everywhere.
+pub const TEXTURE_CONSTANT: u32 = 4;
+/// Mitsuba `mesh_attribute`: `offset` a table of one texel word per shape (the start
+/// of its values, or `NONE`), `width` the channels (1 or 3), `frequency` the scale.
+pub const TEXTURE_MESH_ATTRIBUTE: u32 = 5;
+/// [`TextureRecord::flags`] of a mesh attribute: per face (else per vertex).
+pub const TEXTURE_ATTRIBUTE_FACE: u32 = 1;
 /// [`TextureRecord::flags`]: nearest-neighbour lookups (else bilinear).
 pub const TEXTURE_NEAREST: u32 = 1;
 /// [`TextureRecord::flags`] bits 1-2: the wrap mode.
@@ -647,6 +654,9 @@ mod tests {
             ("TEXTURE_CHECKERBOARD", TEXTURE_CHECKERBOARD),
             ("TEXTURE_NOISE", TEXTURE_NOISE),
             ("TEXTURE_MARBLE", TEXTURE_MARBLE),
+            ("TEXTURE_CONSTANT", TEXTURE_CONSTANT),
+            ("TEXTURE_MESH_ATTRIBUTE", TEXTURE_MESH_ATTRIBUTE),
+            ("TEXTURE_ATTRIBUTE_FACE", TEXTURE_ATTRIBUTE_FACE),
             ("TEXTURE_NEAREST", TEXTURE_NEAREST),
             ("TEXTURE_WRAP_SHIFT", TEXTURE_WRAP_SHIFT),
             ("TEXTURE_WRAP_REPEAT", TEXTURE_WRAP_REPEAT),

@@ -34,6 +34,8 @@ impl Integrator {
             Integrator::SingleScatter { .. } => 11,
             Integrator::PhotonMapper(_) => 12,
             Integrator::Sppm(_) => 13,
+            Integrator::Ptracer(_) => 14,
+            Integrator::Depth => 15,
         }
     }
 
@@ -62,13 +64,18 @@ impl Integrator {
             Integrator::SingleScatter { .. } => "single_scatter",
             Integrator::PhotonMapper(_) => "photonmapper",
             Integrator::Sppm(_) => "sppm",
+            Integrator::Ptracer(_) => "ptracer",
+            Integrator::Depth => "depth",
         }
     }
 
     /// Longest path in segments (`u32::MAX`: unbounded), as the kernels see it.
     pub fn max_depth(&self) -> u32 {
         match self {
-            Integrator::Normals | Integrator::Ao { .. } | Integrator::Simple => 1,
+            Integrator::Normals
+            | Integrator::Ao { .. }
+            | Integrator::Simple
+            | Integrator::Depth => 1,
             Integrator::DirectEms { .. }
             | Integrator::DirectMats { .. }
             | Integrator::DirectMis { .. }
@@ -76,7 +83,8 @@ impl Integrator {
             Integrator::PathMats(p)
             | Integrator::PathMis(p)
             | Integrator::VolPathSimple(p)
-            | Integrator::VolPathMis(p) => p.max_depth.unwrap_or(u32::MAX),
+            | Integrator::VolPathMis(p)
+            | Integrator::Ptracer(p) => p.max_depth.unwrap_or(u32::MAX),
             Integrator::PhotonMapper(_) => u32::MAX,
             // pbrt's maxdepth d samples light at camera vertices 0 .. d-1: d + 1 segments.
             Integrator::Sppm(p) => p.max_depth.map_or(u32::MAX, |d| d + 1),
@@ -89,6 +97,7 @@ impl Integrator {
             Integrator::Normals
             | Integrator::Ao { .. }
             | Integrator::Simple
+            | Integrator::Depth
             | Integrator::DirectEms { .. } => 1,
             Integrator::DirectMats { .. }
             | Integrator::DirectMis { .. }
@@ -101,6 +110,10 @@ impl Integrator {
             Integrator::Sppm(p) => p
                 .max_depth
                 .map_or(MAX_BOUNCES, |d| (d + 1).min(MAX_BOUNCES)),
+            // A light path's surfaces: depths 1 .. max_depth - 1 are connected.
+            Integrator::Ptracer(p) => p
+                .max_depth
+                .map_or(MAX_BOUNCES, |d| (d - 1).min(MAX_BOUNCES)),
         }
     }
 
@@ -119,14 +132,19 @@ impl Integrator {
     pub fn shades_paths(&self) -> bool {
         let first_hit = matches!(
             self,
-            Integrator::Normals | Integrator::Ao { .. } | Integrator::Simple
+            Integrator::Normals | Integrator::Ao { .. } | Integrator::Simple | Integrator::Depth
         );
         !first_hit && !self.is_photon_mapper()
     }
 
-    /// Whether the integrator is a photon mapper (`render::photon` runs it).
+    /// Whether the integrator is a photon mapper (`render::photon` runs it), or the
+    /// particle tracer, which traces light paths with the photon mappers' kernels and
+    /// buffers.
     pub fn is_photon_mapper(&self) -> bool {
-        matches!(self, Integrator::PhotonMapper(_) | Integrator::Sppm(_))
+        matches!(
+            self,
+            Integrator::PhotonMapper(_) | Integrator::Sppm(_) | Integrator::Ptracer(_)
+        )
     }
 
     /// Russian roulette start depth (segments); never for non-path integrators.
@@ -135,7 +153,8 @@ impl Integrator {
             Integrator::PathMats(p)
             | Integrator::PathMis(p)
             | Integrator::VolPathSimple(p)
-            | Integrator::VolPathMis(p) => p.rr_depth,
+            | Integrator::VolPathMis(p)
+            | Integrator::Ptracer(p) => p.rr_depth,
             Integrator::PhotonMapper(_) | Integrator::Sppm(_) => PHOTON_CAMERA_RR_DEPTH,
             _ => u32::MAX,
         }
@@ -144,7 +163,10 @@ impl Integrator {
     /// Whether the image comes from emitters (everything but the `normals` and `ao`
     /// views): a scene without any renders black.
     pub fn needs_emitters(&self) -> bool {
-        !matches!(self, Integrator::Normals | Integrator::Ao { .. })
+        !matches!(
+            self,
+            Integrator::Normals | Integrator::Ao { .. } | Integrator::Depth
+        )
     }
 
     /// Whether MIS weighs by the power heuristic (else the balance heuristic).
@@ -182,7 +204,8 @@ impl Integrator {
             Integrator::PathMats(p)
             | Integrator::PathMis(p)
             | Integrator::VolPathSimple(p)
-            | Integrator::VolPathMis(p) => p.hide_emitters,
+            | Integrator::VolPathMis(p)
+            | Integrator::Ptracer(p) => p.hide_emitters,
             _ => false,
         }
     }

@@ -656,6 +656,9 @@ impl Renderer {
             Integrator::PhotonMapper(p) => {
                 return self.render_photonmapper(p, first, count, start, progress, boundary)
             }
+            Integrator::Ptracer(_) => {
+                return self.render_ptracer(first, count, start, progress, boundary)
+            }
             Integrator::Sppm(p) => {
                 if start.is_some() {
                     return Err(Error::Options(

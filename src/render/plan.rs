@@ -212,6 +212,11 @@ impl RenderPlan {
             emitters: constants.emitter_kinds,
             bsdfs: constants.bsdf_kinds,
             sampler: constants.sampler,
+            prim_kinds: constants.prim_kinds,
+            bvh_depth: constants.bvh_depth,
+            flat_count: constants.flat_count,
+            flat_kinds: constants.flat_kinds,
+            film_filter: film::filter_constants(&film_spec.filter).0,
         };
         Ok(RenderPlan {
             integrator,

@@ -12,7 +12,7 @@ use glam::Mat4;
 
 use super::error::{Error, Result};
 use super::film::FilmSums;
-use super::{RenderStats, Renderer};
+use super::{Integrator, RenderStats, Renderer};
 use crate::gpu::layout::Frame;
 use crate::gpu::{Buffer, CommandList};
 
@@ -50,9 +50,9 @@ impl Progressive {
 
 impl Renderer {
     /// Whether the integrator renders in steps ([`Renderer::start_progressive`]): all
-    /// but the photon mappers.
+    /// but the photon mappers (the particle tracer's samples are independent: it is).
     pub fn is_progressive(&self) -> bool {
-        !self.integrator.is_photon_mapper()
+        !self.integrator.is_photon_mapper() || matches!(self.integrator, Integrator::Ptracer(_))
     }
 
     /// Starts rendering samples `0..end` (`None`: without end) in steps: clears the
@@ -74,6 +74,9 @@ impl Renderer {
         let mut cmd = CommandList::new(&self.device)?;
         self.film.clear(&mut cmd);
         cmd.barrier();
+        if let Integrator::Ptracer(_) = self.integrator {
+            self.ptracer_clear(&mut cmd);
+        }
         cmd.submit_and_wait()?;
         Ok(Progressive {
             cmd,
@@ -92,8 +95,23 @@ impl Renderer {
         if p.finished() {
             return Ok(0);
         }
-        let pixels = self.film.geometry.region_pixels();
         let cap = self.wavefront.capacity.min(max_paths.max(1));
+        if let Integrator::Ptracer(_) = self.integrator {
+            // Light paths of the current sample index; its splats join the film
+            // after its last ones.
+            let paths = self.ptracer_paths();
+            let n = cap.min(paths - p.pixel_base);
+            self.ptracer_batch(&mut p.cmd, p.sample, p.pixel_base, n, &mut p.stats)?;
+            p.pixel_base += n;
+            if p.pixel_base == paths {
+                self.ptracer_fold(&mut p.cmd, &mut p.stats)?;
+                p.sample += 1;
+                p.pixel_base = 0;
+            }
+            p.stats.spp = p.sample;
+            return Ok(n as u64);
+        }
+        let pixels = self.film.geometry.region_pixels();
         let left = p.end.map_or(u32::MAX, |e| e - p.sample);
         let (base, n) = if p.pixel_base == 0 && pixels <= cap {
             // Whole samples of every pixel.

@@ -64,6 +64,8 @@ pub struct SceneRecords {
     pub majorants: Vec<f32>,
     /// Density grids packed one texel per voxel (`scene::medium::record::pack_density`).
     pub packed_density: Vec<[f32; 4]>,
+    /// Per mesh, the global number of its vertex 0 in `triangles` (mesh attributes).
+    mesh_vertex_base: Vec<u32>,
     /// The quadric kinds of the scene, as `SURFACE_FEATURE_*` bits.
     quadric_kinds: u32,
     /// `1 << EMITTER_KIND_BIT_SPHERE_AREA` and `1 << EMITTER_KIND_BIT_QUADRIC_AREA`
@@ -135,6 +137,12 @@ impl SceneRecords {
         let remap = r.push_emitters(scene);
         r.push_meshes(scene, &remap);
         r.push_quadrics(scene, bvh, &remap);
+        crate::scene::texture::mesh_attribute::records(
+            scene,
+            &r.mesh_vertex_base,
+            &mut r.textures,
+            &mut r.texels,
+        );
         for m in &scene.media {
             let rec = crate::scene::medium::record::record(
                 m,
@@ -183,9 +191,11 @@ impl SceneRecords {
         let with_vertices = scene
             .meshes
             .iter()
-            .any(|m| !m.normals.is_empty() || !m.uvs.is_empty());
+            .any(|m| !m.normals.is_empty() || !m.uvs.is_empty())
+            || crate::scene::texture::mesh_attribute::reads_vertices(scene);
         for (shape_index, mesh) in scene.meshes.iter().enumerate() {
             let base = self.vertices.len() as u32;
+            self.mesh_vertex_base.push(base);
             let has_n = !mesh.normals.is_empty();
             let has_uv = !mesh.uvs.is_empty();
             let mut flags = 0;

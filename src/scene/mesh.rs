@@ -259,6 +259,20 @@ pub fn drop_degenerate(mesh: &mut Mesh) -> usize {
         return 0;
     }
     let before = mesh.indices.len();
+    // Face attributes lose the same triangles.
+    if mesh.attributes.iter().any(|a| a.is_face()) {
+        let keep: Vec<bool> = mesh.indices.iter().map(|t| !degenerate(t)).collect();
+        for a in mesh.attributes.iter_mut().filter(|a| a.is_face()) {
+            let d = a.dim as usize;
+            a.values = a
+                .values
+                .chunks_exact(d)
+                .zip(&keep)
+                .filter(|(_, &k)| k)
+                .flat_map(|(c, _)| c.iter().copied())
+                .collect();
+        }
+    }
     mesh.indices.retain(|t| !degenerate(t));
     before - mesh.indices.len()
 }

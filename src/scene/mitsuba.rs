@@ -105,7 +105,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         name: "path".into(),
         ..Default::default()
     });
-    Ok(Scene {
+    let scene = Scene {
         path: root.file.as_ref().clone(),
         camera,
         film,
@@ -120,7 +120,9 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         media: l.b.media,
         camera_medium,
         textures: l.b.textures,
-    })
+    };
+    super::texture::mesh_attribute::check(&scene)?;
+    Ok(scene)
 }
 
 /// Every element with an `id`, anywhere in the tree; duplicates are an error.

@@ -480,7 +480,13 @@ mod tests {
         // Read only beside a parameter of another kind than this test gives: an area
         // emitter's scale multiplies a radiance texture; fov_axis says along which
         // axis fov is measured. Pairs (`Param::with`) are given together.
-        const ONLY_WITH_OTHERS: &[(&str, &str)] = &[("area", "scale"), ("perspective", "fov_axis")];
+        // A mesh_attribute names an attribute that the rectangle here does not have.
+        const ONLY_WITH_OTHERS: &[(&str, &str)] = &[
+            ("area", "scale"),
+            ("perspective", "fov_axis"),
+            ("mesh_attribute", "name"),
+            ("mesh_attribute", "scale"),
+        ];
         let mut checked = 0;
         let mut failed = Vec::new();
         for p in catalogue() {

@@ -100,7 +100,66 @@ pub fn load(path: &Path) -> Result<Mesh, Error> {
                 .push([idx[0] as u32, idx[k] as u32, idx[k + 1] as u32]);
         }
     }
+    read_attributes(path, &ply, &mut mesh)?;
     Ok(mesh)
+}
+
+/// The vertex and face attributes Mitsuba makes of the other scalar properties
+/// (`mesh_attribute::ply_attributes`); a face's values repeat for each triangle of
+/// its fan.
+fn read_attributes(
+    path: &Path,
+    ply: &ply_rs::ply::Ply<DefaultElement>,
+    mesh: &mut Mesh,
+) -> Result<(), Error> {
+    use super::texture::mesh_attribute::{ply_attributes, MeshAttribute};
+    for element in ["vertex", "face"] {
+        let (Some(def), Some(entries)) =
+            (ply.header.elements.get(element), ply.payload.get(element))
+        else {
+            continue;
+        };
+        let names: Vec<&str> = def
+            .properties
+            .values()
+            .filter(|p| matches!(p.data_type, ply_rs::ply::PropertyType::Scalar(_)))
+            .map(|p| p.name.as_str())
+            .collect();
+        for (name, fields) in ply_attributes(element, &names) {
+            let mut values = Vec::new();
+            for (i, entry) in entries.iter().enumerate() {
+                let repeat = if element == "face" {
+                    entry
+                        .get("vertex_indices")
+                        .or_else(|| entry.get("vertex_index"))
+                        .and_then(list_indices)
+                        .map_or(0, |l| l.len().saturating_sub(2))
+                } else {
+                    1
+                };
+                let mut v = Vec::with_capacity(fields.len());
+                for f in &fields {
+                    let x = entry.get(f).and_then(scalar).unwrap_or(f64::NAN) as f32;
+                    if !x.is_finite() {
+                        return Err(Error::file(
+                            path,
+                            format!("{element} {i}: '{f}' is not a finite number"),
+                        ));
+                    }
+                    v.push(x);
+                }
+                for _ in 0..repeat {
+                    values.extend_from_slice(&v);
+                }
+            }
+            mesh.attributes.push(MeshAttribute {
+                name,
+                dim: fields.len() as u32,
+                values,
+            });
+        }
+    }
+    Ok(())
 }
 
 fn scalar(p: &Property) -> Option<f64> {

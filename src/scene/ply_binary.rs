@@ -160,8 +160,16 @@ pub fn load(path: &Path, bytes: &[u8]) -> Result<Option<Mesh>, Error> {
     for e in &elements {
         let data = &bytes[at..];
         let used = match e.name.as_str() {
-            "vertex" => read_vertices(path, e, data, big, &mut mesh)?,
-            "face" => read_faces(path, e, data, big, vertex_count, &mut mesh.indices)?,
+            "vertex" => {
+                let used = read_vertices(path, e, data, big, &mut mesh)?;
+                read_vertex_attributes(path, e, &data[..used], big, &mut mesh)?;
+                used
+            }
+            "face" => {
+                let used = read_faces(path, e, data, big, vertex_count, &mut mesh.indices)?;
+                read_face_attributes(path, e, &data[..used], big, &mut mesh)?;
+                used
+            }
             _ => skip(path, e, data, big)?,
         };
         at += used;
@@ -447,6 +455,121 @@ fn read_vertices(
             .collect();
     }
     Ok(len)
+}
+
+/// The names of the scalar properties of `e`, in order.
+fn scalar_names(e: &Element) -> Vec<&str> {
+    e.properties
+        .iter()
+        .filter(|p| matches!(p.kind, Kind::Scalar(_)))
+        .map(|p| p.name.as_str())
+        .collect()
+}
+
+/// The vertex attributes Mitsuba makes of the vertex element's other properties
+/// (`mesh_attribute::ply_attributes`); `data` is the element's bytes.
+fn read_vertex_attributes(
+    path: &Path,
+    e: &Element,
+    data: &[u8],
+    big: bool,
+    mesh: &mut Mesh,
+) -> Result<(), Error> {
+    use super::texture::mesh_attribute::{ply_attributes, MeshAttribute};
+    let Some(size) = e.fixed_size() else {
+        return Ok(());
+    };
+    for (name, fields) in ply_attributes("vertex", &scalar_names(e)) {
+        let props: Vec<(usize, Scalar)> = fields.iter().filter_map(|f| e.scalar(f)).collect();
+        let mut values = Vec::with_capacity(props.len() * e.count);
+        for (i, r) in data.chunks_exact(size.max(1)).enumerate() {
+            for (k, &(o, s)) in props.iter().enumerate() {
+                let v = s.read(&r[o..], big) as f32;
+                if !v.is_finite() {
+                    return Err(Error::file(
+                        path,
+                        format!("vertex {i}: '{}' is not finite", fields[k]),
+                    ));
+                }
+                values.push(v);
+            }
+        }
+        mesh.attributes.push(MeshAttribute {
+            name,
+            dim: props.len() as u32,
+            values,
+        });
+    }
+    Ok(())
+}
+
+/// The face attributes Mitsuba makes of the face element's scalar properties, one
+/// value per triangle of each face's fan; `data` is the element's bytes.
+fn read_face_attributes(
+    path: &Path,
+    e: &Element,
+    data: &[u8],
+    big: bool,
+    mesh: &mut Mesh,
+) -> Result<(), Error> {
+    use super::texture::mesh_attribute::{ply_attributes, MeshAttribute};
+    let specs = ply_attributes("face", &scalar_names(e));
+    if specs.is_empty() {
+        return Ok(());
+    }
+    let index_of = |f: &str| e.properties.iter().position(|p| p.name == f);
+    let fields: Vec<Vec<usize>> = specs
+        .iter()
+        .map(|(_, fs)| fs.iter().filter_map(|f| index_of(f)).collect())
+        .collect();
+    let mut out: Vec<MeshAttribute> = specs
+        .iter()
+        .zip(&fields)
+        .map(|((name, _), f)| MeshAttribute {
+            name: name.clone(),
+            dim: f.len() as u32,
+            values: Vec::new(),
+        })
+        .collect();
+    let mut values = vec![0.0f32; e.properties.len()];
+    let mut at = 0;
+    for entry in 0..e.count {
+        let mut triangles = 0;
+        for (k, p) in e.properties.iter().enumerate() {
+            match p.kind {
+                Kind::Scalar(s) => {
+                    let b = data
+                        .get(at..at + s.size())
+                        .ok_or_else(|| truncated(path, e, entry))?;
+                    values[k] = s.read(b, big) as f32;
+                    at += s.size();
+                }
+                Kind::List { count, item } => {
+                    let c = data
+                        .get(at..at + count.size())
+                        .ok_or_else(|| truncated(path, e, entry))?;
+                    let n = count.read_int(c, big).max(0) as usize;
+                    if p.name == "vertex_indices" || p.name == "vertex_index" {
+                        triangles = n.saturating_sub(2);
+                    }
+                    at += count.size() + n * item.size();
+                }
+            }
+        }
+        for (a, f) in out.iter_mut().zip(&fields) {
+            if let Some(&bad) = f.iter().find(|&&k| !values[k].is_finite()) {
+                return Err(Error::file(
+                    path,
+                    format!("face {entry}: '{}' is not finite", e.properties[bad].name),
+                ));
+            }
+            for _ in 0..triangles {
+                a.values.extend(f.iter().map(|&k| values[k]));
+            }
+        }
+    }
+    mesh.attributes.extend(out);
+    Ok(())
 }
 
 /// Entries decoded per parallel task.

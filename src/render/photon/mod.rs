@@ -22,6 +22,7 @@
 
 pub mod grid;
 mod photonmapper;
+mod ptracer;
 mod sppm;
 
 use std::mem::size_of;
@@ -46,11 +47,12 @@ use super::{groups_for, Integrator, Over, RenderStats, Renderer, SHORT_BOUNCE_CH
 pub use grid::{GridKernels, GridShape};
 
 /// Bindings of set 2, in order (`shaders/photon/bindings.glsl`).
-pub const PHOTON_BINDINGS: u32 = 12;
+pub const PHOTON_BINDINGS: u32 = 13;
 
 /// The kind of each binding of set 2: parameters (uniform), counters, photons and
 /// their texel view, grid photons and their texel view, buckets and their word view,
-/// visible points and their texel view, SPPM pixels, scan block sums.
+/// visible points and their texel view, SPPM pixels, scan block sums, the particle
+/// tracer's splats.
 pub fn photon_binding_kinds() -> Vec<BindingKind> {
     (0..PHOTON_BINDINGS)
         .map(|b| match b {
@@ -157,6 +159,8 @@ pub struct PhotonMap {
     pub counters: Buffer,
     pub visible_points: Buffer,
     pub sppm_pixels: Buffer,
+    /// The particle tracer's splats of one sample index (`shaders/integrator/ptracer.glsl`).
+    pub splats: Buffer,
     pub store: PhotonStore,
     pub set: DescriptorSet,
     /// Visible-point slots.
@@ -166,14 +170,16 @@ pub struct PhotonMap {
 }
 
 impl PhotonMap {
-    /// Buffers for `capacity` photons per pass, `vp_slots` visible points and
-    /// `sppm_pixels` SPPM pixels, as set `2` of `layout`.
+    /// Buffers for `capacity` photons per pass, `vp_slots` visible points,
+    /// `sppm_pixels` SPPM pixels and the splats of `splat_pixels` pixels, as set `2`
+    /// of `layout`.
     pub fn new(
         device: &Device,
         layout: &BindingLayout,
         capacity: u32,
         vp_slots: u32,
         sppm_pixels: u32,
+        splat_pixels: u32,
     ) -> Result<PhotonMap> {
         let gpu = |label: &str, bytes: u64| Buffer::new(device, label, bytes, Location::Gpu);
         let params = Buffer::from_slice(device, "photon parameters", &[PhotonParams::default()])?;
@@ -186,13 +192,26 @@ impl PhotonMap {
             "sppm pixels",
             sppm_pixels.max(1) as u64 * size_of::<SppmPixel>() as u64,
         )?;
+        let splats = gpu(
+            "splats",
+            splat_pixels.max(1) as u64 * ptracer::BYTES_PER_SPLAT_PIXEL,
+        )?;
         let store = PhotonStore::new(device, capacity)?;
-        let set = Self::bind(layout, &params, &counters, &visible_points, &sppm, &store)?;
+        let set = Self::bind(
+            layout,
+            &params,
+            &counters,
+            &visible_points,
+            &sppm,
+            &splats,
+            &store,
+        )?;
         Ok(PhotonMap {
             params,
             counters,
             visible_points,
             sppm_pixels: sppm,
+            splats,
             store,
             set,
             vp_slots,
@@ -206,6 +225,7 @@ impl PhotonMap {
         counters: &Buffer,
         visible_points: &Buffer,
         sppm: &Buffer,
+        splats: &Buffer,
         store: &PhotonStore,
     ) -> Result<DescriptorSet> {
         Ok(DescriptorSet::new(
@@ -224,6 +244,7 @@ impl PhotonMap {
                 visible_points,
                 sppm,
                 &store.scan_sums,
+                splats,
             ],
         )?)
     }
@@ -239,6 +260,7 @@ impl PhotonMap {
             &self.counters,
             &self.visible_points,
             &self.sppm_pixels,
+            &self.splats,
             &store,
         )?;
         self.store = store;
@@ -260,6 +282,14 @@ pub struct SceneFeatures {
     pub bsdfs: u32,
     /// The sampler's `SAMPLER_*` kind (camera paths draw from it).
     pub sampler: u32,
+    /// The traversal's: quadric kinds, stack depth, a small scene's primitives and
+    /// their kinds (the particle tracer's shadow rays to the camera).
+    pub prim_kinds: u32,
+    pub bvh_depth: u32,
+    pub flat_count: u32,
+    pub flat_kinds: u32,
+    /// The film's filter (`FILTER_*`), through which the particle tracer splats.
+    pub film_filter: u32,
 }
 
 /// The kernels only one of the photon mappers runs.
@@ -273,6 +303,9 @@ pub enum IntegratorKernels {
         record: Kernel,
         gather: Kernel,
         update: Kernel,
+    },
+    Ptracer {
+        fold: Kernel,
     },
 }
 
@@ -319,24 +352,30 @@ impl Photons {
         let (emitters, bsdfs) = ((Spec::EmitterKinds, f.emitters), (Spec::BsdfKinds, f.bsdfs));
         // Every kernel of the photon mapper, created in parallel (Kernel::new_all) and
         // taken back below in this order.
-        let mut specs = vec![
-            named(
-                "photon_emit",
-                shaders::PHOTON_EMIT,
-                &[
-                    surface,
-                    textures,
-                    emitters,
-                    (Spec::UniformEmitterChoice, uniform_choice),
-                ],
-            ),
-            named(
-                "photon_bounce",
-                shaders::PHOTON_BOUNCE,
-                &[surface, textures, bsdfs],
-            ),
-        ];
+        // The particle tracer's light paths start and bounce with kernels of their own.
+        let mut specs = if let Integrator::Ptracer(_) = integrator {
+            ptracer::kernel_specs(&f)
+        } else {
+            vec![
+                named(
+                    "photon_emit",
+                    shaders::PHOTON_EMIT,
+                    &[
+                        surface,
+                        textures,
+                        emitters,
+                        (Spec::UniformEmitterChoice, uniform_choice),
+                    ],
+                ),
+                named(
+                    "photon_bounce",
+                    shaders::PHOTON_BOUNCE,
+                    &[surface, textures, bsdfs],
+                ),
+            ]
+        };
         match integrator {
+            Integrator::Ptracer(_) => {}
             Integrator::Sppm(p) => specs.extend([
                 named(
                     "sppm_shade",
@@ -414,12 +453,25 @@ impl Photons {
                 1,
                 stored_budget(p.photon_count),
             ),
+            // No photons, no visible points: the splats (below).
+            Integrator::Ptracer(_) => (IntegratorKernels::Ptracer { fold: next() }, 1, 1, 1),
             _ => unreachable!("not a photon mapper: returned above"),
         };
         let grid = GridKernels::take(&mut next);
         let max_capacity = photon_capacity(device, max_photons);
         let capacity = expected.min(max_capacity as u64) as u32;
-        let map = PhotonMap::new(device, layout, capacity, vp_slots, sppm_pixels)?;
+        let splat_pixels = match integrator {
+            Integrator::Ptracer(_) => pixels,
+            _ => 1,
+        };
+        let map = PhotonMap::new(
+            device,
+            layout,
+            capacity,
+            vp_slots,
+            sppm_pixels,
+            splat_pixels,
+        )?;
         Ok(Photons {
             map,
             emit,
@@ -444,6 +496,7 @@ impl Photons {
                 gather,
                 update,
             } => v.extend([shade, record, gather, update]),
+            IntegratorKernels::Ptracer { fold } => v.push(fold),
         }
         v
     }
@@ -656,7 +709,13 @@ impl Renderer {
         let ph = self.photons();
         wf.reset_queues(cmd, 0, count);
         cmd.barrier();
-        let sets = [&self.scene_buffers.set, &wf.set, &ph.map.set];
+        // The film's set for the particle tracer's splats.
+        let sets = [
+            &self.scene_buffers.set,
+            &wf.set,
+            &ph.map.set,
+            &self.film.set,
+        ];
         let mut push = Push {
             path_count: count,
             pixel_base: first,

@@ -447,12 +447,12 @@ fn warptest_thin(p: &TestParams) -> Bsdf {
 
 /// Writes entry `i` of the record's table.
 pub fn set_table(r: &mut BsdfRecord, i: usize, v: f32) {
-    r.table[i / 4][i % 4] = v;
+    r.table[i / 4][i % 4] = v.to_bits();
 }
 
 /// Entry `i` of the record's table.
 pub fn table(r: &BsdfRecord, i: usize) -> f32 {
-    r.table[i / 4][i % 4]
+    f32::from_bits(r.table[i / 4][i % 4])
 }
 
 /// Makes table entry `entry` of `r` (a principled record) read texture `index`.

@@ -1,4 +1,4 @@
-//! The first-hit integrators: `normals`, `ao` and `simple` (Nori's).
+//! The first-hit integrators: `normals`, `ao` and `simple` (Nori's), `depth` (Mitsuba's).
 
 use super::{Integrator, Param, Params};
 use crate::scene::plugin::{Family, Param as Doc, PluginDoc};
@@ -41,11 +41,20 @@ pub const SIMPLE: PluginDoc = PluginDoc::new(
     &[],
 );
 
-/// `normals`, `ao` or `simple`.
+pub const DEPTH: PluginDoc = PluginDoc::new(
+    Family::Integrator,
+    Dialect::Mitsuba,
+    "depth",
+    "The distance along the camera ray to the first surface, 0 where it meets nothing (Mitsuba's).",
+    &[],
+);
+
+/// `normals`, `ao`, `simple` or `depth`.
 pub fn read(name: &str, params: &mut Params) -> Result<Integrator, String> {
     Ok(match name {
         "normals" => Integrator::Normals,
         "simple" => Integrator::Simple,
+        "depth" => Integrator::Depth,
         _ => ao(params)?,
     })
 }

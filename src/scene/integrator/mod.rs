@@ -12,6 +12,7 @@ mod first_hit;
 mod moment;
 mod path;
 mod photonmapper;
+mod ptracer;
 mod single_scatter;
 mod sppm;
 
@@ -55,6 +56,14 @@ pub type Params = BTreeMap<String, Param>;
 pub enum Integrator {
     /// Debug view of the shading normal, |n| per component (Nori's `normals`).
     Normals,
+    /// Mitsuba's `depth`: the distance along the camera ray to the first surface
+    /// (from the ray's origin on the near plane, Mitsuba's `si.t`), 0 where the ray
+    /// meets nothing.
+    ///
+    /// ```xml
+    /// <integrator type="depth"/>
+    /// ```
+    Depth,
     /// Ambient occlusion (1/π)∫V(x,ω)cosθ dω over the hemisphere of the shading
     /// normal (Nori's `ao`). Camera rays that hit nothing are black, as in Nori.
     ///
@@ -166,6 +175,25 @@ pub enum Integrator {
     /// <integrator type="sppm"><integer name="maxdepth" value="8"/><float name="radius" value="0.05"/></integrator>
     /// ```
     Sppm(SppmParams),
+    /// Mitsuba 3's particle tracer (`ptracer`): light paths leave the emitters (one
+    /// chosen uniformly, as Mitsuba's `Scene::sample_emitter_ray`) and travel by BSDF
+    /// sampling; every surface they meet is connected to the pinhole camera and its
+    /// light splatted into the pixel it lands in (the adjoint BSDF towards the camera,
+    /// the camera's importance, a shadow ray), with Mitsuba's shading-normal
+    /// correction (Veach 1997, p. 155) and Russian roulette (from `rr_depth` on,
+    /// survival min(max throughput × η², 0.95)). Points on area emitters chosen apart
+    /// are connected directly: the emitters the camera sees (unless `hide_emitters`).
+    /// A sample per pixel is width × height light paths, as in Mitsuba. Deterministic:
+    /// splats are summed as fixed-point integers (`render::photon::ptracer`).
+    ///
+    /// Parameters as `path` (`max_depth`: 1 shows the emitters only, 2 direct light),
+    /// without `mis_heuristic`. Splats go through the film's filter, each over the sum
+    /// of its weights (Mitsuba's `ImageBlock::put`). A perspective camera; no media.
+    ///
+    /// ```xml
+    /// <integrator type="ptracer"><integer name="max_depth" value="8"/></integrator>
+    /// ```
+    Ptracer(PathParams),
 }
 
 /// Parameters of the photon mapper.
@@ -228,6 +256,7 @@ pub const REGISTRY: &[PluginDoc] = &[
     first_hit::NORMALS,
     first_hit::AO,
     first_hit::SIMPLE,
+    first_hit::DEPTH,
     direct::DIRECT_EMS,
     direct::DIRECT_MATS,
     direct::DIRECT_MIS,
@@ -243,9 +272,8 @@ pub const REGISTRY: &[PluginDoc] = &[
     photonmapper::PHOTONMAPPER,
     sppm::SPPM,
     moment::MOMENT,
+    ptracer::PTRACER,
     not_yet("aov"),
-    not_yet("depth"),
-    not_yet("ptracer"),
     not_yet("stokes"),
     not_yet("prb"),
     not_yet("prb_basic"),
@@ -323,13 +351,14 @@ pub fn read(spec: &IntegratorSpec, override_name: Option<&str>) -> Result<Integr
     };
     let err = |message: String| ReadError { line, message };
     let integrator = match name {
-        "normals" | "simple" | "ao" => first_hit::read(name, &mut params),
+        "normals" | "simple" | "ao" | "depth" => first_hit::read(name, &mut params),
         "direct_ems" | "direct_mats" | "direct_mis" | "direct" => direct::read(name, &mut params),
         "path_mats" | "path_mis" | "path" | "vol_path_simple" | "vol_path_mis" | "volpath"
         | "volpathmis" => path::read(name, &mut params),
         "single_scatter" => single_scatter::read(&mut params),
         "photonmapper" => photonmapper::read(&mut params),
         "sppm" => sppm::read(&mut params),
+        "ptracer" => ptracer::read(&mut params),
         "" => Err(format!(
             "the scene names no integrator; choose one with --integrator ({})",
             names().join(", ")
@@ -392,6 +421,7 @@ mod tests {
                 "normals",
                 "ao",
                 "simple",
+                "depth",
                 "direct_ems",
                 "direct_mats",
                 "direct_mis",
@@ -406,6 +436,7 @@ mod tests {
                 "single_scatter",
                 "photonmapper",
                 "sppm",
+                "ptracer",
             ]
         );
         assert_eq!(

@@ -147,6 +147,9 @@ pub struct Mesh {
     pub exterior: Option<u32>,
     /// A `null` BSDF: the surface only bounds media; rays pass straight through.
     pub null_bsdf: bool,
+    /// Named per-vertex and per-triangle values (PLY properties) that
+    /// `mesh_attribute` textures read.
+    pub attributes: Vec<crate::scene::texture::mesh_attribute::MeshAttribute>,
 }
 
 /// Which unit shape a [`Quadric`] maps to world space.

@@ -20,16 +20,18 @@ use glam::{Mat4, Vec2, Vec3};
 pub mod bitmap;
 pub mod checkerboard;
 pub mod marble;
+pub mod mesh_attribute;
 pub mod noise;
+pub mod rawconstant;
 
 use super::plugin::{Family, Param, PluginDoc};
 use super::properties::Properties;
 use super::xml::{Dialect, Element};
 use super::Error;
 use crate::gpu::layout::{
-    TextureRecord, TEXTURE_BITMAP, TEXTURE_CHECKERBOARD, TEXTURE_MARBLE, TEXTURE_NEAREST,
-    TEXTURE_NOISE, TEXTURE_WRAP_CLAMP, TEXTURE_WRAP_MIRROR, TEXTURE_WRAP_REPEAT,
-    TEXTURE_WRAP_SHIFT,
+    TextureRecord, TEXTURE_BITMAP, TEXTURE_CHECKERBOARD, TEXTURE_CONSTANT, TEXTURE_MARBLE,
+    TEXTURE_MESH_ATTRIBUTE, TEXTURE_NEAREST, TEXTURE_NOISE, TEXTURE_WRAP_CLAMP,
+    TEXTURE_WRAP_MIRROR, TEXTURE_WRAP_REPEAT, TEXTURE_WRAP_SHIFT,
 };
 
 /// How texel indices outside the image are brought back (Mitsuba `wrap_mode`).
@@ -58,8 +60,17 @@ pub enum Wrap {
 ///   t = ½ − ½ cos(2π (`frequency` u + `variation` n)); `frequency` (4) stripes per
 ///   unit u, `variation` (1) the bend in stripe widths, `octaves` (4), `seed` (0),
 ///   `color0` (0), `color1` (1). (Perlin 1985, "An Image Synthesizer", marble.)
+/// - `rawconstant`: `value` (a float or a 3D vector) everywhere, with no color
+///   conversion ([`rawconstant`]).
+/// - `mesh_attribute`: `name` (`vertex_...` or `face_...`), `scale` (1): the hit
+///   mesh's attribute, interpolated over a triangle or constant per face
+///   ([`mesh_attribute`]).
 #[derive(Debug, Clone, PartialEq)]
 pub enum Texture {
+    /// Mitsuba `rawconstant`: the value as written, in every channel.
+    Constant { value: Vec3 },
+    /// Mitsuba `mesh_attribute`: attribute `name` of the mesh hit, times `scale`.
+    MeshAttribute { name: String, scale: f32 },
     Bitmap {
         width: u32,
         height: u32,
@@ -106,8 +117,9 @@ pub const REGISTRY: &[PluginDoc] = &[
     checkerboard::MITSUBA,
     noise::MITSUBA,
     marble::MITSUBA,
+    rawconstant::MITSUBA,
+    mesh_attribute::MITSUBA,
     not_yet("volume"),
-    not_yet("mesh_attribute"),
     not_yet("constvolume"),
     not_yet("gridvolume"),
 ];
@@ -133,51 +145,88 @@ pub fn srgb_to_linear(c: f32) -> f32 {
     }
 }
 
-/// Reads an image as linear RGB, row 0 = the top of the file. EXR and Radiance HDR
-/// are linear already; 8/16-bit formats (PNG, JPEG) are sRGB-decoded unless `raw`.
+/// How an image file stores its samples (Mitsuba's component format), which decides
+/// the storage of a `bitmap` with `format="auto"`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Depth {
+    /// 8 bits per channel (PNG, JPEG, BMP, TGA, PPM).
+    U8,
+    /// 16 bits per channel (PNG, PPM).
+    U16,
+    /// Floats (OpenEXR, RGBE, PFM).
+    F32,
+}
+
+/// An image file's samples before any conversion: integers normalized to [0, 1],
+/// RGB (grey channels repeated, alpha dropped), row 0 = the top of the file.
+#[derive(Debug, Clone)]
+pub struct SourceImage {
+    pub width: u32,
+    pub height: u32,
+    pub texels: Vec<[f32; 3]>,
+    pub depth: Depth,
+    /// sRGB-encoded (Mitsuba: every integer format), else linear (float formats).
+    pub srgb: bool,
+}
+
+impl SourceImage {
+    /// The texels as linear values: sRGB-decoded unless linear already or `raw`.
+    pub fn linear(mut self, raw: bool) -> Vec<[f32; 3]> {
+        if self.srgb && !raw {
+            for t in &mut self.texels {
+                for c in t.iter_mut() {
+                    *c = srgb_to_linear(*c);
+                }
+            }
+        }
+        self.texels
+    }
+}
+
+/// Reads an image as linear RGB, row 0 = the top of the file (see [`read_image`]):
+/// float formats are linear, integer ones sRGB-decoded unless `raw`.
 pub fn load_image(path: &Path, raw: bool) -> Result<(u32, u32, Vec<[f32; 3]>), String> {
-    let ext = path
-        .extension()
-        .map(|e| e.to_string_lossy().to_ascii_lowercase())
-        .unwrap_or_default();
+    let img = read_image(path)?;
+    Ok((img.width, img.height, img.linear(raw)))
+}
+
+/// Reads every image format Mitsuba 3 reads (`Bitmap::read`): PNG, JPEG, BMP, TGA and
+/// PPM/PNM through the `image` crate, OpenEXR through [`crate::image::exr`], RGBE
+/// (`.hdr`) through `image` and PFM through [`crate::image::pfm`]. As Mitsuba, the
+/// format comes from the file's first bytes (TGA, which has no signature, and
+/// anything unrecognized from the extension), and the integer formats are taken as
+/// sRGB-encoded, the float ones as linear. Every message names the file.
+pub fn read_image(path: &Path) -> Result<SourceImage, String> {
     if !path.exists() {
         return Err(format!("image file '{}' not found", path.display()));
     }
-    let (w, h, texels, linear) = if ext == "exr" {
+    let cannot = |e: &dyn std::fmt::Display| format!("cannot read image '{}': {e}", path.display());
+    let bytes = std::fs::read(path).map_err(|e| cannot(&e))?;
+    let (w, h, texels, depth) = if bytes.starts_with(&[0x76, 0x2f, 0x31, 0x01]) {
         let img =
             crate::image::Image::read_exr(path).map_err(|e| format!("cannot read EXR {e}"))?; // e names the file
         let texels = img.rgb.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
-        (img.width, img.height, texels, true)
+        (img.width, img.height, texels, Depth::F32)
+    } else if bytes.starts_with(b"PF") || bytes.starts_with(b"Pf") {
+        let (w, h, channels, data) =
+            crate::image::pfm::read(path).map_err(|e| format!("cannot read PFM {e}"))?; // e names the file
+        let texels = data
+            .chunks(channels)
+            .map(|c| {
+                if channels == 1 {
+                    [c[0]; 3]
+                } else {
+                    [c[0], c[1], c[2]]
+                }
+            })
+            .collect();
+        (w, h, texels, Depth::F32)
     } else {
-        let cannot =
-            |e: &dyn std::fmt::Display| format!("cannot read image '{}': {e}", path.display());
-        let format = image::ImageFormat::from_path(path).map_err(|e| cannot(&e))?;
-        let bytes = std::fs::read(path).map_err(|e| cannot(&e))?;
-        let bytes = if format == image::ImageFormat::Hdr {
-            radiance_signature(bytes)
-        } else {
-            bytes
-        };
-        let reader = || image::ImageReader::with_format(std::io::Cursor::new(&bytes[..]), format);
-        // The header first: the decoders allocate from its size, and the float RGB
-        // texels below take up to 12 bytes per 1-byte pixel of the file's format.
-        let (w, h) = reader().into_dimensions().map_err(|e| cannot(&e))?;
-        crate::image::check_texels(w.into(), h.into())
-            .map_err(|e| format!("image '{}': {e}", path.display()))?;
-        let img = reader().decode().map_err(|e| cannot(&e))?;
-        let linear = matches!(
-            img,
-            image::DynamicImage::ImageRgb32F(_) | image::DynamicImage::ImageRgba32F(_)
-        );
-        let rgb = img.to_rgb32f();
-        let (w, h) = rgb.dimensions();
-        let texels = rgb.pixels().map(|p| p.0).collect();
-        (w, h, texels, linear)
+        decode_with_image_crate(path, bytes).map_err(|e| cannot(&e))?
     };
     if w == 0 || h == 0 {
         return Err(format!("image '{}' is empty", path.display()));
     }
-    let mut texels: Vec<[f32; 3]> = texels;
     if let Some(bad) = texels.iter().position(|t| t.iter().any(|c| !c.is_finite())) {
         return Err(format!(
             "image '{}' has a NaN or infinite value at pixel ({}, {})",
@@ -186,14 +235,48 @@ pub fn load_image(path: &Path, raw: bool) -> Result<(u32, u32, Vec<[f32; 3]>), S
             bad as u32 / w
         ));
     }
-    if !linear && !raw {
-        for t in &mut texels {
-            for c in t.iter_mut() {
-                *c = srgb_to_linear(*c);
-            }
-        }
+    Ok(SourceImage {
+        width: w,
+        height: h,
+        texels,
+        depth,
+        srgb: depth != Depth::F32,
+    })
+}
+
+/// The `image` crate's decoders: the format from the signature, else the extension.
+#[allow(clippy::type_complexity)]
+fn decode_with_image_crate(
+    path: &Path,
+    bytes: Vec<u8>,
+) -> Result<(u32, u32, Vec<[f32; 3]>, Depth), String> {
+    // Mitsuba writes RGBE files as `#?RGBE`, whose signature the crate does not know.
+    let format = if bytes.starts_with(b"#?") {
+        Ok(image::ImageFormat::Hdr)
+    } else {
+        image::guess_format(&bytes).or_else(|_| image::ImageFormat::from_path(path))
     }
-    Ok((w, h, texels))
+    .map_err(|e| e.to_string())?;
+    let bytes = if format == image::ImageFormat::Hdr {
+        radiance_signature(bytes)
+    } else {
+        bytes
+    };
+    let reader = || image::ImageReader::with_format(std::io::Cursor::new(&bytes[..]), format);
+    // The header first: the decoders allocate from its size, and the float RGB
+    // texels below take up to 12 bytes per 1-byte pixel of the file's format.
+    let (w, h) = reader().into_dimensions().map_err(|e| e.to_string())?;
+    crate::image::check_texels(w.into(), h.into())?;
+    let img = reader().decode().map_err(|e| e.to_string())?;
+    use image::DynamicImage as D;
+    let depth = match img {
+        D::ImageRgb32F(_) | D::ImageRgba32F(_) => Depth::F32,
+        D::ImageLuma16(_) | D::ImageLumaA16(_) | D::ImageRgb16(_) | D::ImageRgba16(_) => Depth::U16,
+        _ => Depth::U8,
+    };
+    let rgb = img.to_rgb32f();
+    let (w, h) = rgb.dimensions();
+    Ok((w, h, rgb.pixels().map(|p| p.0).collect(), depth))
 }
 
 /// A Radiance HDR file starts with `#?` and the name of the program that wrote it:
@@ -350,6 +433,9 @@ impl Texture {
     /// The texture at surface uv (the CPU reference of `texture_eval`).
     pub fn eval(&self, uv: Vec2) -> Vec3 {
         match self {
+            Texture::Constant { value } => *value,
+            // Known at a hit only (mesh_attribute::eval): a neutral value here.
+            Texture::MeshAttribute { scale, .. } => Vec3::splat(0.5 * scale),
             Texture::Bitmap {
                 width,
                 height,
@@ -432,15 +518,21 @@ impl Texture {
     /// Reads a Mitsuba `<texture type=t>` (element `el`, whose folder relative file
     /// names resolve against): the registry's dispatch.
     pub fn from_mitsuba(t: &str, props: &Properties, el: &Element) -> Result<Texture, Error> {
-        let to_uv = to_uv_from(props.transform("to_uv")?);
-        if to_uv.iter().flatten().any(|v| !v.is_finite()) {
-            return Err(props.error("to_uv", "to_uv is not finite"));
-        }
+        // Every texture but rawconstant maps the surface uv first.
+        let to_uv = || {
+            let to_uv = to_uv_from(props.transform("to_uv")?);
+            if to_uv.iter().flatten().any(|v| !v.is_finite()) {
+                return Err(props.error("to_uv", "to_uv is not finite"));
+            }
+            Ok(to_uv)
+        };
         let tex = match t {
-            "bitmap" => bitmap::mitsuba(props, el, to_uv)?,
-            "checkerboard" => checkerboard::mitsuba(props, to_uv)?,
-            "noise" => noise::mitsuba(props, to_uv)?,
-            "marble" => marble::mitsuba(props, to_uv)?,
+            "bitmap" => bitmap::mitsuba(props, el, to_uv()?)?,
+            "checkerboard" => checkerboard::mitsuba(props, to_uv()?)?,
+            "noise" => noise::mitsuba(props, to_uv()?)?,
+            "marble" => marble::mitsuba(props, to_uv()?)?,
+            "rawconstant" => rawconstant::mitsuba(props)?,
+            "mesh_attribute" => mesh_attribute::mitsuba(props)?,
             _ if REGISTRY.iter().any(|p| p.name == t) => {
                 return Err(props.object_error(format!("texture type '{t}' is not supported")))
             }
@@ -459,6 +551,16 @@ impl Texture {
             )
         };
         match self {
+            Texture::Constant { value } => TextureRecord {
+                kind: TEXTURE_CONSTANT,
+                color0: (*value).into(),
+                ..Default::default()
+            },
+            // Its table of shapes is written with the meshes (mesh_attribute::records).
+            Texture::MeshAttribute { .. } => TextureRecord {
+                kind: TEXTURE_MESH_ATTRIBUTE,
+                ..Default::default()
+            },
             Texture::Bitmap {
                 width,
                 height,
@@ -591,6 +693,105 @@ mod tests {
                     (got[c] - want[c]).abs() <= max / 100.0,
                     "{got:?} vs {want:?}"
                 );
+            }
+        }
+    }
+
+    /// A 3 x 2 image in every format Mitsuba reads reads back as the same texels: the
+    /// integer ones as 8 or 16-bit values marked sRGB, the float ones as written and
+    /// linear (RGBE within its 8-bit mantissa), JPEG (lossy) within a few levels.
+    #[test]
+    fn every_format_reads_the_same_texels() {
+        let dir = crate::scene::testutil::temp_dir("formats");
+        let bytes: [[u8; 3]; 6] = [
+            [0, 64, 255],
+            [12, 200, 99],
+            [255, 255, 255],
+            [1, 2, 3],
+            [128, 127, 129],
+            [77, 0, 180],
+        ];
+        let img8 = image::RgbImage::from_fn(3, 2, |x, y| image::Rgb(bytes[(y * 3 + x) as usize]));
+        let want8: Vec<[f32; 3]> = bytes.iter().map(|b| b.map(|v| v as f32 / 255.0)).collect();
+        for (name, format) in [
+            ("t.png", image::ImageFormat::Png),
+            ("t.bmp", image::ImageFormat::Bmp),
+            ("t.tga", image::ImageFormat::Tga),
+            ("t.ppm", image::ImageFormat::Pnm),
+        ] {
+            let path = dir.join(name);
+            img8.save_with_format(&path, format).unwrap();
+            let got = read_image(&path).unwrap();
+            assert_eq!((got.width, got.height), (3, 2), "{name}");
+            assert_eq!((got.depth, got.srgb), (Depth::U8, true), "{name}");
+            assert_eq!(got.texels, want8, "{name}");
+            // Decoded to linear unless raw.
+            let (_, _, lin) = load_image(&path, false).unwrap();
+            assert_eq!(lin[1][1], srgb_to_linear(200.0 / 255.0), "{name}");
+            assert_eq!(load_image(&path, true).unwrap().2, want8, "{name}");
+        }
+        // A flat JPEG at top quality: lossy, within 2 levels.
+        let flat = image::RgbImage::from_pixel(8, 8, image::Rgb([40, 120, 220]));
+        flat.save_with_format(dir.join("t.jpg"), image::ImageFormat::Jpeg)
+            .unwrap();
+        let got = read_image(&dir.join("t.jpg")).unwrap();
+        assert_eq!((got.depth, got.srgb), (Depth::U8, true));
+        for t in &got.texels {
+            for (c, w) in t.iter().zip([40.0, 120.0, 220.0]) {
+                assert!((c * 255.0 - w).abs() <= 2.0, "jpeg {t:?}");
+            }
+        }
+        // 16 bits: PNG and PPM.
+        let img16 = image::ImageBuffer::<image::Rgb<u16>, _>::from_fn(3, 2, |x, y| {
+            image::Rgb(bytes[(y * 3 + x) as usize].map(|v| v as u16 * 256 + 7))
+        });
+        let want16: Vec<[f32; 3]> = bytes
+            .iter()
+            .map(|b| b.map(|v| (v as u16 * 256 + 7) as f32 / 65535.0))
+            .collect();
+        for name in ["t16.png", "t16.ppm"] {
+            let path = dir.join(name);
+            img16.save(&path).unwrap();
+            let got = read_image(&path).unwrap();
+            assert_eq!((got.depth, got.srgb), (Depth::U16, true), "{name}");
+            close_texels(&got.texels, &want16, 1e-7, name);
+        }
+        // Floats: EXR, PFM, RGBE (exact in RGBE: 8-bit mantissas).
+        let floats: Vec<f32> = (0..18).map(|i| (i as f32 - 4.0) * 0.125).collect();
+        let positive: Vec<f32> = floats.iter().map(|v| v.abs() + 0.25).collect();
+        let image = |v: &[f32]| crate::image::Image::from_rgb(3, 2, v.to_vec()).unwrap();
+        image(&floats).write_exr(dir.join("t.exr")).unwrap();
+        crate::image::pfm::write(dir.join("t.pfm"), 3, 2, 3, &floats).unwrap();
+        crate::image::rgbe::write(&image(&positive), dir.join("t.hdr")).unwrap();
+        for (name, want) in [("t.exr", &floats), ("t.pfm", &floats), ("t.hdr", &positive)] {
+            let got = read_image(&dir.join(name)).unwrap();
+            assert_eq!((got.depth, got.srgb), (Depth::F32, false), "{name}");
+            let want: Vec<[f32; 3]> = want.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+            close_texels(&got.texels, &want, 0.0, name);
+            assert_eq!(
+                load_image(&dir.join(name), false).unwrap().2,
+                want,
+                "{name}"
+            );
+        }
+        // The format comes from the signature, not the name (as Mitsuba's).
+        std::fs::copy(dir.join("t.bmp"), dir.join("bmp.png")).unwrap();
+        assert_eq!(read_image(&dir.join("bmp.png")).unwrap().texels, want8);
+        // Unreadable files name themselves.
+        std::fs::write(dir.join("bad.png"), b"\x89PNG\r\n\x1a\nnot really").unwrap();
+        std::fs::write(dir.join("bad.xyz"), b"hello").unwrap();
+        for bad in ["bad.png", "bad.xyz", "missing.bmp"] {
+            let e = read_image(&dir.join(bad)).unwrap_err();
+            assert!(e.contains(bad), "{e}");
+        }
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    fn close_texels(got: &[[f32; 3]], want: &[[f32; 3]], tol: f32, name: &str) {
+        assert_eq!(got.len(), want.len(), "{name}");
+        for (g, w) in got.iter().zip(want) {
+            for c in 0..3 {
+                assert!((g[c] - w[c]).abs() <= tol, "{name}: {g:?} vs {w:?}");
             }
         }
     }

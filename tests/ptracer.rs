@@ -1,0 +1,183 @@
+//! Mitsuba 3's particle tracer (`ptracer`, src/render/photon/ptracer.rs,
+//! shaders/integrator/ptracer.glsl) on lavapipe: against Mitsuba 3.9.1's `ptracer` on
+//! `scenes/ptracer/ptracer_room.xml` (an area light the camera sees, diffuse walls and
+//! a sphere), through a box and a Gaussian filter, block by block within noise; under
+//! a visible constant environment (`ptracer_sky.xml`) against wavetrace's own path
+//! tracer (Mitsuba's ptracer disagrees with Mitsuba's path there); the emitters alone
+//! (`max_depth` 1) and `hide_emitters`; and the determinism the film relies on: the
+//! same bits whatever the batch size, and split renders that merge and resume
+//! exactly as the path tracers' do (src/render/partial.rs).
+
+mod common;
+
+use common::{
+    assert_matches_filtered_reference, assert_matches_reference, device, load_with, repo,
+};
+use wavetrace::image::exr;
+use wavetrace::render::film::FilmSums;
+use wavetrace::render::{RenderOptions, Renderer};
+use wavetrace::scene::Scene;
+
+const SCENE: &str = "scenes/ptracer/ptracer_room.xml";
+
+fn scene(defines: &[(&str, &str)]) -> Scene {
+    load_with(&repo(SCENE), defines)
+}
+
+fn film(r: &mut Renderer, first: u32, count: u32) -> FilmSums {
+    r.render_film(first, count, &mut |_, _| {})
+        .unwrap_or_else(|e| panic!("render: {e}"))
+        .0
+}
+
+/// 512 samples per pixel (786,432 light paths) against Mitsuba's 16,384.
+#[test]
+fn ptracer_matches_mitsuba() {
+    let device = device();
+    let reference = exr::read(repo("scenes/refs/ptracer_room.exr")).expect("reference");
+    let img = common::render(&device, &scene(&[]), &RenderOptions::default(), 512);
+    assert_matches_reference(&img, &reference, "ptracer_room");
+}
+
+/// Mitsuba's default filter: splats spread over the pixels the Gaussian reaches, each
+/// weight over their sum (Mitsuba's ImageBlock::put). The reference is scalar_rgb's,
+/// whose filter is a 31-step table: close to the exact one at block level.
+#[test]
+fn ptracer_matches_mitsuba_through_a_gaussian() {
+    let device = device();
+    let reference = exr::read(repo("scenes/refs/ptracer_room_gaussian.exr")).expect("reference");
+    let s = scene(&[("filter", "gaussian")]);
+    let img = common::render(&device, &s, &RenderOptions::default(), 512);
+    assert_matches_filtered_reference(&img, &reference, "ptracer_room gaussian", &s.film.filter);
+}
+
+/// The sky the camera sees is connected from the camera along directions the
+/// environment samples, and the light paths that leave it cross the scene's bounding
+/// sphere: the image is the path tracer's.
+#[test]
+fn visible_environment_matches_the_path_tracer() {
+    let device = device();
+    let s = load_with(&repo("scenes/ptracer/ptracer_sky.xml"), &[]);
+    let img = common::render(&device, &s, &RenderOptions::default(), 512);
+    let path = RenderOptions {
+        integrator: Some("path".into()),
+        ..RenderOptions::default()
+    };
+    let reference = common::render(&device, &s, &path, 512);
+    assert_matches_reference(&img, &reference, "ptracer_sky against path");
+}
+
+/// `max_depth` 1: only the emitter the camera sees, which `hide_emitters` hides.
+#[test]
+fn emitters_alone_and_hidden() {
+    let device = device();
+    let img = common::render(
+        &device,
+        &scene(&[("max_depth", "1")]),
+        &RenderOptions::default(),
+        16,
+    );
+    let lit = img.rgb.iter().filter(|&&v| v > 0.0).count();
+    assert!(lit > 0, "the area light is in view");
+    // The light's pixels only: the floor and walls stay black.
+    assert!(common::pixel(&img, 2, 30) == [0.0; 3]);
+    let hidden = Scene {
+        integrator: wavetrace::scene::integrator::IntegratorSpec {
+            params: [
+                (
+                    "max_depth".to_string(),
+                    wavetrace::scene::integrator::Param::Integer(1),
+                ),
+                (
+                    "hide_emitters".to_string(),
+                    wavetrace::scene::integrator::Param::Bool(true),
+                ),
+            ]
+            .into_iter()
+            .collect(),
+            ..scene(&[]).integrator
+        },
+        ..scene(&[])
+    };
+    let dark = common::render(&device, &hidden, &RenderOptions::default(), 16);
+    assert!(dark.rgb.iter().all(|&v| v == 0.0), "hide_emitters");
+}
+
+/// The film of a sample range is the same bits for any batch size (splats are summed
+/// as integers); merging parts in order whose later parts hold one sample each, and
+/// resuming from the first part's sums, give the unsplit render bit for bit.
+#[test]
+fn splats_are_deterministic_and_ranges_merge_exactly() {
+    let device = device();
+    let s = scene(&[]);
+    let mut whole = Renderer::new(&device, &s, &RenderOptions::default()).expect("renderer");
+    let all = film(&mut whole, 0, 6);
+    let small = RenderOptions {
+        max_batch_paths: Some(500),
+        ..RenderOptions::default()
+    };
+    let mut batched = Renderer::new(&device, &s, &small).expect("renderer");
+    assert_eq!(film(&mut batched, 0, 6), all, "batches of 500 light paths");
+
+    let mut merged = film(&mut batched, 0, 4);
+    merged.merge(&film(&mut batched, 4, 1)).expect("merge");
+    merged.merge(&film(&mut whole, 5, 1)).expect("merge");
+    assert_eq!(merged, all, "0..4 + 4..5 + 5..6");
+
+    let start = film(&mut whole, 0, 3);
+    let (resumed, stats) = whole
+        .render_film_controlled(3, 3, Some(&start), &mut |_, _| {}, &mut |_, _| Ok(false))
+        .expect("resume");
+    assert_eq!(stats.spp, 3);
+    assert_eq!(resumed, all, "0..3, then 3..6 from its sums");
+    assert!(all.sums.iter().all(|p| p[3] == 6.0), "weight 1 per sample");
+}
+
+/// The viewer's progressive steps (src/render/progressive.rs) of any size render the
+/// same samples: steps of part of a sample index's light paths, and of more.
+#[test]
+fn progressive_steps_render_the_same_samples() {
+    let device = device();
+    let mut r = Renderer::new(&device, &scene(&[]), &RenderOptions::default()).expect("renderer");
+    assert!(r.is_progressive());
+    let whole = film(&mut r, 0, 3);
+    for max_paths in [700, 100_000] {
+        let mut p = r.start_progressive(Some(3)).expect("start");
+        while !p.finished() {
+            assert!(r.step(&mut p, max_paths).expect("step") > 0);
+        }
+        assert_eq!(r.step(&mut p, max_paths).expect("step after the end"), 0);
+        assert_eq!(p.samples_done(), 3);
+        assert_eq!(r.read_film().expect("film"), whole, "steps of {max_paths}");
+    }
+}
+
+/// A crop window traces the full film's light paths and keeps the splats that land in
+/// it: the same pixels as the full render, bit for bit (through a Gaussian, whose
+/// splats reach over the window's edge).
+#[test]
+fn a_crop_is_the_same_window_of_the_full_render() {
+    let device = device();
+    let full_scene = scene(&[("filter", "gaussian")]);
+    let mut full =
+        Renderer::new(&device, &full_scene, &RenderOptions::default()).expect("renderer");
+    let all = film(&mut full, 0, 2);
+    let crop = wavetrace::scene::film::Crop {
+        x: 5,
+        y: 7,
+        width: 20,
+        height: 9,
+    };
+    let mut cropped_scene = full_scene.clone();
+    cropped_scene.film.crop = Some(crop);
+    let mut r =
+        Renderer::new(&device, &cropped_scene, &RenderOptions::default()).expect("renderer");
+    let part = film(&mut r, 0, 2);
+    for y in 0..crop.height {
+        for x in 0..crop.width {
+            let p = part.sums[(y * crop.width + x) as usize];
+            let q = all.sums[((y + crop.y) * all.crop.width + x + crop.x) as usize];
+            assert_eq!(p, q, "pixel ({x}, {y}) of the window");
+        }
+    }
+}
