@@ -343,6 +343,11 @@ impl<'a> Loader<'a> {
                 }
                 let index = self.bsdf(inner[0])?;
                 let nested_bsdf = self.b.bsdfs[index as usize].clone();
+                if bsdf::composite::is_composite(&nested_bsdf) {
+                    return Err(inner[0].err(
+                        "a normalmap around a composite BSDF (mask, blendbsdf, bumpmap, twosided with a composite or two sides) is not supported yet",
+                    ));
+                }
                 Ok(self.b.add_bsdf(Bsdf::NormalMap {
                     bsdf: Box::new(nested_bsdf),
                     normal_map,
@@ -1367,6 +1372,7 @@ mod tests {
             ("<bsdf type=\"twosided\"><bsdf type=\"diffuse\"/>\n<bsdf type=\"dielectric\"/></bsdf>", 4, "without transmission"),
             ("<bsdf type=\"twosided\">\n<bsdf type=\"mask\"><float name=\"opacity\" value=\"0.5\"/><bsdf type=\"diffuse\"/></bsdf></bsdf>", 4, "without transmission"),
             ("<bsdf type=\"mask\"><float name=\"opacity\" value=\"0.5\"/>\n<ref id=\"nothere\"/></bsdf>", 4, "unknown id 'nothere'"),
+            ("<bsdf type=\"normalmap\"><texture type=\"checkerboard\" name=\"normalmap\"/>\n<bsdf type=\"mask\"><float name=\"opacity\" value=\"0.5\"/><bsdf type=\"diffuse\"/></bsdf></bsdf>", 4, "normalmap around a composite"),
         ];
         for (body, line, msg) in cases {
             let e = error_at(load(&[("s.xml", &mitsuba(body))], &[]), "s.xml", *line);
