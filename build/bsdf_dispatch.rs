@@ -15,7 +15,7 @@
 use std::fmt::Write;
 use std::path::Path;
 
-use crate::bsdf_kinds::{hooks, lobes, Kind, KINDS};
+use crate::bsdf_kinds::{hooks, lobes, Kind, COMPOSITE, KINDS};
 
 /// Writes `generated/bsdf_dispatch.glsl` under `glsl` (the folder glslang gets as a
 /// second include path).
@@ -67,6 +67,10 @@ fn dispatch() -> String {
     for k in KINDS {
         let _ = writeln!(s, "#define {} {}u", constant(k), k.id);
     }
+    let _ = writeln!(
+        s,
+        "// The node records of composite BSDFs (bsdf/composite.glsl)\n#define BSDF_COMPOSITE {COMPOSITE}u"
+    );
     s.push_str("\n// Lobe flags of bsdf_lobes (pbrt-v4's BxDFFlags)\n");
     for (name, bit) in LOBES {
         let _ = writeln!(s, "#define BSDF_LOBE_{name} {bit}u");

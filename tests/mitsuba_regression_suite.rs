@@ -208,33 +208,14 @@ macro_rules! scene {
 // bsdf_spheres: a grid of spheres (or one) under an area light, an environment map and a
 // point light, path tracing at max_depth 2, 48x48 pixels.
 scene!(
-    #[ignore = "mask BSDF"]
     arealight,
     "bsdf_spheres",
     "test_arealight_path.xml",
     Rejects
 );
-scene!(
-    #[ignore = "bumpmap BSDF"]
-    bumpmap,
-    "bsdf_spheres",
-    "test_bumpmap_path.xml",
-    Rejects
-);
-scene!(
-    #[ignore = "mask BSDF"]
-    constant,
-    "bsdf_spheres",
-    "test_constant_path.xml",
-    Rejects
-);
-scene!(
-    #[ignore = "mask BSDF"]
-    envmap,
-    "bsdf_spheres",
-    "test_envmap_path.xml",
-    Rejects
-);
+scene!(bumpmap, "bsdf_spheres", "test_bumpmap_path.xml", Rejects);
+scene!(constant, "bsdf_spheres", "test_constant_path.xml", Rejects);
+scene!(envmap, "bsdf_spheres", "test_envmap_path.xml", Rejects);
 scene!(
     normalmap_identity_roughconductor,
     "bsdf_spheres",
@@ -254,7 +235,6 @@ scene!(
     Rejects
 );
 scene!(
-    #[ignore = "mask BSDF"]
     pointlight,
     "bsdf_spheres",
     "test_pointlight_path.xml",

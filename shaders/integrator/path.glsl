@@ -20,6 +20,7 @@
 #include "queue/path_queues.glsl"
 #include "bsdf/bsdf_textured.glsl"
 #include "bsdf/normal_map.glsl"
+#include "bsdf/composite.glsl"
 #ifdef MEDIUM_GLSL
 #include "medium/phase.glsl"
 #endif
@@ -178,6 +179,8 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
 
     Surface s;
     BsdfRecord bsdf;
+    // The lobe number of BSDF sampling; a composite's resolution takes its share first.
+    float u_lobe = 0.0;
     bool mapped = false;
     NormalMapFrame nm;
     vec3 wo;
@@ -204,7 +207,21 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
                 texels.emission = texture_eval(emission_texture, s.uv);
             }
         } else {
-            bsdf = bsdf_textured_point(bsdf_load(shape.bsdf), s.uv, true, emission_texture, texels);
+            uint bsdf_index = shape.bsdf;
+            uint bsdf_flags = 0u;
+            if (BSDF_HAS(BSDF_COMPOSITE)) {
+                // A composite BSDF resolves to one model here (composite.glsl).
+                u_lobe = sample_1d(path.pixel, path.sample_index, rng_dim_bounce(depth, RNG_SLOT_LOBE));
+                CompositeLeaf leaf = bsdf_composite_resolve(bsdf_index, s, h.prim, vec2(h.u, h.v), -r.dir, u_lobe);
+                bsdf_index = leaf.index;
+                bsdf_flags = leaf.flags;
+                u_lobe = leaf.u;
+                // A bump map's frame weighs light as a normal map's (Mitsuba 3.9).
+                mapped = leaf.bumped;
+                nm = leaf.nm;
+            }
+            bsdf = bsdf_textured_point(bsdf_load(bsdf_index), s.uv, true, emission_texture, texels);
+            bsdf.flags |= bsdf_flags;
         }
         if (emits) {
             path.radiance += path_emission_found(path, r, h.t, s, shape.emitter, light, texels.emission, weigh);
@@ -216,8 +233,8 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
         // the old normal towards the viewer there, so the nested model is one-sided,
         // as in Mitsuba's twosided around a normalmap.
         if (SHADE_LAST) return;
-        mapped = TEXTURE_USES(TEXTURE_FEATURE_NORMALMAP) && bsdf.normal_map != 0u;
-        if (mapped) {
+        if (TEXTURE_USES(TEXTURE_FEATURE_NORMALMAP) && bsdf.normal_map != 0u) {
+            mapped = true;
             nm = normal_map_frame_texel(bsdf, s, -r.dir, texels.normal);
             s.ns = nm.n;
             // Mitsuba's perturbed frame keeps the old tangent, made orthogonal to n.
@@ -280,7 +297,8 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
     if (mats) {
         // BSDF sampling: a 1-D lobe choice and a 2-D direction (Mitsuba's sample1,
         // sample2); Russian roulette has its own dimension.
-        vec3 u = vec3(sample_1d(path.pixel, path.sample_index, rng_dim_bounce(depth, RNG_SLOT_LOBE)),
+        vec3 u = vec3(BSDF_HAS(BSDF_COMPOSITE) ? u_lobe
+                                               : sample_1d(path.pixel, path.sample_index, rng_dim_bounce(depth, RNG_SLOT_LOBE)),
                       sample_2d(path.pixel, path.sample_index, rng_dim_bounce(depth, RNG_SLOT_BSDF)));
         vec3 wi;
         vec3 weight;

@@ -41,7 +41,8 @@ void main() {
     path_shade_to(INTEGRATOR_PATH_MIS, r, h, path, path_vertex_surface(),
                   has_vp ? push.depth + 1u : frame.max_depth);
     if (has_vp || h.prim == NONE || push.depth + 2u > frame.max_depth) return;
-    ScatterSurface x = scatter_surface(r, h);
+    // A composite resolves as path_shade_to resolved it (the vertex's lobe number).
+    ScatterSurface x = scatter_surface_u(r, h, sample_1d(path.pixel, path.sample_index, rng_dim_bounce(push.depth, RNG_SLOT_LOBE)));
     if (sppm_visible_point_here(x.bsdf, push.depth + 2u == frame.max_depth)) {
         vp_store(vp, visible_point_at(x, -r.dir, path.throughput));
     }

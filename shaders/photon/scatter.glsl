@@ -7,6 +7,8 @@
 
 #include "sampling/frame.glsl"
 #include "bsdf/normal_map.glsl"
+#include "bsdf/composite.glsl"
+#include "sampling/rng.glsl"
 
 struct ScatterSurface {
     Surface s;         // s.ns replaced by the normal map's normal where there is one
@@ -14,20 +16,47 @@ struct ScatterSurface {
     uint bsdf_index;
     BsdfRecord bsdf;   // textured at s.uv; BSDF_TWOSIDED cleared under a normal map
     bool mapped;       // a normal map applies (nm)
+    bool composite;    // the shape's BSDF is a composite, resolved to bsdf here
     NormalMapFrame nm;
 };
 
-// The surface of hit h of ray r (h.prim != NONE).
+// The surface of hit h of ray r (h.prim != NONE). A composite BSDF resolves to one
+// model as in path_shade (composite.glsl), by a number hashed from the ray and the
+// hit (these kernels draw their lobe numbers after this): a mask's pass-through is
+// then a delta transmission the path goes on through. A visible point keeps the
+// leaf's record index, without what a twosided node or a bump map added.
+ScatterSurface scatter_surface_u(RayItem r, HitItem h, float u_lobe);
+
 ScatterSurface scatter_surface(RayItem r, HitItem h) {
+    uvec4 k = rng_pcg4d(uvec4(floatBitsToUint(r.dir.x) ^ r.path, floatBitsToUint(r.dir.y),
+                              floatBitsToUint(r.dir.z), h.prim ^ floatBitsToUint(h.t)));
+    return scatter_surface_u(r, h, rng_to_float(k.x));
+}
+
+// scatter_surface with the number u_lobe resolving a composite (a camera path's lobe
+// number, as path_shade drew it for the same vertex).
+ScatterSurface scatter_surface_u(RayItem r, HitItem h, float u_lobe) {
     ScatterSurface x;
     x.s = surface_at(h.prim, h.u, h.v, r.origin, r.dir, h.t);
     ShapeRecord shape = shape_load(x.s.shape);
     x.emitter = shape.emitter;
     x.bsdf_index = shape.bsdf;
-    x.bsdf = bsdf_textured(bsdf_load(shape.bsdf), x.s.uv);
+    uint leaf_flags = 0u;
+    x.mapped = false;
+    x.composite = false;
+    if (BSDF_HAS(BSDF_COMPOSITE)) {
+        CompositeLeaf leaf = bsdf_composite_resolve(shape.bsdf, x.s, h.prim, vec2(h.u, h.v), -r.dir, u_lobe);
+        x.bsdf_index = leaf.index;
+        leaf_flags = leaf.flags;
+        x.mapped = leaf.bumped;
+        x.nm = leaf.nm;
+        x.composite = leaf.index != shape.bsdf;
+    }
+    x.bsdf = bsdf_textured(bsdf_load(x.bsdf_index), x.s.uv);
+    x.bsdf.flags |= leaf_flags;
     // As path_shade: the mapped normal shades, and the nested model is one-sided.
-    x.mapped = TEXTURE_USES(TEXTURE_FEATURE_NORMALMAP) && x.bsdf.normal_map != 0u;
-    if (x.mapped) {
+    if (TEXTURE_USES(TEXTURE_FEATURE_NORMALMAP) && x.bsdf.normal_map != 0u) {
+        x.mapped = true;
         x.nm = normal_map_frame(x.bsdf, x.s, -r.dir);
         x.s.ns = x.nm.n;
         // Mitsuba's perturbed frame keeps the old tangent, made orthogonal to n.

@@ -153,7 +153,8 @@ impl SceneRecords {
             r.media.push(rec);
         }
         r.build_alias_tables(scene, bvh, &remap);
-        r.bsdfs = scene.bsdfs.iter().map(BsdfRecord::from).collect();
+        // A composite's nodes and nested models follow the scene's BSDFs.
+        r.bsdfs = crate::scene::bsdf::composite::records(&scene.bsdfs);
         r
     }
 }
@@ -410,6 +411,10 @@ impl SceneRecords {
         // bsdf_textured.glsl; a second roughness naming the first one's texture takes
         // its value).
         let lookups = |b: &BsdfRecord| {
+            // A composite's node looks up its weight or height field itself.
+            if b.kind == crate::scene::bsdf::kinds::COMPOSITE {
+                return 0;
+            }
             let alpha_v = if b.tex_alpha_v != b.tex_alpha_u {
                 b.tex_alpha_v
             } else {

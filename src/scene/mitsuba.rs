@@ -275,39 +275,64 @@ impl<'a> Loader<'a> {
                 Ok(index)
             }
             "twosided" => {
-                // One nested BSDF used on both faces (Mitsuba's twosided.cpp).
+                // One nested BSDF used on both faces, or a front and a back one
+                // (Mitsuba's twosided.cpp).
                 props.finish()?;
-                let inner: Vec<&'a Element> = el
-                    .children
-                    .iter()
-                    .filter(|c| c.tag == "bsdf" || c.tag == "ref")
-                    .collect();
-                if inner.len() != 1 || nested.len() != 1 {
-                    return Err(el.err(
-                        "twosided needs exactly one nested <bsdf> (two different sides are not supported yet)",
-                    ));
-                }
-                let inner = if inner[0].tag == "ref" {
-                    let target = self.deref(inner[0])?;
-                    if target.tag != "bsdf" {
-                        return Err(inner[0].err(format!(
-                            "'{}' is a <{}>, not a <bsdf>",
-                            inner[0].attr("id").unwrap_or(""),
-                            target.tag
-                        )));
-                    }
-                    target
-                } else {
-                    inner[0]
+                let inner = self.nested_bsdfs(el, nested)?;
+                let sides: Vec<Bsdf> = match inner.as_slice() {
+                    [_] | [_, _] => inner
+                        .iter()
+                        .map(|(i, _)| self.b.bsdfs[*i as usize].clone())
+                        .collect(),
+                    _ => return Err(el.err("twosided needs one or two nested <bsdf>s")),
                 };
-                let index = self.bsdf(inner)?;
-                let nested_bsdf = self.b.bsdfs[index as usize].clone();
-                if nested_bsdf.transmits() {
-                    return Err(
-                        el.err("twosided: only materials without transmission can be nested")
-                    );
+                if let Some(k) = sides.iter().position(Bsdf::transmits) {
+                    return Err(inner[k]
+                        .1
+                        .err("twosided: only materials without transmission can be nested"));
                 }
-                Ok(self.b.add_bsdf(Bsdf::TwoSided(Box::new(nested_bsdf))))
+                let bsdf = match <[Bsdf; 2]>::try_from(sides) {
+                    Ok(pair) => Bsdf::TwoSidedPair(Box::new(pair)),
+                    Err(mut one) => Bsdf::TwoSided(Box::new(one.remove(0))),
+                };
+                Ok(self.b.add_bsdf(bsdf))
+            }
+            "mask" | "blendbsdf" | "bumpmap" => {
+                // Composites (bsdf::composite): an opacity, a weight or a height field,
+                // and their nested BSDFs.
+                let mut props = props;
+                let rest = self.attach_textures(&mut props, nested, false)?;
+                let count = if t == "blendbsdf" { 2 } else { 1 };
+                let bsdf = match t {
+                    "mask" => {
+                        let opacity = bsdf::mask::params(&props)?;
+                        props.finish()?;
+                        let inner = self.nested_bsdf_values(el, rest, count, t)?;
+                        Bsdf::Mask {
+                            opacity,
+                            bsdf: Box::new(inner[0].clone()),
+                        }
+                    }
+                    "blendbsdf" => {
+                        let weight = bsdf::blendbsdf::params(&props)?;
+                        props.finish()?;
+                        let inner = self.nested_bsdf_values(el, rest, count, t)?;
+                        Bsdf::Blend {
+                            weight,
+                            bsdfs: Box::new([inner[0].clone(), inner[1].clone()]),
+                        }
+                    }
+                    _ => {
+                        let params = bsdf::bumpmap::params(&props)?;
+                        props.finish()?;
+                        let inner = self.nested_bsdf_values(el, rest, count, t)?;
+                        Bsdf::BumpMap {
+                            params,
+                            bsdf: Box::new(inner[0].clone()),
+                        }
+                    }
+                };
+                Ok(self.b.add_bsdf(bsdf))
             }
             "normalmap" => {
                 // Mitsuba's normalmap.cpp: a `normalmap` texture and one nested BSDF.
@@ -331,6 +356,11 @@ impl<'a> Loader<'a> {
                 }
                 let index = self.bsdf(inner[0])?;
                 let nested_bsdf = self.b.bsdfs[index as usize].clone();
+                if bsdf::composite::is_composite(&nested_bsdf) {
+                    return Err(inner[0].err(
+                        "a normalmap around a composite BSDF (mask, blendbsdf, bumpmap, twosided with a composite or two sides) is not supported yet",
+                    ));
+                }
                 Ok(self.b.add_bsdf(Bsdf::NormalMap {
                     bsdf: Box::new(nested_bsdf),
                     normal_map,
@@ -353,6 +383,59 @@ impl<'a> Loader<'a> {
                 Ok(self.b.add_bsdf(bsdf))
             }
         }
+    }
+
+    /// The BSDFs nested in `el` (`<bsdf>`s, or `<ref>`s to them), built, with the
+    /// element that names each; anything else nested is an error.
+    fn nested_bsdfs(
+        &mut self,
+        el: &'a Element,
+        nested: Vec<&'a Element>,
+    ) -> Result<Vec<(u32, &'a Element)>, Error> {
+        let mut out = Vec::new();
+        for n in nested {
+            let target = if n.tag == "ref" { self.deref(n)? } else { n };
+            if target.tag != "bsdf" {
+                return Err(if n.tag == "ref" {
+                    n.err(format!(
+                        "'{}' is a <{}>, not a <bsdf>",
+                        n.attr("id").unwrap_or(""),
+                        target.tag
+                    ))
+                } else {
+                    n.err(format!(
+                        "unexpected <{}> in a {} <bsdf>",
+                        n.tag,
+                        el.attr("type").unwrap_or("")
+                    ))
+                });
+            }
+            out.push((self.bsdf(target)?, n));
+        }
+        Ok(out)
+    }
+
+    /// Exactly `count` nested BSDFs of a `t` composite, as values.
+    fn nested_bsdf_values(
+        &mut self,
+        el: &'a Element,
+        nested: Vec<&'a Element>,
+        count: usize,
+        t: &str,
+    ) -> Result<Vec<Bsdf>, Error> {
+        let inner = self.nested_bsdfs(el, nested)?;
+        if inner.len() != count {
+            let what = if count == 1 {
+                "one nested <bsdf>".to_string()
+            } else {
+                format!("{count} nested <bsdf>s")
+            };
+            return Err(el.err(format!("{t} needs exactly {what}, found {}", inner.len())));
+        }
+        Ok(inner
+            .iter()
+            .map(|(i, _)| self.b.bsdfs[*i as usize].clone())
+            .collect())
     }
 
     /// A `<texture>` (nested, or the target of a `<ref>`): its index and mean.
@@ -1353,6 +1436,65 @@ mod tests {
     }
 
     #[test]
+    fn composite_bsdfs() {
+        use crate::scene::bsdf::composite::Weight;
+        let xml = r#"<bsdf type="diffuse" id="d"><rgb name="reflectance" value="0.1,0.2,0.3"/></bsdf>
+<bsdf type="blendbsdf" id="b"><float name="weight" value="0.25"/><ref id="d"/><bsdf type="conductor"/></bsdf>
+<bsdf type="mask" id="m"><texture type="checkerboard" name="opacity"/><ref id="b"/></bsdf>
+<bsdf type="twosided" id="t"><ref id="d"/><bsdf type="diffuse"/></bsdf>
+<bsdf type="bumpmap" id="u"><texture type="checkerboard" name="h"/><ref id="t"/></bsdf>
+<bsdf type="twosided" id="t1"><ref id="b"/></bsdf>"#;
+        let s = load(&[("s.xml", &mitsuba(xml))], &[]).expect("loads");
+        let b = &s.bsdfs;
+        let d = b[0].clone();
+        let Bsdf::Blend { weight, bsdfs } = &b[2] else {
+            panic!("{:?}", b[2])
+        };
+        assert_eq!(*weight, Weight::constant(0.25));
+        assert_eq!(bsdfs[0], d);
+        assert!(matches!(bsdfs[1], Bsdf::Conductor(..)));
+        let Bsdf::Mask { opacity, bsdf } = &b[3] else {
+            panic!("{:?}", b[3])
+        };
+        assert_eq!(opacity.texture, Some(0));
+        assert_eq!(**bsdf, b[2]);
+        assert!(matches!(&b[5], Bsdf::TwoSidedPair(pair) if pair[0] == d));
+        let Bsdf::BumpMap { params, bsdf } = &b[6] else {
+            panic!("{:?}", b[6])
+        };
+        assert_eq!(
+            (
+                params.texture,
+                params.scale,
+                params.flip_invalid_normals,
+                params.use_shadowing_function
+            ),
+            (1, 1.0, true, true)
+        );
+        assert_eq!(**bsdf, b[5]);
+        // A twosided around a composite nests it whole.
+        assert!(matches!(&b[7], Bsdf::TwoSided(inner) if **inner == b[2]));
+        let cases: &[(&str, u32, &str)] = &[
+            ("<bsdf type=\"mask\">\n<bsdf type=\"diffuse\"/></bsdf>", 3, "mask needs an 'opacity'"),
+            ("<bsdf type=\"mask\"><float name=\"opacity\" value=\"0.5\"/></bsdf>", 3, "mask needs exactly one nested <bsdf>, found 0"),
+            ("<bsdf type=\"mask\">\n<string name=\"opacity\" value=\"x\"/><bsdf type=\"diffuse\"/></bsdf>", 4, "'opacity' of bsdf 'mask' must be a float"),
+            ("<bsdf type=\"blendbsdf\"><float name=\"weight\" value=\"0.5\"/><bsdf type=\"diffuse\"/></bsdf>", 3, "blendbsdf needs exactly 2 nested <bsdf>s, found 1"),
+            ("<bsdf type=\"blendbsdf\"><bsdf type=\"diffuse\"/><bsdf type=\"diffuse\"/></bsdf>", 3, "blendbsdf needs a 'weight'"),
+            ("<bsdf type=\"bumpmap\"><bsdf type=\"diffuse\"/></bsdf>", 3, "bumpmap needs one nested <texture>"),
+            ("<bsdf type=\"bumpmap\"><texture type=\"checkerboard\" name=\"a\"/>\n<texture type=\"checkerboard\" name=\"b\"/><bsdf type=\"diffuse\"/></bsdf>", 4, "exactly one nested <texture>"),
+            ("<bsdf type=\"twosided\"><bsdf type=\"diffuse\"/><bsdf type=\"diffuse\"/><bsdf type=\"diffuse\"/></bsdf>", 3, "one or two nested"),
+            ("<bsdf type=\"twosided\"><bsdf type=\"diffuse\"/>\n<bsdf type=\"dielectric\"/></bsdf>", 4, "without transmission"),
+            ("<bsdf type=\"twosided\">\n<bsdf type=\"mask\"><float name=\"opacity\" value=\"0.5\"/><bsdf type=\"diffuse\"/></bsdf></bsdf>", 4, "without transmission"),
+            ("<bsdf type=\"mask\"><float name=\"opacity\" value=\"0.5\"/>\n<ref id=\"nothere\"/></bsdf>", 4, "unknown id 'nothere'"),
+            ("<bsdf type=\"normalmap\"><texture type=\"checkerboard\" name=\"normalmap\"/>\n<bsdf type=\"mask\"><float name=\"opacity\" value=\"0.5\"/><bsdf type=\"diffuse\"/></bsdf></bsdf>", 4, "normalmap around a composite"),
+        ];
+        for (body, line, msg) in cases {
+            let e = error_at(load(&[("s.xml", &mitsuba(body))], &[]), "s.xml", *line);
+            assert!(e.contains(msg), "{e}\n  wanted: {msg}");
+        }
+    }
+
+    #[test]
     fn parameter_errors() {
         let cases: &[(&str, u32, &str)] = &[
             ("<shape type=\"cube\">\n<float name=\"radius\" value=\"1\"/></shape>", 4, "unknown parameter 'radius' for shape 'cube'"),
@@ -1360,7 +1502,7 @@ mod tests {
             ("<shape type=\"sphere\">\n<float name=\"radius\" value=\"abc\"/></shape>", 4, "could not parse float \"abc\""),
             ("<shape type=\"sphere\">\n<float name=\"radius\" value=\"nan\"/></shape>", 4, "could not parse float \"nan\""),
             ("<shape type=\"sphere\"><float name=\"radius\" value=\"1\"/>\n<float name=\"radius\" value=\"2\"/></shape>", 4, "given twice"),
-            ("<bsdf type=\"blendbsdf\"/>", 3, "bsdf type 'blendbsdf' is not supported yet"),
+            ("<bsdf type=\"hair\"/>", 3, "bsdf type 'hair' is not supported yet"),
             ("<bsdf type=\"thindielectric\"><texture type=\"checkerboard\" name=\"int_ior\"/></bsdf>", 3, "'int_ior' of bsdf 'thindielectric' cannot be a texture"),
             ("<bsdf type=\"velvet\"/>", 3, "unknown bsdf type 'velvet'"),
             ("<shape type=\"merge\"/>", 3, "shape type 'merge' is not supported yet"),
@@ -1370,7 +1512,7 @@ mod tests {
             ("<shape type=\"disk\"><transform name=\"to_world\"><scale value=\"1,0,1\"/></transform></shape>", 3, "collapses the disk"),
             ("<shape type=\"serialized\">\n<string name=\"filename\" value=\"m.serialized\"/></shape>", 4, "m.serialized' not found"),
             ("<medium type=\"homogeneous\"><float name=\"albedo\" value=\"2\"/></medium>", 3, "albedo must be in [0, 1]"),
-            ("<shape type=\"cube\"><bsdf type=\"principled\"/></shape>", 3, "bsdf type 'principled' is not supported yet"),
+            ("<shape type=\"cube\"><bsdf type=\"measured\"/></shape>", 3, "bsdf type 'measured' is not supported yet"),
             ("<shape type=\"cube\" foo=\"1\"/>", 3, "unexpected attribute 'foo'"),
             ("<shape type=\"cube\"><transform name=\"to_world\"><lookat origin=\"0,0,0\" target=\"0,0,0\"/></transform></shape>", 3, "invalid <lookat>"),
             ("<shape type=\"cube\"><transform name=\"to_world\"><matrix value=\"1 2 3\"/></transform></shape>", 3, "16 numbers"),

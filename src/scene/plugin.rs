@@ -464,6 +464,20 @@ mod tests {
             Family::Bsdf if t == "normalmap" => format!(
                 r#"{default_sensor}<shape type="rectangle"><bsdf type="{t}"><texture type="checkerboard" name="normalmap"/><bsdf type="diffuse"/>{body}</bsdf></shape>"#
             ),
+            // Composites need their nested BSDFs (and a bump map its height field).
+            Family::Bsdf if matches!(t, "mask" | "blendbsdf" | "bumpmap") => format!(
+                r#"{default_sensor}<shape type="rectangle"><bsdf type="{t}">{}<bsdf type="diffuse"/>{}{body}</bsdf></shape>"#,
+                if t == "bumpmap" {
+                    r#"<texture type="checkerboard" name="h"/>"#
+                } else {
+                    ""
+                },
+                if t == "blendbsdf" {
+                    r#"<bsdf type="diffuse"/>"#
+                } else {
+                    ""
+                },
+            ),
             Family::Bsdf => format!(
                 r#"{default_sensor}<shape type="rectangle"><bsdf type="{t}">{body}</bsdf></shape>"#
             ),

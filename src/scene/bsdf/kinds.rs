@@ -74,7 +74,14 @@ pub const KINDS: &[Kind] = &[
     kind(9, "pplastic",        REFLECTION | GLOSSY | DIFFUSE,          0),
     kind(10, "principled",     REFLECTION | TRANSMISSION | GLOSSY | DIFFUSE, hooks::LOBES),
     kind(11, "principledthin", REFLECTION | TRANSMISSION | GLOSSY | DIFFUSE, hooks::LOBES),
+    kind(12, "mask_null",      TRANSMISSION | DELTA | NULL,            0),
 ];
+
+/// `BsdfRecord::kind` of the node records of composite BSDFs (`mask`, `blendbsdf`,
+/// `twosided` with two sides, `bumpmap`: `scene::bsdf::composite`), which a hit
+/// resolves into one leaf record before any model is evaluated. Its bit in the
+/// `BSDF_KINDS` mask says the scene has composites; no kind may take its id.
+pub const COMPOSITE: u32 = 31;
 
 const fn kind(id: u32, name: &'static str, lobes: u32, hooks: u32) -> Kind {
     Kind {

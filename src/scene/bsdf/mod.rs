@@ -24,11 +24,15 @@
 //! | [`principled`] | `principled`, `principledthin` | |
 //! | [`nori_microfacet`] | | `microfacet` |
 //! | [`twosided`], [`normalmap`], [`null`] | wrappers the loader reads (they nest BSDFs or none) | |
+//! | [`mask`], [`blendbsdf`], [`bumpmap`] | composites the loader reads, resolved per hit ([`composite`]) | |
 //!
 //! Shared helpers by topic: [`ior`] (named indices of refraction), [`microfacet`]
 //! (`distribution` / `alpha` and reference integrals), [`fresnel`] (reference
 //! Fresnel terms).
 
+pub mod blendbsdf;
+pub mod bumpmap;
+pub mod composite;
 pub mod conductor;
 #[rustfmt::skip]
 mod conductor_presets;
@@ -37,6 +41,7 @@ pub mod diffuse;
 pub mod fresnel;
 pub mod ior;
 pub mod kinds;
+pub mod mask;
 pub mod microfacet;
 pub mod nori_microfacet;
 pub mod normalmap;
@@ -94,11 +99,11 @@ pub const PLUGINS: &[Plugin] = &[
     twosided::MITSUBA,
     normalmap::MITSUBA,
     null::MITSUBA,
-    Plugin::not_yet("blendbsdf"),
-    Plugin::not_yet("bumpmap"),
+    blendbsdf::MITSUBA,
+    bumpmap::MITSUBA,
     Plugin::not_yet("circular"),
     Plugin::not_yet("hair"),
-    Plugin::not_yet("mask"),
+    mask::MITSUBA,
     Plugin::not_yet("measured"),
     Plugin::not_yet("measured_polarized"),
     Plugin::not_yet("polarizer"),
@@ -301,6 +306,23 @@ pub enum Bsdf {
         flip_invalid_normals: bool,
         use_shadowing_function: bool,
     },
+    /// Mitsuba `blendbsdf`: (1 − weight) `bsdfs[0]` + weight `bsdfs[1]` ([`blendbsdf`]).
+    Blend {
+        weight: composite::Weight,
+        bsdfs: Box<[Bsdf; 2]>,
+    },
+    /// Mitsuba `mask`: opacity · `bsdf` + (1 − opacity) · a pass-through ([`mask`]).
+    Mask {
+        opacity: composite::Weight,
+        bsdf: Box<Bsdf>,
+    },
+    /// Mitsuba `twosided` with two BSDFs: the front's and the back's ([`twosided`]).
+    TwoSidedPair(Box<[Bsdf; 2]>),
+    /// Mitsuba `bumpmap`: `bsdf` shaded in the frame of a height field ([`bumpmap`]).
+    BumpMap {
+        params: bumpmap::BumpParams,
+        bsdf: Box<Bsdf>,
+    },
 }
 
 impl Bsdf {
@@ -320,12 +342,22 @@ impl Bsdf {
             Bsdf::NoriMicrofacet(m) => m,
             Bsdf::TwoSided(inner) => inner.model(),
             Bsdf::Textured { bsdf, .. } | Bsdf::NormalMap { bsdf, .. } => bsdf.model(),
+            // A composite's first model (what one model stands for it).
+            Bsdf::Mask { bsdf, .. } | Bsdf::BumpMap { bsdf, .. } => bsdf.model(),
+            Bsdf::Blend { bsdfs, .. } | Bsdf::TwoSidedPair(bsdfs) => bsdfs[0].model(),
         }
     }
 
-    /// Whether light can pass through (dielectrics).
+    /// Whether light can pass through (dielectrics, and a mask's pass-through, which
+    /// Mitsuba counts as transmission).
     pub fn transmits(&self) -> bool {
-        self.model().transmits()
+        match self {
+            Bsdf::Mask { .. } => true,
+            Bsdf::Blend { .. } | Bsdf::TwoSidedPair(..) | Bsdf::BumpMap { .. } => {
+                composite::children(self).iter().any(|b| b.transmits())
+            }
+            _ => self.model().transmits(),
+        }
     }
 
     /// Whether this is a thin dielectric (crossed as a null surface by the
@@ -358,6 +390,22 @@ impl std::fmt::Debug for Bsdf {
                 .field("flip_invalid_normals", flip_invalid_normals)
                 .field("use_shadowing_function", use_shadowing_function)
                 .finish(),
+            Bsdf::Blend { weight, bsdfs } => f
+                .debug_struct("Blend")
+                .field("weight", weight)
+                .field("bsdfs", bsdfs)
+                .finish(),
+            Bsdf::Mask { opacity, bsdf } => f
+                .debug_struct("Mask")
+                .field("opacity", opacity)
+                .field("bsdf", bsdf)
+                .finish(),
+            Bsdf::TwoSidedPair(pair) => f.debug_tuple("TwoSidedPair").field(pair).finish(),
+            Bsdf::BumpMap { params, bsdf } => f
+                .debug_struct("BumpMap")
+                .field("params", params)
+                .field("bsdf", bsdf)
+                .finish(),
             model => model.model().fmt(f),
         }
     }
@@ -371,9 +419,13 @@ impl Default for Bsdf {
     }
 }
 
+/// The one record of a BSDF; for a composite, that of its first model (the scene's
+/// records, nodes and all, are [`composite::records`]).
 impl From<&Bsdf> for BsdfRecord {
     fn from(bsdf: &Bsdf) -> BsdfRecord {
         match bsdf {
+            Bsdf::Mask { bsdf, .. } | Bsdf::BumpMap { bsdf, .. } => BsdfRecord::from(&**bsdf),
+            Bsdf::Blend { bsdfs, .. } | Bsdf::TwoSidedPair(bsdfs) => BsdfRecord::from(&bsdfs[0]),
             Bsdf::TwoSided(inner) => twosided::pack(inner),
             Bsdf::Textured { bsdf, maps } => maps.pack(bsdf),
             Bsdf::NormalMap {
@@ -528,7 +580,10 @@ mod tests {
         for (i, k) in kinds::KINDS.iter().enumerate() {
             assert_eq!(k.id as usize, i, "{}", k.name);
         }
-        assert!(kinds::KINDS.len() <= 32, "the BSDF_KINDS mask has 32 bits");
+        assert!(
+            kinds::KINDS.len() <= kinds::COMPOSITE as usize,
+            "the BSDF_KINDS mask has 32 bits, the last for composites"
+        );
     }
 
     #[test]

@@ -1,0 +1,42 @@
+//! `mask`: a BSDF made partly transparent (Mitsuba 3's `mask.cpp`): with probability
+//! `opacity` the nested BSDF scatters, otherwise light passes straight through
+//! (Mitsuba's null lobe). f = opacity · f_nested, and the pass-through carries
+//! 1 − opacity. As in Mitsuba's `path` integrator the pass-through is a delta lobe
+//! that counts as a bounce, and shadow rays do not see through a mask (Mitsuba's
+//! `ray_test` treats every surface as opaque). On the GPU a hit resolves the mask into
+//! its nested BSDF or the pass-through by the opacity ([`super::composite`]). The
+//! Mitsuba loader reads it (it resolves the nested `<bsdf>` or `<ref>`).
+//!
+//! | parameter | type | default |
+//! |-----------|------|---------|
+//! | `opacity` | float or texture (its luminance), clamped to [0, 1] | (required here; Mitsuba takes 0.5) |
+//!
+//! ```xml
+//! <bsdf type="mask"><texture type="bitmap" name="opacity"><string name="filename" value="leaf.png"/></texture><bsdf type="diffuse"/></bsdf>
+//! ```
+
+use super::composite::Weight;
+use super::Plugin;
+use crate::scene::plugin::{Family, Param, PluginDoc};
+use crate::scene::properties::Properties;
+use crate::scene::xml::Dialect;
+use crate::scene::Error;
+
+pub const MITSUBA: Plugin = Plugin::loader(PluginDoc::new(
+    Family::Bsdf,
+    Dialect::Mitsuba,
+    "mask",
+    "One nested BSDF made partly transparent by an opacity.",
+    &[Param::new(
+        "opacity",
+        "float or texture",
+        "",
+        "probability of the nested BSDF (else light passes through); required",
+    )],
+));
+
+/// The mask's `opacity`, from `props` with its textures attached.
+pub fn params(props: &Properties) -> Result<Weight, Error> {
+    Weight::read(props, "opacity")?
+        .ok_or_else(|| props.object_error("mask needs an 'opacity' (a float or a texture)"))
+}
