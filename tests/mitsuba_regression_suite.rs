@@ -12,7 +12,8 @@
 //! p > alpha, divided by 3, are at least 99.75% of the pixel count.
 //!
 //! Each scene also checks the criterion's power: the render scaled by 1.05 must be
-//! rejected ([`Power::Rejects`]: every scene so far).
+//! rejected ([`Power::Rejects`]), except where a scene says why it cannot be
+//! ([`Power::Blind`]: various_emitters).
 //!
 //! Scenes wavetrace does not render right yet are `#[ignore]`d with the reason; run
 //! them all with `cargo test --test mitsuba_regression_suite -- --include-ignored
@@ -38,12 +39,13 @@ const ALPHA: f64 = 0.01;
 const ACCEPT_FRACTION: f64 = 0.9975;
 const MIN_VARIANCE: f64 = 1e-4;
 
-/// Whether the criterion can see a 5% error in a scene (a scene that cannot gets a
-/// variant saying why, with a comment).
+/// Whether the criterion can see a 5% error in a scene.
 #[derive(Clone, Copy)]
 enum Power {
     /// The render scaled by 1.05 must be rejected.
     Rejects,
+    /// It cannot be; the scene's comment says why (its row still prints the outcome).
+    Blind,
 }
 
 /// What the criterion says about one image.
@@ -183,13 +185,13 @@ fn check(folder: &str, file: &str, power: Power) {
          (energy ratio {energy:.4})",
         verdict.fraction
     );
-    match power {
-        Power::Rejects => assert!(
+    if let Power::Rejects = power {
+        assert!(
             !scaled.passes,
             "{folder}/{name}: the render scaled by 1.05 still passes ({:.4}): the criterion \
              cannot see a 5% error here",
             scaled.fraction
-        ),
+        );
     }
 }
 
@@ -268,7 +270,6 @@ scene!(
     // a-C loads (Mitsuba's RGB values) and matches Mitsuba with a constant alpha; the
     // checkerboard-textured alpha does not (fraction 0.747, energy 1.0013; also
     // isotropic): where the checker cells fall or how they are read.
-    #[ignore = "checkerboard-textured roughness"]
     textured_roughconductor,
     "bsdf_spheres",
     "test_textured_roughconductor_path.xml",
@@ -313,7 +314,7 @@ scene!(
     Rejects
 );
 scene!(
-    #[ignore = "blendbsdf"]
+    #[ignore = "blendbsdf picks one child per hit by its weight (unbiased: energy 1.0004) where Mitsuba evaluates both and mixes them: more noise per sample than the reference variance admits (0.9465)"]
     mesh_attributes_1_face,
     "mesh_attributes",
     "test_mesh_attributes_1_face_direct.xml",
@@ -349,25 +350,22 @@ scene!(
     "test_projector_textured_direct.xml",
     Rejects
 );
-scene!(
-    #[ignore = "direct weighs by the balance heuristic where Mitsuba's direct squares the pdfs: 1.7x its noise in the sky-lit pixels (the spot texture itself passes: 1.0000 with -D integrator=path)"]
-    spot,
-    "spot_light",
-    "test_spot_direct.xml",
-    Rejects
-);
+scene!(spot, "spot_light", "test_spot_direct.xml", Rejects);
 scene!(
     texture_interp,
     "texture_interp",
     "test_texture_interp_direct.xml",
     Rejects
 );
+// The particle tracer at 61 spp (2,000,000 / 512 x 64 pixels): a light path reaches a
+// pixel rarely, so the reference's per-sample variance is large against its mean and a
+// 5% shift moves z by far less than the Sidak threshold (1.05x passes at 0.9992, as the
+// render does): at the criterion's sample count this scene cannot see a 5% error.
 scene!(
-    #[ignore = "projector, spot light texture"]
     various_emitters,
     "various_emitters",
     "test_various_emitters_ptracer.xml",
-    Rejects
+    Blind
 );
 scene!(
     #[ignore = "sdfgrid"]

@@ -28,10 +28,12 @@ uint surface_tex_id(BsdfRecord b, uint emission_texture, uint k) {
         : emission_texture;
 }
 
-// Record b with the value c of lookup slot k (colors as they are, roughness from the
-// texture's luminance, at least 1e-4 as Mitsuba's); the emission texel in `texels`.
-BsdfRecord surface_tex_store(BsdfRecord b, inout SurfaceTexels texels, uint k, vec3 c) {
-    float alpha = max(texture_luminance(c), 1e-4);
+// Record b with the value c of lookup slot k, texture `id` (colors as they are,
+// roughness as Mitsuba's BSDFs read it, eval_1: texture_eval_1_color's luminance, at
+// least 1e-4); the emission texel in `texels`.
+BsdfRecord surface_tex_store(BsdfRecord b, inout SurfaceTexels texels, uint k, uint id, vec3 c) {
+    bool roughness = k == SURFACE_TEX_ALPHA_U || k == SURFACE_TEX_ALPHA_V;
+    float alpha = max(texture_luminance(roughness ? texture_eval_1_color(id, c) : c), 1e-4);
     if (k == SURFACE_TEX_REFLECTANCE) b.reflectance = c;
     if (k == SURFACE_TEX_SPECULAR) b.specular = c;
     if (k == SURFACE_TEX_TRANSMITTANCE) b.transmittance = c;
@@ -94,7 +96,8 @@ BsdfRecord bsdf_table_textured(BsdfRecord b, vec2 uv) {
 // Lookup slot K of pending (a constant K: the selects fold away).
 #define SURFACE_TEX_ONE(K)                                                               \
     if (surface_tex_used(K) && (pending & (1u << (K))) != 0u) {                          \
-        b = surface_tex_store(b, texels, K, texture_eval(surface_tex_id(b, emission_texture, K), uv)); \
+        uint id = surface_tex_id(b, emission_texture, K);                                \
+        b = surface_tex_store(b, texels, K, id, texture_eval(id, uv));                   \
     }
 
 // The record with every textured parameter replaced by its texture at uv; with
@@ -132,7 +135,8 @@ BsdfRecord bsdf_textured_point(BsdfRecord b, vec2 uv, bool normal_map, uint emis
         if (pending != 0u) do {
             uint k = uint(findLSB(pending));
             pending &= pending - 1u;
-            b = surface_tex_store(b, texels, k, texture_eval(surface_tex_id(b, emission_texture, k), uv));
+            uint id = surface_tex_id(b, emission_texture, k);
+            b = surface_tex_store(b, texels, k, id, texture_eval(id, uv));
         } while (pending != 0u);
     } else {
         SURFACE_TEX_ONE(SURFACE_TEX_REFLECTANCE)

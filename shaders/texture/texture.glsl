@@ -206,17 +206,20 @@ vec3 texture_eval(uint id, vec2 uv) {
 // Luminance of linear sRGB (Rec. 709): a texture read as a float.
 float texture_luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 
-// Texture id read as a float, as Mitsuba's Texture::eval_1 (what its BSDFs read for
-// scalar parameters: principled's): the luminance of texture_eval, except that
-// Mitsuba's checkerboard eval_1 swaps the squares of eval (src/textures/checkerboard.cpp
-// tests mask.x != mask.y where eval tests ==; Mitsuba 3.9.1 renders so).
-float texture_eval_1(uint id, vec2 uv) {
-    vec3 c = texture_eval(id, uv);
+// The color c = texture_eval(id, uv) as Mitsuba's eval_1 sees it: Mitsuba's
+// checkerboard eval_1 swaps the squares of eval (see texture_eval_1).
+vec3 texture_eval_1_color(uint id, vec3 c) {
     if (TEXTURE_HAS(TEXTURE_CHECKERBOARD)) {
         TextureRecord t = texture_load(id - 1u);
         if (t.kind == TEXTURE_CHECKERBOARD) c = c == t.color0 ? t.color1 : t.color0;
     }
-    return texture_luminance(c);
+    return c;
 }
+
+// Texture id read as a float, as Mitsuba's Texture::eval_1 (what its BSDFs read for
+// scalar parameters: principled's): the luminance of texture_eval, except that
+// Mitsuba's checkerboard eval_1 swaps the squares of eval (src/textures/checkerboard.cpp
+// tests mask.x != mask.y where eval tests ==; Mitsuba 3.9.1 renders so).
+float texture_eval_1(uint id, vec2 uv) { return texture_luminance(texture_eval_1_color(id, texture_eval(id, uv))); }
 
 #endif

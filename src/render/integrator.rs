@@ -173,6 +173,9 @@ impl Integrator {
     pub fn power_heuristic(&self) -> bool {
         match self {
             Integrator::PathMis(p) | Integrator::VolPathMis(p) => p.power_heuristic,
+            Integrator::DirectMis {
+                power_heuristic, ..
+            } => *power_heuristic,
             // pbrt-v4's SPPM weighs emitter and BSDF sampling by the power heuristic.
             Integrator::Sppm(_) => true,
             _ => false,
@@ -199,7 +202,7 @@ impl Integrator {
         match self {
             Integrator::DirectEms { hide_emitters }
             | Integrator::DirectMats { hide_emitters }
-            | Integrator::DirectMis { hide_emitters }
+            | Integrator::DirectMis { hide_emitters, .. }
             | Integrator::SingleScatter { hide_emitters, .. } => *hide_emitters,
             Integrator::PathMats(p)
             | Integrator::PathMis(p)
@@ -290,6 +293,7 @@ mod tests {
         // direct_*: the BSDF-sampled ray's vertex only adds emission.
         let direct = Integrator::DirectMis {
             hide_emitters: false,
+            power_heuristic: false,
         };
         assert!(!direct.ends_paths_at(0) && direct.ends_paths_at(1));
         assert!(!Integrator::DirectEms {
@@ -356,7 +360,8 @@ mod tests {
         assert_eq!(
             d,
             Integrator::DirectMis {
-                hide_emitters: false
+                hide_emitters: false,
+                power_heuristic: true,
             }
         );
         let u = Integrator::from_spec(&spec("path_mats", &[]), None, Path::new("a")).unwrap();
@@ -371,6 +376,7 @@ mod tests {
         assert!(read("path_mis", &[]).unwrap().power_heuristic());
         assert!(!read("volpath", &[]).unwrap().power_heuristic());
         assert!(!read("direct_mis", &[]).unwrap().power_heuristic());
+        assert!(read("direct", &[]).unwrap().power_heuristic());
         let balance = [("mis_heuristic", Param::String("balance".into()))];
         assert!(!read("path", &balance).unwrap().power_heuristic());
         let power = [("mis_heuristic", Param::String("power".into()))];

@@ -1,5 +1,5 @@
 //! Direct illumination: `direct_ems`, `direct_mats`, `direct_mis` (Nori's) and
-//! Mitsuba's `direct` (the same as `direct_mis`).
+//! Mitsuba's `direct` (`direct_mis` with Mitsuba's power heuristic).
 
 use super::{Integrator, Param, Params};
 use crate::scene::plugin::{Family, Param as Doc, PluginDoc};
@@ -29,7 +29,10 @@ pub const DIRECT_MIS: PluginDoc = doc(
     "direct_mis",
     "Direct illumination by emitter and BSDF sampling, balance heuristic.",
 );
-pub const DIRECT: PluginDoc = doc("direct", "Mitsuba's name for `direct_mis`.");
+pub const DIRECT: PluginDoc = doc(
+    "direct",
+    "Mitsuba's direct illumination: `direct_mis` with the power heuristic, as Mitsuba's.",
+);
 
 /// One of the direct illumination integrators.
 pub fn read(name: &str, params: &mut Params) -> Result<Integrator, String> {
@@ -47,6 +50,11 @@ pub fn read(name: &str, params: &mut Params) -> Result<Integrator, String> {
     Ok(match name {
         "direct_ems" => Integrator::DirectEms { hide_emitters },
         "direct_mats" => Integrator::DirectMats { hide_emitters },
-        _ => Integrator::DirectMis { hide_emitters },
+        _ => Integrator::DirectMis {
+            hide_emitters,
+            // Mitsuba's direct.cpp weighs by the power heuristic, Nori's direct_mis by
+            // the balance heuristic.
+            power_heuristic: name == "direct",
+        },
     })
 }

@@ -83,10 +83,14 @@ pub enum Integrator {
     DirectEms { hide_emitters: bool },
     /// Direct illumination by BSDF sampling only (Nori's `direct_mats`).
     DirectMats { hide_emitters: bool },
-    /// Direct illumination combining emitter and BSDF sampling with the balance
-    /// heuristic (Nori's `direct_mis`; Mitsuba's `direct`). Parameter
-    /// `hide_emitters` (default false): camera rays do not see emitters.
-    DirectMis { hide_emitters: bool },
+    /// Direct illumination combining emitter and BSDF sampling: Nori's `direct_mis`
+    /// with the balance heuristic, Mitsuba's `direct` with the power heuristic (its
+    /// direct.cpp squares both pdfs). Parameter `hide_emitters` (default false):
+    /// camera rays do not see emitters.
+    DirectMis {
+        hide_emitters: bool,
+        power_heuristic: bool,
+    },
     /// Path tracing by BSDF sampling alone (Nori's `path_mats`).
     PathMats(PathParams),
     /// Path tracing with emitter sampling at every vertex, combined with BSDF
