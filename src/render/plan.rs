@@ -342,6 +342,17 @@ fn check(scene: &Scene, integrator: &Integrator) -> Result<()> {
             integrator.name()
         ));
     }
+    // The particle tracer connects light paths to a pinhole (importance and the pixel
+    // a point projects to, shaders/integrator/ptracer.glsl).
+    if matches!(integrator, Integrator::Ptracer(_))
+        && scene.camera.projection != crate::scene::camera::Projection::Perspective
+    {
+        return refuse(
+            "integrator 'ptracer' connects light paths to a perspective (pinhole) sensor \
+             only yet; render this sensor with path"
+                .to_string(),
+        );
+    }
     if integrator.is_photon_mapper() && scene.emitters.is_empty() {
         return refuse(format!(
             "integrator '{}' needs an emitter to shoot photons from; the scene has none",
