@@ -70,7 +70,8 @@ float warp_uniform_cone_pdf(float one_minus_cos_max) { return INV_TWO_PI / one_m
 // per unit solid angle inside the cap, 0 outside.
 vec3 warp_uniform_cap(vec2 u, float cos_max) { return warp_uniform_cone(u, 1.0 - cos_max); }
 float warp_uniform_cap_pdf(vec3 v, float cos_max) {
-    return v.z >= cos_max ? INV_TWO_PI / (1.0 - cos_max) : 0.0;
+    // Through the cone's pdf (what sphere lights use), so the warp test checks that one.
+    return v.z >= cos_max ? warp_uniform_cone_pdf(1.0 - cos_max) : 0.0;
 }
 
 // Uniform point on a triangle as barycentrics (b0, b1), b2 = 1 - b0 - b1 (PBR 4th ed.,
