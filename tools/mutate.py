@@ -108,10 +108,12 @@ def main():
         muts = [m for m in muts if m["id"] in args.ids]
 
     wt = args.worktree
+    head = subprocess.check_output(["git", "rev-parse", "HEAD"], cwd=ROOT, text=True).strip()
     if not os.path.isdir(wt):
-        subprocess.check_call(["git", "worktree", "add", "--detach", wt, "HEAD"], cwd=ROOT)
+        subprocess.check_call(["git", "worktree", "add", "--detach", wt, head], cwd=ROOT)
     else:
-        subprocess.check_call(["git", "checkout", "--detach", "--force", "HEAD"], cwd=wt)
+        # The repository's HEAD (not the scratch tree's own, which is older).
+        subprocess.check_call(["git", "checkout", "--detach", "--force", head], cwd=wt)
     env = dict(os.environ, CARGO_TARGET_DIR=args.target or os.path.join(wt, "target"))
     log = os.path.join(wt, "mutate.log")
 
