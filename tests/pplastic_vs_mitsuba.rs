@@ -17,6 +17,7 @@
 
 mod common;
 
+use common::mitsuba_values::{num, v3, EPS};
 use common::stats::bsdf_probe;
 use common::{assert_matches_reference_at, device, repo};
 use glam::Vec3;
@@ -25,22 +26,6 @@ use wavetrace::gpu::layout::BsdfRecord;
 use wavetrace::image::Image;
 use wavetrace::render::RenderOptions;
 use wavetrace::scene::bsdf::{Bsdf, Distribution, PPlastic};
-
-const EPS: f64 = f32::EPSILON as f64 / 2.0;
-
-fn v3(v: &Value) -> Vec3 {
-    let a: Vec<f32> = v
-        .as_array()
-        .expect("a vector")
-        .iter()
-        .map(|x| x.as_f64().expect("a number") as f32)
-        .collect();
-    Vec3::new(a[0], a[1], a[2])
-}
-
-fn num(v: &Value) -> f32 {
-    v.as_f64().expect("a number") as f32
-}
 
 /// The exponent of Beckmann's D at the half vector (0 for GGX, whose D is rational).
 fn exponent(b: &PPlastic, wo: Vec3, wi: Vec3) -> f64 {

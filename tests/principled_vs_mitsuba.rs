@@ -21,23 +21,13 @@
 
 mod common;
 
+use common::mitsuba_values::v3;
 use common::stats::bsdf_probe;
 use common::{assert_matches_reference_at, device, repo};
-use glam::Vec3;
 use serde_json::Value;
 use wavetrace::gpu::layout::BsdfRecord;
 use wavetrace::image::Image;
 use wavetrace::render::RenderOptions;
-
-fn v3(v: &Value) -> Vec3 {
-    let a: Vec<f32> = v
-        .as_array()
-        .expect("a vector")
-        .iter()
-        .map(|x| x.as_f64().expect("a number") as f32)
-        .collect();
-    Vec3::new(a[0], a[1], a[2])
-}
 
 #[test]
 fn eval_and_pdf_match_mitsuba() {

@@ -271,6 +271,7 @@ pub fn downsample(img: &Image, k: u32) -> Image {
 
 pub mod albedo;
 pub mod media;
+pub mod mitsuba_values;
 pub mod stats;
 
 /// The BSDF a Mitsuba dictionary of numbers and `{"type": "rgb", "value": [..]}`
