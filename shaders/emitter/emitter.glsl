@@ -330,6 +330,27 @@ EmitterSample emitter_sample_env(vec3 x, vec2 u, bool env, vec3 d) {
 
 EmitterSample emitter_sample(vec3 x, vec2 u) { return emitter_sample_env(x, u, false, vec3(0.0)); }
 
+// How far a shadow ray for sample es may go from `origin` (the shading point x moved off
+// its surface) along es.wi: to the sampled point, short by Mitsuba's ShadowEpsilon
+// (~1e-3 of the distance). For a sphere light the end is where the ray from `origin`
+// itself first meets the sphere: near the rim of the cone, the line through the offset
+// origin parallel to es.wi meets the sphere before the point sampled from x (by up to
+// sqrt(2 r |offset|)), and a shadow ray to that point would find the light occluding
+// itself (0.07% of a near sphere's light: tests/sphere_light_closed_form.rs).
+float emitter_shadow_tmax(EmitterSample es, vec3 x, vec3 origin) {
+    if (isinf(es.dist)) return es.dist;
+    float t = length(x + es.wi * es.dist - origin);
+    if (EMITTER_HAS(EMITTER_KIND_BIT_SPHERE_AREA)) {
+        EmitterRecord e = emitter_load(es.emitter);
+        float ts;
+        if (e.kind == EMITTER_AREA && e.tri_count == 0u && e.prim_kind == PRIM_SPHERE && !emitter_texture_sampled(e)
+            && intersect_sphere(origin, es.wi, e.position, e.radius, 0.0, EMITTER_INFINITY, ts)) {
+            t = min(t, ts);
+        }
+    }
+    return t * (1.0 - 1e-3);
+}
+
 // Density with which emitter_sample, called at x_prev, picks the point at distance t
 // along the unit direction d where a ray hit area emitter `index` (geometric normal ng
 // and surface uv there).

@@ -286,7 +286,7 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
                 // (~1e-3 of the distance): at 1e-4 a shadow ray from the offset origin
                 // to the rim of a large, near sphere light met the sphere itself first
                 // (4% of its light lost: tests/sphere_light_closed_form.rs).
-                tmax = isinf(es.dist) ? es.dist : length(s.p + es.wi * es.dist - origin) * (1.0 - 1e-3);
+                tmax = emitter_shadow_tmax(es, s.p, origin);
                 medium = path_medium_after(integrator, s.shape, path.medium, es.wi, s.ng);
             }
             if (any(greaterThan(f, vec3(0.0)))) {
