@@ -173,6 +173,22 @@ enum Command {
     },
     /// List the Vulkan devices wavetrace can use.
     Devices,
+    /// Which CPU Vulkan driver and vector width runs here: with `--calibrate`, render a
+    /// small Cornell box under the system's lavapipe and each newer one that
+    /// `tools/lavapipe.sh --prebuilt` installed (at 256 and 512 bits), and record the
+    /// fastest that renders the same image for every later run on this machine
+    /// (`WAVETRACE_DRIVER=system` overrides it).
+    Driver {
+        /// Measure the candidates and record the fastest.
+        #[arg(long)]
+        calibrate: bool,
+        /// The scene to measure with (default: the shipped Cornell box).
+        #[arg(long)]
+        scene: Option<PathBuf>,
+        /// Renders per candidate (the best counts).
+        #[arg(long, default_value_t = 2)]
+        runs: u32,
+    },
     /// Chi-square test of a GPU sampler against its own pdf (Nori's warptest): draw
     /// samples with the GLSL routine, histogram them, compare with the counts its pdf
     /// predicts, print X² and the p-value and draw the histograms. Exit status 0 when
@@ -239,6 +255,47 @@ fn parse_defines(defines: &[String]) -> Result<Vec<(String, String)>> {
         .collect()
 }
 
+/// `wavetrace driver`: the recorded choice and the candidates, or (`--calibrate`) a
+/// new measurement.
+fn driver(calibrate: bool, scene: Option<PathBuf>, runs: u32) -> Result<()> {
+    use wavetrace::gpu::driver_choice as dc;
+    println!("machine: {}", dc::machine());
+    if calibrate {
+        let scene = match scene {
+            Some(s) => s,
+            None => std::env::current_exe()
+                .ok()
+                .and_then(|e| {
+                    e.ancestors()
+                        .map(|a| a.join("scenes/cbox/cbox_path.xml"))
+                        .find(|p| p.is_file())
+                })
+                .context("no --scene given and the shipped scenes/cbox/cbox_path.xml not found above the executable")?,
+        };
+        let args: Vec<String> = ["-D", "res=256", "--spp", "32", "--seed", "1"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        println!(
+            "measuring {} {} under each candidate ({runs} runs each):",
+            scene.display(),
+            args.join(" ")
+        );
+        for (c, result) in dc::calibrate(&scene, &args, runs)? {
+            println!("  {}: {result}", c.describe());
+        }
+    } else {
+        for c in dc::candidates() {
+            println!("candidate: {}", c.describe());
+        }
+    }
+    match dc::recorded() {
+        Some(c) => println!("recorded for this machine: {}", c.describe()),
+        None => println!("nothing recorded for this machine: the system's driver runs"),
+    }
+    Ok(())
+}
+
 fn load(args: &SceneArgs) -> Result<Scene> {
     let defines = parse_defines(&args.define)?;
     Ok(scene::load(&args.scene, &defines)?)
@@ -247,6 +304,11 @@ fn load(args: &SceneArgs) -> Result<Scene> {
 mod cli;
 
 fn main() {
+    // A recorded faster driver (`wavetrace driver --calibrate`) takes over here, before
+    // Vulkan is opened; `driver` itself always runs as it was started.
+    if std::env::args_os().nth(1).is_none_or(|a| a != "driver") {
+        wavetrace::gpu::driver_choice::apply();
+    }
     if let Err(e) = run(Cli::parse()) {
         eprintln!("error: {e:#}");
         std::process::exit(1);
@@ -297,6 +359,11 @@ fn run(cli: Cli) -> Result<()> {
             print_info(&sc, t.elapsed().as_secs_f64(), spp, sampler.as_deref())?;
             Ok(())
         }
+        Command::Driver {
+            calibrate,
+            scene,
+            runs,
+        } => driver(calibrate, scene, runs),
         Command::Devices => {
             for d in Device::list()? {
                 println!("[{}] {} ({})", d.index, d.name, d.kind.name());

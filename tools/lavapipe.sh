@@ -205,6 +205,11 @@ runs on; VK_ICD_FILENAMES alone does not do: the driver needs the libc it was bu
 
   $PREFIX/bin/with-lavapipe target/release/wavetrace devices
   $PREFIX/bin/with-lavapipe target/release/wavetrace render scenes/cbox/cbox_path.xml --spp 64 -o cbox.exr
+
+or let wavetrace measure it against the system's driver, at 256 and 512 bits, and use the
+fastest from then on without the wrapper (docs/usage.md, "driver"):
+
+  target/release/wavetrace driver --calibrate
 EOF
     exit 0
 fi

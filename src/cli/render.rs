@@ -474,6 +474,9 @@ fn open_renderer(
 ) -> Result<Renderer> {
     let device = Device::new(device.map(String::as_str))?;
     eprintln!("device: {}", device.info());
+    if let Some(note) = wavetrace::gpu::driver_choice::chosen_note() {
+        eprintln!("driver: {note}");
+    }
     let renderer = Renderer::new(&device, sc, options)?;
     let s = &renderer.setup;
     eprintln!(

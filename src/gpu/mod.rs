@@ -6,6 +6,7 @@
 pub mod buffer;
 pub mod command;
 pub mod device;
+pub mod driver_choice;
 pub mod error;
 pub mod kernel;
 pub mod layout;

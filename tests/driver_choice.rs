@@ -1,0 +1,138 @@
+//! The driver and width recorded for a machine (`wavetrace driver --calibrate`,
+//! src/gpu/driver_choice.rs) take over a command-line run, say so in the device line,
+//! and render the image the system's driver renders; a record of another machine, or
+//! `WAVETRACE_DRIVER=system`, leaves the system's driver in charge.
+//!
+//! The mechanism is checked with the system's driver at 128 bits (a width it is not
+//! started at), so it runs on any machine. Where a newer lavapipe is installed
+//! (`tools/lavapipe.sh --prebuilt`, which `.ci/run` runs where Debian sid can be
+//! reached), a record of it at 512 bits renders the Cornell box as the system's driver
+//! does; `WAVETRACE_REQUIRE_PREBUILT=1` (set by `.ci/run` once it installed one) makes
+//! its absence a failure instead of a skip.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use wavetrace::gpu::driver_choice::machine;
+
+/// Renders the Cornell box at 48², 4 spp with XDG_CACHE_HOME = `cache`:
+/// (stderr, image).
+fn render(cache: &Path, out: &Path, env: &[(&str, &str)]) -> (String, wavetrace::image::Image) {
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_wavetrace"));
+    cmd.current_dir(common::repo(""))
+        .args(["render", "scenes/cbox/cbox_path.xml", "-D", "res=48"])
+        .args(["--spp", "4", "--seed", "1", "-o"])
+        .arg(out)
+        .env("XDG_CACHE_HOME", cache)
+        .env_remove("WAVETRACE_DRIVER")
+        .env_remove("WAVETRACE_DRIVER_CHOSEN")
+        .env_remove("LP_NATIVE_VECTOR_WIDTH")
+        .env_remove("VK_ICD_FILENAMES")
+        .env_remove("VK_DRIVER_FILES");
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    let o = cmd.output().expect("run wavetrace");
+    let err = String::from_utf8_lossy(&o.stderr).into_owned();
+    assert!(o.status.success(), "render failed: {err}");
+    let img = wavetrace::image::Image::read_exr(out).expect("read the render");
+    (err, img)
+}
+
+fn record(cache: &Path, machine: &str, driver: Option<&Path>, width: u32) {
+    let dir = cache.join("wavetrace");
+    std::fs::create_dir_all(&dir).unwrap();
+    let driver = driver.map_or("null".to_string(), |d| format!("\"{}\"", d.display()));
+    std::fs::write(
+        dir.join("driver-choice.json"),
+        format!(
+            r#"{{"machine": {}, "choice": {{"driver": {driver}, "width": {width}}}}}"#,
+            serde_json::to_string(machine).unwrap()
+        ),
+    )
+    .unwrap();
+}
+
+fn device_line(stderr: &str) -> &str {
+    stderr
+        .lines()
+        .find(|l| l.starts_with("device:"))
+        .unwrap_or_else(|| panic!("no device line in {stderr}"))
+}
+
+#[test]
+fn a_recorded_width_takes_over_and_renders_the_same_image() {
+    let dir = common::temp_dir("driver_choice_width");
+    let cache = dir.join("cache");
+    let (plain, reference) = render(&cache, &dir.join("plain.exr"), &[]);
+    assert!(!device_line(&plain).contains("128 bits"), "{plain}");
+    assert!(!plain.contains("driver:"), "{plain}");
+
+    record(&cache, &machine(), None, 128);
+    let (chosen, img) = render(&cache, &dir.join("chosen.exr"), &[]);
+    assert!(device_line(&chosen).contains("128 bits"), "{chosen}");
+    assert!(
+        chosen.contains("driver: the system's driver at 128 bits, chosen for this machine"),
+        "{chosen}"
+    );
+    let d = common::largest_relative_difference(&reference, &img);
+    assert!(d < 1e-3, "the 128-bit render differs by {d}");
+
+    // WAVETRACE_DRIVER=system, and a record of another machine, leave it alone.
+    let (system, _) = render(
+        &cache,
+        &dir.join("system.exr"),
+        &[("WAVETRACE_DRIVER", "system")],
+    );
+    assert!(!device_line(&system).contains("128 bits"), "{system}");
+    record(&cache, "another machine [avx2]", None, 128);
+    let (other, _) = render(&cache, &dir.join("other.exr"), &[]);
+    assert!(!device_line(&other).contains("128 bits"), "{other}");
+    assert!(!other.contains("driver:"), "{other}");
+}
+
+/// The newest newer lavapipe installed in the user's cache, if any.
+fn installed_prebuilt() -> Option<PathBuf> {
+    let home = std::env::var_os("HOME")?;
+    let cache = PathBuf::from(home).join(".cache/wavetrace");
+    let mut found: Vec<PathBuf> = std::fs::read_dir(cache)
+        .ok()?
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| {
+            p.file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with("lavapipe-deb-"))
+                && p.join(".complete").is_file()
+        })
+        .collect();
+    found.sort();
+    found.pop()
+}
+
+#[test]
+fn a_recorded_newer_lavapipe_at_512_bits_renders_the_same_image() {
+    let Some(driver) = installed_prebuilt() else {
+        assert!(
+            std::env::var_os("WAVETRACE_REQUIRE_PREBUILT").is_none(),
+            "WAVETRACE_REQUIRE_PREBUILT is set but no newer lavapipe is installed in ~/.cache/wavetrace"
+        );
+        eprintln!("skipped: no newer lavapipe installed (tools/lavapipe.sh --prebuilt)");
+        return;
+    };
+    let dir = common::temp_dir("driver_choice_prebuilt");
+    let cache = dir.join("cache");
+    let (plain, reference) = render(&cache, &dir.join("plain.exr"), &[]);
+    record(&cache, &machine(), Some(&driver), 512);
+    let (chosen, img) = render(&cache, &dir.join("chosen.exr"), &[]);
+    let line = device_line(&chosen);
+    assert!(line.contains("512 bits"), "{chosen}");
+    assert_ne!(line, device_line(&plain), "the driver did not change");
+    assert!(
+        chosen.contains("at 512 bits, chosen for this machine"),
+        "{chosen}"
+    );
+    let d = common::largest_relative_difference(&reference, &img);
+    assert!(d < 1e-3, "the 512-bit render differs by {d}");
+}
