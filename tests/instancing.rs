@@ -114,12 +114,74 @@ fn flattened() -> String {
 }
 
 fn render(name: &str, xml: &str) -> Image {
+    render_with(name, xml, None, 16, 0)
+}
+
+/// Renders `xml` with `integrator` in place of the scene's (None: the scene's) and
+/// `seed`.
+fn render_with(name: &str, xml: &str, integrator: Option<&str>, spp: u32, seed: u32) -> Image {
     let dir = temp_dir("instancing");
     std::fs::write(dir.join("tent.obj"), TENT_OBJ).expect("write obj");
     let path = dir.join(name);
     std::fs::write(&path, xml).expect("write scene");
     let scene = wavetrace::scene::load(&path, &[]).unwrap_or_else(|e| panic!("{name}: {e}"));
-    common::render(&device(), &scene, &RenderOptions::default(), 16)
+    let options = RenderOptions {
+        integrator: integrator.map(str::to_string),
+        seed,
+        ..RenderOptions::default()
+    };
+    common::render(&device(), &scene, &options, spp)
+}
+
+/// The photon mappers and the particle tracer trace instances too (their light paths
+/// meet, and their emitters' points and the camera's visible points lie on, mapped
+/// primitives): each renders the instanced scene as the flattened one. Their light
+/// paths diverge where a photon lands a rounding apart, so the two renders differ by
+/// noise, not rounding: the worst 16 x 16 block difference between them must stay
+/// within twice the one between two seeds of the flattened scene, and the means within
+/// 1% (the particle tracer's 2%, or three times the two seeds' difference). Without the instance constants the kernels rendered the instances black (means
+/// 30% apart); a wrong transform moves whole blocks.
+#[test]
+fn photon_mappers_and_the_particle_tracer_render_instances_as_their_shapes() {
+    // The largest difference of 16 x 16 block means, relative to the mean of `b`.
+    let worst_block = |a: &Image, b: &Image| {
+        let block = |img: &Image, bx: u32, by: u32| {
+            let mut sum = 0.0;
+            for y in 16 * by..16 * by + 16 {
+                for x in 16 * bx..16 * bx + 16 {
+                    sum += img.pixel(x, y).iter().map(|&v| v as f64).sum::<f64>();
+                }
+            }
+            sum / (3.0 * 256.0)
+        };
+        let mb = common::mean(b);
+        (0..a.height / 16)
+            .flat_map(|by| (0..a.width / 16).map(move |bx| (bx, by)))
+            .map(|(bx, by)| (block(a, bx, by) - block(b, bx, by)).abs() / mb)
+            .fold(0.0, f64::max)
+    };
+    for (integrator, spp) in [("photonmapper", 4), ("sppm", 16), ("ptracer", 64)] {
+        let a = render_with("instanced.xml", &instanced(), Some(integrator), spp, 0);
+        let b = render_with("flattened.xml", &flattened(), Some(integrator), spp, 0);
+        let c = render_with("flattened.xml", &flattened(), Some(integrator), spp, 1);
+        let (ma, mb, mc) = (common::mean(&a), common::mean(&b), common::mean(&c));
+        let (worst, noise) = (worst_block(&a, &b), worst_block(&c, &b));
+        println!(
+            "{integrator}: instanced mean {ma:.5}, flattened {mb:.5} (seed 1: {mc:.5}); blocks differ by at most {worst:.4} of the mean (two seeds: {noise:.4})"
+        );
+        assert!(ma > 0.05, "{integrator}: the scene is lit");
+        // The particle tracer's mean at 64 spp moves by about 0.5% between seeds.
+        let floor = if integrator == "ptracer" { 2e-2 } else { 1e-2 };
+        let mean_bound = (floor * mb).max(3.0 * (mc - mb).abs());
+        assert!(
+            (ma - mb).abs() <= mean_bound,
+            "{integrator}: means {ma} vs {mb} (two seeds {mc} vs {mb})"
+        );
+        assert!(
+            worst <= 2.0 * noise,
+            "{integrator}: a block differs by {worst} of the mean, two seeds by {noise}"
+        );
+    }
 }
 
 /// The same image within float noise: the instances' vertices are mapped on the GPU

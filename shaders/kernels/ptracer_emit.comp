@@ -14,6 +14,11 @@
 #include "queue/wavefront.glsl"
 #include "queue/queue.glsl"
 #include "scene/scene_bindings.glsl"
+// Instances (shaders/accel/instance.glsl): the hit names' shift, 0 without any.
+SPEC(SCENE_INSTANCES);
+SPEC(SCENE_INSTANCE_SLOTS);
+#define BVH_INSTANCES SCENE_INSTANCES
+#define BVH_INSTANCE_SLOTS SCENE_INSTANCE_SLOTS
 SPEC(SCENE_SURFACE_FEATURES);
 #define SURFACE_FEATURES SCENE_SURFACE_FEATURES
 SPEC(SCENE_TEXTURES);

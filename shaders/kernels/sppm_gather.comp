@@ -9,6 +9,11 @@
 #include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
+// Instances (shaders/accel/instance.glsl): the hit names' shift, 0 without any.
+SPEC(SCENE_INSTANCES);
+SPEC(SCENE_INSTANCE_SLOTS);
+#define BVH_INSTANCES SCENE_INSTANCES
+#define BVH_INSTANCE_SLOTS SCENE_INSTANCE_SLOTS
 SPEC(SCENE_TEXTURES);
 #define TEXTURE_KINDS SCENE_TEXTURES
 SPEC(SCENE_BSDF_KINDS);

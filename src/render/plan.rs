@@ -232,6 +232,7 @@ impl RenderPlan {
             flat_count: constants.flat_count,
             flat_kinds: constants.flat_kinds,
             film_filter: film::filter_constants(&film_spec.filter).0,
+            instances: constants.instances,
         };
         Ok(RenderPlan {
             integrator,
@@ -332,13 +333,6 @@ fn check(scene: &Scene, integrator: &Integrator) -> Result<()> {
             "integrator '{}' traces light between surfaces only: the scene has \
              participating media or null (index-matched) surfaces; render it with \
              vol_path_mis",
-            integrator.name()
-        ));
-    }
-    if integrator.is_photon_mapper() && !scene.instances.is_empty() {
-        return refuse(format!(
-            "integrator '{}' does not trace instanced shapes yet (shapegroup / instance); \
-             render the scene with path or volpath",
             integrator.name()
         ));
     }

@@ -290,6 +290,19 @@ pub struct SceneFeatures {
     pub flat_kinds: u32,
     /// The film's filter (`FILTER_*`), through which the particle tracer splats.
     pub film_filter: u32,
+    /// SCENE_INSTANCES and SCENE_INSTANCE_SLOTS (accel::instance; 0 without): every
+    /// kernel that finds a surface or an emitter's point reads instances' primitives.
+    pub instances: [u32; 2],
+}
+
+impl SceneFeatures {
+    /// The instance constants, for a kernel's specialization.
+    pub fn instance_specs(&self) -> [(Spec, u32); 2] {
+        [
+            (Spec::Instances, self.instances[0]),
+            (Spec::InstanceSlots, self.instances[1]),
+        ]
+    }
 }
 
 /// The kernels only one of the photon mappers runs.
@@ -343,7 +356,8 @@ impl Photons {
         let f = features;
         let uniform_choice = matches!(integrator, Integrator::PhotonMapper(_)) as u32;
         let named = |name, spirv, spec: &[(Spec, u32)]| {
-            KernelSpec::named(name, spirv, &spec.iter().copied().collect())
+            let spec = spec.iter().copied().chain(f.instance_specs()).collect();
+            KernelSpec::named(name, spirv, &spec)
         };
         let (surface, textures) = (
             (Spec::SurfaceFeatures, f.surface),

@@ -41,7 +41,12 @@ pub fn kernel_specs(f: &SceneFeatures) -> Vec<KernelSpec<'static>> {
         (Spec::FilmFilter, f.film_filter),
     ];
     let named = |name, spirv, extra: (Spec, u32)| {
-        let spec = traversal.iter().copied().chain([extra]).collect();
+        let spec = traversal
+            .iter()
+            .copied()
+            .chain([extra])
+            .chain(f.instance_specs())
+            .collect();
         KernelSpec::named(name, spirv, &spec)
     };
     vec![
