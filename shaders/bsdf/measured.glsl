@@ -203,10 +203,35 @@ vec3 measured_rgb(uint base, MeasuredParams p3, vec2 s) {
     return c;
 }
 
-// Mitsuba's elevation(): acos(d.z), stable near the pole.
+// atan of x in [0, 1] to a few ulps (Cephes' atanf: one reduction by π/4 and a
+// polynomial). GLSL's atan and asin may be approximations (lavapipe's lowering is off
+// by ~1e-4 rad), and the tables' steepest parts (σ near the horizon) amplify that.
+float measured_atan01(float x) {
+    float base = 0.0;
+    if (x > 0.41421356237) {
+        base = 0.78539816339;
+        x = (x - 1.0) / (x + 1.0);
+    }
+    float z = x * x;
+    return base + ((((8.05374449538e-2 * z - 1.38776856032e-1) * z + 1.99777106478e-1) * z
+                    - 3.33329491539e-1) * z * x + x);
+}
+
+// atan2 with IEEE's signed zeros (drjit's: atan2(-0, -0) = -π).
+float measured_atan2(float y, float x) {
+    float ax = abs(x), ay = abs(y);
+    float r = 0.0;
+    if (ax > 0.0 || ay > 0.0) {
+        r = ay <= ax ? measured_atan01(ay / ax) : 0.5 * PI - measured_atan01(ax / ay);
+    }
+    if ((floatBitsToUint(x) & 0x80000000u) != 0u) r = PI - r;
+    return (floatBitsToUint(y) & 0x80000000u) != 0u ? -r : r;
+}
+
+// Mitsuba's elevation(): acos(d.z) as 2 asin(|d - z|/2), stable near the pole.
 float measured_elevation(vec3 d) {
-    float dist = sqrt(d.x * d.x + d.y * d.y + (d.z - 1.0) * (d.z - 1.0));
-    return 2.0 * asin(clamp(0.5 * dist, -1.0, 1.0));
+    float h = min(0.5 * sqrt(d.x * d.x + d.y * d.y + (d.z - 1.0) * (d.z - 1.0)), 1.0);
+    return 2.0 * measured_atan2(h, sqrt(max((1.0 - h) * (1.0 + h), 0.0)));
 }
 
 float measured_theta2u(float theta) { return sqrt(theta * (2.0 / PI)); }
@@ -254,8 +279,8 @@ MeasuredQuery measured_query(uint base, vec3 wo, vec3 wi) {
     q.wi = a;
     q.m = normalize(a + b);
     q.theta_i = measured_elevation(a);
-    q.phi_i = atan(a.y, a.x);
-    float theta_m = measured_elevation(q.m), phi_m = atan(q.m.y, q.m.x);
+    q.phi_i = measured_atan2(a.y, a.x);
+    float theta_m = measured_elevation(q.m), phi_m = measured_atan2(q.m.y, q.m.x);
     bool iso = (measured_head(base, MEASURED_FLAGS) & 1u) != 0u;
     q.u_wi = vec2(measured_theta2u(q.theta_i), measured_phi2u(q.phi_i));
     q.u_m = vec2(measured_theta2u(theta_m), measured_phi2u(iso ? phi_m - q.phi_i : phi_m));
@@ -301,7 +326,7 @@ BsdfSample bsdf_measured_sample(BsdfRecord b, vec3 wo, vec3 u) {
         sx = reduction == 4u ? wi.x : sy;
         wi = measured_mirror(wi, sx, sy);
     }
-    float theta_i = measured_elevation(wi), phi_i = atan(wi.y, wi.x);
+    float theta_i = measured_elevation(wi), phi_i = measured_atan2(wi.y, wi.x);
     vec2 u_wi = vec2(measured_theta2u(theta_i), measured_phi2u(phi_i));
     MeasuredParams p = measured_params(base, phi_i, theta_i, 1u);
     // Mitsuba's sample2 = (u.y, u.z), swapped.

@@ -138,12 +138,20 @@ fn mitsuba(props: &Properties) -> Result<Bsdf, Error> {
     let name = props
         .string_opt("filename")?
         .ok_or_else(|| props.object_error("measured BSDF needs a 'filename'"))?;
-    let path = props
-        .resolve(&name)
-        .map_err(|tried| props.error("filename", format!("measured file {tried} not found")))?;
-    let bytes = std::fs::read(&path)
-        .map_err(|e| props.error("filename", format!("{}: {e}", path.display())))?;
-    let data = parse(&bytes, &path).map_err(|e| props.error("filename", e))?;
+    let path = props.resolve(&name).map_err(|tried| {
+        props.error(
+            "filename",
+            format!("parameter 'filename': measured file {tried} not found"),
+        )
+    })?;
+    let bytes = std::fs::read(&path).map_err(|e| {
+        props.error(
+            "filename",
+            format!("parameter 'filename': {}: {e}", path.display()),
+        )
+    })?;
+    let data = parse(&bytes, &path)
+        .map_err(|e| props.error("filename", format!("parameter 'filename': {e}")))?;
     Ok(Bsdf::Measured(Measured {
         data: Arc::new(data),
     }))
