@@ -6,6 +6,21 @@
 //   out[3i] = (wi, pdf), out[3i+1] = (weight, flags as float bits),
 //   out[3i+2] = (bsdf_eval(wo, wi), bsdf_pdf(wo, wi)).
 // mode 1 (evaluate): out[i] = (bsdf_eval(wo, dirs[i].xyz), bsdf_pdf(wo, dirs[i].xyz)).
+// Models with tables (measured) read them from dirs[tables] on, four words a vec4.
+
+layout(std430, set = 0, binding = 1) readonly buffer DirBuffer { vec4 dirs[]; };
+layout(push_constant) uniform PushBlock {
+    vec4 wo;
+    uint mode;
+    uint count;
+    uint seed;
+    uint tables;
+} pc;
+
+#define BSDF_TABLE_WORD_DEFINED
+uint bsdf_table_word(uint k) {
+    return floatBitsToUint(dirs[pc.tables + (k >> 2u)][k & 3u]);
+}
 
 #include "bsdf/bsdf.glsl"
 #include "sampling/rng.glsl"
@@ -13,16 +28,7 @@
 layout(local_size_x = 64) in;
 
 layout(std430, set = 0, binding = 0) readonly buffer RecordBuffer { BsdfRecord records[]; };
-layout(std430, set = 0, binding = 1) readonly buffer DirBuffer { vec4 dirs[]; };
 layout(std430, set = 0, binding = 2) writeonly buffer OutBuffer { vec4 outs[]; };
-
-layout(push_constant) uniform PushBlock {
-    vec4 wo;
-    uint mode;
-    uint count;
-    uint seed;
-    uint pad;
-} pc;
 
 void main() {
     uint i = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * gl_WorkGroupSize.x;

@@ -217,6 +217,7 @@ gpu_record! {
     /// | roughplastic | + `distribution`, `alpha_u` (= `alpha_v`), `table` (coating transmittance at cos θ = i/63, 64 unorm16 entries, two a word), `internal` (R_int) |
     /// | Nori microfacet | `reflectance` (kd), `specular_weight` (ks), `eta`, `alpha_u` |
     /// | principled, principledthin | `reflectance` (base_color), `eta`, `table` (scalar parameters, their textures: `scene::bsdf::principled`) |
+    /// | measured | `table[0]`: where its tables start in the texel words, its file's hash (`scene::bsdf::measured`) |
     ///
     /// `flags`: [`BSDF_TWOSIDED`], [`BSDF_NONLINEAR`], [`BSDF_NORMALMAP_FLIP`],
     /// [`BSDF_NORMALMAP_SHADOWING`], [`BSDF_TABLE_TEXTURES`].

@@ -155,6 +155,7 @@ impl SceneRecords {
         r.build_alias_tables(scene, bvh, &remap);
         // A composite's nodes and nested models follow the scene's BSDFs.
         r.bsdfs = crate::scene::bsdf::composite::records(&scene.bsdfs);
+        crate::scene::bsdf::measured::place_tables(&scene.bsdfs, &mut r.bsdfs, &mut r.texels);
         r
     }
 }

@@ -1512,7 +1512,7 @@ mod tests {
             ("<shape type=\"disk\"><transform name=\"to_world\"><scale value=\"1,0,1\"/></transform></shape>", 3, "collapses the disk"),
             ("<shape type=\"serialized\">\n<string name=\"filename\" value=\"m.serialized\"/></shape>", 4, "m.serialized' not found"),
             ("<medium type=\"homogeneous\"><float name=\"albedo\" value=\"2\"/></medium>", 3, "albedo must be in [0, 1]"),
-            ("<shape type=\"cube\"><bsdf type=\"measured\"/></shape>", 3, "bsdf type 'measured' is not supported yet"),
+            ("<shape type=\"cube\"><bsdf type=\"measured\"/></shape>", 3, "measured BSDF needs a 'filename'"),
             ("<shape type=\"cube\" foo=\"1\"/>", 3, "unexpected attribute 'foo'"),
             ("<shape type=\"cube\"><transform name=\"to_world\"><lookat origin=\"0,0,0\" target=\"0,0,0\"/></transform></shape>", 3, "invalid <lookat>"),
             ("<shape type=\"cube\"><transform name=\"to_world\"><matrix value=\"1 2 3\"/></transform></shape>", 3, "16 numbers"),

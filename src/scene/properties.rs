@@ -16,7 +16,7 @@ use glam::{Mat4, Vec3};
 use super::integrator::Param;
 use super::spectrum;
 use super::transform;
-use super::xml::{parse_number, parse_numbers, tokens, Dialect, Element};
+use super::xml::{parse_number, parse_numbers, tokens, Dialect, Element, SearchPath};
 use super::Error;
 
 /// A parameter value as written in the scene file.
@@ -70,6 +70,8 @@ pub struct Properties {
     file: Rc<PathBuf>,
     line: u32,
     entries: BTreeMap<String, Entry>,
+    /// Where the file names it holds are found ([`Properties::resolve`]).
+    search: Rc<SearchPath>,
 }
 
 /// Names of Mitsuba spectrum parameters that are not clamped to [0, 1].
@@ -95,6 +97,7 @@ impl Properties {
             file: el.file.clone(),
             line: el.line,
             entries: BTreeMap::new(),
+            search: el.search.clone(),
         };
         let mut nested = Vec::new();
         for child in &el.children {
@@ -143,6 +146,13 @@ impl Properties {
             );
         }
         Ok((props, nested))
+    }
+
+    /// Resolves a file name given in these properties as Mitsuba's file resolver does
+    /// ([`crate::scene::xml::Element::resolve`]); on failure, the paths tried.
+    pub fn resolve(&self, name: &str) -> Result<PathBuf, String> {
+        let dir = self.file.parent().unwrap_or(std::path::Path::new(""));
+        self.search.resolve(dir, name)
     }
 
     /// The object these properties belong to, for messages (`sensor 'perspective'`).

@@ -63,6 +63,37 @@ impl SearchPath {
     pub fn paths(&self) -> Vec<PathBuf> {
         self.paths.borrow().iter().rev().cloned().collect()
     }
+
+    /// Resolves a file name written in a file of folder `dir` ([`Element::resolve`]).
+    pub fn resolve(&self, dir: &Path, name: &str) -> Result<PathBuf, String> {
+        let mut tried: Vec<PathBuf> = Vec::new();
+        let dirs = if Path::new(name).is_absolute() {
+            vec![PathBuf::new()]
+        } else {
+            let mut dirs = self.paths();
+            dirs.push(dir.to_path_buf());
+            dirs.push(self.base.clone());
+            dirs
+        };
+        for dir in dirs {
+            let candidate = dir.join(name);
+            if tried.contains(&candidate) {
+                continue;
+            }
+            if candidate.is_file() {
+                return Ok(candidate);
+            }
+            tried.push(candidate);
+        }
+        let mut tried = tried.iter().map(|p| format!("'{}'", p.display()));
+        let first = tried.next().unwrap_or_default();
+        let rest: Vec<String> = tried.collect();
+        if rest.is_empty() {
+            Err(first)
+        } else {
+            Err(format!("{first} (nor {})", rest.join(", ")))
+        }
+    }
 }
 
 impl Element {
@@ -105,33 +136,7 @@ impl Element {
     /// recent first), then the folder of the file holding the element, then the main
     /// scene's folder. On failure, the paths tried.
     pub fn resolve(&self, name: &str) -> Result<PathBuf, String> {
-        let mut tried: Vec<PathBuf> = Vec::new();
-        let dirs = if Path::new(name).is_absolute() {
-            vec![PathBuf::new()]
-        } else {
-            let mut dirs = self.search.paths();
-            dirs.push(self.dir().to_path_buf());
-            dirs.push(self.search.base.clone());
-            dirs
-        };
-        for dir in dirs {
-            let candidate = dir.join(name);
-            if tried.contains(&candidate) {
-                continue;
-            }
-            if candidate.is_file() {
-                return Ok(candidate);
-            }
-            tried.push(candidate);
-        }
-        let mut tried = tried.iter().map(|p| format!("'{}'", p.display()));
-        let first = tried.next().unwrap_or_default();
-        let rest: Vec<String> = tried.collect();
-        if rest.is_empty() {
-            Err(first)
-        } else {
-            Err(format!("{first} (nor {})", rest.join(", ")))
-        }
+        self.search.resolve(self.dir(), name)
     }
 }
 

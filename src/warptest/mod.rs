@@ -234,8 +234,10 @@ pub fn run(device: &Device, target: &Target, n: u32, seed: u32) -> Result<Outcom
     match target {
         Target::Warp(w) => test_warp(&WarpProbe::new(device)?, *w, n, seed),
         Target::Bsdf { bsdf, wo, axis } => {
-            let probe = BsdfProbe::new(device)?;
-            Ok(test_bsdf(&probe, &BsdfRecord::from(bsdf), *wo, *axis, n, seed)?.0)
+            let mut probe = BsdfProbe::new(device)?;
+            let (rec, tables) = crate::scene::bsdf::measured::record_with_tables(bsdf);
+            probe.set_tables(&tables);
+            Ok(test_bsdf(&probe, &rec, *wo, *axis, n, seed)?.0)
         }
         Target::Phase { g, wo } => Ok(test_phase(&PhaseProbe::new(device)?, *g, *wo, n, seed)?.0),
     }

@@ -59,6 +59,9 @@ pub struct BsdfProbe {
     pub device: Device,
     layout: BindingLayout,
     kernel: Kernel,
+    /// The table words of models that read tables (`measured`), set by
+    /// [`BsdfProbe::set_tables`]; four a vec4.
+    tables: Vec<[f32; 4]>,
 }
 
 /// One `bsdf_sample` result with eval and pdf at its direction.
@@ -86,7 +89,8 @@ struct BsdfPush {
     mode: u32,
     count: u32,
     seed: u32,
-    pad: u32,
+    /// Where the table words start in the direction buffer, in vec4s.
+    tables: u32,
 }
 
 impl BsdfPush {
@@ -96,7 +100,7 @@ impl BsdfPush {
             mode,
             count,
             seed,
-            pad: 0,
+            tables: 0,
         }
     }
 }
@@ -115,17 +119,35 @@ impl BsdfProbe {
             device: device.clone(),
             layout,
             kernel,
+            tables: Vec::new(),
         })
+    }
+
+    /// Gives the records evaluated from now on the table words `words`
+    /// (`scene::bsdf::measured::record_with_tables`).
+    pub fn set_tables(&mut self, words: &[f32]) {
+        self.tables = words
+            .chunks(4)
+            .map(|c| std::array::from_fn(|i| c.get(i).copied().unwrap_or(0.0)))
+            .collect();
     }
 
     fn run(
         &self,
         rec: &BsdfRecord,
-        push: BsdfPush,
+        mut push: BsdfPush,
         dirs: &[[f32; 4]],
         outputs: usize,
     ) -> Result<Vec<[f32; 4]>> {
         let rec: [[f32; 4]; std::mem::size_of::<BsdfRecord>() / 16] = bytemuck::cast(*rec);
+        let with_tables;
+        let dirs = if self.tables.is_empty() {
+            dirs
+        } else {
+            push.tables = dirs.len() as u32;
+            with_tables = [dirs, &self.tables].concat();
+            &with_tables
+        };
         dispatch(
             &self.device,
             &self.layout,

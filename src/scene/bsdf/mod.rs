@@ -23,6 +23,7 @@
 //! | [`pplastic`] | `pplastic` | |
 //! | [`principled`] | `principled`, `principledthin` | |
 //! | [`nori_microfacet`] | | `microfacet` |
+//! | [`measured`] | `measured` | |
 //! | [`twosided`], [`normalmap`], [`null`] | wrappers the loader reads (they nest BSDFs or none) | |
 //! | [`mask`], [`blendbsdf`], [`bumpmap`] | composites the loader reads, resolved per hit ([`composite`]) | |
 //!
@@ -42,6 +43,7 @@ pub mod fresnel;
 pub mod ior;
 pub mod kinds;
 pub mod mask;
+pub mod measured;
 pub mod microfacet;
 pub mod nori_microfacet;
 pub mod normalmap;
@@ -73,6 +75,7 @@ pub use fresnel::{
 };
 pub use ior::{ior_preset, CONDUCTOR_PRESETS, IOR_PRESETS};
 pub use kinds::Kind;
+pub use measured::Measured;
 pub use microfacet::{rough_reflectance, Distribution};
 pub use nori_microfacet::NoriMicrofacet;
 pub use plastic::Plastic;
@@ -104,7 +107,7 @@ pub const PLUGINS: &[Plugin] = &[
     Plugin::not_yet("circular"),
     Plugin::not_yet("hair"),
     mask::MITSUBA,
-    Plugin::not_yet("measured"),
+    measured::MITSUBA,
     Plugin::not_yet("measured_polarized"),
     Plugin::not_yet("polarizer"),
     principled::MITSUBA,
@@ -285,6 +288,8 @@ pub enum Bsdf {
     /// `principled` and `principledthin` ([`principled`]).
     Principled(Principled),
     NoriMicrofacet(NoriMicrofacet),
+    /// Mitsuba `measured`: an RGL `.bsdf` file ([`measured`]).
+    Measured(Measured),
     /// Mitsuba `twosided` with one nested BSDF without transmission: both faces use
     /// it ([`twosided`]).
     TwoSided(Box<Bsdf>),
@@ -340,6 +345,7 @@ impl Bsdf {
             Bsdf::PPlastic(m) => m,
             Bsdf::Principled(m) => m,
             Bsdf::NoriMicrofacet(m) => m,
+            Bsdf::Measured(m) => m,
             Bsdf::TwoSided(inner) => inner.model(),
             Bsdf::Textured { bsdf, .. } | Bsdf::NormalMap { bsdf, .. } => bsdf.model(),
             // A composite's first model (what one model stands for it).
