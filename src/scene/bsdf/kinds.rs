@@ -75,6 +75,7 @@ pub const KINDS: &[Kind] = &[
     kind(10, "principled",     REFLECTION | TRANSMISSION | GLOSSY | DIFFUSE, hooks::LOBES),
     kind(11, "principledthin", REFLECTION | TRANSMISSION | GLOSSY | DIFFUSE, hooks::LOBES),
     kind(12, "mask_null",      TRANSMISSION | DELTA | NULL,            0),
+    kind(13, "hair",           REFLECTION | TRANSMISSION | GLOSSY,     0),
 ];
 
 /// `BsdfRecord::kind` of the node records of composite BSDFs (`mask`, `blendbsdf`,

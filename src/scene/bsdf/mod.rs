@@ -39,6 +39,7 @@ mod conductor_presets;
 pub mod dielectric;
 pub mod diffuse;
 pub mod fresnel;
+pub mod hair;
 pub mod ior;
 pub mod kinds;
 pub mod mask;
@@ -71,6 +72,7 @@ pub use fresnel::{
     diffuse_fresnel, fresnel_dielectric, fresnel_diffuse_reflectance_fit,
     thin_dielectric_reflectance,
 };
+pub use hair::Hair;
 pub use ior::{ior_preset, CONDUCTOR_PRESETS, IOR_PRESETS};
 pub use kinds::Kind;
 pub use microfacet::{rough_reflectance, Distribution};
@@ -102,7 +104,7 @@ pub const PLUGINS: &[Plugin] = &[
     blendbsdf::MITSUBA,
     bumpmap::MITSUBA,
     Plugin::not_yet("circular"),
-    Plugin::not_yet("hair"),
+    hair::MITSUBA,
     mask::MITSUBA,
     Plugin::not_yet("measured"),
     Plugin::not_yet("measured_polarized"),
@@ -284,6 +286,8 @@ pub enum Bsdf {
     PPlastic(PPlastic),
     /// `principled` and `principledthin` ([`principled`]).
     Principled(Principled),
+    /// Mitsuba `hair` ([`hair`]).
+    Hair(Hair),
     NoriMicrofacet(NoriMicrofacet),
     /// Mitsuba `twosided` with one nested BSDF without transmission: both faces use
     /// it ([`twosided`]).
@@ -339,6 +343,7 @@ impl Bsdf {
             Bsdf::RoughPlastic(m) => m,
             Bsdf::PPlastic(m) => m,
             Bsdf::Principled(m) => m,
+            Bsdf::Hair(m) => m,
             Bsdf::NoriMicrofacet(m) => m,
             Bsdf::TwoSided(inner) => inner.model(),
             Bsdf::Textured { bsdf, .. } | Bsdf::NormalMap { bsdf, .. } => bsdf.model(),
