@@ -171,7 +171,7 @@ pub const MITSUBA: Plugin = Plugin::new(
 .textures(&[("sigma_a", Slot::Reflectance)])
 .warptest(WarpTest {
     kind: KIND,
-    params: &["alpha-u", "alpha-v", "eta"],
+    params: &["alpha", "alpha-u", "alpha-v", "eta"],
     make: warptest,
 });
 
@@ -224,7 +224,8 @@ fn mitsuba(props: &Properties) -> Result<Bsdf, Error> {
     }))
 }
 
-/// warptest: β_m = `alpha-u`, β_n = `alpha-v`, η = `eta`, the default pigments.
+/// warptest: β_m = `alpha-u`, β_n = `alpha-v` (both `alpha`), η = `eta`, the default
+/// pigments.
 fn warptest(p: &TestParams) -> Bsdf {
     Bsdf::Hair(Hair {
         eta: p.eta,
