@@ -603,7 +603,6 @@ fn hair_white_furnace() {
             azimuthal_roughness: 0.9,
             scale_tilt: -5.0,
             eta: 1.33,
-            ..Hair::default()
         },
     ];
     // Viewers at fiber angles θ (sin θ = wo.y) of -70..80 degrees, around the fiber.
