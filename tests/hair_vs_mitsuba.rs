@@ -97,9 +97,9 @@ fn eval_and_pdf_match_mitsuba() {
     assert!(checked >= 500, "{checked} pairs");
 }
 
-/// scenes/hair/hair.xml (a cylinder and two spheres of hair, whose transmitted light
-/// scatters again from inside) rendered by both at 64 x 64, within noise of Mitsuba's
-/// render (`python3 tools/mitsuba_ref.py scenes/hair/hair.xml -o
+/// scenes/hair/hair.xml (a cylinder and two spheres of hair, one with a textured
+/// `sigma_a`, whose transmitted light scatters again from inside) rendered by both at
+/// 64 x 64, within noise of Mitsuba's render (`python3 tools/mitsuba_ref.py scenes/hair/hair.xml -o
 /// tests/data/hair_scene_ref.exr --spp 16384 --variant llvm_ad_rgb -D res=64`); the
 /// check also rejects the image scaled by 0.95.
 #[test]
