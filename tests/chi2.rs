@@ -21,7 +21,7 @@ use wavetrace::warptest::{test_bsdf, test_warp, Axis, Outcome};
 
 /// At least as many chi-square tests as this file runs (113 now; Šidák correction, a
 /// larger m only makes each test slightly more lenient).
-const TESTS_IN_FILE: usize = 119;
+const TESTS_IN_FILE: usize = 126;
 /// Family-wise significance of the file.
 const ALPHA: f64 = 0.01;
 
@@ -642,5 +642,88 @@ fn smooth_delta_models() {
     assert!(
         (s.wi - Vec3::new(-back.x, -back.y, back.z)).length() < 1e-5
             && (s.weight - Vec3::ONE).length() < 1e-5
+    );
+}
+
+/// Mitsuba's `hair` (Chiang et al. 2016): the lobe choice by attenuation, the
+/// longitudinal and azimuthal samplers, over sharp and rough fibers, tilts, indices
+/// and viewers on both sides; and a wrong pdf (the samples of a fiber with twice the
+/// scale tilt against this one's pdf) is rejected.
+#[test]
+fn hair() {
+    use wavetrace::scene::bsdf::hair::{Absorption, Hair};
+    let probe = bsdf_probe();
+    let white = Absorption::SigmaA {
+        sigma_a: Vec3::ZERO,
+        scale: 1.0,
+    };
+    let cases = [
+        ("hair defaults", Hair::default(), dir(45.0, 0.0)),
+        ("hair defaults", Hair::default(), dir(120.0, 70.0)),
+        (
+            "hair sharp",
+            Hair {
+                longitudinal_roughness: 0.12,
+                azimuthal_roughness: 0.15,
+                absorption: Absorption::Pigments {
+                    eumelanin: 0.1,
+                    pheomelanin: 0.3,
+                },
+                ..Hair::default()
+            },
+            dir(60.0, 20.0),
+        ),
+        (
+            "hair rough, tilted",
+            Hair {
+                longitudinal_roughness: 0.8,
+                azimuthal_roughness: 0.9,
+                scale_tilt: -6.0,
+                eta: 1.33,
+                ..Hair::default()
+            },
+            dir(30.0, 200.0),
+        ),
+        (
+            "hair white",
+            Hair {
+                absorption: white,
+                ..Hair::default()
+            },
+            dir(80.0, 100.0),
+        ),
+        (
+            "hair sigma_a",
+            Hair {
+                absorption: Absorption::SigmaA {
+                    sigma_a: Vec3::new(0.2, 0.25, 0.7),
+                    scale: 2.0,
+                },
+                longitudinal_roughness: 0.4,
+                azimuthal_roughness: 0.25,
+                scale_tilt: 5.0,
+                ..Hair::default()
+            },
+            dir(10.0, 300.0),
+        ),
+    ];
+    for (name, h, wo) in cases {
+        bsdf_case(&probe, name, &Bsdf::Hair(h), wo, Axis::Normal, 14);
+    }
+    // Samples of a fiber whose scales tilt 4° against the pdf of one tilting 2°: the
+    // R and TRT cones move by 4° and 12°.
+    let wo = dir(50.0, 30.0);
+    let right = BsdfRecord::from(&Bsdf::Hair(Hair::default()));
+    let tilted = BsdfRecord::from(&Bsdf::Hair(Hair {
+        scale_tilt: 4.0,
+        ..Hair::default()
+    }));
+    let (own, _) = test_bsdf(&probe, &right, wo, Axis::Normal, N, 15).expect("bsdf kernel");
+    let (other, _) = test_bsdf(&probe, &tilted, wo, Axis::Normal, N, 15).expect("bsdf kernel");
+    assert_outcome("hair tilt 2°", &own);
+    let wrong = wavetrace::warptest::chi2(&other.observed, &own.expected);
+    assert!(
+        wrong.p_value < 1e-12,
+        "hair: samples of a 4° tilt passed against the 2° pdf: {wrong:?}"
     );
 }

@@ -121,3 +121,31 @@ fn bad_parameters_are_errors() {
         assert!(img.is_none());
     }
 }
+
+/// `wavetrace warptest hair`: β_m and β_n from --alpha-u and --alpha-v, a viewer
+/// below the surface (hair scatters both ways).
+#[test]
+fn hair_target_passes() {
+    let (code, out, err, img) = warptest(
+        "hair",
+        &[
+            "hair",
+            "--alpha-u",
+            "0.15",
+            "--alpha-v",
+            "0.25",
+            "--eta",
+            "1.4",
+            "--theta",
+            "110",
+            "--samples",
+            "200000",
+        ],
+    );
+    assert_eq!(code, 0, "{out}{err}");
+    assert!(
+        out.contains("passes") && out.contains("longitudinal_roughness: 0.15"),
+        "{out}"
+    );
+    assert!(img.is_some(), "hair: no image written");
+}

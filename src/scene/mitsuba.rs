@@ -1502,7 +1502,7 @@ mod tests {
             ("<shape type=\"sphere\">\n<float name=\"radius\" value=\"abc\"/></shape>", 4, "could not parse float \"abc\""),
             ("<shape type=\"sphere\">\n<float name=\"radius\" value=\"nan\"/></shape>", 4, "could not parse float \"nan\""),
             ("<shape type=\"sphere\"><float name=\"radius\" value=\"1\"/>\n<float name=\"radius\" value=\"2\"/></shape>", 4, "given twice"),
-            ("<bsdf type=\"hair\"/>", 3, "bsdf type 'hair' is not supported yet"),
+            ("<bsdf type=\"polarizer\"/>", 3, "bsdf type 'polarizer' is not supported yet"),
             ("<bsdf type=\"thindielectric\"><texture type=\"checkerboard\" name=\"int_ior\"/></bsdf>", 3, "'int_ior' of bsdf 'thindielectric' cannot be a texture"),
             ("<bsdf type=\"velvet\"/>", 3, "unknown bsdf type 'velvet'"),
             ("<shape type=\"merge\"/>", 3, "shape type 'merge' is not supported yet"),

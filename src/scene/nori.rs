@@ -350,7 +350,7 @@ mod tests {
         let cam = "<integrator type=\"ao\"/><camera type=\"perspective\"/>";
         let cases: &[(&str, u32, &str)] = &[
             ("<emitter type=\"distantdisk\">\n<float name=\"thetaA\" value=\"30\"/><color name=\"radiance\" value=\"1,1,1\"/></emitter>", 3, "thetaA = 30 is not supported yet"),
-            ("<mesh type=\"obj\"><string name=\"filename\" value=\"t.obj\"/>\n<bsdf type=\"hair\"/></mesh>", 3, "bsdf type 'hair' is not supported yet"),
+            ("<mesh type=\"obj\"><string name=\"filename\" value=\"t.obj\"/>\n<bsdf type=\"polarizer\"/></mesh>", 3, "bsdf type 'polarizer' is not supported yet"),
             ("<mesh type=\"obj\"><string name=\"filename\" value=\"t.obj\"/>\n<bsdf type=\"microfacet\">\n<float name=\"alpha\" value=\"-1\"/></bsdf></mesh>", 4, "must be a finite number >= 0"),
             ("<mesh type=\"obj\"><string name=\"filename\" value=\"t.obj\"/>\n<bsdf type=\"microfacet\">\n<float name=\"int_ior\" value=\"1.5\"/></bsdf></mesh>", 4, "unknown parameter 'int_ior' for bsdf 'microfacet'"),
             ("<mesh type=\"obj\"><string name=\"filename\" value=\"t.obj\"/>\n<bsdf type=\"dielectric\">\n<float name=\"intIOR\" value=\"0\"/></bsdf></mesh>", 4, "'intIOR' must be positive"),

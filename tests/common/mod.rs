@@ -292,6 +292,9 @@ pub fn bsdf_from_mitsuba_dict(d: &serde_json::Value, test: &str) -> wavetrace::s
                     .collect();
                 body += &format!("<rgb name=\"{k}\" value=\"{}\"/>", c.join(", "))
             }
+            Value::String(x) if k != "type" => {
+                body += &format!("<string name=\"{k}\" value=\"{x}\"/>")
+            }
             _ => {}
         }
     }

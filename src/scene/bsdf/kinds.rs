@@ -76,6 +76,7 @@ pub const KINDS: &[Kind] = &[
     kind(11, "principledthin", REFLECTION | TRANSMISSION | GLOSSY | DIFFUSE, hooks::LOBES),
     kind(12, "mask_null",      TRANSMISSION | DELTA | NULL,            0),
     kind(13, "measured",       REFLECTION | GLOSSY,                    0),
+    kind(14, "hair",           REFLECTION | TRANSMISSION | GLOSSY,     0),
 ];
 
 /// `BsdfRecord::kind` of the node records of composite BSDFs (`mask`, `blendbsdf`,

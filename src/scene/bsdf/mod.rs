@@ -40,6 +40,7 @@ mod conductor_presets;
 pub mod dielectric;
 pub mod diffuse;
 pub mod fresnel;
+pub mod hair;
 pub mod ior;
 pub mod kinds;
 pub mod mask;
@@ -73,6 +74,7 @@ pub use fresnel::{
     diffuse_fresnel, fresnel_dielectric, fresnel_diffuse_reflectance_fit,
     thin_dielectric_reflectance,
 };
+pub use hair::Hair;
 pub use ior::{ior_preset, CONDUCTOR_PRESETS, IOR_PRESETS};
 pub use kinds::Kind;
 pub use measured::Measured;
@@ -105,7 +107,7 @@ pub const PLUGINS: &[Plugin] = &[
     blendbsdf::MITSUBA,
     bumpmap::MITSUBA,
     Plugin::not_yet("circular"),
-    Plugin::not_yet("hair"),
+    hair::MITSUBA,
     mask::MITSUBA,
     measured::MITSUBA,
     Plugin::not_yet("measured_polarized"),
@@ -287,6 +289,8 @@ pub enum Bsdf {
     PPlastic(PPlastic),
     /// `principled` and `principledthin` ([`principled`]).
     Principled(Principled),
+    /// Mitsuba `hair` ([`hair`]).
+    Hair(Hair),
     NoriMicrofacet(NoriMicrofacet),
     /// Mitsuba `measured`: an RGL `.bsdf` file ([`measured`]).
     Measured(Measured),
@@ -344,6 +348,7 @@ impl Bsdf {
             Bsdf::RoughPlastic(m) => m,
             Bsdf::PPlastic(m) => m,
             Bsdf::Principled(m) => m,
+            Bsdf::Hair(m) => m,
             Bsdf::NoriMicrofacet(m) => m,
             Bsdf::Measured(m) => m,
             Bsdf::TwoSided(inner) => inner.model(),
