@@ -65,8 +65,11 @@ pub struct Scene {
     /// The integrator the scene names, with its parameters still unread.
     pub integrator: IntegratorSpec,
     pub meshes: Vec<Mesh>,
-    /// Spheres, disks and cylinders.
+    /// Spheres, disks, cylinders and sdfgrids.
     pub quadrics: Vec<Quadric>,
+    /// The grids of the `sdfgrid` quadrics, in the order of their words in the grid
+    /// buffer (`QuadricKind::SdfGrid` holds each one's offset).
+    pub sdfgrids: Vec<shape::sdfgrid::SdfGrid>,
     /// Shape groups (Mitsuba `shapegroup`): the meshes and quadrics above that are
     /// seen only through `instances`, in the group's space.
     pub groups: Vec<ShapeGroup>,
@@ -181,6 +184,7 @@ impl Scene {
         add(has(QuadricKind::Sphere), "spheres");
         add(has(QuadricKind::Disk), "disks");
         add(has(QuadricKind::Cylinder), "cylinders");
+        add(!self.sdfgrids.is_empty(), "sdfgrids");
         add(
             self.meshes.iter().any(|m| !m.normals.is_empty()),
             "vertex normals",
