@@ -3,8 +3,8 @@
 // it. Needs scene_bindings.glsl (grid_word, grid_value).
 //
 // Layout in the grid buffer at the primitive's offset (p2.x bits; sdfgrid::pack):
-// 16 header words (world or group space to voxel coordinates as three rows of a 3x4
-// matrix; the samples per axis; the flags), the samples ((z ny + y) nx + x), then one
+// 24 header words (world or group space to voxel coordinates as three rows of a 3x4
+// matrix; the samples per axis; the flags; the box of the occupied voxels), the samples ((z ny + y) nx + x), then one
 // occupancy bit per voxel. Voxel coordinates put sample (x, y, z) at (x, y, z): voxel v
 // spans [v, v + 1].
 //
@@ -18,7 +18,7 @@
 #ifndef INTERSECT_SDFGRID_GLSL
 #define INTERSECT_SDFGRID_GLSL
 
-#define SDF_HEADER_WORDS 16u
+#define SDF_HEADER_WORDS 24u
 #define SDF_SMOOTH 1u
 // Mitsuba's NumSolveEpsilon (ray parameter units) and iteration cap.
 #define SDF_SOLVE_EPSILON 1e-5
@@ -31,6 +31,8 @@ struct SdfHeader {
     uvec3 res; // samples per axis
     uint flags;
     uint data; // offset of the samples
+    vec3 lo;   // the box of the occupied voxels, in voxel coordinates
+    vec3 hi;
 };
 
 SdfHeader sdf_header(uint offset) {
@@ -45,6 +47,8 @@ SdfHeader sdf_header(uint offset) {
     h.r2 = m[2];
     h.res = uvec3(grid_word(offset + 12u).x, grid_word(offset + 13u).x, grid_word(offset + 14u).x);
     h.flags = grid_word(offset + 15u).x;
+    h.lo = vec3(grid_value(offset + 16u), grid_value(offset + 17u), grid_value(offset + 18u));
+    h.hi = vec3(grid_value(offset + 20u), grid_value(offset + 21u), grid_value(offset + 22u));
     h.data = offset + SDF_HEADER_WORDS;
     return h;
 }
@@ -199,6 +203,23 @@ bool sdf_voxel_hit(SdfHeader h, ivec3 v, vec3 o, vec3 d, float ta, float tb, int
     return found && t >= ta && t <= tb;
 }
 
+// One step of the voxel walk of intersect_sdfgrid: into the next voxel through the face
+// the ray leaves by first, or done where that leaves the grid or the ray's range.
+#define SDF_ADVANCE                                                                      \
+    {                                                                                    \
+        int a_ = next.x <= next.y && next.x <= next.z ? 0 : (next.y <= next.z ? 1 : 2);  \
+        bool out_ = next[a_] > te;                                                       \
+        v[a_] += step[a_];                                                               \
+        budget--;                                                                        \
+        if (out_ || v[a_] < vlo[a_] || v[a_] >= vhi[a_] || budget <= 0) {              \
+            done = true;                                                                 \
+        } else {                                                                         \
+            ta = next[a_];                                                               \
+            enter = a_;                                                                  \
+            next[a_] += delta[a_];                                                       \
+        }                                                                                \
+    }
+
 // Closest hit of ray (o, d) (world or group space) with the sdfgrid of primitive p in
 // (tmin, tmax): t, and in `voxel` the linear index of the voxel hit (as a float: exact
 // below 2^24 voxels), which the hit geometry reads back.
@@ -208,11 +229,11 @@ bool intersect_sdfgrid(vec3 o, vec3 d, Prim p, float tmin, float tmax, out float
     vec3 ov = sdf_point(h, o);
     vec3 dv = sdf_vector(h, d);
     ivec3 n = ivec3(h.res) - 1;
-    vec3 hi = vec3(n);
-    // The grid's box [0, n] in t.
+    ivec3 vlo = ivec3(h.lo), vhi = ivec3(h.hi);
+    // The box of the occupied voxels in t.
     vec3 inv = vec3(1.0) / dv;
-    vec3 t0 = (mix(vec3(0.0), hi, lessThan(dv, vec3(0.0))) - ov) * inv;
-    vec3 t1 = (mix(hi, vec3(0.0), lessThan(dv, vec3(0.0))) - ov) * inv;
+    vec3 t0 = (mix(h.lo, h.hi, lessThan(dv, vec3(0.0))) - ov) * inv;
+    vec3 t1 = (mix(h.hi, h.lo, lessThan(dv, vec3(0.0))) - ov) * inv;
     float tb = tmin, te = tmax;
     int enter = -1;
     for (int k = 0; k < 3; k++) {
@@ -230,7 +251,7 @@ bool intersect_sdfgrid(vec3 o, vec3 d, Prim p, float tmin, float tmax, out float
     voxel = 0.0;
     if (tb <= te) {
         vec3 pb = ov + tb * dv;
-        ivec3 v = clamp(ivec3(floor(pb)), ivec3(0), n - 1);
+        ivec3 v = clamp(ivec3(floor(pb)), vlo, vhi - 1);
         ivec3 step = ivec3(sign(dv));
         // Where the ray leaves the current voxel along each axis.
         vec3 next;
@@ -240,25 +261,32 @@ bool intersect_sdfgrid(vec3 o, vec3 d, Prim p, float tmin, float tmax, out float
         }
         vec3 delta = abs(inv);
         float ta = tb;
-        int steps = n.x + n.y + n.z + 3;
-        for (int i = 0; i < steps && !found; i++) {
+        // Voxels are left in t order, so the walk ends; the count only guards rounding.
+        int budget = (vhi.x - vlo.x) + (vhi.y - vlo.y) + (vhi.z - vlo.z) + 3;
+        bool done = false;
+        // "While-while" (as bvh.glsl's traversal): SIMD lanes step through empty voxels
+        // together, one occupancy load a step, and solve in occupied voxels together,
+        // instead of every step paying for the solve of whichever lane needs one.
+        while (!done) {
+            bool occupied = sdf_occupied(h, v);
+            if (!occupied) do {
+                SDF_ADVANCE
+                occupied = !done && sdf_occupied(h, v);
+            } while (!done && !occupied);
+            if (done) break;
             int axis = next.x <= next.y && next.x <= next.z ? 0 : (next.y <= next.z ? 1 : 2);
             float tx = min(next[axis], te);
             int leave = next[axis] <= te ? axis : -1;
-            if (sdf_occupied(h, v)) {
-                float th;
-                if (sdf_voxel_hit(h, v, ov - vec3(v), dv, ta, tx, enter, leave, th)
-                    && th > tmin && th < tmax) {
-                    found = true;
-                    t = th;
-                    voxel = float((v.z * n.y + v.y) * n.x + v.x);
-                }
+            float th;
+            if (sdf_voxel_hit(h, v, ov - vec3(v), dv, ta, tx, enter, leave, th)
+                && th > tmin && th < tmax) {
+                found = true;
+                done = true;
+                t = th;
+                voxel = float((v.z * n.y + v.y) * n.x + v.x);
+            } else {
+                SDF_ADVANCE
             }
-            v[axis] += step[axis];
-            if (leave < 0 || v[axis] < 0 || v[axis] >= n[axis]) break;
-            ta = tx;
-            enter = axis;
-            next[axis] += delta[axis];
         }
     }
     return found;

@@ -41,14 +41,14 @@ pub fn prims_from_scene(scene: &Scene) -> Vec<Prim> {
 
 /// The primitive of quadric number `index`, shape `shape` (layout in [`Prim`]).
 pub fn quadric_prim(q: &Quadric, shape: u32, index: u32) -> Prim {
-    if let QuadricKind::SdfGrid(offset) = q.kind {
+    if let QuadricKind::SdfGrid(place) = q.kind {
         let (lo, hi) = q.bounds();
         return Prim {
             p0: lo.to_array(),
             shape,
             p1: hi.to_array(),
             index,
-            p2: [f32::from_bits(offset), 0.0, 0.0],
+            p2: [f32::from_bits(place.offset), 0.0, 0.0],
             kind: PRIM_SDFGRID,
         };
     }

@@ -167,7 +167,7 @@ impl Builder {
             .ok_or_else(|| {
                 props.error("filename", "the scene's sdfgrids together are too large")
             })?;
-        q.kind = QuadricKind::SdfGrid(grid.offset);
+        q.kind = QuadricKind::SdfGrid(grid.place());
         self.add_quadric(props, q)?;
         self.sdfgrids.push(grid);
         Ok(())

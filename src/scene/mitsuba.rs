@@ -777,7 +777,7 @@ impl<'a> Loader<'a> {
                     &props,
                     *grid,
                     Quadric {
-                        kind: shape::QuadricKind::SdfGrid(0),
+                        kind: shape::QuadricKind::SdfGrid(Default::default()),
                         to_world,
                         flip_normals,
                         bsdf,

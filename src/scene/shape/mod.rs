@@ -170,9 +170,9 @@ pub enum QuadricKind {
     /// (`p0`, `p1`, `radius`): uv = (φ/2π, z), ∂p/∂u = 2π (−y, x, 0), outward normals.
     Cylinder,
     /// Mitsuba `sdfgrid`: the zero set of a grid of distances on the unit cube
-    /// ([`sdfgrid`]); the number is where its header starts in the grid buffer
-    /// ([`sdfgrid::SdfGrid::offset`]). No uvs, no area.
-    SdfGrid(u32),
+    /// ([`sdfgrid`]): where its words are in the grid buffer and the box of its
+    /// occupied voxels. No uvs, no area.
+    SdfGrid(sdfgrid::SdfPlace),
 }
 
 /// An analytic shape: a unit [`QuadricKind`] in object space, `to_world` (which for a
@@ -260,7 +260,7 @@ impl Quadric {
             QuadricKind::Sphere => (-1.0, 1.0),
             QuadricKind::Disk => (0.0, 0.0),
             QuadricKind::Cylinder => (0.0, 1.0),
-            QuadricKind::SdfGrid(_) => return sdfgrid::bounds(&self.to_world),
+            QuadricKind::SdfGrid(place) => return place.bounds(&self.to_world),
         };
         let mut lo = Vec3::splat(f32::INFINITY);
         let mut hi = Vec3::splat(f32::NEG_INFINITY);
