@@ -139,13 +139,16 @@ impl Scene {
     }
 
     /// Whether a ray may cross one of its null surfaces or thin dielectrics and then
-    /// meet it again: a sphere or cylinder, past which the second-nearest hit of a
+    /// meet it again: a sphere, cylinder or sdfgrid, past which the second-nearest hit of a
     /// traversal is not what the ray meets next (bvh.glsl's `bvh_hit_once`), so every
     /// crossing traces again.
     pub fn has_curved_crossings(&self) -> bool {
         self.quadrics.iter().any(|q| {
             (q.null_bsdf || self.is_thin_dielectric(q.bsdf))
-                && matches!(q.kind, QuadricKind::Sphere | QuadricKind::Cylinder)
+                && matches!(
+                    q.kind,
+                    QuadricKind::Sphere | QuadricKind::Cylinder | QuadricKind::SdfGrid(_)
+                )
         })
     }
 
