@@ -368,7 +368,6 @@ scene!(
     Blind
 );
 scene!(
-    #[ignore = "sdfgrid"]
     various_shapes,
     "various_shapes",
     "test_various_shapes_path.xml",

@@ -19,6 +19,7 @@
 #include "shape/intersect_sphere.glsl"
 #include "shape/intersect_disk.glsl"
 #include "shape/intersect_cylinder.glsl"
+#include "shape/intersect_sdfgrid.glsl"
 #include "accel/instance.glsl"
 
 // Traversal stack entries; the build keeps every leaf at depth <= this (root = 0).
@@ -153,6 +154,9 @@ bool bvh_prim_hit_of(uint kinds, Prim p, TriangleRay tr, vec3 o, vec3 d, float t
         return found;
     } else if ((kinds & BVH_KIND_BIT(PRIM_CYLINDER)) != 0u && (one || p.kind == PRIM_CYLINDER)) {
         return intersect_cylinder(o, d, p.p0, p.p2, length(p.p1), tmin, tmax, t);
+    } else if ((kinds & BVH_KIND_BIT(PRIM_SDFGRID)) != 0u && (one || p.kind == PRIM_SDFGRID)) {
+        // u: the voxel hit, for the hit geometry (sdf_surface).
+        return intersect_sdfgrid(o, d, p, tmin, tmax, t, u);
     } else if ((kinds & BVH_KIND_BIT(PRIM_TRIANGLE)) != 0u) {
         return intersect_triangle(tr, o, p.p0, p.p1, p.p2, tmin, tmax, t, u, v);
     }
@@ -160,8 +164,9 @@ bool bvh_prim_hit_of(uint kinds, Prim p, TriangleRay tr, vec3 o, vec3 d, float t
 }
 
 // The kinds a scene's tree may hold: triangles and the quadrics of BVH_PRIM_KINDS, or
-// triangles alone where the quadrics are tested apart.
+// triangles alone where the quadrics are tested apart; sdfgrids are never apart.
 #define BVH_KINDS (BVH_KIND_BIT(PRIM_TRIANGLE)                                          \
+    | (BVH_HAS(SURFACE_FEATURE_SDFGRIDS) ? BVH_KIND_BIT(PRIM_SDFGRID) : 0u)             \
     | (BVH_FLAT_COUNT > 0u ? 0u :                                                       \
        ((BVH_HAS(SURFACE_FEATURE_SPHERES) ? BVH_KIND_BIT(PRIM_SPHERE) : 0u)             \
         | (BVH_HAS(SURFACE_FEATURE_DISKS) ? BVH_KIND_BIT(PRIM_DISK) : 0u)               \
@@ -363,7 +368,8 @@ Hit bvh_closest_two(vec3 o, vec3 d, float tmin, float tmax, out Hit second) {
 // Whether a ray meets primitive p at most once (it is flat): then bvh_closest_two's
 // `second` is what a ray passing through its closest hit meets next.
 bool bvh_hit_once(Prim p) {
-    bool quadrics = BVH_HAS(SURFACE_FEATURE_SPHERES) || BVH_HAS(SURFACE_FEATURE_CYLINDERS);
+    bool quadrics = BVH_HAS(SURFACE_FEATURE_SPHERES) || BVH_HAS(SURFACE_FEATURE_CYLINDERS)
+        || BVH_HAS(SURFACE_FEATURE_SDFGRIDS);
     return !quadrics || p.kind == PRIM_TRIANGLE || p.kind == PRIM_DISK;
 }
 

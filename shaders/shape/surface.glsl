@@ -6,6 +6,7 @@
 #include "sampling/frame.glsl"
 #include "shape/ray_offset.glsl"
 #include "accel/instance.glsl"
+#include "shape/intersect_sdfgrid.glsl"
 #include "texture/texture_hit.glsl"
 
 // The primitive and vertex features of the scene (SURFACE_FEATURE_* bits of
@@ -104,11 +105,32 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
     // In world space (an instance's primitive mapped by its to_world).
     Prim prim = instance_prim_load(prim_index);
     ShapeRecord shape = shape_load(prim.shape);
-    texture_hit_set(prim.shape, prim.index, vec2(u, v));
+    bool sdf = SURFACE_HAS(SURFACE_FEATURE_SDFGRIDS) && prim.kind == PRIM_SDFGRID;
+    texture_hit_set(prim.shape, prim.index, sdf ? vec2(0.0) : vec2(u, v));
     Surface s;
     s.shape = prim.shape;
     vec3 dpdu;
-    if (SURFACE_HAS(SURFACE_FEATURE_SPHERES | SURFACE_FEATURE_DISKS | SURFACE_FEATURE_CYLINDERS)
+    if (sdf) {
+        // In the group's space (the record as stored), u the voxel hit; no uv, no
+        // ∂p/∂u (Mitsuba's sdfgrid: the frame is the normal's coordinate system).
+        vec3 o = ray_o, d = ray_d;
+        uint k1 = instance_of(prim_index);
+        if (INSTANCED && k1 != 0u) {
+            InstanceMap m = instance_to_object(k1 - 1u);
+            o = instance_point(m, ray_o);
+            d = instance_vector(m, ray_d);
+        }
+        vec3 ng, ns;
+        sdf_surface(prim_load(instance_prim(prim_index)), o + t * d, u, ng, ns);
+        s.ng = normalize(instance_normal(prim_index, ng));
+        s.ns = normalize(instance_normal(prim_index, ns));
+        s.p = ray_o + t * ray_d;
+        // The root is found to SDF_SOLVE_EPSILON in t (Mitsuba adds |n.d| of it).
+        s.p_error = 4.0 * SURFACE_GAMMA7 * abs(s.p)
+            + vec3(4.0 * SDF_SOLVE_EPSILON * abs(dot(s.ng, ray_d)));
+        s.uv = vec2(0.0);
+        dpdu = vec3(0.0);
+    } else if (SURFACE_HAS(SURFACE_FEATURE_SPHERES | SURFACE_FEATURE_DISKS | SURFACE_FEATURE_CYLINDERS)
         && prim.kind != PRIM_TRIANGLE) {
         surface_quadric(s, prim, shape, ray_o + t * ray_d, vec2(u, v), dpdu);
         if (INSTANCED && prim.kind == PRIM_DISK && instance_mirrors(prim_index)) {

@@ -20,7 +20,9 @@ use glam::Vec3;
 
 use super::bvh_build::{PrimSource, ShapePrims};
 use super::{cylinder, disk, sphere, triangle};
-use crate::gpu::layout::{BvhNode, Prim, PRIM_CYLINDER, PRIM_DISK, PRIM_INSTANCE, PRIM_SPHERE};
+use crate::gpu::layout::{
+    BvhNode, Prim, PRIM_CYLINDER, PRIM_DISK, PRIM_INSTANCE, PRIM_SDFGRID, PRIM_SPHERE,
+};
 use crate::scene::{Mesh, Quadric};
 
 /// Entries in the traversal stack of `shaders/accel/bvh.glsl` (`#define
@@ -83,7 +85,10 @@ impl FlatPrims {
     /// `max` (at most [`FLAT_CAPACITY`]), else the primitives apart ([`Bvh::apart`])
     /// in turn, then the tree.
     pub fn of(bvh: &Bvh, max: usize) -> FlatPrims {
-        let all = !bvh.prims.is_empty() && bvh.prims.len() <= max.min(FLAT_CAPACITY);
+        // (An sdfgrid's kind takes more than two bits: it stays in the tree.)
+        let all = !bvh.prims.is_empty()
+            && bvh.prims.len() <= max.min(FLAT_CAPACITY)
+            && bvh.prims.iter().all(|p| p.kind != PRIM_SDFGRID);
         let count = if all {
             bvh.prims.len()
         } else {
@@ -260,7 +265,7 @@ pub(super) fn prim_bounds(p: &Prim) -> Aabb {
                 max: p0 + e,
             }
         }
-        PRIM_INSTANCE => Aabb { min: p0, max: p1 },
+        PRIM_INSTANCE | PRIM_SDFGRID => Aabb { min: p0, max: p1 },
         PRIM_CYLINDER => {
             // The end circles: radius |a1| in the plane normal to the axis p2.
             let a2 = p2.normalize_or_zero().cross(p1);
@@ -533,7 +538,8 @@ pub fn intersect_prim(
         }
         // An instance's box stands for it (the CPU traversal serves estimates such
         // as the render plan's camera misses; the kernels trace the group's tree).
-        PRIM_INSTANCE => {
+        // So does an sdfgrid's (its voxels are walked on the GPU alone).
+        PRIM_INSTANCE | PRIM_SDFGRID => {
             let (hit, tn) = BoxRay::new(o, d).slab(p.p0, p.p1, tmin, tmax);
             hit.then_some((tn, 0.0, 0.0))
         }

@@ -32,7 +32,7 @@ use super::bvh::{
     MEDIAN_LEAF_SIZE, SAH_BINS, SAH_INTERSECTION_COST, SAH_TRAVERSAL_COST,
 };
 use super::{quadric_prim, triangle_prim};
-use crate::gpu::layout::{BvhNode, Prim, PRIM_TRIANGLE};
+use crate::gpu::layout::{BvhNode, Prim, PRIM_SDFGRID, PRIM_TRIANGLE};
 use crate::scene::{Mesh, Quadric};
 
 /// Subtrees over fewer primitives are built by one thread into one node list.
@@ -687,7 +687,7 @@ pub(super) fn build<S: PrimSource + ?Sized>(
     let quadrics: Vec<usize> = if apart_allowed {
         (0..n)
             .into_par_iter()
-            .filter(|&i| source.kind(i) != PRIM_TRIANGLE)
+            .filter(|&i| source.kind(i) != PRIM_TRIANGLE && source.kind(i) != PRIM_SDFGRID)
             .collect()
     } else {
         Vec::new()

@@ -22,7 +22,9 @@ pub use bvh::{
 
 use bvh_build::PrimSource;
 
-use crate::gpu::layout::{Prim, PRIM_CYLINDER, PRIM_DISK, PRIM_SPHERE, PRIM_TRIANGLE};
+use crate::gpu::layout::{
+    Prim, PRIM_CYLINDER, PRIM_DISK, PRIM_SDFGRID, PRIM_SPHERE, PRIM_TRIANGLE,
+};
 use crate::scene::{Mesh, Quadric, QuadricKind, Scene};
 
 /// Every primitive of `scene`, in shape order: each triangle of each mesh, then each
@@ -39,12 +41,24 @@ pub fn prims_from_scene(scene: &Scene) -> Vec<Prim> {
 
 /// The primitive of quadric number `index`, shape `shape` (layout in [`Prim`]).
 pub fn quadric_prim(q: &Quadric, shape: u32, index: u32) -> Prim {
+    if let QuadricKind::SdfGrid(place) = q.kind {
+        let (lo, hi) = q.bounds();
+        return Prim {
+            p0: lo.to_array(),
+            shape,
+            p1: hi.to_array(),
+            index,
+            p2: [f32::from_bits(place.offset), 0.0, 0.0],
+            kind: PRIM_SDFGRID,
+        };
+    }
     let m = q.to_world;
     let col = |k: usize| m.col(k).truncate().to_array();
     let (kind, p2) = match q.kind {
         QuadricKind::Sphere => (PRIM_SPHERE, col(1)),
         QuadricKind::Disk => (PRIM_DISK, col(1)),
         QuadricKind::Cylinder => (PRIM_CYLINDER, col(2)),
+        QuadricKind::SdfGrid(_) => unreachable!("handled above"),
     };
     Prim {
         p0: col(3),

@@ -19,6 +19,9 @@ pub const PRIM_INSTANCE: u32 = 4;
 /// An instance's transforms, two records per instance after every primitive
 /// (`accel::instance`); never in a tree.
 pub const PRIM_INSTANCE_DATA: u32 = 5;
+/// An `sdfgrid` (`scene::shape::sdfgrid`): `p0`, `p1` its box, `p2[0]` the bits of
+/// its header's offset in the grid buffer, `index` its quadric number.
+pub const PRIM_SDFGRID: u32 = 7;
 
 /// Marks an absent index (no emitter, no hit).
 pub const NONE: u32 = u32::MAX;
@@ -73,6 +76,8 @@ pub const SURFACE_FEATURE_UVS: u32 = 4;
 pub const SURFACE_FEATURE_DISKS: u32 = 8;
 /// Cylinders.
 pub const SURFACE_FEATURE_CYLINDERS: u32 = 16;
+/// Signed-distance grids ([`PRIM_SDFGRID`]).
+pub const SURFACE_FEATURE_SDFGRIDS: u32 = 128;
 /// The `SURFACE_FEATURE_*` bit of each quadric `PRIM_*` kind; the BVH traversal's
 /// primitive mask (specialization constant of intersect, shade and shadow) is made of
 /// these bits too.
@@ -81,6 +86,7 @@ pub const fn surface_feature_of_prim(kind: u32) -> u32 {
         PRIM_SPHERE => SURFACE_FEATURE_SPHERES,
         PRIM_DISK => SURFACE_FEATURE_DISKS,
         PRIM_CYLINDER => SURFACE_FEATURE_CYLINDERS,
+        PRIM_SDFGRID => SURFACE_FEATURE_SDFGRIDS,
         _ => 0,
     }
 }
@@ -719,6 +725,8 @@ mod tests {
             ("PRIM_CYLINDER", PRIM_CYLINDER),
             ("PRIM_INSTANCE", PRIM_INSTANCE),
             ("PRIM_INSTANCE_DATA", PRIM_INSTANCE_DATA),
+            ("PRIM_SDFGRID", PRIM_SDFGRID),
+            ("SURFACE_FEATURE_SDFGRIDS", SURFACE_FEATURE_SDFGRIDS),
             ("SHAPE_HAS_NORMALS", SHAPE_HAS_NORMALS),
             ("SHAPE_HAS_UVS", SHAPE_HAS_UVS),
             ("SHAPE_FLIP_NORMALS", SHAPE_FLIP_NORMALS),

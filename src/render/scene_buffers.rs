@@ -143,6 +143,12 @@ impl SceneRecords {
             &mut r.textures,
             &mut r.texels,
         );
+        // The sdfgrids' words lead the grid buffer, where their quadrics' primitives
+        // say (QuadricKind::SdfGrid); the media's grids follow.
+        crate::scene::shape::sdfgrid::pack_scene(scene, &mut r.grid_data);
+        if !scene.sdfgrids.is_empty() {
+            r.quadric_kinds |= crate::gpu::layout::SURFACE_FEATURE_SDFGRIDS;
+        }
         for m in &scene.media {
             let rec = crate::scene::medium::record::record(
                 m,

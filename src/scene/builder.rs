@@ -17,6 +17,8 @@ use super::{Bsdf, Emitter, Error, Medium, Mesh, Texture};
 pub struct Builder {
     pub meshes: Vec<Mesh>,
     pub quadrics: Vec<Quadric>,
+    /// The grids of the `sdfgrid` quadrics ([`super::Scene::sdfgrids`]).
+    pub sdfgrids: Vec<super::shape::sdfgrid::SdfGrid>,
     pub bsdfs: Vec<Bsdf>,
     pub emitters: Vec<Emitter>,
     /// Per emitter, its sampling weight ([`super::Scene::emitter_weights`]).
@@ -129,6 +131,10 @@ impl Builder {
                 cols[0].cross(cols[1]).length() > 0.0,
                 "a disk's to_world collapses the disk to a line or a point",
             ),
+            QuadricKind::SdfGrid(_) => (
+                m.determinant().abs() > 0.0,
+                "an sdfgrid's to_world must be invertible",
+            ),
         };
         if !finite || !ok || len.iter().any(|&l| !(l > 0.0 && l.is_finite())) {
             let detail = if finite {
@@ -138,10 +144,32 @@ impl Builder {
             };
             return Err(props.error("to_world", detail));
         }
-        if q.area() <= 0.0 || !q.area().is_finite() {
+        let sdf = matches!(q.kind, QuadricKind::SdfGrid(_));
+        if !sdf && (q.area() <= 0.0 || !q.area().is_finite()) {
             return Err(props.error("to_world", "the shape has no area"));
         }
         self.quadrics.push(q);
+        Ok(())
+    }
+
+    /// Adds an `sdfgrid` quadric (its `kind` is set here) and its grid, whose words
+    /// follow the previous grids' in the grid buffer.
+    pub fn add_sdfgrid(
+        &mut self,
+        props: &Properties,
+        mut grid: super::shape::sdfgrid::SdfGrid,
+        mut q: Quadric,
+    ) -> Result<(), Error> {
+        let offset: usize = self.sdfgrids.iter().map(|g| g.words()).sum();
+        grid.offset = u32::try_from(offset)
+            .ok()
+            .filter(|&o| (o as u64) + (grid.words() as u64) < 1 << 31)
+            .ok_or_else(|| {
+                props.error("filename", "the scene's sdfgrids together are too large")
+            })?;
+        q.kind = QuadricKind::SdfGrid(grid.place());
+        self.add_quadric(props, q)?;
+        self.sdfgrids.push(grid);
         Ok(())
     }
 }

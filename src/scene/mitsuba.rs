@@ -120,6 +120,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         integrator,
         meshes: l.b.meshes,
         quadrics: l.b.quadrics,
+        sdfgrids: l.b.sdfgrids,
         groups: l.groups,
         instances: l.instances,
         bsdfs: l.b.bsdfs,
@@ -759,6 +760,28 @@ impl<'a> Loader<'a> {
                         flip_normals,
                         bsdf,
                         emitter,
+                        interior,
+                        exterior,
+                        null_bsdf,
+                    },
+                );
+            }
+            Geometry::SdfGrid(grid, to_world) => {
+                props.finish()?;
+                if radiance.is_some() {
+                    return Err(el.err(
+                        "an sdfgrid cannot carry an area emitter (it has no surface area to sample, as in Mitsuba 3)",
+                    ));
+                }
+                return self.b.add_sdfgrid(
+                    &props,
+                    *grid,
+                    Quadric {
+                        kind: shape::QuadricKind::SdfGrid(Default::default()),
+                        to_world,
+                        flip_normals,
+                        bsdf,
+                        emitter: None,
                         interior,
                         exterior,
                         null_bsdf,

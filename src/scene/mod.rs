@@ -65,8 +65,11 @@ pub struct Scene {
     /// The integrator the scene names, with its parameters still unread.
     pub integrator: IntegratorSpec,
     pub meshes: Vec<Mesh>,
-    /// Spheres, disks and cylinders.
+    /// Spheres, disks, cylinders and sdfgrids.
     pub quadrics: Vec<Quadric>,
+    /// The grids of the `sdfgrid` quadrics, in the order of their words in the grid
+    /// buffer (`QuadricKind::SdfGrid` holds each one's offset).
+    pub sdfgrids: Vec<shape::sdfgrid::SdfGrid>,
     /// Shape groups (Mitsuba `shapegroup`): the meshes and quadrics above that are
     /// seen only through `instances`, in the group's space.
     pub groups: Vec<ShapeGroup>,
@@ -136,13 +139,16 @@ impl Scene {
     }
 
     /// Whether a ray may cross one of its null surfaces or thin dielectrics and then
-    /// meet it again: a sphere or cylinder, past which the second-nearest hit of a
+    /// meet it again: a sphere, cylinder or sdfgrid, past which the second-nearest hit of a
     /// traversal is not what the ray meets next (bvh.glsl's `bvh_hit_once`), so every
     /// crossing traces again.
     pub fn has_curved_crossings(&self) -> bool {
         self.quadrics.iter().any(|q| {
             (q.null_bsdf || self.is_thin_dielectric(q.bsdf))
-                && matches!(q.kind, QuadricKind::Sphere | QuadricKind::Cylinder)
+                && matches!(
+                    q.kind,
+                    QuadricKind::Sphere | QuadricKind::Cylinder | QuadricKind::SdfGrid(_)
+                )
         })
     }
 
@@ -181,6 +187,7 @@ impl Scene {
         add(has(QuadricKind::Sphere), "spheres");
         add(has(QuadricKind::Disk), "disks");
         add(has(QuadricKind::Cylinder), "cylinders");
+        add(!self.sdfgrids.is_empty(), "sdfgrids");
         add(
             self.meshes.iter().any(|m| !m.normals.is_empty()),
             "vertex normals",

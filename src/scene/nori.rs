@@ -65,6 +65,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         integrator,
         meshes: b.meshes,
         quadrics: b.quadrics,
+        sdfgrids: b.sdfgrids,
         groups: Vec::new(),
         instances: Vec::new(),
         bsdfs: b.bsdfs,

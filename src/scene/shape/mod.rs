@@ -12,6 +12,7 @@ pub mod instance;
 pub mod obj;
 pub mod ply;
 pub mod rectangle;
+pub mod sdfgrid;
 pub mod serialized;
 pub mod sphere;
 
@@ -37,7 +38,7 @@ pub const REGISTRY: &[PluginDoc] = &[
     instance::INSTANCE,
     not_yet("bsplinecurve"),
     not_yet("linearcurve"),
-    not_yet("sdfgrid"),
+    sdfgrid::MITSUBA,
     not_yet("ellipsoids"),
     not_yet("ellipsoidsmesh"),
     not_yet("merge"),
@@ -81,6 +82,8 @@ pub enum Geometry {
         to_world: Mat4,
         face_normals: bool,
     },
+    /// A signed-distance grid on the unit cube and its object-to-world map.
+    SdfGrid(Box<sdfgrid::SdfGrid>, Mat4),
 }
 
 /// Reads a Mitsuba shape of type `t`'s own parameters (not `flip_normals`, nor the
@@ -90,6 +93,7 @@ pub fn mitsuba(t: &str, el: &Element, props: &Properties) -> Result<Geometry, Er
         "sphere" => return sphere::mitsuba(props),
         "disk" => return disk::mitsuba(props),
         "cylinder" => return cylinder::mitsuba(props),
+        "sdfgrid" => return sdfgrid::mitsuba(el, props),
         _ => {}
     }
     let to_world = props.transform("to_world")?;
@@ -165,6 +169,10 @@ pub enum QuadricKind {
     /// The unit cylinder x² + y² = 1, 0 ≤ z ≤ 1, without caps. Mitsuba `cylinder`
     /// (`p0`, `p1`, `radius`): uv = (φ/2π, z), ∂p/∂u = 2π (−y, x, 0), outward normals.
     Cylinder,
+    /// Mitsuba `sdfgrid`: the zero set of a grid of distances on the unit cube
+    /// ([`sdfgrid`]): where its words are in the grid buffer and the box of its
+    /// occupied voxels. No uvs, no area.
+    SdfGrid(sdfgrid::SdfPlace),
 }
 
 /// An analytic shape: a unit [`QuadricKind`] in object space, `to_world` (which for a
@@ -238,6 +246,9 @@ impl Quadric {
         match self.kind {
             QuadricKind::Sphere | QuadricKind::Disk => self.flip_normals ^ self.mirrored(),
             QuadricKind::Cylinder => self.flip_normals,
+            // Mitsuba's sdfgrid maps its gradient by the inverse transpose and reads no
+            // flip_normals.
+            QuadricKind::SdfGrid(_) => false,
         }
     }
 
@@ -249,6 +260,7 @@ impl Quadric {
             QuadricKind::Sphere => (-1.0, 1.0),
             QuadricKind::Disk => (0.0, 0.0),
             QuadricKind::Cylinder => (0.0, 1.0),
+            QuadricKind::SdfGrid(place) => return place.bounds(&self.to_world),
         };
         let mut lo = Vec3::splat(f32::INFINITY);
         let mut hi = Vec3::splat(f32::NEG_INFINITY);
@@ -270,6 +282,8 @@ impl Quadric {
             QuadricKind::Sphere => 4.0 * std::f32::consts::PI * r * r,
             QuadricKind::Disk => std::f32::consts::PI * m.x_axis.cross(m.y_axis).length(),
             QuadricKind::Cylinder => 2.0 * std::f32::consts::PI * r * m.z_axis.length(),
+            // None, as in Mitsuba (an sdfgrid carries no emitter).
+            QuadricKind::SdfGrid(_) => 0.0,
         }
     }
 }
