@@ -19,6 +19,7 @@
 #include "shape/intersect_sphere.glsl"
 #include "shape/intersect_disk.glsl"
 #include "shape/intersect_cylinder.glsl"
+#include "shape/intersect_curve.glsl"
 #include "accel/instance.glsl"
 
 // Traversal stack entries; the build keeps every leaf at depth <= this (root = 0).
@@ -70,7 +71,8 @@
 #define BVH_TREE ((BVH_FLAT_PRIMS & BVH_FLAT_ONLY) == 0u)
 
 // t: distance (tmax on a miss); u, v: triangle barycentrics, p = (1-u-v) p0 + u p1 + v p2,
-// or a disk's object-space (x, y) (0 for spheres and cylinders); prim: index into
+// or a disk's object-space (x, y), or a curve segment's parameter in u (0 for spheres
+// and cylinders); prim: index into
 // prims[], HIT_NONE on a miss.
 struct Hit {
     float t;
@@ -153,15 +155,20 @@ bool bvh_prim_hit_of(uint kinds, Prim p, TriangleRay tr, vec3 o, vec3 d, float t
         return found;
     } else if ((kinds & BVH_KIND_BIT(PRIM_CYLINDER)) != 0u && (one || p.kind == PRIM_CYLINDER)) {
         return intersect_cylinder(o, d, p.p0, p.p2, length(p.p1), tmin, tmax, t);
+    } else if ((kinds & BVH_KIND_BIT(PRIM_LINEAR_CURVE)) != 0u
+               && (one || p.kind == PRIM_LINEAR_CURVE)) {
+        return intersect_linear_curve(o, d, p.p0, p.p1, p.p2.x, p.p2.y, p.p2.z < 0.0, tmin, tmax,
+                                      t, u);
     } else if ((kinds & BVH_KIND_BIT(PRIM_TRIANGLE)) != 0u) {
         return intersect_triangle(tr, o, p.p0, p.p1, p.p2, tmin, tmax, t, u, v);
     }
     return false;
 }
 
-// The kinds a scene's tree may hold: triangles and the quadrics of BVH_PRIM_KINDS, or
-// triangles alone where the quadrics are tested apart.
+// The kinds a scene's tree may hold: triangles, curves and the quadrics of
+// BVH_PRIM_KINDS, or triangles and curves where the quadrics are tested apart.
 #define BVH_KINDS (BVH_KIND_BIT(PRIM_TRIANGLE)                                          \
+    | (BVH_HAS(SURFACE_FEATURE_LINEAR_CURVES) ? BVH_KIND_BIT(PRIM_LINEAR_CURVE) : 0u)   \
     | (BVH_FLAT_COUNT > 0u ? 0u :                                                       \
        ((BVH_HAS(SURFACE_FEATURE_SPHERES) ? BVH_KIND_BIT(PRIM_SPHERE) : 0u)             \
         | (BVH_HAS(SURFACE_FEATURE_DISKS) ? BVH_KIND_BIT(PRIM_DISK) : 0u)               \
@@ -363,7 +370,8 @@ Hit bvh_closest_two(vec3 o, vec3 d, float tmin, float tmax, out Hit second) {
 // Whether a ray meets primitive p at most once (it is flat): then bvh_closest_two's
 // `second` is what a ray passing through its closest hit meets next.
 bool bvh_hit_once(Prim p) {
-    bool quadrics = BVH_HAS(SURFACE_FEATURE_SPHERES) || BVH_HAS(SURFACE_FEATURE_CYLINDERS);
+    bool quadrics = BVH_HAS(SURFACE_FEATURE_SPHERES) || BVH_HAS(SURFACE_FEATURE_CYLINDERS)
+        || BVH_HAS(SURFACE_FEATURE_LINEAR_CURVES);
     return !quadrics || p.kind == PRIM_TRIANGLE || p.kind == PRIM_DISK;
 }
 

@@ -14,6 +14,7 @@
 #define PRIM_CYLINDER 3u
 #define PRIM_INSTANCE 4u
 #define PRIM_INSTANCE_DATA 5u
+#define PRIM_LINEAR_CURVE 7u
 
 #define NONE 0xffffffffu
 
@@ -128,6 +129,7 @@
 #define SURFACE_FEATURE_UVS 4u
 #define SURFACE_FEATURE_DISKS 8u
 #define SURFACE_FEATURE_CYLINDERS 16u
+#define SURFACE_FEATURE_LINEAR_CURVES 64u
 // Medium features of a scene (a specialization constant; see src/gpu/layout.rs).
 #define MEDIUM_FEATURE_HOMOGENEOUS 1u
 #define MEDIUM_FEATURE_PACKED1 2u

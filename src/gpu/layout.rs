@@ -19,6 +19,11 @@ pub const PRIM_INSTANCE: u32 = 4;
 /// An instance's transforms, two records per instance after every primitive
 /// (`accel::instance`); never in a tree.
 pub const PRIM_INSTANCE_DATA: u32 = 5;
+/// A segment of a `linearcurve` (`scene::shape::linearcurve`): `p0`, `p1` its control
+/// points, `p2` = (radius at p0, radius at p1, the shape's segment count, negated for
+/// a curve's first segment, which alone has its start sphere: Embree's), `index` its
+/// number among the shape's segments.
+pub const PRIM_LINEAR_CURVE: u32 = 7;
 
 /// Marks an absent index (no emitter, no hit).
 pub const NONE: u32 = u32::MAX;
@@ -73,6 +78,8 @@ pub const SURFACE_FEATURE_UVS: u32 = 4;
 pub const SURFACE_FEATURE_DISKS: u32 = 8;
 /// Cylinders.
 pub const SURFACE_FEATURE_CYLINDERS: u32 = 16;
+/// Linear curve segments ([`PRIM_LINEAR_CURVE`]).
+pub const SURFACE_FEATURE_LINEAR_CURVES: u32 = 64;
 /// The `SURFACE_FEATURE_*` bit of each quadric `PRIM_*` kind; the BVH traversal's
 /// primitive mask (specialization constant of intersect, shade and shadow) is made of
 /// these bits too.
@@ -81,6 +88,7 @@ pub const fn surface_feature_of_prim(kind: u32) -> u32 {
         PRIM_SPHERE => SURFACE_FEATURE_SPHERES,
         PRIM_DISK => SURFACE_FEATURE_DISKS,
         PRIM_CYLINDER => SURFACE_FEATURE_CYLINDERS,
+        PRIM_LINEAR_CURVE => SURFACE_FEATURE_LINEAR_CURVES,
         _ => 0,
     }
 }
@@ -713,12 +721,17 @@ mod tests {
             ("SURFACE_FEATURE_UVS", SURFACE_FEATURE_UVS),
             ("SURFACE_FEATURE_DISKS", SURFACE_FEATURE_DISKS),
             ("SURFACE_FEATURE_CYLINDERS", SURFACE_FEATURE_CYLINDERS),
+            (
+                "SURFACE_FEATURE_LINEAR_CURVES",
+                SURFACE_FEATURE_LINEAR_CURVES,
+            ),
             ("PRIM_TRIANGLE", PRIM_TRIANGLE),
             ("PRIM_SPHERE", PRIM_SPHERE),
             ("PRIM_DISK", PRIM_DISK),
             ("PRIM_CYLINDER", PRIM_CYLINDER),
             ("PRIM_INSTANCE", PRIM_INSTANCE),
             ("PRIM_INSTANCE_DATA", PRIM_INSTANCE_DATA),
+            ("PRIM_LINEAR_CURVE", PRIM_LINEAR_CURVE),
             ("SHAPE_HAS_NORMALS", SHAPE_HAS_NORMALS),
             ("SHAPE_HAS_UVS", SHAPE_HAS_UVS),
             ("SHAPE_FLIP_NORMALS", SHAPE_FLIP_NORMALS),

@@ -9,6 +9,7 @@ pub mod cube;
 pub mod cylinder;
 pub mod disk;
 pub mod instance;
+pub mod linearcurve;
 pub mod obj;
 pub mod ply;
 pub mod rectangle;
@@ -33,10 +34,10 @@ pub const REGISTRY: &[PluginDoc] = &[
     sphere::MITSUBA,
     disk::MITSUBA,
     cylinder::MITSUBA,
+    linearcurve::MITSUBA,
     instance::SHAPEGROUP,
     instance::INSTANCE,
     not_yet("bsplinecurve"),
-    not_yet("linearcurve"),
     not_yet("sdfgrid"),
     not_yet("ellipsoids"),
     not_yet("ellipsoidsmesh"),
@@ -81,6 +82,9 @@ pub enum Geometry {
         to_world: Mat4,
         face_normals: bool,
     },
+    /// Curves ([`Mesh::radii`]) in object space and their `to_world`, which moves the
+    /// control points and leaves the radii.
+    Curves { mesh: Mesh, to_world: Mat4 },
 }
 
 /// Reads a Mitsuba shape of type `t`'s own parameters (not `flip_normals`, nor the
@@ -90,6 +94,7 @@ pub fn mitsuba(t: &str, el: &Element, props: &Properties) -> Result<Geometry, Er
         "sphere" => return sphere::mitsuba(props),
         "disk" => return disk::mitsuba(props),
         "cylinder" => return cylinder::mitsuba(props),
+        "linearcurve" => return linearcurve::mitsuba(el, props),
         _ => {}
     }
     let to_world = props.transform("to_world")?;
@@ -151,6 +156,17 @@ pub struct Mesh {
     /// Named per-vertex and per-triangle values (PLY properties) that
     /// `mesh_attribute` textures read.
     pub attributes: Vec<crate::scene::texture::mesh_attribute::MeshAttribute>,
+    /// Per position, the radius of a curve shape ([`linearcurve`]): non-empty makes
+    /// the mesh a set of curves, each entry of `indices` a segment `[its first control
+    /// point, 0, 0]` from that point to the next, in the file's order.
+    pub radii: Vec<f32>,
+}
+
+impl Mesh {
+    /// Whether this is a set of curves ([`Mesh::radii`]), not triangles.
+    pub fn is_curves(&self) -> bool {
+        !self.radii.is_empty()
+    }
 }
 
 /// Which unit shape a [`Quadric`] maps to world space.
