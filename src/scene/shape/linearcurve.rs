@@ -208,4 +208,64 @@ mod tests {
         }
         assert!(matches!(read("\n\n"), Err(Error::File { .. })));
     }
+
+    fn scene(shape_body: &str, curves: &str) -> Result<crate::scene::Scene, Error> {
+        let xml = format!(
+            "<scene version=\"3.0.0\">\n<shape type=\"linearcurve\">\n<string name=\"filename\" value=\"c.txt\"/>\n{shape_body}</shape>\n<sensor type=\"perspective\"/>\n</scene>\n"
+        );
+        crate::scene::testutil::load(&[("s.xml", &xml), ("c.txt", curves)], &[])
+    }
+
+    #[test]
+    fn to_world_moves_points_not_radii() {
+        let s = scene(
+            "<transform name=\"to_world\"><scale value=\"2\"/><translate x=\"1\"/></transform>\n",
+            "0 0 0 0.1\n1 0 0 0.2\n",
+        )
+        .unwrap();
+        let m = &s.meshes[0];
+        assert_eq!(m.positions, [Vec3::X, Vec3::new(3.0, 0.0, 0.0)]);
+        assert_eq!(m.radii, [0.1, 0.2]);
+        assert!(s.features().contains(&"linear curves"));
+        assert!(!s.features().contains(&"triangles"));
+    }
+
+    #[test]
+    fn scene_errors_name_file_and_line() {
+        let e = crate::scene::testutil::error_at(scene("", "0 0 0 1\n1 1 1\n"), "c.txt", 2);
+        assert!(e.contains("expected 'x y z radius'"), "{e}");
+        let e = crate::scene::testutil::error_at(
+            scene(
+                "<emitter type=\"area\"><rgb name=\"radiance\" value=\"1\"/></emitter>\n",
+                "0 0 0 1\n1 1 1 1\n",
+            ),
+            "s.xml",
+            2,
+        );
+        assert!(
+            e.contains("area emitter on a linearcurve is not supported"),
+            "{e}"
+        );
+        let e = crate::scene::testutil::error_at(
+            scene(
+                "<boolean name=\"flip_normals\" value=\"true\"/>\n",
+                "0 0 0 1\n1 1 1 1\n",
+            ),
+            "s.xml",
+            4,
+        );
+        assert!(e.contains("no 'flip_normals'"), "{e}");
+        let e = crate::scene::testutil::error_at(
+            crate::scene::testutil::load(
+                &[(
+                    "s.xml",
+                    "<scene version=\"3.0.0\">\n<shape type=\"linearcurve\">\n<string name=\"filename\" value=\"none.txt\"/>\n</shape>\n</scene>\n",
+                )],
+                &[],
+            ),
+            "s.xml",
+            3,
+        );
+        assert!(e.contains("not found"), "{e}");
+    }
 }
