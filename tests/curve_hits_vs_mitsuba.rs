@@ -83,6 +83,8 @@ fn linear_curves_hit_like_mitsuba() {
     let data: Value = serde_json::from_str(&text).unwrap();
     let mut failures = Vec::new();
     let (mut checked, mut missed) = (0, 0);
+    // The largest differences seen: point (relative to 1 + t), normal, u, v.
+    let mut worst = [0.0f32; 4];
     for case in data["cases"].as_array().unwrap() {
         let name = case["name"].as_str().unwrap();
         let hits = case["hits"].as_array().unwrap();
@@ -120,15 +122,16 @@ fn linear_curves_hit_like_mitsuba() {
                     "{name}: point: ours {p} at t {t}, Mitsuba's {p_mi} at t {t_mi} ({ray})"
                 ));
             }
-            // Normals from the hit point and a centre on the axis: the point's rounding
-            // over the thin hair's radius (0.008) bounds their agreement.
+            // Normals from the hit point and a centre on the axis: a point's rounding
+            // (up to 2e-5 here, in either renderer) over the thin hair's radius (0.008)
+            // tilts them by up to 2.5e-3 (1.7e-3 seen on lavapipe), and u by that / 2π.
             let n_mi = v3(&h["n"]);
-            if (ng - n_mi).length() > 2e-3 || (ns - v3(&h["sh_n"])).length() > 2e-3 {
+            if (ng - n_mi).length() > 5e-3 || (ns - v3(&h["sh_n"])).length() > 5e-3 {
                 failures.push(format!(
                     "{name}: normal: ours {ng} {ns}, Mitsuba's {n_mi} ({ray})"
                 ));
             }
-            if (ss - v3(&h["sh_s"])).length() > 2e-3 {
+            if (ss - v3(&h["sh_s"])).length() > 5e-3 {
                 failures.push(format!(
                     "{name}: tangent: ours {ss}, Mitsuba's {} ({ray})",
                     h["sh_s"]
@@ -140,13 +143,26 @@ fn linear_curves_hit_like_mitsuba() {
             ];
             // u wraps around the curve; v to float precision of the segment parameter.
             let du = (uv[0] - uv_mi[0]).abs();
-            if du.min(1.0 - du) > 5e-4 || (uv[1] - uv_mi[1]).abs() > 5e-5 {
+            let errs = [
+                (p - p_mi).length() / (1.0 + t_mi),
+                (ng - n_mi).length(),
+                du.min(1.0 - du),
+                (uv[1] - uv_mi[1]).abs(),
+            ];
+            for (w, e) in worst.iter_mut().zip(errs) {
+                *w = w.max(e);
+            }
+            if du.min(1.0 - du) > 1e-3 || (uv[1] - uv_mi[1]).abs() > 5e-5 {
                 failures.push(format!(
                     "{name}: uv: ours {uv:?}, Mitsuba's {uv_mi:?} ({ray})"
                 ));
             }
         }
     }
+    eprintln!(
+        "largest differences from Mitsuba: point {:.1e} (relative to 1 + t), normal {:.1e}, u {:.1e}, v {:.1e}",
+        worst[0], worst[1], worst[2], worst[3]
+    );
     assert!(
         checked >= 400 && missed >= 400,
         "{checked} hits, {missed} misses"
