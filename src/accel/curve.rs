@@ -136,4 +136,67 @@ mod tests {
         )
         .is_none());
     }
+
+    #[test]
+    fn curves_stay_in_the_tree_beside_quadrics_apart() {
+        use crate::accel::{brute_force_closest, prims_from_shapes, Bvh, FlatPrims};
+        use crate::gpu::layout::{PRIM_LINEAR_CURVE, PRIM_SPHERE};
+        use crate::scene::{Mesh, Quadric};
+        let curves = crate::scene::shape::linearcurve::parse(
+            std::path::Path::new("c.txt"),
+            b"-0.8 0 0 0.1\n0 0.3 0 0.15\n0.8 0 0 0.1\n\n0 -1 -1 0.05\n0 -1 1 0.05\n",
+        )
+        .unwrap();
+        let floor = Mesh {
+            positions: vec![
+                Vec3::new(-2.0, -1.5, -2.0),
+                Vec3::new(2.0, -1.5, -2.0),
+                Vec3::new(0.0, -1.5, 2.0),
+            ],
+            indices: vec![[0, 2, 1]],
+            ..Mesh::default()
+        };
+        let ball = Quadric::sphere(Vec3::new(0.0, -0.6, 0.0), 0.3, 0);
+        let bvh = Bvh::build(prims_from_shapes(&[floor, curves], &[ball]));
+        // The sphere apart, the curves' three segments in the tree with the triangle;
+        // a scene this small is no flat one, since a curve's kind needs three bits.
+        assert_eq!(bvh.apart, 1);
+        assert_eq!(bvh.prims[0].kind, PRIM_SPHERE);
+        assert_eq!(
+            bvh.prims
+                .iter()
+                .filter(|p| p.kind == PRIM_LINEAR_CURVE)
+                .count(),
+            3
+        );
+        let flat = FlatPrims::of(&bvh, 8);
+        assert!(!flat.flat_only && flat.count == 1);
+        // Segment 1 starts where segment 0 ends: only segment 0 and 2 have start caps.
+        let starts: Vec<(u32, bool)> = bvh
+            .prims
+            .iter()
+            .filter(|p| p.kind == PRIM_LINEAR_CURVE)
+            .map(|p| (p.index, p.p2[2] < 0.0))
+            .collect();
+        for (index, cap) in starts {
+            assert_eq!(cap, index != 1, "segment {index}");
+        }
+        // The traversal finds what testing every primitive finds.
+        let mut rng = 1u32;
+        let mut next = || {
+            rng = rng.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            (rng >> 8) as f32 / (1 << 24) as f32 * 2.0 - 1.0
+        };
+        let mut hits = 0;
+        for _ in 0..2000 {
+            let o = Vec3::new(next(), next(), next()) * 3.0;
+            let target = Vec3::new(next(), next() * 0.5, next() * 0.5);
+            let d = target - o;
+            let a = bvh.closest(o, d, 0.0, f32::MAX);
+            let b = brute_force_closest(&bvh.prims, o, d, 0.0, f32::MAX);
+            assert_eq!(a.map(|h| (h.prim, h.t)), b.map(|h| (h.prim, h.t)));
+            hits += a.is_some_and(|h| bvh.prims[h.prim as usize].kind == PRIM_LINEAR_CURVE) as u32;
+        }
+        assert!(hits > 100, "{hits} curve hits");
+    }
 }
