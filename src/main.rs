@@ -694,8 +694,14 @@ fn print_info(
     );
     println!("meshes:      {}", sc.meshes.len());
     for m in &sc.meshes {
+        // Curves (linearcurve): segments between control points.
+        let (prims, points) = if m.is_curves() {
+            ("segments", "control points")
+        } else {
+            ("triangles", "vertices")
+        };
         println!(
-            "  {:<40} {:>8} triangles {:>8} vertices{}{}{}",
+            "  {:<40} {:>8} {prims} {:>8} {points}{}{}{}",
             m.name,
             m.indices.len(),
             m.positions.len(),

@@ -20,7 +20,7 @@
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
-targets=(scene_mitsuba scene_nori obj ply serialized vol vdb exr png jpeg hdr)
+targets=(scene_mitsuba scene_nori obj curves ply serialized vol vdb exr png jpeg hdr)
 host=$(rustc -vV | sed -n 's/^host: //p')
 bin_dir="target/$host/release"
 

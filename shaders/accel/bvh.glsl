@@ -20,6 +20,7 @@
 #include "shape/intersect_disk.glsl"
 #include "shape/intersect_cylinder.glsl"
 #include "shape/intersect_sdfgrid.glsl"
+#include "shape/intersect_curve.glsl"
 #include "accel/instance.glsl"
 
 // Traversal stack entries; the build keeps every leaf at depth <= this (root = 0).
@@ -71,7 +72,8 @@
 #define BVH_TREE ((BVH_FLAT_PRIMS & BVH_FLAT_ONLY) == 0u)
 
 // t: distance (tmax on a miss); u, v: triangle barycentrics, p = (1-u-v) p0 + u p1 + v p2,
-// or a disk's object-space (x, y) (0 for spheres and cylinders); prim: index into
+// or a disk's object-space (x, y), or a curve segment's parameter in u (0 for spheres
+// and cylinders); prim: index into
 // prims[], HIT_NONE on a miss.
 struct Hit {
     float t;
@@ -157,16 +159,22 @@ bool bvh_prim_hit_of(uint kinds, Prim p, TriangleRay tr, vec3 o, vec3 d, float t
     } else if ((kinds & BVH_KIND_BIT(PRIM_SDFGRID)) != 0u && (one || p.kind == PRIM_SDFGRID)) {
         // u: the voxel hit, for the hit geometry (sdf_surface).
         return intersect_sdfgrid(o, d, p, tmin, tmax, t, u);
+    } else if ((kinds & BVH_KIND_BIT(PRIM_LINEAR_CURVE)) != 0u
+               && (one || p.kind == PRIM_LINEAR_CURVE)) {
+        return intersect_linear_curve(o, d, p.p0, p.p1, p.p2.x, p.p2.y, p.p2.z < 0.0, tmin, tmax,
+                                      t, u);
     } else if ((kinds & BVH_KIND_BIT(PRIM_TRIANGLE)) != 0u) {
         return intersect_triangle(tr, o, p.p0, p.p1, p.p2, tmin, tmax, t, u, v);
     }
     return false;
 }
 
-// The kinds a scene's tree may hold: triangles and the quadrics of BVH_PRIM_KINDS, or
-// triangles alone where the quadrics are tested apart; sdfgrids are never apart.
+// The kinds a scene's tree may hold: triangles, curves and the quadrics of
+// BVH_PRIM_KINDS, or triangles and curves where the quadrics are tested apart;
+// sdfgrids are never apart.
 #define BVH_KINDS (BVH_KIND_BIT(PRIM_TRIANGLE)                                          \
     | (BVH_HAS(SURFACE_FEATURE_SDFGRIDS) ? BVH_KIND_BIT(PRIM_SDFGRID) : 0u)             \
+    | (BVH_HAS(SURFACE_FEATURE_LINEAR_CURVES) ? BVH_KIND_BIT(PRIM_LINEAR_CURVE) : 0u)   \
     | (BVH_FLAT_COUNT > 0u ? 0u :                                                       \
        ((BVH_HAS(SURFACE_FEATURE_SPHERES) ? BVH_KIND_BIT(PRIM_SPHERE) : 0u)             \
         | (BVH_HAS(SURFACE_FEATURE_DISKS) ? BVH_KIND_BIT(PRIM_DISK) : 0u)               \
@@ -369,7 +377,7 @@ Hit bvh_closest_two(vec3 o, vec3 d, float tmin, float tmax, out Hit second) {
 // `second` is what a ray passing through its closest hit meets next.
 bool bvh_hit_once(Prim p) {
     bool quadrics = BVH_HAS(SURFACE_FEATURE_SPHERES) || BVH_HAS(SURFACE_FEATURE_CYLINDERS)
-        || BVH_HAS(SURFACE_FEATURE_SDFGRIDS);
+        || BVH_HAS(SURFACE_FEATURE_SDFGRIDS) || BVH_HAS(SURFACE_FEATURE_LINEAR_CURVES);
     return !quadrics || p.kind == PRIM_TRIANGLE || p.kind == PRIM_DISK;
 }
 

@@ -15,6 +15,7 @@
 #define PRIM_INSTANCE 4u
 #define PRIM_INSTANCE_DATA 5u
 #define PRIM_SDFGRID 7u
+#define PRIM_LINEAR_CURVE 8u
 
 #define NONE 0xffffffffu
 
@@ -130,6 +131,7 @@
 #define SURFACE_FEATURE_DISKS 8u
 #define SURFACE_FEATURE_CYLINDERS 16u
 #define SURFACE_FEATURE_SDFGRIDS 128u
+#define SURFACE_FEATURE_LINEAR_CURVES 64u
 // Medium features of a scene (a specialization constant; see src/gpu/layout.rs).
 #define MEDIUM_FEATURE_HOMOGENEOUS 1u
 #define MEDIUM_FEATURE_PACKED1 2u

@@ -95,8 +95,34 @@ void surface_quadric(inout Surface s, Prim prim, ShapeRecord shape, vec3 hit, ve
     s.ns = s.ng;
 }
 
+// The geometry of linear curve segment `prim` (layout.glsl) at the hit point `hit`,
+// `v_local` the parameter of the touching sphere's centre (intersect_curve.glsl), as
+// Mitsuba 3.9's linearcurve reports it: the normal from that centre to the hit (the
+// point re-projected onto the sphere), u = the angle around the axis / 2π from
+// Mitsuba's frame (+z made orthogonal to the axis, or +y where the axis is ±z),
+// v = (v_local + the segment's number) / the shape's segment count, and no ∂p/∂u
+// (its shading frame is coordinate_system(n)).
+void surface_linear_curve(inout Surface s, Prim prim, vec3 hit, float v_local, out vec3 dpdu) {
+    vec3 a = prim.p1 - prim.p0;
+    vec3 c = prim.p0 + v_local * a;
+    float r = mix(prim.p2.x, prim.p2.y, v_local);
+    vec3 axis = normalize(a);
+    vec3 rot = abs(axis.z) == 1.0 ? vec3(0.0, 1.0, 0.0) : normalize(vec3(0.0, 0.0, 1.0) - axis * axis.z);
+    vec3 radial = cross(rot, axis);
+    vec3 q = hit - c;
+    float len = length(q);
+    s.ng = len > 0.0 ? q / len : radial;
+    s.p = c + r * s.ng;
+    s.p_error = SURFACE_GAMMA7 * (abs(prim.p0) + abs(v_local * a) + abs(r * s.ng));
+    s.ns = s.ng;
+    s.uv = vec2(surface_phi_u(dot(radial, s.ng), dot(rot, s.ng)),
+                (v_local + float(prim.index)) / abs(prim.p2.z));
+    dpdu = vec3(0.0);
+}
+
 // Surface at barycentrics (u, v) of primitive `prim`: p = (1-u-v) p0 + u p1 + v p2;
-// for a disk (u, v) is the object-space point, and other quadrics take the point
+// for a disk (u, v) is the object-space point, for a curve u its segment's parameter,
+// and other quadrics and curves take the point
 // o + t d and re-project it. Normals follow the primitive's orientation
 // (counter-clockwise front, or outwards), flipped by SHAPE_FLIP_NORMALS. The tangent
 // is Mitsuba's: a triangle's ∂p/∂u from its own vertices and uvs (p1 - p0 without
@@ -130,6 +156,8 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
             + vec3(4.0 * SDF_SOLVE_EPSILON * abs(dot(s.ng, ray_d)));
         s.uv = vec2(0.0);
         dpdu = vec3(0.0);
+    } else if (SURFACE_HAS(SURFACE_FEATURE_LINEAR_CURVES) && prim.kind == PRIM_LINEAR_CURVE) {
+        surface_linear_curve(s, prim, ray_o + t * ray_d, u, dpdu);
     } else if (SURFACE_HAS(SURFACE_FEATURE_SPHERES | SURFACE_FEATURE_DISKS | SURFACE_FEATURE_CYLINDERS)
         && prim.kind != PRIM_TRIANGLE) {
         surface_quadric(s, prim, shape, ray_o + t * ray_d, vec2(u, v), dpdu);

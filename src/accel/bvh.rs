@@ -21,7 +21,8 @@ use glam::Vec3;
 use super::bvh_build::{PrimSource, ShapePrims};
 use super::{cylinder, disk, sphere, triangle};
 use crate::gpu::layout::{
-    BvhNode, Prim, PRIM_CYLINDER, PRIM_DISK, PRIM_INSTANCE, PRIM_SDFGRID, PRIM_SPHERE,
+    BvhNode, Prim, PRIM_CYLINDER, PRIM_DISK, PRIM_INSTANCE, PRIM_LINEAR_CURVE, PRIM_SDFGRID,
+    PRIM_SPHERE,
 };
 use crate::scene::{Mesh, Quadric};
 
@@ -85,10 +86,14 @@ impl FlatPrims {
     /// `max` (at most [`FLAT_CAPACITY`]), else the primitives apart ([`Bvh::apart`])
     /// in turn, then the tree.
     pub fn of(bvh: &Bvh, max: usize) -> FlatPrims {
-        // (An sdfgrid's kind takes more than two bits: it stays in the tree.)
+        // (Sdfgrids and curves take more than the two bits of a kind: they stay in the
+        // tree.)
         let all = !bvh.prims.is_empty()
             && bvh.prims.len() <= max.min(FLAT_CAPACITY)
-            && bvh.prims.iter().all(|p| p.kind != PRIM_SDFGRID);
+            && bvh
+                .prims
+                .iter()
+                .all(|p| p.kind != PRIM_SDFGRID && p.kind != PRIM_LINEAR_CURVE);
         let count = if all {
             bvh.prims.len()
         } else {
@@ -266,6 +271,11 @@ pub(super) fn prim_bounds(p: &Prim) -> Aabb {
             }
         }
         PRIM_INSTANCE | PRIM_SDFGRID => Aabb { min: p0, max: p1 },
+        // The two end spheres' boxes hold the cone between them.
+        PRIM_LINEAR_CURVE => Aabb {
+            min: (p0 - Vec3::splat(p2.x)).min(p1 - Vec3::splat(p2.y)),
+            max: (p0 + Vec3::splat(p2.x)).max(p1 + Vec3::splat(p2.y)),
+        },
         PRIM_CYLINDER => {
             // The end circles: radius |a1| in the plane normal to the axis p2.
             let a2 = p2.normalize_or_zero().cross(p1);
@@ -535,6 +545,10 @@ pub fn intersect_prim(
         PRIM_DISK => disk::intersect(o, d, p0, p1, p2, tmin, tmax),
         PRIM_CYLINDER => {
             cylinder::intersect(o, d, p0, p2, p1.length(), tmin, tmax).map(|t| (t, 0.0, 0.0))
+        }
+        PRIM_LINEAR_CURVE => {
+            super::curve::intersect_linear(o, d, p0, p1, p2.x, p2.y, p2.z < 0.0, tmin, tmax)
+                .map(|(t, v)| (t, v, 0.0))
         }
         // An instance's box stands for it (the CPU traversal serves estimates such
         // as the render plan's camera misses; the kernels trace the group's tree).

@@ -32,7 +32,9 @@ use super::bvh::{
     MEDIAN_LEAF_SIZE, SAH_BINS, SAH_INTERSECTION_COST, SAH_TRAVERSAL_COST,
 };
 use super::{quadric_prim, triangle_prim};
-use crate::gpu::layout::{BvhNode, Prim, PRIM_SDFGRID, PRIM_TRIANGLE};
+use crate::gpu::layout::{
+    BvhNode, Prim, PRIM_CYLINDER, PRIM_DISK, PRIM_LINEAR_CURVE, PRIM_SPHERE, PRIM_TRIANGLE,
+};
 use crate::scene::{Mesh, Quadric};
 
 /// Subtrees over fewer primitives are built by one thread into one node list.
@@ -73,6 +75,8 @@ pub struct ShapePrims<'a> {
     quadrics: &'a [Quadric],
     /// Global number of each mesh's first triangle, and the total at the end.
     first: Vec<usize>,
+    /// Whether some mesh is curves ([`Mesh::is_curves`]).
+    curves: bool,
 }
 
 impl<'a> ShapePrims<'a> {
@@ -88,6 +92,7 @@ impl<'a> ShapePrims<'a> {
             meshes,
             quadrics,
             first,
+            curves: meshes.iter().any(Mesh::is_curves),
         }
     }
 
@@ -116,6 +121,9 @@ impl PrimSource for ShapePrims<'_> {
 
     fn kind(&self, i: usize) -> u32 {
         if i < self.triangles() {
+            if self.curves && self.meshes[self.first.partition_point(|&f| f <= i) - 1].is_curves() {
+                return PRIM_LINEAR_CURVE;
+            }
             PRIM_TRIANGLE
         } else {
             self.prim(i).kind
@@ -687,7 +695,7 @@ pub(super) fn build<S: PrimSource + ?Sized>(
     let quadrics: Vec<usize> = if apart_allowed {
         (0..n)
             .into_par_iter()
-            .filter(|&i| source.kind(i) != PRIM_TRIANGLE && source.kind(i) != PRIM_SDFGRID)
+            .filter(|&i| matches!(source.kind(i), PRIM_SPHERE | PRIM_DISK | PRIM_CYLINDER))
             .collect()
     } else {
         Vec::new()

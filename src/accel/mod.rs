@@ -9,6 +9,7 @@
 
 pub mod bvh;
 pub mod bvh_build;
+pub mod curve;
 pub mod cylinder;
 pub mod disk;
 pub mod instance;
@@ -23,7 +24,7 @@ pub use bvh::{
 use bvh_build::PrimSource;
 
 use crate::gpu::layout::{
-    Prim, PRIM_CYLINDER, PRIM_DISK, PRIM_SDFGRID, PRIM_SPHERE, PRIM_TRIANGLE,
+    Prim, PRIM_CYLINDER, PRIM_DISK, PRIM_LINEAR_CURVE, PRIM_SDFGRID, PRIM_SPHERE, PRIM_TRIANGLE,
 };
 use crate::scene::{Mesh, Quadric, QuadricKind, Scene};
 
@@ -76,8 +77,12 @@ pub fn prims_from_shapes(meshes: &[Mesh], quadrics: &[Quadric]) -> Vec<Prim> {
     (0..source.len()).map(|i| source.prim(i)).collect()
 }
 
-/// Triangle `k` of `mesh`, shape `shape`, global triangle number `index`.
+/// Triangle `k` of `mesh`, shape `shape`, global triangle number `index`; segment `k`
+/// of curves ([`curve_prim`]).
 pub fn triangle_prim(mesh: &Mesh, k: usize, shape: u32, index: u32) -> Prim {
+    if mesh.is_curves() {
+        return curve_prim(mesh, k, shape);
+    }
     let p = mesh.indices[k].map(|v| mesh.positions[v as usize].to_array());
     Prim {
         p0: p[0],
@@ -86,6 +91,23 @@ pub fn triangle_prim(mesh: &Mesh, k: usize, shape: u32, index: u32) -> Prim {
         index,
         p2: p[2],
         kind: PRIM_TRIANGLE,
+    }
+}
+
+/// Segment `k` of the curves `mesh`, shape `shape` (layout in
+/// [`PRIM_LINEAR_CURVE`]).
+pub fn curve_prim(mesh: &Mesh, k: usize, shape: u32) -> Prim {
+    let i = mesh.indices[k][0] as usize;
+    // A curve's first segment: no segment ends at its start.
+    let first = k == 0 || mesh.indices[k - 1][0] as usize + 1 != i;
+    let n = mesh.indices.len() as f32;
+    Prim {
+        p0: mesh.positions[i].to_array(),
+        shape,
+        p1: mesh.positions[i + 1].to_array(),
+        index: k as u32,
+        p2: [mesh.radii[i], mesh.radii[i + 1], if first { -n } else { n }],
+        kind: PRIM_LINEAR_CURVE,
     }
 }
 

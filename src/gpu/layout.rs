@@ -22,6 +22,11 @@ pub const PRIM_INSTANCE_DATA: u32 = 5;
 /// An `sdfgrid` (`scene::shape::sdfgrid`): `p0`, `p1` its box, `p2[0]` the bits of
 /// its header's offset in the grid buffer, `index` its quadric number.
 pub const PRIM_SDFGRID: u32 = 7;
+/// A segment of a `linearcurve` (`scene::shape::linearcurve`): `p0`, `p1` its control
+/// points, `p2` = (radius at p0, radius at p1, the shape's segment count, negated for
+/// a curve's first segment, which alone has its start sphere: Embree's), `index` its
+/// number among the shape's segments.
+pub const PRIM_LINEAR_CURVE: u32 = 8;
 
 /// Marks an absent index (no emitter, no hit).
 pub const NONE: u32 = u32::MAX;
@@ -78,6 +83,8 @@ pub const SURFACE_FEATURE_DISKS: u32 = 8;
 pub const SURFACE_FEATURE_CYLINDERS: u32 = 16;
 /// Signed-distance grids ([`PRIM_SDFGRID`]).
 pub const SURFACE_FEATURE_SDFGRIDS: u32 = 128;
+/// Linear curve segments ([`PRIM_LINEAR_CURVE`]).
+pub const SURFACE_FEATURE_LINEAR_CURVES: u32 = 64;
 /// The `SURFACE_FEATURE_*` bit of each quadric `PRIM_*` kind; the BVH traversal's
 /// primitive mask (specialization constant of intersect, shade and shadow) is made of
 /// these bits too.
@@ -87,6 +94,7 @@ pub const fn surface_feature_of_prim(kind: u32) -> u32 {
         PRIM_DISK => SURFACE_FEATURE_DISKS,
         PRIM_CYLINDER => SURFACE_FEATURE_CYLINDERS,
         PRIM_SDFGRID => SURFACE_FEATURE_SDFGRIDS,
+        PRIM_LINEAR_CURVE => SURFACE_FEATURE_LINEAR_CURVES,
         _ => 0,
     }
 }
@@ -719,6 +727,10 @@ mod tests {
             ("SURFACE_FEATURE_UVS", SURFACE_FEATURE_UVS),
             ("SURFACE_FEATURE_DISKS", SURFACE_FEATURE_DISKS),
             ("SURFACE_FEATURE_CYLINDERS", SURFACE_FEATURE_CYLINDERS),
+            (
+                "SURFACE_FEATURE_LINEAR_CURVES",
+                SURFACE_FEATURE_LINEAR_CURVES,
+            ),
             ("PRIM_TRIANGLE", PRIM_TRIANGLE),
             ("PRIM_SPHERE", PRIM_SPHERE),
             ("PRIM_DISK", PRIM_DISK),
@@ -727,6 +739,7 @@ mod tests {
             ("PRIM_INSTANCE_DATA", PRIM_INSTANCE_DATA),
             ("PRIM_SDFGRID", PRIM_SDFGRID),
             ("SURFACE_FEATURE_SDFGRIDS", SURFACE_FEATURE_SDFGRIDS),
+            ("PRIM_LINEAR_CURVE", PRIM_LINEAR_CURVE),
             ("SHAPE_HAS_NORMALS", SHAPE_HAS_NORMALS),
             ("SHAPE_HAS_UVS", SHAPE_HAS_UVS),
             ("SHAPE_FLIP_NORMALS", SHAPE_FLIP_NORMALS),

@@ -271,6 +271,9 @@ impl SceneRecords {
                 quadric_slot[p.index as usize] = i as u32;
                 self.quadric_kinds |= surface_feature_of_prim(p.kind);
             }
+            if p.kind == crate::gpu::layout::PRIM_LINEAR_CURVE {
+                self.quadric_kinds |= surface_feature_of_prim(p.kind);
+            }
         }
         for (k, q) in scene.quadrics.iter().enumerate() {
             let shape_index = self.shapes.len() as u32;

@@ -99,6 +99,31 @@ impl Builder {
         Ok(())
     }
 
+    /// Adds curves ([`Mesh::radii`]): `to_world` moves their control points and leaves
+    /// the radii as they are, as Mitsuba does.
+    pub fn add_curves(
+        &mut self,
+        el: &Element,
+        mut m: Mesh,
+        to_world: Mat4,
+        bsdf: u32,
+        null_bsdf: bool,
+    ) -> Result<(), Error> {
+        for p in &mut m.positions {
+            *p = to_world.transform_point3(*p);
+            if !p.is_finite() {
+                return Err(el.err(format!(
+                    "to_world takes a control point of '{}' to infinity",
+                    m.name
+                )));
+            }
+        }
+        m.bsdf = bsdf;
+        m.null_bsdf = null_bsdf;
+        self.meshes.push(m);
+        Ok(())
+    }
+
     /// Adds a quadric after checking that its `to_world` keeps the shape one the
     /// intersector handles: spheres may only rotate, mirror, translate and scale
     /// uniformly; cylinders may also scale along their axis; disks take any

@@ -664,6 +664,9 @@ impl<'a> Loader<'a> {
             }
             let (m0, q0) = (self.b.meshes.len(), self.b.quadrics.len());
             self.shape(c)?;
+            if self.b.meshes[m0..].iter().any(|m| m.is_curves()) {
+                return Err(c.err("curves in a shapegroup are not supported yet"));
+            }
             let emitters = self.b.meshes[m0..].iter().any(|m| m.emitter.is_some())
                 || self.b.quadrics[q0..].iter().any(|q| q.emitter.is_some());
             if emitters {
@@ -793,6 +796,18 @@ impl<'a> Loader<'a> {
                 to_world,
                 face_normals,
             } => (mesh, to_world, face_normals),
+            Geometry::Curves { mesh, to_world } => {
+                props.finish()?;
+                if radiance.is_some() {
+                    return Err(el.err(format!("an area emitter on a {t} is not supported yet")));
+                }
+                if interior.is_some() || exterior.is_some() {
+                    return Err(el.err(format!(
+                        "media inside or outside a {t} are not supported yet"
+                    )));
+                }
+                return self.b.add_curves(el, mesh, to_world, bsdf, null_bsdf);
+            }
         };
         props.finish()?;
         let emitter = radiance.map(|(e, w)| self.b.add_weighted_emitter(e, w));

@@ -143,13 +143,18 @@ impl Scene {
     /// traversal is not what the ray meets next (bvh.glsl's `bvh_hit_once`), so every
     /// crossing traces again.
     pub fn has_curved_crossings(&self) -> bool {
-        self.quadrics.iter().any(|q| {
-            (q.null_bsdf || self.is_thin_dielectric(q.bsdf))
-                && matches!(
-                    q.kind,
-                    QuadricKind::Sphere | QuadricKind::Cylinder | QuadricKind::SdfGrid(_)
-                )
-        })
+        let curves = self
+            .meshes
+            .iter()
+            .any(|m| m.is_curves() && (m.null_bsdf || self.is_thin_dielectric(m.bsdf)));
+        curves
+            || self.quadrics.iter().any(|q| {
+                (q.null_bsdf || self.is_thin_dielectric(q.bsdf))
+                    && matches!(
+                        q.kind,
+                        QuadricKind::Sphere | QuadricKind::Cylinder | QuadricKind::SdfGrid(_)
+                    )
+            })
     }
 
     /// Whether some shape has a `thindielectric` BSDF.
@@ -182,7 +187,8 @@ impl Scene {
                 f.push(name)
             }
         };
-        add(!self.meshes.is_empty(), "triangles");
+        add(self.meshes.iter().any(|m| !m.is_curves()), "triangles");
+        add(self.meshes.iter().any(|m| m.is_curves()), "linear curves");
         let has = |k: QuadricKind| self.quadrics.iter().any(|q| q.kind == k);
         add(has(QuadricKind::Sphere), "spheres");
         add(has(QuadricKind::Disk), "disks");

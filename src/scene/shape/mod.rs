@@ -9,6 +9,7 @@ pub mod cube;
 pub mod cylinder;
 pub mod disk;
 pub mod instance;
+pub mod linearcurve;
 pub mod obj;
 pub mod ply;
 pub mod rectangle;
@@ -34,10 +35,10 @@ pub const REGISTRY: &[PluginDoc] = &[
     sphere::MITSUBA,
     disk::MITSUBA,
     cylinder::MITSUBA,
+    linearcurve::MITSUBA,
     instance::SHAPEGROUP,
     instance::INSTANCE,
     not_yet("bsplinecurve"),
-    not_yet("linearcurve"),
     sdfgrid::MITSUBA,
     not_yet("ellipsoids"),
     not_yet("ellipsoidsmesh"),
@@ -84,6 +85,9 @@ pub enum Geometry {
     },
     /// A signed-distance grid on the unit cube and its object-to-world map.
     SdfGrid(Box<sdfgrid::SdfGrid>, Mat4),
+    /// Curves ([`Mesh::radii`]) in object space and their `to_world`, which moves the
+    /// control points and leaves the radii.
+    Curves { mesh: Mesh, to_world: Mat4 },
 }
 
 /// Reads a Mitsuba shape of type `t`'s own parameters (not `flip_normals`, nor the
@@ -94,6 +98,7 @@ pub fn mitsuba(t: &str, el: &Element, props: &Properties) -> Result<Geometry, Er
         "disk" => return disk::mitsuba(props),
         "cylinder" => return cylinder::mitsuba(props),
         "sdfgrid" => return sdfgrid::mitsuba(el, props),
+        "linearcurve" => return linearcurve::mitsuba(el, props),
         _ => {}
     }
     let to_world = props.transform("to_world")?;
@@ -155,6 +160,17 @@ pub struct Mesh {
     /// Named per-vertex and per-triangle values (PLY properties) that
     /// `mesh_attribute` textures read.
     pub attributes: Vec<crate::scene::texture::mesh_attribute::MeshAttribute>,
+    /// Per position, the radius of a curve shape ([`linearcurve`]): non-empty makes
+    /// the mesh a set of curves, each entry of `indices` a segment `[its first control
+    /// point, 0, 0]` from that point to the next, in the file's order.
+    pub radii: Vec<f32>,
+}
+
+impl Mesh {
+    /// Whether this is a set of curves ([`Mesh::radii`]), not triangles.
+    pub fn is_curves(&self) -> bool {
+        !self.radii.is_empty()
+    }
 }
 
 /// Which unit shape a [`Quadric`] maps to world space.
