@@ -257,9 +257,10 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
         // BSDFs work in the shading frame (ss, ns × ss, ns): Mitsuba's sh_frame, whose
         // tangent orients anisotropic roughness.
         wo = surface_to_local(s, -r.dir);
-        bool delta = bsdf_is_delta(bsdf);
-        if (BSDF_HAS(BSDF_COMPOSITE) && leaves.count > 1u) delta = leaves.all_delta;
-        ems = ems && !delta;
+        bool ems_any = ems;
+        ems = ems && !bsdf_is_delta(bsdf);
+        // A mixture samples emitters unless every leaf is delta.
+        if (BSDF_HAS(BSDF_COMPOSITE) && leaves.count > 1u) ems = ems_any && !leaves.all_delta;
     }
 
     // A longer path must fit in max_depth segments (this vertex ends segment depth+1).
