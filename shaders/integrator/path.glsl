@@ -21,6 +21,7 @@
 #include "bsdf/bsdf_textured.glsl"
 #include "bsdf/normal_map.glsl"
 #include "bsdf/composite.glsl"
+#include "bsdf/mask_crossing.glsl"
 #ifdef MEDIUM_GLSL
 #include "medium/phase.glsl"
 #endif
@@ -38,6 +39,11 @@
 // their code for every lane though each lane returns before them.
 #ifndef SHADE_LAST
 #define SHADE_LAST false
+#endif
+// THIN_NULL (a bool constant likewise, vol_path.glsl): thin dielectrics and masks are
+// null crossings of the medium stage.
+#ifndef THIN_NULL
+#define THIN_NULL false
 #endif
 // SHADE_RAYS (a uint constant likewise): the rays the kernel shades. SHADE_RAYS_ALL,
 // every ray of the bounce's queue; SHADE_RAYS_HITS, those intersect found a surface
@@ -220,6 +226,13 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
                 // A composite BSDF resolves to its leaves here (composite.glsl).
                 u_lobe = sample_1d(path.pixel, path.sample_index, rng_dim_bounce(depth, RNG_SLOT_LOBE));
                 s_base = s;
+                // The medium stage chose a mask's BSDF over its pass-through
+                // (mask_crossing.glsl): the mask's child 1 alone.
+                if (THIN_NULL && (path.flags & PATH_THIN_REFLECT) != 0u && bsdf_is_mask(bsdf_index)) {
+                    bsdf_index = bsdf_load(bsdf_index).tex_transmittance;
+                    // Done with: its lobe number is not forced as a thin dielectric's.
+                    path.flags &= ~PATH_THIN_REFLECT;
+                }
                 leaves = bsdf_composite_mix(bsdf_index, s, h.prim, vec2(h.u, h.v), -r.dir, u_lobe);
                 CompositeBranch leaf = leaves.leaf[leaves.chosen];
                 bsdf_index = leaf.index;
