@@ -5,8 +5,7 @@
 //! weights, a `<ref>` nested in a blend and a twosided pair seen from both sides;
 //! its reference is Mitsuba 3.9.1's render (`python3 tools/mitsuba_ref.py
 //! tests/data/composite_bsdfs.xml -o tests/data/composite_bsdfs_ref.exr --spp 4096
-//! --variant scalar_rgb`). wavetrace picks one child of a blend or mask per hit where
-//! Mitsuba evaluates both, so the two estimate the same image with different noise.
+//! --variant scalar_rgb`). Blends and masks mix both children as Mitsuba's do.
 //!
 //! The furnace: under a constant environment of radiance 1, closed shapes whose BSDFs
 //! keep all energy (white diffuse, a dielectric, a mask's pass-through) leave every

@@ -314,7 +314,6 @@ scene!(
     Rejects
 );
 scene!(
-    #[ignore = "blendbsdf picks one child per hit by its weight (unbiased: energy 1.0004) where Mitsuba evaluates both and mixes them: more noise per sample than the reference variance admits (0.9465)"]
     mesh_attributes_1_face,
     "mesh_attributes",
     "test_mesh_attributes_1_face_direct.xml",

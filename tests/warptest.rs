@@ -76,6 +76,18 @@ fn correct_samplers_pass_and_a_wrong_pdf_fails_with_images() {
                 "200000",
             ],
         ),
+        (
+            "blendbsdf",
+            vec![
+                "blendbsdf",
+                "--alpha",
+                "0.3",
+                "--theta",
+                "50",
+                "--samples",
+                "200000",
+            ],
+        ),
         ("hg", vec!["hg", "--g", "-0.6", "--samples", "200000"]),
         ("disk", vec!["square_to_disk", "--samples", "200000"]),
     ] {

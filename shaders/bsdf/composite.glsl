@@ -1,12 +1,13 @@
 // Composite BSDFs (src/scene/bsdf/composite.rs): Mitsuba 3's mask, blendbsdf and
-// twosided with two sides and bumpmap, resolved at a surface point into one leaf record, so that
-// the kernels evaluate and sample one model per vertex without recursion. A blend
-// (a mask is a blend of the pass-through mask_null and its BSDF by the opacity)
-// takes child 1 with probability w and child 0 with 1 − w, from the vertex's lobe
-// number u, which is rescaled to [0, 1) for the leaf (as Mitsuba's blendbsdf::sample
-// and mask::sample): the mean of what the vertex evaluates and samples is the blend
+// twosided with two sides and bumpmap, resolved at a surface point without recursion.
+// The path tracers resolve a tree into its leaves and mix them as Mitsuba does
+// (bsdf_composite_mix, bsdf_composite_others, below). The photon mappers resolve it
+// into one leaf record (bsdf_composite_resolve): a blend (a mask is a blend of the
+// pass-through mask_null and its BSDF by the opacity) takes child 1 with probability
+// w and child 0 with 1 − w, from the vertex's lobe number u, which is rescaled to
+// [0, 1) for the leaf: the mean of what the vertex evaluates and samples is the blend
 // (pbrt-v4's MixMaterial). Needs scene_bindings.glsl, texture.glsl, surface.glsl,
-// bsdf.glsl (BSDF_COMPOSITE, BSDF_HAS), normal_map.glsl.
+// bsdf.glsl (BSDF_COMPOSITE, BSDF_HAS), bsdf_textured.glsl, normal_map.glsl.
 #ifndef BSDF_COMPOSITE_GLSL
 #define BSDF_COMPOSITE_GLSL
 
@@ -16,6 +17,9 @@
 #define COMPOSITE_BUMP 2u
 // Deepest nesting resolved (the loader's trees are finite; this bounds the loop).
 #define COMPOSITE_MAX_DEPTH 16
+
+#include "sampling/rng.glsl"
+#include "bsdf/mixture.glsl"
 
 // The leaf a surface point resolves to: its record index, the flags to add to it
 // (BSDF_TWOSIDED where a twosided node chose a side), the lobe number left for it, and
@@ -95,6 +99,36 @@ void composite_derivatives(uint prim_index, vec2 bary, Surface s, out vec3 dpdu,
     }
 }
 
+// A bump map's node b at s seen from wo (Mitsuba 3.9's bumpmap::frame): ∂p/∂u and
+// ∂p/∂v tilted along the shading normal by the scaled height gradient; their cross
+// product, turned to the geometric normal's side, is the new shading normal (flipped
+// as a normal map's where it faces away from wo), and ∂p/∂u made orthogonal to it the
+// new tangent. Replaces s.ns and s.ss and sets nm (n0, n and the shadowing roughness),
+// unless the tilted frame is degenerate (then false, s unchanged).
+bool composite_bump(BsdfRecord b, inout Surface s, uint prim, vec2 bary, vec3 wo, inout NormalMapFrame nm) {
+    vec3 dpdu, dpdv;
+    composite_derivatives(prim, bary, s, dpdu, dpdv);
+    vec2 g = b.eta * composite_height_grad(b.tex_reflectance, s.uv);
+    vec3 du = dpdu + s.ns * (g.x - dot(s.ns, dpdu));
+    vec3 dv = dpdv + s.ns * (g.y - dot(s.ns, dpdv));
+    vec3 n = cross(du, dv);
+    float len = length(n);
+    if (!(len > 0.0)) return false;
+    n /= len;
+    if (dot(s.ng, n) < 0.0) n = -n;
+    vec3 n0 = s.ns;
+    if ((b.flags & BSDF_NORMALMAP_FLIP) != 0u && dot(wo, n0) * dot(wo, n) <= 0.0) {
+        n = 2.0 * dot(n, n0) * n0 - n; // the tangential part negated
+    }
+    nm.n0 = n0;
+    nm.n = n;
+    // Estevez et al. 2019's roughness of the tilt (normal_map_frame_texel).
+    nm.alpha2 = (b.flags & BSDF_NORMALMAP_SHADOWING) != 0u ? min(0.125 * normal_map_tan2(dot(n, n0)), 1.0) : 0.0;
+    s.ns = n;
+    s.ss = surface_tangent(dpdu, n);
+    return true;
+}
+
 // Resolves BSDF record `index` at surface point s of primitive `prim` (barycentrics
 // bary) seen from wo (world, towards the viewer) with the uniform number u. Records
 // that are not nodes resolve to themselves. A bump map replaces s.ns and s.ss.
@@ -112,33 +146,7 @@ CompositeLeaf bsdf_composite_resolve(uint index, inout Surface s, uint prim, vec
             leaf.index = back ? c1 : c0;
             leaf.flags |= BSDF_TWOSIDED;
         } else if (b.distribution == COMPOSITE_BUMP) {
-            // Mitsuba 3.9's bumpmap::frame: ∂p/∂u and ∂p/∂v tilted along the shading
-            // normal by the scaled height gradient; their cross product, turned to
-            // the geometric normal's side, is the new shading normal (flipped as a
-            // normal map's where it faces away from wo), and ∂p/∂u made orthogonal to
-            // it the new tangent.
-            vec3 dpdu, dpdv;
-            composite_derivatives(prim, bary, s, dpdu, dpdv);
-            vec2 g = b.eta * composite_height_grad(b.tex_reflectance, s.uv);
-            vec3 du = dpdu + s.ns * (g.x - dot(s.ns, dpdu));
-            vec3 dv = dpdv + s.ns * (g.y - dot(s.ns, dpdv));
-            vec3 n = cross(du, dv);
-            float len = length(n);
-            if (len > 0.0) {
-                n /= len;
-                if (dot(s.ng, n) < 0.0) n = -n;
-                vec3 n0 = s.ns;
-                if ((b.flags & BSDF_NORMALMAP_FLIP) != 0u && dot(wo, n0) * dot(wo, n) <= 0.0) {
-                    n = 2.0 * dot(n, n0) * n0 - n; // the tangential part negated
-                }
-                leaf.bumped = true;
-                leaf.nm.n0 = n0;
-                leaf.nm.n = n;
-                // Estevez et al. 2019's roughness of the tilt (normal_map_frame_texel).
-                leaf.nm.alpha2 = (b.flags & BSDF_NORMALMAP_SHADOWING) != 0u ? min(0.125 * normal_map_tan2(dot(n, n0)), 1.0) : 0.0;
-                s.ns = n;
-                s.ss = surface_tangent(dpdu, n);
-            }
+            if (composite_bump(b, s, prim, bary, wo, leaf.nm)) leaf.bumped = true;
             leaf.index = c0;
         } else {
             // Blend or mask: w is child 1's probability, the texture read as Mitsuba's
@@ -152,6 +160,157 @@ CompositeLeaf bsdf_composite_resolve(uint index, inout Surface s, uint prim, vec
         }
     }
     return leaf;
+}
+
+// The path tracers mix a blend's children as Mitsuba's blendbsdf does (Mitsuba 3.9.1,
+// src/bsdfs/blendbsdf.cpp and mask.cpp): the tree resolves into up to
+// COMPOSITE_MAX_LEAVES leaves, each with the product of the weights on its branch,
+// and f = Σ wₖ fₖ, pdf = Σ wₖ pdfₖ. Sampling picks leaf j with probability wⱼ (by
+// the lobe number, rescaled for the leaf) and samples it, weighed as mixture.glsl
+// says (a delta sample by the leaf's own weight, unbiased where Mitsuba 3.9.1's is
+// not). path.glsl evaluates the chosen leaf as a single model and the
+// others through bsdf_composite_others. Leaves are listed child 1 before child 0, so
+// the chosen leaf is the one bsdf_composite_resolve picks with the same number (the
+// photon mappers' visible points rely on it). A blend whose two sides would need more
+// leaves than there is room for picks one side by its weight, with a number hashed
+// from the lobe number, and the side stands for the blend (unbiased, noisier).
+#define COMPOSITE_MAX_LEAVES 4
+// Nodes visited at most (the loader's trees are finite; this bounds the loop).
+#define COMPOSITE_MAX_STEPS 32
+
+// One branch of the tree: the record it reached, the flags to add to the record
+// (BSDF_TWOSIDED below a twosided node), its weight, and, where a bump map tilted the
+// frame (bumped), the new frame (nm.n the shading normal, ss the tangent).
+struct CompositeBranch {
+    uint index;
+    uint flags;
+    float weight;
+    bool bumped;
+    NormalMapFrame nm;
+    vec3 ss;
+};
+
+// The leaves of a tree (leaf[0, count)), the one the lobe number chose (chosen) with
+// the number left for it (u), and whether every leaf is delta only (no emitter
+// sampling).
+struct CompositeMix {
+    uint count;
+    uint chosen;
+    float u;
+    bool all_delta;
+    CompositeBranch leaf[COMPOSITE_MAX_LEAVES];
+};
+
+// The leaves of BSDF record `index` at surface point s of primitive `prim`
+// (barycentrics bary) seen from wo (world, towards the viewer); u is the vertex's
+// lobe number. A record that is no node is its own single leaf.
+CompositeMix bsdf_composite_mix(uint index, Surface s, uint prim, vec2 bary, vec3 wo, float u) {
+    CompositeMix m;
+    m.count = 0u;
+    m.chosen = 0u;
+    m.u = u;
+    m.all_delta = true;
+    bool found = false;
+    float below = 0.0; // the weight of the leaves listed so far
+    CompositeBranch stack[COMPOSITE_MAX_LEAVES];
+    stack[0] = CompositeBranch(index, 0u, 1.0, false, NormalMapFrame(s.ns, s.ns, 0.0), s.ss);
+    uint top = 1u;
+    for (int i = 0; i < COMPOSITE_MAX_STEPS && top > 0u; i++) {
+        top--;
+        CompositeBranch e = stack[top];
+        BsdfRecord b = bsdf_load(e.index);
+        if (b.kind != BSDF_COMPOSITE) {
+            m.leaf[m.count] = e;
+            m.all_delta = m.all_delta && bsdf_is_delta(b);
+            if (!found && u < below + e.weight) {
+                found = true;
+                m.chosen = m.count;
+                m.u = min(max(u - below, 0.0) / e.weight, 0.99999994);
+            }
+            below += e.weight;
+            m.count++;
+            continue;
+        }
+        Surface se = s;
+        if (e.bumped) {
+            se.ns = e.nm.n;
+            se.ss = e.ss;
+        }
+        uint c0 = b.tex_specular, c1 = b.tex_transmittance;
+        if (b.distribution == COMPOSITE_TWOSIDED) {
+            // Mitsuba's twosided: the back (wo below the shading normal) scatters by
+            // its own BSDF in the mirrored frame.
+            e.index = dot(wo, se.ns) < 0.0 ? c1 : c0;
+            e.flags |= BSDF_TWOSIDED;
+            stack[top++] = e;
+        } else if (b.distribution == COMPOSITE_BUMP) {
+            if (composite_bump(b, se, prim, bary, wo, e.nm)) {
+                e.bumped = true;
+                e.ss = se.ss;
+            }
+            e.index = c0;
+            stack[top++] = e;
+        } else {
+            // Blend or mask: child 1 has weight w, child 0 1 − w (w as in
+            // bsdf_composite_resolve). Child 0 goes below child 1 on the stack, so
+            // that child 1's leaves come first.
+            float w = b.tex_reflectance != 0u ? texture_eval_1(b.tex_reflectance, s.uv) : b.eta;
+            w = clamp(w, 0.0, 1.0);
+            if (w > 0.0 && w < 1.0 && m.count + top + 2u <= uint(COMPOSITE_MAX_LEAVES)) {
+                CompositeBranch e1 = e;
+                e.index = c0;
+                e.weight *= 1.0 - w;
+                e1.index = c1;
+                e1.weight *= w;
+                stack[top++] = e;
+                stack[top++] = e1;
+            } else {
+                float v = rng_to_float(rng_pcg4d(uvec4(floatBitsToUint(u), e.index, m.count, top)).x);
+                e.index = v < w ? c1 : c0;
+                stack[top++] = e;
+            }
+        }
+    }
+    if (!found && m.count > 0u) {
+        // The weights' sum rounded below u: the last leaf.
+        m.chosen = m.count - 1u;
+        m.u = 0.99999994;
+    }
+    return m;
+}
+
+// Σ wₖ (fₖ(wo, wi) |cos θi|, pdfₖ(wo, wi)) over the leaves of m other than the chosen
+// one, for world directions wo (towards the viewer) and wi, each leaf in its own frame
+// from the surface s as it was before any bump map: its bump map's, then its normal
+// map's (as path_shade_to treats the chosen leaf, the normal map's factor included).
+vec4 bsdf_composite_others(CompositeMix m, Surface s, vec3 wo, vec3 wi) {
+    vec4 sum = vec4(0.0);
+    for (uint k = 0u; k < m.count; k++) {
+        if (k == m.chosen) continue;
+        CompositeBranch e = m.leaf[k];
+        Surface se = s;
+        bool mapped = e.bumped;
+        NormalMapFrame nm = e.nm;
+        if (e.bumped) {
+            se.ns = e.nm.n;
+            se.ss = e.ss;
+        }
+        BsdfRecord b = bsdf_textured(bsdf_load(e.index), s.uv);
+        b.flags |= e.flags;
+        if (TEXTURE_USES(TEXTURE_FEATURE_NORMALMAP) && b.normal_map != 0u) {
+            mapped = true;
+            nm = normal_map_frame(b, se, wo);
+            se.ns = nm.n;
+            se.ss = surface_tangent(se.ss, se.ns);
+            b.flags &= ~BSDF_TWOSIDED;
+        }
+        vec3 wo_l = surface_to_local(se, wo);
+        vec3 wi_l = surface_to_local(se, wi);
+        float f_m = mapped ? normal_map_weight(nm, wi) : 1.0;
+        vec3 f = f_m > 0.0 ? f_m * bsdf_eval(b, wo_l, wi_l, s.uv) : vec3(0.0);
+        sum += e.weight * vec4(f, bsdf_pdf(b, wo_l, wi_l, s.uv));
+    }
+    return sum;
 }
 
 #endif

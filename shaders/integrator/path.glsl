@@ -21,6 +21,7 @@
 #include "bsdf/bsdf_textured.glsl"
 #include "bsdf/normal_map.glsl"
 #include "bsdf/composite.glsl"
+#include "bsdf/mask_crossing.glsl"
 #ifdef MEDIUM_GLSL
 #include "medium/phase.glsl"
 #endif
@@ -38,6 +39,11 @@
 // their code for every lane though each lane returns before them.
 #ifndef SHADE_LAST
 #define SHADE_LAST false
+#endif
+// THIN_NULL (a bool constant likewise, vol_path.glsl): thin dielectrics and masks are
+// null crossings of the medium stage.
+#ifndef THIN_NULL
+#define THIN_NULL false
 #endif
 // SHADE_RAYS (a uint constant likewise): the rays the kernel shades. SHADE_RAYS_ALL,
 // every ray of the bounce's queue; SHADE_RAYS_HITS, those intersect found a surface
@@ -184,6 +190,13 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
     bool mapped = false;
     NormalMapFrame nm;
     vec3 wo;
+    // A composite BSDF's leaves (composite.glsl): bsdf is the one the lobe number
+    // chose, and the others (each in its frame from s_base, the surface before any bump
+    // map) join its eval and pdf as Mitsuba's blendbsdf mixes its two. count > 1 only
+    // where a blend or mask mixes.
+    CompositeMix leaves;
+    leaves.count = 0u;
+    Surface s_base;
     if (miss) {
         s.p = r.origin;
     } else if (in_medium) {
@@ -210,15 +223,28 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
             uint bsdf_index = shape.bsdf;
             uint bsdf_flags = 0u;
             if (BSDF_HAS(BSDF_COMPOSITE)) {
-                // A composite BSDF resolves to one model here (composite.glsl).
+                // A composite BSDF resolves to its leaves here (composite.glsl).
                 u_lobe = sample_1d(path.pixel, path.sample_index, rng_dim_bounce(depth, RNG_SLOT_LOBE));
-                CompositeLeaf leaf = bsdf_composite_resolve(bsdf_index, s, h.prim, vec2(h.u, h.v), -r.dir, u_lobe);
+                s_base = s;
+                // The medium stage chose a mask's BSDF over its pass-through
+                // (mask_crossing.glsl): the mask's child 1 alone.
+                if (THIN_NULL && (path.flags & PATH_THIN_REFLECT) != 0u && bsdf_is_mask(bsdf_index)) {
+                    bsdf_index = bsdf_load(bsdf_index).tex_transmittance;
+                    // Done with: its lobe number is not forced as a thin dielectric's.
+                    path.flags &= ~PATH_THIN_REFLECT;
+                }
+                leaves = bsdf_composite_mix(bsdf_index, s, h.prim, vec2(h.u, h.v), -r.dir, u_lobe);
+                CompositeBranch leaf = leaves.leaf[leaves.chosen];
                 bsdf_index = leaf.index;
                 bsdf_flags = leaf.flags;
-                u_lobe = leaf.u;
+                u_lobe = leaves.u;
                 // A bump map's frame weighs light as a normal map's (Mitsuba 3.9).
                 mapped = leaf.bumped;
                 nm = leaf.nm;
+                if (leaf.bumped) {
+                    s.ns = leaf.nm.n;
+                    s.ss = leaf.ss;
+                }
             }
             bsdf = bsdf_textured_point(bsdf_load(bsdf_index), s.uv, true, emission_texture, texels);
             bsdf.flags |= bsdf_flags;
@@ -244,7 +270,10 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
         // BSDFs work in the shading frame (ss, ns × ss, ns): Mitsuba's sh_frame, whose
         // tangent orients anisotropic roughness.
         wo = surface_to_local(s, -r.dir);
+        bool ems_any = ems;
         ems = ems && !bsdf_is_delta(bsdf);
+        // A mixture samples emitters unless every leaf is delta.
+        if (BSDF_HAS(BSDF_COMPOSITE) && leaves.count > 1u) ems = ems_any && !leaves.all_delta;
     }
 
     // A longer path must fit in max_depth segments (this vertex ends segment depth+1).
@@ -281,6 +310,12 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
                 float m = mapped ? normal_map_weight(nm, es.wi) : 1.0;
                 f = m > 0.0 ? m * bsdf_eval(bsdf, wo, wi, s.uv) : vec3(0.0);
                 pdf = bsdf_pdf(bsdf, wo, wi, s.uv);
+                if (BSDF_HAS(BSDF_COMPOSITE) && leaves.count > 1u) {
+                    float wj = leaves.leaf[leaves.chosen].weight;
+                    vec4 others = bsdf_composite_others(leaves, s_base, -r.dir, es.wi);
+                    f = wj * f + others.rgb;
+                    pdf = wj * pdf + others.a;
+                }
                 origin = surface_spawn_origin(s, dot(es.wi, s.ng) > 0.0 ? s.ng : -s.ng);
                 // Stop short of the light's own surface by Mitsuba's ShadowEpsilon
                 // (~1e-3 of the distance): at 1e-4 a shadow ray from the offset origin
@@ -331,6 +366,14 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
             wi = surface_to_world(s, bs.wi);
             weight = bs.weight * (mapped ? normal_map_weight(nm, wi) : 1.0);
             pdf = bs.pdf;
+            if (BSDF_HAS(BSDF_COMPOSITE) && leaves.count > 1u && bs.flags != 0u && (bs.flags & BSDF_FLAG_DELTA) == 0u) {
+                // A smooth sample of a mixture: f / pdf of the whole mixture.
+                vec4 others = bsdf_composite_others(leaves, s_base, -r.dir, wi);
+                BsdfSample mixed = bsdf_mixture_sample(BsdfSample(wi, weight, bs.pdf, bs.flags),
+                                                       leaves.leaf[leaves.chosen].weight, others);
+                weight = mixed.weight;
+                pdf = mixed.pdf;
+            }
             flags = (bs.flags & BSDF_FLAG_DELTA) != 0u ? PATH_DELTA : 0u;
             // Refraction scaled the radiance by (η_i/η_t)² (dielectrics, rough or
             // smooth; not a thin dielectric's undeflected transmission).

@@ -21,6 +21,7 @@
 #include "medium/phase.glsl"
 #include "medium/medium.glsl"
 #include "medium/equiangular.glsl"
+#include "bsdf/mask_crossing.glsl"
 
 // VOL_PATH_DEFER (a bool constant): the stage never traces. Where a ray passes more
 // surfaces than its traversal found, vol_path_traverse sets vol_path_deferred and
@@ -162,9 +163,18 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, HitItem seco
         Prim hp = prim_load(instance_prim(h.prim));
         ShapeRecord shape = shape_load(hp.shape);
         bool thin = THIN_NULL && (shape.flags & SHAPE_THIN_DIELECTRIC) != 0u && shape.emitter == NONE;
+        // A mask (THIN_NULL too) is crossed as Mitsuba's volpath crosses its null lobe:
+        // with probability 1 - opacity, weight 1, no vertex; otherwise the stage ends
+        // with PATH_THIN_REFLECT, and path_shade takes the masked BSDF alone.
+        bool masked = THIN_NULL && !thin && (shape.flags & SHAPE_NULL_BSDF) == 0u && shape.emitter == NONE
+            && bsdf_is_mask(shape.bsdf);
         // A surface with a BSDF ends the stage (path_shade computes its geometry).
-        if ((shape.flags & SHAPE_NULL_BSDF) == 0u && !thin) break;
+        if ((shape.flags & SHAPE_NULL_BSDF) == 0u && !thin && !masked) break;
         Surface s = surface_at(h.prim, h.u, h.v, o, r.dir, h.t);
+        if (masked && medium_rng_next(rng).x < bsdf_mask_opacity(shape.bsdf, s.uv)) {
+            path.flags |= PATH_THIN_REFLECT;
+            break;
+        }
         if (thin) {
             BsdfRecord b = bsdf_textured(bsdf_load(shape.bsdf), s.uv);
             if (medium_rng_next(rng).x < fresnel_thin_slab(dot(r.dir, s.ns), b.eta)) {

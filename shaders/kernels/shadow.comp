@@ -25,6 +25,11 @@ SPEC(SCENE_SURFACE_FEATURES);
 SPEC(SCENE_TEXTURES);
 #define TEXTURE_KINDS SCENE_TEXTURES
 #include "texture/texture.glsl"
+// BSDF kinds of the scene: masks pass shadow rays (mask_crossing.glsl) only where it
+// has composites.
+SPEC(SCENE_BSDF_KINDS);
+#define BSDF_KINDS SCENE_BSDF_KINDS
+#include "bsdf/bsdf.glsl"
 #include "bsdf/bsdf_textured.glsl"
 
 // The quadric kinds of the scene (SURFACE_FEATURE_* bits): the traversal compiles the

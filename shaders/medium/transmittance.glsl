@@ -11,6 +11,7 @@
 
 #include "medium/medium.glsl"
 #include "bsdf/fresnel.glsl"
+#include "bsdf/mask_crossing.glsl"
 
 #ifndef THIN_NULL
 #define THIN_NULL false
@@ -77,12 +78,17 @@ vec3 transmittance_shadow_from(ShadowItem s, uint pixel, uint sample_index, uint
         ShapeRecord shape;
         Prim hp;
         bool thin = false;
+        bool masked = false;
         if (h.prim != NONE) {
             hp = prim_load(instance_prim(h.prim));
             shape = shape_load(hp.shape);
             thin = THIN_NULL && (shape.flags & SHAPE_THIN_DIELECTRIC) != 0u && shape.emitter == NONE;
+            // A mask (THIN_NULL too) lets 1 - opacity through (Mitsuba's
+            // eval_null_transmission).
+            masked = THIN_NULL && !thin && (shape.flags & SHAPE_NULL_BSDF) == 0u && shape.emitter == NONE
+                && bsdf_is_mask(shape.bsdf);
             // An opaque surface blocks the ray whatever the media before it.
-            if ((shape.flags & SHAPE_NULL_BSDF) == 0u && !thin) break;
+            if ((shape.flags & SHAPE_NULL_BSDF) == 0u && !thin && !masked) break;
         }
         if (medium != NONE) {
             T *= medium_transmittance(medium, o, s.dir, h.prim == NONE ? remaining : h.t, rng);
@@ -93,6 +99,10 @@ vec3 transmittance_shadow_from(ShadowItem s, uint pixel, uint sample_index, uint
             break;
         }
         Surface sf = surface_at(h.prim, h.u, h.v, o, s.dir, h.t);
+        if (masked) {
+            T *= 1.0 - bsdf_mask_opacity(shape.bsdf, sf.uv);
+            if (!any(greaterThan(T, vec3(0.0)))) break;
+        }
         if (thin) {
             BsdfRecord b = bsdf_textured(bsdf_load(shape.bsdf), sf.uv);
             T *= b.transmittance * (1.0 - fresnel_thin_slab(dot(s.dir, sf.ns), b.eta));

@@ -131,7 +131,7 @@ pub const SPEC_CONSTANTS: &[SpecConst] = &[
       "The medium kinds and grid layouts in the scene (MEDIUM_FEATURE_* bits); the code \
        of the others compiles away."),
     c(Spec::ThinNull, "SCENE_THIN_NULL", Bool, "false",
-      "Thin dielectrics are null crossings (volumetric integrators in scenes with them)."),
+      "Thin dielectrics and masks are null crossings (volumetric integrators in scenes with them)."),
     c(Spec::MisPower, "SCENE_MIS_POWER", Bool, "false",
       "MIS weights by the power heuristic instead of the balance heuristic."),
     c(Spec::EmitterKinds, "SCENE_EMITTER_KINDS", Uint, "0xffffffffu",

@@ -113,7 +113,8 @@ pub struct Schedule {
     /// dielectrics for a volumetric integrator); intersect then keeps each ray's
     /// second-nearest hit too.
     pub media: bool,
-    /// Whether thin dielectrics are null crossings (for the volumetric integrators).
+    /// Whether thin dielectrics and masks are null crossings (for the volumetric
+    /// integrators).
     pub thin_null: bool,
     /// Whether `intersect` partitions a bounce's rays into hits and misses
     /// ([`partitions`]).
@@ -510,9 +511,10 @@ impl Schedule {
         facts: &SceneFacts,
         expected_paths: u64,
     ) -> Schedule {
-        // Thin dielectrics are null crossings for the volumetric path tracers, which
-        // need the medium code for them.
-        let thin_null = scene.has_thin_dielectrics() && integrator.is_volumetric();
+        // Thin dielectrics and masks are null crossings for the volumetric path
+        // tracers, which need the medium code for them.
+        let thin_null =
+            (scene.has_thin_dielectrics() || scene.has_masks()) && integrator.is_volumetric();
         let media = scene.needs_medium_code() || thin_null;
         let partitioned = partitions(integrator, media, facts.environment);
         // Bounces that only end paths meet the emitters alone (path_emitted.glsl)
@@ -731,7 +733,9 @@ impl Constants {
 
     /// The constants of `shadow`, `mode` its deferral mode (deferral.glsl).
     fn shadow(&self, s: &Schedule, mode: u32) -> SpecValues {
-        self.scene(s).with(Spec::Deferral, mode)
+        self.scene(s)
+            .with(Spec::Deferral, mode)
+            .with(Spec::BsdfKinds, self.bsdf_kinds)
     }
 
     fn intersect(&self, s: &Schedule) -> SpecValues {

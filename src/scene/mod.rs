@@ -149,7 +149,7 @@ impl Scene {
             .any(|m| m.is_curves() && (m.null_bsdf || self.is_thin_dielectric(m.bsdf)));
         curves
             || self.quadrics.iter().any(|q| {
-                (q.null_bsdf || self.is_thin_dielectric(q.bsdf))
+                (q.null_bsdf || self.is_thin_dielectric(q.bsdf) || self.is_mask(q.bsdf))
                     && matches!(
                         q.kind,
                         QuadricKind::Sphere | QuadricKind::Cylinder | QuadricKind::SdfGrid(_)
@@ -164,6 +164,18 @@ impl Scene {
                 .quadrics
                 .iter()
                 .any(|s| self.is_thin_dielectric(s.bsdf))
+    }
+
+    /// Whether some shape's BSDF is a `mask` (at its root): the volumetric path
+    /// tracers cross it as a null surface with probability 1 - opacity.
+    pub fn has_masks(&self) -> bool {
+        self.meshes.iter().any(|m| self.is_mask(m.bsdf))
+            || self.quadrics.iter().any(|s| self.is_mask(s.bsdf))
+    }
+
+    /// Whether BSDF `b` is a `mask`.
+    fn is_mask(&self, b: u32) -> bool {
+        matches!(self.bsdfs.get(b as usize), Some(Bsdf::Mask { .. }))
     }
 
     /// Whether BSDF `b` is a `thindielectric`.

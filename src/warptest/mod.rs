@@ -21,7 +21,7 @@ use glam::Vec3;
 
 use crate::gpu::layout::BsdfRecord;
 use crate::gpu::{Device, Result};
-use crate::scene::bsdf::LobeAxis;
+use crate::scene::bsdf::{composite, LobeAxis};
 use crate::scene::Bsdf;
 
 pub use chi2::{chi2, gamma_q, sidak, Chi2};
@@ -195,8 +195,21 @@ pub fn test_bsdf(
     n: u32,
     seed: u32,
 ) -> Result<(Outcome, Vec<Sampled>)> {
+    test_bsdf_records(probe, std::slice::from_ref(rec), wo, axis, n, seed)
+}
+
+/// [`test_bsdf`] of the records of one BSDF ([`BsdfProbe::sample_records`]: a model,
+/// or a blend of two).
+pub fn test_bsdf_records(
+    probe: &BsdfProbe,
+    recs: &[BsdfRecord],
+    wo: Vec3,
+    axis: Axis,
+    n: u32,
+    seed: u32,
+) -> Result<(Outcome, Vec<Sampled>)> {
     let grid = Grid::Sphere(SphereGrid::new(axis.direction(wo), 32, 24));
-    let samples = probe.sample(rec, wo, n, seed)?;
+    let samples = probe.sample_records(recs, wo, n, seed)?;
     let kept: Vec<Vec3> = samples
         .iter()
         .filter(|s| s.flags != 0 && s.flags & probe::FLAG_DELTA == 0)
@@ -205,7 +218,7 @@ pub fn test_bsdf(
     let excluded = samples.len() - kept.len();
     let expected = expected_counts(&grid, n as usize, |dirs| {
         Ok(probe
-            .eval(rec, wo, dirs)?
+            .eval_records(recs, wo, dirs)?
             .iter()
             .map(|e| e.1 as f64)
             .collect())
@@ -236,8 +249,12 @@ pub fn run(device: &Device, target: &Target, n: u32, seed: u32) -> Result<Outcom
         Target::Bsdf { bsdf, wo, axis } => {
             let mut probe = BsdfProbe::new(device)?;
             let (rec, tables) = crate::scene::bsdf::measured::record_with_tables(bsdf);
-            probe.set_tables(&tables);
-            Ok(test_bsdf(&probe, &rec, *wo, *axis, n, seed)?.0)
+            let mut recs = composite::records(std::slice::from_ref(bsdf));
+            if !tables.is_empty() {
+                probe.set_tables(&tables);
+                recs[0] = rec;
+            }
+            Ok(test_bsdf_records(&probe, &recs, *wo, *axis, n, seed)?.0)
         }
         Target::Phase { g, wo } => Ok(test_phase(&PhaseProbe::new(device)?, *g, *wo, n, seed)?.0),
     }

@@ -134,12 +134,12 @@ impl BsdfProbe {
 
     fn run(
         &self,
-        rec: &BsdfRecord,
+        recs: &[BsdfRecord],
         mut push: BsdfPush,
         dirs: &[[f32; 4]],
         outputs: usize,
     ) -> Result<Vec<[f32; 4]>> {
-        let rec: [[f32; 4]; std::mem::size_of::<BsdfRecord>() / 16] = bytemuck::cast(*rec);
+        let recs: &[[f32; 4]] = bytemuck::cast_slice(recs);
         let with_tables;
         let dirs = if self.tables.is_empty() {
             dirs
@@ -152,7 +152,7 @@ impl BsdfProbe {
             &self.device,
             &self.layout,
             &self.kernel,
-            &[&rec, dirs],
+            &[recs, dirs],
             outputs,
             bytemuck::bytes_of(&push),
             push.count,
@@ -167,8 +167,21 @@ impl BsdfProbe {
         count: u32,
         seed: u32,
     ) -> Result<Vec<Sampled>> {
+        self.sample_records(std::slice::from_ref(rec), wo, count, seed)
+    }
+
+    /// [`BsdfProbe::sample`] of the records of one BSDF (`composite::records`): a
+    /// model's one record, or a blend node with its two models (the mixture of
+    /// `shaders/bsdf/mixture.glsl`).
+    pub fn sample_records(
+        &self,
+        recs: &[BsdfRecord],
+        wo: Vec3,
+        count: u32,
+        seed: u32,
+    ) -> Result<Vec<Sampled>> {
         let raw = self.run(
-            rec,
+            recs,
             BsdfPush::new(wo, 0, count, seed),
             &[],
             3 * count as usize,
@@ -188,8 +201,18 @@ impl BsdfProbe {
 
     /// (bsdf_eval, bsdf_pdf) at each direction.
     pub fn eval(&self, rec: &BsdfRecord, wo: Vec3, dirs: &[[f32; 4]]) -> Result<Vec<(Vec3, f32)>> {
+        self.eval_records(std::slice::from_ref(rec), wo, dirs)
+    }
+
+    /// [`BsdfProbe::eval`] of the records of one BSDF, as [`BsdfProbe::sample_records`].
+    pub fn eval_records(
+        &self,
+        recs: &[BsdfRecord],
+        wo: Vec3,
+        dirs: &[[f32; 4]],
+    ) -> Result<Vec<(Vec3, f32)>> {
         let push = BsdfPush::new(wo, 1, dirs.len() as u32, 0);
-        let raw = self.run(rec, push, dirs, dirs.len())?;
+        let raw = self.run(recs, push, dirs, dirs.len())?;
         Ok(raw
             .iter()
             .map(|v| (Vec3::new(v[0], v[1], v[2]), v[3]))

@@ -4,7 +4,8 @@
 use glam::Vec3;
 
 use super::{Axis, Target, Warp};
-use crate::scene::bsdf::{self, Distribution, TestParams};
+use crate::scene::bsdf::composite::Weight;
+use crate::scene::bsdf::{self, Bsdf, Distribution, TestParams};
 
 /// The warps, microfacet distributions and phase functions [`parse`] knows; its BSDFs
 /// are those of `scene::bsdf`'s registry with a warptest ([`bsdf::warptests`]).
@@ -17,6 +18,7 @@ const NAMES: &[&str] = &[
     "uniform_cap",
     "beckmann",
     "ggx",
+    "blendbsdf",
     "hg",
     "isotropic",
     "mismatched_cosine",
@@ -28,11 +30,13 @@ const NAMES: &[&str] = &[
 /// distributions, the BSDFs, the phase functions.
 pub fn names() -> Vec<&'static str> {
     let (before, after) = NAMES.split_at(8);
+    let (blend, after) = after.split_at(1);
     let bsdfs = bsdf::warptests().map(|w| w.kind.name);
     before
         .iter()
         .copied()
         .chain(bsdfs)
+        .chain(blend.iter().copied())
         .chain(after.iter().copied())
         .collect()
 }
@@ -43,7 +47,8 @@ pub fn help() -> String {
     format!(
         "What to sample: a warp (square_to_disk, uniform_triangle, uniform_hemisphere, \
          cosine_hemisphere, uniform_sphere, uniform_cap), microfacet normals (beckmann, ggx), \
-         a BSDF ({}), a phase function (hg, isotropic), an emitter's or sensor's \
+         a BSDF ({}), blendbsdf (0.7 diffuse + 0.3 roughconductor of --alpha, \
+         sampled as a one-sample mixture), a phase function (hg, isotropic), an emitter's or sensor's \
          sampling (thinlens_aperture; projector: tan of the half fields of view 1.2 x 0.8), \
          or mismatched_cosine (a deliberately wrong pdf: it fails)",
         bsdfs.join(", ")
@@ -203,6 +208,7 @@ pub fn parse(name: &str, p: &Params) -> Result<(Target, String), String> {
                 &what,
             )
         }
+        "blendbsdf" => blend_target(used(BLEND).and(roughness(false))?.0, incident(p)?),
         "hg" | "isotropic" => {
             used(if name == "hg" {
                 &["g", "theta", "phi"]
@@ -255,6 +261,36 @@ pub fn parse(name: &str, p: &Params) -> Result<(Target, String), String> {
             )),
         },
     }
+}
+
+/// The options of the `blendbsdf` target.
+const BLEND: &[&str] = &["alpha", "theta", "phi"];
+
+/// The `blendbsdf` target: 0.7 diffuse + 0.3 GGX copper of roughness `alpha`, sampled
+/// as the path tracers sample a blend (`shaders/bsdf/mixture.glsl`).
+fn blend_target(alpha: f32, wo: Vec3) -> Result<(Target, String), String> {
+    let tp = TestParams {
+        alpha_u: alpha,
+        alpha_v: alpha,
+        distribution: Distribution::Ggx,
+        eta: 1.5,
+    };
+    let make = |name: &str| {
+        bsdf::warptests()
+            .find(|w| w.kind.name == name)
+            .map(|w| (w.make)(&tp))
+            .ok_or_else(|| format!("no warptest model '{name}'"))
+    };
+    let bsdf = Bsdf::Blend {
+        weight: Weight::constant(0.3),
+        bsdfs: Box::new([make("diffuse")?, make("roughconductor")?]),
+    };
+    let what = format!(
+        "blendbsdf 0.7 diffuse + 0.3 roughconductor (GGX, α = {alpha}), {}",
+        angle(wo)
+    );
+    let axis = Axis::Reflect;
+    Ok((Target::Bsdf { bsdf, wo, axis }, what))
 }
 
 /// The sampling routines of sensors and emitters: the thin lens's aperture, a

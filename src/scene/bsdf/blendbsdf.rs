@@ -1,9 +1,9 @@
 //! `blendbsdf`: a linear blend of two nested BSDFs (Mitsuba 3's `blendbsdf.cpp`):
 //! f = (1 − weight) f₀ + weight f₁, the first nested BSDF at weight 0, the second
-//! at 1. On the GPU a hit picks one of the two with probability equal to its weight
-//! and evaluates and samples it alone, which has the blend as its mean
-//! ([`super::composite`]). The Mitsuba loader reads it (it resolves the nested
-//! `<bsdf>`s or `<ref>`s).
+//! at 1. As Mitsuba's, eval and pdf mix both children by the weight, and sampling
+//! picks one child by its weight and weighs the sample by f / pdf of the mix (a delta
+//! sample by its child's own weight; [`super::composite`]). The Mitsuba loader reads
+//! it (it resolves the nested `<bsdf>`s or `<ref>`s).
 //!
 //! | parameter | type | default |
 //! |-----------|------|---------|

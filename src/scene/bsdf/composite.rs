@@ -1,16 +1,22 @@
 //! Composite BSDFs on the GPU: Mitsuba 3's `mask`, `blendbsdf`, `twosided` around two
 //! BSDFs (or around another composite) and `bumpmap` become node records
-//! ([`kinds::COMPOSITE`]) beside the flat records of the models they nest. A surface
-//! hit resolves the tree into one leaf record (`shaders/bsdf/composite.glsl`,
-//! `bsdf_composite_resolve`), so that the kernels keep evaluating one model per
-//! vertex without recursion:
+//! ([`kinds::COMPOSITE`]) beside the flat records of the models they nest. At a
+//! surface hit of the path tracers the tree resolves into its leaves
+//! (`shaders/bsdf/composite.glsl`, `bsdf_composite_mix`), without recursion:
 //!
 //! - a blend (and a mask, which is a blend of a pass-through and its BSDF by the
-//!   opacity) picks one child with probability equal to its weight, from the number
-//!   that picks the leaf's lobe, which is then rescaled to [0, 1) for the leaf (as
-//!   Mitsuba's `blendbsdf::sample` and `mask::sample` do). The vertex evaluates and
-//!   samples that child alone: E[f] = (1 − w) f₀ + w f₁, the blend, as pbrt-v4's
-//!   `MixMaterial` chooses one material per intersection.
+//!   opacity) keeps both children, each leaf weighted by the product of the weights
+//!   on its branch, up to 4 leaves. eval and pdf are the weighted sums,
+//!   f = (1 − w) f₀ + w f₁, as Mitsuba's `blendbsdf` and `mask`; sampling picks leaf j
+//!   with probability wⱼ by the number that picks the lobe (rescaled to [0, 1) for the
+//!   leaf) and weighs a smooth sample by f / pdf of the whole mixture (as Mitsuba
+//!   3.9.1's `blendbsdf::sample`), a delta sample by the leaf's own weight (unbiased,
+//!   where Mitsuba 3.9.1 mixes a delta's discrete probability with the other child's
+//!   density). The vertex evaluates the chosen leaf as a single model and adds the
+//!   others' eval and pdf (`bsdf_composite_others`). A blend beyond 4 leaves picks one
+//!   side by its weight (unbiased, noisier). The photon mappers resolve the tree into
+//!   the one leaf the same number picks (`bsdf_composite_resolve`): E[f] is the blend,
+//!   as pbrt-v4's `MixMaterial` chooses one material per intersection.
 //! - a twosided node takes its front or back child by the side of the shading normal
 //!   wo lies on, and marks the leaf twosided so that the back is seen in the
 //!   mirrored frame, as Mitsuba's `twosided`

@@ -3,8 +3,14 @@
 //! (Mitsuba's null lobe). f = opacity · f_nested, and the pass-through carries
 //! 1 − opacity. As in Mitsuba's `path` integrator the pass-through is a delta lobe
 //! that counts as a bounce, and shadow rays do not see through a mask (Mitsuba's
-//! `ray_test` treats every surface as opaque). On the GPU a hit resolves the mask into
-//! its nested BSDF or the pass-through by the opacity ([`super::composite`]). The
+//! `ray_test` treats every surface as opaque). As in Mitsuba's `volpath`, the
+//! volumetric integrators cross a mask at the root of a shape's BSDF as a null
+//! surface with probability 1 − opacity (no bounce, the MIS state kept), and their
+//! shadow rays pass it scaled by 1 − opacity (`shaders/bsdf/mask_crossing.glsl`;
+//! a mask nested in another composite stays opaque to them). On the GPU the mask is a blend of the
+//! pass-through and its nested BSDF by the opacity ([`super::composite`]): eval and
+//! pdf are opacity times the nested BSDF's, and sampling picks the pass-through with
+//! probability 1 − opacity, as Mitsuba's `mask::sample`. The
 //! Mitsuba loader reads it (it resolves the nested `<bsdf>` or `<ref>`).
 //!
 //! | parameter | type | default |
