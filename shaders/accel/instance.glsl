@@ -24,7 +24,9 @@
 #endif
 #define INSTANCED (BVH_INSTANCES != 0u)
 
-// An instance's map from world to its group's space: p' = A p + b, A by rows.
+// An instance's map from world to its group's space: p' = A p + b, A by rows. Its
+// record (instance.rs push_instance_records) is the three rows of (A | b), a texel
+// each: b in the words after p0, p1, p2.
 struct InstanceMap {
     vec3 r0;
     vec3 r1;
@@ -33,9 +35,13 @@ struct InstanceMap {
 };
 
 InstanceMap instance_to_object(uint k) {
-    Prim a = prim_load(BVH_INSTANCE_SLOTS + 2u * k);
-    Prim t = prim_load(BVH_INSTANCE_SLOTS + 2u * k + 1u);
-    return InstanceMap(a.p0, a.p1, a.p2, t.p0);
+    Prim a = prim_load(BVH_INSTANCE_SLOTS + k);
+    return InstanceMap(a.p0, a.p1, a.p2, uintBitsToFloat(uvec3(a.shape, a.index, a.kind)));
+}
+
+// The linear part of the instance's to_world, A⁻¹.
+mat3 instance_to_world_linear(InstanceMap m) {
+    return inverse(transpose(mat3(m.r0, m.r1, m.r2)));
 }
 
 vec3 instance_point(InstanceMap m, vec3 p) {
@@ -64,8 +70,8 @@ Prim instance_prim_load(uint id) {
     uint k1 = instance_of(id);
     if (INSTANCED && k1 != 0u) {
         InstanceMap m = instance_to_object(k1 - 1u);
-        mat3 to_world = inverse(transpose(mat3(m.r0, m.r1, m.r2)));
-        vec3 t = prim_load(BVH_INSTANCE_SLOTS + 2u * (k1 - 1u) + 1u).p1;
+        mat3 to_world = instance_to_world_linear(m);
+        vec3 t = -(to_world * m.b); // to_world's translation
         bool triangle = p.kind == PRIM_TRIANGLE;
         p.p0 = to_world * p.p0 + t;
         p.p1 = to_world * p.p1 + (triangle ? t : vec3(0.0));
@@ -90,18 +96,25 @@ vec3 instance_normal(uint id, vec3 n) {
 // object's), and turns around.
 bool instance_mirrors(uint id) {
     uint k1 = instance_of(id);
-    return INSTANCED && k1 != 0u
-        && prim_load(BVH_INSTANCE_SLOTS + 2u * (k1 - 1u) + 1u).p2.x < 0.0;
+    bool mirrors = false;
+    if (INSTANCED && k1 != 0u) {
+        // det A = 1 / det to_world: the same sign.
+        InstanceMap m = instance_to_object(k1 - 1u);
+        mirrors = dot(m.r0, cross(m.r1, m.r2)) < 0.0;
+    }
+    return mirrors;
 }
 
 // How far the mapping of a point into and out of the instance may move it, per axis,
 // added to a hit point's error bound (PBR 4th ed., sec. 6.8.6: transformed points):
-// a few ulps of the point and of the translation.
+// a few ulps of the point and of the translation (recomputed from the record, as
+// instance_prim_load does, so within the bound's own few ulps).
 vec3 instance_point_error(uint id, vec3 p) {
     uint k1 = instance_of(id);
     vec3 e = vec3(0.0);
     if (INSTANCED && k1 != 0u) {
-        vec3 t = prim_load(BVH_INSTANCE_SLOTS + 2u * (k1 - 1u) + 1u).p1;
+        InstanceMap m = instance_to_object(k1 - 1u);
+        vec3 t = -(instance_to_world_linear(m) * m.b); // to_world's translation
         e = 8.0 * 4.1723283e-7 * (abs(p) + vec3(max(max(abs(t.x), abs(t.y)), abs(t.z))));
     }
     return e;

@@ -367,6 +367,16 @@ impl Bvh {
         s
     }
 
+    /// The primitive records that are primitives (with a `shape` and a `kind`): all
+    /// but a two-level tree's instance records after `slots`, which hold transforms
+    /// (`accel::instance`).
+    pub fn shape_prims(&self) -> &[Prim] {
+        let n = self
+            .two_level
+            .map_or(self.prims.len(), |t| t.slots as usize);
+        &self.prims[..n]
+    }
+
     /// The box around every primitive (the root's and those apart), `None` for an
     /// empty scene.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {

@@ -8,11 +8,14 @@
 //! - after its nodes and primitives, each group's bottom-level tree, built once and
 //!   shared by every instance of the group, its node and leaf indices shifted to where
 //!   it lies;
-//! - after every primitive, two [`PRIM_INSTANCE_DATA`] records per instance
-//!   ([`TwoLevel::slots`]): world to object (3×3 rows and translation), and the
-//!   object-to-world translation with the sign of the determinant. That is all an
-//!   instance costs besides its top-level primitive and its share of the top-level
-//!   nodes: 3 × 48 bytes, and about 64 bytes of nodes.
+//! - after every primitive, one record per instance ([`TwoLevel::slots`]): its
+//!   world-to-object map as three rows of four, one 16-byte texel each (the record's
+//!   `p0`, `p1`, `p2` the 3×3 rows, its `shape`, `index`, `kind` words the
+//!   translation's bits; no kind: no tree reaches it). The kernels recompute what they
+//!   need of object to world (its 3×3 by inversion, its translation `-A⁻¹ b`, the
+//!   mirror by the sign of det A). That is all an instance costs besides its top-level
+//!   primitive and its share of the top-level nodes: 2 × 48 bytes and about 51 bytes
+//!   of nodes (10,000 instances: 147 bytes each; three records, 195, before).
 //!
 //! A traversal that meets an instance moves the ray into the group's space (an affine
 //! map keeps the ray parameter t), walks the group's tree, and moves back. A hit in an
@@ -29,11 +32,11 @@ use std::time::Instant;
 use glam::{DMat4, Mat4, Vec3, Vec4};
 
 use super::bvh::{Bvh, BVH_MAX_PRIMS, BVH_STACK_SIZE};
-use crate::gpu::layout::{BvhNode, Prim, PRIM_INSTANCE, PRIM_INSTANCE_DATA};
+use crate::gpu::layout::{BvhNode, Prim, PRIM_INSTANCE};
 use crate::scene::Scene;
 
-/// Records per instance after every primitive (its transforms).
-pub const INSTANCE_SLOTS: u32 = 2;
+/// Records per instance after every primitive (its world-to-object map).
+pub const INSTANCE_SLOTS: u32 = 1;
 
 /// What the kernels of a scene with instances specialize on, and what `info` reports.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -42,8 +45,7 @@ pub struct TwoLevel {
     pub instances: u32,
     /// Hit names: `(instance + 1) << shift | primitive`.
     pub shift: u32,
-    /// Index of the first [`PRIM_INSTANCE_DATA`] record: instance k's are at
-    /// `slots + 2k` and `slots + 2k + 1`.
+    /// Index of the first instance record: instance k's is at `slots + k`.
     pub slots: u32,
     /// Entries the traversal stack needs: the top-level tree's deepest leaf, the
     /// bottom-level trees' deepest, and two for the way back (bvh.glsl).
@@ -257,31 +259,24 @@ pub fn scene_bvh(scene: &Scene) -> Result<Bvh, String> {
     })
 }
 
-/// The two [`PRIM_INSTANCE_DATA`] records of each placed instance (group, to_world,
-/// shape standing for it): world to object by rows (3×4, p0..p2 and the second
-/// record's p0), the to_world translation (its p1) and the sign of det to_world.
+/// The record of each placed instance (group, to_world, shape standing for it): its
+/// world-to-object map by rows, 3×4, each row one texel (`p0` and the `shape` word,
+/// `p1` and `index`, `p2` and `kind`: the kind word holds the translation's z, no
+/// kind, as no tree reaches the record). Inverted in f64.
 fn push_instance_records(prims: &mut Vec<Prim>, placed: &[(u32, Mat4, u32)]) {
-    for (k, &(_, to_world, shape)) in placed.iter().enumerate() {
+    for &(_, to_world, _) in placed {
         let to_object = DMat4::from_cols_array(&to_world.to_cols_array().map(f64::from))
             .inverse()
             .as_mat4();
-        let row = |m: &Mat4, r: usize| m.row(r).truncate().to_array();
+        let row = |r: usize| to_object.row(r).truncate().to_array();
+        let b = to_object.w_axis;
         prims.push(Prim {
-            p0: row(&to_object, 0),
-            shape,
-            p1: row(&to_object, 1),
-            index: k as u32,
-            p2: row(&to_object, 2),
-            kind: PRIM_INSTANCE_DATA,
-        });
-        let det = to_world.determinant();
-        prims.push(Prim {
-            p0: to_object.w_axis.truncate().to_array(),
-            shape,
-            p1: to_world.w_axis.truncate().to_array(),
-            index: k as u32,
-            p2: [if det < 0.0 { -1.0 } else { 1.0 }, 0.0, 0.0],
-            kind: PRIM_INSTANCE_DATA,
+            p0: row(0),
+            shape: b.x.to_bits(),
+            p1: row(1),
+            index: b.y.to_bits(),
+            p2: row(2),
+            kind: b.z.to_bits(),
         });
     }
 }
@@ -291,11 +286,10 @@ fn push_instance_records(prims: &mut Vec<Prim>, placed: &[(u32, Mat4, u32)]) {
 pub fn to_object_rows(bvh: &Bvh, k: u32) -> [Vec4; 3] {
     let t = bvh.two_level.expect("a two-level tree");
     let a = &bvh.prims[(t.slots + INSTANCE_SLOTS * k) as usize];
-    let b = &bvh.prims[(t.slots + INSTANCE_SLOTS * k + 1) as usize];
     [
-        Vec3::from(a.p0).extend(b.p0[0]),
-        Vec3::from(a.p1).extend(b.p0[1]),
-        Vec3::from(a.p2).extend(b.p0[2]),
+        Vec3::from(a.p0).extend(f32::from_bits(a.shape)),
+        Vec3::from(a.p1).extend(f32::from_bits(a.index)),
+        Vec3::from(a.p2).extend(f32::from_bits(a.kind)),
     ]
 }
 
@@ -346,10 +340,10 @@ mod tests {
         let t = bvh.two_level.expect("two levels");
         assert_eq!(t.instances, 5);
         // The cube's 12 triangles and 5 instances on top, the group's 4 triangles
-        // once below, and two records per instance.
+        // once below, and one record per instance.
         assert_eq!(t.top_prims, 17);
         assert_eq!(t.slots, 21);
-        assert_eq!(bvh.prims.len(), 21 + 10);
+        assert_eq!(bvh.prims.len(), 21 + 5);
         assert_eq!(t.shift, 5);
         let tops = &bvh.prims[..t.top_prims as usize];
         assert_eq!(tops.iter().filter(|p| p.kind == PRIM_INSTANCE).count(), 5);

@@ -16,8 +16,10 @@ pub const PRIM_CYLINDER: u32 = 3;
 /// `p0`, `p1` its world box (for the build), `p2[0]` the bits of its group's
 /// bottom-level root node, `index` the instance number.
 pub const PRIM_INSTANCE: u32 = 4;
-/// An instance's transforms, two records per instance after every primitive
-/// (`accel::instance`); never in a tree.
+/// Formerly the kind of an instance's transform records; those
+/// (`accel::instance`, one per instance after every primitive) now hold the
+/// translation's bits in their kind word, as no tree reaches them. Kept so that the
+/// number stays taken.
 pub const PRIM_INSTANCE_DATA: u32 = 5;
 
 /// Marks an absent index (no emitter, no hit).
