@@ -6,7 +6,8 @@
 //   SPEC(SCENE_INSTANCES); SPEC(SCENE_INSTANCE_SLOTS);
 //   #define BVH_INSTANCES SCENE_INSTANCES
 //   #define BVH_INSTANCE_SLOTS SCENE_INSTANCE_SLOTS
-// BVH_INSTANCES is the shift of the hit names, (instance + 1) << shift | primitive, 0 in
+// BVH_INSTANCES is the shift of the hit names, (record + 1) << shift | primitive (record:
+// the position of the instance's top-level PRIM_INSTANCE record), 0 in
 // scenes without instances (the default): then every function here is the identity or
 // compiles away.
 #ifndef INSTANCE_GLSL
@@ -25,8 +26,9 @@
 #define INSTANCED (BVH_INSTANCES != 0u)
 
 // An instance's map from world to its group's space: p' = A p + b, A by rows. Its
-// record (instance.rs push_instance_records) is the three rows of (A | b), a texel
-// each: b in the words after p0, p1, p2.
+// top-level record (instance.rs) holds A's rows in p0, p1, p2, its group's root node
+// in `shape` and the instance number k in `index`; b is texel 3 BVH_INSTANCE_SLOTS + k
+// of the primitives.
 struct InstanceMap {
     vec3 r0;
     vec3 r1;
@@ -34,9 +36,15 @@ struct InstanceMap {
     vec3 b;
 };
 
-InstanceMap instance_to_object(uint k) {
-    Prim a = prim_load(BVH_INSTANCE_SLOTS + k);
-    return InstanceMap(a.p0, a.p1, a.p2, uintBitsToFloat(uvec3(a.shape, a.index, a.kind)));
+// The map of the instance whose top-level record p was loaded.
+InstanceMap instance_map(Prim p) {
+    vec3 b = uintBitsToFloat(prim_texel(3u * BVH_INSTANCE_SLOTS + p.index).xyz);
+    return InstanceMap(p.p0, p.p1, p.p2, b);
+}
+
+// The map of the instance whose top-level record is primitive r.
+InstanceMap instance_to_object(uint r) {
+    return instance_map(prim_load(r));
 }
 
 // The linear part of the instance's to_world, A⁻¹.
@@ -52,7 +60,8 @@ vec3 instance_vector(InstanceMap m, vec3 v) {
     return vec3(dot(m.r0, v), dot(m.r1, v), dot(m.r2, v));
 }
 
-// The instance a hit name lies in, plus 1 (0: a primitive outside instances).
+// The top-level record of the instance a hit name lies in, plus 1 (0: a primitive
+// outside instances).
 uint instance_of(uint id) {
     return INSTANCED ? id >> BVH_INSTANCES : 0u;
 }

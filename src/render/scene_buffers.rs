@@ -328,7 +328,9 @@ impl SceneRecords {
     pub fn emitter_prims(&self, bvh: &Bvh) -> Option<Vec<u32>> {
         let mut slots = Vec::new();
         for (i, p) in bvh.shape_prims().iter().enumerate() {
-            if self.shapes[p.shape as usize].emitter != NONE {
+            if p.kind != crate::gpu::layout::PRIM_INSTANCE
+                && self.shapes[p.shape as usize].emitter != NONE
+            {
                 if slots.len() == crate::gpu::layout::MAX_EMITTER_PRIMS {
                     return None;
                 }
