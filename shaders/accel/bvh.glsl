@@ -315,7 +315,7 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, uint mode, out Hit second)
         // An any-hit query is answered by its first hit.
         if (mode == BVH_ANY && hit.prim != HIT_NONE) break;
         if (INSTANCED && enter) {
-            // Into the instance of record i: the rest of the leaf and the way back wait
+            // Into instance p.index: the rest of the leaf and the way back wait
             // on the stack; the ray moves to the group's space (an affine map keeps t),
             // and the group's tree is walked from its root (the record's `shape`).
             uint rest = index + count - (i + 1u);
@@ -328,7 +328,7 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, uint mode, out Hit second)
             r.o = o;
             r.inv = vec3(bvh_inv(d.x), bvh_inv(d.y), bvh_inv(d.z));
             r.neg = lessThan(r.inv, vec3(0.0));
-            name = (i + 1u) << BVH_INSTANCES;
+            name = (p.index + 1u) << BVH_INSTANCES;
             item = p.shape << BVH_COUNT_BITS;
             continue;
         }

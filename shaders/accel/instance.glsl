@@ -6,8 +6,7 @@
 //   SPEC(SCENE_INSTANCES); SPEC(SCENE_INSTANCE_SLOTS);
 //   #define BVH_INSTANCES SCENE_INSTANCES
 //   #define BVH_INSTANCE_SLOTS SCENE_INSTANCE_SLOTS
-// BVH_INSTANCES is the shift of the hit names, (record + 1) << shift | primitive (record:
-// the position of the instance's top-level PRIM_INSTANCE record), 0 in
+// BVH_INSTANCES is the shift of the hit names, (instance + 1) << shift | primitive, 0 in
 // scenes without instances (the default): then every function here is the identity or
 // compiles away.
 #ifndef INSTANCE_GLSL
@@ -28,7 +27,7 @@
 // An instance's map from world to its group's space: p' = A p + b, A by rows. Its
 // top-level record (instance.rs) holds A's rows in p0, p1, p2, its group's root node
 // in `shape` and the instance number k in `index`; b is texel 3 BVH_INSTANCE_SLOTS + k
-// of the primitives.
+// of the primitives, whose fourth word is the position of that record.
 struct InstanceMap {
     vec3 r0;
     vec3 r1;
@@ -42,9 +41,11 @@ InstanceMap instance_map(Prim p) {
     return InstanceMap(p.p0, p.p1, p.p2, b);
 }
 
-// The map of the instance whose top-level record is primitive r.
-InstanceMap instance_to_object(uint r) {
-    return instance_map(prim_load(r));
+// The map of instance k (as hit names number it).
+InstanceMap instance_to_object(uint k) {
+    uvec4 t = prim_texel(3u * BVH_INSTANCE_SLOTS + k);
+    Prim a = prim_load(t.w);
+    return InstanceMap(a.p0, a.p1, a.p2, uintBitsToFloat(t.xyz));
 }
 
 // The linear part of the instance's to_world, A⁻¹.
@@ -60,8 +61,7 @@ vec3 instance_vector(InstanceMap m, vec3 v) {
     return vec3(dot(m.r0, v), dot(m.r1, v), dot(m.r2, v));
 }
 
-// The top-level record of the instance a hit name lies in, plus 1 (0: a primitive
-// outside instances).
+// The instance a hit name lies in, plus 1 (0: a primitive outside instances).
 uint instance_of(uint id) {
     return INSTANCED ? id >> BVH_INSTANCES : 0u;
 }

@@ -12,7 +12,8 @@
 //!   shared by every instance of the group, its node and leaf indices shifted to where
 //!   it lies;
 //! - after every primitive ([`TwoLevel::slots`]), the instances' translations, one
-//!   16-byte texel each (instance k's is texel `3 slots + k` of the primitives), so
+//!   16-byte texel each (instance k's is texel `3 slots + k` of the primitives; its
+//!   fourth word the position of the instance's top-level record, for shading), so
 //!   that an instance costs its top-level record (48 bytes), its translation (16) and
 //!   its share of the top-level nodes (about 51 bytes): 115 bytes each for 10,000
 //!   instances (three 48-byte records, 195 bytes, before). The kernels recompute what
@@ -21,9 +22,8 @@
 //!
 //! A traversal that meets an instance moves the ray into the group's space (an affine
 //! map keeps the ray parameter t), walks the group's tree, and moves back. A hit in an
-//! instance is named `(record + 1) << shift | primitive`, `record` the position of the
-//! instance's top-level record (below `top_prims`); primitives outside groups keep
-//! their index (below `1 << shift`). Primitive records keep the shape of the
+//! instance is named `(instance + 1) << shift | primitive`; primitives outside groups
+//! keep their index (below `1 << shift`). Primitive records keep the shape of the
 //! group's shape (its BSDF, media, flags) and its global triangle number (its vertex
 //! data), so a hit shades as the group's shape, in world space by the instance's map.
 //!
@@ -46,7 +46,7 @@ pub const TRANSLATIONS_PER_RECORD: u32 = 3;
 pub struct TwoLevel {
     /// Instances in the top-level tree (those of empty groups are left out).
     pub instances: u32,
-    /// Hit names: `(record + 1) << shift | primitive`.
+    /// Hit names: `(instance + 1) << shift | primitive`.
     pub shift: u32,
     /// Index of the first record after the primitives: instance k's translation is
     /// texel `3 slots + k`.
@@ -234,12 +234,11 @@ pub fn scene_bvh(scene: &Scene) -> Result<Bvh, String> {
     // Hit names must stay below HIT_NONE, and tree references in 28 bits.
     let slots = prims.len() as u32;
     let shift = (32 - slots.leading_zeros()).max(1);
-    let records = top_prims as u64;
-    if (records + 1) << shift >= 1 << 32 {
+    let instances = placed.len() as u64;
+    if (instances + 1) << shift >= 1 << 32 {
         return Err(format!(
-            "{} instances and {records} top-level records over {slots} primitives: more \
-             than 32-bit hit names hold ((records + 1) x 2^{shift} must stay below 2^32)",
-            placed.len()
+            "{instances} instances over {slots} primitives: more than 32-bit hit names hold \
+             (instances + 1) x 2^{shift} must stay below 2^32"
         ));
     }
     let total = prims.len() + placed.len().div_ceil(TRANSLATIONS_PER_RECORD as usize);
@@ -249,7 +248,13 @@ pub fn scene_bvh(scene: &Scene) -> Result<Bvh, String> {
             nodes.len()
         ));
     }
-    push_translations(&mut prims, &to_object);
+    let mut position = vec![0u32; placed.len()];
+    for (i, p) in prims[..top_prims as usize].iter().enumerate() {
+        if p.kind == PRIM_INSTANCE {
+            position[p.index as usize] = i as u32;
+        }
+    }
+    push_translations(&mut prims, &to_object, &position);
     let stack_depth = tlas.stats.max_depth.max(1) + 2 + blas_depth;
     let two_level = TwoLevel {
         instances: placed.len() as u32,
@@ -273,14 +278,17 @@ pub fn scene_bvh(scene: &Scene) -> Result<Bvh, String> {
 }
 
 /// The translations of the instances' world-to-object maps (`b` of `A p + b`), one
-/// texel each (the fourth word 0), three to a record.
-fn push_translations(prims: &mut Vec<Prim>, to_object: &[Mat4]) {
-    for chunk in to_object.chunks(TRANSLATIONS_PER_RECORD as usize) {
+/// texel each, its fourth word the position of the instance's top-level record;
+/// three to a record.
+fn push_translations(prims: &mut Vec<Prim>, to_object: &[Mat4], position: &[u32]) {
+    let n = TRANSLATIONS_PER_RECORD as usize;
+    for (c, chunk) in to_object.chunks(n).enumerate() {
         let mut words = [0u32; 12];
         for (j, m) in chunk.iter().enumerate() {
             for (a, w) in m.w_axis.truncate().to_array().iter().enumerate() {
                 words[4 * j + a] = w.to_bits();
             }
+            words[4 * j + 3] = position[c * n + j];
         }
         let f = |i: usize| [0, 1, 2].map(|a| f32::from_bits(words[i + a]));
         prims.push(Prim {
@@ -294,15 +302,14 @@ fn push_translations(prims: &mut Vec<Prim>, to_object: &[Mat4]) {
     }
 }
 
-/// The top-level record of instance `k` in `bvh` and its position (for tests and the
-/// CPU traversal).
+/// The top-level record of instance `k` in `bvh` and its position, as shading finds
+/// it (the fourth word of its translation's texel).
 fn instance_record(bvh: &Bvh, k: u32) -> (usize, &Prim) {
     let t = bvh.two_level.expect("a two-level tree");
-    bvh.prims[..t.top_prims as usize]
-        .iter()
-        .enumerate()
-        .find(|(_, p)| p.kind == PRIM_INSTANCE && p.index == k)
-        .expect("instance record")
+    let texel = 3 * t.slots as usize + k as usize;
+    let words: [u32; 12] = bytemuck::cast(bvh.prims[texel / 3]);
+    let i = words[4 * (texel % 3) + 3] as usize;
+    (i, &bvh.prims[i])
 }
 
 /// The world-to-object rows (3×4) of the instance whose top-level record is `p`, as
@@ -479,6 +486,35 @@ mod tests {
             }
         }
         assert!(hits > 50, "only {hits} rays hit");
+    }
+
+    /// Hit names count instances, not top-level records: a scene with many primitives
+    /// of its own beside a few instances still fits 32-bit names.
+    #[test]
+    fn many_own_primitives_and_a_few_instances() {
+        let mut s = scene(3);
+        let n = 1 << 17; // 131,072 triangles outside the group
+        let positions: Vec<Vec3> = (0..n + 2)
+            .map(|i| Vec3::new(i as f32 * 0.01, (i % 2) as f32, 5.0))
+            .collect();
+        let indices = (0..n as u32).map(|i| [i, i + 1, i + 2]).collect();
+        s.meshes.push(Mesh {
+            positions,
+            indices,
+            ..Mesh::default()
+        });
+        let bvh = scene_bvh(&s).expect("fits");
+        let t = bvh.two_level.expect("two levels");
+        assert!((t.top_prims as u64 + 1) << t.shift >= 1 << 32);
+        assert!((t.instances as u64 + 1) << t.shift < 1 << 32);
+        for (k, inst) in s.instances.iter().enumerate() {
+            let (i, p) = instance_record(&bvh, k as u32);
+            assert!(i < t.top_prims as usize && p.kind == PRIM_INSTANCE);
+            let rows = to_object_rows(&bvh, k as u32);
+            let w = inst.to_world.transform_point3(Vec3::ONE).extend(1.0);
+            let back = Vec3::new(rows[0].dot(w), rows[1].dot(w), rows[2].dot(w));
+            assert!((back - Vec3::ONE).length() < 1e-5, "{back}");
+        }
     }
 
     #[test]

@@ -189,7 +189,7 @@ pub const SPEC_CONSTANTS: &[SpecConst] = &[
     c(Spec::ScanStage, "SCAN_STAGE", Uint, "0u",
       "The stage of the photon grid's prefix sum."),
     c(Spec::Instances, "SCENE_INSTANCES", Uint, "0u",
-      "A scene with instances: hits in the instance of top-level record r are named (r + 1) << this | primitive \
+      "A scene with instances: hits in instance k are named (k + 1) << this | primitive \
        (accel::instance, shaders/accel/instance.glsl); 0: no instances, and their code \
        compiles away."),
     c(Spec::InstanceSlots, "SCENE_INSTANCE_SLOTS", Uint, "0u",
