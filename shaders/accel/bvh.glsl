@@ -328,13 +328,13 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, uint mode, out Hit second)
         // An any-hit query is answered by its first hit.
         if (mode == BVH_ANY && hit.prim != HIT_NONE) break;
         if (INSTANCED && enter) {
-            // Into instance p.index: the rest of the leaf and the way back wait on the
-            // stack; the ray moves to the group's space (an affine map keeps t), and
-            // the group's tree is walked from its root.
+            // Into instance p.index: the rest of the leaf and the way back wait
+            // on the stack; the ray moves to the group's space (an affine map keeps t),
+            // and the group's tree is walked from its root (the record's `shape`).
             uint rest = index + count - (i + 1u);
             if (rest > 0u) BVH_STACK_PUSH(stack, ((i + 1u) << BVH_COUNT_BITS) | rest);
             BVH_STACK_PUSH(stack, BVH_LEAVE);
-            InstanceMap m = instance_to_object(p.index);
+            InstanceMap m = instance_map(p);
             o = instance_point(m, world_o);
             d = instance_vector(m, world_d);
             tr = triangle_ray_make(d);
@@ -342,7 +342,7 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, uint mode, out Hit second)
             r.inv = vec3(bvh_inv(d.x), bvh_inv(d.y), bvh_inv(d.z));
             r.neg = lessThan(r.inv, vec3(0.0));
             name = (p.index + 1u) << BVH_INSTANCES;
-            item = floatBitsToUint(p.p2.x) << BVH_COUNT_BITS;
+            item = p.shape << BVH_COUNT_BITS;
             continue;
         }
         BVH_STACK_POP(stack, item);

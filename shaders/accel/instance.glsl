@@ -24,7 +24,10 @@
 #endif
 #define INSTANCED (BVH_INSTANCES != 0u)
 
-// An instance's map from world to its group's space: p' = A p + b, A by rows.
+// An instance's map from world to its group's space: p' = A p + b, A by rows. Its
+// top-level record (instance.rs) holds A's rows in p0, p1, p2, its group's root node
+// in `shape` and the instance number k in `index`; b is texel 3 BVH_INSTANCE_SLOTS + k
+// of the primitives, whose fourth word is the position of that record.
 struct InstanceMap {
     vec3 r0;
     vec3 r1;
@@ -32,10 +35,22 @@ struct InstanceMap {
     vec3 b;
 };
 
+// The map of the instance whose top-level record p was loaded.
+InstanceMap instance_map(Prim p) {
+    vec3 b = uintBitsToFloat(prim_texel(3u * BVH_INSTANCE_SLOTS + p.index).xyz);
+    return InstanceMap(p.p0, p.p1, p.p2, b);
+}
+
+// The map of instance k (as hit names number it).
 InstanceMap instance_to_object(uint k) {
-    Prim a = prim_load(BVH_INSTANCE_SLOTS + 2u * k);
-    Prim t = prim_load(BVH_INSTANCE_SLOTS + 2u * k + 1u);
-    return InstanceMap(a.p0, a.p1, a.p2, t.p0);
+    uvec4 t = prim_texel(3u * BVH_INSTANCE_SLOTS + k);
+    Prim a = prim_load(t.w);
+    return InstanceMap(a.p0, a.p1, a.p2, uintBitsToFloat(t.xyz));
+}
+
+// The linear part of the instance's to_world, A⁻¹.
+mat3 instance_to_world_linear(InstanceMap m) {
+    return inverse(transpose(mat3(m.r0, m.r1, m.r2)));
 }
 
 vec3 instance_point(InstanceMap m, vec3 p) {
@@ -64,8 +79,8 @@ Prim instance_prim_load(uint id) {
     uint k1 = instance_of(id);
     if (INSTANCED && k1 != 0u) {
         InstanceMap m = instance_to_object(k1 - 1u);
-        mat3 to_world = inverse(transpose(mat3(m.r0, m.r1, m.r2)));
-        vec3 t = prim_load(BVH_INSTANCE_SLOTS + 2u * (k1 - 1u) + 1u).p1;
+        mat3 to_world = instance_to_world_linear(m);
+        vec3 t = -(to_world * m.b); // to_world's translation
         bool triangle = p.kind == PRIM_TRIANGLE;
         p.p0 = to_world * p.p0 + t;
         p.p1 = to_world * p.p1 + (triangle ? t : vec3(0.0));
@@ -90,18 +105,25 @@ vec3 instance_normal(uint id, vec3 n) {
 // object's), and turns around.
 bool instance_mirrors(uint id) {
     uint k1 = instance_of(id);
-    return INSTANCED && k1 != 0u
-        && prim_load(BVH_INSTANCE_SLOTS + 2u * (k1 - 1u) + 1u).p2.x < 0.0;
+    bool mirrors = false;
+    if (INSTANCED && k1 != 0u) {
+        // det A = 1 / det to_world: the same sign.
+        InstanceMap m = instance_to_object(k1 - 1u);
+        mirrors = dot(m.r0, cross(m.r1, m.r2)) < 0.0;
+    }
+    return mirrors;
 }
 
 // How far the mapping of a point into and out of the instance may move it, per axis,
 // added to a hit point's error bound (PBR 4th ed., sec. 6.8.6: transformed points):
-// a few ulps of the point and of the translation.
+// a few ulps of the point and of the translation (recomputed from the record, as
+// instance_prim_load does, so within the bound's own few ulps).
 vec3 instance_point_error(uint id, vec3 p) {
     uint k1 = instance_of(id);
     vec3 e = vec3(0.0);
     if (INSTANCED && k1 != 0u) {
-        vec3 t = prim_load(BVH_INSTANCE_SLOTS + 2u * (k1 - 1u) + 1u).p1;
+        InstanceMap m = instance_to_object(k1 - 1u);
+        vec3 t = -(instance_to_world_linear(m) * m.b); // to_world's translation
         e = 8.0 * 4.1723283e-7 * (abs(p) + vec3(max(max(abs(t.x), abs(t.y)), abs(t.z))));
     }
     return e;

@@ -44,9 +44,9 @@ bool vol_path_deferred = false;
 
 // Scattering coefficient σs = albedo σt of medium m at world point p.
 vec3 vol_path_sigma_s(MediumRecord m, vec3 p) {
-    if (MEDIUM_IS_HOMOGENEOUS(m)) return m.albedo * m.sigma_t;
+    if (MEDIUM_IS_HOMOGENEOUS(m)) return medium_albedo(m, p) * m.sigma_t;
     vec3 pl = (m.world_to_grid * vec4(p, 1.0)).xyz;
-    return medium_grid_albedo(m, pl) * medium_grid_sigma_t(m, pl);
+    return medium_albedo(m, p) * medium_grid_sigma_t(m, pl);
 }
 
 // Outcomes of vol_path_equiangular.

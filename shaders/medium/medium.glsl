@@ -124,10 +124,10 @@ uint medium_grid_corner(GridCell c, uint k, out float weight) {
     return uint((i.z * c.res.y + i.y) * c.res.x + i.x);
 }
 
-// A grid on the record's voxels (res) with `channels` channels at `data`, at
+// A grid of `res` voxels with `channels` channels at `data` in the grid buffer, at
 // grid-local point pl: trilinear interpolation (medium_grid_cell).
-vec3 medium_grid_lookup(MediumRecord m, uint data, uint channels, vec3 pl) {
-    GridCell c = medium_grid_cell(m.res, pl);
+vec3 medium_grid_lookup(uvec3 res, uint data, uint channels, vec3 pl) {
+    GridCell c = medium_grid_cell(res, pl);
     vec3 d = vec3(0.0);
     for (uint k = 0u; k < 8u; k++) {
         float weight;
@@ -149,7 +149,7 @@ vec3 medium_grid_lookup(MediumRecord m, uint data, uint channels, vec3 pl) {
 vec3 medium_grid_density(MediumRecord m, vec3 pl) {
     vec3 d = vec3(0.0);
     if (MEDIUM_HAS(MEDIUM_FEATURE_DENSITY_WORDS) && (m.flags & MEDIUM_DENSITY_PACKED) == 0u) {
-        d = medium_grid_lookup(m, m.data, m.channels, pl);
+        d = medium_grid_lookup(m.res, m.data, m.channels, pl);
     } else {
         GridCell c = medium_grid_cell(m.res, pl);
         if (MEDIUM_HAS(MEDIUM_FEATURE_PACKED1) && m.channels == 1u) {
@@ -178,12 +178,26 @@ vec3 medium_grid_sigma_t(MediumRecord m, vec3 pl) {
     return m.sigma_t * medium_grid_density(m, pl);
 }
 
-// Single-scattering albedo at grid-local point pl of a grid medium.
-vec3 medium_grid_albedo(MediumRecord m, vec3 pl) {
+// Single-scattering albedo of medium m (of either kind) at world point p: the
+// record's constant, or its albedo grid (MEDIUM_FEATURE_ALBEDO_GRID) looked up in its
+// own grid, as Mitsuba looks each volume up with its own to_world and resolution. At
+// m.albedo_data in the grid buffer: a header (record.rs albedo_grid_header: the
+// world-to-grid map's first three rows, the resolution's bits, the channel count),
+// then the values.
+vec3 medium_albedo(MediumRecord m, vec3 p) {
     vec3 albedo = m.albedo;
     if (MEDIUM_HAS(MEDIUM_FEATURE_ALBEDO_GRID) && m.albedo_data != NONE) {
+        uint h = m.albedo_data;
+        vec4 p4 = vec4(p, 1.0);
+        vec3 pl;
+        for (uint r = 0u; r < 3u; r++) {
+            uint k = h + 4u * r;
+            pl[r] = dot(vec4(grid_value(k), grid_value(k + 1u), grid_value(k + 2u), grid_value(k + 3u)), p4);
+        }
+        uvec3 res = uvec3(floatBitsToUint(grid_value(h + 12u)), floatBitsToUint(grid_value(h + 13u)),
+                          floatBitsToUint(grid_value(h + 14u)));
         uint channels = (m.flags & MEDIUM_ALBEDO_RGB) != 0u ? 3u : 1u;
-        albedo = medium_grid_lookup(m, m.albedo_data, channels, pl);
+        albedo = medium_grid_lookup(res, h + 16u, channels, pl);
     }
     return albedo;
 }
@@ -340,7 +354,7 @@ MediumEvent medium_sample(uint mi, vec3 o, vec3 d, float tmax, inout MediumRng r
                 float pdf = medium_avg(st * tr);
                 ev.scattered = true;
                 ev.t = t;
-                ev.weight = pdf > 0.0 ? st * m.albedo * tr / pdf : vec3(0.0);
+                ev.weight = pdf > 0.0 ? st * medium_albedo(m, o + t * d) * tr / pdf : vec3(0.0);
             } else {
                 vec3 tr = medium_tr(st, tmax);
                 float p = medium_avg(tr);
@@ -361,7 +375,7 @@ MediumEvent medium_sample(uint mi, vec3 o, vec3 d, float tmax, inout MediumRng r
             if (u.y * mu < avg_t) {
                 ev.scattered = true;
                 ev.t = w.t;
-                ev.weight *= st * medium_grid_albedo(m, pl) / avg_t;
+                ev.weight *= st * medium_albedo(m, o + w.t * d) / avg_t;
                 break;
             }
             vec3 sn = max(vec3(mu) - st, vec3(0.0));

@@ -382,6 +382,17 @@ impl Bvh {
         s
     }
 
+    /// The primitive records that are primitives or instances (with a `kind`): all but
+    /// a two-level tree's records after `slots`, which hold the instances'
+    /// translations (`accel::instance`). Instances' records ([`PRIM_INSTANCE`]) name
+    /// no shape.
+    pub fn shape_prims(&self) -> &[Prim] {
+        let n = self
+            .two_level
+            .map_or(self.prims.len(), |t| t.slots as usize);
+        &self.prims[..n]
+    }
+
     /// The box around every primitive (the root's and those apart), `None` for an
     /// empty scene.
     pub fn bounds(&self) -> Option<(Vec3, Vec3)> {
@@ -456,7 +467,16 @@ impl Bvh {
                 }
             } else {
                 for i in index..index + count {
-                    let found = intersect_prim(&self.prims[i as usize], &tr, o, d, tmin, t_hit);
+                    let p = &self.prims[i as usize];
+                    let found = if p.kind == PRIM_INSTANCE {
+                        // An instance's box stands for it (intersect_prim); its record
+                        // holds its map (accel::instance).
+                        let (lo, hi) = super::instance::instance_world_box(self, p);
+                        let (hit, tn) = br.slab(lo.to_array(), hi.to_array(), tmin, t_hit);
+                        hit.then_some((tn, 0.0, 0.0))
+                    } else {
+                        intersect_prim(p, &tr, o, d, tmin, t_hit)
+                    };
                     if let Some((t, u, v)) = found {
                         t_hit = t;
                         hit = Some(Hit { t, u, v, prim: i });

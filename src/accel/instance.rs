@@ -4,15 +4,21 @@
 //! One [`Bvh`] holds it all, as the kernels read it (`shaders/accel/bvh.glsl`,
 //! `shaders/accel/instance.glsl`):
 //! - node 0 is the root of the top-level tree, over the scene's own primitives and one
-//!   [`PRIM_INSTANCE`] primitive per instance (its world box);
+//!   [`PRIM_INSTANCE`] record per instance: built over its world box, then rewritten
+//!   as its world-to-object map's 3×3 rows (`p0`, `p1`, `p2`), the root node of its
+//!   group's tree (`shape`) and the instance number (`index`); its box lives in the
+//!   top-level nodes only (the CPU traversal recomputes it, [`instance_world_box`]);
 //! - after its nodes and primitives, each group's bottom-level tree, built once and
 //!   shared by every instance of the group, its node and leaf indices shifted to where
 //!   it lies;
-//! - after every primitive, two [`PRIM_INSTANCE_DATA`] records per instance
-//!   ([`TwoLevel::slots`]): world to object (3×3 rows and translation), and the
-//!   object-to-world translation with the sign of the determinant. That is all an
-//!   instance costs besides its top-level primitive and its share of the top-level
-//!   nodes: 3 × 48 bytes, and about 64 bytes of nodes.
+//! - after every primitive ([`TwoLevel::slots`]), the instances' translations, one
+//!   16-byte texel each (instance k's is texel `3 slots + k` of the primitives; its
+//!   fourth word the position of the instance's top-level record, for shading), so
+//!   that an instance costs its top-level record (48 bytes), its translation (16) and
+//!   its share of the top-level nodes (about 51 bytes): 115 bytes each for 10,000
+//!   instances (three 48-byte records, 195 bytes, before). The kernels recompute what
+//!   they need of object to world (its 3×3 by inversion, its translation `-A⁻¹ b`,
+//!   the mirror by the sign of det A).
 //!
 //! A traversal that meets an instance moves the ray into the group's space (an affine
 //! map keeps the ray parameter t), walks the group's tree, and moves back. A hit in an
@@ -29,11 +35,11 @@ use std::time::Instant;
 use glam::{DMat4, Mat4, Vec3, Vec4};
 
 use super::bvh::{Bvh, BVH_MAX_PRIMS, BVH_STACK_SIZE};
-use crate::gpu::layout::{BvhNode, Prim, PRIM_INSTANCE, PRIM_INSTANCE_DATA};
+use crate::gpu::layout::{BvhNode, Prim, PRIM_INSTANCE};
 use crate::scene::Scene;
 
-/// Records per instance after every primitive (its transforms).
-pub const INSTANCE_SLOTS: u32 = 2;
+/// Translations (16-byte texels) per 48-byte record after every primitive.
+pub const TRANSLATIONS_PER_RECORD: u32 = 3;
 
 /// What the kernels of a scene with instances specialize on, and what `info` reports.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -42,8 +48,8 @@ pub struct TwoLevel {
     pub instances: u32,
     /// Hit names: `(instance + 1) << shift | primitive`.
     pub shift: u32,
-    /// Index of the first [`PRIM_INSTANCE_DATA`] record: instance k's are at
-    /// `slots + 2k` and `slots + 2k + 1`.
+    /// Index of the first record after the primitives: instance k's translation is
+    /// texel `3 slots + k`.
     pub slots: u32,
     /// Entries the traversal stack needs: the top-level tree's deepest leaf, the
     /// bottom-level trees' deepest, and two for the way back (bvh.glsl).
@@ -156,9 +162,8 @@ pub fn scene_bvh(scene: &Scene) -> Result<Bvh, String> {
             top.push(index.quadric_prim(scene, q));
         }
     }
-    // Instances in the top-level tree, numbered in scene order: (group, to_world,
-    // the shape standing for the group in its records).
-    let mut placed: Vec<(u32, Mat4, u32)> = Vec::new();
+    // Instances in the top-level tree, numbered in scene order: (group, to_world).
+    let mut placed: Vec<(u32, Mat4)> = Vec::new();
     for inst in &scene.instances {
         let Some(tree) = &blas[inst.group as usize] else {
             continue; // an empty group: nothing to see
@@ -167,23 +172,16 @@ pub fn scene_bvh(scene: &Scene) -> Result<Bvh, String> {
             continue;
         };
         let (lo, hi) = transformed_box(&inst.to_world, bounds);
-        let g = &scene.groups[inst.group as usize];
-        // A shape of the group stands as the primitive's shape, so that host code
-        // reading `shape` of every primitive finds a real one (never an emitter).
-        let shape = g
-            .meshes
-            .first()
-            .copied()
-            .unwrap_or_else(|| scene.meshes.len() as u32 + g.quadrics[0]);
+        // The box for the build; the record is rewritten below.
         top.push(Prim {
             p0: lo.to_array(),
-            shape,
+            shape: 0,
             p1: hi.to_array(),
             index: placed.len() as u32,
-            p2: [0.0; 3], // the root, below
+            p2: [0.0; 3],
             kind: PRIM_INSTANCE,
         });
-        placed.push((inst.group, inst.to_world, shape));
+        placed.push((inst.group, inst.to_world));
     }
     let tlas = Bvh::build_whole(&top[..]);
     let mut nodes = tlas.nodes;
@@ -211,10 +209,26 @@ pub fn scene_bvh(scene: &Scene) -> Result<Bvh, String> {
         }));
         prims.extend_from_slice(&tree.prims);
     }
+    let to_object: Vec<Mat4> = placed
+        .iter()
+        .map(|(_, m)| {
+            DMat4::from_cols_array(&m.to_cols_array().map(f64::from))
+                .inverse()
+                .as_mat4()
+        })
+        .collect();
     for p in prims[..top_prims as usize].iter_mut() {
         if p.kind == PRIM_INSTANCE {
-            let group = placed[p.index as usize].0;
-            p.p2[0] = f32::from_bits(roots[group as usize]);
+            let k = p.index as usize;
+            let row = |r: usize| to_object[k].row(r).truncate().to_array();
+            *p = Prim {
+                p0: row(0),
+                shape: roots[placed[k].0 as usize],
+                p1: row(1),
+                index: k as u32,
+                p2: row(2),
+                kind: PRIM_INSTANCE,
+            };
         }
     }
     // Hit names must stay below HIT_NONE, and tree references in 28 bits.
@@ -227,14 +241,20 @@ pub fn scene_bvh(scene: &Scene) -> Result<Bvh, String> {
              (instances + 1) x 2^{shift} must stay below 2^32"
         ));
     }
-    let total = prims.len() + INSTANCE_SLOTS as usize * placed.len();
+    let total = prims.len() + placed.len().div_ceil(TRANSLATIONS_PER_RECORD as usize);
     if total > BVH_MAX_PRIMS || nodes.len() > BVH_MAX_PRIMS {
         return Err(format!(
             "{total} primitive records and {} nodes: at most {BVH_MAX_PRIMS} each",
             nodes.len()
         ));
     }
-    push_instance_records(&mut prims, &placed);
+    let mut position = vec![0u32; placed.len()];
+    for (i, p) in prims[..top_prims as usize].iter().enumerate() {
+        if p.kind == PRIM_INSTANCE {
+            position[p.index as usize] = i as u32;
+        }
+    }
+    push_translations(&mut prims, &to_object, &position);
     let stack_depth = tlas.stats.max_depth.max(1) + 2 + blas_depth;
     let two_level = TwoLevel {
         instances: placed.len() as u32,
@@ -257,46 +277,75 @@ pub fn scene_bvh(scene: &Scene) -> Result<Bvh, String> {
     })
 }
 
-/// The two [`PRIM_INSTANCE_DATA`] records of each placed instance (group, to_world,
-/// shape standing for it): world to object by rows (3×4, p0..p2 and the second
-/// record's p0), the to_world translation (its p1) and the sign of det to_world.
-fn push_instance_records(prims: &mut Vec<Prim>, placed: &[(u32, Mat4, u32)]) {
-    for (k, &(_, to_world, shape)) in placed.iter().enumerate() {
-        let to_object = DMat4::from_cols_array(&to_world.to_cols_array().map(f64::from))
-            .inverse()
-            .as_mat4();
-        let row = |m: &Mat4, r: usize| m.row(r).truncate().to_array();
+/// The translations of the instances' world-to-object maps (`b` of `A p + b`), one
+/// texel each, its fourth word the position of the instance's top-level record;
+/// three to a record.
+fn push_translations(prims: &mut Vec<Prim>, to_object: &[Mat4], position: &[u32]) {
+    let n = TRANSLATIONS_PER_RECORD as usize;
+    for (c, chunk) in to_object.chunks(n).enumerate() {
+        let mut words = [0u32; 12];
+        for (j, m) in chunk.iter().enumerate() {
+            for (a, w) in m.w_axis.truncate().to_array().iter().enumerate() {
+                words[4 * j + a] = w.to_bits();
+            }
+            words[4 * j + 3] = position[c * n + j];
+        }
+        let f = |i: usize| [0, 1, 2].map(|a| f32::from_bits(words[i + a]));
         prims.push(Prim {
-            p0: row(&to_object, 0),
-            shape,
-            p1: row(&to_object, 1),
-            index: k as u32,
-            p2: row(&to_object, 2),
-            kind: PRIM_INSTANCE_DATA,
-        });
-        let det = to_world.determinant();
-        prims.push(Prim {
-            p0: to_object.w_axis.truncate().to_array(),
-            shape,
-            p1: to_world.w_axis.truncate().to_array(),
-            index: k as u32,
-            p2: [if det < 0.0 { -1.0 } else { 1.0 }, 0.0, 0.0],
-            kind: PRIM_INSTANCE_DATA,
+            p0: f(0),
+            shape: words[3],
+            p1: f(4),
+            index: words[7],
+            p2: f(8),
+            kind: words[11],
         });
     }
+}
+
+/// The top-level record of instance `k` in `bvh` and its position, as shading finds
+/// it (the fourth word of its translation's texel).
+fn instance_record(bvh: &Bvh, k: u32) -> (usize, &Prim) {
+    let t = bvh.two_level.expect("a two-level tree");
+    let texel = 3 * t.slots as usize + k as usize;
+    let words: [u32; 12] = bytemuck::cast(bvh.prims[texel / 3]);
+    let i = words[4 * (texel % 3) + 3] as usize;
+    (i, &bvh.prims[i])
+}
+
+/// The world-to-object rows (3×4) of the instance whose top-level record is `p`, as
+/// the kernels read them.
+pub fn record_rows(bvh: &Bvh, p: &Prim) -> [Vec4; 3] {
+    let t = bvh.two_level.expect("a two-level tree");
+    let texel = 3 * t.slots as usize + p.index as usize;
+    let rec = &bvh.prims[texel / 3];
+    let words: [u32; 12] = bytemuck::cast(*rec);
+    let b = [0, 1, 2].map(|a| f32::from_bits(words[4 * (texel % 3) + a]));
+    [
+        Vec3::from(p.p0).extend(b[0]),
+        Vec3::from(p.p1).extend(b[1]),
+        Vec3::from(p.p2).extend(b[2]),
+    ]
 }
 
 /// Instance `k`'s world-to-object rows (3×4) from the records of `bvh`, as the kernels
 /// read them (for tests).
 pub fn to_object_rows(bvh: &Bvh, k: u32) -> [Vec4; 3] {
-    let t = bvh.two_level.expect("a two-level tree");
-    let a = &bvh.prims[(t.slots + INSTANCE_SLOTS * k) as usize];
-    let b = &bvh.prims[(t.slots + INSTANCE_SLOTS * k + 1) as usize];
-    [
-        Vec3::from(a.p0).extend(b.p0[0]),
-        Vec3::from(a.p1).extend(b.p0[1]),
-        Vec3::from(a.p2).extend(b.p0[2]),
-    ]
+    record_rows(bvh, instance_record(bvh, k).1)
+}
+
+/// The world box of the instance whose top-level record is `p` (which holds its map
+/// and its group's root, not its box): the group tree's root box under the inverse of
+/// the record's map, as the build's box was made. The CPU traversal's instance test.
+pub fn instance_world_box(bvh: &Bvh, p: &Prim) -> (Vec3, Vec3) {
+    let r = record_rows(bvh, p);
+    let to_object = Mat4::from_cols(r[0], r[1], r[2], Vec4::W).transpose();
+    let to_world = DMat4::from_cols_array(&to_object.to_cols_array().map(f64::from))
+        .inverse()
+        .as_mat4();
+    let n = &bvh.nodes[p.shape as usize];
+    let lo = Vec3::from(n.left_min).min(Vec3::from(n.right_min));
+    let hi = Vec3::from(n.left_max).max(Vec3::from(n.right_max));
+    transformed_box(&to_world, (lo, hi))
 }
 
 #[cfg(test)]
@@ -346,16 +395,31 @@ mod tests {
         let t = bvh.two_level.expect("two levels");
         assert_eq!(t.instances, 5);
         // The cube's 12 triangles and 5 instances on top, the group's 4 triangles
-        // once below, and two records per instance.
+        // once below, and the 5 translations, three to a record.
         assert_eq!(t.top_prims, 17);
         assert_eq!(t.slots, 21);
-        assert_eq!(bvh.prims.len(), 21 + 10);
+        assert_eq!(bvh.prims.len(), 21 + 2);
         assert_eq!(t.shift, 5);
         let tops = &bvh.prims[..t.top_prims as usize];
         assert_eq!(tops.iter().filter(|p| p.kind == PRIM_INSTANCE).count(), 5);
-        for p in tops.iter().filter(|p| p.kind == PRIM_INSTANCE) {
+        for (k, inst) in s.instances.iter().enumerate() {
+            let (_, p) = instance_record(&bvh, k as u32);
             // Every instance's root is the group's, a node after the top level.
-            assert_eq!(p.p2[0].to_bits(), t.top_nodes);
+            assert_eq!(p.shape, t.top_nodes);
+            // Its world box, recomputed, holds the group's shapes under its map.
+            let (lo, hi) = instance_world_box(&bvh, p);
+            for q in [
+                Vec3::ZERO,
+                Vec3::ONE,
+                Vec3::new(1.0, 0.0, 1.0),
+                Vec3::Z + Vec3::Y,
+            ] {
+                let w = inst.to_world.transform_point3(q);
+                assert!(
+                    w.cmpge(lo - 1e-4).all() && w.cmple(hi + 1e-4).all(),
+                    "{w} outside {lo} .. {hi}"
+                );
+            }
         }
         // Grouped shapes keep their shape and global triangle numbers.
         let mut below: Vec<(u32, u32)> = bvh.prims[17..21]
@@ -422,6 +486,35 @@ mod tests {
             }
         }
         assert!(hits > 50, "only {hits} rays hit");
+    }
+
+    /// Hit names count instances, not top-level records: a scene with many primitives
+    /// of its own beside a few instances still fits 32-bit names.
+    #[test]
+    fn many_own_primitives_and_a_few_instances() {
+        let mut s = scene(3);
+        let n = 1 << 17; // 131,072 triangles outside the group
+        let positions: Vec<Vec3> = (0..n + 2)
+            .map(|i| Vec3::new(i as f32 * 0.01, (i % 2) as f32, 5.0))
+            .collect();
+        let indices = (0..n as u32).map(|i| [i, i + 1, i + 2]).collect();
+        s.meshes.push(Mesh {
+            positions,
+            indices,
+            ..Mesh::default()
+        });
+        let bvh = scene_bvh(&s).expect("fits");
+        let t = bvh.two_level.expect("two levels");
+        assert!((t.top_prims as u64 + 1) << t.shift >= 1 << 32);
+        assert!((t.instances as u64 + 1) << t.shift < 1 << 32);
+        for (k, inst) in s.instances.iter().enumerate() {
+            let (i, p) = instance_record(&bvh, k as u32);
+            assert!(i < t.top_prims as usize && p.kind == PRIM_INSTANCE);
+            let rows = to_object_rows(&bvh, k as u32);
+            let w = inst.to_world.transform_point3(Vec3::ONE).extend(1.0);
+            let back = Vec3::new(rows[0].dot(w), rows[1].dot(w), rows[2].dot(w));
+            assert!((back - Vec3::ONE).length() < 1e-5, "{back}");
+        }
     }
 
     #[test]

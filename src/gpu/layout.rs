@@ -13,11 +13,14 @@ pub const PRIM_SPHERE: u32 = 1;
 pub const PRIM_DISK: u32 = 2;
 pub const PRIM_CYLINDER: u32 = 3;
 /// An instance in the top-level tree of a scene with instances (`accel::instance`):
-/// `p0`, `p1` its world box (for the build), `p2[0]` the bits of its group's
-/// bottom-level root node, `index` the instance number.
+/// `p0`, `p1`, `p2` the rows of its world-to-object map's 3×3 (its world box is in
+/// the top-level nodes only), `shape` its group's bottom-level root node, `index` the
+/// instance number (its translation's texel after the primitives).
 pub const PRIM_INSTANCE: u32 = 4;
-/// An instance's transforms, two records per instance after every primitive
-/// (`accel::instance`); never in a tree.
+/// Formerly the kind of an instance's transform records; those
+/// (`accel::instance`, one per instance after every primitive) now hold the
+/// translation's bits in their kind word, as no tree reaches them. Kept so that the
+/// number stays taken.
 pub const PRIM_INSTANCE_DATA: u32 = 5;
 /// An `sdfgrid` (`scene::shape::sdfgrid`): `p0`, `p1` its box, `p2[0]` the bits of
 /// its header's offset in the grid buffer, `index` its quadric number.

@@ -175,8 +175,9 @@ gpu_record! {
         pub majorant: f32 => float,
         pub channels: u32 => uint,
         pub flags: u32 => uint,
-        /// `NONE`, or the offset in the grid buffer of an albedo grid on the density
-        /// grid's voxels ([`MEDIUM_ALBEDO_RGB`]: 3 channels, else 1).
+        /// `NONE`, or the offset in the grid buffer of an albedo grid, its header
+        /// (`scene::medium::record::albedo_grid_header`: its own placement and
+        /// resolution) then its values ([`MEDIUM_ALBEDO_RGB`]: 3 channels, else 1).
         pub albedo_data: u32 => uint,
     }
 

@@ -193,7 +193,7 @@ pub const SPEC_CONSTANTS: &[SpecConst] = &[
        (accel::instance, shaders/accel/instance.glsl); 0: no instances, and their code \
        compiles away."),
     c(Spec::InstanceSlots, "SCENE_INSTANCE_SLOTS", Uint, "0u",
-      "The first of the instances' transform records in the primitives (instance.glsl)."),
+      "The first record after the primitives: the instances' translations (instance.glsl)."),
     c(Spec::ScenePartShift, "SCENE_PART_SHIFT", Uint, "27u",
       "log2 of the texels of one part of a split scene array (scene_bindings.glsl)."),
     c(Spec::BvhNodeParts, "BVH_NODE_PARTS", Uint, "1u", "Parts of the BVH nodes."),

@@ -265,8 +265,8 @@ impl SceneRecords {
         let emitter_of = |e: Option<u32>| e.map(|i| remap[i as usize]).unwrap_or(NONE);
         // BVH slot of every quadric.
         let mut quadric_slot = vec![NONE; scene.quadrics.len()];
-        for (i, p) in bvh.prims.iter().enumerate() {
-            // (Instances and their records, accel::instance, are no quadrics.)
+        for (i, p) in bvh.shape_prims().iter().enumerate() {
+            // (Instances, accel::instance, are no quadrics.)
             if p.kind != PRIM_TRIANGLE && p.kind < crate::gpu::layout::PRIM_INSTANCE {
                 quadric_slot[p.index as usize] = i as u32;
                 self.quadric_kinds |= surface_feature_of_prim(p.kind);
@@ -337,8 +337,10 @@ impl SceneRecords {
     /// [`Frame::emitter_prims`]: crate::gpu::layout::Frame::emitter_prims
     pub fn emitter_prims(&self, bvh: &Bvh) -> Option<Vec<u32>> {
         let mut slots = Vec::new();
-        for (i, p) in bvh.prims.iter().enumerate() {
-            if self.shapes[p.shape as usize].emitter != NONE {
+        for (i, p) in bvh.shape_prims().iter().enumerate() {
+            if p.kind != crate::gpu::layout::PRIM_INSTANCE
+                && self.shapes[p.shape as usize].emitter != NONE
+            {
                 if slots.len() == crate::gpu::layout::MAX_EMITTER_PRIMS {
                     return None;
                 }
@@ -501,7 +503,7 @@ impl SceneRecords {
     fn build_alias_tables(&mut self, scene: &Scene, bvh: &Bvh, remap: &[u32]) {
         // BVH slot of every global triangle number.
         let mut slot = vec![NONE; scene.triangle_count()];
-        for (i, p) in bvh.prims.iter().enumerate() {
+        for (i, p) in bvh.shape_prims().iter().enumerate() {
             if p.kind == PRIM_TRIANGLE {
                 slot[p.index as usize] = i as u32;
             }

@@ -63,7 +63,9 @@ pub fn kind(
     scale: f32,
 ) -> Result<MediumKind, Error> {
     if has_grid {
-        return Err(props.object_error("a homogeneous medium takes no grid (use heterogeneous)"));
+        return Err(props.object_error(
+            "a homogeneous medium's sigma_t is constant, not a grid (use heterogeneous; its albedo may be a grid)",
+        ));
     }
     let st = check_color(props, "sigma_t", sigma_t.unwrap_or(Vec3::ONE), None)?;
     let st = st * scale;

@@ -4,16 +4,19 @@
 //! `interior`/`exterior` and to the sensor (a camera inside fog):
 //!
 //! - `homogeneous`: `sigma_t` (color, default 1) and `albedo` (color in [0, 1], default
-//!   0.75), or instead `sigma_a` and `sigma_s` (sigma_t = sigma_a + sigma_s, albedo =
-//!   sigma_s / sigma_t); `scale` (default 1) multiplies the extinction;
-//!   `sample_emitters` (default true): next-event estimation at scattering points.
+//!   0.75, or a `gridvolume`: constant extinction, albedo varying in space), or
+//!   instead `sigma_a` and `sigma_s` (sigma_t = sigma_a + sigma_s, albedo = sigma_s /
+//!   sigma_t); `scale` (default 1) multiplies the extinction; `sample_emitters`
+//!   (default true): next-event estimation at scattering points (false: as Mitsuba's
+//!   volpath, none there, and emitters that the phase-sampled ray finds count in full).
 //! - `heterogeneous`: `sigma_t` a nested `<volume type="gridvolume">` (a Mitsuba `.vol`
 //!   file, 1 or 3 float32 channels; `to_world` places its unit cube, or its own bounding
 //!   box with `use_grid_bbox`; trilinear interpolation between voxel centres, as
 //!   Mitsuba 3's `gridvolume`; or an OpenVDB `.vdb` file, whose scalar grid `grid`
 //!   (default: the first named `density`, else the first scalar grid) is placed by
 //!   the file's own transform and then `to_world`, see `scene::vdb`) or a constant; `albedo` a constant color, or a
-//!   `gridvolume` on the same voxels (resolution and `to_world`) as `sigma_t`; `scale`;
+//!   `gridvolume` of any resolution and `to_world` (looked up in its own grid, as in
+//!   Mitsuba); `scale`;
 //!   a constant `sigma_t` (value or `constvolume`) fills only the unit cube under the
 //!   constvolume's `to_world` ([0, 1]³ by default), as in Mitsuba, where a
 //!   heterogeneous medium ends at its sigma_t volume's bounding box;
@@ -74,7 +77,7 @@ const ALBEDO: Param = Param::new(
     "albedo",
     "rgb|volume",
     "0.75",
-    "single-scattering albedo, in [0, 1]",
+    "single-scattering albedo, in [0, 1]: a color or a volume (a gridvolume of any resolution and placement)",
 );
 const SIGMA_A: Param = Param::new(
     "sigma_a",
@@ -122,8 +125,8 @@ pub struct Medium {
     pub kind: MediumKind,
     /// Single-scattering albedo sigma_s / sigma_t, each channel in [0, 1].
     pub albedo: Vec3,
-    /// A grid of albedos (1 or 3 channels, values in [0, 1]) replacing `albedo`, on
-    /// the same voxels as the extinction grid of a `Grid` medium.
+    /// A grid of albedos (1 or 3 channels, values in [0, 1]) replacing `albedo`, with
+    /// its own resolution and `to_world` (any medium kind; clamped outside its box).
     pub albedo_grid: Option<Grid>,
     /// Henyey-Greenstein asymmetry, 0 for the isotropic phase function.
     pub g: f32,
@@ -280,7 +283,7 @@ impl Medium {
         let (props, nested) = Properties::read(el, dialect, false)?;
         let (g, volumes) = nested_objects(&props, nested)?;
         let mut c = Coefficients::from_volumes(&props, volumes)?;
-        c.check_albedo_grid(t)?;
+        c.check_albedo_grid()?;
         c.read_sigma_a_and_s(&props)?;
         let albedo = check_color(
             &props,
@@ -384,18 +387,10 @@ impl<'a> Coefficients<'a> {
         Ok(c)
     }
 
-    /// An albedo grid lies on the sigma_t grid's voxels, values in [0, 1].
-    fn check_albedo_grid(&self, t: &str) -> Result<(), Error> {
+    /// An albedo grid's values lie in [0, 1]. Its resolution and placement are its own
+    /// (Mitsuba looks each volume up in its own grid), in a homogeneous medium too.
+    fn check_albedo_grid(&self) -> Result<(), Error> {
         if let Some((a, n)) = &self.albedo_grid {
-            let same = self
-                .grid
-                .as_ref()
-                .is_some_and(|g| g.res == a.res && g.to_world.abs_diff_eq(a.to_world, 1e-6));
-            if t != "heterogeneous" || !same {
-                return Err(n.err(
-                    "an albedo grid needs a sigma_t grid with the same resolution and placement (to_world)",
-                ));
-            }
             if a.data.iter().any(|&v| v > 1.0) {
                 return Err(n.err("albedo grid values must lie in [0, 1]"));
             }
@@ -407,7 +402,11 @@ impl<'a> Coefficients<'a> {
     fn read_sigma_a_and_s(&mut self, props: &Properties) -> Result<(), Error> {
         let (sa, ss) = (props.color_opt("sigma_a")?, props.color_opt("sigma_s")?);
         if sa.is_some() || ss.is_some() {
-            if self.sigma_t.is_some() || self.albedo.is_some() || self.grid.is_some() {
+            if self.sigma_t.is_some()
+                || self.albedo.is_some()
+                || self.grid.is_some()
+                || self.albedo_grid.is_some()
+            {
                 return Err(props.object_error(
                     "give either sigma_a and sigma_s, or sigma_t and albedo, not both",
                 ));
@@ -625,6 +624,53 @@ mod tests {
             };
             assert!(e.contains(want), "{n} bytes: {e}");
         }
+    }
+
+    /// An albedo grid keeps its own resolution and placement: in a homogeneous medium
+    /// (Mitsuba's constant extinction, albedo varying in space) and beside a density
+    /// grid of another resolution; its GPU header maps world points into its own unit
+    /// cube (scenes/media/albedo_*.xml, rendered against Mitsuba by
+    /// tests/media_vs_mitsuba.rs).
+    #[test]
+    fn albedo_grids_of_their_own() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/media");
+        let s = crate::scene::load(&dir.join("albedo_homogeneous.xml"), &[]).unwrap();
+        let m = &s.media[0];
+        assert!(
+            matches!(m.kind, MediumKind::Homogeneous { .. }),
+            "{:?}",
+            m.kind
+        );
+        assert!(m.sample_emitters);
+        let a = m.albedo_grid.as_ref().expect("an albedo grid");
+        assert_eq!((a.res, a.channels), ([7, 5, 3], 3));
+        let (mut words, mut packed, mut maj) = (Vec::new(), Vec::new(), Vec::new());
+        let rec = record::record(m, &mut words, &mut packed, &mut maj);
+        assert_eq!((rec.albedo_data, rec.albedo), (0, [1.0; 3]));
+        assert_eq!(words.len(), record::ALBEDO_GRID_HEADER + 7 * 5 * 3 * 3);
+
+        let defines = [("sample_emitters".to_string(), "false".to_string())];
+        let s = crate::scene::load(&dir.join("albedo_homogeneous.xml"), &defines).unwrap();
+        assert!(!s.media[0].sample_emitters);
+
+        let s = crate::scene::load(&dir.join("albedo_heterogeneous.xml"), &[]).unwrap();
+        let m = &s.media[0];
+        let MediumKind::Grid { grid, .. } = &m.kind else {
+            panic!("{:?}", m.kind)
+        };
+        let a = m.albedo_grid.as_ref().expect("an albedo grid");
+        assert_eq!((grid.res, a.res, a.channels), ([32, 32, 32], [9, 4, 6], 1));
+        assert!(!grid.to_world.abs_diff_eq(a.to_world, 1e-3));
+        let h = record::albedo_grid_header(a);
+        let local = Vec3::new(0.2, 0.7, 0.4);
+        let p = a.to_world.transform_point3(local);
+        let back = Vec3::from_array(
+            [0, 1, 2]
+                .map(|r| h[4 * r] * p.x + h[4 * r + 1] * p.y + h[4 * r + 2] * p.z + h[4 * r + 3]),
+        );
+        assert!((back - local).length() < 1e-5, "{back} != {local}");
+        let tail: Vec<u32> = h[12..].iter().map(|v| v.to_bits()).collect();
+        assert_eq!(tail, [9, 4, 6, 1]);
     }
 
     /// A `.vdb` gridvolume in both dialects: the grid `grid` (default: density), placed

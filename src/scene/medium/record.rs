@@ -43,10 +43,14 @@ pub fn record(
     };
     if let Some(a) = &m.albedo_grid {
         rec.albedo_data = grid_data.len() as u32;
+        grid_data.extend(albedo_grid_header(a));
         grid_data.extend_from_slice(&a.data);
         if a.channels == 3 {
             rec.flags |= MEDIUM_ALBEDO_RGB;
         }
+        // The albedo is the grid's: the record's constant must not read as a pure
+        // absorber (medium.glsl takes albedo 0 as one).
+        rec.albedo = [1.0; 3];
     }
     match &m.kind {
         MediumKind::Homogeneous { sigma_t } => {
@@ -83,6 +87,25 @@ pub fn record(
         }
     }
     rec
+}
+
+/// Words of an albedo grid's header in the grid buffer ([`albedo_grid_header`]).
+pub const ALBEDO_GRID_HEADER: usize = 16;
+
+/// The header that precedes an albedo grid's values in the grid buffer (medium.glsl
+/// `medium_albedo`): its world-to-grid map as three rows of four (the unit cube its
+/// `to_world` places), its resolution (three u32 bit patterns) and channel count. An
+/// albedo grid is looked up in its own grid, as Mitsuba does, whatever the density's.
+pub fn albedo_grid_header(a: &Grid) -> [f32; ALBEDO_GRID_HEADER] {
+    let m = a.to_world.inverse().transpose().to_cols_array();
+    let mut h = [0.0; ALBEDO_GRID_HEADER];
+    // The transpose's columns are the map's rows; the fourth row (0, 0, 0, 1) is left.
+    h[..12].copy_from_slice(&m[..12]);
+    for (k, r) in a.res.iter().enumerate() {
+        h[12 + k] = f32::from_bits(*r);
+    }
+    h[15] = f32::from_bits(a.channels);
+    h
 }
 
 /// The density grid as one 16-byte texel per voxel, so that a trilinear lookup
