@@ -288,6 +288,9 @@ impl Renderer {
             );
             cmd.barrier();
         }
+        if let Some(aov) = &k.aov {
+            self.film.record_gather(cmd, aov, sets, push);
+        }
         self.film.record_gather(cmd, &k.film_gather, sets, push);
     }
 

@@ -713,6 +713,7 @@ mod tests {
                     crop: r.crop,
                     sums: vec![[value, 0.0, 0.0, 1.0], [0.0, value, 0.0, 1.0]],
                     alpha: None,
+                    extra: Box::default(),
                 },
                 record: r,
             },
