@@ -274,3 +274,67 @@ fn bad_aovs_strings_name_the_entry() {
         "{err}"
     );
 }
+
+/// `render --samples` parts with `--aov` merge (`wavetrace merge`) into the AOVs of
+/// the unsplit render; the partials record `--aov` for a resume.
+#[test]
+fn aov_parts_merge_on_the_command_line() {
+    let d = temp_dir("aov_parts_merge");
+    let scene = repo("tests/data/aov/aov_scene.xml");
+    let run = |range: &str, out: &std::path::Path| {
+        let (code, _, err) = wavetrace(&[
+            "render",
+            scene.to_str().unwrap(),
+            "--spp",
+            "4",
+            "--sampler",
+            "independent",
+            "--aov",
+            "depth,n:sh_normal",
+            "--samples",
+            range,
+            "-o",
+            out.to_str().unwrap(),
+            "-q",
+        ]);
+        assert_eq!(code, 0, "render --samples {range}: {err}");
+    };
+    let (whole, a, b) = (d.join("whole.exr"), d.join("a.exr"), d.join("b.exr"));
+    run("0..4", &whole);
+    run("0..2", &a);
+    run("2..4", &b);
+    let record = wavetrace::render::partial::Partial::read(&a).expect("partial");
+    assert_eq!(
+        record.record.aov_option.as_deref(),
+        Some("depth:depth,n:sh_normal")
+    );
+    let merged = d.join("merged.exr");
+    let (code, _, err) = wavetrace(&[
+        "merge",
+        a.to_str().unwrap(),
+        b.to_str().unwrap(),
+        "-o",
+        merged.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let whole_image = d.join("whole_image.exr");
+    let (code, _, err) = wavetrace(&[
+        "merge",
+        whole.to_str().unwrap(),
+        "-o",
+        whole_image.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (_, _, m) = exr::read_channels(&merged).expect("merged");
+    let (_, _, w) = exr::read_channels(&whole_image).expect("whole");
+    for name in ["depth.T", "n.X", "n.Y", "n.Z", "dd.T", "my_image.A", "R"] {
+        let (x, y) = (channel(&m, name), channel(&w, name));
+        for (p, q) in x.iter().zip(y) {
+            assert!(
+                (p - q).abs() <= 2e-3 * (1.0 + q.abs()),
+                "{name}: {p} vs {q}"
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -93,6 +93,14 @@ impl AovKind {
         }
     }
 
+    /// Mitsuba's name of the type.
+    pub fn name(self) -> &'static str {
+        KINDS
+            .iter()
+            .find(|(_, k)| *k == self)
+            .map_or("", |(n, _)| n)
+    }
+
     /// The type by Mitsuba's name.
     pub fn by_name(name: &str) -> Option<AovKind> {
         KINDS.iter().find(|(n, _)| *n == name).map(|&(_, k)| k)
@@ -196,6 +204,14 @@ pub fn parse_cli(aovs: &str) -> Result<Vec<Aov>, String> {
     parse(&named.join(","))
 }
 
+/// `aovs` as [`parse`] reads them back: `name:type` entries, comma-separated.
+pub fn list(aovs: &[Aov]) -> String {
+    aovs.iter()
+        .map(|a| format!("{}:{}", a.name, a.kind.name()))
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
 /// The spec of an `aov` integrator: the nested integrator's (or `depth`, whose
 /// radiance is dropped, where there is none) with the AOVs.
 pub fn spec(
@@ -253,6 +269,11 @@ mod tests {
             ["dd.T", "nn.X", "nn.Y", "nn.Z", "aa.R", "aa.G", "aa.B", "pp.I", "uv.U", "uv.V"]
         );
         assert!(parse("").unwrap().is_empty());
+        assert_eq!(parse(&list(&aovs)).unwrap(), aovs);
+        assert_eq!(
+            parse_cli("depth,n:sh_normal").unwrap(),
+            parse("depth:depth,n:sh_normal").unwrap()
+        );
     }
 
     #[test]
