@@ -267,6 +267,15 @@ fn bad_aovs_strings_name_the_entry() {
         assert!(err.contains(expected), "{aovs}: {err}");
         assert!(err.contains("bad.xml:2"), "{aovs}: file and line: {err}");
     }
+    // Names the scene's aov integrator already writes, and too many AOVs.
+    let scene = repo("tests/data/aov/aov_scene.xml");
+    let (code, _, err) = wavetrace(&["render", scene.to_str().unwrap(), "--aov", "dd:depth"]);
+    assert_ne!(code, 0);
+    assert!(err.contains("'dd'"), "{err}");
+    let many: Vec<String> = (0..10).map(|i| format!("a{i}:uv")).collect();
+    let (code, _, err) = wavetrace(&["render", scene.to_str().unwrap(), "--aov", &many.join(",")]);
+    assert_ne!(code, 0);
+    assert!(err.contains("at most 16"), "{err}");
     let (code, _, err) = wavetrace(&["render", "x.xml", "--aov", "depth,bogus"]);
     assert_ne!(code, 0);
     assert!(

@@ -218,6 +218,25 @@ impl RenderPlan {
         // a visible environment covers every path of the integrators where Mitsuba
         // counts it (`valid_ray` of path and volpath). The photon mappers' camera
         // kernels mark none: no alpha there (see `film_overridden`).
+        let outputs = &scene.integrator.outputs;
+        let aov_count = outputs.aovs.len() + options.aovs.len();
+        if aov_count > crate::scene::integrator::aov::MAX_AOVS {
+            return Err(Error::Options(format!(
+                "{aov_count} AOVs requested (the scene's aov integrator's and --aov's); \
+                 wavetrace writes at most {}",
+                crate::scene::integrator::aov::MAX_AOVS
+            )));
+        }
+        if let Some(a) = options
+            .aovs
+            .iter()
+            .find(|a| outputs.aovs.iter().any(|b| b.name == a.name))
+        {
+            return Err(Error::Options(format!(
+                "--aov names '{}', which the scene's aov integrator already writes",
+                a.name
+            )));
+        }
         let extra = ExtraChannels::of(
             &scene.integrator.outputs,
             &options.aovs,
