@@ -118,6 +118,15 @@ fn aovs_leave_the_radiance_bit_identical() {
         let a = film(&plain, &options, 4);
         let b = film(&plain, &with, 4);
         assert_eq!(a.sums, b.sums, "{filter}: radiance sums");
+        // Small batches (the filter's samples of a pixel in two batches, from the
+        // ring): the same AOV sums, bit for bit.
+        let small = RenderOptions {
+            max_batch_paths: Some(700),
+            ..with.clone()
+        };
+        let c = film(&plain, &small, 4);
+        assert_eq!(c.sums, b.sums, "{filter}: radiance sums in small batches");
+        assert_eq!(c.extra, b.extra, "{filter}: AOV sums in small batches");
         assert!(a.extra.aov_names.is_empty());
         assert_eq!(b.extra.aov_names.len(), 7);
         let (names, values) = b.extra_channels();
