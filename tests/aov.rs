@@ -391,3 +391,35 @@ fn moment_scene() -> String {
         .replace("<sampler type=\"stratified\">", "<sampler type=\"independent\">")
         .replace("<boolean name=\"jitter\" value=\"false\"/>", "")
 }
+
+/// The albedo AOV is Mitsuba's `eval_diffuse_reflectance`: the reflectance of
+/// diffuse and (two-sided) plastic, the base color of principled and principledthin,
+/// for the others (roughconductor, pplastic) the BSDF towards the normal times π.
+#[test]
+fn albedo_matches_mitsuba() {
+    let dir = temp_dir("albedo_matches_mitsuba");
+    let out = dir.join("albedo.exr");
+    let (code, _, err) = wavetrace(&[
+        "render",
+        repo("tests/data/aov/albedo_scene.xml").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (_, _, ours) = exr::read_channels(&out).expect("ours");
+    let (_, _, theirs) =
+        exr::read_channels(repo("tests/data/aov/albedo_scene_ref.exr")).expect("reference");
+    for c in ["aa.R", "aa.G", "aa.B"] {
+        let (a, b) = (channel(&ours, c), channel(&theirs, c));
+        let lit = b.iter().filter(|&&v| v > 0.0).count();
+        assert!(lit > 100, "{c}: {lit} pixels");
+        for (i, (x, y)) in a.iter().zip(b).enumerate() {
+            assert!(
+                (x - y).abs() <= 1e-3 * (1.0 + y.abs()),
+                "{c} pixel {i}: {x} against Mitsuba's {y}"
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

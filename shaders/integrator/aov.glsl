@@ -41,11 +41,13 @@ struct AovHit {
 };
 
 // Mitsuba's BSDF::eval_diffuse_reflectance: the diffuse reflectance of diffuse,
-// plastic and roughplastic; for the others its default, the BSDF evaluated towards
-// the shading normal times π (cosine included), seen from the ray's direction.
+// plastic and roughplastic, the base color of principled and principledthin (all in
+// b.reflectance); for the others its default, the BSDF evaluated towards the shading
+// normal times π (cosine included), seen from the ray's direction.
 vec3 aov_albedo(Surface s, vec3 ray_d) {
     BsdfRecord b = bsdf_textured(bsdf_load(shape_load(s.shape).bsdf), s.uv);
-    if (b.kind == BSDF_DIFFUSE || b.kind == BSDF_PLASTIC || b.kind == BSDF_ROUGHPLASTIC) {
+    if (b.kind == BSDF_DIFFUSE || b.kind == BSDF_PLASTIC || b.kind == BSDF_ROUGHPLASTIC
+        || b.kind == BSDF_PRINCIPLED || b.kind == BSDF_PRINCIPLEDTHIN) {
         return b.reflectance;
     }
     vec3 t = cross(s.ns, s.ss);

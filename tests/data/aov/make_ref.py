@@ -25,3 +25,8 @@ text = (
 scene = mi.load_string(text, spp=256)
 mi.render(scene)
 scene.sensors()[0].film().write("tests/data/aov/moment_ref.exr")
+
+# albedo_scene_ref.exr: the albedo AOV of five BSDFs, at pixel centres.
+scene = mi.load_file("tests/data/aov/albedo_scene.xml")
+mi.render(scene)
+scene.sensors()[0].film().write("tests/data/aov/albedo_scene_ref.exr")
