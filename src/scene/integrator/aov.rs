@@ -57,9 +57,13 @@ pub enum AovKind {
     ShNormal = 5,
     /// The BSDF's diffuse reflectance (Mitsuba's `eval_diffuse_reflectance`).
     Albedo = 6,
-    /// The primitive's index within its shape.
+    /// The primitive's index within its shape (a triangle's in its mesh; 0 on a
+    /// sphere, disk or cylinder), as Mitsuba's `si.prim_index`.
     PrimIndex = 7,
-    /// The shape's index, from 1 in scene order (0: no surface).
+    /// The shape's index, from 1, in wavetrace's order of shapes (the scene's meshes,
+    /// then its spheres, disks and cylinders), 0 where the ray meets nothing.
+    /// Mitsuba writes an id of its own there (its JIT variants a registry number from
+    /// 1, its scalar ones bits of a pointer), so only equal and unequal compare.
     ShapeIndex = 8,
 }
 
