@@ -410,6 +410,11 @@ fn albedo_matches_mitsuba() {
     let (_, _, ours) = exr::read_channels(&out).expect("ours");
     let (_, _, theirs) =
         exr::read_channels(repo("tests/data/aov/albedo_scene_ref.exr")).expect("reference");
+    // An aov integrator without a nested one: R, G, B are 0, as in Mitsuba.
+    for c in ["R", "G", "B"] {
+        assert!(channel(&ours, c).iter().all(|&v| v == 0.0), "{c}");
+        assert!(channel(&theirs, c).iter().all(|&v| v == 0.0), "{c}");
+    }
     for c in ["aa.R", "aa.G", "aa.B"] {
         let (a, b) = (channel(&ours, c), channel(&theirs, c));
         let lit = b.iter().filter(|&&v| v > 0.0).count();
