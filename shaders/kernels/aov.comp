@@ -8,7 +8,9 @@
 // AOVs are those of its camera ray, traced again here (the ray generate made: its
 // position in its pixel and its lens sample are functions of pixel and sample), so
 // the radiance kernels do not change; made only for renders that write AOVs or
-// moments. One thread per pixel of crop rows film_row .. film_row + film_rows.
+// moments. One thread per pixel of crop rows film_row .. film_row + film_rows; with
+// a filter wider than the box, a first dispatch (FILM_AOV_SAMPLES) traces each path's
+// ray once and keeps its AOVs in the ring slot of its sample, which the gather reads.
 // Reads: the film's sample ring (or paths), the scene. Writes: the film's AOV and
 // moment sums.
 
@@ -53,6 +55,9 @@ SPEC(FILM_FROM_PATHS);
 SPEC(FILM_AOVS_LO);
 SPEC(FILM_AOVS_HI);
 SPEC(FILM_MOMENT);
+// This dispatch writes each path's AOVs into the ring (one thread a path of the
+// batch) for the gather of a filter wider than the box, which then reads them there.
+SPEC(FILM_AOV_SAMPLES);
 #include "film/filter.glsl"
 
 // Per crop pixel, row-major, its AOV channels in order: Σ w v.
@@ -61,6 +66,8 @@ layout(std430, set = 3, binding = 5) buffer FilmAovBuffer { float film_aov_sums[
 layout(std430, set = 3, binding = 6) buffer FilmMomentBuffer { vec4 film_moment_sums[]; };
 // Per shape: the global number of its first triangle (prim_index AOVs).
 layout(std430, set = 3, binding = 7) readonly buffer FilmAovShapeBuffer { uint film_aov_shape_first[]; };
+// Per ring slot (film_slot), the AOV channels of its sample, in order.
+layout(std430, set = 3, binding = 8) buffer FilmAovRingBuffer { float film_aov_ring[]; };
 
 #include "integrator/aov.glsl"
 
@@ -72,8 +79,8 @@ bool aov_needs_albedo() {
     return false;
 }
 
-// Adds w times the AOVs of sample `sample_index` of region pixel `q` to pixel i.
-void aov_add(uint i, ivec2 q, uint sample_index, float w, uint floats) {
+// The AOVs of the camera ray of sample `sample_index` of region pixel `q`.
+AovHit aov_sample(ivec2 q, uint sample_index) {
     ivec2 pixel = ivec2(film.region_x, film.region_y) + q;
     uint key = film_pixel_key(pixel);
     vec3 origin, dir;
@@ -81,14 +88,42 @@ void aov_add(uint i, ivec2 q, uint sample_index, float w, uint floats) {
     vec2 u_lens = (frame.camera_kind == CAMERA_THINLENS || frame.camera_kind == CAMERA_DISTANT)
         ? sample_2d(key, sample_index, RNG_DIM_APERTURE) : vec2(0.0);
     camera_ray(vec2(pixel) + film_sample_position(key, sample_index), u_lens, origin, dir, tmax);
-    AovHit a = aov_trace(origin, dir, tmax, aov_needs_albedo());
+    return aov_trace(origin, dir, tmax, aov_needs_albedo());
+}
+
+// Adds w times the AOVs of sample `sample_index` of region pixel `q` to pixel i
+// (the box filter: traced here), or those the ring holds in `slot` (other filters).
+void aov_add(uint i, ivec2 q, uint sample_index, float w, uint floats, uint slot) {
+    AovHit a;
+    if (FILM_FROM_PATHS) a = aov_sample(q, sample_index);
     uint at = i * floats;
+    uint from = slot * floats;
     for (uint j = 0u; j < 16u; j++) {
         uint kind = aov_kind(j);
         if (kind == 0u) break;
         uint n = aov_channels(kind);
         for (uint c = 0u; c < n; c++) {
-            film_aov_sums[at] += w * aov_value(a, kind, c);
+            float v = FILM_FROM_PATHS ? aov_value(a, kind, c) : film_aov_ring[from];
+            film_aov_sums[at] += w * v;
+            at++;
+            from++;
+        }
+    }
+}
+
+// Writes path p's AOVs into its ring slot.
+void aov_store(uint p, uint floats) {
+    uint pixels = film.region_width * film.region_height;
+    uvec2 qr = divide(push.pixel_base + p, pixels);
+    ivec2 q = film_region_pixel(qr.y) - ivec2(film.region_x, film.region_y);
+    AovHit a = aov_sample(q, push.sample_base + qr.x);
+    uint at = film_slot(p) * floats;
+    for (uint j = 0u; j < 16u; j++) {
+        uint kind = aov_kind(j);
+        if (kind == 0u) break;
+        uint n = aov_channels(kind);
+        for (uint c = 0u; c < n; c++) {
+            film_aov_ring[at] = aov_value(a, kind, c);
             at++;
         }
     }
@@ -115,6 +150,10 @@ uint aov_floats() {
 
 void main() {
     uint t = thread_index();
+    if (FILM_AOV_SAMPLES) {
+        if (t < push.path_count) aov_store(t, aov_floats());
+        return;
+    }
     uint cw = film.crop_width;
     if (t >= push.film_rows * cw) return;
     uvec2 qr = divide(t, cw);
@@ -143,7 +182,7 @@ void main() {
             vec3 L = path_load(uint(p)).radiance;
             if (!(any(isnan(L)) || any(isinf(L)))) {
                 if (FILM_MOMENT) m2 += vec4(aov_xyz_squared(L), 0.0);
-                if (floats > 0u) aov_add(i, s, push.sample_base + uint(k), 1.0, floats);
+                if (floats > 0u) aov_add(i, s, push.sample_base + uint(k), 1.0, floats, 0u);
             }
             p += P;
         }
@@ -161,7 +200,7 @@ void main() {
                 if ((fs.flags & FILM_SAMPLE_VALID) != 0u) {
                     float w = filter_weight(vec2(s - ivec2(x, y)) + 0.5 - fs.offset);
                     if (FILM_MOMENT) acc += w * vec4(aov_xyz_squared(fs.value), 0.0);
-                    if (floats > 0u) aov_add(i, ivec2(x, y), push.sample_base + uint(k), w, floats);
+                    if (floats > 0u) aov_add(i, ivec2(x, y), push.sample_base + uint(k), w, floats, slot);
                 }
                 slot = slot + 1u == film.slots ? 0u : slot + 1u;
             }

@@ -45,6 +45,7 @@ pub enum Spec {
     FilmAovsLo = 90,
     FilmAovsHi = 91,
     FilmMoment = 92,
+    FilmAovSamples = 93,
     InstanceSlots = 45,
     /// How the scene's arrays are split over bindings (`render::scene_parts`), set by
     /// the binding layout for every kernel that reads the scene: 64, then 65 + the
@@ -216,6 +217,9 @@ pub const SPEC_CONSTANTS: &[SpecConst] = &[
       "The AOVs aov.comp writes: the ninth to sixteenth."),
     c(Spec::FilmMoment, "FILM_MOMENT", Bool, "false",
       "aov.comp keeps the samples' second moments (Mitsuba's moment)."),
+    c(Spec::FilmAovSamples, "FILM_AOV_SAMPLES", Bool, "false",
+      "aov.comp writes each path's AOVs into the film's AOV ring (filters wider than \
+       the box) instead of gathering."),
 ];
 
 /// The GLSL header build.rs writes: `SPEC(NAME)` declares constant `NAME` with its id,

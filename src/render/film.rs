@@ -59,7 +59,8 @@ pub fn film_binding_kinds() -> Vec<BindingKind> {
         BindingKind::Storage,
         BindingKind::Storage,
         BindingKind::Texels,
-        // aov.comp's AOV sums, moment sums and shapes' first triangles.
+        // aov.comp's AOV sums, moment sums, shapes' first triangles and AOV ring.
+        BindingKind::Storage,
         BindingKind::Storage,
         BindingKind::Storage,
         BindingKind::Storage,
@@ -257,6 +258,8 @@ pub struct Film {
     pub aov_sums: Buffer,
     pub moment_sums: Buffer,
     pub shape_first: Buffer,
+    /// Per ring slot its sample's AOVs (filters wider than the box).
+    pub aov_ring: Buffer,
     pub set: DescriptorSet,
 }
 
@@ -364,6 +367,16 @@ impl Film {
         } else {
             Buffer::from_slice(device, "film AOV shapes", shape_first)?
         };
+        let aov_ring = Buffer::new(
+            device,
+            "film AOV ring",
+            if reads_paths(&filter) {
+                4
+            } else {
+                (u64::from(slots) * extra.aov_names.len() as u64 * 4).max(4)
+            },
+            gpu,
+        )?;
         let set = DescriptorSet::new(
             layout,
             FILM_SET,
@@ -376,6 +389,7 @@ impl Film {
                 &aov_sums,
                 &moment_sums,
                 &shape_first,
+                &aov_ring,
             ],
         )?;
         Ok(Film {
@@ -391,6 +405,7 @@ impl Film {
             aov_sums,
             moment_sums,
             shape_first,
+            aov_ring,
             set,
         })
     }

@@ -190,6 +190,9 @@ struct Kernels {
     film_gather: Kernel,
     /// Where the film has AOV or moment channels: their gather (shaders/kernels/aov.comp).
     aov: Option<Kernel>,
+    /// Where AOVs go through a filter wider than the box: their per-path pass into the
+    /// ring (aov.comp with FILM_AOV_SAMPLES).
+    aov_samples: Option<Kernel>,
     /// Where a CPU device runs a batch's camera rays and first bounce in one kernel
     /// (shaders/kernels/first_bounce.comp; see [`fuses_first_bounce`]): it, in place of
     /// generate and bounce 0 (and of bounce 1 where that ends the paths).
@@ -269,6 +272,7 @@ fn make_kernels(
         accumulate: take(Stage::Accumulate),
         film_gather: required(take(Stage::FilmGather), Stage::FilmGather)?,
         aov: take(Stage::Aov),
+        aov_samples: take(Stage::AovSamples),
         first_bounce: take(Stage::FirstBounce),
         fused_bounces: schedule.fused_bounces,
     })
@@ -536,6 +540,7 @@ impl Renderer {
         let k = &self.kernels;
         let mut kernels = vec![&k.queue_args, &k.film_gather];
         kernels.extend(&k.aov);
+        kernels.extend(&k.aov_samples);
         kernels.extend(&k.generate);
         kernels.extend(&k.intersect);
         kernels.extend(&k.shadow);

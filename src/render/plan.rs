@@ -53,6 +53,8 @@ pub enum Stage {
     FilmGather,
     /// The AOV and moment channels' gather (shaders/kernels/aov.comp).
     Aov,
+    /// aov.comp writing each path's AOVs into the ring (filters wider than the box).
+    AovSamples,
     Accumulate,
     QueueArgs,
     /// The dispatches of each part of a partitioned bounce.
@@ -74,6 +76,7 @@ impl Stage {
             Stage::Generate => "generate",
             Stage::FilmGather => "film_gather",
             Stage::Aov => "aov",
+            Stage::AovSamples => "aov_samples",
             Stage::Accumulate => "accumulate",
             Stage::QueueArgs => "queue_args",
             Stage::ShadeArgs => "shade_args",
@@ -91,7 +94,7 @@ impl Stage {
             Stage::Intersect => shaders::INTERSECT,
             Stage::Generate => shaders::GENERATE,
             Stage::FilmGather => shaders::FILM_GATHER,
-            Stage::Aov => shaders::AOV,
+            Stage::Aov | Stage::AovSamples => shaders::AOV,
             Stage::Accumulate => shaders::ACCUMULATE,
             Stage::QueueArgs => shaders::QUEUE_ARGS,
             Stage::ShadeArgs => shaders::SHADE_ARGS,
@@ -263,9 +266,16 @@ impl RenderPlan {
             film::reads_paths(&film_spec.filter),
         );
         if !extra.is_empty() {
+            let spec = aov_constants(scene, options, &constants, &schedule, &film_spec.filter);
+            if !extra.aov_names.is_empty() && !film::reads_paths(&film_spec.filter) {
+                kernels.push(PlannedKernel {
+                    stage: Stage::AovSamples,
+                    spec: spec.clone().with(Spec::FilmAovSamples, 1),
+                });
+            }
             kernels.push(PlannedKernel {
                 stage: Stage::Aov,
-                spec: aov_constants(scene, options, &constants, &schedule, &film_spec.filter),
+                spec,
             });
         }
         let shape_first = scene
