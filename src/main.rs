@@ -78,6 +78,21 @@ struct RunArgs {
     /// same image either way; for comparisons).
     #[arg(long)]
     no_deferral: bool,
+    /// AOVs to write beside the radiance, as named EXR channels (Mitsuba's `aov`
+    /// integrator's): comma-separated types (depth, position, uv, geo_normal,
+    /// sh_normal, albedo, prim_index, shape_index), each optionally `name:type`
+    /// (default name: the type; `depth` gives channel `depth.T`).
+    #[arg(long, value_name = "AOVS", value_parser = parse_aovs)]
+    aov: Option<AovList>,
+}
+
+/// The AOVs `--aov` names.
+#[derive(Clone, Debug)]
+struct AovList(Vec<wavetrace::scene::integrator::aov::Aov>);
+
+/// `--aov`: `type` or `name:type` entries.
+fn parse_aovs(s: &str) -> Result<AovList, String> {
+    wavetrace::scene::integrator::aov::parse_cli(s).map(AovList)
 }
 
 impl RunArgs {
@@ -92,6 +107,7 @@ impl RunArgs {
             max_photons_per_pass: self.photons_per_pass,
             wavefront: self.wavefront,
             deferral: self.no_deferral.then_some(false),
+            aovs: self.aov.map(|a| a.0).unwrap_or_default(),
             ..RenderOptions::default()
         };
         (options, self.device)

@@ -153,6 +153,7 @@ fn plan(args: &mut RenderArgs) -> Result<Plan> {
         (r.integrator.is_some(), "--integrator"),
         (r.sampler.is_some(), "--sampler"),
         (r.max_bounces.is_some(), "--max-bounces"),
+        (r.aov.is_some(), "--aov"),
     ]
     .into_iter()
     .filter_map(|(given, name)| given.then_some(name))
@@ -189,6 +190,12 @@ fn plan(args: &mut RenderArgs) -> Result<Plan> {
     args.run.integrator = rec.integrator_option.clone();
     args.run.sampler = rec.sampler_option.clone();
     args.run.max_bounces = rec.max_bounces;
+    args.run.aov = rec
+        .aov_option
+        .as_deref()
+        .map(crate::parse_aovs)
+        .transpose()
+        .map_err(anyhow::Error::msg)?;
     if args.output.is_none() {
         args.output = Some(resume.clone());
     }
@@ -260,7 +267,14 @@ pub fn run(mut args: RenderArgs) -> Result<()> {
     let (output, partial_path) = outputs(&plan, args.output.clone(), partial_mode);
     let run = args.run;
     let seed = run.seed.unwrap_or(0);
-    let record_base = (run.integrator.clone(), run.sampler.clone(), run.max_bounces);
+    let record_base = (
+        run.integrator.clone(),
+        run.sampler.clone(),
+        run.max_bounces,
+        run.aov
+            .as_ref()
+            .map(|a| wavetrace::scene::integrator::aov::list(&a.0)),
+    );
     let (mut options, device) = run.options(args.profile);
     // The batches are sized for the whole render's samples (a range needs fewer).
     options.expected_spp = Some(plan.spp);
@@ -620,7 +634,12 @@ fn render_record(
     what: &Rendered,
     target: &SampleRanges,
     seed: u32,
-    (integrator_option, sampler_option, max_bounces): (Option<String>, Option<String>, Option<u32>),
+    (integrator_option, sampler_option, max_bounces, aov_option): (
+        Option<String>,
+        Option<String>,
+        Option<u32>,
+        Option<String>,
+    ),
 ) -> Result<RenderRecord> {
     let film_dbg = format!("{:?}", plan.scene.film);
     let (pixel_name, component_name, file_name) = partial::format_names(
@@ -639,6 +658,7 @@ fn render_record(
         integrator_option,
         sampler_option,
         max_bounces,
+        aov_option,
         integrator: format!("{:?}", what.integrator),
         sampler: format!("{:?}", what.sampler),
         film: film_dbg,

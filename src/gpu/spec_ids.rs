@@ -41,6 +41,11 @@ pub enum Spec {
     SppmAlpha = 28,
     ScanStage = 29,
     Instances = 44,
+    /// The AOVs of `aov.comp` (scene::integrator::aov): kinds 1-8, then 9-16.
+    FilmAovsLo = 90,
+    FilmAovsHi = 91,
+    FilmMoment = 92,
+    FilmAovSamples = 93,
     InstanceSlots = 45,
     /// How the scene's arrays are split over bindings (`render::scene_parts`), set by
     /// the binding layout for every kernel that reads the scene: 64, then 65 + the
@@ -205,6 +210,16 @@ pub const SPEC_CONSTANTS: &[SpecConst] = &[
     c(Spec::GridParts, "GRID_PARTS", Uint, "1u", "Parts of the density grids."),
     c(Spec::GridPackedParts, "GRID_PACKED_PARTS", Uint, "1u",
       "Parts of the packed density grids."),
+    c(Spec::FilmAovsLo, "FILM_AOVS_LO", Uint, "0u",
+      "The AOVs aov.comp writes, 4 bits a kind (AOV_* of aov.glsl), 0 ending the list: \
+       the first eight."),
+    c(Spec::FilmAovsHi, "FILM_AOVS_HI", Uint, "0u",
+      "The AOVs aov.comp writes: the ninth to sixteenth."),
+    c(Spec::FilmMoment, "FILM_MOMENT", Bool, "false",
+      "aov.comp keeps the samples' second moments (Mitsuba's moment)."),
+    c(Spec::FilmAovSamples, "FILM_AOV_SAMPLES", Bool, "false",
+      "aov.comp writes each path's AOVs into the film's AOV ring (filters wider than \
+       the box) instead of gathering."),
 ];
 
 /// The GLSL header build.rs writes: `SPEC(NAME)` declares constant `NAME` with its id,

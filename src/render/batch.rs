@@ -288,6 +288,18 @@ impl Renderer {
             );
             cmd.barrier();
         }
+        if let Some(samples) = &k.aov_samples {
+            cmd.dispatch(
+                samples,
+                sets,
+                bytemuck::bytes_of(push),
+                groups_for(push.path_count),
+            );
+            cmd.barrier();
+        }
+        if let Some(aov) = &k.aov {
+            self.film.record_gather(cmd, aov, sets, push);
+        }
         self.film.record_gather(cmd, &k.film_gather, sets, push);
     }
 

@@ -41,6 +41,7 @@ use crate::gpu::{
 };
 use crate::image::{self, Image};
 use crate::scene::film::{ComponentFormat, Crop, FileFormat, Filter, PixelFormat};
+use crate::scene::integrator::aov::{Aov, Outputs};
 
 use super::error::{Error, Result};
 use super::groups_for;
@@ -58,6 +59,11 @@ pub fn film_binding_kinds() -> Vec<BindingKind> {
         BindingKind::Storage,
         BindingKind::Storage,
         BindingKind::Texels,
+        // aov.comp's AOV sums, moment sums, shapes' first triangles and AOV ring.
+        BindingKind::Storage,
+        BindingKind::Storage,
+        BindingKind::Storage,
+        BindingKind::Storage,
     ]
 }
 
@@ -246,6 +252,14 @@ pub struct Film {
     pub sums: Buffer,
     pub alpha_sums: Buffer,
     pub samples: Buffer,
+    /// The AOV and moment channels (none: empty) and their sums' buffers
+    /// (`aov.comp`), and per shape the global number of its first triangle.
+    pub extra: ExtraChannels,
+    pub aov_sums: Buffer,
+    pub moment_sums: Buffer,
+    pub shape_first: Buffer,
+    /// Per ring slot its sample's AOVs (filters wider than the box).
+    pub aov_ring: Buffer,
     pub set: DescriptorSet,
 }
 
@@ -280,6 +294,7 @@ impl Film {
     /// `has_alpha`: keep the alpha sums; `covered`: every camera path counts as
     /// covered from the start (a visible environment, for the integrators where
     /// Mitsuba counts it).
+    #[allow(clippy::too_many_arguments)] // each is one of the film's facts
     pub fn new(
         device: &Device,
         layout: &BindingLayout,
@@ -288,6 +303,8 @@ impl Film {
         has_alpha: bool,
         covered: bool,
         capacity: u32,
+        extra: ExtraChannels,
+        shape_first: &[u32],
     ) -> Result<Film> {
         let slots = capacity
             .checked_add(geometry.ring_span())
@@ -328,10 +345,52 @@ impl Film {
             u64::from(slots) * BYTES_PER_SAMPLE_SLOT,
             crate::gpu::Location::Gpu,
         )?;
+        let gpu = crate::gpu::Location::Gpu;
+        let aov_sums = Buffer::new(
+            device,
+            "film AOV sums",
+            (extra.aovs.len() as u64 * 4).max(4),
+            gpu,
+        )?;
+        let moment_sums = Buffer::new(
+            device,
+            "film moment sums",
+            if extra.moment.is_some() {
+                pixels * 16
+            } else {
+                4
+            },
+            gpu,
+        )?;
+        let shape_first = if shape_first.is_empty() {
+            Buffer::from_slice(device, "film AOV shapes", &[0u32])?
+        } else {
+            Buffer::from_slice(device, "film AOV shapes", shape_first)?
+        };
+        let aov_ring = Buffer::new(
+            device,
+            "film AOV ring",
+            if reads_paths(&filter) {
+                4
+            } else {
+                (u64::from(slots) * extra.aov_names.len() as u64 * 4).max(4)
+            },
+            gpu,
+        )?;
         let set = DescriptorSet::new(
             layout,
             FILM_SET,
-            &[&params, &sums, &alpha_sums, &samples, &samples],
+            &[
+                &params,
+                &sums,
+                &alpha_sums,
+                &samples,
+                &samples,
+                &aov_sums,
+                &moment_sums,
+                &shape_first,
+                &aov_ring,
+            ],
         )?;
         Ok(Film {
             geometry,
@@ -342,6 +401,11 @@ impl Film {
             sums,
             alpha_sums,
             samples,
+            extra,
+            aov_sums,
+            moment_sums,
+            shape_first,
+            aov_ring,
             set,
         })
     }
@@ -363,6 +427,8 @@ impl Film {
     pub fn clear(&self, cmd: &mut CommandList) {
         cmd.fill(&self.sums, 0, self.sums.size(), 0);
         cmd.fill(&self.alpha_sums, 0, self.alpha_sums.size(), 0);
+        cmd.fill(&self.aov_sums, 0, self.aov_sums.size(), 0);
+        cmd.fill(&self.moment_sums, 0, self.moment_sums.size(), 0);
     }
 
     /// The ring slot that follows a batch of `paths` paths starting at `slot`.
@@ -427,6 +493,24 @@ impl Film {
             self.alpha_sums
                 .write(device, 0, bytemuck::cast_slice(alpha))?;
         }
+        let (a, b) = (&sums.extra, &self.extra);
+        if (&a.aov_names, a.moment.as_ref().map(|m| &m.0))
+            != (&b.aov_names, b.moment.as_ref().map(|m| &m.0))
+        {
+            return Err(Error::Options(
+                "cannot continue a render from the sums of a film with other AOV or moment channels"
+                    .into(),
+            ));
+        }
+        if !a.aovs.is_empty() {
+            self.aov_sums
+                .write(device, 0, bytemuck::cast_slice(&a.aovs))?;
+        }
+        if let Some((_, m)) = &a.moment {
+            let m: Vec<[f32; 4]> = m.iter().map(|v| [v[0], v[1], v[2], 0.0]).collect();
+            self.moment_sums
+                .write(device, 0, bytemuck::cast_slice(&m))?;
+        }
         Ok(())
     }
 
@@ -442,6 +526,16 @@ impl Film {
         } else {
             None
         };
+        let mut extra = Box::new(self.extra.clone());
+        if !extra.aovs.is_empty() {
+            let mut a: Vec<f32> = self.aov_sums.read(device)?;
+            a.truncate(extra.aovs.len());
+            extra.aovs = a;
+        }
+        if let Some((_, m)) = &mut extra.moment {
+            let v: Vec<[f32; 4]> = self.moment_sums.read(device)?;
+            *m = v[..n].iter().map(|p| [p[0], p[1], p[2]]).collect();
+        }
         let g = &self.geometry;
         Ok(FilmSums {
             film_width: g.width,
@@ -449,6 +543,7 @@ impl Film {
             crop: g.crop,
             sums,
             alpha,
+            extra,
         })
     }
 }
@@ -467,6 +562,128 @@ pub struct FilmSums {
     pub sums: Vec<[f32; 4]>,
     /// Per pixel: Σ w over the covered samples, if the film keeps alpha.
     pub alpha: Option<Vec<f32>>,
+    /// The AOV and second-moment sums and how their channels are named (empty for a
+    /// render without them).
+    pub extra: Box<ExtraChannels>,
+}
+
+/// What a film holds beyond its radiance: Mitsuba's `aov` and `moment` channels
+/// (scene::integrator::aov), as filter-weighted sums beside the film's, developed
+/// with the film's weight sums.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ExtraChannels {
+    /// The AOV channels' names, in order (`dd.T`, `nn.X`, ...).
+    pub aov_names: Vec<String>,
+    /// Per pixel, row-major, `aov_names.len()` values: Σ w v.
+    pub aovs: Vec<f32>,
+    /// A `moment`'s channel prefix and per pixel (Σ w X², Σ w Y², Σ w Z²) of its
+    /// samples' CIE XYZ.
+    pub moment: Option<(String, Vec<[f32; 3]>)>,
+    /// An `aov`'s nested integrator: the prefix of its RGBA channels.
+    pub inner_rgba: Option<String>,
+    /// An `aov` without a nested integrator: R, G, B are 0.
+    pub no_radiance: bool,
+}
+
+impl ExtraChannels {
+    /// The layout of `outputs` (AOVs first as the spec lists them, then `extra`'s,
+    /// as `render --aov` adds them) for `pixels` pixels, every sum 0.
+    pub fn of(outputs: &Outputs, extra: &[Aov], pixels: usize) -> ExtraChannels {
+        let aov_names: Vec<String> = outputs
+            .aovs
+            .iter()
+            .chain(extra)
+            .flat_map(Aov::channels)
+            .collect();
+        ExtraChannels {
+            aovs: vec![0.0; aov_names.len() * pixels],
+            aov_names,
+            moment: outputs
+                .moment
+                .as_ref()
+                .map(|name| (name.clone(), vec![[0.0; 3]; pixels])),
+            inner_rgba: outputs.inner_rgba.clone(),
+            no_radiance: outputs.no_radiance,
+        }
+    }
+
+    /// Whether the film has any.
+    pub fn is_empty(&self) -> bool {
+        *self == ExtraChannels::default()
+    }
+
+    /// The names of the channels that hold these sums in a partial render's EXR.
+    fn sum_names(&self) -> Vec<String> {
+        let mut names: Vec<String> = self
+            .aov_names
+            .iter()
+            .map(|n| format!("sum.aov.{n}"))
+            .collect();
+        if let Some((m, _)) = &self.moment {
+            names.extend(["X", "Y", "Z"].map(|c| format!("sum.m2.{m}.{c}")));
+        }
+        if let Some(inner) = &self.inner_rgba {
+            names.push(format!("sum.rgba.{inner}"));
+        }
+        if self.no_radiance {
+            names.push("sum.no_radiance".into());
+        }
+        names
+    }
+
+    /// Pixel i's values of [`Self::sum_names`].
+    fn sum_values(&self, i: usize, out: &mut Vec<f32>) {
+        let n = self.aov_names.len();
+        out.extend_from_slice(&self.aovs[i * n..(i + 1) * n]);
+        if let Some((_, m)) = &self.moment {
+            out.extend_from_slice(&m[i]);
+        }
+        out.extend(self.inner_rgba.iter().map(|_| 0.0));
+        if self.no_radiance {
+            out.push(0.0);
+        }
+    }
+
+    /// The sums of the channels a partial EXR holds ([`Self::sum_names`]); `None`
+    /// where one has the wrong size.
+    fn from_sum_channels(channels: &[image::exr::Channel], n: usize) -> Option<ExtraChannels> {
+        let mut extra = ExtraChannels::default();
+        let aovs: Vec<&image::exr::Channel> = channels
+            .iter()
+            .filter(|c| c.name.starts_with("sum.aov."))
+            .collect();
+        if aovs.iter().any(|c| c.values.len() != n) {
+            return None;
+        }
+        extra.aov_names = aovs
+            .iter()
+            .map(|c| c.name["sum.aov.".len()..].to_string())
+            .collect();
+        extra.aovs = (0..n)
+            .flat_map(|i| aovs.iter().map(move |c| c.values[i]))
+            .collect();
+        let m2: Vec<&image::exr::Channel> = channels
+            .iter()
+            .filter(|c| c.name.starts_with("sum.m2."))
+            .collect();
+        if let [x, y, z] = m2.as_slice() {
+            if [x, y, z].iter().any(|c| c.values.len() != n) {
+                return None;
+            }
+            let name = x.name["sum.m2.".len()..x.name.len() - 2].to_string();
+            extra.moment = Some((
+                name,
+                (0..n)
+                    .map(|i| [x.values[i], y.values[i], z.values[i]])
+                    .collect(),
+            ));
+        }
+        extra.inner_rgba = channels
+            .iter()
+            .find_map(|c| c.name.strip_prefix("sum.rgba.").map(str::to_string));
+        extra.no_radiance = channels.iter().any(|c| c.name == "sum.no_radiance");
+        Some(extra)
+    }
 }
 
 /// Mitsuba's sRGB luminance weights (`hdrfilm`'s "Y" channel).
@@ -497,6 +714,7 @@ impl FilmSums {
                 .map(|p| [p[0], p[1], p[2], 1.0])
                 .collect(),
             alpha: None,
+            extra: Box::default(),
         }
     }
 
@@ -559,7 +777,69 @@ impl FilmSums {
         if let (Some(a), Some(b)) = (self.alpha.as_mut(), other.alpha.as_ref()) {
             a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
         }
+        let (a, b) = (&mut self.extra, &other.extra);
+        if (
+            &a.aov_names,
+            a.moment.as_ref().map(|m| &m.0),
+            &a.inner_rgba,
+            a.no_radiance,
+        ) != (
+            &b.aov_names,
+            b.moment.as_ref().map(|m| &m.0),
+            &b.inner_rgba,
+            b.no_radiance,
+        ) {
+            return Err(Error::Options(format!(
+                "cannot merge films with different AOV or moment channels ({:?} and {:?})",
+                a.sum_names(),
+                b.sum_names()
+            )));
+        }
+        a.aovs.iter_mut().zip(&b.aovs).for_each(|(x, y)| *x += y);
+        if let (Some((_, x)), Some((_, y))) = (a.moment.as_mut(), b.moment.as_ref()) {
+            for (p, q) in x.iter_mut().zip(y) {
+                (0..3).for_each(|c| p[c] += q[c]);
+            }
+        }
         Ok(())
+    }
+
+    /// The developed AOV and moment channels, as Mitsuba names them, interleaved per
+    /// pixel: an `aov`'s nested integrator's R, G, B, A, the AOVs, a `moment`'s mean
+    /// and second moment in CIE XYZ. Each sum is divided by the film's weight sum.
+    pub fn extra_channels(&self) -> (Vec<String>, Vec<f32>) {
+        let e = &self.extra;
+        let mut names = Vec::new();
+        if let Some(inner) = &e.inner_rgba {
+            names.extend(["R", "G", "B", "A"].map(|c| format!("{inner}.{c}")));
+        }
+        names.extend(e.aov_names.iter().cloned());
+        if let Some((m, _)) = &e.moment {
+            names.extend(["X", "Y", "Z"].map(|c| format!("{m}.{c}")));
+            names.extend(["X", "Y", "Z"].map(|c| format!("m2_{m}.{c}")));
+        }
+        let image = self.develop();
+        let alpha = self.develop_alpha();
+        let n = e.aov_names.len();
+        let mut data = Vec::with_capacity(names.len() * self.sums.len());
+        for (i, s) in self.sums.iter().enumerate() {
+            let w = if s[3] != 0.0 { s[3] } else { 1.0 };
+            let rgb = &image.rgb[3 * i..3 * i + 3];
+            if e.inner_rgba.is_some() {
+                data.extend_from_slice(rgb);
+                data.push(alpha.as_ref().map_or(1.0, |a| a[i]));
+            }
+            data.extend(e.aovs[i * n..(i + 1) * n].iter().map(|v| v / w));
+            if let Some((_, m2)) = &e.moment {
+                data.extend(
+                    SRGB_TO_XYZ
+                        .iter()
+                        .map(|row| row[0] * rgb[0] + row[1] * rgb[1] + row[2] * rgb[2]),
+                );
+                data.extend(m2[i].iter().map(|v| v / w));
+            }
+        }
+        (names, data)
     }
 
     /// The developed pixels in `format`: channel names (as Mitsuba's `hdrfilm` names
@@ -581,6 +861,12 @@ impl FilmSums {
                     data.extend(SRGB_TO_XYZ.iter().map(|row| dot(row, p)))
                 }
             }
+            if self.extra.no_radiance {
+                let len = data.len();
+                data[len - names.len() + format.has_alpha() as usize..]
+                    .iter_mut()
+                    .for_each(|v| *v = 0.0);
+            }
             if format.has_alpha() {
                 data.push(alpha.as_ref().map_or(1.0, |a| a[i]));
             }
@@ -595,16 +881,22 @@ impl FilmSums {
 
     /// The sums as channels ([`Self::SUM_CHANNELS`], without `sum.A` if there is no
     /// alpha), interleaved per pixel.
-    pub fn sum_channels(&self) -> (Vec<&'static str>, Vec<f32>) {
+    pub fn sum_channels(&self) -> (Vec<String>, Vec<f32>) {
         let n = if self.alpha.is_some() { 5 } else { 4 };
-        let mut data = Vec::with_capacity(n * self.sums.len());
+        let mut names: Vec<String> = Self::SUM_CHANNELS[..n]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        names.extend(self.extra.sum_names());
+        let mut data = Vec::with_capacity(names.len() * self.sums.len());
         for (i, s) in self.sums.iter().enumerate() {
             data.extend_from_slice(s);
             if let Some(a) = &self.alpha {
                 data.push(a[i]);
             }
+            self.extra.sum_values(i, &mut data);
         }
-        (Self::SUM_CHANNELS[..n].to_vec(), data)
+        (names, data)
     }
 
     /// The sums of a `crop` window of a `film_width` x `film_height` film from the
@@ -633,6 +925,7 @@ impl FilmSums {
             crop,
             sums,
             alpha: find(Self::SUM_CHANNELS[4]).map(|a| a.values.clone()),
+            extra: Box::new(ExtraChannels::from_sum_channels(channels, n)?),
         })
     }
 
@@ -673,23 +966,38 @@ impl FilmSums {
     ) -> std::result::Result<(), image::Error> {
         let (w, h) = (self.width(), self.height());
         let (names, data) = self.channels(pixel_format);
+        let (extra_names, extra) = self.extra_channels();
         match file_format {
-            FileFormat::OpenExr if extras.sums => {
-                let (sum_names, sums) = self.sum_channels();
-                let (a, b) = (names.len(), sum_names.len());
-                let mut all = Vec::with_capacity(data.len() + sums.len());
-                for (p, s) in data.chunks_exact(a).zip(sums.chunks_exact(b)) {
-                    all.extend_from_slice(p);
-                    all.extend_from_slice(s);
+            FileFormat::OpenExr if extras.sums || !extra_names.is_empty() => {
+                let (mut sum_names, mut sums) = self.sum_channels();
+                if !extras.sums {
+                    (sum_names, sums) = (Vec::new(), Vec::new());
                 }
-                let all_names: Vec<&str> = names.iter().chain(&sum_names).copied().collect();
+                let (e, b) = (extra_names.len(), sum_names.len());
+                let a = names.len();
+                let mut all = Vec::with_capacity(data.len() + extra.len() + sums.len());
+                for (i, p) in data.chunks_exact(a).enumerate() {
+                    all.extend_from_slice(p);
+                    all.extend_from_slice(&extra[i * e..(i + 1) * e]);
+                    all.extend_from_slice(&sums[i * b..(i + 1) * b]);
+                }
+                let all_names: Vec<&str> = names
+                    .iter()
+                    .copied()
+                    .chain(extra_names.iter().map(String::as_str))
+                    .chain(sum_names.iter().map(String::as_str))
+                    .collect();
                 image::exr::write_channels_with_text(
                     path,
                     w,
                     h,
                     &all_names,
                     &all,
-                    image::exr::Precision::Float,
+                    if extras.sums || component_format == ComponentFormat::Float32 {
+                        image::exr::Precision::Float
+                    } else {
+                        image::exr::Precision::Half
+                    },
                     &extras.text_pairs(),
                 )?
             }
@@ -906,6 +1214,7 @@ mod tests {
             },
             sums: vec![[1.0, 2.0, 4.0, 2.0], [0.0, 0.0, 0.0, 0.0]],
             alpha: alpha.then(|| vec![1.0, 0.0]),
+            extra: Box::default(),
         }
     }
 

@@ -241,6 +241,7 @@ mod tests {
                 .map(|(k, v)| (k.to_string(), v.clone()))
                 .collect(),
             line: Some(7),
+            ..Default::default()
         }
     }
 

@@ -101,6 +101,9 @@ pub struct RenderOptions {
     /// `Renderer::new`), `Some(false)` never, `Some(true)` in every scene with null
     /// surfaces. The same image either way but for float rounding; tests compare them.
     pub deferral: Option<bool>,
+    /// AOVs to write beside the radiance (`render --aov`; scene::integrator::aov),
+    /// after those of the scene's `aov` integrator.
+    pub aovs: Vec<crate::scene::integrator::aov::Aov>,
 }
 
 /// Time spent before the first sample, in seconds.
@@ -185,6 +188,11 @@ struct Kernels {
     /// None where `film_gather` reads the paths ([`Film::reads_paths`]).
     accumulate: Option<Kernel>,
     film_gather: Kernel,
+    /// Where the film has AOV or moment channels: their gather (shaders/kernels/aov.comp).
+    aov: Option<Kernel>,
+    /// Where AOVs go through a filter wider than the box: their per-path pass into the
+    /// ring (aov.comp with FILM_AOV_SAMPLES).
+    aov_samples: Option<Kernel>,
     /// Where a CPU device runs a batch's camera rays and first bounce in one kernel
     /// (shaders/kernels/first_bounce.comp; see [`fuses_first_bounce`]): it, in place of
     /// generate and bounce 0 (and of bounce 1 where that ends the paths).
@@ -263,6 +271,8 @@ fn make_kernels(
         queue_args: required(take(Stage::QueueArgs), Stage::QueueArgs)?,
         accumulate: take(Stage::Accumulate),
         film_gather: required(take(Stage::FilmGather), Stage::FilmGather)?,
+        aov: take(Stage::Aov),
+        aov_samples: take(Stage::AovSamples),
         first_bounce: take(Stage::FirstBounce),
         fused_bounces: schedule.fused_bounces,
     })
@@ -354,6 +364,8 @@ impl Renderer {
             covered,
             features,
             kernels,
+            extra,
+            shape_first,
         } = plan;
         let t = Instant::now();
         let layout = BindingLayout::with_spec(
@@ -382,6 +394,8 @@ impl Renderer {
             has_alpha,
             covered,
             capacity,
+            extra,
+            &shape_first,
         )?;
         let upload_seconds = t.elapsed().as_secs_f64();
 
@@ -525,6 +539,8 @@ impl Renderer {
         let push = bytemuck::bytes_of(&push);
         let k = &self.kernels;
         let mut kernels = vec![&k.queue_args, &k.film_gather];
+        kernels.extend(&k.aov);
+        kernels.extend(&k.aov_samples);
         kernels.extend(&k.generate);
         kernels.extend(&k.intersect);
         kernels.extend(&k.shadow);

@@ -172,6 +172,8 @@ pub struct RenderRecord {
     pub integrator_option: Option<String>,
     pub sampler_option: Option<String>,
     pub max_bounces: Option<u32>,
+    /// The command line's `--aov`, as `name:type` entries (`None`: none).
+    pub aov_option: Option<String>,
     /// The integrator, sampler and film with all their parameters, as the renderer
     /// resolved them: what merges compare.
     pub integrator: String,
@@ -236,6 +238,7 @@ impl RenderRecord {
             "integrator_option": self.integrator_option,
             "sampler_option": self.sampler_option,
             "max_bounces": self.max_bounces,
+            "aov_option": self.aov_option,
             "integrator": self.integrator,
             "sampler": self.sampler,
             "film": self.film,
@@ -304,6 +307,11 @@ impl RenderRecord {
                 Value::Null => None,
                 x => Some(u32_of(x, "max_bounces")?),
             },
+            // Absent from partials written before `--aov` existed.
+            aov_option: v
+                .get("aov_option")
+                .and_then(Value::as_str)
+                .map(str::to_string),
             integrator: string("integrator")?,
             sampler: string("sampler")?,
             film: string("film")?,
@@ -683,6 +691,7 @@ mod tests {
             integrator_option: None,
             sampler_option: Some("stratified".into()),
             max_bounces: None,
+            aov_option: None,
             integrator: "PathMis".into(),
             sampler: "Sampler".into(),
             film: "Film".into(),
@@ -713,6 +722,7 @@ mod tests {
                     crop: r.crop,
                     sums: vec![[value, 0.0, 0.0, 1.0], [0.0, value, 0.0, 1.0]],
                     alpha: None,
+                    extra: Box::default(),
                 },
                 record: r,
             },

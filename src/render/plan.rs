@@ -13,7 +13,7 @@ use crate::scene::sampler::{SampleCount, Sampler};
 use crate::scene::Scene;
 
 use super::error::{Error, Result};
-use super::film::{self, Film, FilmGeometry, BYTES_PER_SAMPLE_SLOT};
+use super::film::{self, ExtraChannels, Film, FilmGeometry, BYTES_PER_SAMPLE_SLOT};
 use super::integrator::Integrator;
 use super::photon::{SceneBounds, SceneFeatures};
 use super::scene_buffers::SceneRecords;
@@ -51,6 +51,10 @@ pub enum Stage {
     Intersect,
     Generate,
     FilmGather,
+    /// The AOV and moment channels' gather (shaders/kernels/aov.comp).
+    Aov,
+    /// aov.comp writing each path's AOVs into the ring (filters wider than the box).
+    AovSamples,
     Accumulate,
     QueueArgs,
     /// The dispatches of each part of a partitioned bounce.
@@ -71,6 +75,8 @@ impl Stage {
             Stage::Intersect => "intersect",
             Stage::Generate => "generate",
             Stage::FilmGather => "film_gather",
+            Stage::Aov => "aov",
+            Stage::AovSamples => "aov_samples",
             Stage::Accumulate => "accumulate",
             Stage::QueueArgs => "queue_args",
             Stage::ShadeArgs => "shade_args",
@@ -88,6 +94,7 @@ impl Stage {
             Stage::Intersect => shaders::INTERSECT,
             Stage::Generate => shaders::GENERATE,
             Stage::FilmGather => shaders::FILM_GATHER,
+            Stage::Aov | Stage::AovSamples => shaders::AOV,
             Stage::Accumulate => shaders::ACCUMULATE,
             Stage::QueueArgs => shaders::QUEUE_ARGS,
             Stage::ShadeArgs => shaders::SHADE_ARGS,
@@ -163,6 +170,11 @@ pub struct RenderPlan {
     pub features: SceneFeatures,
     /// Every path-tracing kernel, the largest first (they are created in parallel).
     pub kernels: Vec<PlannedKernel>,
+    /// The film's AOV and moment channels (empty: none, and no `aov` kernel).
+    pub extra: ExtraChannels,
+    /// Per shape record, the global number of its first triangle (a quadric's: its
+    /// own number), for the `prim_index` AOV.
+    pub shape_first: Vec<u32>,
 }
 
 impl RenderPlan {
@@ -210,18 +222,73 @@ impl RenderPlan {
         // a visible environment covers every path of the integrators where Mitsuba
         // counts it (`valid_ray` of path and volpath). The photon mappers' camera
         // kernels mark none: no alpha there (see `film_overridden`).
-        let has_alpha = film_spec.pixel_format.has_alpha() && !integrator.is_photon_mapper();
+        let outputs = &scene.integrator.outputs;
+        let aov_count = outputs.aovs.len() + options.aovs.len();
+        if aov_count > crate::scene::integrator::aov::MAX_AOVS {
+            return Err(Error::Options(format!(
+                "{aov_count} AOVs requested (the scene's aov integrator's and --aov's); \
+                 wavetrace writes at most {}",
+                crate::scene::integrator::aov::MAX_AOVS
+            )));
+        }
+        if let Some(a) = options
+            .aovs
+            .iter()
+            .find(|a| outputs.aovs.iter().any(|b| b.name == a.name))
+        {
+            return Err(Error::Options(format!(
+                "--aov names '{}', which the scene's aov integrator already writes",
+                a.name
+            )));
+        }
+        let extra = ExtraChannels::of(
+            &scene.integrator.outputs,
+            &options.aovs,
+            geometry.crop_pixels() as usize,
+        );
+        if !extra.is_empty() && integrator.is_photon_mapper() {
+            return Err(Error::Options(format!(
+                "AOV and moment channels are not supported with the integrator '{}' yet",
+                integrator.name()
+            )));
+        }
+        // An `aov`'s nested integrator has an alpha channel (`<name>.A`).
+        let has_alpha = (film_spec.pixel_format.has_alpha() || extra.inner_rgba.is_some())
+            && !integrator.is_photon_mapper();
         let covered = integrator.counts_environment_coverage()
             && !integrator.hide_emitters()
             && records.env_emitter != NONE;
         let constants = Constants::of(&integrator, &records, &sampler, &facts, has_alpha);
-        let kernels = kernels(
+        let mut kernels = kernels(
             &integrator,
             &schedule,
             &constants,
             film::gather_constants(&film_spec.filter, has_alpha),
             film::reads_paths(&film_spec.filter),
         );
+        if !extra.is_empty() {
+            let spec = aov_constants(scene, options, &constants, &schedule, &film_spec.filter);
+            if !extra.aov_names.is_empty() && !film::reads_paths(&film_spec.filter) {
+                kernels.push(PlannedKernel {
+                    stage: Stage::AovSamples,
+                    spec: spec.clone().with(Spec::FilmAovSamples, 1),
+                });
+            }
+            kernels.push(PlannedKernel {
+                stage: Stage::Aov,
+                spec,
+            });
+        }
+        let shape_first = scene
+            .meshes
+            .iter()
+            .scan(0u32, |first, m| {
+                let f = *first;
+                *first += m.indices.len() as u32;
+                Some(f)
+            })
+            .chain(0..scene.quadrics.len() as u32)
+            .collect();
         let features = SceneFeatures {
             surface: constants.surface_features,
             textures: constants.textures,
@@ -254,6 +321,8 @@ impl RenderPlan {
             covered,
             features,
             kernels,
+            extra,
+            shape_first,
         })
     }
 
@@ -749,6 +818,37 @@ impl Constants {
             .with(Spec::Instances, self.instances[0])
             .with(Spec::InstanceSlots, self.instances[1])
     }
+}
+
+/// The constants of `aov.comp`: the scene's (as shade's), the film's filter and the
+/// AOV kinds (4 bits each, the scene's `aov` first, then `--aov`'s), moments.
+fn aov_constants(
+    scene: &Scene,
+    options: &RenderOptions,
+    c: &Constants,
+    s: &Schedule,
+    filter: &crate::scene::film::Filter,
+) -> SpecValues {
+    let outputs = &scene.integrator.outputs;
+    let kinds =
+        outputs
+            .aovs
+            .iter()
+            .chain(&options.aovs)
+            .enumerate()
+            .fold([0u32; 2], |mut w, (i, a)| {
+                w[i / 8] |= (a.kind as u32) << (4 * (i % 8));
+                w
+            });
+    c.scene(s)
+        .with(Spec::BsdfKinds, c.bsdf_kinds)
+        .with(Spec::EmitterKinds, c.emitter_kinds)
+        .with(Spec::SamplerKind, c.sampler)
+        .with(Spec::FilmFilter, film::filter_constants(filter).0)
+        .with(Spec::FilmFromPaths, film::reads_paths(filter) as u32)
+        .with(Spec::FilmAovsLo, kinds[0])
+        .with(Spec::FilmAovsHi, kinds[1])
+        .with(Spec::FilmMoment, outputs.moment.is_some() as u32)
 }
 
 /// Every kernel a render with `schedule` makes, the largest first; `gather`: the

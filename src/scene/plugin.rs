@@ -644,7 +644,8 @@ mod tests {
     fn plugin_docs_list_integrator_parameters_read() {
         use crate::scene::integrator::{self, IntegratorSpec, Param as Value};
         for p in integrator::REGISTRY {
-            if p.support != Support::Yes {
+            // `aov` wraps another integrator (its `aovs` is read by scene::integrator::aov).
+            if p.support != Support::Yes || p.name == "aov" {
                 continue;
             }
             for q in p.params {
@@ -658,6 +659,7 @@ mod tests {
                     name: p.name.to_string(),
                     params: [(q.name.to_string(), value)].into_iter().collect(),
                     line: Some(1),
+                    ..Default::default()
                 };
                 if let Err(e) = integrator::read(&spec, None) {
                     panic!(

@@ -7,6 +7,7 @@
 //! unread in an [`IntegratorSpec`] ([`spec`]), and [`read`] reads them once the
 //! integrator is known (`--integrator` may name another one).
 
+pub mod aov;
 mod direct;
 mod first_hit;
 mod moment;
@@ -45,6 +46,8 @@ pub struct IntegratorSpec {
     pub params: BTreeMap<String, Param>,
     /// Line of the `<integrator>` tag in the scene file, when known.
     pub line: Option<u32>,
+    /// The channels a wrapping `aov` or `moment` adds (none for a plain integrator).
+    pub outputs: aov::Outputs,
 }
 
 /// The parameters of one integrator still unread: each one read is removed, so what
@@ -277,7 +280,7 @@ pub const REGISTRY: &[PluginDoc] = &[
     sppm::SPPM,
     moment::MOMENT,
     ptracer::PTRACER,
-    not_yet("aov"),
+    aov::AOV,
     not_yet("stokes"),
     not_yet("prb"),
     not_yet("prb_basic"),
@@ -308,12 +311,12 @@ const fn nori(doc: PluginDoc) -> PluginDoc {
 }
 
 /// Names `--integrator` and scenes may use in this version (the renderable types;
-/// `moment` only wraps one of them).
+/// `moment` and `aov` only wrap one of them).
 pub fn names() -> Vec<&'static str> {
     REGISTRY
         .iter()
         .filter(|p| p.dialect == Dialect::Mitsuba && p.support == Support::Yes)
-        .filter(|p| p.name != moment::MOMENT.name)
+        .filter(|p| p.name != moment::MOMENT.name && p.name != aov::AOV.name)
         .map(|p| p.name)
         .collect()
 }
@@ -399,6 +402,9 @@ pub fn spec(el: &Element, dialect: Dialect) -> Result<IntegratorSpec, Error> {
     if dialect == Dialect::Mitsuba && name == moment::MOMENT.name {
         return moment::spec(el, &props, &nested, dialect);
     }
+    if dialect == Dialect::Mitsuba && name == aov::AOV.name {
+        return aov::spec(el, &props, &nested, dialect);
+    }
     if let Some(n) = nested.first() {
         return Err(n.err(format!(
             "<{}> inside an <integrator> is not supported yet",
@@ -409,6 +415,7 @@ pub fn spec(el: &Element, dialect: Dialect) -> Result<IntegratorSpec, Error> {
         name,
         params: props.into_params()?,
         line: Some(el.line),
+        ..Default::default()
     })
 }
 
