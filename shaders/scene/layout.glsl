@@ -46,6 +46,7 @@
 #define CAMERA_THINLENS 2u
 #define CAMERA_RADIANCEMETER 3u
 #define CAMERA_DISTANT 4u
+#define CAMERA_IRRADIANCEMETER 5u
 
 // EmitterRecord.kind
 #define EMITTER_POINT 0u

@@ -129,6 +129,7 @@ pub const CAMERA_ORTHOGRAPHIC: u32 = 1;
 pub const CAMERA_THINLENS: u32 = 2;
 pub const CAMERA_RADIANCEMETER: u32 = 3;
 pub const CAMERA_DISTANT: u32 = 4;
+pub const CAMERA_IRRADIANCEMETER: u32 = 5;
 
 /// Emitter kinds in [`EmitterRecord::kind`].
 pub const EMITTER_POINT: u32 = 0;
@@ -659,6 +660,7 @@ mod tests {
             ("CAMERA_THINLENS", CAMERA_THINLENS),
             ("CAMERA_RADIANCEMETER", CAMERA_RADIANCEMETER),
             ("CAMERA_DISTANT", CAMERA_DISTANT),
+            ("CAMERA_IRRADIANCEMETER", CAMERA_IRRADIANCEMETER),
             ("EMITTER_PROJECTOR", EMITTER_PROJECTOR),
             ("EMITTER_KIND_BIT_SPHERE_AREA", EMITTER_KIND_BIT_SPHERE_AREA),
             (

@@ -658,6 +658,8 @@ struct Constants {
     instances: [u32; 2],
     /// Whether bounce 0 ends the paths.
     ends_at_0: u32,
+    /// Whether the sensor samples a shape (an irradiancemeter).
+    sensor_shape: u32,
 }
 
 impl Constants {
@@ -687,6 +689,7 @@ impl Constants {
             flat_kinds,
             instances: facts.instances,
             ends_at_0: integrator.ends_paths_at(0) as u32,
+            sensor_shape: records.sensor_shape.is_some() as u32,
         }
     }
 
@@ -773,7 +776,8 @@ fn kernels(
         let spec = c
             .shade(s, second_ends, false)
             .with(Spec::FirstEnds, c.ends_at_0)
-            .with(Spec::SecondEnds, second_ends as u32);
+            .with(Spec::SecondEnds, second_ends as u32)
+            .with(Spec::SensorShape, c.sensor_shape);
         add(Stage::FirstBounce, spec);
     }
     let shade_with = |mode: u32| c.shade(s, false, false).with(Spec::Deferral, mode);
@@ -800,7 +804,14 @@ fn kernels(
     }
     let sampler = SpecValues::new().with(Spec::SamplerKind, c.sampler);
     if !s.fused {
-        add(Stage::Generate, sampler.clone());
+        // An irradiancemeter's generate reads the scene (its shape's points; without
+        // one, that code compiles away).
+        let generate = c
+            .scene(s)
+            .with(Spec::SamplerKind, c.sampler)
+            .with(Spec::EmitterKinds, c.emitter_kinds)
+            .with(Spec::SensorShape, c.sensor_shape);
+        add(Stage::Generate, generate);
     }
     add(Stage::FilmGather, gather);
     if !reads_paths {

@@ -4,6 +4,7 @@
 //! ([`crate::scene::sampler`]).
 
 pub mod distant;
+pub mod irradiancemeter;
 pub mod orthographic;
 pub mod perspective;
 pub mod radiancemeter;
@@ -20,7 +21,7 @@ pub const REGISTRY: &[PluginDoc] = &[
     thinlens::MITSUBA,
     orthographic::MITSUBA,
     radiancemeter::MITSUBA,
-    not_yet("irradiancemeter"),
+    irradiancemeter::MITSUBA,
     distant::MITSUBA,
     not_yet("batch"),
     perspective::NORI,
@@ -47,6 +48,8 @@ pub fn mitsuba(el: &Element) -> Result<SensorParts<'_>, Error> {
         "orthographic" => orthographic::mitsuba(el),
         "radiancemeter" => perspective::projective(el, "radiancemeter"),
         "distant" => perspective::projective(el, "distant"),
+        "irradiancemeter" => Err(el
+            .err("an irradiancemeter measures the shape it is nested in: put it inside a <shape>")),
         _ => Err(plugin::unsupported(
             el,
             Family::Sensor,
