@@ -93,3 +93,109 @@ fn irradiancemeter_matches_mitsuba() {
         }
     }
 }
+
+/// `render --sensor I` of a scene with two cameras renders camera I exactly as the
+/// scene holding only that camera renders (the same seed, the same samples); parts of
+/// it merge, parts of different sensors refuse to; an index out of range says how many
+/// sensors there are.
+#[test]
+fn render_picks_a_sensor() {
+    let camera = |x: f32| {
+        format!(
+            r#"<sensor type="perspective"><float name="fov" value="40"/>
+                <transform name="to_world"><lookat origin="{x}, 1, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
+                <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="6"/></film>
+                <sampler type="independent"><integer name="sample_count" value="4"/></sampler></sensor>"#
+        )
+    };
+    let scene = |cameras: &[String]| {
+        format!(
+            r#"<scene version="3.0.0">
+            {}
+            <emitter type="constant"><rgb name="radiance" value="0.5"/></emitter>
+            <shape type="sphere"><bsdf type="diffuse"/></shape>
+            <shape type="rectangle"><transform name="to_world"><translate value="0, 0, -1"/><scale value="3"/></transform><bsdf type="diffuse"/></shape>
+        </scene>"#,
+            cameras.join("\n")
+        )
+    };
+    let dir = common::temp_dir("sensors_pick");
+    let both = dir.join("both.xml");
+    let second = dir.join("second.xml");
+    std::fs::write(&both, scene(&[camera(-1.0), camera(1.5)])).unwrap();
+    std::fs::write(&second, scene(&[camera(1.5)])).unwrap();
+    let out = |name: &str| dir.join(name).to_string_lossy().into_owned();
+    let run = |args: &[&str]| {
+        let (code, _, err) = common::wavetrace(args);
+        (code, err)
+    };
+    let (b, s) = (both.to_string_lossy(), second.to_string_lossy());
+    assert_eq!(
+        run(&["render", &b, "-q", "--sensor", "1", "-o", &out("b1.exr")]).0,
+        0
+    );
+    assert_eq!(run(&["render", &s, "-q", "-o", &out("s.exr")]).0, 0);
+    assert_eq!(run(&["render", &b, "-q", "-o", &out("b0.exr")]).0, 0);
+    let read = |name: &str| wavetrace::image::Image::read_exr(dir.join(name)).expect(name);
+    assert_eq!(
+        read("b1.exr").rgb,
+        read("s.exr").rgb,
+        "--sensor 1 renders the second camera"
+    );
+    assert_ne!(
+        read("b0.exr").rgb,
+        read("s.exr").rgb,
+        "by default the first camera"
+    );
+    // Parts of sensor 1 merge to its whole render; a part of sensor 0 does not join them.
+    for (range, name) in [("0..2", "p0.exr"), ("2..4", "p1.exr")] {
+        let args = [
+            "render",
+            &b,
+            "-q",
+            "--sensor",
+            "1",
+            "--samples",
+            range,
+            "-o",
+            &out(name),
+        ];
+        assert_eq!(run(&args).0, 0);
+    }
+    let args = [
+        "render",
+        &b,
+        "-q",
+        "--samples",
+        "2..4",
+        "-o",
+        &out("q1.exr"),
+    ];
+    assert_eq!(run(&args).0, 0);
+    assert_eq!(
+        run(&["merge", &out("p0.exr"), &out("p1.exr"), "-o", &out("m.exr")]).0,
+        0
+    );
+    let (m, whole) = (read("m.exr").rgb, read("b1.exr").rgb);
+    let worst = m
+        .iter()
+        .zip(&whole)
+        .map(|(a, b)| (a - b).abs() / b.abs().max(1e-3))
+        .fold(0.0f32, f32::max);
+    assert!(
+        worst < 1e-3,
+        "merged parts against the whole render: {worst}"
+    );
+    let (code, err) = run(&[
+        "merge",
+        &out("p0.exr"),
+        &out("q1.exr"),
+        "-o",
+        &out("bad.exr"),
+    ]);
+    assert_ne!(code, 0);
+    assert!(err.contains("sensors 1 and 0"), "{err}");
+    let (code, err) = run(&["render", &b, "-q", "--sensor", "2", "-o", &out("x.exr")]);
+    assert_ne!(code, 0);
+    assert!(err.contains("the scene has 2 sensors (0 to 1)"), "{err}");
+}

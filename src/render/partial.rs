@@ -172,6 +172,8 @@ pub struct RenderRecord {
     pub integrator_option: Option<String>,
     pub sampler_option: Option<String>,
     pub max_bounces: Option<u32>,
+    /// The command line's `--sensor` (`None`: the scene's first sensor).
+    pub sensor: Option<u32>,
     /// The integrator, sampler and film with all their parameters, as the renderer
     /// resolved them: what merges compare.
     pub integrator: String,
@@ -236,6 +238,7 @@ impl RenderRecord {
             "integrator_option": self.integrator_option,
             "sampler_option": self.sampler_option,
             "max_bounces": self.max_bounces,
+            "sensor": self.sensor,
             "integrator": self.integrator,
             "sampler": self.sampler,
             "film": self.film,
@@ -304,6 +307,11 @@ impl RenderRecord {
                 Value::Null => None,
                 x => Some(u32_of(x, "max_bounces")?),
             },
+            // (Absent from partials written before `--sensor`.)
+            sensor: match v.get("sensor") {
+                None | Some(Value::Null) => None,
+                Some(x) => Some(u32_of(x, "sensor")?),
+            },
             integrator: string("integrator")?,
             sampler: string("sampler")?,
             film: string("film")?,
@@ -371,6 +379,10 @@ impl RenderRecord {
         }
         if self.seed != other.seed {
             return d("seeds", &self.seed, &other.seed);
+        }
+        let (sa, sb) = (self.sensor.unwrap_or(0), other.sensor.unwrap_or(0));
+        if sa != sb {
+            return d("sensors", &sa, &sb);
         }
         if self.integrator != other.integrator {
             return d("integrators", &self.integrator, &other.integrator);
@@ -683,6 +695,7 @@ mod tests {
             integrator_option: None,
             sampler_option: Some("stratified".into()),
             max_bounces: None,
+            sensor: None,
             integrator: "PathMis".into(),
             sampler: "Sampler".into(),
             film: "Film".into(),

@@ -24,13 +24,11 @@ use super::emitter;
 use super::integrator;
 use super::plugin::{self, Family};
 use super::properties::Properties;
-use super::sampler::Sampler;
-use super::sensor;
+use super::sensor::{self, SceneSensor};
 use super::shape::{self, Geometry};
 use super::xml::{Dialect, Document, Element};
 use super::{
-    Bsdf, Camera, Emitter, Error, Film, Instance, IntegratorSpec, Medium, Quadric, Scene,
-    ShapeGroup, Texture,
+    Bsdf, Emitter, Error, Instance, IntegratorSpec, Medium, Quadric, Scene, ShapeGroup, Texture,
 };
 
 /// Loads a Mitsuba 3 scene read by [`super::xml::read`].
@@ -54,13 +52,13 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
     };
     // Every sensor in document order (Mitsuba's order of `scene.sensors()`): those at
     // the top level and those nested in shapes.
-    let mut sensors: Vec<(SensorChoice, &Element)> = Vec::new();
+    let mut sensors: Vec<SceneSensor> = Vec::new();
     let mut integrator: Option<IntegratorSpec> = None;
     for el in &root.children {
         match el.tag.as_str() {
             "sensor" => {
                 let parts = sensor::mitsuba(el)?;
-                sensors.push((l.sensor_choice(parts)?, el));
+                sensors.push(l.sensor_choice(parts)?);
             }
             "integrator" => {
                 if integrator.is_some() {
@@ -70,8 +68,8 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
             }
             "shape" => {
                 l.shape(el)?;
-                for (parts, el) in std::mem::take(&mut l.shape_sensors) {
-                    sensors.push((l.sensor_choice(parts)?, el));
+                for parts in std::mem::take(&mut l.shape_sensors) {
+                    sensors.push(l.sensor_choice(parts)?);
                 }
             }
             "bsdf" => {
@@ -92,19 +90,15 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
             _ => return Err(l.unexpected(el, "<scene>")),
         }
     }
-    if let Some((_, el)) = sensors.get(1) {
-        return Err(el.err("more than one <sensor>; wavetrace renders one"));
-    }
-    let SensorChoice {
+    let SceneSensor {
         camera,
         sampler,
         spp,
         film,
         medium: camera_medium,
     } = sensors
-        .into_iter()
-        .next()
-        .map(|(c, _)| c)
+        .first()
+        .cloned()
         .ok_or_else(|| root.err("the scene has no <sensor>"))?;
     let environments =
         l.b.emitters
@@ -142,6 +136,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         media: l.b.media,
         camera_medium,
         textures: l.b.textures,
+        sensors,
     };
     super::texture::mesh_attribute::check(&scene)?;
     Ok(scene)
@@ -164,16 +159,6 @@ fn collect_ids<'a>(el: &'a Element, ids: &mut HashMap<String, &'a Element>) -> R
         collect_ids(c, ids)?;
     }
     Ok(())
-}
-
-/// One sensor of the scene: its camera, sampler and sample count, film and the medium
-/// it sits in.
-struct SensorChoice {
-    camera: Camera,
-    sampler: Sampler,
-    spp: u32,
-    film: Film,
-    medium: Option<u32>,
 }
 
 /// What a `<shape>` nests besides its parameters.
@@ -207,8 +192,8 @@ struct Loader<'a> {
     groups: Vec<ShapeGroup>,
     group_ids: HashMap<String, u32>,
     instances: Vec<Instance>,
-    /// The sensors nested in shapes (irradiancemeters), with their elements.
-    shape_sensors: Vec<(sensor::SensorParts<'a>, &'a Element)>,
+    /// The sensors nested in shapes (irradiancemeters).
+    shape_sensors: Vec<sensor::SensorParts<'a>>,
 }
 
 impl<'a> Loader<'a> {
@@ -830,13 +815,13 @@ impl<'a> Loader<'a> {
     }
 
     /// A sensor's parts with its medium resolved.
-    fn sensor_choice(&mut self, parts: sensor::SensorParts<'a>) -> Result<SensorChoice, Error> {
+    fn sensor_choice(&mut self, parts: sensor::SensorParts<'a>) -> Result<SceneSensor, Error> {
         let (camera, (sampler, spp), film, medium) = parts;
         let medium = match medium {
             Some(m) => Some(self.medium_of(m)?),
             None => None,
         };
-        Ok(SensorChoice {
+        Ok(SceneSensor {
             camera,
             sampler,
             spp,
@@ -856,7 +841,7 @@ impl<'a> Loader<'a> {
             )));
         }
         let parts = sensor::irradiancemeter::mitsuba(el, shape)?;
-        self.shape_sensors.push((parts, el));
+        self.shape_sensors.push(parts);
         Ok(())
     }
 }

@@ -31,6 +31,18 @@ const fn not_yet(name: &'static str) -> PluginDoc {
     PluginDoc::not_yet(Family::Sensor, Dialect::Mitsuba, name)
 }
 
+/// One sensor of a scene, with what it nests: its camera, sampler and sample count,
+/// film, and the medium it sits in. A Mitsuba scene may hold several
+/// ([`crate::scene::Scene::sensors`]).
+#[derive(Debug, Clone)]
+pub struct SceneSensor {
+    pub camera: Camera,
+    pub sampler: Sampler,
+    pub spp: u32,
+    pub film: Film,
+    pub medium: Option<u32>,
+}
+
 /// Default `<film>` size.
 const FILM_WIDTH: u32 = 768;
 const FILM_HEIGHT: u32 = 576;
