@@ -143,6 +143,8 @@ pub const EMITTER_ENVMAP: u32 = 4;
 pub const EMITTER_DIRECTIONAL: u32 = 9;
 /// Mitsuba `projector`: a delta-position light through an image plane.
 pub const EMITTER_PROJECTOR: u32 = 10;
+/// Mitsuba's `directionalarea`: an area emitter emitting along its normal only.
+pub const EMITTER_DIRECTIONAL_AREA: u32 = 11;
 /// Bit of the emitter-kinds mask (specialization constant `SCENE_EMITTER_KINDS`, a bit per
 /// kind above) that stands for area emitters on spheres; `EMITTER_AREA`'s bit then
 /// means area emitters on meshes.
@@ -662,6 +664,7 @@ mod tests {
             ("CAMERA_DISTANT", CAMERA_DISTANT),
             ("CAMERA_IRRADIANCEMETER", CAMERA_IRRADIANCEMETER),
             ("EMITTER_PROJECTOR", EMITTER_PROJECTOR),
+            ("EMITTER_DIRECTIONAL_AREA", EMITTER_DIRECTIONAL_AREA),
             ("EMITTER_KIND_BIT_SPHERE_AREA", EMITTER_KIND_BIT_SPHERE_AREA),
             (
                 "EMITTER_KIND_BIT_QUADRIC_AREA",

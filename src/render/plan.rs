@@ -353,6 +353,22 @@ fn check(scene: &Scene, integrator: &Integrator) -> Result<()> {
                 .to_string(),
         );
     }
+    // SPPM lights its visible points by emitter sampling and keeps the photons for
+    // indirect light, so a light that emitter sampling never answers (Mitsuba's
+    // directionalarea) would light nothing directly.
+    if matches!(integrator, Integrator::Sppm(_))
+        && scene
+            .emitters
+            .iter()
+            .any(|e| matches!(e, crate::scene::Emitter::DirectionalArea { .. }))
+    {
+        return refuse(
+            "integrator 'sppm' lights what the camera sees directly by emitter sampling, \
+             which a directionalarea emitter never answers (as in Mitsuba); render the \
+             scene with ptracer or photonmapper"
+                .to_string(),
+        );
+    }
     if integrator.is_photon_mapper() && scene.emitters.is_empty() {
         return refuse(format!(
             "integrator '{}' needs an emitter to shoot photons from; the scene has none",

@@ -397,6 +397,15 @@ impl SceneRecords {
                     m | 1 << EMITTER_KIND_BIT_TEXTURE_SAMPLED
                 } else if e.kind == EMITTER_AREA && e.tri_count == 0 {
                     m // a quadric's: in quadric_emitter_kinds
+                } else if e.kind == crate::gpu::layout::EMITTER_DIRECTIONAL_AREA {
+                    // Its points are drawn as an area emitter's (a quadric's bit is in
+                    // quadric_emitter_kinds).
+                    let mesh = if e.tri_count > 0 {
+                        1 << EMITTER_AREA
+                    } else {
+                        0
+                    };
+                    m | 1 << e.kind | mesh
                 } else {
                     m | 1 << e.kind
                 }
@@ -536,6 +545,8 @@ impl SceneRecords {
                     EMITTER_POINT => 4.0 * pi * l,
                     EMITTER_SPOT => 2.0 * pi * (1.0 - (0.5 * e.cutoff).cos() as f64) * l,
                     EMITTER_AREA => pi * e.area as f64 * l,
+                    // All along the normal: radiance times area (Mitsuba's sample_ray).
+                    crate::gpu::layout::EMITTER_DIRECTIONAL_AREA => e.area as f64 * l,
                     // Through a disk of the bounding sphere's radius facing the light.
                     EMITTER_DIRECTIONAL => pi * radius * radius * l,
                     // π scale irradiance (in `radiance`) over the image rectangle at z = 1.

@@ -545,6 +545,11 @@ impl<'a> Loader<'a> {
             self.area(el)?;
             return Ok(());
         }
+        if t == "directionalarea" {
+            return Err(el.err(
+                "a directionalarea emitter must be nested in a <shape> (it emits along the shape's normal)",
+            ));
+        }
         let (mut props, nested) = Properties::read(el, Dialect::Mitsuba, true)?;
         if plugin::find(emitter::REGISTRY, Family::Emitter, Dialect::Mitsuba, t).is_none() {
             return Err(emitter::unsupported(el, Dialect::Mitsuba));
@@ -640,6 +645,16 @@ impl<'a> Loader<'a> {
     ) -> Result<(Emitter, f32), Error> {
         target.check_attrs(&["type", "id", "name"])?;
         let et = target.require("type")?;
+        if et == "directionalarea" {
+            let (props, nested) = Properties::read(target, Dialect::Mitsuba, false)?;
+            if let Some(x) = nested.first() {
+                return Err(x.err(format!(
+                    "unexpected <{}> in a directionalarea emitter",
+                    x.tag
+                )));
+            }
+            return emitter::directionalarea::mitsuba(&props);
+        }
         if et != "area" {
             return Err(if via_ref || emitter::is_known(Dialect::Mitsuba, et) {
                 n.err(format!(
