@@ -113,6 +113,8 @@ vec3 emitter_projector_light(EmitterRecord e, vec3 x, vec3 wi) {
 // emitter's radiance is its texture at uv times e.radiance (the scale).
 vec3 emitter_area_radiance(EmitterRecord e, vec3 ng, vec3 d, vec2 uv) {
     if (dot(ng, d) >= 0.0) return vec3(0.0);
+    // A directional area light is never seen (Mitsuba's directionalarea eval is 0).
+    if (EMITTER_HAS(EMITTER_DIRECTIONAL_AREA) && e.kind == EMITTER_DIRECTIONAL_AREA) return vec3(0.0);
     if (TEXTURE_USES(TEXTURE_FEATURE_AREA) && e.texture != 0u) {
         return e.radiance * texture_eval(e.texture, uv);
     }
@@ -123,6 +125,7 @@ vec3 emitter_area_radiance(EmitterRecord e, vec3 ng, vec3 d, vec2 uv) {
 // point: texel (bsdf_textured_point).
 vec3 emitter_area_radiance_texel(EmitterRecord e, vec3 ng, vec3 d, vec3 texel) {
     if (dot(ng, d) >= 0.0) return vec3(0.0);
+    if (EMITTER_HAS(EMITTER_DIRECTIONAL_AREA) && e.kind == EMITTER_DIRECTIONAL_AREA) return vec3(0.0);
     if (TEXTURE_USES(TEXTURE_FEATURE_AREA) && e.texture != 0u) return e.radiance * texel;
     return e.radiance;
 }
@@ -252,6 +255,9 @@ EmitterSample emitter_sample_env(vec3 x, vec2 u, bool env, vec3 d) {
         if (EMITTER_HAS(EMITTER_SPOT) && e.kind == EMITTER_SPOT) s.Le = emitter_spot_intensity(e, -s.wi) / d2;
         s.pdf = pmf;
         s.delta = true;
+    } else if (EMITTER_HAS(EMITTER_DIRECTIONAL_AREA) && e.kind == EMITTER_DIRECTIONAL_AREA) {
+        // Nothing: a shading point is not on its normal's line but by chance (Mitsuba's
+        // directionalarea sample_direction returns zero).
     } else if (EMITTER_HAS(EMITTER_DIRECTIONAL) && e.kind == EMITTER_DIRECTIONAL) {
         // Irradiance from infinity against the light's direction (Mitsuba's
         // directional sample_direction).

@@ -37,7 +37,6 @@ SPEC(SCENE_SAMPLER_KIND);
 #define SAMPLER_KIND SCENE_SAMPLER_KIND
 #include "film/film.glsl"
 #include "sensor/camera.glsl"
-#include "integrator/camera_path.glsl"
 
 // path.glsl leaves a vertex's results in this thread (its sink; the wavefront's is
 // path_queues.glsl): the path's state, and its shadow ray and next ray if the vertex
@@ -82,6 +81,10 @@ SPEC(SCENE_EMITTER_KINDS);
 #define EMITTER_KINDS SCENE_EMITTER_KINDS
 #define EMITTER_STRATA (SCENE_SAMPLER_KIND != SAMPLER_INDEPENDENT)
 #include "emitter/emitter.glsl"
+// An irradiancemeter draws its rays' origins on its shape (emitter.glsl).
+SPEC(SCENE_SENSOR_SHAPE);
+#define SENSOR_ON_SHAPE SCENE_SENSOR_SHAPE
+#include "integrator/camera_path.glsl"
 SPEC(SCENE_BSDF_KINDS);
 #define BSDF_KINDS SCENE_BSDF_KINDS
 #include "bsdf/bsdf.glsl"

@@ -10,6 +10,22 @@ SPEC(SCENE_SAMPLER_KIND);
 #define SAMPLER_KIND SCENE_SAMPLER_KIND
 #include "film/film.glsl"
 #include "sensor/camera.glsl"
+// An irradiancemeter draws its rays' origins on its shape (SCENE_SENSOR_SHAPE; false
+// compiles the scene's bindings and emitter.glsl's code away again).
+#include "scene/scene_bindings.glsl"
+SPEC(SCENE_INSTANCES);
+SPEC(SCENE_INSTANCE_SLOTS);
+#define BVH_INSTANCES SCENE_INSTANCES
+#define BVH_INSTANCE_SLOTS SCENE_INSTANCE_SLOTS
+SPEC(SCENE_SURFACE_FEATURES);
+#define SURFACE_FEATURES SCENE_SURFACE_FEATURES
+SPEC(SCENE_TEXTURES);
+#define TEXTURE_KINDS SCENE_TEXTURES
+SPEC(SCENE_EMITTER_KINDS);
+#define EMITTER_KINDS SCENE_EMITTER_KINDS
+#include "emitter/emitter.glsl"
+SPEC(SCENE_SENSOR_SHAPE);
+#define SENSOR_ON_SHAPE SCENE_SENSOR_SHAPE
 #include "integrator/camera_path.glsl"
 
 void main() {

@@ -100,6 +100,13 @@ PhotonEmission photon_emit_sample(bool uniform_choice, vec4 u0, vec4 u1) {
         em.origin = photon_params.scene_center + R * d + disk.x * s + disk.y * t;
         em.dir = -d;
         em.power = emitter_env_radiance(e, d) * (PI * R * R / (pdf_dir * pmf));
+    } else if (EMITTER_HAS(EMITTER_DIRECTIONAL_AREA) && e.kind == EMITTER_DIRECTIONAL_AREA) {
+        // A uniform point of the shape (density 1/A), along the normal there: power
+        // radiance A / P(emitter) (Mitsuba's directionalarea sample_ray).
+        Surface ls = emitter_area_point(e, u0.yz);
+        em.dir = ls.ng;
+        em.origin = surface_spawn_origin(ls, ls.ng);
+        em.power = e.radiance * (e.area / pmf);
     } else if (EMITTER_HAS_ANY(EMITTER_AREA_BITS) && e.kind == EMITTER_AREA) {
         // A point uniform over the shape (density 1/A; emitter_area_point) and a
         // cosine-weighted direction around its normal (density cos θ / π):

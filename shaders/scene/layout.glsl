@@ -48,6 +48,7 @@
 #define CAMERA_THINLENS 2u
 #define CAMERA_RADIANCEMETER 3u
 #define CAMERA_DISTANT 4u
+#define CAMERA_IRRADIANCEMETER 5u
 
 // EmitterRecord.kind
 #define EMITTER_POINT 0u
@@ -59,6 +60,7 @@
 // above the mask bits 5-8 below.
 #define EMITTER_DIRECTIONAL 9u
 #define EMITTER_PROJECTOR 10u
+#define EMITTER_DIRECTIONAL_AREA 11u
 // Bit of the emitter-kinds mask (EMITTER_KINDS, emitter.glsl) for area emitters on
 // spheres; EMITTER_AREA's bit stands for area emitters on meshes.
 #define EMITTER_KIND_BIT_SPHERE_AREA 5u

@@ -50,6 +50,11 @@ pub struct RenderArgs {
     /// seed and options come from the partial; default output: the partial).
     #[arg(long, value_name = "PARTIAL.exr", conflicts_with_all = ["spp", "samples", "part"])]
     pub resume: Option<PathBuf>,
+    /// Render sensor I of a scene with several (0: the first, the default; in the
+    /// order of the file, sensors nested in shapes included, as Mitsuba's
+    /// `mi.render(scene, sensor=I)` counts them).
+    #[arg(long, value_name = "I")]
+    pub sensor: Option<u32>,
     /// Write the partial EXR of the samples done so far every SECONDS (at the
     /// next sample boundary; atomically: a crash leaves the previous one).
     #[arg(long, value_name = "SECONDS")]
@@ -117,13 +122,21 @@ struct Plan {
     target: SampleRanges,
     /// A resumed partial.
     resumed: Option<(PathBuf, Partial)>,
+    /// `--sensor` (or the resumed partial's).
+    sensor: Option<u32>,
 }
 
 fn plan(args: &mut RenderArgs) -> Result<Plan> {
     let Some(resume) = args.resume.clone() else {
         let scene_path = args.scene.clone().context("no scene file given")?;
         let defines = parse_defines(&args.define)?;
-        let scene = scene::load(&scene_path, &defines)?;
+        let mut scene = scene::load(&scene_path, &defines)?;
+        if let Some(i) = args.sensor {
+            scene
+                .select_sensor(i as usize)
+                .map_err(anyhow::Error::msg)
+                .context("--sensor")?;
+        }
         let spp = args.spp.unwrap_or(scene.spp);
         let samples = args
             .samples
@@ -143,6 +156,7 @@ fn plan(args: &mut RenderArgs) -> Result<Plan> {
             part,
             target,
             resumed: None,
+            sensor: args.sensor,
         });
     };
     let r = &args.run;
@@ -154,6 +168,7 @@ fn plan(args: &mut RenderArgs) -> Result<Plan> {
         (r.sampler.is_some(), "--sampler"),
         (r.max_bounces.is_some(), "--max-bounces"),
         (r.aov.is_some(), "--aov"),
+        (args.sensor.is_some(), "--sensor"),
     ]
     .into_iter()
     .filter_map(|(given, name)| given.then_some(name))
@@ -185,7 +200,13 @@ fn plan(args: &mut RenderArgs) -> Result<Plan> {
             rec.scene_sha256
         );
     }
-    let scene = scene::load(&rec.scene, &rec.defines)?;
+    let mut scene = scene::load(&rec.scene, &rec.defines)?;
+    if let Some(i) = rec.sensor {
+        scene
+            .select_sensor(i as usize)
+            .map_err(anyhow::Error::msg)?;
+    }
+    args.sensor = rec.sensor;
     args.run.seed = Some(rec.seed);
     args.run.integrator = rec.integrator_option.clone();
     args.run.sampler = rec.sampler_option.clone();
@@ -207,6 +228,7 @@ fn plan(args: &mut RenderArgs) -> Result<Plan> {
         samples: None,
         part: None,
         target: rec.target.clone(),
+        sensor: rec.sensor,
         resumed: Some((resume, p)),
     })
 }
@@ -659,6 +681,7 @@ fn render_record(
         sampler_option,
         max_bounces,
         aov_option,
+        sensor: plan.sensor,
         integrator: format!("{:?}", what.integrator),
         sampler: format!("{:?}", what.sampler),
         film: film_dbg,

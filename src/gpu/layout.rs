@@ -146,6 +146,7 @@ pub const CAMERA_ORTHOGRAPHIC: u32 = 1;
 pub const CAMERA_THINLENS: u32 = 2;
 pub const CAMERA_RADIANCEMETER: u32 = 3;
 pub const CAMERA_DISTANT: u32 = 4;
+pub const CAMERA_IRRADIANCEMETER: u32 = 5;
 
 /// Emitter kinds in [`EmitterRecord::kind`].
 pub const EMITTER_POINT: u32 = 0;
@@ -159,6 +160,8 @@ pub const EMITTER_ENVMAP: u32 = 4;
 pub const EMITTER_DIRECTIONAL: u32 = 9;
 /// Mitsuba `projector`: a delta-position light through an image plane.
 pub const EMITTER_PROJECTOR: u32 = 10;
+/// Mitsuba's `directionalarea`: an area emitter emitting along its normal only.
+pub const EMITTER_DIRECTIONAL_AREA: u32 = 11;
 /// Bit of the emitter-kinds mask (specialization constant `SCENE_EMITTER_KINDS`, a bit per
 /// kind above) that stands for area emitters on spheres; `EMITTER_AREA`'s bit then
 /// means area emitters on meshes.
@@ -676,7 +679,9 @@ mod tests {
             ("CAMERA_THINLENS", CAMERA_THINLENS),
             ("CAMERA_RADIANCEMETER", CAMERA_RADIANCEMETER),
             ("CAMERA_DISTANT", CAMERA_DISTANT),
+            ("CAMERA_IRRADIANCEMETER", CAMERA_IRRADIANCEMETER),
             ("EMITTER_PROJECTOR", EMITTER_PROJECTOR),
+            ("EMITTER_DIRECTIONAL_AREA", EMITTER_DIRECTIONAL_AREA),
             ("EMITTER_KIND_BIT_SPHERE_AREA", EMITTER_KIND_BIT_SPHERE_AREA),
             (
                 "EMITTER_KIND_BIT_QUADRIC_AREA",

@@ -41,12 +41,13 @@ pub enum Spec {
     SppmAlpha = 28,
     ScanStage = 29,
     Instances = 44,
+    InstanceSlots = 45,
+    SensorShape = 56,
     /// The AOVs of `aov.comp` (scene::integrator::aov): kinds 1-8, then 9-16.
     FilmAovsLo = 90,
     FilmAovsHi = 91,
     FilmMoment = 92,
     FilmAovSamples = 93,
-    InstanceSlots = 45,
     /// How the scene's arrays are split over bindings (`render::scene_parts`), set by
     /// the binding layout for every kernel that reads the scene: 64, then 65 + the
     /// array's binding for the arrays that may be split.
@@ -199,6 +200,9 @@ pub const SPEC_CONSTANTS: &[SpecConst] = &[
        compiles away."),
     c(Spec::InstanceSlots, "SCENE_INSTANCE_SLOTS", Uint, "0u",
       "The first record after the primitives: the instances' translations (instance.glsl)."),
+    c(Spec::SensorShape, "SCENE_SENSOR_SHAPE", Bool, "false",
+      "The sensor samples a shape (an irradiancemeter: sensor/irradiancemeter.glsl); \
+       without one its code compiles away."),
     c(Spec::ScenePartShift, "SCENE_PART_SHIFT", Uint, "27u",
       "log2 of the texels of one part of a split scene array (scene_bindings.glsl)."),
     c(Spec::BvhNodeParts, "BVH_NODE_PARTS", Uint, "1u", "Parts of the BVH nodes."),

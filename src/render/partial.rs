@@ -174,6 +174,8 @@ pub struct RenderRecord {
     pub max_bounces: Option<u32>,
     /// The command line's `--aov`, as `name:type` entries (`None`: none).
     pub aov_option: Option<String>,
+    /// The command line's `--sensor` (`None`: the scene's first sensor).
+    pub sensor: Option<u32>,
     /// The integrator, sampler and film with all their parameters, as the renderer
     /// resolved them: what merges compare.
     pub integrator: String,
@@ -239,6 +241,7 @@ impl RenderRecord {
             "sampler_option": self.sampler_option,
             "max_bounces": self.max_bounces,
             "aov_option": self.aov_option,
+            "sensor": self.sensor,
             "integrator": self.integrator,
             "sampler": self.sampler,
             "film": self.film,
@@ -312,6 +315,11 @@ impl RenderRecord {
                 .get("aov_option")
                 .and_then(Value::as_str)
                 .map(str::to_string),
+            // (Absent from partials written before `--sensor`.)
+            sensor: match v.get("sensor") {
+                None | Some(Value::Null) => None,
+                Some(x) => Some(u32_of(x, "sensor")?),
+            },
             integrator: string("integrator")?,
             sampler: string("sampler")?,
             film: string("film")?,
@@ -379,6 +387,10 @@ impl RenderRecord {
         }
         if self.seed != other.seed {
             return d("seeds", &self.seed, &other.seed);
+        }
+        let (sa, sb) = (self.sensor.unwrap_or(0), other.sensor.unwrap_or(0));
+        if sa != sb {
+            return d("sensors", &sa, &sb);
         }
         if self.integrator != other.integrator {
             return d("integrators", &self.integrator, &other.integrator);
@@ -692,6 +704,7 @@ mod tests {
             sampler_option: Some("stratified".into()),
             max_bounces: None,
             aov_option: None,
+            sensor: None,
             integrator: "PathMis".into(),
             sampler: "Sampler".into(),
             film: "Film".into(),

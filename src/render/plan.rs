@@ -417,6 +417,22 @@ fn check(scene: &Scene, integrator: &Integrator) -> Result<()> {
                 .to_string(),
         );
     }
+    // SPPM lights its visible points by emitter sampling and keeps the photons for
+    // indirect light, so a light that emitter sampling never answers (Mitsuba's
+    // directionalarea) would light nothing directly.
+    if matches!(integrator, Integrator::Sppm(_))
+        && scene
+            .emitters
+            .iter()
+            .any(|e| matches!(e, crate::scene::Emitter::DirectionalArea { .. }))
+    {
+        return refuse(
+            "integrator 'sppm' lights what the camera sees directly by emitter sampling, \
+             which a directionalarea emitter never answers (as in Mitsuba); render the \
+             scene with ptracer or photonmapper"
+                .to_string(),
+        );
+    }
     if integrator.is_photon_mapper() && scene.emitters.is_empty() {
         return refuse(format!(
             "integrator '{}' needs an emitter to shoot photons from; the scene has none",
@@ -723,6 +739,8 @@ struct Constants {
     instances: [u32; 2],
     /// Whether bounce 0 ends the paths.
     ends_at_0: u32,
+    /// Whether the sensor samples a shape (an irradiancemeter).
+    sensor_shape: u32,
 }
 
 impl Constants {
@@ -752,6 +770,7 @@ impl Constants {
             flat_kinds,
             instances: facts.instances,
             ends_at_0: integrator.ends_paths_at(0) as u32,
+            sensor_shape: records.sensor_shape.is_some() as u32,
         }
     }
 
@@ -871,7 +890,8 @@ fn kernels(
         let spec = c
             .shade(s, second_ends, false)
             .with(Spec::FirstEnds, c.ends_at_0)
-            .with(Spec::SecondEnds, second_ends as u32);
+            .with(Spec::SecondEnds, second_ends as u32)
+            .with(Spec::SensorShape, c.sensor_shape);
         add(Stage::FirstBounce, spec);
     }
     let shade_with = |mode: u32| c.shade(s, false, false).with(Spec::Deferral, mode);
@@ -898,7 +918,14 @@ fn kernels(
     }
     let sampler = SpecValues::new().with(Spec::SamplerKind, c.sampler);
     if !s.fused {
-        add(Stage::Generate, sampler.clone());
+        // An irradiancemeter's generate reads the scene (its shape's points; without
+        // one, that code compiles away).
+        let generate = c
+            .scene(s)
+            .with(Spec::SamplerKind, c.sampler)
+            .with(Spec::EmitterKinds, c.emitter_kinds)
+            .with(Spec::SensorShape, c.sensor_shape);
+        add(Stage::Generate, generate);
     }
     add(Stage::FilmGather, gather);
     if !reads_paths {

@@ -71,6 +71,11 @@ pub struct SceneRecords {
     /// `1 << EMITTER_KIND_BIT_SPHERE_AREA` and `1 << EMITTER_KIND_BIT_QUADRIC_AREA`
     /// for the area emitters on quadrics.
     quadric_emitter_kinds: u32,
+    /// The shape an irradiancemeter samples (`scene::Projection::IrradianceMeter`),
+    /// as an area emitter's record without radiance: uploaded after the emitters, at
+    /// index `Frame::emitter_count` (shaders/sensor/camera.glsl); its triangle table
+    /// follows the photon table in `alias`.
+    pub sensor_shape: Option<EmitterRecord>,
 }
 
 /// `SHAPE_*` medium flags and packed media of a shape.
@@ -159,6 +164,7 @@ impl SceneRecords {
             r.media.push(rec);
         }
         r.build_alias_tables(scene, bvh, &remap);
+        r.push_sensor_shape(scene, bvh);
         // A composite's nodes and nested models follow the scene's BSDFs.
         r.bsdfs = crate::scene::bsdf::composite::records(&scene.bsdfs);
         crate::scene::bsdf::measured::place_tables(&scene.bsdfs, &mut r.bsdfs, &mut r.texels);
@@ -396,17 +402,27 @@ impl SceneRecords {
     /// `EMITTER_KIND_BIT_TEXTURE_SPHERE` where one is a sphere): `shade` compiles the
     /// others out.
     pub fn emitter_kinds(&self) -> u32 {
-        self.emitters
-            .iter()
-            .fold(self.quadric_emitter_kinds, |m, e| {
+        self.emitters.iter().fold(
+            self.quadric_emitter_kinds | self.sensor_shape_kinds(),
+            |m, e| {
                 if e.kind == EMITTER_AREA && e.dist_width != 0 {
                     m | 1 << EMITTER_KIND_BIT_TEXTURE_SAMPLED
                 } else if e.kind == EMITTER_AREA && e.tri_count == 0 {
                     m // a quadric's: in quadric_emitter_kinds
+                } else if e.kind == crate::gpu::layout::EMITTER_DIRECTIONAL_AREA {
+                    // Its points are drawn as an area emitter's (a quadric's bit is in
+                    // quadric_emitter_kinds).
+                    let mesh = if e.tri_count > 0 {
+                        1 << EMITTER_AREA
+                    } else {
+                        0
+                    };
+                    m | 1 << e.kind | mesh
                 } else {
                     m | 1 << e.kind
                 }
-            })
+            },
+        )
     }
 
     /// The texture mask of `shade` and `shadow` (specialization constant
@@ -541,6 +557,8 @@ impl SceneRecords {
                     EMITTER_POINT => 4.0 * pi * l,
                     EMITTER_SPOT => 2.0 * pi * (1.0 - (0.5 * e.cutoff).cos() as f64) * l,
                     EMITTER_AREA => pi * e.area as f64 * l,
+                    // All along the normal: radiance times area (Mitsuba's sample_ray).
+                    crate::gpu::layout::EMITTER_DIRECTIONAL_AREA => e.area as f64 * l,
                     // Through a disk of the bounding sphere's radius facing the light.
                     EMITTER_DIRECTIONAL => pi * radius * radius * l,
                     // π scale irradiance (in `radiance`) over the image rectangle at z = 1.
@@ -567,6 +585,83 @@ impl SceneRecords {
         self.alias.extend(tables);
         self.photon_alias = self.alias.len() as u32;
         self.alias.extend(super::alias::build(&power, &[]));
+    }
+}
+
+impl SceneRecords {
+    /// The record of the shape an irradiancemeter samples (`sensor_shape`), packed as
+    /// an area emitter on it is (emitter.glsl's `emitter_area_point` draws its points).
+    fn push_sensor_shape(&mut self, scene: &Scene, bvh: &Bvh) {
+        use crate::scene::camera::SensorShape;
+        let crate::scene::Projection::IrradianceMeter { shape } = scene.camera.projection else {
+            return;
+        };
+        let mut rec = EmitterRecord {
+            kind: EMITTER_AREA,
+            prim: NONE,
+            ..EmitterRecord::default()
+        };
+        match shape {
+            SensorShape::Mesh(m) => {
+                let first: usize = scene.meshes[..m as usize]
+                    .iter()
+                    .map(|mesh| mesh.indices.len())
+                    .sum();
+                let mesh = &scene.meshes[m as usize];
+                let mut slot = vec![NONE; mesh.indices.len()];
+                for (i, p) in bvh.prims.iter().enumerate() {
+                    let k = (p.index as usize).wrapping_sub(first);
+                    if p.kind == PRIM_TRIANGLE && k < slot.len() {
+                        slot[k] = i as u32;
+                    }
+                }
+                let areas: Vec<f64> = mesh.triangle_areas().map(f64::from).collect();
+                rec.shape = m;
+                rec.area = areas.iter().sum::<f64>() as f32;
+                rec.tri_first = self.alias.len() as u32;
+                rec.tri_count = areas.len() as u32;
+                self.alias.extend(super::alias::build(&areas, &slot));
+            }
+            SensorShape::Quadric(k) => {
+                let q = &scene.quadrics[k as usize];
+                rec.shape = (scene.meshes.len() + k as usize) as u32;
+                rec.prim = bvh
+                    .prims
+                    .iter()
+                    .position(|p| {
+                        p.kind != PRIM_TRIANGLE
+                            && p.kind < crate::gpu::layout::PRIM_INSTANCE
+                            && p.index == k
+                    })
+                    .map_or(NONE, |i| i as u32);
+                rec.prim_kind = crate::accel::quadric_prim(q, 0, 0).kind;
+                rec.position = q.origin().into();
+                rec.radius = q.radius();
+                rec.area = q.area();
+            }
+        }
+        self.sensor_shape = Some(rec);
+    }
+
+    /// The emitter records as uploaded: the emitters, then the sensor's shape.
+    pub fn emitter_array(&self) -> Vec<EmitterRecord> {
+        self.emitters
+            .iter()
+            .chain(&self.sensor_shape)
+            .copied()
+            .collect()
+    }
+
+    /// The emitter-kind bit of the sensor's shape (emitter.glsl compiles the sampling
+    /// of the shapes no emitter and no sensor has away).
+    fn sensor_shape_kinds(&self) -> u32 {
+        use crate::gpu::layout::PRIM_SPHERE;
+        match self.sensor_shape {
+            None => 0,
+            Some(r) if r.tri_count > 0 => 1 << EMITTER_AREA,
+            Some(r) if r.prim_kind == PRIM_SPHERE => 1 << EMITTER_KIND_BIT_SPHERE_AREA,
+            Some(_) => 1 << EMITTER_KIND_BIT_QUADRIC_AREA,
+        }
     }
 }
 

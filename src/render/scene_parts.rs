@@ -299,7 +299,7 @@ fn arrays<'a>(
         triangles,
         vertices,
         Box::new(r.bsdfs.as_slice()),
-        Box::new(r.emitters.as_slice()),
+        Box::new(r.emitter_array()),
         Box::new(r.alias.as_slice()),
         Box::new(r.textures.as_slice()),
         texels,

@@ -52,6 +52,19 @@ pub enum Projection {
     /// aimed at `target` (render::plan sets the frame's camera_to_world from the
     /// scene's bounds).
     Distant { target: Option<glam::Vec3> },
+    /// The irradiance over a shape, Mitsuba `irradiancemeter` (nested in the shape):
+    /// rays from a uniform point of the shape's surface (drawn by the film position,
+    /// as Mitsuba's sample_position) in a cosine-weighted direction about its normal,
+    /// each weighted by π (`to_world` unused).
+    IrradianceMeter { shape: SensorShape },
+}
+
+/// The shape an `irradiancemeter` sits on: a mesh or a quadric, by its index in
+/// `Scene::meshes` or `Scene::quadrics`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SensorShape {
+    Mesh(u32),
+    Quadric(u32),
 }
 
 impl Projection {
@@ -92,14 +105,15 @@ impl Projection {
     /// `CAMERA_*` of `Frame::camera_kind`, aperture radius and focus distance.
     pub fn frame_fields(&self) -> (u32, f32, f32) {
         use crate::gpu::layout::{
-            CAMERA_DISTANT, CAMERA_ORTHOGRAPHIC, CAMERA_PERSPECTIVE, CAMERA_RADIANCEMETER,
-            CAMERA_THINLENS,
+            CAMERA_DISTANT, CAMERA_IRRADIANCEMETER, CAMERA_ORTHOGRAPHIC, CAMERA_PERSPECTIVE,
+            CAMERA_RADIANCEMETER, CAMERA_THINLENS,
         };
         match *self {
             Projection::Perspective => (CAMERA_PERSPECTIVE, 0.0, 0.0),
             Projection::Orthographic => (CAMERA_ORTHOGRAPHIC, 0.0, 0.0),
             Projection::RadianceMeter => (CAMERA_RADIANCEMETER, 0.0, 0.0),
             Projection::Distant { .. } => (CAMERA_DISTANT, 0.0, 0.0),
+            Projection::IrradianceMeter { .. } => (CAMERA_IRRADIANCEMETER, 0.0, 0.0),
             Projection::ThinLens {
                 aperture_radius,
                 focus_distance,

@@ -19,17 +19,16 @@ use glam::Vec3;
 
 use super::bsdf;
 use super::builder::{Builder, MeshOptions};
+use super::camera::SensorShape;
 use super::emitter;
 use super::integrator;
 use super::plugin::{self, Family};
 use super::properties::Properties;
-use super::sampler::Sampler;
-use super::sensor;
+use super::sensor::{self, SceneSensor};
 use super::shape::{self, Geometry};
 use super::xml::{Dialect, Document, Element};
 use super::{
-    Bsdf, Camera, Emitter, Error, Film, Instance, IntegratorSpec, Medium, Quadric, Scene,
-    ShapeGroup, Texture,
+    Bsdf, Emitter, Error, Instance, IntegratorSpec, Medium, Quadric, Scene, ShapeGroup, Texture,
 };
 
 /// Loads a Mitsuba 3 scene read by [`super::xml::read`].
@@ -49,21 +48,17 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         groups: Vec::new(),
         group_ids: HashMap::new(),
         instances: Vec::new(),
+        shape_sensors: Vec::new(),
     };
-    let mut camera: Option<(Camera, (Sampler, u32), Film)> = None;
-    let mut camera_medium = None;
+    // Every sensor in document order (Mitsuba's order of `scene.sensors()`): those at
+    // the top level and those nested in shapes.
+    let mut sensors: Vec<SceneSensor> = Vec::new();
     let mut integrator: Option<IntegratorSpec> = None;
     for el in &root.children {
         match el.tag.as_str() {
             "sensor" => {
-                if camera.is_some() {
-                    return Err(el.err("more than one <sensor>; wavetrace renders one"));
-                }
-                let (cam, spp, film, medium) = sensor::mitsuba(el)?;
-                camera = Some((cam, spp, film));
-                if let Some(m) = medium {
-                    camera_medium = Some(l.medium_of(m)?);
-                }
+                let parts = sensor::mitsuba(el)?;
+                sensors.push(l.sensor_choice(parts)?);
             }
             "integrator" => {
                 if integrator.is_some() {
@@ -71,7 +66,12 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
                 }
                 integrator = Some(integrator::spec(el, Dialect::Mitsuba)?);
             }
-            "shape" => l.shape(el)?,
+            "shape" => {
+                l.shape(el)?;
+                for parts in std::mem::take(&mut l.shape_sensors) {
+                    sensors.push(l.sensor_choice(parts)?);
+                }
+            }
             "bsdf" => {
                 l.bsdf(el)?;
             }
@@ -90,8 +90,16 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
             _ => return Err(l.unexpected(el, "<scene>")),
         }
     }
-    let (camera, (sampler, spp), film) =
-        camera.ok_or_else(|| root.err("the scene has no <sensor>"))?;
+    let SceneSensor {
+        camera,
+        sampler,
+        spp,
+        film,
+        medium: camera_medium,
+    } = sensors
+        .first()
+        .cloned()
+        .ok_or_else(|| root.err("the scene has no <sensor>"))?;
     let environments =
         l.b.emitters
             .iter()
@@ -129,6 +137,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         media: l.b.media,
         camera_medium,
         textures: l.b.textures,
+        sensors,
     };
     super::texture::mesh_attribute::check(&scene)?;
     Ok(scene)
@@ -155,8 +164,10 @@ fn collect_ids<'a>(el: &'a Element, ids: &mut HashMap<String, &'a Element>) -> R
 
 /// What a `<shape>` nests besides its parameters.
 #[derive(Default)]
-struct ShapeParts {
+struct ShapeParts<'a> {
     bsdf: Option<u32>,
+    /// A nested `<sensor>` (an irradiancemeter), read once the shape is placed.
+    sensor: Option<&'a Element>,
     radiance: Option<(Emitter, f32)>,
     interior: Option<u32>,
     exterior: Option<u32>,
@@ -182,6 +193,8 @@ struct Loader<'a> {
     groups: Vec<ShapeGroup>,
     group_ids: HashMap<String, u32>,
     instances: Vec<Instance>,
+    /// The sensors nested in shapes (irradiancemeters).
+    shape_sensors: Vec<sensor::SensorParts<'a>>,
 }
 
 impl<'a> Loader<'a> {
@@ -533,6 +546,11 @@ impl<'a> Loader<'a> {
             self.area(el)?;
             return Ok(());
         }
+        if t == "directionalarea" {
+            return Err(el.err(
+                "a directionalarea emitter must be nested in a <shape> (it emits along the shape's normal)",
+            ));
+        }
         let (mut props, nested) = Properties::read(el, Dialect::Mitsuba, true)?;
         if plugin::find(emitter::REGISTRY, Family::Emitter, Dialect::Mitsuba, t).is_none() {
             return Err(emitter::unsupported(el, Dialect::Mitsuba));
@@ -559,7 +577,7 @@ impl<'a> Loader<'a> {
     }
 
     /// The BSDF, area emitter and media nested in (or referenced by) a `<shape>`.
-    fn shape_parts(&mut self, nested: Vec<&'a Element>) -> Result<ShapeParts, Error> {
+    fn shape_parts(&mut self, nested: Vec<&'a Element>) -> Result<ShapeParts<'a>, Error> {
         let mut p = ShapeParts::default();
         for n in nested {
             let (target, via_ref) = if n.tag == "ref" {
@@ -589,6 +607,12 @@ impl<'a> Loader<'a> {
                         return Err(n.err("a shape can carry only one emitter"));
                     }
                     p.radiance = Some(self.shape_emitter(n, target, via_ref)?);
+                }
+                "sensor" if n.tag == "sensor" => {
+                    if p.sensor.is_some() {
+                        return Err(n.err("a shape can carry only one sensor"));
+                    }
+                    p.sensor = Some(n);
                 }
                 "medium" => {
                     let slot = match n.attr("name") {
@@ -622,6 +646,16 @@ impl<'a> Loader<'a> {
     ) -> Result<(Emitter, f32), Error> {
         target.check_attrs(&["type", "id", "name"])?;
         let et = target.require("type")?;
+        if et == "directionalarea" {
+            let (props, nested) = Properties::read(target, Dialect::Mitsuba, false)?;
+            if let Some(x) = nested.first() {
+                return Err(x.err(format!(
+                    "unexpected <{}> in a directionalarea emitter",
+                    x.tag
+                )));
+            }
+            return emitter::directionalarea::mitsuba(&props);
+        }
         if et != "area" {
             return Err(if via_ref || emitter::is_known(Dialect::Mitsuba, et) {
                 n.err(format!(
@@ -671,6 +705,9 @@ impl<'a> Loader<'a> {
                 || self.b.quadrics[q0..].iter().any(|q| q.emitter.is_some());
             if emitters {
                 return Err(c.err("a shape in a shapegroup carries an emitter: instancing of emitters is not supported (as in Mitsuba)"));
+            }
+            if !self.shape_sensors.is_empty() {
+                return Err(c.err("a shape in a shapegroup carries a sensor: an irradiancemeter measures a shape placed once"));
             }
             group.meshes.extend(m0 as u32..self.b.meshes.len() as u32);
             group
@@ -737,6 +774,7 @@ impl<'a> Loader<'a> {
         let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
         let ShapeParts {
             bsdf,
+            sensor,
             radiance,
             interior,
             exterior,
@@ -755,7 +793,7 @@ impl<'a> Loader<'a> {
             Geometry::Quadric(kind, to_world) => {
                 props.finish()?;
                 let emitter = radiance.map(|(e, w)| self.b.add_weighted_emitter(e, w));
-                return self.b.add_quadric(
+                self.b.add_quadric(
                     &props,
                     Quadric {
                         kind,
@@ -767,7 +805,9 @@ impl<'a> Loader<'a> {
                         exterior,
                         null_bsdf,
                     },
-                );
+                )?;
+                let index = (self.b.quadrics.len() - 1) as u32;
+                return self.shape_sensor(sensor, SensorShape::Quadric(index));
             }
             Geometry::SdfGrid(grid, to_world) => {
                 props.finish()?;
@@ -823,6 +863,38 @@ impl<'a> Loader<'a> {
             m.exterior = exterior;
             m.null_bsdf = null_bsdf;
         }
+        let index = (self.b.meshes.len() - 1) as u32;
+        self.shape_sensor(sensor, SensorShape::Mesh(index))
+    }
+
+    /// A sensor's parts with its medium resolved.
+    fn sensor_choice(&mut self, parts: sensor::SensorParts<'a>) -> Result<SceneSensor, Error> {
+        let (camera, (sampler, spp), film, medium) = parts;
+        let medium = match medium {
+            Some(m) => Some(self.medium_of(m)?),
+            None => None,
+        };
+        Ok(SceneSensor {
+            camera,
+            sampler,
+            spp,
+            film,
+            medium,
+        })
+    }
+
+    /// The sensor nested in a shape (an irradiancemeter measuring it), if any.
+    fn shape_sensor(&mut self, el: Option<&'a Element>, shape: SensorShape) -> Result<(), Error> {
+        let Some(el) = el else { return Ok(()) };
+        el.check_attrs(&["type", "id", "name"])?;
+        let t = el.require("type")?;
+        if t != "irradiancemeter" {
+            return Err(el.err(format!(
+                "a shape carries an irradiancemeter only, not a '{t}' sensor (place other sensors at the top level)"
+            )));
+        }
+        let parts = sensor::irradiancemeter::mitsuba(el, shape)?;
+        self.shape_sensors.push(parts);
         Ok(())
     }
 }
@@ -1564,7 +1636,7 @@ mod tests {
             load(
                 &[(
                     "s.xml",
-                    "<scene version=\"3.0.0\">\n<sensor type=\"irradiancemeter\"/></scene>",
+                    "<scene version=\"3.0.0\">\n<sensor type=\"batch\"/></scene>",
                 )],
                 &[],
             ),
@@ -1572,7 +1644,7 @@ mod tests {
             2,
         );
         assert!(
-            e.contains("sensor type 'irradiancemeter' is not supported yet"),
+            e.contains("sensor type 'batch' is not supported yet"),
             "{e}"
         );
         let e = error_at(

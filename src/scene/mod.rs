@@ -89,9 +89,38 @@ pub struct Scene {
     pub camera_medium: Option<u32>,
     /// Every texture, indexed by BSDF texture maps and textured emitters.
     pub textures: Vec<Texture>,
+    /// Every sensor of the scene in document order (Mitsuba's `scene.sensors()`, which
+    /// `mi.render(scene, sensor=i)` indexes: those at the top level and those nested
+    /// in shapes alike). `camera`, `film`, `spp`, `sampler` and `camera_medium` above
+    /// are those of the one rendered: the first, or the one [`Scene::select_sensor`]
+    /// picked.
+    pub sensors: Vec<sensor::SceneSensor>,
 }
 
 impl Scene {
+    /// Renders sensor `index` of [`Scene::sensors`] (`wavetrace render --sensor`); an
+    /// index out of range is an error saying how many there are.
+    pub fn select_sensor(&mut self, index: usize) -> Result<(), String> {
+        let n = self.sensors.len();
+        let s = self.sensors.get(index).ok_or_else(|| {
+            format!(
+                "sensor {index} does not exist: the scene has {n} sensor{} (0{})",
+                if n == 1 { "" } else { "s" },
+                if n > 1 {
+                    format!(" to {}", n - 1)
+                } else {
+                    String::new()
+                }
+            )
+        })?;
+        self.camera = s.camera.clone();
+        self.film = s.film.clone();
+        self.spp = s.spp;
+        self.sampler = s.sampler;
+        self.camera_medium = s.medium;
+        Ok(())
+    }
+
     /// Total number of triangles over all meshes (those of shape groups once).
     pub fn triangle_count(&self) -> usize {
         self.meshes.iter().map(|m| m.indices.len()).sum()

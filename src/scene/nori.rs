@@ -56,7 +56,15 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
     let (camera, film) = camera.ok_or_else(|| doc.root.err("the scene has no <camera>"))?;
     let integrator = integrator.ok_or_else(|| doc.root.err("the scene has no <integrator>"))?;
     let (sampler, spp) = sampler_spp.unwrap_or((Sampler::default(), 1));
+    let sensors = vec![super::sensor::SceneSensor {
+        camera: camera.clone(),
+        sampler,
+        spp,
+        film: film.clone(),
+        medium: None,
+    }];
     Ok(Scene {
+        sensors,
         path: doc.root.file.as_ref().clone(),
         camera,
         film,

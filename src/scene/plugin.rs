@@ -421,6 +421,9 @@ mod tests {
                     r#"<rgb name="radiance" value="1"/>"#
                 }
             ),
+            Family::Emitter if t == "directionalarea" => format!(
+                r#"{default_sensor}<shape type="rectangle"><emitter type="{t}">{body}</emitter></shape>"#
+            ),
             Family::Emitter => format!(r#"{default_sensor}<emitter type="{t}">{body}</emitter>"#),
             // An instance needs its group.
             Family::Shape if t == "instance" => format!(

@@ -7,6 +7,7 @@
 pub mod area;
 pub mod constant;
 pub mod directional;
+pub mod directionalarea;
 pub mod distantdisk;
 pub mod envmap;
 pub mod point;
@@ -31,7 +32,7 @@ pub const REGISTRY: &[PluginDoc] = &[
     envmap::MITSUBA,
     directional::MITSUBA,
     projector::MITSUBA,
-    not_yet("directionalarea"),
+    directionalarea::MITSUBA,
     not_yet("sunsky"),
     not_yet("timed_sunsky"),
     // Not a Mitsuba 3 name; kept so such scenes keep hearing "not supported yet".
@@ -99,6 +100,7 @@ impl Emitter {
                 }),
             ),
             Emitter::Area { radiance } => (area::record(radiance), 1.0),
+            Emitter::DirectionalArea { radiance } => (directionalarea::record(radiance), 1.0),
             Emitter::Constant { radiance } => (constant::record(radiance), 1.0),
             Emitter::TexturedArea { texture, scale } => (
                 area::textured_record(texture, scale),
@@ -230,6 +232,9 @@ pub enum Emitter {
     /// Uniform emission from the surface of the shape that carries it (front side).
     /// Mitsuba and Nori `area` (`radiance`).
     Area { radiance: Vec3 },
+    /// Emission along the normal of the shape that carries it, nowhere else: Mitsuba
+    /// `directionalarea` (`radiance`). Only light paths leave it (ptracer, photons).
+    DirectionalArea { radiance: Vec3 },
     /// Uniform radiance arriving from every direction at infinity. Mitsuba `constant`
     /// (`radiance`); Nori's `distantdisk` with `thetaA` = 180 is the same light.
     Constant { radiance: Vec3 },

@@ -4,6 +4,7 @@
 //! ([`crate::scene::sampler`]).
 
 pub mod distant;
+pub mod irradiancemeter;
 pub mod orthographic;
 pub mod perspective;
 pub mod radiancemeter;
@@ -20,7 +21,7 @@ pub const REGISTRY: &[PluginDoc] = &[
     thinlens::MITSUBA,
     orthographic::MITSUBA,
     radiancemeter::MITSUBA,
-    not_yet("irradiancemeter"),
+    irradiancemeter::MITSUBA,
     distant::MITSUBA,
     not_yet("batch"),
     perspective::NORI,
@@ -28,6 +29,18 @@ pub const REGISTRY: &[PluginDoc] = &[
 
 const fn not_yet(name: &'static str) -> PluginDoc {
     PluginDoc::not_yet(Family::Sensor, Dialect::Mitsuba, name)
+}
+
+/// One sensor of a scene, with what it nests: its camera, sampler and sample count,
+/// film, and the medium it sits in. A Mitsuba scene may hold several
+/// ([`crate::scene::Scene::sensors`]).
+#[derive(Debug, Clone)]
+pub struct SceneSensor {
+    pub camera: Camera,
+    pub sampler: Sampler,
+    pub spp: u32,
+    pub film: Film,
+    pub medium: Option<u32>,
 }
 
 /// Default `<film>` size.
@@ -47,6 +60,8 @@ pub fn mitsuba(el: &Element) -> Result<SensorParts<'_>, Error> {
         "orthographic" => orthographic::mitsuba(el),
         "radiancemeter" => perspective::projective(el, "radiancemeter"),
         "distant" => perspective::projective(el, "distant"),
+        "irradiancemeter" => Err(el
+            .err("an irradiancemeter measures the shape it is nested in: put it inside a <shape>")),
         _ => Err(plugin::unsupported(
             el,
             Family::Sensor,

@@ -169,14 +169,17 @@ pub(super) fn projective<'a>(el: &'a Element, kind: &str) -> Result<SensorParts<
         }
     }
     let (width, height, film) = size.unwrap_or((FILM_WIDTH, FILM_HEIGHT, Film::default()));
-    let fov_x_deg = if matches!(kind, "orthographic" | "radiancemeter" | "distant") {
+    let fov_x_deg = if matches!(
+        kind,
+        "orthographic" | "radiancemeter" | "distant" | "irradiancemeter"
+    ) {
         90.0
     } else {
         parse_fov(&props, width, height)?
     };
     // A radiance meter has no clip planes (Mitsuba's radiancemeter is no projective
     // camera): its ray is unbounded.
-    let (near_clip, far_clip) = if matches!(kind, "radiancemeter" | "distant") {
+    let (near_clip, far_clip) = if matches!(kind, "radiancemeter" | "distant" | "irradiancemeter") {
         (0.01, f32::MAX)
     } else {
         (
@@ -193,6 +196,8 @@ pub(super) fn projective<'a>(el: &'a Element, kind: &str) -> Result<SensorParts<
         super::radiancemeter::to_world(&props, width, height)?
     } else if kind == "distant" {
         super::distant::to_world(&props, width, height)?
+    } else if kind == "irradiancemeter" {
+        super::irradiancemeter::to_world(&props)?
     } else {
         props.transform("to_world")?
     };
