@@ -5,16 +5,16 @@
 //! is ρ E / π = ρ L (r / d)². Mitsuba 3.9.1 renders this scene at 0.32003 against the
 //! closed form's 0.32.
 //!
-//! The check: emitter sampling alone (`direct_ems`), 16 seeds of 262,144 samples; their
-//! mean within 5 of their standard errors (about 3e-5: 5 of them are 0.05% of the value) of the
-//! closed form, and the closed form times 0.95 outside. It found that wavetrace's
-//! emitter sampling of a large, near sphere lost about 4% (0.3066): shadow rays from the
-//! offset origin, stopped 1e-4 of the distance short of the light, met the sphere itself
-//! near the rim of its cone. With Mitsuba's ~1e-3 it was 0.31979, still 0.07% low (the
-//! line through the offset origin meets the sphere up to sqrt(2 r offset) before the
-//! point sampled from the surface point); the shadow ray now ends where its own line
-//! meets the sphere (`emitter_shadow_tmax`): 0.31999 +- 0.00004 at a quarter of the
-//! samples used here.
+//! The check: emitter sampling alone (`direct_ems`), 16 seeds of 2^21 samples; their
+//! mean within 5 of their standard errors (about 1e-5: 5 of them are 0.016% of the
+//! value) of the closed form, and the closed form times 0.95 outside. It found that
+//! wavetrace's emitter sampling of a large, near sphere lost about 4% (0.3066): shadow
+//! rays from the offset origin, stopped 1e-4 of the distance short of the light, met the
+//! sphere itself near the rim of its cone. With Mitsuba's ~1e-3 it was 0.31990 +-
+//! 0.00003 (16 x 2^18 samples), 0.03% low: the line through the offset origin meets
+//! the sphere up to sqrt(2 r offset) before the point sampled from the surface point.
+//! The shadow ray now ends where its own line meets the sphere
+//! (`emitter_shadow_tmax`): 0.31999 +- 0.00003 at the same samples.
 
 mod common;
 
@@ -50,7 +50,7 @@ fn a_near_sphere_light_lights_a_plane_as_its_closed_form() {
                 seed,
                 ..RenderOptions::default()
             };
-            common::mean(&common::render(&device, &scene, &options, 262144))
+            common::mean(&common::render(&device, &scene, &options, 1 << 21))
         })
         .collect();
     let n = values.len() as f64;
