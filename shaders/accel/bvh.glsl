@@ -376,8 +376,11 @@ Hit bvh_closest_two(vec3 o, vec3 d, float tmin, float tmax, out Hit second) {
 // Whether a ray meets primitive p at most once (it is flat): then bvh_closest_two's
 // `second` is what a ray passing through its closest hit meets next.
 bool bvh_hit_once(Prim p) {
-    bool quadrics = BVH_HAS(SURFACE_FEATURE_SPHERES) || BVH_HAS(SURFACE_FEATURE_CYLINDERS)
-        || BVH_HAS(SURFACE_FEATURE_SDFGRIDS) || BVH_HAS(SURFACE_FEATURE_LINEAR_CURVES);
+    // One mask test: glslang 11 folds a chain of four short-circuit ||s of
+    // specialization constants into a phi, then negates that phi as a specialization
+    // constant (invalid SPIR-V: vkCreateComputePipelines fails).
+    bool quadrics = BVH_HAS(SURFACE_FEATURE_SPHERES | SURFACE_FEATURE_CYLINDERS
+                            | SURFACE_FEATURE_SDFGRIDS | SURFACE_FEATURE_LINEAR_CURVES);
     return !quadrics || p.kind == PRIM_TRIANGLE || p.kind == PRIM_DISK;
 }
 
