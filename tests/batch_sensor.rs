@@ -4,7 +4,8 @@
 //! the second child's `fov_axis` y resolves against its own nested 32 x 32 film, as
 //! Mitsuba's does before the batch sets its film to the slice). Its reference batch_ref.exr is Mitsuba 3.9.1's render
 //! of sensor 0 (scalar_rgb, 8192 spp, seed 7:
-//! `scene = mi.load_file("batch.xml"); mi.render(scene, sensor=0, spp=8192, seed=7)`).
+//! `scene = mi.load_file("batch.xml"); mi.render(scene, sensor=0, spp=8192, seed=7)`,
+//! written with `mi.Bitmap(img).write`).
 
 mod common;
 
@@ -54,6 +55,18 @@ fn batch_of_two_cameras_matches_each_camera_and_mitsuba() {
     let reference =
         Image::read_exr(repo("tests/data/batch_sensor/batch_ref.exr")).expect("reference EXR");
     common::assert_matches_reference(&batch, &reference, "batch against Mitsuba 3.9.1");
+}
+
+/// A batch of an orthographic, a thin-lens and a perspective camera (batch3.xml, 96 x
+/// 32) against Mitsuba 3.9.1's render (batch3_ref.exr, made as batch_ref.exr is).
+#[test]
+fn batch_of_three_kinds_matches_mitsuba() {
+    let sc = common::load(&repo("tests/data/batch_sensor/batch3.xml"));
+    let img = common::render(&device(), &sc, &RenderOptions::default(), 1024);
+    assert_eq!((img.width, img.height), (96, 32));
+    let reference =
+        Image::read_exr(repo("tests/data/batch_sensor/batch3_ref.exr")).expect("reference EXR");
+    common::assert_matches_reference(&img, &reference, "3-kind batch against Mitsuba 3.9.1");
 }
 
 /// A film width not divisible by the number of children is an error at the batch
