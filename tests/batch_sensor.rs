@@ -131,3 +131,64 @@ fn batch_refuses_ptracer_and_aovs() {
         "{err}"
     );
 }
+
+/// A batch's `--samples` parts merge to its whole render bit for bit, as any sensor's
+/// do where every part after the first holds one sample (tests/split.rs: a pixel's
+/// sum is a float32 fold over its samples in order).
+#[test]
+fn batch_parts_merge_to_the_whole() {
+    let dir = common::temp_dir("batch_sensor_parts");
+    let out = |n: &str| dir.join(n).to_string_lossy().into_owned();
+    let scene = repo("tests/data/batch_sensor/batch3.xml");
+    let scene = scene.to_string_lossy();
+    let run = |args: &[&str]| {
+        let (code, _, err) = common::wavetrace(args);
+        assert_eq!(code, 0, "{args:?}: {err}");
+    };
+    run(&[
+        "render",
+        &scene,
+        "-q",
+        "--spp",
+        "16",
+        "-o",
+        &out("whole.exr"),
+    ]);
+    for (range, name) in [("0..15", "p0.exr"), ("15..16", "p1.exr")] {
+        run(&[
+            "render",
+            &scene,
+            "-q",
+            "--spp",
+            "16",
+            "--samples",
+            range,
+            "-o",
+            &out(name),
+        ]);
+    }
+    run(&[
+        "merge",
+        &out("p0.exr"),
+        &out("p1.exr"),
+        "-o",
+        &out("merged.exr"),
+    ]);
+    let whole = Image::read_exr(out("whole.exr")).expect("whole");
+    let merged = Image::read_exr(out("merged.exr")).expect("merged");
+    assert_eq!((whole.width, whole.height), (merged.width, merged.height));
+    let differing = whole
+        .rgb
+        .iter()
+        .zip(&merged.rgb)
+        .enumerate()
+        .filter(|(_, (a, b))| a != b)
+        .map(|(i, (a, b))| (i / 3 % 96, i / 3 / 96, *a, *b))
+        .collect::<Vec<_>>();
+    assert!(
+        differing.is_empty(),
+        "{} values of the merged parts differ from the whole render, the first (x, y, whole, merged): {:?}",
+        differing.len(),
+        &differing[..differing.len().min(5)]
+    );
+}
