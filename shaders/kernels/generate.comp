@@ -26,6 +26,9 @@ SPEC(SCENE_EMITTER_KINDS);
 #include "emitter/emitter.glsl"
 SPEC(SCENE_SENSOR_SHAPE);
 #define SENSOR_ON_SHAPE SCENE_SENSOR_SHAPE
+// A batch sensor's children side by side (camera_path.glsl; 0: one camera).
+SPEC(SCENE_SENSOR_BATCH);
+#define SENSOR_BATCH SCENE_SENSOR_BATCH
 #include "integrator/camera_path.glsl"
 
 void main() {

@@ -9,6 +9,38 @@
 // aperture sample, is read by the thin lens only. Camera space as in Mitsuba and Nori:
 // looking down +z, +y up, +x to the left of the image. The ray starts on the near
 // plane and ends on the far plane (Mitsuba's near_clip/far_clip).
+// A projective camera (perspective, orthographic or thin lens: `kind`) with the given
+// parameters, at `ndc` in [0, 1]^2 of its film of height / width `aspect`: camera_ray's
+// code for these kinds, for the children of a batch sensor (camera_path.glsl).
+void camera_ray_projective(mat4 to_world, vec2 tan_half_fov, float near_clip, float far_clip,
+                           uint kind, float aperture_radius, float focus_distance, float aspect,
+                           vec2 ndc, vec2 u_lens, out vec3 origin, out vec3 dir, out float tmax) {
+    if (kind == CAMERA_ORTHOGRAPHIC) {
+        vec3 p = vec3(1.0 - 2.0 * ndc.x, (1.0 - 2.0 * ndc.y) * aspect, near_clip);
+        origin = (to_world * vec4(p, 1.0)).xyz;
+        dir = normalize(mat3(to_world) * vec3(0.0, 0.0, 1.0));
+        tmax = far_clip - near_clip;
+        return;
+    }
+    vec3 d = vec3((1.0 - 2.0 * ndc.x) * tan_half_fov.x, (1.0 - 2.0 * ndc.y) * tan_half_fov.y, 1.0);
+    if (kind == CAMERA_THINLENS) {
+        vec3 a = vec3(aperture_radius * camera_thinlens_aperture(u_lens), 0.0);
+        vec3 dl = normalize(d * focus_distance - a);
+        float near_t = near_clip / dl.z;
+        float far_t = far_clip / dl.z;
+        origin = (to_world * vec4(a + dl * near_t, 1.0)).xyz;
+        dir = normalize(mat3(to_world) * dl);
+        tmax = far_t - near_t;
+        return;
+    }
+    vec3 p_near = (to_world * vec4(d * near_clip, 1.0)).xyz;
+    vec3 p_far = (to_world * vec4(d * far_clip, 1.0)).xyz;
+    vec3 span = p_far - p_near;
+    tmax = length(span);
+    origin = p_near;
+    dir = span / tmax;
+}
+
 void camera_ray(vec2 film_pos, vec2 u_lens, out vec3 origin, out vec3 dir, out float tmax) {
     vec2 ndc = film_pos / vec2(frame.width, frame.height);
     if (frame.camera_kind == CAMERA_ORTHOGRAPHIC) {

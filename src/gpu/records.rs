@@ -400,6 +400,13 @@ gpu_record! {
         /// A thin lens's aperture radius and focus distance (Mitsuba `thinlens`).
         pub aperture_radius: f32 => float,
         pub focus_distance: f32 => float,
+        /// A `batch` sensor's children (scene::Camera::batch), used where
+        /// SCENE_SENSOR_BATCH > 1: child i's camera-to-world (columns 4i..4i+3), its
+        /// (tan_half_fov.x, tan_half_fov.y, near_clip, far_clip), and its (CAMERA_*,
+        /// aperture radius bits, focus distance bits, 0).
+        pub batch_to_world: [[f32; 4]; 32] => vec4[32],
+        pub batch_view: [[f32; 4]; 8] => vec4[8],
+        pub batch_lens: [[u32; 4]; 8] => uvec4[8],
     }
 
     /// The state of one path of the wavefront, indexed by path slot.

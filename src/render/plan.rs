@@ -231,6 +231,14 @@ impl RenderPlan {
                 crate::scene::integrator::aov::MAX_AOVS
             )));
         }
+        // aov.comp traces its own camera rays, through one camera (sensor/camera.glsl).
+        if aov_count > 0 && !scene.camera.batch.is_empty() {
+            return Err(Error::Options(
+                "AOVs of a batch sensor are not supported yet: render each of its cameras \
+                 as a sensor of its own"
+                    .to_string(),
+            ));
+        }
         if let Some(a) = options
             .aovs
             .iter()
@@ -258,7 +266,8 @@ impl RenderPlan {
         let covered = integrator.counts_environment_coverage()
             && !integrator.hide_emitters()
             && records.env_emitter != NONE;
-        let constants = Constants::of(&integrator, &records, &sampler, &facts, has_alpha);
+        let mut constants = Constants::of(&integrator, &records, &sampler, &facts, has_alpha);
+        constants.sensor_batch = scene.camera.batch.len() as u32;
         let mut kernels = kernels(
             &integrator,
             &schedule,
@@ -417,6 +426,14 @@ fn check(scene: &Scene, integrator: &Integrator) -> Result<()> {
                 .to_string(),
         );
     }
+    // The particle tracer's camera connections know one camera.
+    if matches!(integrator, Integrator::Ptracer(_)) && !scene.camera.batch.is_empty() {
+        return refuse(
+            "integrator 'ptracer' connects light paths to one camera, not to a batch \
+             sensor's several yet; render this sensor with path"
+                .to_string(),
+        );
+    }
     // SPPM lights its visible points by emitter sampling and keeps the photons for
     // indirect light, so a light that emitter sampling never answers (Mitsuba's
     // directionalarea) would light nothing directly.
@@ -546,8 +563,22 @@ fn scene_frame(
         camera_kind: cam.projection.frame_fields().0,
         aperture_radius: cam.projection.frame_fields().1,
         focus_distance: cam.projection.frame_fields().2,
-        ..Default::default()
+        ..batch_frame(&cam.batch)
     }
+}
+
+/// The `Frame::batch_*` records of a batch sensor's children (all zero for one camera).
+fn batch_frame(children: &[crate::scene::Camera]) -> Frame {
+    let mut f = Frame::default();
+    for (i, c) in children.iter().enumerate() {
+        let cols = c.to_world.to_cols_array_2d();
+        f.batch_to_world[4 * i..4 * i + 4].copy_from_slice(&cols);
+        let [tx, ty] = c.tan_half_fov();
+        f.batch_view[i] = [tx, ty, c.near_clip, c.far_clip];
+        let (kind, aperture, focus) = c.projection.frame_fields();
+        f.batch_lens[i] = [kind, aperture.to_bits(), focus.to_bits(), 0];
+    }
+    f
 }
 
 /// Paths per batch: `options.max_batch_paths`, or what [`default_capacity`] gives a
@@ -741,6 +772,8 @@ struct Constants {
     ends_at_0: u32,
     /// Whether the sensor samples a shape (an irradiancemeter).
     sensor_shape: u32,
+    /// A batch sensor's number of children, or 0.
+    sensor_batch: u32,
 }
 
 impl Constants {
@@ -771,6 +804,7 @@ impl Constants {
             instances: facts.instances,
             ends_at_0: integrator.ends_paths_at(0) as u32,
             sensor_shape: records.sensor_shape.is_some() as u32,
+            sensor_batch: 0,
         }
     }
 
@@ -891,7 +925,8 @@ fn kernels(
             .shade(s, second_ends, false)
             .with(Spec::FirstEnds, c.ends_at_0)
             .with(Spec::SecondEnds, second_ends as u32)
-            .with(Spec::SensorShape, c.sensor_shape);
+            .with(Spec::SensorShape, c.sensor_shape)
+            .with(Spec::SensorBatch, c.sensor_batch);
         add(Stage::FirstBounce, spec);
     }
     let shade_with = |mode: u32| c.shade(s, false, false).with(Spec::Deferral, mode);
@@ -924,7 +959,8 @@ fn kernels(
             .scene(s)
             .with(Spec::SamplerKind, c.sampler)
             .with(Spec::EmitterKinds, c.emitter_kinds)
-            .with(Spec::SensorShape, c.sensor_shape);
+            .with(Spec::SensorShape, c.sensor_shape)
+            .with(Spec::SensorBatch, c.sensor_batch);
         add(Stage::Generate, generate);
     }
     add(Stage::FilmGather, gather);

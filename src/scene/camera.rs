@@ -25,6 +25,10 @@ pub struct Camera {
     pub height: u32,
     /// How rays leave the camera.
     pub projection: Projection,
+    /// Mitsuba's `batch` sensor: its child cameras side by side, each `width / n`
+    /// pixels wide (child i renders columns [i w / n, (i + 1) w / n)); empty for one
+    /// camera. The fields above are then child 0's, on the whole film.
+    pub batch: Vec<Camera>,
 }
 
 /// How a camera makes rays (shaders/sensor/camera.glsl).

@@ -3,6 +3,7 @@
 //! dialects. A Mitsuba sensor nests the film ([`crate::scene::film`]) and the sampler
 //! ([`crate::scene::sampler`]).
 
+pub mod batch;
 pub mod distant;
 pub mod irradiancemeter;
 pub mod orthographic;
@@ -23,13 +24,9 @@ pub const REGISTRY: &[PluginDoc] = &[
     radiancemeter::MITSUBA,
     irradiancemeter::MITSUBA,
     distant::MITSUBA,
-    not_yet("batch"),
+    batch::MITSUBA,
     perspective::NORI,
 ];
-
-const fn not_yet(name: &'static str) -> PluginDoc {
-    PluginDoc::not_yet(Family::Sensor, Dialect::Mitsuba, name)
-}
 
 /// One sensor of a scene, with what it nests: its camera, sampler and sample count,
 /// film, and the medium it sits in. A Mitsuba scene may hold several
@@ -58,6 +55,7 @@ pub fn mitsuba(el: &Element) -> Result<SensorParts<'_>, Error> {
         "perspective" => perspective::mitsuba(el),
         "thinlens" => thinlens::mitsuba(el),
         "orthographic" => orthographic::mitsuba(el),
+        "batch" => batch::mitsuba(el),
         "radiancemeter" => perspective::projective(el, "radiancemeter"),
         "distant" => perspective::projective(el, "distant"),
         "irradiancemeter" => Err(el

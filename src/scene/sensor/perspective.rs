@@ -152,6 +152,19 @@ pub fn mitsuba(el: &Element) -> Result<SensorParts<'_>, Error> {
 /// A Mitsuba `perspective`, `thinlens` or `orthographic` sensor (`kind`): what they
 /// share (film, sampler, medium, clip planes, to_world) and what each adds.
 pub(super) fn projective<'a>(el: &'a Element, kind: &str) -> Result<SensorParts<'a>, Error> {
+    projective_sized(el, kind, None)
+}
+
+/// [`projective`], its film's size (width, height) then set to `size_override`, as a
+/// `batch` sensor sets its children's (Mitsuba's `film()->set_size`, then
+/// `parameters_changed`): the horizontal fov stays what `fov_axis` gave against the
+/// sensor's own film (its nested `<film>`, or the default 768 x 576); the vertical one
+/// follows the new aspect ratio.
+pub(super) fn projective_sized<'a>(
+    el: &'a Element,
+    kind: &str,
+    size_override: Option<(u32, u32)>,
+) -> Result<SensorParts<'a>, Error> {
     let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
     let mut size = None;
     let mut spp = None;
@@ -168,7 +181,7 @@ pub(super) fn projective<'a>(el: &'a Element, kind: &str) -> Result<SensorParts<
             _ => return Err(n.err(format!("unexpected <{}> in <sensor>", n.tag))),
         }
     }
-    let (width, height, film) = size.unwrap_or((FILM_WIDTH, FILM_HEIGHT, Film::default()));
+    let (mut width, mut height, film) = size.unwrap_or((FILM_WIDTH, FILM_HEIGHT, Film::default()));
     let fov_x_deg = if matches!(
         kind,
         "orthographic" | "radiancemeter" | "distant" | "irradiancemeter"
@@ -177,6 +190,11 @@ pub(super) fn projective<'a>(el: &'a Element, kind: &str) -> Result<SensorParts<
     } else {
         parse_fov(&props, width, height)?
     };
+    // Mitsuba resolves the fov against the sensor's own film when it is built; a batch
+    // then sets the film's size, which changes the aspect ratio alone.
+    if let Some((w, h)) = size_override {
+        (width, height) = (w, h);
+    }
     // A radiance meter has no clip planes (Mitsuba's radiancemeter is no projective
     // camera): its ray is unbounded.
     let (near_clip, far_clip) = if matches!(kind, "radiancemeter" | "distant" | "irradiancemeter") {
@@ -223,6 +241,7 @@ pub(super) fn projective<'a>(el: &'a Element, kind: &str) -> Result<SensorParts<
             width,
             height,
             projection,
+            batch: Vec::new(),
         },
         spp.unwrap_or((Sampler::default(), 4)),
         film,
@@ -261,6 +280,7 @@ pub fn nori(el: &Element) -> Result<(Camera, Film), Error> {
         width: props.positive("width", 1280)?,
         height: props.positive("height", 720)?,
         projection: Projection::Perspective,
+        batch: Vec::new(),
     };
     if !(camera.near_clip > 0.0 && camera.far_clip > camera.near_clip) {
         return Err(props.object_error("need 0 < nearClip < farClip"));
