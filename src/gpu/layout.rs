@@ -488,7 +488,10 @@ mod tests {
                 photon_alias,
                 camera_kind,
                 aperture_radius,
-                focus_distance
+                focus_distance,
+                batch_to_world,
+                batch_view,
+                batch_lens
             ),
             rust_layout!(
                 PathState,

@@ -1644,7 +1644,7 @@ mod tests {
             2,
         );
         assert!(
-            e.contains("sensor type 'batch' is not supported yet"),
+            e.contains("a batch sensor needs at least one child <sensor>"),
             "{e}"
         );
         let e = error_at(
