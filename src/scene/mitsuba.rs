@@ -119,6 +119,9 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         name: "path".into(),
         ..Default::default()
     });
+    // B-spline curves' control points follow the sdfgrids in the grid buffer.
+    let grid_words = l.b.sdfgrids.iter().map(|g| g.words()).sum();
+    super::shape::bsplinecurve::place(&mut l.b.meshes, grid_words).map_err(|m| root.err(m))?;
     let scene = Scene {
         path: root.file.as_ref().clone(),
         camera,
