@@ -11,6 +11,7 @@ pub mod cylinder;
 pub mod disk;
 pub mod instance;
 pub mod linearcurve;
+pub mod merge;
 pub mod obj;
 pub mod ply;
 pub mod rectangle;
@@ -43,7 +44,7 @@ pub const REGISTRY: &[PluginDoc] = &[
     sdfgrid::MITSUBA,
     not_yet("ellipsoids"),
     not_yet("ellipsoidsmesh"),
-    not_yet("merge"),
+    merge::MITSUBA,
     obj::NORI,
 ];
 
