@@ -59,6 +59,12 @@ bool intersect_bspline_curve(vec3 o, vec3 d, vec4 cp_world[4], float tmin, float
     vec3 ol = o + shift * dn - mid;
     vec4 l[4];
     for (int k = 0; k < 4; k++) l[k] = cp_world[k] - vec4(mid, 0.0);
+    // The size of the moved coordinates, whose rounding bounds the residuals.
+    float ext = 0.0;
+    for (int k = 0; k < 4; k++) {
+        vec3 m = abs(l[k].xyz);
+        ext = max(ext, max(m.x, max(m.y, m.z)));
+    }
     vec4 a = l[0] - 2.0 * l[1] + l[2];
     vec4 b = l[1] - 2.0 * l[2] + l[3];
     float h = 1.0 / float(BSPLINE_PIECES);
@@ -104,8 +110,11 @@ bool intersect_bspline_curve(vec3 o, vec3 d, vec4 cp_world[4], float tmin, float
             bspline_eval(l, u, c, dc, ddc, r, dr);
             vec3 q = ol + t * dn - c;
             float ql = length(q);
-            bool converged = abs(ql - r) <= 1e-4 * abs(r) + 1e-7 * (1.0 + abs(t))
-                && abs(dot(q, dc)) <= 1e-4 * ql * length(dc);
+            // On the circle's radius to 1e-4 of it, in its plane to 1e-3 (which only
+            // moves u), both above the rounding of coordinates of size ext + |t|.
+            float scale = 1e-6 * (ext + abs(t));
+            bool converged = abs(ql - r) <= 1e-4 * abs(r) + scale
+                && abs(dot(q, dc)) <= (1e-3 * (ql + abs(r)) + scale) * length(dc);
             bool front = dot(bspline_normal(q, dc, ddc, r, dr), dn) < 0.0;
             if (converged && front && u >= 0.0 && u <= 1.0 && t > lo && t < hi && t < best_t) {
                 best_t = t;

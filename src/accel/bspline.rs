@@ -74,6 +74,10 @@ pub fn intersect_bspline(
     let shift = (mid - o).dot(dn);
     let ol = o + shift * dn - mid;
     let l = cp.map(|p| p - mid.extend(0.0));
+    // The size of the moved coordinates, whose rounding bounds the residuals.
+    let ext = l
+        .iter()
+        .fold(0.0f32, |e, p| e.max(p.truncate().abs().max_element()));
     // Second differences bound |c''| and |r''| (c'' = (1-u) A + u B).
     let a = l[0] - 2.0 * l[1] + l[2];
     let b = l[1] - 2.0 * l[2] + l[3];
@@ -127,8 +131,11 @@ pub fn intersect_bspline(
         let (c, dc, ddc, r, dr) = eval(&l, u);
         let q = ol + t * dn - c;
         let ql = q.length();
-        let converged = (ql - r).abs() <= 1e-4 * r.abs() + 1e-7 * (1.0 + t.abs())
-            && q.dot(dc).abs() <= 1e-4 * ql * dc.length();
+        // On the circle's radius to 1e-4 of it, in its plane to 1e-3 (which only moves
+        // u), both above the rounding of coordinates of size `ext + |t|`.
+        let scale = 1e-6 * (ext + t.abs());
+        let converged = (ql - r).abs() <= 1e-4 * r.abs() + scale
+            && q.dot(dc).abs() <= (1e-3 * (ql + r.abs()) + scale) * dc.length();
         let front = normal(q, dc, ddc, r, dr).dot(dn) < 0.0;
         if converged && front && (0.0..=1.0).contains(&u) && t > lo && t < hi && t < best_t {
             best_t = t;
@@ -208,6 +215,21 @@ mod tests {
         let (c, ..) = eval(&cp, 0.5);
         assert!(intersect_bspline(c, Vec3::Z, &cp, 0.0, f32::MAX).is_none());
         assert!(intersect_bspline(c, Vec3::Y, &cp, 0.0, f32::MAX).is_none());
+    }
+
+    #[test]
+    fn thin_hair_far_away() {
+        // A straight hair of radius 1e-4 seen from 10 units (an ulp of t is 1e-6
+        // there): the hit lies on the surface, and a ray just beside it misses.
+        let cp = [-1.0f32, 0.0, 1.0, 2.0].map(|y| Vec4::new(0.0, y, 0.0, 1e-4));
+        let o = Vec3::new(5e-5, 0.5, 10.0);
+        let (t, u) = intersect_bspline(o, -Vec3::Z, &cp, 0.0, f32::MAX).unwrap();
+        let p = o - t * Vec3::Z;
+        let r = Vec3::new(p.x, 0.0, p.z).length();
+        assert!((r - 1e-4).abs() < 2e-6, "{r}");
+        assert!((u - 0.5).abs() < 1e-4, "{u}");
+        let beside = Vec3::new(1.1e-4, 0.5, 10.0);
+        assert!(intersect_bspline(beside, -Vec3::Z, &cp, 0.0, f32::MAX).is_none());
     }
 
     #[test]
