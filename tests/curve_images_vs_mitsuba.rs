@@ -2,7 +2,8 @@
 //! (scenes/curves/; references by tools/mitsuba_ref.py, scenes/refs/README.md): the
 //! `linearcurve` of scenes/curves/curves.txt with a uv-debug texture (a shifted or
 //! turned parameterization moves its grid) and, moved by a non-uniform `to_world`
-//! that keeps the radii, in a rough conductor, casting shadows on a floor.
+//! that keeps the radii, in a rough conductor, casting shadows on a floor; and the same
+//! with `bsplinecurve` on scenes/curves/bsplines.txt.
 
 mod common;
 
@@ -29,4 +30,11 @@ fn check(scene: &str, reference: &str, spp: u32) {
 #[test]
 fn linear_curves_match_mitsuba() {
     check("curves", "curves_linear", 64);
+}
+
+/// The same scene with `bsplinecurve` on scenes/curves/bsplines.txt (cubic B-spline
+/// tubes, no end caps).
+#[test]
+fn bspline_curves_match_mitsuba() {
+    check("bsplines", "curves_bspline", 64);
 }

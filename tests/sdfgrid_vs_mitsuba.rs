@@ -11,75 +11,10 @@
 
 mod common;
 
+use common::mitsuba_values::v3;
+use common::SurfaceHit;
 use glam::Vec3;
 use serde_json::Value;
-use wavetrace::accel::{prims_from_scene, Bvh, FlatPrims};
-use wavetrace::gpu::{shaders, Kernel};
-use wavetrace::render::scene_buffers::SceneRecords;
-
-fn v3(v: &Value) -> Vec3 {
-    let a = v.as_array().expect("a 3-vector");
-    let c = |k: usize| a[k].as_f64().expect("a number") as f32;
-    Vec3::new(c(0), c(1), c(2))
-}
-
-fn grid_dir() -> std::path::PathBuf {
-    common::repo("../shared/scenes/mitsuba/regression/docs/scenes/sdfgrid")
-}
-
-fn scene_xml(shape: &str) -> String {
-    format!(
-        "<scene version=\"3.0.0\">\n<path value=\"{}\"/>\n<sensor type=\"perspective\"/>\n{shape}\n</scene>\n",
-        grid_dir().display()
-    )
-}
-
-/// What the GPU found along each ray: (p, t, ng, ns), or None on a miss.
-type Found = Option<(Vec3, f32, Vec3, Vec3)>;
-
-fn trace(name: &str, shape: &str, rays: &[(Vec3, Vec3)]) -> Vec<Found> {
-    let path = common::temp_file("sdfgrid", &format!("{name}.xml"), &scene_xml(shape));
-    let scene = common::load(&path);
-    let device = common::device();
-    let bvh = Bvh::build(prims_from_scene(&scene));
-    let records = SceneRecords::new(&scene, &bvh);
-    let (layout, buffers) = common::upload_scene(&device, &bvh, &records, 2, 4);
-    let kernel = Kernel::new(
-        &device,
-        "surface_query",
-        shaders::TESTS_SURFACE_QUERY,
-        &layout,
-        &FlatPrims::of(&bvh, 0).constants(),
-    )
-    .unwrap();
-    let queries: Vec<[f32; 4]> = rays
-        .iter()
-        .flat_map(|(o, d)| {
-            [
-                o.extend(0.0).into(),
-                d.extend(0.0).into(),
-                [0.0; 4],
-                [0.0; 4],
-            ]
-        })
-        .collect();
-    let raw = common::run_query_kernel(
-        &device,
-        &layout,
-        &kernel,
-        &buffers.set,
-        &queries,
-        &[queries.len() as u32],
-    );
-    raw.chunks_exact(4)
-        .map(|r| {
-            (r[1][3] >= 0.0).then(|| {
-                let v = |k: usize| Vec3::new(r[k][0], r[k][1], r[k][2]);
-                (v(0), r[0][3], v(1), v(2))
-            })
-        })
-        .collect()
-}
 
 #[test]
 fn torus_grid_hits_like_mitsuba() {
@@ -98,10 +33,12 @@ fn torus_grid_hits_like_mitsuba() {
             .chain(misses)
             .map(|h| (v3(&h["o"]), v3(&h["d"])))
             .collect();
-        let found = trace(name, shape, &rays);
+        let dir = common::repo("../shared/scenes/mitsuba/regression/docs/scenes/sdfgrid");
+        let found =
+            common::surface_query(&common::shape_scene("sdfgrid", name, &dir, shape), &rays);
         for (m, f) in misses.iter().zip(&found[hits.len()..]) {
             missed += 1;
-            if let Some((p, t, ..)) = f {
+            if let Some(SurfaceHit { p, t, .. }) = f {
                 failures.push(format!(
                     "{name}: miss: ours a hit at {p} (t {t}), Mitsuba's none (ray {} {})",
                     m["o"], m["d"]
@@ -113,7 +50,7 @@ fn torus_grid_hits_like_mitsuba() {
             let mut bad = |what: &str, ours: String, theirs: String| {
                 failures.push(format!("{name}: {what}: ours {ours}, Mitsuba's {theirs}"));
             };
-            let Some((p, t, ng, ns)) = *f else {
+            let Some(SurfaceHit { p, t, ng, ns, .. }) = *f else {
                 bad("hit", "a miss".into(), format!("t = {}", h["t"]));
                 continue;
             };

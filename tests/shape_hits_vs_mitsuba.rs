@@ -10,74 +10,10 @@
 
 mod common;
 
+use common::mitsuba_values::v3;
+use common::SurfaceHit;
 use glam::Vec3;
 use serde_json::Value;
-use wavetrace::accel::{prims_from_scene, Bvh, FlatPrims};
-use wavetrace::gpu::{shaders, Kernel};
-use wavetrace::render::scene_buffers::SceneRecords;
-
-fn v3(v: &Value) -> Vec3 {
-    let a = v.as_array().expect("a 3-vector");
-    Vec3::new(
-        a[0].as_f64().unwrap() as f32,
-        a[1].as_f64().unwrap() as f32,
-        a[2].as_f64().unwrap() as f32,
-    )
-}
-
-/// What the GPU found along each ray: (p, t, ng, ns, ss, uv), or None on a miss.
-type Found = Option<(Vec3, f32, Vec3, Vec3, Vec3, [f32; 2])>;
-
-/// Loads `shape` (a Mitsuba snippet naming files under scenes/shapes/) and traces
-/// `rays` (origin, direction) through it with surface_query.comp.
-fn trace(name: &str, shape: &str, rays: &[(Vec3, Vec3)]) -> Vec<Found> {
-    let dir = common::repo("scenes/shapes");
-    let xml = format!(
-        "<scene version=\"3.0.0\">\n<path value=\"{}\"/>\n<sensor type=\"perspective\"/>\n{shape}\n</scene>\n",
-        dir.display()
-    );
-    let path = common::temp_file("shapes", &format!("{name}.xml"), &xml);
-    let scene = common::load(&path);
-    let device = common::device();
-    let bvh = Bvh::build(prims_from_scene(&scene));
-    let records = SceneRecords::new(&scene, &bvh);
-    let (layout, buffers) = common::upload_scene(&device, &bvh, &records, 2, 4);
-    let kernel = Kernel::new(
-        &device,
-        "surface_query",
-        shaders::TESTS_SURFACE_QUERY,
-        &layout,
-        &FlatPrims::of(&bvh, 0).constants(),
-    )
-    .unwrap();
-    let queries: Vec<[f32; 4]> = rays
-        .iter()
-        .flat_map(|(o, d)| {
-            [
-                o.extend(0.0).into(),
-                d.extend(0.0).into(),
-                [0.0; 4],
-                [0.0; 4],
-            ]
-        })
-        .collect();
-    let raw = common::run_query_kernel(
-        &device,
-        &layout,
-        &kernel,
-        &buffers.set,
-        &queries,
-        &[queries.len() as u32],
-    );
-    raw.chunks_exact(4)
-        .map(|r| {
-            (r[1][3] >= 0.0).then(|| {
-                let v = |k: usize| Vec3::new(r[k][0], r[k][1], r[k][2]);
-                (v(0), r[0][3], v(1), v(2), v(3), [r[2][3], r[3][3]])
-            })
-        })
-        .collect()
-}
 
 /// Distance between two uv values, u on a circle where the shape wraps around in u
 /// (quadrics: u = φ / 2π; the disk's v).
@@ -109,10 +45,11 @@ fn every_shape_hits_like_mitsuba() {
             .chain(misses)
             .map(|h| (v3(&h["o"]), v3(&h["d"])))
             .collect();
-        let found = trace(name, shape, &rays);
+        let dir = common::repo("scenes/shapes");
+        let found = common::surface_query(&common::shape_scene("shapes", name, &dir, shape), &rays);
         for (m, f) in misses.iter().zip(&found[hits.len()..]) {
             missed += 1;
-            if let Some((p, t, ..)) = f {
+            if let Some(SurfaceHit { p, t, .. }) = f {
                 failures.push(format!(
                     "{name}: miss: ours a hit at {p} (t {t}), Mitsuba's none (ray {} {})",
                     m["o"], m["d"]
@@ -130,7 +67,15 @@ fn every_shape_hits_like_mitsuba() {
             let mut bad = |what: &str, ours: String, theirs: String| {
                 failures.push(format!("{name}: {what}: ours {ours}, Mitsuba's {theirs}"));
             };
-            let Some((p, t, ng, ns, ss, uv)) = *f else {
+            let Some(SurfaceHit {
+                p,
+                t,
+                ng,
+                ns,
+                ss,
+                uv,
+            }) = *f
+            else {
                 bad("hit", "a miss".into(), format!("t = {}", h["t"]));
                 continue;
             };

@@ -21,6 +21,7 @@
 #include "shape/intersect_cylinder.glsl"
 #include "shape/intersect_sdfgrid.glsl"
 #include "shape/intersect_curve.glsl"
+#include "shape/intersect_bspline.glsl"
 #include "accel/instance.glsl"
 
 // Traversal stack entries; the build keeps every leaf at depth <= this (root = 0).
@@ -163,6 +164,12 @@ bool bvh_prim_hit_of(uint kinds, Prim p, TriangleRay tr, vec3 o, vec3 d, float t
                && (one || p.kind == PRIM_LINEAR_CURVE)) {
         return intersect_linear_curve(o, d, p.p0, p.p1, p.p2.x, p.p2.y, p.p2.z < 0.0, tmin, tmax,
                                       t, u);
+    } else if ((kinds & BVH_KIND_BIT(PRIM_BSPLINE_CURVE)) != 0u
+               && (one || p.kind == PRIM_BSPLINE_CURVE)) {
+        // u: the segment's parameter (surface_bspline_curve).
+        vec4 cp[4];
+        bspline_points(floatBitsToUint(p.p2.x), cp);
+        return intersect_bspline_curve(o, d, cp, tmin, tmax, t, u);
     } else if ((kinds & BVH_KIND_BIT(PRIM_TRIANGLE)) != 0u) {
         return intersect_triangle(tr, o, p.p0, p.p1, p.p2, tmin, tmax, t, u, v);
     }
@@ -175,6 +182,7 @@ bool bvh_prim_hit_of(uint kinds, Prim p, TriangleRay tr, vec3 o, vec3 d, float t
 #define BVH_KINDS (BVH_KIND_BIT(PRIM_TRIANGLE)                                          \
     | (BVH_HAS(SURFACE_FEATURE_SDFGRIDS) ? BVH_KIND_BIT(PRIM_SDFGRID) : 0u)             \
     | (BVH_HAS(SURFACE_FEATURE_LINEAR_CURVES) ? BVH_KIND_BIT(PRIM_LINEAR_CURVE) : 0u)   \
+    | (BVH_HAS(SURFACE_FEATURE_BSPLINE_CURVES) ? BVH_KIND_BIT(PRIM_BSPLINE_CURVE) : 0u) \
     | (BVH_FLAT_COUNT > 0u ? 0u :                                                       \
        ((BVH_HAS(SURFACE_FEATURE_SPHERES) ? BVH_KIND_BIT(PRIM_SPHERE) : 0u)             \
         | (BVH_HAS(SURFACE_FEATURE_DISKS) ? BVH_KIND_BIT(PRIM_DISK) : 0u)               \
@@ -380,7 +388,8 @@ bool bvh_hit_once(Prim p) {
     // specialization constants into a phi, then negates that phi as a specialization
     // constant (invalid SPIR-V: vkCreateComputePipelines fails).
     bool quadrics = BVH_HAS(SURFACE_FEATURE_SPHERES | SURFACE_FEATURE_CYLINDERS
-                            | SURFACE_FEATURE_SDFGRIDS | SURFACE_FEATURE_LINEAR_CURVES);
+                            | SURFACE_FEATURE_SDFGRIDS | SURFACE_FEATURE_LINEAR_CURVES
+                            | SURFACE_FEATURE_BSPLINE_CURVES);
     return !quadrics || p.kind == PRIM_TRIANGLE || p.kind == PRIM_DISK;
 }
 

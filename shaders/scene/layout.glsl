@@ -16,6 +16,7 @@
 #define PRIM_INSTANCE_DATA 5u
 #define PRIM_SDFGRID 7u
 #define PRIM_LINEAR_CURVE 8u
+#define PRIM_BSPLINE_CURVE 9u
 
 #define NONE 0xffffffffu
 
@@ -134,6 +135,7 @@
 #define SURFACE_FEATURE_CYLINDERS 16u
 #define SURFACE_FEATURE_SDFGRIDS 128u
 #define SURFACE_FEATURE_LINEAR_CURVES 64u
+#define SURFACE_FEATURE_BSPLINE_CURVES 256u
 // Medium features of a scene (a specialization constant; see src/gpu/layout.rs).
 #define MEDIUM_FEATURE_HOMOGENEOUS 1u
 #define MEDIUM_FEATURE_PACKED1 2u

@@ -7,6 +7,7 @@
 #include "shape/ray_offset.glsl"
 #include "accel/instance.glsl"
 #include "shape/intersect_sdfgrid.glsl"
+#include "shape/intersect_bspline.glsl"
 #include "texture/texture_hit.glsl"
 
 // The primitive and vertex features of the scene (SURFACE_FEATURE_* bits of
@@ -120,6 +121,35 @@ void surface_linear_curve(inout Surface s, Prim prim, vec3 hit, float v_local, o
     dpdu = vec3(0.0);
 }
 
+// The geometry of B-spline curve segment `prim` (layout.glsl) at the hit point `hit`,
+// `u` the segment's parameter there (intersect_bspline.glsl), as Mitsuba 3.9.1's
+// bsplinecurve reports it: p = o + t d, the curvature-corrected normal, uv = (the angle
+// around the tangent / 2π from Mitsuba's frame (+z made normal to the tangent, or +y
+// where the tangent is ±z), (u + the segment's number) / the shape's segment count),
+// ∂p/∂u around the curve.
+void surface_bspline_curve(inout Surface s, Prim prim, vec3 hit, float u, out vec3 dpdu) {
+    vec4 cp[4];
+    bspline_points(floatBitsToUint(prim.p2.x), cp);
+    vec3 c, dc, ddc;
+    float r, dr;
+    bspline_eval(cp, u, c, dc, ddc, r, dr);
+    vec3 q = hit - c;
+    vec3 tangent = normalize(dc);
+    vec3 rot = abs(tangent.z) == 1.0 ? vec3(0.0, 1.0, 0.0)
+                                     : normalize(vec3(0.0, 0.0, 1.0) - tangent * tangent.z);
+    vec3 radial = cross(rot, tangent);
+    vec3 n = bspline_normal(q, dc, ddc, r, dr);
+    float ln = length(n);
+    s.ng = ln > 0.0 ? n / ln : radial;
+    s.ns = s.ng;
+    s.p = hit;
+    // The Newton iteration's residual (1e-4 r, intersect_bspline.glsl) besides rounding.
+    s.p_error = 4.0 * SURFACE_GAMMA7 * (abs(hit) + abs(c)) + vec3(1e-4 * abs(r));
+    vec3 qn = normalize(q);
+    s.uv = vec2(surface_phi_u(dot(radial, qn), dot(rot, qn)), (u + float(prim.index)) / prim.p2.y);
+    dpdu = cross(tangent, qn);
+}
+
 // Surface at barycentrics (u, v) of primitive `prim`: p = (1-u-v) p0 + u p1 + v p2;
 // for a disk (u, v) is the object-space point, for a curve u its segment's parameter,
 // and other quadrics and curves take the point
@@ -158,6 +188,8 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
         dpdu = vec3(0.0);
     } else if (SURFACE_HAS(SURFACE_FEATURE_LINEAR_CURVES) && prim.kind == PRIM_LINEAR_CURVE) {
         surface_linear_curve(s, prim, ray_o + t * ray_d, u, dpdu);
+    } else if (SURFACE_HAS(SURFACE_FEATURE_BSPLINE_CURVES) && prim.kind == PRIM_BSPLINE_CURVE) {
+        surface_bspline_curve(s, prim, ray_o + t * ray_d, u, dpdu);
     } else if (SURFACE_HAS(SURFACE_FEATURE_SPHERES | SURFACE_FEATURE_DISKS | SURFACE_FEATURE_CYLINDERS)
         && prim.kind != PRIM_TRIANGLE) {
         surface_quadric(s, prim, shape, ray_o + t * ray_d, vec2(u, v), dpdu);

@@ -21,8 +21,8 @@ use glam::Vec3;
 use super::bvh_build::{PrimSource, ShapePrims};
 use super::{cylinder, disk, sphere, triangle};
 use crate::gpu::layout::{
-    BvhNode, Prim, PRIM_CYLINDER, PRIM_DISK, PRIM_INSTANCE, PRIM_LINEAR_CURVE, PRIM_SDFGRID,
-    PRIM_SPHERE,
+    BvhNode, Prim, PRIM_BSPLINE_CURVE, PRIM_CYLINDER, PRIM_DISK, PRIM_INSTANCE, PRIM_LINEAR_CURVE,
+    PRIM_SDFGRID, PRIM_SPHERE,
 };
 use crate::scene::{Mesh, Quadric};
 
@@ -90,10 +90,12 @@ impl FlatPrims {
         // tree.)
         let all = !bvh.prims.is_empty()
             && bvh.prims.len() <= max.min(FLAT_CAPACITY)
-            && bvh
-                .prims
-                .iter()
-                .all(|p| p.kind != PRIM_SDFGRID && p.kind != PRIM_LINEAR_CURVE);
+            && bvh.prims.iter().all(|p| {
+                !matches!(
+                    p.kind,
+                    PRIM_SDFGRID | PRIM_LINEAR_CURVE | PRIM_BSPLINE_CURVE
+                )
+            });
         let count = if all {
             bvh.prims.len()
         } else {
@@ -270,7 +272,7 @@ pub(super) fn prim_bounds(p: &Prim) -> Aabb {
                 max: p0 + e,
             }
         }
-        PRIM_INSTANCE | PRIM_SDFGRID => Aabb { min: p0, max: p1 },
+        PRIM_INSTANCE | PRIM_SDFGRID | PRIM_BSPLINE_CURVE => Aabb { min: p0, max: p1 },
         // The two end spheres' boxes hold the cone between them.
         PRIM_LINEAR_CURVE => Aabb {
             min: (p0 - Vec3::splat(p2.x)).min(p1 - Vec3::splat(p2.y)),
@@ -572,8 +574,10 @@ pub fn intersect_prim(
         }
         // An instance's box stands for it (the CPU traversal serves estimates such
         // as the render plan's camera misses; the kernels trace the group's tree).
-        // So does an sdfgrid's (its voxels are walked on the GPU alone).
-        PRIM_INSTANCE | PRIM_SDFGRID => {
+        // So does an sdfgrid's (its voxels are walked on the GPU alone) and a B-spline
+        // segment's (its control points are in the grid buffer: accel::bspline
+        // intersects them given those).
+        PRIM_INSTANCE | PRIM_SDFGRID | PRIM_BSPLINE_CURVE => {
             let (hit, tn) = BoxRay::new(o, d).slab(p.p0, p.p1, tmin, tmax);
             hit.then_some((tn, 0.0, 0.0))
         }

@@ -121,8 +121,14 @@ impl PrimSource for ShapePrims<'_> {
 
     fn kind(&self, i: usize) -> u32 {
         if i < self.triangles() {
-            if self.curves && self.meshes[self.first.partition_point(|&f| f <= i) - 1].is_curves() {
-                return PRIM_LINEAR_CURVE;
+            if self.curves {
+                let mesh = &self.meshes[self.first.partition_point(|&f| f <= i) - 1];
+                if mesh.is_bspline() {
+                    return crate::gpu::layout::PRIM_BSPLINE_CURVE;
+                }
+                if mesh.is_curves() {
+                    return PRIM_LINEAR_CURVE;
+                }
             }
             PRIM_TRIANGLE
         } else {

@@ -7,6 +7,7 @@
 //! `shaders/accel/bvh.glsl` does on the GPU. [`triangle`], [`sphere`], [`disk`] and
 //! [`cylinder`] hold the intersection routines, mirrored by `intersect_*.glsl`.
 
+pub mod bspline;
 pub mod bvh;
 pub mod bvh_build;
 pub mod curve;
@@ -80,6 +81,9 @@ pub fn prims_from_shapes(meshes: &[Mesh], quadrics: &[Quadric]) -> Vec<Prim> {
 /// Triangle `k` of `mesh`, shape `shape`, global triangle number `index`; segment `k`
 /// of curves ([`curve_prim`]).
 pub fn triangle_prim(mesh: &Mesh, k: usize, shape: u32, index: u32) -> Prim {
+    if mesh.is_bspline() {
+        return bspline_prim(mesh, k, shape);
+    }
     if mesh.is_curves() {
         return curve_prim(mesh, k, shape);
     }
@@ -91,6 +95,24 @@ pub fn triangle_prim(mesh: &Mesh, k: usize, shape: u32, index: u32) -> Prim {
         index,
         p2: p[2],
         kind: PRIM_TRIANGLE,
+    }
+}
+
+/// Segment `k` of the B-spline curves `mesh`, shape `shape` (layout in
+/// [`crate::gpu::layout::PRIM_BSPLINE_CURVE`]).
+pub fn bspline_prim(mesh: &Mesh, k: usize, shape: u32) -> Prim {
+    let (lo, hi) = crate::scene::shape::bsplinecurve::segment_box(mesh, k);
+    Prim {
+        p0: lo.to_array(),
+        shape,
+        p1: hi.to_array(),
+        index: k as u32,
+        p2: [
+            f32::from_bits(mesh.indices[k][2]),
+            mesh.indices.len() as f32,
+            0.0,
+        ],
+        kind: crate::gpu::layout::PRIM_BSPLINE_CURVE,
     }
 }
 

@@ -30,6 +30,12 @@ pub const PRIM_SDFGRID: u32 = 7;
 /// a curve's first segment, which alone has its start sphere: Embree's), `index` its
 /// number among the shape's segments.
 pub const PRIM_LINEAR_CURVE: u32 = 8;
+/// A segment of a `bsplinecurve` (`scene::shape::bsplinecurve`): `p0`, `p1` its box,
+/// `p2` = (the bits of the grid-buffer offset of its four control points, `x y z
+/// radius` each, the shape's segment count, 0), `index` its number among the shape's
+/// segments. The control points are a side table in the grid buffer (after the
+/// sdfgrids), as a segment's 16 numbers do not fit a record.
+pub const PRIM_BSPLINE_CURVE: u32 = 9;
 
 /// Marks an absent index (no emitter, no hit).
 pub const NONE: u32 = u32::MAX;
@@ -88,6 +94,8 @@ pub const SURFACE_FEATURE_CYLINDERS: u32 = 16;
 pub const SURFACE_FEATURE_SDFGRIDS: u32 = 128;
 /// Linear curve segments ([`PRIM_LINEAR_CURVE`]).
 pub const SURFACE_FEATURE_LINEAR_CURVES: u32 = 64;
+/// B-spline curve segments ([`PRIM_BSPLINE_CURVE`]).
+pub const SURFACE_FEATURE_BSPLINE_CURVES: u32 = 256;
 /// The `SURFACE_FEATURE_*` bit of each quadric `PRIM_*` kind; the BVH traversal's
 /// primitive mask (specialization constant of intersect, shade and shadow) is made of
 /// these bits too.
@@ -98,6 +106,7 @@ pub const fn surface_feature_of_prim(kind: u32) -> u32 {
         PRIM_CYLINDER => SURFACE_FEATURE_CYLINDERS,
         PRIM_SDFGRID => SURFACE_FEATURE_SDFGRIDS,
         PRIM_LINEAR_CURVE => SURFACE_FEATURE_LINEAR_CURVES,
+        PRIM_BSPLINE_CURVE => SURFACE_FEATURE_BSPLINE_CURVES,
         _ => 0,
     }
 }
@@ -751,6 +760,11 @@ mod tests {
             ("PRIM_SDFGRID", PRIM_SDFGRID),
             ("SURFACE_FEATURE_SDFGRIDS", SURFACE_FEATURE_SDFGRIDS),
             ("PRIM_LINEAR_CURVE", PRIM_LINEAR_CURVE),
+            ("PRIM_BSPLINE_CURVE", PRIM_BSPLINE_CURVE),
+            (
+                "SURFACE_FEATURE_BSPLINE_CURVES",
+                SURFACE_FEATURE_BSPLINE_CURVES,
+            ),
             ("SHAPE_HAS_NORMALS", SHAPE_HAS_NORMALS),
             ("SHAPE_HAS_UVS", SHAPE_HAS_UVS),
             ("SHAPE_FLIP_NORMALS", SHAPE_FLIP_NORMALS),

@@ -154,6 +154,7 @@ impl SceneRecords {
         if !scene.sdfgrids.is_empty() {
             r.quadric_kinds |= crate::gpu::layout::SURFACE_FEATURE_SDFGRIDS;
         }
+        crate::scene::shape::bsplinecurve::pack(&scene.meshes, &mut r.grid_data);
         for m in &scene.media {
             let rec = crate::scene::medium::record::record(
                 m,
@@ -277,7 +278,9 @@ impl SceneRecords {
                 quadric_slot[p.index as usize] = i as u32;
                 self.quadric_kinds |= surface_feature_of_prim(p.kind);
             }
-            if p.kind == crate::gpu::layout::PRIM_LINEAR_CURVE {
+            if p.kind == crate::gpu::layout::PRIM_LINEAR_CURVE
+                || p.kind == crate::gpu::layout::PRIM_BSPLINE_CURVE
+            {
                 self.quadric_kinds |= surface_feature_of_prim(p.kind);
             }
         }

@@ -119,6 +119,9 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         name: "path".into(),
         ..Default::default()
     });
+    // B-spline curves' control points follow the sdfgrids in the grid buffer.
+    let grid_words = l.b.sdfgrids.iter().map(|g| g.words()).sum();
+    super::shape::bsplinecurve::place(&mut l.b.meshes, grid_words).map_err(|m| root.err(m))?;
     let scene = Scene {
         path: root.file.as_ref().clone(),
         camera,
@@ -763,12 +766,25 @@ impl<'a> Loader<'a> {
         Ok(())
     }
 
+    /// A `merge` (shape::merge): its shapes, each loaded as a top-level one; no
+    /// parameters; other nested objects ignored, as in Mitsuba 3.9.1.
+    fn merge(&mut self, el: &'a Element) -> Result<(), Error> {
+        el.check_attrs(&["type", "id", "name"])?;
+        let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;
+        props.finish()?;
+        for c in nested.into_iter().filter(|c| c.tag == "shape") {
+            self.shape(c)?;
+        }
+        Ok(())
+    }
+
     fn shape(&mut self, el: &'a Element) -> Result<(), Error> {
         el.check_attrs(&["type", "id", "name"])?;
         let t = el.require("type")?;
         match t {
             "shapegroup" => return self.shapegroup(el).map(|_| ()),
             "instance" => return self.instance(el),
+            "merge" => return self.merge(el),
             _ => {}
         }
         let (props, nested) = Properties::read(el, Dialect::Mitsuba, false)?;

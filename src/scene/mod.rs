@@ -229,7 +229,11 @@ impl Scene {
             }
         };
         add(self.meshes.iter().any(|m| !m.is_curves()), "triangles");
-        add(self.meshes.iter().any(|m| m.is_curves()), "linear curves");
+        add(
+            self.meshes.iter().any(|m| m.is_curves() && !m.is_bspline()),
+            "linear curves",
+        );
+        add(self.meshes.iter().any(Mesh::is_bspline), "bspline curves");
         let has = |k: QuadricKind| self.quadrics.iter().any(|q| q.kind == k);
         add(has(QuadricKind::Sphere), "spheres");
         add(has(QuadricKind::Disk), "disks");

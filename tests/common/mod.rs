@@ -5,9 +5,11 @@
 
 use std::path::{Path, PathBuf};
 
-use wavetrace::accel::Bvh;
+use glam::Vec3;
+use wavetrace::accel::{prims_from_scene, Bvh, FlatPrims};
 use wavetrace::gpu::{
-    BindingKind, BindingLayout, Buffer, CommandList, DescriptorSet, Device, Kernel, Location,
+    shaders, BindingKind, BindingLayout, Buffer, CommandList, DescriptorSet, Device, Kernel,
+    Location,
 };
 use wavetrace::image::metrics::{block_t_test, block_t_test_correlated, rel_mse, BlockTest};
 use wavetrace::image::Image;
@@ -69,6 +71,81 @@ pub fn run_query_kernel(
     let mut raw: Vec<[f32; 4]> = out.read(device).expect("read results");
     raw.truncate(queries.len());
     raw
+}
+
+/// What tests/surface_query.comp found along a ray: the closest hit's point `p` at
+/// distance `t`, geometric and shading normals, shading tangent (sh_frame.s) and uv.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceHit {
+    pub p: Vec3,
+    pub t: f32,
+    pub ng: Vec3,
+    pub ns: Vec3,
+    pub ss: Vec3,
+    pub uv: [f32; 2],
+}
+
+/// Loads the scene at `scene_path`, builds and uploads its tree and traces `rays`
+/// (origin, direction) with the `surface_query` test kernel: the surface at each
+/// closest hit, or None on a miss.
+pub fn surface_query(scene_path: &Path, rays: &[(Vec3, Vec3)]) -> Vec<Option<SurfaceHit>> {
+    let scene = load(scene_path);
+    let device = device();
+    let bvh = Bvh::build(prims_from_scene(&scene));
+    let records = SceneRecords::new(&scene, &bvh);
+    let (layout, buffers) = upload_scene(&device, &bvh, &records, 2, 4);
+    let kernel = Kernel::new(
+        &device,
+        "surface_query",
+        shaders::TESTS_SURFACE_QUERY,
+        &layout,
+        &FlatPrims::of(&bvh, 0).constants(),
+    )
+    .unwrap();
+    let queries: Vec<[f32; 4]> = rays
+        .iter()
+        .flat_map(|(o, d)| {
+            [
+                o.extend(0.0).into(),
+                d.extend(0.0).into(),
+                [0.0; 4],
+                [0.0; 4],
+            ]
+        })
+        .collect();
+    let raw = run_query_kernel(
+        &device,
+        &layout,
+        &kernel,
+        &buffers.set,
+        &queries,
+        &[queries.len() as u32],
+    );
+    raw.chunks_exact(4)
+        .map(|r| {
+            (r[1][3] >= 0.0).then(|| {
+                let v = |k: usize| Vec3::new(r[k][0], r[k][1], r[k][2]);
+                SurfaceHit {
+                    p: v(0),
+                    t: r[0][3],
+                    ng: v(1),
+                    ns: v(2),
+                    ss: v(3),
+                    uv: [r[2][3], r[3][3]],
+                }
+            })
+        })
+        .collect()
+}
+
+/// A scene file `name`.xml in the temporary folder of `test`: a perspective sensor and
+/// `shape` (a Mitsuba snippet whose files are looked up in `dir`).
+pub fn shape_scene(test: &str, name: &str, dir: &Path, shape: &str) -> PathBuf {
+    let xml = format!(
+        "<scene version=\"3.0.0\">\n<path value=\"{}\"/>\n<sensor type=\"perspective\"/>\n{shape}\n</scene>\n",
+        dir.display()
+    );
+    temp_file(test, &format!("{name}.xml"), &xml)
 }
 
 /// Runs the `wavetrace` binary in the repository root: (exit status, stdout, stderr).

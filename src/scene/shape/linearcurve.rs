@@ -71,6 +71,13 @@ pub fn mitsuba(el: &Element, props: &Properties) -> Result<Geometry, Error> {
 
 /// The curves of a control point file (its text `bytes`; `path` for messages).
 pub fn parse(path: &Path, bytes: &[u8]) -> Result<Mesh, Error> {
+    parse_curves(path, bytes, 1)
+}
+
+/// The curves of a control point file of polynomial `degree` (1: `linearcurve`, a
+/// segment between each two neighbours; 3: `bsplinecurve`, a segment per four, its
+/// entries `[first control point, 3, 0]`).
+pub fn parse_curves(path: &Path, bytes: &[u8], degree: u32) -> Result<Mesh, Error> {
     let text = std::str::from_utf8(bytes)
         .map_err(|e| Error::file(path, format!("a curve file must be text: {e}")))?;
     let mut positions = Vec::new();
@@ -80,14 +87,19 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<Mesh, Error> {
     let mut first: Option<(usize, u32)> = None;
     let mut finish = |first: &mut Option<(usize, u32)>, end: usize| -> Result<(), Error> {
         if let Some((start, line)) = first.take() {
-            if end - start < 2 {
+            let needs = degree as usize + 1;
+            if end - start < needs {
                 return Err(Error::at(
                     path,
                     line,
-                    "a curve needs at least two control points (one line each, an empty line between curves)",
+                    format!(
+                        "a curve needs at least {} control points (one line each, an empty line between curves)",
+                        ["two", "four"][(degree == 3) as usize]
+                    ),
                 ));
             }
-            indices.extend((start..end - 1).map(|i| [i as u32, 0, 0]));
+            let marker = if degree == 3 { 3 } else { 0 };
+            indices.extend((start..=end - needs).map(|i| [i as u32, marker, 0]));
         }
         Ok(())
     };

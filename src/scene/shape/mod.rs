@@ -5,11 +5,13 @@
 //! [`crate::scene::serialized`]; the dialects' tree walkers attach BSDFs, emitters and
 //! media and bring the shape to world space ([`crate::scene::builder`]).
 
+pub mod bsplinecurve;
 pub mod cube;
 pub mod cylinder;
 pub mod disk;
 pub mod instance;
 pub mod linearcurve;
+pub mod merge;
 pub mod obj;
 pub mod ply;
 pub mod rectangle;
@@ -38,11 +40,11 @@ pub const REGISTRY: &[PluginDoc] = &[
     linearcurve::MITSUBA,
     instance::SHAPEGROUP,
     instance::INSTANCE,
-    not_yet("bsplinecurve"),
+    bsplinecurve::MITSUBA,
     sdfgrid::MITSUBA,
     not_yet("ellipsoids"),
     not_yet("ellipsoidsmesh"),
-    not_yet("merge"),
+    merge::MITSUBA,
     obj::NORI,
 ];
 
@@ -99,6 +101,7 @@ pub fn mitsuba(t: &str, el: &Element, props: &Properties) -> Result<Geometry, Er
         "cylinder" => return cylinder::mitsuba(props),
         "sdfgrid" => return sdfgrid::mitsuba(el, props),
         "linearcurve" => return linearcurve::mitsuba(el, props),
+        "bsplinecurve" => return bsplinecurve::mitsuba(el, props),
         _ => {}
     }
     let to_world = props.transform("to_world")?;
@@ -170,6 +173,12 @@ impl Mesh {
     /// Whether this is a set of curves ([`Mesh::radii`]), not triangles.
     pub fn is_curves(&self) -> bool {
         !self.radii.is_empty()
+    }
+
+    /// Whether these curves are cubic B-splines ([`bsplinecurve`]): their segments
+    /// are `[first control point, 3, grid-buffer offset of that point]`.
+    pub fn is_bspline(&self) -> bool {
+        self.is_curves() && self.indices.first().is_some_and(|s| s[1] == 3)
     }
 }
 
