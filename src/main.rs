@@ -783,8 +783,8 @@ fn print_info(
     );
     if let Some(t) = &bvh.two_level {
         println!(
-            "two-level:   {} instances; top level {} nodes, {} primitives; traversal stack {}",
-            t.instances, t.top_nodes, t.top_prims, t.stack_depth
+            "two-level:   {} instances ({}-byte records); top level {} nodes, {} primitives; traversal stack {}",
+            t.instances, t.record_bytes(), t.top_nodes, t.top_prims, t.stack_depth
         );
     }
     print_device_memory(sc, &bvh);

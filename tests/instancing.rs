@@ -207,6 +207,50 @@ fn instances_render_as_their_shapes_written_out() {
     assert!(close as f64 >= 0.999 * n as f64, "{close} of {n} agree");
 }
 
+/// One instance that stretches unevenly (out of sight, below the floor) makes every
+/// record general (the 3×4 rows, not a quaternion: accel::instance): the tents placed
+/// by them render as the tents written out, to rounding.
+#[test]
+fn general_instance_records_render_as_their_shapes_written_out() {
+    let tent = SHAPES[0];
+    let own = shape_maps()[0];
+    let mut maps = instance_maps();
+    maps.push(
+        Mat4::from_translation(Vec3::new(0.0, -50.0, 0.0))
+            * Mat4::from_scale(Vec3::new(1.0, 0.6, 1.3)),
+    );
+    let mut grouped = format!(
+        r#"<shape type="shapegroup" id="group">{}</shape>"#,
+        tent.replace("{M}", &matrix(&own))
+    );
+    let mut written = String::new();
+    for m in &maps {
+        grouped += &format!(
+            r#"<shape type="instance"><ref id="group"/>{}</shape>"#,
+            matrix(m)
+        );
+        written += &tent.replace("{M}", &matrix(&(*m * own)));
+    }
+    let dir = temp_dir("instancing");
+    std::fs::write(dir.join("tent.obj"), TENT_OBJ).expect("write obj");
+    std::fs::write(dir.join("general_records.xml"), scene(&grouped)).expect("write scene");
+    let loaded = wavetrace::scene::load(&dir.join("general_records.xml"), &[]).expect("load");
+    let bvh = wavetrace::accel::instance::scene_bvh(&loaded).expect("bvh");
+    let texels = bvh.two_level.expect("two levels").texels;
+    assert_eq!(texels, wavetrace::accel::instance::GENERAL_TEXELS);
+    let a = render("general.xml", &scene(&grouped));
+    let b = render("general_flat.xml", &scene(&written));
+    let n = a.rgb.len();
+    let close = a
+        .rgb
+        .iter()
+        .zip(&b.rgb)
+        .filter(|(x, y)| (*x - *y).abs() <= 1e-3 * x.abs().max(y.abs()).max(1e-2))
+        .count();
+    println!("{close} of {n} values agree to 1e-3");
+    assert!(close as f64 >= 0.999 * n as f64, "{close} of {n} agree");
+}
+
 /// Without groups nothing changes: a scene is traced by its one tree, and one with
 /// an unused group renders as the scene without it (its shapes are not seen).
 #[test]

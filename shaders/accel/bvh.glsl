@@ -317,16 +317,50 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, uint mode, out Hit second)
         }
         uint index = item >> BVH_COUNT_BITS;
         uint count = item & BVH_COUNT_MASK; // a leaf holds at least one primitive
+        if (INSTANCED && index >= BVH_INSTANCE_SLOTS) {
+            // A leaf of instances k .. end - 1 (instance.glsl), which has no boxes of
+            // its own: each in turn, the ray moves to the group's space (an affine map
+            // keeps t) and meets the box of its root node there, or the next is tried,
+            // with no stack traffic. Into the first it meets: the rest of the leaf and
+            // the way back wait on the stack, and the group's tree is walked from its
+            // root.
+            uint k = index - BVH_INSTANCE_SLOTS;
+            uint end = k + count;
+            bool into = false;
+            uint root;
+            BvhRay ir;
+            do {
+                InstanceMap m = instance_to_object(k);
+                ir.o = instance_point(m, world_o);
+                vec3 id = instance_vector(m, world_d);
+                ir.inv = vec3(bvh_inv(id.x), bvh_inv(id.y), bvh_inv(id.z));
+                ir.neg = lessThan(ir.inv, vec3(0.0));
+                root = instance_root(k);
+                BvhNode n = bvh_node_load(root);
+                float tn;
+                into = bvh_slab(ir, min(n.left_min, n.right_min), max(n.left_max, n.right_max),
+                                tmin, bvh_bound(mode, hit, second), tn);
+                d = id;
+                k++;
+            } while (!into && k < end);
+            if (into) {
+                if (k < end) BVH_STACK_PUSH(stack, ((k + BVH_INSTANCE_SLOTS) << BVH_COUNT_BITS) | (end - k));
+                BVH_STACK_PUSH(stack, BVH_LEAVE);
+                r = ir;
+                o = ir.o;
+                tr = triangle_ray_make(d);
+                name = k << INSTANCE_SHIFT; // instance k - 1, plus 1
+                item = root << BVH_COUNT_BITS;
+            } else {
+                d = world_d;
+                BVH_STACK_POP(stack, item);
+            }
+            continue;
+        }
         uint i = index;
-        Prim p;
-        bool enter = false;
         do {
             float t, u, v;
-            p = prim_load(i);
-            if (INSTANCED && p.kind == PRIM_INSTANCE) {
-                enter = true;
-                break;
-            }
+            Prim p = prim_load(i);
             if (bvh_prim_hit(p, tr, o, d, tmin, bvh_bound(mode, hit, second), t, u, v)) {
                 bvh_record(mode, hit, second, Hit(t, u, v, INSTANCED ? (name | i) : i));
                 if (mode == BVH_ANY) break;
@@ -335,24 +369,6 @@ Hit bvh_trace(vec3 o, vec3 d, float tmin, float tmax, uint mode, out Hit second)
         } while (i < index + count);
         // An any-hit query is answered by its first hit.
         if (mode == BVH_ANY && hit.prim != HIT_NONE) break;
-        if (INSTANCED && enter) {
-            // Into instance p.index: the rest of the leaf and the way back wait
-            // on the stack; the ray moves to the group's space (an affine map keeps t),
-            // and the group's tree is walked from its root (the record's `shape`).
-            uint rest = index + count - (i + 1u);
-            if (rest > 0u) BVH_STACK_PUSH(stack, ((i + 1u) << BVH_COUNT_BITS) | rest);
-            BVH_STACK_PUSH(stack, BVH_LEAVE);
-            InstanceMap m = instance_map(p);
-            o = instance_point(m, world_o);
-            d = instance_vector(m, world_d);
-            tr = triangle_ray_make(d);
-            r.o = o;
-            r.inv = vec3(bvh_inv(d.x), bvh_inv(d.y), bvh_inv(d.z));
-            r.neg = lessThan(r.inv, vec3(0.0));
-            name = (p.index + 1u) << BVH_INSTANCES;
-            item = p.shape << BVH_COUNT_BITS;
-            continue;
-        }
         BVH_STACK_POP(stack, item);
     }
     return hit;

@@ -6,8 +6,9 @@
 //   SPEC(SCENE_INSTANCES); SPEC(SCENE_INSTANCE_SLOTS);
 //   #define BVH_INSTANCES SCENE_INSTANCES
 //   #define BVH_INSTANCE_SLOTS SCENE_INSTANCE_SLOTS
-// BVH_INSTANCES is the shift of the hit names, (instance + 1) << shift | primitive, 0 in
-// scenes without instances (the default): then every function here is the identity or
+// BVH_INSTANCES is the shift of the hit names, (instance + 1) << shift | primitive, plus
+// 32 (accel::instance::COMPACT_BIT) where the instance records are compact; 0 in scenes
+// without instances (the default): then every function here is the identity or
 // compiles away.
 #ifndef INSTANCE_GLSL
 #define INSTANCE_GLSL
@@ -23,11 +24,17 @@
 #define BVH_INSTANCE_SLOTS 0u
 #endif
 #define INSTANCED (BVH_INSTANCES != 0u)
+#define INSTANCE_SHIFT (BVH_INSTANCES & 31u)
+#define INSTANCE_COMPACT ((BVH_INSTANCES & 32u) != 0u)
+// Texels of an instance record: 2 compact, else 4.
+#define INSTANCE_TEXELS (4u - 2u * ((BVH_INSTANCES >> 5u) & 1u))
 
-// An instance's map from world to its group's space: p' = A p + b, A by rows. Its
-// top-level record (instance.rs) holds A's rows in p0, p1, p2, its group's root node
-// in `shape` and the instance number k in `index`; b is texel 3 BVH_INSTANCE_SLOTS + k
-// of the primitives, whose fourth word is the position of that record.
+// An instance's map from world to its group's space: p' = A p + b, A by rows. Instance
+// record k (instance.rs; k its position in top-level leaf order, as hit names number
+// it) starts at texel 3 BVH_INSTANCE_SLOTS + INSTANCE_TEXELS k of the primitives:
+// compact, a quaternion (x, y, z, w) whose squared norm is A's scale (w's sign bit: A
+// mirrors), then (b, the group's root node); else A's rows with b's components in w,
+// then (the group's root node, 0, 0, 0).
 struct InstanceMap {
     vec3 r0;
     vec3 r1;
@@ -35,17 +42,40 @@ struct InstanceMap {
     vec3 b;
 };
 
-// The map of the instance whose top-level record p was loaded.
-InstanceMap instance_map(Prim p) {
-    vec3 b = uintBitsToFloat(prim_texel(3u * BVH_INSTANCE_SLOTS + p.index).xyz);
-    return InstanceMap(p.p0, p.p1, p.p2, b);
+uint instance_texel(uint k) { return 3u * BVH_INSTANCE_SLOTS + INSTANCE_TEXELS * k; }
+
+// The map of instance k: for a compact record, A rebuilt from its quaternion as
+// accel::instance::compact_rows does.
+InstanceMap instance_to_object(uint k) {
+    uint at = instance_texel(k);
+    uvec4 t0 = prim_texel(at);
+    uvec4 t1 = prim_texel(at + 1u);
+    InstanceMap m;
+    if (INSTANCE_COMPACT) {
+        vec4 q = uintBitsToFloat(t0);
+        float x = q.x, y = q.y, z = q.z, w = abs(q.w);
+        float xx = x * x, yy = y * y, zz = z * z, ww = w * w;
+        float xy = x * y, xz = x * z, yz = y * z;
+        float wx = w * x, wy = w * y, wz = w * z;
+        float s = (t0.w & 0x80000000u) != 0u ? -1.0 : 1.0;
+        m.r0 = s * vec3(ww + xx - yy - zz, 2.0 * (xy - wz), 2.0 * (xz + wy));
+        m.r1 = s * vec3(2.0 * (xy + wz), ww - xx + yy - zz, 2.0 * (yz - wx));
+        m.r2 = s * vec3(2.0 * (xz - wy), 2.0 * (yz + wx), ww - xx - yy + zz);
+        m.b = uintBitsToFloat(t1.xyz);
+    } else {
+        uvec4 t2 = prim_texel(at + 2u);
+        m.r0 = uintBitsToFloat(t0.xyz);
+        m.r1 = uintBitsToFloat(t1.xyz);
+        m.r2 = uintBitsToFloat(t2.xyz);
+        m.b = uintBitsToFloat(uvec3(t0.w, t1.w, t2.w));
+    }
+    return m;
 }
 
-// The map of instance k (as hit names number it).
-InstanceMap instance_to_object(uint k) {
-    uvec4 t = prim_texel(3u * BVH_INSTANCE_SLOTS + k);
-    Prim a = prim_load(t.w);
-    return InstanceMap(a.p0, a.p1, a.p2, uintBitsToFloat(t.xyz));
+// The root node of instance k's group.
+uint instance_root(uint k) {
+    uint at = instance_texel(k);
+    return INSTANCE_COMPACT ? prim_texel(at + 1u).w : prim_texel(at + 3u).x;
 }
 
 // The linear part of the instance's to_world, A⁻¹.
@@ -63,12 +93,12 @@ vec3 instance_vector(InstanceMap m, vec3 v) {
 
 // The instance a hit name lies in, plus 1 (0: a primitive outside instances).
 uint instance_of(uint id) {
-    return INSTANCED ? id >> BVH_INSTANCES : 0u;
+    return INSTANCED ? id >> INSTANCE_SHIFT : 0u;
 }
 
 // The primitive record a hit name refers to.
 uint instance_prim(uint id) {
-    return INSTANCED ? id & ((1u << BVH_INSTANCES) - 1u) : id;
+    return INSTANCED ? id & ((1u << INSTANCE_SHIFT) - 1u) : id;
 }
 
 // Primitive `id` (a hit name) in world space: a primitive of an instance mapped by its

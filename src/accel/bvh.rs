@@ -384,10 +384,8 @@ impl Bvh {
         s
     }
 
-    /// The primitive records that are primitives or instances (with a `kind`): all but
-    /// a two-level tree's records after `slots`, which hold the instances'
-    /// translations (`accel::instance`). Instances' records ([`PRIM_INSTANCE`]) name
-    /// no shape.
+    /// The primitive records that are primitives (with a `kind`): all but a two-level
+    /// tree's records from `slots` on, which hold the instances (`accel::instance`).
     pub fn shape_prims(&self) -> &[Prim] {
         let n = self
             .two_level
@@ -468,16 +466,16 @@ impl Bvh {
                     continue;
                 }
             } else {
+                // A leaf from `slots` on names instance records (accel::instance).
+                let slots = self.two_level.map_or(u32::MAX, |t| t.slots);
                 for i in index..index + count {
-                    let p = &self.prims[i as usize];
-                    let found = if p.kind == PRIM_INSTANCE {
-                        // An instance's box stands for it (intersect_prim); its record
-                        // holds its map (accel::instance).
-                        let (lo, hi) = super::instance::instance_world_box(self, p);
+                    let found = if i >= slots {
+                        // An instance's box stands for it (intersect_prim).
+                        let (lo, hi) = super::instance::instance_world_box(self, i - slots);
                         let (hit, tn) = br.slab(lo.to_array(), hi.to_array(), tmin, t_hit);
                         hit.then_some((tn, 0.0, 0.0))
                     } else {
-                        intersect_prim(p, &tr, o, d, tmin, t_hit)
+                        intersect_prim(&self.prims[i as usize], &tr, o, d, tmin, t_hit)
                     };
                     if let Some((t, u, v)) = found {
                         t_hit = t;

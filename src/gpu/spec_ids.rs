@@ -196,11 +196,11 @@ pub const SPEC_CONSTANTS: &[SpecConst] = &[
     c(Spec::ScanStage, "SCAN_STAGE", Uint, "0u",
       "The stage of the photon grid's prefix sum."),
     c(Spec::Instances, "SCENE_INSTANCES", Uint, "0u",
-      "A scene with instances: hits in instance k are named (k + 1) << this | primitive \
-       (accel::instance, shaders/accel/instance.glsl); 0: no instances, and their code \
-       compiles away."),
+      "A scene with instances: hits in instance k are named (k + 1) << (this & 31) | \
+       primitive, and this & 32: the instance records are compact (accel::instance, \
+       shaders/accel/instance.glsl); 0: no instances, and their code compiles away."),
     c(Spec::InstanceSlots, "SCENE_INSTANCE_SLOTS", Uint, "0u",
-      "The first record after the primitives: the instances' translations (instance.glsl)."),
+      "The first record after the primitives: the instance records (instance.glsl)."),
     c(Spec::SensorShape, "SCENE_SENSOR_SHAPE", Bool, "false",
       "The sensor samples a shape (an irradiancemeter: sensor/irradiancemeter.glsl); \
        without one its code compiles away."),
