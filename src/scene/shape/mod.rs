@@ -12,6 +12,7 @@ pub mod instance;
 pub mod linearcurve;
 pub mod obj;
 pub mod ply;
+pub mod provided;
 pub mod rectangle;
 pub mod sdfgrid;
 pub mod serialized;
@@ -99,6 +100,7 @@ pub fn mitsuba(t: &str, el: &Element, props: &Properties) -> Result<Geometry, Er
         "cylinder" => return cylinder::mitsuba(props),
         "sdfgrid" => return sdfgrid::mitsuba(el, props),
         "linearcurve" => return linearcurve::mitsuba(el, props),
+        provided::TYPE if provided::active() => return provided::mitsuba(el, props),
         _ => {}
     }
     let to_world = props.transform("to_world")?;
