@@ -16,10 +16,10 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 use std::time::Duration;
 
-use glam::{Mat4, Vec3};
+use glam::{Mat4, Vec2, Vec3};
 use pyo3::exceptions::{PyIndexError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyByteArray, PyDict, PyList};
+use pyo3::types::{PyByteArray, PyBytes, PyDict, PyList};
 
 use wavetrace::gpu::{Device, DeviceKind};
 use wavetrace::render::film::FilmSums;
@@ -81,18 +81,67 @@ struct Scene {
     renderer: Option<((Option<String>, u32), Renderer)>,
 }
 
-/// Loads the scene file `path` with `-D` overrides `defines`.
+/// A mesh built in Python (`wavetrace.Mesh`): name, positions (float32 x 3 per
+/// vertex), faces (uint32 x 3), normals and texcoords (float32 x 3 and x 2, or
+/// empty), attributes (name, channels, float32 values), all native byte order.
+type MeshParts<'py> = (
+    String,
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+    Bound<'py, PyBytes>,
+    Vec<(String, u32, Bound<'py, PyBytes>)>,
+);
+
+fn mesh_of(parts: &MeshParts<'_>) -> wavetrace::scene::Mesh {
+    use wavetrace::scene::texture::mesh_attribute::MeshAttribute;
+    let (name, positions, faces, normals, uvs, attributes) = parts;
+    let floats =
+        |b: &Bound<'_, PyBytes>| -> Vec<f32> { bytemuck::pod_collect_to_vec(b.as_bytes()) };
+    let p = floats(positions);
+    let n = floats(normals);
+    let t = floats(uvs);
+    let f: Vec<u32> = bytemuck::pod_collect_to_vec(faces.as_bytes());
+    wavetrace::scene::Mesh {
+        name: name.clone(),
+        positions: p.chunks_exact(3).map(Vec3::from_slice).collect(),
+        normals: n.chunks_exact(3).map(Vec3::from_slice).collect(),
+        uvs: t.chunks_exact(2).map(Vec2::from_slice).collect(),
+        indices: f.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
+        attributes: attributes
+            .iter()
+            .map(|(name, dim, values)| MeshAttribute {
+                name: name.clone(),
+                dim: *dim,
+                values: floats(values),
+            })
+            .collect(),
+        ..Default::default()
+    }
+}
+
+/// Loads the scene file `path` with `-D` overrides `defines`; `<shape type="mesh">`
+/// shapes in it name `meshes` (built in Python) by index, handed to the loader in
+/// memory (`wavetrace::scene::shape::provided`).
 #[pyfunction]
-#[pyo3(signature = (path, defines, device=None))]
+#[pyo3(signature = (path, defines, device=None, meshes=Vec::new()))]
 fn load_file(
     py: Python<'_>,
     path: PathBuf,
     defines: Vec<(String, String)>,
     device: Option<String>,
+    meshes: Vec<MeshParts<'_>>,
 ) -> PyResult<Scene> {
     guarded(|| {
+        let meshes: Vec<wavetrace::scene::Mesh> = meshes.iter().map(mesh_of).collect();
         let scene = py
-            .allow_threads(|| wavetrace::scene::load(&path, &defines))
+            .allow_threads(move || {
+                if meshes.is_empty() {
+                    wavetrace::scene::load(&path, &defines)
+                } else {
+                    wavetrace::scene::shape::provided::load(&path, &defines, meshes)
+                }
+            })
             .map_err(|e| PyValueError::new_err(e.to_string()))?;
         Ok(Scene {
             scene,

@@ -24,10 +24,14 @@ import numpy as np
 
 from . import _wavetrace
 from . import _dict
+from ._mesh import Mesh, MeshError, traverse
 
 __all__ = [
     "Image",
+    "Mesh",
+    "MeshError",
     "Scene",
+    "traverse",
     "devices",
     "set_device",
     "load_file",
@@ -216,16 +220,17 @@ def load_file(path, **defines):
 def load_dict(scene):
     """Loads a scene from Mitsuba 3's dictionary format (see docs/python.md): nested
     plugin dicts with a ``type``, transforms as 4x4 matrices (lists, NumPy arrays,
-    ``mi.ScalarTransform4f``), ``{'type': 'ref', 'id': ...}`` references. A dict
+    ``mi.ScalarTransform4f``), ``{'type': 'ref', 'id': ...}`` references, ``Mesh``
+    objects built in Python (handed to the loader in memory). A dict
     wavetrace cannot read raises ``ValueError`` naming the key."""
     tags = {name: tag for name, tag, _ in _wavetrace.plugins()}
-    xml, keys = _dict.to_xml(scene, tags)
+    xml, keys, meshes = _dict.to_xml(scene, tags)
     fd, tmp = tempfile.mkstemp(prefix="wavetrace_dict_", suffix=".xml")
     try:
         with os.fdopen(fd, "w") as f:
             f.write(xml)
         try:
-            native = _wavetrace.load_file(tmp, [], _device)
+            native = _wavetrace.load_file(tmp, [], _device, [m._parts() for m in meshes])
         except ValueError as e:
             raise _dict.DictError(_name_keys(str(e), tmp, keys)) from None
     finally:

@@ -13,6 +13,8 @@ What a value becomes (Mitsuba's ``load_dict`` conventions):
 - ``{'type': 'rgb', 'value': [r, g, b] or v}``, ``{'type': 'spectrum', 'value': v or
   [(wavelength, value), ...]}`` or ``{'type': 'spectrum', 'filename': ...}``: colours;
 - ``{'type': 'ref', 'id': name}``: a reference to an object of the root;
+- a ``wavetrace.Mesh`` at the root: a shape whose buffers the loader gets in memory
+  (``<shape type="mesh">`` naming it by index), its ``props`` the shape's parameters;
 - ``bool``, ``int``, ``float``, ``str``: ``boolean``, ``integer``, ``float``, ``string``;
 - a 4x4 matrix (nested lists, a NumPy array, or anything with a ``matrix``
   attribute such as ``mi.ScalarTransform4f``): a ``transform``;
@@ -23,6 +25,8 @@ import os
 from xml.sax.saxutils import quoteattr
 
 import numpy as np
+
+from ._mesh import Mesh
 
 # Families not in the plugin catalogue (wavetrace reads them inside their parents).
 _EXTRA_TAGS = {
@@ -89,6 +93,22 @@ class _Writer:
         self.tags = tags
         self.lines = []
         self.keys = []  # per line: the key path it came from
+        self.meshes = []  # the Mesh objects, in the order of their "provided" index
+
+    def mesh(self, depth, key, mesh, keys):
+        """A ``Mesh`` built in Python: a ``mesh`` shape naming it by its index among
+        the meshes handed to the loader, with the shape parameters of its props."""
+        self.line(depth, f"<shape type=\"mesh\" id={quoteattr(key)}>", keys)
+        self.line(depth + 1, f"<integer name=\"provided\" value=\"{len(self.meshes)}\"/>", keys)
+        self.meshes.append(mesh)
+        for k, v in mesh.props.items():
+            if not isinstance(k, str) or k in ("type", "id", "provided"):
+                raise DictError(
+                    f"load_dict: {_path(keys)}: mesh '{mesh.name}': props key {k!r} is not "
+                    "a shape parameter"
+                )
+            self.value(depth + 1, k, v, keys + [k])
+        self.line(depth, "</shape>", keys)
 
     def line(self, depth, text, keys):
         self.lines.append("    " * depth + text)
@@ -229,14 +249,17 @@ def to_xml(scene, tags):
             continue
         if not isinstance(key, str):
             raise DictError(f"load_dict: key {key!r} of the scene is not a string")
+        if isinstance(v, Mesh):
+            w.mesh(1, key, v, [key])
+            continue
         if not isinstance(v, dict):
             raise DictError(
-                f"load_dict: {_path([key])}: the scene holds objects (dicts with a 'type'), "
-                f"got {type(v).__name__}"
+                f"load_dict: {_path([key])}: the scene holds objects (dicts with a 'type' "
+                f"or wavetrace.Mesh), got {type(v).__name__}"
             )
         w.obj(1, key, v, [key], root_level=True)
     w.line(0, "</scene>", [])
-    return "\n".join(w.lines) + "\n", w.keys
+    return "\n".join(w.lines) + "\n", w.keys, w.meshes
 
 
 def key_of_line(keys, line):

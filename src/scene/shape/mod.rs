@@ -14,6 +14,7 @@ pub mod linearcurve;
 pub mod merge;
 pub mod obj;
 pub mod ply;
+pub mod provided;
 pub mod rectangle;
 pub mod sdfgrid;
 pub mod serialized;
@@ -102,6 +103,7 @@ pub fn mitsuba(t: &str, el: &Element, props: &Properties) -> Result<Geometry, Er
         "sdfgrid" => return sdfgrid::mitsuba(el, props),
         "linearcurve" => return linearcurve::mitsuba(el, props),
         "bsplinecurve" => return bsplinecurve::mitsuba(el, props),
+        provided::TYPE if provided::active() => return provided::mitsuba(el, props),
         _ => {}
     }
     let to_world = props.transform("to_world")?;

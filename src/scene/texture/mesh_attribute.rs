@@ -217,15 +217,7 @@ pub fn check(scene: &Scene) -> Result<(), Error> {
     let read = |bsdf: u32, emitter: Option<u32>| -> Vec<&str> {
         let mut ids = Vec::new();
         if let Some(b) = scene.bsdfs.get(bsdf as usize) {
-            let r = crate::gpu::layout::BsdfRecord::from(b);
-            ids.extend([
-                r.tex_reflectance,
-                r.tex_specular,
-                r.tex_transmittance,
-                r.tex_alpha_u,
-                r.tex_alpha_v,
-                r.normal_map,
-            ]);
+            bsdf_texture_ids(b, &mut ids);
         }
         if let Some(crate::scene::Emitter::TexturedArea { texture, .. }) =
             emitter.and_then(|e| scene.emitters.get(e as usize))
@@ -276,6 +268,40 @@ pub fn check(scene: &Scene) -> Result<(), Error> {
         }
     }
     Ok(())
+}
+
+/// The textures (id + 1) that `b` reads: its leaves' textured parameters and normal
+/// maps, and through composites (blendbsdf, mask, twosided, bumpmap) their weights,
+/// height fields and both children.
+fn bsdf_texture_ids(b: &crate::scene::Bsdf, ids: &mut Vec<u32>) {
+    use crate::scene::Bsdf;
+    match b {
+        Bsdf::Blend { weight, bsdfs } => {
+            ids.extend(weight.texture.map(|t| t + 1));
+            bsdfs.iter().for_each(|c| bsdf_texture_ids(c, ids));
+        }
+        Bsdf::Mask { opacity, bsdf } => {
+            ids.extend(opacity.texture.map(|t| t + 1));
+            bsdf_texture_ids(bsdf, ids);
+        }
+        Bsdf::TwoSidedPair(bsdfs) => bsdfs.iter().for_each(|c| bsdf_texture_ids(c, ids)),
+        Bsdf::BumpMap { params, bsdf } => {
+            ids.push(params.texture + 1);
+            bsdf_texture_ids(bsdf, ids);
+        }
+        Bsdf::TwoSided(inner) => bsdf_texture_ids(inner, ids),
+        leaf => {
+            let r = crate::gpu::layout::BsdfRecord::from(leaf);
+            ids.extend([
+                r.tex_reflectance,
+                r.tex_specular,
+                r.tex_transmittance,
+                r.tex_alpha_u,
+                r.tex_alpha_v,
+                r.normal_map,
+            ]);
+        }
+    }
 }
 
 /// The GPU side of `scene`'s mesh_attribute textures: each one's record (`records[i]`
@@ -446,6 +472,36 @@ mod tests {
         for (body, line, msg) in cases {
             let e = error_at(load(&[("s.xml", &mitsuba(body))], &[]), "s.xml", *line);
             assert!(e.contains(msg), "{e}\n  wanted: {msg}");
+        }
+    }
+
+    #[test]
+    fn attributes_read_inside_composites_are_checked() {
+        // A blendbsdf's weight, and its second child: both read on the quad.
+        let blend = |weight: &str, second: &str| {
+            mitsuba(&format!(
+                "<shape type=\"ply\"><string name=\"filename\" value=\"q.ply\"/>\n<bsdf type=\"blendbsdf\"><texture type=\"mesh_attribute\" name=\"weight\"><string name=\"name\" value=\"{weight}\"/></texture><bsdf type=\"diffuse\"/><bsdf type=\"diffuse\"><texture type=\"mesh_attribute\" name=\"reflectance\"><string name=\"name\" value=\"{second}\"/></texture></bsdf></bsdf></shape>"
+            ))
+        };
+        let ok = load(
+            &[
+                ("s.xml", &blend("face_weight", "vertex_color")),
+                ("q.ply", QUAD),
+            ],
+            &[],
+        );
+        assert!(ok.is_ok(), "{:?}", ok.err());
+        for (weight, second, missing) in [
+            ("face_wait", "vertex_color", "face_wait"),
+            ("face_weight", "vertex_colour", "vertex_colour"),
+        ] {
+            let e = load(&[("s.xml", &blend(weight, second)), ("q.ply", QUAD)], &[])
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains("q.ply") && e.contains(&format!("no attribute '{missing}'")),
+                "{e}"
+            );
         }
     }
 
