@@ -9,12 +9,20 @@
 // aperture sample, is read by the thin lens only. Camera space as in Mitsuba and Nori:
 // looking down +z, +y up, +x to the left of the image. The ray starts on the near
 // plane and ends on the far plane (Mitsuba's near_clip/far_clip).
-// A projective camera (perspective, orthographic or thin lens: `kind`) with the given
-// parameters, at `ndc` in [0, 1]^2 of its film of height / width `aspect`: camera_ray's
+// A projective camera (perspective, orthographic or thin lens: `kind`; or a
+// radiancemeter, which reads only to_world and far_clip) with the given parameters, at `ndc` in [0, 1]^2 of its film of height / width `aspect`: camera_ray's
 // code for these kinds, for the children of a batch sensor (camera_path.glsl).
 void camera_ray_projective(mat4 to_world, vec2 tan_half_fov, float near_clip, float far_clip,
                            uint kind, float aperture_radius, float focus_distance, float aspect,
                            vec2 ndc, vec2 u_lens, out vec3 origin, out vec3 dir, out float tmax) {
+    if (kind == CAMERA_RADIANCEMETER) {
+        // A radiancemeter child: camera_ray's, whatever the film position.
+        vec3 d = mat3(to_world) * vec3(0.0, 0.0, 1.0);
+        origin = to_world[3].xyz + 1e-4 * d;
+        dir = normalize(d);
+        tmax = far_clip;
+        return;
+    }
     if (kind == CAMERA_ORTHOGRAPHIC) {
         vec3 p = vec3(1.0 - 2.0 * ndc.x, (1.0 - 2.0 * ndc.y) * aspect, near_clip);
         origin = (to_world * vec4(p, 1.0)).xyz;
