@@ -138,6 +138,10 @@ enum Command {
         /// shows to this PNG, and exit.
         #[arg(long, value_name = "FILE.png")]
         screenshot: Option<PathBuf>,
+        /// Sensor I of a scene with several (0: the first, the default), as `render
+        /// --sensor` counts them.
+        #[arg(long, value_name = "I")]
+        sensor: Option<u32>,
         #[command(flatten)]
         run: RunArgs,
     },
@@ -169,6 +173,10 @@ enum Command {
         /// Also write everything measured as JSON to this file.
         #[arg(long, value_name = "FILE")]
         json: Option<PathBuf>,
+        /// Sensor I of a scene with several (0: the first, the default), as `render
+        /// --sensor` counts them.
+        #[arg(long, value_name = "I")]
+        sensor: Option<u32>,
         #[command(flatten)]
         run: RunArgs,
         /// No progress bar.
@@ -344,21 +352,27 @@ fn run(cli: Cli) -> Result<()> {
             spp,
             exposure,
             screenshot,
+            sensor,
             run,
-        } => view(&scene, spp, exposure, screenshot, run),
+        } => view(&scene, spp, exposure, screenshot, sensor, run),
         Command::Bench {
             scene,
             reference,
             spp,
             json,
+            sensor,
             run,
             quiet,
         } => {
-            let (options, device) = run.options(true);
+            let (render, device) = run.options(true);
+            let options = bench::BenchOptions {
+                spp: bench::parse_spp_list(&spp)?,
+                render,
+                sensor: sensor.map(|i| i as usize),
+            };
             bench(
                 &scene,
                 &reference,
-                &spp,
                 json.as_deref(),
                 options,
                 device.as_deref(),
@@ -464,6 +478,7 @@ fn view(
     spp: Option<u32>,
     exposure: f32,
     screenshot: Option<PathBuf>,
+    sensor: Option<u32>,
     run: RunArgs,
 ) -> Result<()> {
     let started = Instant::now();
@@ -477,7 +492,11 @@ fn view(
     if let Some(reason) = wavetrace::viewer::window::missing_display() {
         return Err(wavetrace::viewer::Error::NoDisplay(reason).into());
     }
-    let sc = load(scene)?;
+    let mut sc = load(scene)?;
+    if let Some(i) = sensor {
+        sc.select_sensor(i as usize)
+            .map_err(|e| anyhow::anyhow!("--sensor: {}: {e}", scene.scene.display()))?;
+    }
     let (render, device) = run.options(false);
     let options = wavetrace::viewer::ViewOptions {
         spp,
@@ -507,6 +526,7 @@ fn view(
     _spp: Option<u32>,
     _exposure: f32,
     _screenshot: Option<PathBuf>,
+    _sensor: Option<u32>,
     _run: RunArgs,
 ) -> Result<()> {
     bail!(
@@ -518,16 +538,11 @@ fn view(
 fn bench(
     scene: &SceneArgs,
     reference: &Path,
-    spp: &str,
     json: Option<&Path>,
-    render: RenderOptions,
+    options: bench::BenchOptions,
     device: Option<&str>,
     quiet: bool,
 ) -> Result<()> {
-    let options = bench::BenchOptions {
-        spp: bench::parse_spp_list(spp)?,
-        render,
-    };
     let defines = parse_defines(&scene.define)?;
     let device = Device::new(device)?;
     eprintln!("device: {}", device.info());

@@ -166,3 +166,48 @@ fn bad_spp_list_and_missing_reference_are_errors() {
     assert!(!err.contains("panicked"), "{err}");
     assert!(err.contains("/nonexistent/ref.exr"), "{err}");
 }
+
+/// `bench --sensor I` measures sensor I of a scene with several (here a second camera
+/// of another size, whose own render is the reference), and an index out of range is
+/// an error naming the scene and how many sensors it has.
+#[test]
+fn bench_picks_a_sensor() {
+    let text = std::fs::read_to_string(common::repo("scenes/ao/ao.xml")).expect("ao.xml");
+    let second = r#"    <sensor type="perspective">
+        <float name="fov" value="50"/>
+        <transform name="to_world"><lookat origin="3, 3, 4" target="0, 0.5, 0" up="0, 1, 0"/></transform>
+        <sampler type="independent"><integer name="sample_count" value="16"/></sampler>
+        <film type="hdrfilm"><integer name="width" value="48"/><integer name="height" value="32"/><rfilter type="box"/></film>
+    </sensor>
+"#;
+    let at = text.find("</sensor>").expect("a sensor") + "</sensor>\n".len();
+    let scene = format!(
+        "{}    <path value=\"{}\"/>\n{second}{}",
+        &text[..at],
+        common::repo("scenes/ao").display(),
+        &text[at..]
+    );
+    let path = temp_file("bench_sensor", "two.xml", &scene);
+    let reference = path.with_file_name("ref.exr");
+    let (p, r) = (path.to_str().unwrap(), reference.to_str().unwrap());
+    let (code, _, err) = wavetrace(&[
+        "render", p, "--sensor", "1", "--spp", "64", "--seed", "9", "-q", "-o", r,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (code, out, err) = wavetrace(&[
+        "bench", p, "--ref", r, "--sensor", "1", "--spp", "1,4", "-q",
+    ]);
+    assert_eq!(code, 0, "stdout:\n{out}\nstderr:\n{err}");
+    assert!(out.contains("relMSE"), "{out}");
+    // Without --sensor: the first camera, 128x128, against the 48x32 reference.
+    let (code, _, err) = wavetrace(&["bench", p, "--ref", r, "--spp", "1", "-q"]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("48x32") && err.contains("128x128"), "{err}");
+    let (code, _, err) = wavetrace(&["bench", p, "--ref", r, "--sensor", "2", "--spp", "1", "-q"]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("two.xml") && err.contains("the scene has 2 sensors (0 to 1)"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(path.parent().unwrap());
+}

@@ -585,3 +585,84 @@ fn an_unreachable_display_is_a_clear_error() {
     assert!(err.contains("no display"), "{err}");
     assert!(err.contains("--tev"), "{err}");
 }
+
+/// The Cornell box with a second camera (sensor 1), beside it in `dir`.
+fn two_sensor_scene(dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(repo(SCENE)).expect("the scene");
+    let first = &text[text.find("    <sensor").expect("a sensor")..];
+    let first = &first[..first.find("</sensor>").expect("its end") + "</sensor>\n".len()];
+    let second = first.replace("origin=\"278, 273, -800\"", "origin=\"150, 300, -700\"");
+    assert_ne!(first, second);
+    let at = text.find(first).unwrap() + first.len();
+    let scene = format!(
+        "{}    <path value=\"{}\"/>\n{second}{}",
+        &text[..at],
+        repo("scenes/cbox").display(),
+        &text[at..]
+    );
+    let path = dir.join("two.xml");
+    std::fs::write(&path, scene).expect("write the scene");
+    path
+}
+
+/// `view --sensor 1` shows the second camera: its screenshot is `render --sensor 1` of
+/// the same samples; an index out of range is an error naming the scene and how many
+/// sensors it has.
+#[test]
+fn view_picks_a_sensor() {
+    let Some(x) = xvfb("sensor") else { return };
+    let dir = temp_dir("view_sensor");
+    let scene = two_sensor_scene(&dir);
+    let shot = dir.join("view.png");
+    let view = |sensor: &str, shot: &Path| {
+        Command::new(bin())
+            .current_dir(&dir)
+            .arg("view")
+            .arg(&scene)
+            .args(["-D", RES, "--seed", "3", "--spp", "4", "--sensor", sensor])
+            .arg("--screenshot")
+            .arg(shot)
+            .env("DISPLAY", &x.display)
+            .env_remove("WAYLAND_DISPLAY")
+            .output()
+            .expect("run wavetrace view")
+    };
+    let out = view("1", &shot);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "view failed: {err}");
+    let render = dir.join("render.exr");
+    let status = Command::new(bin())
+        .arg("render")
+        .arg(&scene)
+        .args([
+            "-D", RES, "--seed", "3", "-q", "--spp", "4", "--sensor", "1", "-o",
+        ])
+        .arg(&render)
+        .env_remove("DISPLAY")
+        .output()
+        .expect("run wavetrace render");
+    assert!(
+        status.status.success(),
+        "{}",
+        String::from_utf8_lossy(&status.stderr)
+    );
+    let (view_img, render_img) = (rgb8(&shot), rgb8(&dir.join("render.png")));
+    let d = max_level_difference(&view_img, &render_img);
+    assert!(
+        d <= 1,
+        "screenshot and render of sensor 1 differ by {d} levels"
+    );
+    let first = rgb8(&render_png(&dir, 4));
+    assert!(
+        max_level_difference(&view_img, &first) > 10,
+        "sensor 1 shows what sensor 0 shows"
+    );
+    let out = view("2", &dir.join("none.png"));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        err.contains("two.xml") && err.contains("the scene has 2 sensors (0 to 1)"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -3,7 +3,8 @@
 // that meets nothing gives 0 in every channel, as Mitsuba zeroes the invalid
 // interaction. The kernel's list of AOVs is the constants FILM_AOVS_LO/HI, 4 bits a
 // kind, 8 a word, 0 ending the list (defined before including this file).
-// Needs scene_bindings.glsl, bvh.glsl, surface.glsl, bsdf.glsl, bsdf_textured.glsl.
+// Needs scene_bindings.glsl, bvh.glsl, surface.glsl (with SURFACE_PARTIALS defined),
+// bsdf.glsl, bsdf_textured.glsl.
 #ifndef AOV_GLSL
 #define AOV_GLSL
 
@@ -15,6 +16,10 @@
 #define AOV_ALBEDO 6u
 #define AOV_PRIM_INDEX 7u
 #define AOV_SHAPE_INDEX 8u
+#define AOV_DP_DU 9u
+#define AOV_DP_DV 10u
+#define AOV_DUV_DX 11u
+#define AOV_DUV_DY 12u
 
 // Kind i of the list (0 past its end).
 uint aov_kind(uint i) {
@@ -24,7 +29,7 @@ uint aov_kind(uint i) {
 // Channels of an AOV kind.
 uint aov_channels(uint kind) {
     return (kind == AOV_DEPTH || kind == AOV_PRIM_INDEX || kind == AOV_SHAPE_INDEX) ? 1u
-        : kind == AOV_UV ? 2u : 3u;
+        : (kind == AOV_UV || kind == AOV_DUV_DX || kind == AOV_DUV_DY) ? 2u : 3u;
 }
 
 // What a hit records, for every kind at once.
@@ -38,7 +43,46 @@ struct AovHit {
     vec3 albedo;
     float prim_index;
     float shape_index;
+    vec3 dp_du;
+    vec3 dp_dv;
+    vec2 duv_dx;
+    vec2 duv_dy;
 };
+
+// A camera ray with Mitsuba's differentials (camera_ray_differentials).
+struct AovRay {
+    vec3 o;
+    vec3 d;
+    float tmax;
+    bool has_differentials;
+    vec3 o_x;
+    vec3 d_x;
+    vec3 o_y;
+    vec3 d_y;
+};
+
+// Mitsuba's SurfaceInteraction::compute_uv_partials: the offset rays meet the tangent
+// plane at p (normal n) at p + ∂p/∂x and p + ∂p/∂y, which the least-squares solve
+// against ∂p/∂u and ∂p/∂v turns into uv; zero where ∂p/∂u and ∂p/∂v are degenerate.
+void aov_uv_partials(AovRay r, vec3 p, vec3 n, vec3 dp_du, vec3 dp_dv,
+                     out vec2 duv_dx, out vec2 duv_dy) {
+    float d = dot(n, p);
+    float t_x = (d - dot(n, r.o_x)) / dot(n, r.d_x);
+    float t_y = (d - dot(n, r.o_y)) / dot(n, r.d_y);
+    vec3 dp_dx = r.d_x * t_x + r.o_x - p;
+    vec3 dp_dy = r.d_y * t_y + r.o_y - p;
+    float a00 = dot(dp_du, dp_du);
+    float a01 = dot(dp_du, dp_dv);
+    float a11 = dot(dp_dv, dp_dv);
+    float inv_det = 1.0 / (a00 * a11 - a01 * a01);
+    if (isinf(inv_det) || isnan(inv_det)) inv_det = 0.0;
+    float b0x = dot(dp_du, dp_dx);
+    float b1x = dot(dp_dv, dp_dx);
+    float b0y = dot(dp_du, dp_dy);
+    float b1y = dot(dp_dv, dp_dy);
+    duv_dx = vec2(a11 * b0x - a01 * b1x, a00 * b1x - a01 * b0x) * inv_det;
+    duv_dy = vec2(a11 * b0y - a01 * b1y, a00 * b1y - a01 * b0y) * inv_det;
+}
 
 // Mitsuba's BSDF::eval_diffuse_reflectance: the diffuse reflectance of diffuse,
 // plastic and roughplastic, the base color of principled and principledthin (all in
@@ -56,11 +100,13 @@ vec3 aov_albedo(Surface s, vec3 ray_d) {
     return bsdf_eval(b, wo_local, vec3(0.0, 0.0, 1.0), s.uv) * PI;
 }
 
-// The AOVs of the first surface the ray (o, d) meets before tmax; `needs_albedo`:
-// evaluate the BSDF.
-AovHit aov_trace(vec3 o, vec3 d, float tmax, bool needs_albedo) {
-    AovHit a = AovHit(false, 0.0, vec3(0.0), vec2(0.0), vec3(0.0), vec3(0.0), vec3(0.0), 0.0, 0.0);
-    Hit h = bvh_closest(o, d, 0.0, tmax);
+// The AOVs of the first surface the ray r meets before its tmax; `needs_albedo`:
+// evaluate the BSDF; `needs_uv_partials`: compute duv_dx, duv_dy.
+AovHit aov_trace(AovRay r, bool needs_albedo, bool needs_uv_partials) {
+    vec3 o = r.o, d = r.d;
+    AovHit a = AovHit(false, 0.0, vec3(0.0), vec2(0.0), vec3(0.0), vec3(0.0), vec3(0.0), 0.0, 0.0,
+                      vec3(0.0), vec3(0.0), vec2(0.0), vec2(0.0));
+    Hit h = bvh_closest(o, d, 0.0, r.tmax);
     if (h.prim == HIT_NONE) return a;
     Surface s = surface_at(h.prim, h.u, h.v, o, d, h.t);
     a.valid = true;
@@ -73,6 +119,11 @@ AovHit aov_trace(vec3 o, vec3 d, float tmax, bool needs_albedo) {
     Prim prim = instance_prim_load(h.prim);
     a.prim_index = float(prim.kind == PRIM_TRIANGLE ? prim.index - film_aov_shape_first[prim.shape] : 0u);
     a.shape_index = float(s.shape + 1u);
+    a.dp_du = surface_dp_du;
+    a.dp_dv = surface_dp_dv;
+    if (needs_uv_partials && r.has_differentials) {
+        aov_uv_partials(r, s.p, s.ng, a.dp_du, a.dp_dv, a.duv_dx, a.duv_dy);
+    }
     return a;
 }
 
@@ -85,7 +136,11 @@ float aov_value(AovHit a, uint kind, uint c) {
         : kind == AOV_SH_NORMAL ? a.ns
         : kind == AOV_ALBEDO ? a.albedo
         : kind == AOV_PRIM_INDEX ? vec3(a.prim_index)
-        : vec3(a.shape_index);
+        : kind == AOV_SHAPE_INDEX ? vec3(a.shape_index)
+        : kind == AOV_DP_DU ? a.dp_du
+        : kind == AOV_DP_DV ? a.dp_dv
+        : kind == AOV_DUV_DX ? vec3(a.duv_dx, 0.0)
+        : vec3(a.duv_dy, 0.0);
     float x = c == 0u ? v.x : (c == 1u ? v.y : v.z);
     return a.valid ? x : 0.0;
 }

@@ -1,5 +1,5 @@
 // The particle tracer (Mitsuba 3's `ptracer`): a vertex of a light path connected to
-// the pinhole camera and splatted into the film.
+// the pinhole camera (or a point of a thin lens's aperture) and splatted into the film.
 //
 // One sample index of a ptracer render is P = width x height light paths (the full
 // film's pixel count, as Mitsuba's AdjointIntegrator traces spp x P in all). A path
@@ -34,6 +34,16 @@
 // Random dimensions of the visible-emitter connection: after every bounce's (the
 // photon paths' PHOTON_RNG_DIM_BOUNCE + depth, depth < 2^16).
 #define PTRACER_RNG_DIM_VISIBLE 0x10000000u
+// Random dimensions of the thin lens's aperture point of a camera connection: the
+// visible-emitter connection's, then the bounce's (+ 1 + depth).
+#define PTRACER_RNG_DIM_APERTURE 0x20000000u
+
+// A thin-lens camera (Mitsuba's ThinLensCamera::sample_direction): connections go to
+// a uniform point of the aperture (a specialization constant, PTRACER_THIN_LENS;
+// false: the pinhole, whose code is then unchanged).
+#ifndef PTRACER_THIN_LENS
+#define PTRACER_THIN_LENS false
+#endif
 
 // Where a point connects to the camera.
 struct CameraLink {
@@ -42,9 +52,16 @@ struct CameraLink {
     float dist;     // to the camera
     vec2 film_pos;  // where it lands on the film, in pixels (origin top-left)
     float importance; // 1 / (d² cos³θc A)
+    vec3 eye;       // the point of the lens it goes to (the pinhole, or of the aperture)
 };
 
-CameraLink ptracer_camera(vec3 p) {
+// The thin lens's aperture point for the sample u_lens, in camera space (z = 0).
+vec3 ptracer_lens_point(vec2 u_lens) {
+    return vec3(frame.aperture_radius * camera_thinlens_aperture(u_lens), 0.0);
+}
+
+// The link of point p to the camera; u_lens: the aperture sample of a thin lens.
+CameraLink ptracer_camera(vec3 p, vec2 u_lens) {
     CameraLink c;
     c.ok = false;
     c.dir = vec3(0.0, 0.0, 1.0);
@@ -52,9 +69,31 @@ CameraLink ptracer_camera(vec3 p) {
     c.film_pos = vec2(0.0);
     c.importance = 0.0;
     vec3 eye = frame.camera_to_world[3].xyz;
+    c.eye = eye;
     vec3 local = inverse(mat3(frame.camera_to_world)) * (p - eye);
     // Mitsuba's clip range is on the camera-space depth.
     if (!(local.z >= frame.near_clip && local.z <= frame.far_clip)) return c;
+    if (PTRACER_THIN_LENS) {
+        // Mitsuba's ThinLensCamera::sample_direction: from a uniform point a of the
+        // aperture, the point is seen where the line through a meets the focal plane;
+        // its importance is the pinhole's, 1 / (d² cos³θc A), of the direction from a.
+        vec3 a = ptracer_lens_point(u_lens);
+        vec3 ld = local - a;
+        float d2 = dot(ld, ld);
+        float cos_c = ld.z / sqrt(d2);
+        if (!(cos_c > 0.0)) return c;
+        vec2 plane = (a.xy + ld.xy * (frame.focus_distance / ld.z)) / frame.focus_distance;
+        vec2 ndc = 0.5 * (1.0 - plane / frame.tan_half_fov);
+        if (!(ndc.x >= 0.0 && ndc.x < 1.0 && ndc.y >= 0.0 && ndc.y < 1.0)) return c;
+        float area = 4.0 * frame.tan_half_fov.x * frame.tan_half_fov.y;
+        c.eye = (frame.camera_to_world * vec4(a, 1.0)).xyz;
+        c.dist = length(c.eye - p);
+        c.dir = (c.eye - p) / c.dist;
+        c.film_pos = ndc * vec2(frame.width, frame.height);
+        c.importance = 1.0 / (d2 * cos_c * cos_c * cos_c * area);
+        c.ok = c.importance > 0.0 && !isinf(c.importance);
+        return c;
+    }
     vec2 plane = local.xy / local.z;
     // camera_ray's film position, inverted.
     vec2 ndc = 0.5 * (1.0 - plane / frame.tan_half_fov);
@@ -74,7 +113,7 @@ CameraLink ptracer_camera(vec3 p) {
 // Whether nothing blocks the segment from surface s to the camera of link c.
 bool ptracer_camera_visible(Surface s, CameraLink c) {
     vec3 o = surface_spawn_origin(s, dot(c.dir, s.ng) > 0.0 ? s.ng : -s.ng);
-    vec3 eye = frame.camera_to_world[3].xyz;
+    vec3 eye = c.eye;
     float tmax = length(eye - o) * (1.0 - 1e-4);
     return !bvh_any(o, normalize(eye - o), 0.0, tmax);
 }

@@ -15,6 +15,9 @@
 // moment sums.
 
 #include "generated/spec_constants.glsl"
+// surface_at (shape/surface.glsl, included by several of the files below) keeps ∂p/∂u
+// and ∂p/∂v for the dp_du, dp_dv, duv_dx and duv_dy AOVs.
+#define SURFACE_PARTIALS
 #include "queue/wavefront.glsl"
 #include "scene/scene_bindings.glsl"
 SPEC(SCENE_INSTANCES);
@@ -79,16 +82,35 @@ bool aov_needs_albedo() {
     return false;
 }
 
+// Whether any AOV is a uv partial (duv_dx, duv_dy).
+bool aov_needs_uv_partials() {
+    for (uint i = 0u; i < 16u; i++) {
+        if (aov_kind(i) == AOV_DUV_DX || aov_kind(i) == AOV_DUV_DY) return true;
+    }
+    return false;
+}
+
 // The AOVs of the camera ray of sample `sample_index` of region pixel `q`.
 AovHit aov_sample(ivec2 q, uint sample_index) {
     ivec2 pixel = ivec2(film.region_x, film.region_y) + q;
     uint key = film_pixel_key(pixel);
-    vec3 origin, dir;
-    float tmax;
+    AovRay r;
     vec2 u_lens = (frame.camera_kind == CAMERA_THINLENS || frame.camera_kind == CAMERA_DISTANT)
         ? sample_2d(key, sample_index, RNG_DIM_APERTURE) : vec2(0.0);
-    camera_ray(vec2(pixel) + film_sample_position(key, sample_index), u_lens, origin, dir, tmax);
-    return aov_trace(origin, dir, tmax, aov_needs_albedo());
+    vec2 film_pos = vec2(pixel) + film_sample_position(key, sample_index);
+    camera_ray(film_pos, u_lens, r.o, r.d, r.tmax);
+    r.has_differentials = false;
+    r.o_x = r.o;
+    r.o_y = r.o;
+    r.d_x = r.d;
+    r.d_y = r.d;
+    bool partials = aov_needs_uv_partials();
+    if (partials) {
+        // Mitsuba's render_sample scales the differentials by 1/√spp.
+        r.has_differentials = camera_ray_differentials(film_pos, u_lens, r.o, r.d,
+            inversesqrt(float(frame.sample_count)), r.o_x, r.d_x, r.o_y, r.d_y);
+    }
+    return aov_trace(r, aov_needs_albedo(), partials);
 }
 
 // Adds w times the AOVs of sample `sample_index` of region pixel `q` to pixel i

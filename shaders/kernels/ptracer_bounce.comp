@@ -29,6 +29,7 @@ SPEC(SCENE_BVH_DEPTH);
 #define BVH_STACK_DEPTH SCENE_BVH_DEPTH
 SPEC(SCENE_FLAT_PRIMS);
 SPEC(SCENE_FLAT_KINDS);
+SPEC(PTRACER_THIN_LENS);
 #define BVH_FLAT_PRIMS SCENE_FLAT_PRIMS
 #define BVH_FLAT_KINDS SCENE_FLAT_KINDS
 #include "accel/bvh.glsl"
@@ -63,7 +64,10 @@ void main() {
     float wl_ng = dot(x.s.ng, wl);
     float wl_s = dot(x.s.ns, wl);
     if (push.depth + 1u < frame.max_depth) {
-        CameraLink c = ptracer_camera(x.s.p);
+        vec2 u_lens = PTRACER_THIN_LENS
+            ? photon_rng(ph.index, photon_params.iteration, PTRACER_RNG_DIM_APERTURE + 1u + push.depth).xy
+            : vec2(0.0);
+        CameraLink c = ptracer_camera(x.s.p, u_lens);
         if (c.ok) {
             float wc_ng = dot(x.s.ng, c.dir);
             float wc_s = dot(x.s.ns, c.dir);

@@ -31,6 +31,7 @@ SPEC(SCENE_BVH_DEPTH);
 #define BVH_STACK_DEPTH SCENE_BVH_DEPTH
 SPEC(SCENE_FLAT_PRIMS);
 SPEC(SCENE_FLAT_KINDS);
+SPEC(PTRACER_THIN_LENS);
 #define BVH_FLAT_PRIMS SCENE_FLAT_PRIMS
 #define BVH_FLAT_KINDS SCENE_FLAT_KINDS
 #include "accel/bvh.glsl"
@@ -49,7 +50,7 @@ SPEC(FILM_FILTER);
 // samples it (Mitsuba samples it from the sensor's position): its radiance along d
 // times the importance of d, 1 / (cos³θc A), over the density of d and of the choice
 // (uniform, 1 / n), where nothing blocks the ray from the camera.
-void connect_visible_environment(EmitterRecord e, uint n, vec2 u) {
+void connect_visible_environment(EmitterRecord e, uint n, vec2 u, vec2 u_lens) {
     vec3 d;
     float pdf;
     if (EMITTER_HAS(EMITTER_ENVMAP) && e.kind == EMITTER_ENVMAP) {
@@ -61,9 +62,11 @@ void connect_visible_environment(EmitterRecord e, uint n, vec2 u) {
     }
     if (!(pdf > 0.0)) return;
     vec3 eye = frame.camera_to_world[3].xyz;
+    // A thin lens sees the environment along d from a point of its aperture.
+    if (PTRACER_THIN_LENS) eye = (frame.camera_to_world * vec4(ptracer_lens_point(u_lens), 1.0)).xyz;
     // A point far along d stands for the environment: the camera link's importance
     // is then 1 / (d² cos³θc A) for that distance, d² = 1 here.
-    CameraLink c = ptracer_camera(eye + d * frame.near_clip * 2.0 + d);
+    CameraLink c = ptracer_camera(eye + d * frame.near_clip * 2.0 + d, u_lens);
     vec3 local = inverse(mat3(frame.camera_to_world)) * d;
     if (!c.ok || !(local.z > 0.0)) return;
     float cos_c = local.z / length(local);
@@ -78,17 +81,18 @@ void connect_visible_environment(EmitterRecord e, uint n, vec2 u) {
 // times cos θ over the density of choosing the point (uniform emitter choice, 1 / area).
 void connect_visible_emitter(uint index, uint it) {
     vec4 u = photon_rng(index, it, PTRACER_RNG_DIM_VISIBLE);
+    vec2 u_lens = PTRACER_THIN_LENS ? photon_rng(index, it, PTRACER_RNG_DIM_APERTURE).xy : vec2(0.0);
     uint n = frame.emitter_count;
     uint i = min(uint(u.x * float(n)), n - 1u);
     EmitterRecord e = emitter_load(i);
     if ((EMITTER_HAS(EMITTER_CONSTANT) && e.kind == EMITTER_CONSTANT)
         || (EMITTER_HAS(EMITTER_ENVMAP) && e.kind == EMITTER_ENVMAP)) {
-        connect_visible_environment(e, n, u.yz);
+        connect_visible_environment(e, n, u.yz, u_lens);
         return;
     }
     if (!EMITTER_HAS_ANY(EMITTER_AREA_BITS) || e.kind != EMITTER_AREA) return;
     Surface ls = emitter_area_point(e, u.yz);
-    CameraLink c = ptracer_camera(ls.p);
+    CameraLink c = ptracer_camera(ls.p, u_lens);
     if (!c.ok) return;
     // One-sided: Mitsuba clamps the cosine in the point's frame.
     float cos_y = dot(ls.ns, c.dir);

@@ -35,6 +35,14 @@ struct Surface {
                   // made orthogonal to ns; the shading frame is (ss, ns × ss, ns)
 };
 
+#ifdef SURFACE_PARTIALS
+// Mitsuba's si.dp_du and si.dp_dv of the last surface_at (only for the kernel that
+// defines SURFACE_PARTIALS: aov.comp's dp_du, dp_dv, duv_dx and duv_dy AOVs). Zero on
+// curves and SDF grids, as Mitsuba leaves them.
+vec3 surface_dp_du;
+vec3 surface_dp_dv;
+#endif
+
 // u = φ / 2π in [0, 1) of the object-space direction (x, y) (Mitsuba's sphere,
 // disk and cylinder).
 float surface_phi_u(float x, float y) {
@@ -71,6 +79,13 @@ void surface_quadric(inout Surface s, Prim prim, ShapeRecord shape, vec3 hit, ve
         // θ by atan2: llvmpipe's acos is off by up to 1.5e-4 rad.
         s.uv = vec2(surface_phi_u(l.x, l.y), atan(length(l.xy), l.z) * INV_PI);
         dpdu = 2.0 * PI * (l.x * prim.p2 - l.y * prim.p1);
+#ifdef SURFACE_PARTIALS
+        // π to_world (z cos φ, z sin φ, -sin θ); π to_world x at the poles.
+        float rd = length(l.xy);
+        surface_dp_dv = rd > 0.0
+            ? PI * ((l.z * l.x / rd) * prim.p1 + (l.z * l.y / rd) * prim.p2 - rd * a3)
+            : PI * prim.p1;
+#endif
     } else if (SURFACE_HAS(SURFACE_FEATURE_DISKS) && prim.kind == PRIM_DISK) {
         s.p = prim.p0 + xy.x * prim.p1 + xy.y * prim.p2;
         s.p_error = SURFACE_GAMMA7 * (abs(prim.p0) + abs(xy.x * prim.p1) + abs(xy.y * prim.p2));
@@ -78,6 +93,10 @@ void surface_quadric(inout Surface s, Prim prim, ShapeRecord shape, vec3 hit, ve
         float r = length(xy);
         s.uv = vec2(r, surface_phi_u(xy.x, xy.y));
         dpdu = r > 0.0 ? (xy.x * prim.p1 + xy.y * prim.p2) / r : vec3(0.0);
+#ifdef SURFACE_PARTIALS
+        // 2π r to_world (-sin φ, cos φ, 0).
+        surface_dp_dv = 2.0 * PI * (xy.x * prim.p2 - xy.y * prim.p1);
+#endif
     } else {
         // Cylinder: p1 = M x (radius r), p2 = the axis M z, M y = ±(axis/|axis|) × M x.
         float r = length(prim.p1);
@@ -92,6 +111,9 @@ void surface_quadric(inout Surface s, Prim prim, ShapeRecord shape, vec3 hit, ve
         vec2 l = vec2(dot(s.ng, prim.p1), dot(s.ng, a2)) / r;
         s.uv = vec2(surface_phi_u(l.x, l.y), z);
         dpdu = 2.0 * PI * (l.x * a2 - l.y * prim.p1);
+#ifdef SURFACE_PARTIALS
+        surface_dp_dv = prim.p2;
+#endif
     }
     s.ns = s.ng;
 }
@@ -119,6 +141,9 @@ void surface_linear_curve(inout Surface s, Prim prim, vec3 hit, float v_local, o
     s.uv = vec2(surface_phi_u(dot(radial, s.ng), dot(rot, s.ng)),
                 (v_local + float(prim.index)) / abs(prim.p2.z));
     dpdu = vec3(0.0);
+#ifdef SURFACE_PARTIALS
+    surface_dp_dv = vec3(0.0);
+#endif
 }
 
 // The geometry of B-spline curve segment `prim` (layout.glsl) at the hit point `hit`,
@@ -166,6 +191,9 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
     Surface s;
     s.shape = prim.shape;
     vec3 dpdu;
+#ifdef SURFACE_PARTIALS
+    surface_dp_dv = vec3(0.0);
+#endif
     if (sdf) {
         // In the group's space (the record as stored), u the voxel hit; no uv, no
         // ∂p/∂u (Mitsuba's sdfgrid: the frame is the normal's coordinate system).
@@ -186,6 +214,9 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
             + vec3(4.0 * SDF_SOLVE_EPSILON * abs(dot(s.ng, ray_d)));
         s.uv = vec2(0.0);
         dpdu = vec3(0.0);
+#ifdef SURFACE_PARTIALS
+        surface_dp_dv = vec3(0.0);
+#endif
     } else if (SURFACE_HAS(SURFACE_FEATURE_LINEAR_CURVES) && prim.kind == PRIM_LINEAR_CURVE) {
         surface_linear_curve(s, prim, ray_o + t * ray_d, u, dpdu);
     } else if (SURFACE_HAS(SURFACE_FEATURE_BSPLINE_CURVES) && prim.kind == PRIM_BSPLINE_CURVE) {
@@ -214,6 +245,9 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
         s.uv = vec2(u, v);
         // Without uvs the parameterization is barycentric (Mitsuba's mesh.cpp).
         dpdu = dp0;
+#ifdef SURFACE_PARTIALS
+        surface_dp_dv = dp1;
+#endif
         if (SURFACE_HAS(SURFACE_FEATURE_NORMALS | SURFACE_FEATURE_UVS)
             && (shape.flags & (SHAPE_HAS_NORMALS | SHAPE_HAS_UVS)) != 0u) {
             TriangleRecord tri = triangle_load(prim.index);
@@ -228,9 +262,15 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
                 float det = duv0.x * duv1.y - duv0.y * duv1.x;
                 if (det != 0.0) {
                     dpdu = (duv1.y * dp0 - duv0.y * dp1) / det;
+#ifdef SURFACE_PARTIALS
+                    surface_dp_dv = (duv0.x * dp1 - duv1.x * dp0) / det;
+#endif
                 } else {
                     vec3 b;
                     frame_basis(s.ng, dpdu, b);
+#ifdef SURFACE_PARTIALS
+                    surface_dp_dv = b;
+#endif
                 }
             }
             if (SURFACE_HAS(SURFACE_FEATURE_NORMALS) && (shape.flags & SHAPE_HAS_NORMALS) != 0u) {
@@ -250,6 +290,9 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
         s.ns = -s.ns;
     }
     s.ss = surface_tangent(dpdu, s.ns);
+#ifdef SURFACE_PARTIALS
+    surface_dp_du = dpdu;
+#endif
     return s;
 }
 

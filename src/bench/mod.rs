@@ -84,6 +84,8 @@ pub struct BenchOptions {
     /// timed renders record none, and one more render of the largest sample count
     /// records them for the per-kernel times (see [`run`]).
     pub render: RenderOptions,
+    /// The scene's sensor to render (`--sensor`; `None`: the first).
+    pub sensor: Option<usize>,
 }
 
 impl Default for BenchOptions {
@@ -91,6 +93,7 @@ impl Default for BenchOptions {
         BenchOptions {
             spp: DEFAULT_SPP.to_vec(),
             render: RenderOptions::default(),
+            sensor: None,
         }
     }
 }
@@ -203,7 +206,12 @@ pub fn run(
     }
 
     let t = Instant::now();
-    let scene = scene::load(scene_path, defines)?;
+    let mut scene = scene::load(scene_path, defines)?;
+    if let Some(i) = options.sensor {
+        scene
+            .select_sensor(i)
+            .map_err(|e| Error::Options(format!("--sensor: {}: {e}", scene_path.display())))?;
+    }
     let scene_seconds = t.elapsed().as_secs_f64();
 
     let t = Instant::now();

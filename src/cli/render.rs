@@ -134,8 +134,7 @@ fn plan(args: &mut RenderArgs) -> Result<Plan> {
         if let Some(i) = args.sensor {
             scene
                 .select_sensor(i as usize)
-                .map_err(anyhow::Error::msg)
-                .context("--sensor")?;
+                .map_err(|e| anyhow::anyhow!("--sensor: {}: {e}", scene_path.display()))?;
         }
         let spp = args.spp.unwrap_or(scene.spp);
         let samples = args

@@ -44,6 +44,7 @@ pub enum Spec {
     InstanceSlots = 45,
     SensorShape = 56,
     SensorBatch = 57,
+    PtracerThinLens = 58,
     /// The AOVs of `aov.comp` (scene::integrator::aov): kinds 1-8, then 9-16.
     FilmAovsLo = 90,
     FilmAovsHi = 91,
@@ -207,6 +208,9 @@ pub const SPEC_CONSTANTS: &[SpecConst] = &[
     c(Spec::SensorBatch, "SCENE_SENSOR_BATCH", Uint, "0u",
       "A batch sensor's number of children (Frame::batch_*, integrator/camera_path.glsl); \
        0: one camera, and the batch's code compiles away."),
+    c(Spec::PtracerThinLens, "PTRACER_THIN_LENS", Bool, "false",
+      "The particle tracer connects to a thin lens's aperture (integrator/ptracer.glsl); \
+       false: the pinhole, and the lens's code compiles away."),
     c(Spec::ScenePartShift, "SCENE_PART_SHIFT", Uint, "27u",
       "log2 of the texels of one part of a split scene array (scene_bindings.glsl)."),
     c(Spec::BvhNodeParts, "BVH_NODE_PARTS", Uint, "1u", "Parts of the BVH nodes."),

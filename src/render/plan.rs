@@ -310,6 +310,7 @@ impl RenderPlan {
             flat_kinds: constants.flat_kinds,
             film_filter: film::filter_constants(&film_spec.filter).0,
             instances: constants.instances,
+            thin_lens: scene.camera.projection.is_thin_lens() as u32,
         };
         Ok(RenderPlan {
             integrator,
@@ -415,16 +416,34 @@ fn check(scene: &Scene, integrator: &Integrator) -> Result<()> {
             integrator.name()
         ));
     }
-    // The particle tracer connects light paths to a pinhole (importance and the pixel
-    // a point projects to, shaders/integrator/ptracer.glsl).
-    if matches!(integrator, Integrator::Ptracer(_))
-        && scene.camera.projection != crate::scene::camera::Projection::Perspective
-    {
-        return refuse(
-            "integrator 'ptracer' connects light paths to a perspective (pinhole) sensor \
-             only yet; render this sensor with path"
-                .to_string(),
-        );
+    // The particle tracer connects light paths to the sensor by its sample_direction
+    // (importance and the pixel a point projects to, shaders/integrator/ptracer.glsl):
+    // Mitsuba 3.9.1's perspective, thinlens and irradiancemeter have one.
+    if matches!(integrator, Integrator::Ptracer(_)) {
+        use crate::scene::camera::Projection;
+        match scene.camera.projection {
+            Projection::Perspective | Projection::ThinLens { .. } => {}
+            Projection::IrradianceMeter { .. } => {
+                return refuse(
+                    "integrator 'ptracer' with an irradiancemeter sensor is not supported \
+                     yet; render this sensor with path"
+                        .to_string(),
+                )
+            }
+            p => {
+                let kind = match p {
+                    Projection::Orthographic => "orthographic",
+                    Projection::RadianceMeter => "radiancemeter",
+                    _ => "distant",
+                };
+                return refuse(format!(
+                    "integrator 'ptracer' connects light paths to the sensor by its \
+                     sample_direction, which Mitsuba 3.9.1's '{kind}' sensor does not have \
+                     (Mitsuba: \"Endpoint::sample_direction(): not implemented!\"); \
+                     render this sensor with path"
+                ));
+            }
+        }
     }
     // The particle tracer's camera connections know one camera.
     if matches!(integrator, Integrator::Ptracer(_)) && !scene.camera.batch.is_empty() {

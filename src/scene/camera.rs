@@ -106,6 +106,11 @@ impl Projection {
         }
     }
 
+    /// Whether this is a thin lens (the particle tracer's PTRACER_THIN_LENS).
+    pub fn is_thin_lens(&self) -> bool {
+        matches!(self, Projection::ThinLens { .. })
+    }
+
     /// `CAMERA_*` of `Frame::camera_kind`, aperture radius and focus distance.
     pub fn frame_fields(&self) -> (u32, f32, f32) {
         use crate::gpu::layout::{

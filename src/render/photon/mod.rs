@@ -293,6 +293,8 @@ pub struct SceneFeatures {
     /// SCENE_INSTANCES and SCENE_INSTANCE_SLOTS (accel::instance; 0 without): every
     /// kernel that finds a surface or an emitter's point reads instances' primitives.
     pub instances: [u32; 2],
+    /// The particle tracer's camera is a thin lens (PTRACER_THIN_LENS).
+    pub thin_lens: u32,
 }
 
 impl SceneFeatures {

@@ -40,11 +40,11 @@ pub fn kernel_specs(f: &SceneFeatures) -> Vec<KernelSpec<'static>> {
         (Spec::Textures, f.textures),
         (Spec::FilmFilter, f.film_filter),
     ];
-    let named = |name, spirv, extra: (Spec, u32)| {
+    let named = |name, spirv, extra: &[(Spec, u32)]| {
         let spec = traversal
             .iter()
             .copied()
-            .chain([extra])
+            .chain(extra.iter().copied())
             .chain(f.instance_specs())
             .collect();
         KernelSpec::named(name, spirv, &spec)
@@ -53,12 +53,18 @@ pub fn kernel_specs(f: &SceneFeatures) -> Vec<KernelSpec<'static>> {
         named(
             "ptracer_emit",
             shaders::PTRACER_EMIT,
-            (Spec::EmitterKinds, f.emitters),
+            &[
+                (Spec::EmitterKinds, f.emitters),
+                (Spec::PtracerThinLens, f.thin_lens),
+            ],
         ),
         named(
             "ptracer_bounce",
             shaders::PTRACER_BOUNCE,
-            (Spec::BsdfKinds, f.bsdfs),
+            &[
+                (Spec::BsdfKinds, f.bsdfs),
+                (Spec::PtracerThinLens, f.thin_lens),
+            ],
         ),
         KernelSpec::named("ptracer_fold", shaders::PTRACER_FOLD, &SpecValues::new()),
     ]

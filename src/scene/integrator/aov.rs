@@ -36,7 +36,7 @@ pub const AOV: PluginDoc = PluginDoc::new(
         "aovs",
         "string",
         "",
-        "`<name>:<type>` pairs, comma-separated; types: depth, position, uv, geo_normal, sh_normal, albedo, prim_index, shape_index",
+        "`<name>:<type>` pairs, comma-separated; types: depth, position, uv, geo_normal, sh_normal, albedo, prim_index, shape_index, dp_du, dp_dv, duv_dx, duv_dy",
     )],
 );
 
@@ -65,6 +65,19 @@ pub enum AovKind {
     /// Mitsuba writes an id of its own there (its JIT variants a registry number from
     /// 1, its scalar ones bits of a pointer), so only equal and unequal compare.
     ShapeIndex = 8,
+    /// ∂p/∂u (Mitsuba's `si.dp_du`: a triangle's from its uvs, or its edge p1 - p0
+    /// without them; a sphere's, disk's, cylinder's from their parameterization; 0 on
+    /// curves and SDF grids, as Mitsuba leaves it).
+    DpDu = 9,
+    /// ∂p/∂v (Mitsuba's `si.dp_dv`, as `dp_du`).
+    DpDv = 10,
+    /// ∂uv/∂x, the uv change one pixel to the right (Mitsuba's
+    /// `SurfaceInteraction::compute_uv_partials` of the camera's ray differentials,
+    /// scaled by 1/√spp; 0 for sensors without differentials). Where the ray meets
+    /// nothing Mitsuba writes NaN (0/0 on its zeroed interaction), wavetrace 0.
+    DuvDx = 11,
+    /// ∂uv/∂y, one pixel down (as `duv_dx`).
+    DuvDy = 12,
 }
 
 /// The types `aovs` accepts, by Mitsuba's names.
@@ -77,10 +90,11 @@ const KINDS: &[(&str, AovKind)] = &[
     ("albedo", AovKind::Albedo),
     ("prim_index", AovKind::PrimIndex),
     ("shape_index", AovKind::ShapeIndex),
+    ("dp_du", AovKind::DpDu),
+    ("dp_dv", AovKind::DpDv),
+    ("duv_dx", AovKind::DuvDx),
+    ("duv_dy", AovKind::DuvDy),
 ];
-
-/// Mitsuba's types wavetrace does not write yet.
-const NOT_YET: &[&str] = &["dp_du", "dp_dv", "duv_dx", "duv_dy", "boundary_test"];
 
 /// Most AOVs one render writes (the kernels' constants hold 4 bits each, 8 a word).
 pub const MAX_AOVS: usize = 16;
@@ -90,8 +104,12 @@ impl AovKind {
     pub fn suffixes(self) -> &'static [&'static str] {
         match self {
             AovKind::Depth => &["T"],
-            AovKind::Position | AovKind::GeoNormal | AovKind::ShNormal => &["X", "Y", "Z"],
-            AovKind::Uv => &["U", "V"],
+            AovKind::Position
+            | AovKind::GeoNormal
+            | AovKind::ShNormal
+            | AovKind::DpDu
+            | AovKind::DpDv => &["X", "Y", "Z"],
+            AovKind::Uv | AovKind::DuvDx | AovKind::DuvDy => &["U", "V"],
             AovKind::Albedo => &["R", "G", "B"],
             AovKind::PrimIndex | AovKind::ShapeIndex => &["I"],
         }
@@ -160,11 +178,6 @@ pub fn parse(aovs: &str) -> Result<Vec<Aov>, String> {
         };
         let kind = match AovKind::by_name(ty) {
             Some(k) => k,
-            None if NOT_YET.contains(&ty) => {
-                return Err(format!(
-                    "aovs entry '{token}': AOV type '{ty}' is not supported yet"
-                ))
-            }
             None => {
                 return Err(format!(
                     "aovs entry '{token}': unknown AOV type '{ty}' (one of {})",
@@ -290,8 +303,9 @@ mod tests {
         assert!(e.contains("':depth'"), "{e}");
         let e = parse("a:b:c").unwrap_err();
         assert!(e.contains("'a:b:c'"), "{e}");
-        let e = parse("d:dp_du").unwrap_err();
-        assert!(e.contains("not supported yet"), "{e}");
+        // Mitsuba 3.9.1 has no boundary_test AOV either.
+        let e = parse("d:boundary_test").unwrap_err();
+        assert!(e.contains("unknown AOV type 'boundary_test'"), "{e}");
         let e = parse("d:depth,d:uv").unwrap_err();
         assert!(e.contains("twice"), "{e}");
     }

@@ -1,6 +1,8 @@
 //! `ptracer`: Mitsuba 3's particle tracer. Light paths leave the emitters and every
 //! vertex is connected to the camera and splatted into the film; points on area
-//! emitters are connected directly (the emitters the camera sees).
+//! emitters are connected directly (the emitters the camera sees). The camera: a
+//! perspective or a thin lens (render::plan refuses the sensors Mitsuba's has no
+//! sample_direction for, and the irradiancemeter for now).
 
 use super::{path, Integrator, Param, Params};
 use crate::scene::plugin::{Family, Param as Doc, PluginDoc};

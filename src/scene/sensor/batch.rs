@@ -8,8 +8,12 @@
 //! films otherwise are not used (the batch's medium is the camera's). A film position x in [0, 1) goes to child floor(x n) (at most
 //! n - 1) at x n - floor(x n) (`BatchSensor::sample_ray`).
 //!
-//! Children here: `perspective`, `orthographic` and `thinlens`, at most
-//! [`MAX_CHILDREN`] (the GPU frame holds their records: `Frame::batch_*`).
+//! Children here: `perspective`, `orthographic`, `thinlens` and `radiancemeter`, at
+//! most [`MAX_CHILDREN`] (the GPU frame holds their records: `Frame::batch_*`). A
+//! radiancemeter child, as in Mitsuba, needs its own film to be 1 x 1 (checked before
+//! the batch resizes it) and then fills its slice with estimates of its one ray's
+//! radiance. Mitsuba's batch also takes an irradiancemeter nested in a `<shape>` child;
+//! that is refused here for now.
 //!
 //! ```xml
 //! <sensor type="batch">
@@ -35,7 +39,7 @@ pub const MITSUBA: PluginDoc = PluginDoc::new(
     Family::Sensor,
     Dialect::Mitsuba,
     "batch",
-    "Several sensors side by side in one film: nests 1 to 8 perspective, orthographic or thinlens <sensor>s, each rendering a (width / n) x height slice, left to right in document order, and the <film> (width divisible by n), <sampler> and <medium> they share.",
+    "Several sensors side by side in one film: nests 1 to 8 perspective, orthographic, thinlens or radiancemeter (with its own 1 x 1 film) <sensor>s, each rendering a (width / n) x height slice, left to right in document order, and the <film> (width divisible by n), <sampler> and <medium> they share.",
     &[],
 );
 
@@ -58,12 +62,23 @@ pub fn mitsuba(el: &Element) -> Result<SensorParts<'_>, Error> {
             "sensor" => {
                 n.check_attrs(&["type", "id", "name"])?;
                 let t = n.require("type")?;
-                if !matches!(t, "perspective" | "orthographic" | "thinlens") {
+                if !matches!(
+                    t,
+                    "perspective" | "orthographic" | "thinlens" | "radiancemeter"
+                ) {
                     return Err(n.err(format!(
-                        "a batch sensor's children are perspective, orthographic or thinlens sensors, not '{t}'"
+                        "a batch sensor's children are perspective, orthographic, thinlens or radiancemeter sensors, not '{t}'"
                     )));
                 }
                 children.push((n, t));
+            }
+            // Mitsuba's batch also takes a <shape> holding an irradiancemeter.
+            "shape" => {
+                return Err(n.err(
+                    "an irradiancemeter (a <shape> with a <sensor>) as a batch sensor's child \
+                     is not supported yet: render it as a sensor of its own (nested in its \
+                     shape at the top level, picked by --sensor)",
+                ))
             }
             _ => return Err(n.err(format!("unexpected <{}> in <sensor>", n.tag))),
         }

@@ -192,6 +192,8 @@ pub(super) fn projective_sized<'a>(
     };
     // Mitsuba resolves the fov against the sensor's own film when it is built; a batch
     // then sets the film's size, which changes the aspect ratio alone.
+    // A radiancemeter checks its own film's size (1 x 1) before a batch resizes it.
+    let own_size = (width, height);
     if let Some((w, h)) = size_override {
         (width, height) = (w, h);
     }
@@ -211,7 +213,7 @@ pub(super) fn projective_sized<'a>(
         )));
     }
     let to_world = if kind == "radiancemeter" {
-        super::radiancemeter::to_world(&props, width, height)?
+        super::radiancemeter::to_world(&props, own_size.0, own_size.1)?
     } else if kind == "distant" {
         super::distant::to_world(&props, width, height)?
     } else if kind == "irradiancemeter" {

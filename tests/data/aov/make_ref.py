@@ -30,3 +30,16 @@ scene.sensors()[0].film().write("tests/data/aov/moment_ref.exr")
 scene = mi.load_file("tests/data/aov/albedo_scene.xml")
 mi.render(scene)
 scene.sensors()[0].film().write("tests/data/aov/albedo_scene_ref.exr")
+
+# partials_ref_<i>.exr: the dp_du, dp_dv, duv_dx and duv_dy AOVs of every shape kind
+# through sensor i (0 pinhole, 1 orthographic, 2 thin lens) at pixel centres, and
+# partials_ref_spp4.exr: the pinhole's at 4 spp (differentials scaled by 1/√spp).
+# Mitsuba writes NaN in duv_dx and duv_dy where a ray meets nothing (0/0 on its zeroed
+# interaction); wavetrace writes 0 there.
+for i in range(3):
+    scene = mi.load_file("tests/data/aov/partials_scene.xml")
+    mi.render(scene, sensor=i)
+    scene.sensors()[i].film().write(f"tests/data/aov/partials_ref_{i}.exr")
+scene = mi.load_file("tests/data/aov/partials_scene.xml", spp=4)
+mi.render(scene, sensor=0)
+scene.sensors()[0].film().write("tests/data/aov/partials_ref_spp4.exr")
