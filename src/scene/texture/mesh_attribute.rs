@@ -225,6 +225,8 @@ pub fn check(scene: &Scene) -> Result<(), Error> {
                 r.tex_alpha_u,
                 r.tex_alpha_v,
                 r.normal_map,
+                r.tex_cond_eta,
+                r.tex_cond_k,
             ]);
         }
         if let Some(crate::scene::Emitter::TexturedArea { texture, .. }) =
