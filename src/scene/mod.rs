@@ -525,4 +525,23 @@ mod tests {
             std::fs::write(target, original).unwrap();
         }
     }
+
+    /// A mask inside a blend or bump map makes the scene's shapes null crossings for
+    /// the volumetric integrators as a mask at the root does; a plain BSDF does not.
+    #[test]
+    fn nested_masks_count_as_masks() {
+        use super::testutil::{load, mitsuba};
+        let shape = |bsdf: &str| mitsuba(&format!("<shape type=\"sphere\">{bsdf}</shape>"));
+        let mask =
+            r#"<bsdf type="mask"><float name="opacity" value="0.4"/><bsdf type="diffuse"/></bsdf>"#;
+        for (bsdf, want) in [
+            (mask.to_string(), true),
+            (format!(r#"<bsdf type="blendbsdf"><float name="weight" value="0.3"/>{mask}<bsdf type="diffuse"/></bsdf>"#), true),
+            (r#"<bsdf type="blendbsdf"><float name="weight" value="0.3"/><bsdf type="diffuse"/><bsdf type="diffuse"/></bsdf>"#.to_string(), false),
+            (r#"<bsdf type="diffuse"/>"#.to_string(), false),
+        ] {
+            let s = load(&[("s.xml", &shape(&bsdf))], &[]).unwrap();
+            assert_eq!(s.has_masks(), want, "{bsdf}");
+        }
+    }
 }
