@@ -5,8 +5,11 @@
 //! material `a-C`), `bumpmap` (a raw BMP height field over a rough plastic),
 //! `principledthin` and `pplastic`, a `twosided` disk with two different BSDFs seen from
 //! both sides, a PLY whose diffuse reflectance is its `vertex_color` (`mesh_attribute`)
-//! and a `rawconstant` diffuse; an area light and a constant sky; path tracing to depth
-//! 5), against `catalogue_ref.exr` (`python3 tools/mitsuba_ref.py
+//! and a `rawconstant` diffuse, `hair` on a sphere, `measured` (tests/data/measured_iso.bsdf),
+//! a rough conductor whose `eta` is a BMP texture and whose `k` a spectrum file, and a
+//! diffuse whose reflectance is a spectrum file (`<spectrum filename="paint.spd">`); an
+//! area light and a constant sky; path tracing to depth 5), against `catalogue_ref.exr`
+//! (`python3 tools/mitsuba_ref.py
 //! tests/data/catalogue/catalogue.xml -o tests/data/catalogue/catalogue_ref.exr --spp
 //! 4096 --variant scalar_rgb`).
 //!

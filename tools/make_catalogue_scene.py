@@ -5,7 +5,7 @@ tests/catalogue_vs_mitsuba.rs.
 
     python3 tools/make_catalogue_scene.py            # the scene and its files
     python3 tools/mitsuba_ref.py tests/data/catalogue/catalogue.xml \\
-        -o tests/data/catalogue/catalogue_ref.exr --spp 8192 --variant scalar_rgb
+        -o tests/data/catalogue/catalogue_ref.exr --spp 4096 --variant scalar_rgb
 
 The scene: a floor of `principled` with a BMP texture on its base colour (a bitmap
 format wavetrace could not read before), lit by a rectangular area light and a
@@ -18,7 +18,14 @@ constant sky, holding a row of spheres and a PLY mesh:
   - `principledthin` (diff_trans, spec_trans),
   - `pplastic`,
   - a PLY mesh with per-vertex colours, its diffuse reflectance a `mesh_attribute`
-    (`vertex_color`), beside a `rawconstant` diffuse.
+    (`vertex_color`), beside a `rawconstant` diffuse,
+  - `hair` (Chiang et al. 2016, melanin concentrations) on a sphere,
+  - `measured` (the RGL file tests/data/measured_iso.bsdf, one folder up),
+and, floating behind the row,
+  - a rough conductor whose `eta` is a raw BMP texture and whose `k` a spectrum file
+    (`k.spd`),
+  - a diffuse whose reflectance is a spectrum file (`paint.spd`: wavelength-value
+    lines with comments, Mitsuba's `.spd`).
 Every file is written by this script (no third-party data); the BMP by hand (24-bit,
 bottom-up rows, as the format is).
 """
@@ -190,6 +197,36 @@ SCENE = """<scene version="3.0.0">
             <texture type="rawconstant" name="reflectance"><vector name="value" x="0.4" y="0.7" z="0.6"/></texture>
         </bsdf>
     </shape>
+
+    <shape type="sphere">
+        <point name="center" x="-2.3" y="0.4" z="1.7"/><float name="radius" value="0.4"/>
+        <bsdf type="hair">
+            <float name="eumelanin" value="0.3"/>
+            <float name="pheomelanin" value="0.6"/>
+        </bsdf>
+    </shape>
+
+    <shape type="sphere">
+        <point name="center" x="0.0" y="0.4" z="1.8"/><float name="radius" value="0.4"/>
+        <bsdf type="measured"><string name="filename" value="../measured_iso.bsdf"/></bsdf>
+    </shape>
+
+    <shape type="sphere">
+        <point name="center" x="-1.4" y="1.5" z="-2.2"/><float name="radius" value="0.5"/>
+        <bsdf type="roughconductor">
+            <float name="alpha" value="0.15"/>
+            <texture type="bitmap" name="eta">
+                <string name="filename" value="eta.bmp"/>
+                <boolean name="raw" value="true"/>
+            </texture>
+            <spectrum name="k" filename="k.spd"/>
+        </bsdf>
+    </shape>
+
+    <shape type="sphere">
+        <point name="center" x="1.4" y="1.5" z="-2.2"/><float name="radius" value="0.5"/>
+        <bsdf type="diffuse"><spectrum name="reflectance" filename="paint.spd"/></bsdf>
+    </shape>
 </scene>
 """
 
@@ -208,9 +245,23 @@ def main():
 
     write_bmp(os.path.join(OUT, "bumps.bmp"), 32, 32, bumps)
     write_ply(os.path.join(OUT, "vcolor.ply"))
+
+    def eta(x, y):  # raw: eta = byte / 255, 0.2 .. 1.6 over u, stripes over v
+        t = x / 15
+        return tuple(int(255 * min(1.0, 0.15 + 0.85 * t * f + 0.1 * (y // 4 % 2)))
+                     for f in (0.3, 0.6, 1.0))
+
+    write_bmp(os.path.join(OUT, "eta.bmp"), 16, 16, eta)
+    with open(os.path.join(OUT, "k.spd"), "w") as f:
+        f.write("# k of a gold-like conductor, nm and value\n400 1.9\n500 1.8\n"
+                "600 2.9\n700 3.9\n")
+    with open(os.path.join(OUT, "paint.spd"), "w") as f:
+        f.write("# a teal paint: wavelength (nm) reflectance\n380 0.05\n450 0.35\n"
+                "500 0.6 # peak\n550 0.45\n\n600 0.1\n700 0.08\n780 0.1\n")
     with open(os.path.join(OUT, "catalogue.xml"), "w") as f:
         f.write(SCENE)
-    print(f"wrote {OUT}/catalogue.xml, floor.bmp, bumps.bmp, vcolor.ply")
+    print(f"wrote {OUT}/catalogue.xml, floor.bmp, bumps.bmp, vcolor.ply, eta.bmp, k.spd, "
+          "paint.spd")
 
 
 if __name__ == "__main__":

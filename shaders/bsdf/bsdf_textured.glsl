@@ -17,6 +17,8 @@ struct SurfaceTexels {
 #define SURFACE_TEX_ALPHA_U 3u
 #define SURFACE_TEX_ALPHA_V 4u
 #define SURFACE_TEX_EMISSION 5u
+#define SURFACE_TEX_COND_ETA 6u
+#define SURFACE_TEX_COND_K 7u
 
 // Texture id of lookup slot k (SURFACE_TEX_*) of record b.
 uint surface_tex_id(BsdfRecord b, uint emission_texture, uint k) {
@@ -25,10 +27,13 @@ uint surface_tex_id(BsdfRecord b, uint emission_texture, uint k) {
         : k == SURFACE_TEX_TRANSMITTANCE ? b.tex_transmittance
         : k == SURFACE_TEX_ALPHA_U ? b.tex_alpha_u
         : k == SURFACE_TEX_ALPHA_V ? b.tex_alpha_v
+        : k == SURFACE_TEX_COND_ETA ? b.tex_cond_eta
+        : k == SURFACE_TEX_COND_K ? b.tex_cond_k
         : emission_texture;
 }
 
-// Record b with the value c of lookup slot k, texture `id` (colors as they are,
+// Record b with the value c of lookup slot k, texture `id` (colors, a conductor's eta
+// and k among them, as they are,
 // roughness as Mitsuba's BSDFs read it, eval_1: texture_eval_1_color's luminance, at
 // least 1e-4); the emission texel in `texels`.
 BsdfRecord surface_tex_store(BsdfRecord b, inout SurfaceTexels texels, uint k, uint id, vec3 c) {
@@ -40,6 +45,8 @@ BsdfRecord surface_tex_store(BsdfRecord b, inout SurfaceTexels texels, uint k, u
     if (k == SURFACE_TEX_ALPHA_U) b.alpha_u = alpha;
     if (k == SURFACE_TEX_ALPHA_V) b.alpha_v = alpha;
     if (k == SURFACE_TEX_EMISSION) texels.emission = c;
+    if (k == SURFACE_TEX_COND_ETA) b.cond_eta = c;
+    if (k == SURFACE_TEX_COND_K) b.cond_k = c;
     return b;
 }
 
@@ -126,7 +133,9 @@ BsdfRecord bsdf_textured_point(BsdfRecord b, vec2 uv, bool normal_map, uint emis
             | (b.tex_specular != 0u ? 1u << SURFACE_TEX_SPECULAR : 0u)
             | (b.tex_transmittance != 0u ? 1u << SURFACE_TEX_TRANSMITTANCE : 0u)
             | (b.tex_alpha_u != 0u ? 1u << SURFACE_TEX_ALPHA_U : 0u)
-            | (b.tex_alpha_v != 0u && alpha_v_own ? 1u << SURFACE_TEX_ALPHA_V : 0u);
+            | (b.tex_alpha_v != 0u && alpha_v_own ? 1u << SURFACE_TEX_ALPHA_V : 0u)
+            | (b.tex_cond_eta != 0u ? 1u << SURFACE_TEX_COND_ETA : 0u)
+            | (b.tex_cond_k != 0u ? 1u << SURFACE_TEX_COND_K : 0u);
     }
     if (TEXTURE_USES(TEXTURE_FEATURE_AREA) && emission_texture != 0u) {
         pending |= 1u << SURFACE_TEX_EMISSION;
@@ -145,6 +154,8 @@ BsdfRecord bsdf_textured_point(BsdfRecord b, vec2 uv, bool normal_map, uint emis
         SURFACE_TEX_ONE(SURFACE_TEX_ALPHA_U)
         SURFACE_TEX_ONE(SURFACE_TEX_ALPHA_V)
         SURFACE_TEX_ONE(SURFACE_TEX_EMISSION)
+        SURFACE_TEX_ONE(SURFACE_TEX_COND_ETA)
+        SURFACE_TEX_ONE(SURFACE_TEX_COND_K)
     }
     if (bsdf) {
         if (b.tex_alpha_v != 0u && !alpha_v_own) b.alpha_v = b.alpha_u;

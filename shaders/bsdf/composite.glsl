@@ -279,6 +279,46 @@ CompositeMix bsdf_composite_mix(uint index, Surface s, uint prim, vec2 bary, vec
     return m;
 }
 
+// The leaves of m without its pass-throughs (mask_null), their weights divided by
+// what remains, the leaf chosen anew by the lobe number u (as bsdf_composite_mix
+// chooses): the BSDF at a surface that a volumetric path did not pass
+// (mask_crossing.glsl). m as it is where nothing remains.
+CompositeMix bsdf_composite_solid(CompositeMix m, float u) {
+    CompositeMix r;
+    r.count = 0u;
+    r.chosen = 0u;
+    r.u = u;
+    r.all_delta = true;
+    float total = 0.0;
+    for (uint k = 0u; k < m.count; k++) {
+        CompositeBranch e = m.leaf[k];
+        BsdfRecord b = bsdf_load(e.index);
+        if (b.kind == BSDF_MASK_NULL) continue;
+        r.leaf[r.count] = e;
+        r.all_delta = r.all_delta && bsdf_is_delta(b);
+        total += e.weight;
+        r.count++;
+    }
+    if (r.count == 0u || !(total > 0.0)) return m;
+    bool found = false;
+    float below = 0.0;
+    for (uint k = 0u; k < r.count; k++) {
+        r.leaf[k].weight /= total;
+        float w = r.leaf[k].weight;
+        if (!found && u < below + w) {
+            found = true;
+            r.chosen = k;
+            r.u = min(max(u - below, 0.0) / w, 0.99999994);
+        }
+        below += w;
+    }
+    if (!found) {
+        r.chosen = r.count - 1u;
+        r.u = 0.99999994;
+    }
+    return r;
+}
+
 // Σ wₖ (fₖ(wo, wi) |cos θi|, pdfₖ(wo, wi)) over the leaves of m other than the chosen
 // one, for world directions wo (towards the viewer) and wi, each leaf in its own frame
 // from the surface s as it was before any bump map: its bump map's, then its normal

@@ -228,12 +228,18 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
                 s_base = s;
                 // The medium stage chose a mask's BSDF over its pass-through
                 // (mask_crossing.glsl): the mask's child 1 alone.
-                if (THIN_NULL && (path.flags & PATH_THIN_REFLECT) != 0u && bsdf_is_mask(bsdf_index)) {
+                // A tree with a mask inside: the tree without its pass-throughs.
+                uint mask_cross = THIN_NULL && (path.flags & PATH_THIN_REFLECT) != 0u
+                    ? bsdf_mask_crossing(bsdf_index) : MASK_CROSSING_NONE;
+                if (mask_cross == MASK_CROSSING_ROOT) {
                     bsdf_index = bsdf_load(bsdf_index).tex_transmittance;
+                }
+                if (mask_cross != MASK_CROSSING_NONE) {
                     // Done with: its lobe number is not forced as a thin dielectric's.
                     path.flags &= ~PATH_THIN_REFLECT;
                 }
                 leaves = bsdf_composite_mix(bsdf_index, s, h.prim, vec2(h.u, h.v), -r.dir, u_lobe);
+                if (mask_cross == MASK_CROSSING_TREE) leaves = bsdf_composite_solid(leaves, u_lobe);
                 CompositeBranch leaf = leaves.leaf[leaves.chosen];
                 bsdf_index = leaf.index;
                 bsdf_flags = leaf.flags;

@@ -166,12 +166,16 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, HitItem seco
         // A mask (THIN_NULL too) is crossed as Mitsuba's volpath crosses its null lobe:
         // with probability 1 - opacity, weight 1, no vertex; otherwise the stage ends
         // with PATH_THIN_REFLECT, and path_shade takes the masked BSDF alone.
-        bool masked = THIN_NULL && !thin && (shape.flags & SHAPE_NULL_BSDF) == 0u && shape.emitter == NONE
-            && bsdf_is_mask(shape.bsdf);
+        // A mask inside another composite: with the probability of its tree's
+        // pass-throughs (mask_crossing.glsl).
+        uint mask_cross = THIN_NULL && !thin && (shape.flags & SHAPE_NULL_BSDF) == 0u && shape.emitter == NONE
+            ? bsdf_mask_crossing(shape.bsdf) : MASK_CROSSING_NONE;
+        bool masked = mask_cross != MASK_CROSSING_NONE;
         // A surface with a BSDF ends the stage (path_shade computes its geometry).
         if ((shape.flags & SHAPE_NULL_BSDF) == 0u && !thin && !masked) break;
         Surface s = surface_at(h.prim, h.u, h.v, o, r.dir, h.t);
-        if (masked && medium_rng_next(rng).x < bsdf_mask_opacity(shape.bsdf, s.uv)) {
+        if (masked && medium_rng_next(rng).x < (mask_cross == MASK_CROSSING_ROOT
+                ? bsdf_mask_opacity(shape.bsdf, s.uv) : 1.0 - bsdf_null_weight(shape.bsdf, s.uv, true))) {
             path.flags |= PATH_THIN_REFLECT;
             break;
         }

@@ -79,14 +79,16 @@ vec3 transmittance_shadow_from(ShadowItem s, uint pixel, uint sample_index, uint
         Prim hp;
         bool thin = false;
         bool masked = false;
+        uint mask_cross = MASK_CROSSING_NONE;
         if (h.prim != NONE) {
             hp = prim_load(instance_prim(h.prim));
             shape = shape_load(hp.shape);
             thin = THIN_NULL && (shape.flags & SHAPE_THIN_DIELECTRIC) != 0u && shape.emitter == NONE;
             // A mask (THIN_NULL too) lets 1 - opacity through (Mitsuba's
             // eval_null_transmission).
-            masked = THIN_NULL && !thin && (shape.flags & SHAPE_NULL_BSDF) == 0u && shape.emitter == NONE
-                && bsdf_is_mask(shape.bsdf);
+            mask_cross = THIN_NULL && !thin && (shape.flags & SHAPE_NULL_BSDF) == 0u && shape.emitter == NONE
+                ? bsdf_mask_crossing(shape.bsdf) : MASK_CROSSING_NONE;
+            masked = mask_cross != MASK_CROSSING_NONE;
             // An opaque surface blocks the ray whatever the media before it.
             if ((shape.flags & SHAPE_NULL_BSDF) == 0u && !thin && !masked) break;
         }
@@ -100,7 +102,9 @@ vec3 transmittance_shadow_from(ShadowItem s, uint pixel, uint sample_index, uint
         }
         Surface sf = surface_at(h.prim, h.u, h.v, o, s.dir, h.t);
         if (masked) {
-            T *= 1.0 - bsdf_mask_opacity(shape.bsdf, sf.uv);
+            // A tree: its pass-throughs' weight, none below a bump map (mask_crossing.glsl).
+            T *= mask_cross == MASK_CROSSING_ROOT ? 1.0 - bsdf_mask_opacity(shape.bsdf, sf.uv)
+                                                : bsdf_null_weight(shape.bsdf, sf.uv, false);
             if (!any(greaterThan(T, vec3(0.0)))) break;
         }
         if (thin) {

@@ -221,8 +221,8 @@ pub const TEXTURE_FEATURE_TABLE: u32 = 8192;
 /// sampling and photon emission only).
 pub const TEXTURE_FEATURE_EMITTER_PROFILE: u32 = 16384;
 /// Bit `TEXTURE_FEATURE_PARAM_SHIFT + k`: some BSDF textures its parameter k (0
-/// reflectance, 1 specular, 2 transmittance, 3 alpha_u, 4 alpha_v), as
-/// `SURFACE_TEX_*` in bsdf_textured.glsl.
+/// reflectance, 1 specular, 2 transmittance, 3 alpha_u, 4 alpha_v, 6 cond_eta, 7
+/// cond_k), as `SURFACE_TEX_*` in bsdf_textured.glsl.
 pub const TEXTURE_FEATURE_PARAM_SHIFT: u32 = 16;
 
 /// Most emitter prims [`Frame::emitter_prims`] holds.
@@ -400,8 +400,8 @@ mod tests {
                 tex_alpha_u,
                 tex_alpha_v,
                 normal_map,
-                pad1,
-                pad2
+                tex_cond_eta,
+                tex_cond_k
             ),
             rust_layout!(
                 EmitterRecord,

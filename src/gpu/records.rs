@@ -249,8 +249,10 @@ gpu_record! {
         pub tex_alpha_v: u32 => uint,
         /// Mitsuba `normalmap` around the model: its texture index + 1, or 0.
         pub normal_map: u32 => uint,
-        pub pad1: u32 => uint,
-        pub pad2: u32 => uint,
+        /// Textures of a conductor's `eta` and `k` (index + 1, 0: `cond_eta` and
+        /// `cond_k` apply).
+        pub tex_cond_eta: u32 => uint,
+        pub tex_cond_k: u32 => uint,
     }
 
     /// An emitter. `radiance` is the intensity (W/sr) of point and spot lights and the

@@ -457,6 +457,9 @@ impl SceneRecords {
                 b.tex_transmittance,
                 b.tex_alpha_u,
                 alpha_v,
+                0, // SURFACE_TEX_EMISSION: TEXTURE_FEATURE_AREA
+                b.tex_cond_eta,
+                b.tex_cond_k,
             ]
             .iter()
             .enumerate()

@@ -1537,8 +1537,9 @@ mod tests {
             ("<bsdf type=\"conductor\">\n<string name=\"material\" value=\"Unobtainium\"/></bsdf>", 4, "known: Ag, Al, AlAs, AlAs_palik, AlSb"),
             ("<bsdf type=\"roughconductor\">\n<string name=\"material\" value=\"Unobtainium\"/></bsdf>", 4, "W, a-C, d-C, d-C_palik, none"),
             ("<bsdf type=\"conductor\">\n<string name=\"material\" value=\"au\"/></bsdf>", 4, "unknown conductor material 'au' (did you mean 'Au'?)"),
-            ("<bsdf type=\"conductor\">\n<texture type=\"checkerboard\" name=\"eta\"/></bsdf>", 4, "'eta' of bsdf 'conductor' cannot be a texture"),
-            ("<bsdf type=\"roughconductor\">\n<texture type=\"checkerboard\" name=\"k\"/></bsdf>", 4, "'k' of bsdf 'roughconductor' cannot be a texture"),
+            // eta and k may be textures (as in Mitsuba), but not beside a named material.
+            ("<bsdf type=\"conductor\">\n<string name=\"material\" value=\"Au\"/><texture type=\"checkerboard\" name=\"eta\"/></bsdf>", 4, "not both"),
+            ("<bsdf type=\"roughconductor\">\n<string name=\"material\" value=\"Cu\"/><texture type=\"checkerboard\" name=\"k\"/></bsdf>", 4, "not both"),
             ("<bsdf type=\"conductor\">\n<string name=\"material\" value=\"Au\"/><rgb name=\"eta\" value=\"1\"/></bsdf>", 4, "not both"),
             ("<bsdf type=\"dielectric\">\n<string name=\"int_ior\" value=\"glass\"/></bsdf>", 4, "unknown index of refraction 'glass'"),
             ("<bsdf type=\"dielectric\">\n<float name=\"int_ior\" value=\"-1.5\"/></bsdf>", 4, "must be positive"),

@@ -195,16 +195,26 @@ impl Scene {
                 .any(|s| self.is_thin_dielectric(s.bsdf))
     }
 
-    /// Whether some shape's BSDF is a `mask` (at its root): the volumetric path
+    /// Whether some shape's BSDF is a `mask` (or holds one): the volumetric path
     /// tracers cross it as a null surface with probability 1 - opacity.
     pub fn has_masks(&self) -> bool {
         self.meshes.iter().any(|m| self.is_mask(m.bsdf))
             || self.quadrics.iter().any(|s| self.is_mask(s.bsdf))
     }
 
-    /// Whether BSDF `b` is a `mask`.
+    /// Whether BSDF `b` is a `mask` or a composite with one inside (a blend's or bump
+    /// map's child; crossed likewise, shaders/bsdf/mask_crossing.glsl).
     fn is_mask(&self, b: u32) -> bool {
-        matches!(self.bsdfs.get(b as usize), Some(Bsdf::Mask { .. }))
+        fn has_mask(b: &Bsdf) -> bool {
+            match b {
+                Bsdf::Mask { .. } => true,
+                Bsdf::Blend { .. } | Bsdf::BumpMap { .. } => {
+                    bsdf::composite::children(b).into_iter().any(has_mask)
+                }
+                _ => false,
+            }
+        }
+        self.bsdfs.get(b as usize).is_some_and(has_mask)
     }
 
     /// Whether BSDF `b` is a `thindielectric`.
@@ -517,6 +527,25 @@ mod tests {
                 let _ = load(&scene, &[]);
             }
             std::fs::write(target, original).unwrap();
+        }
+    }
+
+    /// A mask inside a blend or bump map makes the scene's shapes null crossings for
+    /// the volumetric integrators as a mask at the root does; a plain BSDF does not.
+    #[test]
+    fn nested_masks_count_as_masks() {
+        use super::testutil::{load, mitsuba};
+        let shape = |bsdf: &str| mitsuba(&format!("<shape type=\"sphere\">{bsdf}</shape>"));
+        let mask =
+            r#"<bsdf type="mask"><float name="opacity" value="0.4"/><bsdf type="diffuse"/></bsdf>"#;
+        for (bsdf, want) in [
+            (mask.to_string(), true),
+            (format!(r#"<bsdf type="blendbsdf"><float name="weight" value="0.3"/>{mask}<bsdf type="diffuse"/></bsdf>"#), true),
+            (r#"<bsdf type="blendbsdf"><float name="weight" value="0.3"/><bsdf type="diffuse"/><bsdf type="diffuse"/></bsdf>"#.to_string(), false),
+            (r#"<bsdf type="diffuse"/>"#.to_string(), false),
+        ] {
+            let s = load(&[("s.xml", &shape(&bsdf))], &[]).unwrap();
+            assert_eq!(s.has_masks(), want, "{bsdf}");
         }
     }
 }

@@ -528,12 +528,25 @@ fn color(el: &Element) -> Result<Vec3, Error> {
     }
 }
 
-/// `<spectrum value="0.5">` (constant: [`spectrum::constant_to_srgb`]) or
-/// `value="400:0.1, 500:0.2, ..."` (linear sRGB via [`spectrum::spectrum_to_srgb`]),
-/// as Mitsuba's RGB variants read them (emitters differ from everything else).
+/// `<spectrum value="0.5">` (constant: [`spectrum::constant_to_srgb`]),
+/// `value="400:0.1, 500:0.2, ..."` or `filename="x.spd"` (a file of wavelength-value
+/// lines, [`spectrum_file`]) (linear sRGB via [`spectrum::spectrum_to_srgb`]), as
+/// Mitsuba's RGB variants read them (emitters differ from everything else).
 fn spectrum_value(el: &Element, within_emitter: bool) -> Result<Vec3, Error> {
-    if el.attr("filename").is_some() {
-        return Err(el.err("spectrum files (<spectrum filename=...>) are not supported yet"));
+    if let Some(file) = el.attr("filename") {
+        if el.attr("value").is_some() {
+            return Err(el.err("<spectrum> takes a value or a filename, not both"));
+        }
+        let path = el
+            .resolve(file)
+            .map_err(|tried| el.err(format!("spectrum file {tried} not found")))?;
+        let (wavelengths, values) = spectrum_file(&path)?;
+        return Ok(spectrum_pairs_to_srgb(
+            el,
+            &wavelengths,
+            &values,
+            within_emitter,
+        ));
     }
     let s = el.require("value")?;
     let toks: Vec<&str> = tokens(s).collect();
@@ -562,12 +575,199 @@ fn spectrum_value(el: &Element, within_emitter: bool) -> Result<Vec3, Error> {
     if wavelengths.is_empty() {
         return Err(el.err("<spectrum> has an empty value"));
     }
-    let name = el.attr("name").unwrap_or("");
-    let bounded = !UNBOUNDED.contains(&name);
-    Ok(spectrum::spectrum_to_srgb(
+    Ok(spectrum_pairs_to_srgb(
+        el,
         &wavelengths,
         &values,
         within_emitter,
-        bounded,
     ))
+}
+
+/// The linear sRGB of the piecewise-linear spectrum of `el` (its parameter name says
+/// whether it is clamped to [0, 1]).
+fn spectrum_pairs_to_srgb(
+    el: &Element,
+    wavelengths: &[f64],
+    values: &[f64],
+    within_emitter: bool,
+) -> Vec3 {
+    let name = el.attr("name").unwrap_or("");
+    let bounded = !UNBOUNDED.contains(&name);
+    spectrum::spectrum_to_srgb(wavelengths, values, within_emitter, bounded)
+}
+
+/// The wavelengths (nm) and values of a spectrum file (Mitsuba's `.spd`), read as
+/// Mitsuba 3.9.1 reads them (`Properties`' spectrum loading; checked against it): one
+/// `wavelength value` pair per line, each number parsed from the line's start as C's
+/// `strtod` does (leading blanks skipped, anything after the value ignored, so `400
+/// 0.5 # note` is fine); a line that is empty or starts with `#` is skipped, any other
+/// line without two numbers is an error; at least two entries, wavelengths strictly
+/// increasing. Errors name the file and line.
+pub fn spectrum_file(path: &std::path::Path) -> Result<(Vec<f64>, Vec<f64>), Error> {
+    let text = std::fs::read(path)
+        .map_err(|e| Error::file(path, format!("cannot read spectrum file: {e}")))?;
+    let text = String::from_utf8_lossy(&text);
+    let (mut wavelengths, mut values) = (Vec::new(), Vec::new());
+    for (i, line) in text.split('\n').enumerate() {
+        let n = i as u32 + 1;
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let shown = line.trim_end();
+        let (w, rest) = strtod_prefix(line).ok_or_else(|| {
+            Error::at(
+                path,
+                n,
+                format!("could not read a wavelength in \"{shown}\""),
+            )
+        })?;
+        let (v, _) = strtod_prefix(rest)
+            .ok_or_else(|| Error::at(path, n, format!("could not read a value in \"{shown}\"")))?;
+        if wavelengths.last().is_some_and(|&last| w <= last) {
+            return Err(Error::at(
+                path,
+                n,
+                format!(
+                    "wavelength {w} does not increase (the line before has {})",
+                    wavelengths.last().copied().unwrap_or(w)
+                ),
+            ));
+        }
+        wavelengths.push(w);
+        values.push(v);
+    }
+    if wavelengths.len() < 2 {
+        return Err(Error::file(
+            path,
+            format!(
+                "a spectrum file needs at least two wavelength-value lines, found {}",
+                wavelengths.len()
+            ),
+        ));
+    }
+    Ok((wavelengths, values))
+}
+
+/// The number at the start of `s` as C's `strtod` reads it (leading blanks skipped,
+/// the longest prefix that is a decimal number), and what follows it.
+fn strtod_prefix(s: &str) -> Option<(f64, &str)> {
+    let t = s.trim_start_matches([' ', '\t', '\r', '\x0b', '\x0c']);
+    let b = t.as_bytes();
+    let mut end = 0;
+    let mut best = None;
+    // Candidate ends: the number's characters run [+-]digits[.digits][e[+-]digits];
+    // the longest prefix that parses wins.
+    while end < b.len() && (b[end].is_ascii_digit() || b"+-.eE".contains(&b[end])) {
+        end += 1;
+        if let Ok(v) = t[..end].parse::<f64>() {
+            best = Some((v, end));
+        }
+    }
+    best.map(|(v, e)| (v, &t[e..]))
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use crate::scene::bsdf::{Bsdf, Conductor, Diffuse};
+    use crate::scene::testutil::{error_at, load, mitsuba};
+    use crate::scene::Emitter;
+
+    /// A file with a comment line, a blank line and a note after a value, and one with
+    /// values past 1.
+    const A_SPD: &str = "# test\n400 0.1\n  500   0.5 # mid\n\n600 0.9\n700 0.3\n";
+    const BIG_SPD: &str = "400 1.1\n500 2.5\n600 3.9\n700 0.3\n";
+
+    fn close(got: Vec3, want: [f32; 3]) {
+        let want = Vec3::from(want);
+        assert!(
+            (got - want).abs().max_element() <= 2e-6 * want.max_element().max(1.0),
+            "{got}, Mitsuba {want}"
+        );
+    }
+
+    /// Each value as Mitsuba 3.9.1 `scalar_rgb` reads the same files (mi.traverse of
+    /// the loaded scene): a reflectance (clamped to [0, 1]), a conductor's eta and k
+    /// (not clamped), an emitter's radiance (no D65).
+    #[test]
+    fn spectrum_files_reduce_to_mitsubas_rgb() {
+        let body = r#"<bsdf type="diffuse"><spectrum name="reflectance" filename="a.spd"/></bsdf>
+<bsdf type="diffuse"><spectrum name="reflectance" filename="big.spd"/></bsdf>
+<bsdf type="conductor"><spectrum name="eta" filename="big.spd"/><spectrum name="k" filename="a.spd"/></bsdf>
+<shape type="sphere"><emitter type="area"><spectrum name="radiance" filename="a.spd"/></emitter></shape>"#;
+        let s = load(
+            &[
+                ("s.xml", &mitsuba(body)),
+                ("a.spd", A_SPD),
+                ("big.spd", BIG_SPD),
+            ],
+            &[],
+        )
+        .unwrap();
+        let refl = |i: usize| match s.bsdfs[i] {
+            Bsdf::Diffuse(Diffuse { reflectance }) => reflectance,
+            ref other => panic!("{other:?}"),
+        };
+        close(refl(0), [0.854797, 0.68754, 0.265015]);
+        close(refl(1), [1.0, 1.0, 1.0]);
+        let Bsdf::Conductor(Conductor { eta, k, .. }) = s.bsdfs[2] else {
+            panic!("{:?}", s.bsdfs[2])
+        };
+        close(eta, [3.42372, 3.17993, 1.67715]);
+        close(k, [0.854797, 0.68754, 0.265015]);
+        let Emitter::Area { radiance } = s.emitters[0] else {
+            panic!("{:?}", s.emitters[0])
+        };
+        close(radiance, [0.999234, 0.6597, 0.229444]);
+    }
+
+    /// Bad files: an error naming the spectrum file and its line (or the scene's line
+    /// for a file that is not there), as Mitsuba refuses the same files.
+    #[test]
+    fn bad_spectrum_files_name_file_and_line() {
+        let scene = |file: &str| {
+            mitsuba(&format!(
+                "<bsdf type=\"diffuse\"><spectrum name=\"reflectance\" filename=\"{file}\"/></bsdf>"
+            ))
+        };
+        let run = |content: &str| load(&[("s.xml", &scene("x.spd")), ("x.spd", content)], &[]);
+        let e = error_at(load(&[("s.xml", &scene("none.spd"))], &[]), "s.xml", 3);
+        assert!(e.contains("none.spd") && e.contains("not found"), "{e}");
+        let e = error_at(run("400 0.1\n500\n"), "x.spd", 2);
+        assert!(e.contains("value"), "{e}");
+        let e = error_at(run("400 0.1\n   \n500 0.5\n"), "x.spd", 2);
+        assert!(e.contains("wavelength"), "{e}");
+        let e = error_at(run("400 0.1\n// c\n"), "x.spd", 2);
+        assert!(e.contains("wavelength"), "{e}");
+        let e = error_at(run("400,0.1\n500,0.5\n"), "x.spd", 1);
+        assert!(e.contains("value"), "{e}");
+        let e = error_at(run("500 0.1\n400 0.5\n"), "x.spd", 2);
+        assert!(e.contains("increase"), "{e}");
+        for one in ["500 0.5\n", "", "# nothing\n"] {
+            let e = run(one).unwrap_err().to_string();
+            assert!(e.contains("x.spd") && e.contains("at least two"), "{e}");
+        }
+        // What Mitsuba accepts: tabs, CRLF, exponents, a missing final newline, words
+        // after the value.
+        for ok in [
+            "400\t0.1\r\n500\t0.5\r\n",
+            "4e2 0.1\n5e2 0.5",
+            "400 0.1x\n500 0.5 y\n",
+        ] {
+            run(ok).unwrap_or_else(|e| panic!("{ok:?}: {e}"));
+        }
+        let e = error_at(
+            load(
+                &[(
+                    "s.xml",
+                    &mitsuba("<bsdf type=\"diffuse\"><spectrum name=\"reflectance\" filename=\"x.spd\" value=\"0.5\"/></bsdf>"),
+                ), ("x.spd", "400 0.1\n500 0.5\n")],
+                &[],
+            ),
+            "s.xml",
+            3,
+        );
+        assert!(e.contains("not both"), "{e}");
+    }
 }

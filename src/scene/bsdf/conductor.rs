@@ -6,7 +6,7 @@
 //! | parameter | type | default |
 //! |-----------|------|---------|
 //! | `material` | string: any of Mitsuba's named conductors (`Au`, `Cu`, `a-C`, ... [`CONDUCTOR_PRESETS`]) or `none` | `none` (a perfect mirror) |
-//! | `eta`, `k` | float, rgb or spectrum (not with `material`; not textures) | 0, 1 |
+//! | `eta`, `k` | float, rgb, spectrum or texture (not with `material`) | 0, 1 |
 //! | `specular_reflectance` | spectrum or texture | 1 |
 //!
 //! Nori `mirror` takes no parameters.
@@ -47,13 +47,13 @@ pub(super) const MATERIAL: Param = Param::new(
 );
 pub(super) const ETA: Param = Param::new(
     "eta",
-    "float|rgb|spectrum",
+    "float|rgb|spectrum|texture",
     "0",
     "real part of the index of refraction",
 );
 pub(super) const K: Param = Param::new(
     "k",
-    "float|rgb|spectrum",
+    "float|rgb|spectrum|texture",
     "1",
     "imaginary part of the index of refraction",
 );
@@ -74,7 +74,11 @@ pub const MITSUBA: Plugin = Plugin::new(
     ),
     mitsuba,
 )
-.textures(&[("specular_reflectance", Slot::Specular)]);
+.textures(&[
+    ("specular_reflectance", Slot::Specular),
+    ("eta", Slot::CondEta),
+    ("k", Slot::CondK),
+]);
 
 pub const NORI_MIRROR: Plugin = Plugin::new(
     PluginDoc::new(

@@ -6,8 +6,11 @@
 //! `ray_test` treats every surface as opaque). As in Mitsuba's `volpath`, the
 //! volumetric integrators cross a mask at the root of a shape's BSDF as a null
 //! surface with probability 1 − opacity (no bounce, the MIS state kept), and their
-//! shadow rays pass it scaled by 1 − opacity (`shaders/bsdf/mask_crossing.glsl`;
-//! a mask nested in another composite stays opaque to them). On the GPU the mask is a blend of the
+//! shadow rays pass it scaled by 1 − opacity (`shaders/bsdf/mask_crossing.glsl`).
+//! A mask nested in another composite (a blend's child, a mask's, a bump map's) is
+//! crossed likewise with the weight of the tree's pass-throughs, shadow rays seeing
+//! none below a bump map (Mitsuba's `eval_null_transmission`, which `bumpmap` does not
+//! forward); `twosided` refuses masks, as Mitsuba's. On the GPU the mask is a blend of the
 //! pass-through and its nested BSDF by the opacity ([`super::composite`]): eval and
 //! pdf are opacity times the nested BSDF's, and sampling picks the pass-through with
 //! probability 1 − opacity, as Mitsuba's `mask::sample`. The

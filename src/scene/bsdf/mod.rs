@@ -476,6 +476,8 @@ pub struct TextureMaps {
     pub transmittance: Option<u32>,
     pub alpha_u: Option<u32>,
     pub alpha_v: Option<u32>,
+    pub cond_eta: Option<u32>,
+    pub cond_k: Option<u32>,
     /// Scalar parameters kept in the record's table ([`Slot::Table`]): (entry, texture).
     pub table: Vec<(u8, u32)>,
 }
@@ -490,6 +492,9 @@ pub enum Slot {
     AlphaV,
     /// `alpha`: both roughnesses.
     Alpha,
+    /// A conductor's `eta` and `k` (colors).
+    CondEta,
+    CondK,
     /// Entry k of the record's table, the texture's luminance (`principled`'s scalars;
     /// looked up where the scene's texture mask has `TEXTURE_FEATURE_TABLE`).
     Table(u8),
@@ -534,6 +539,8 @@ impl TextureMaps {
                     maps.alpha_u = Some(index);
                     maps.alpha_v = Some(index);
                 }
+                Slot::CondEta => maps.cond_eta = Some(index),
+                Slot::CondK => maps.cond_k = Some(index),
                 Slot::Table(k) => maps.table.push((*k, index)),
             }
         }
@@ -549,6 +556,8 @@ impl TextureMaps {
         r.tex_transmittance = id(self.transmittance);
         r.tex_alpha_u = id(self.alpha_u);
         r.tex_alpha_v = id(self.alpha_v);
+        r.tex_cond_eta = id(self.cond_eta);
+        r.tex_cond_k = id(self.cond_k);
         for &(k, index) in &self.table {
             principled::pack_table_texture(&mut r, k as usize, index);
         }

@@ -59,6 +59,8 @@ pub const MITSUBA: Plugin = Plugin::new(
 )
 .textures(&[
     ("specular_reflectance", Slot::Specular),
+    ("eta", Slot::CondEta),
+    ("k", Slot::CondK),
     ("alpha", Slot::Alpha),
     ("alpha_u", Slot::AlphaU),
     ("alpha_v", Slot::AlphaV),

@@ -299,6 +299,8 @@ fn bsdf_texture_ids(b: &crate::scene::Bsdf, ids: &mut Vec<u32>) {
                 r.tex_alpha_u,
                 r.tex_alpha_v,
                 r.normal_map,
+                r.tex_cond_eta,
+                r.tex_cond_k,
             ]);
         }
     }
