@@ -402,6 +402,15 @@ fn fused_cases() -> Vec<FusedCase> {
         ),
         (cbox, vec![("res", "40")], None, Some(1), false, true),
         (cbox, vec![("res", "40")], None, None, true, true),
+        (cbox, vec![("res", "40")], None, Some(3), true, true),
+        (
+            "scenes/glass/glass.xml",
+            vec![("res", "32")],
+            None,
+            None,
+            true,
+            true,
+        ),
         (cbox, vec![("res", "40")], None, None, false, false),
         (
             "scenes/textures/normalmap.xml",
@@ -470,7 +479,9 @@ fn fused_cases() -> Vec<FusedCase> {
 /// under sphere lights (the last bounce meeting the emitters alone), textured lights
 /// (their textures in both bounces), the Cornell box with emitter sampling alone, at
 /// max_depth 1, cut at one bounce, and path traced (fused only in a render of many
-/// paths); the normal-mapped wall (path traced under an environment, over several
+/// paths; there, as in the glass scene, every camera ray finds a surface and the kernel
+/// shades bounce 1 too, its shadow rays left to the shadow kernel; also cut after
+/// three bounces); the normal-mapped wall (path traced under an environment, over several
 /// batches), and the filter scene's RGBA film (a Gaussian filter; which camera paths
 /// cover their pixel). The glossy spheres under a lat-long map keep the wavefront:
 /// 44% of their camera rays miss. In scenes with media the kernel runs the medium

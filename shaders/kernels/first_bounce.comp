@@ -19,8 +19,10 @@
 // instructions per SIMD group for one bounce in a loop, 15100 without; and a group
 // runs as many bounces as its longest path.)
 // The same functions and sample numbers as the wavefront's kernels in the same order:
-// the same image up to float contraction.
-// Writes: paths[p] for path p of the batch, ray queue 1, counters.rays_traced.
+// the same image up to float contraction. In closed scenes without media
+// (SCENE_SECOND_FUSED) it shades bounce 1 too, as every lane still has a path there.
+// Writes: paths[p] for path p of the batch, ray queue 1 (with SCENE_SECOND_FUSED ray
+// queue 0 and the shadow queue), counters.rays_traced.
 
 #include "generated/spec_constants.glsl"
 #include "queue/wavefront.glsl"
@@ -37,6 +39,12 @@ SPEC(SCENE_SAMPLER_KIND);
 #define SAMPLER_KIND SCENE_SAMPLER_KIND
 #include "film/film.glsl"
 #include "sensor/camera.glsl"
+
+// Bounce 1 runs here too, in full (closed scenes without media, where every lane
+// still has a path: render::plan::Schedule): its shadow rays go to the shadow queue
+// and the rays it continues to ray queue 0 (push.queue_in is 1), for the shadow
+// kernel and the wavefront's bounce 2.
+SPEC(SCENE_SECOND_FUSED);
 
 // path.glsl leaves a vertex's results in this thread (its sink; the wavefront's is
 // path_queues.glsl): the path's state, and its shadow ray and next ray if the vertex
@@ -63,8 +71,13 @@ void path_keep_flags(uint i, PathState p) {
     fb_path.medium = p.medium;
 }
 void path_push_shadow(uint medium, vec3 origin, uint path, vec3 dir, float tmax, vec3 contribution) {
-    fb_shadowed = true;
-    fb_shadow = ShadowItem(origin, path, dir, tmax, contribution, medium);
+    if (SCENE_SECOND_FUSED && fb_depth == 1u) {
+        // Bounce 1's, to the shadow kernel: it traces only the lanes that have one.
+        queue_push_shadow_in(medium, origin, path, dir, tmax, contribution);
+    } else {
+        fb_shadowed = true;
+        fb_shadow = ShadowItem(origin, path, dir, tmax, contribution, medium);
+    }
 }
 void path_push_ray(vec3 origin, uint path, vec3 dir, float tmax) {
     fb_continued = true;
@@ -185,6 +198,21 @@ void main() {
             path_shade_emitted(INTEGRATOR, fb_ray, fb_path);
             rays += 1u;
             first_bounce_shadow(rays);
+        }
+    } else if (SCENE_SECOND_FUSED) {
+        // Bounce 1 as the wavefront's intersect and shade run it (no media), its ray,
+        // hit and path kept in registers; its shadow ray and bounce 2's ray for the
+        // wavefront.
+        if (fb_continued) {
+            RayItem r1 = fb_ray;
+            fb_depth = 1u;
+            fb_shadowed = false;
+            fb_continued = false;
+            Hit hit1 = bvh_closest(r1.origin, r1.dir, 0.0, r1.tmax);
+            rays += 1u;
+            path_shade(INTEGRATOR, r1, HitItem(hit1.t, hit1.u, hit1.v, hit1.prim), fb_path,
+                       path_vertex_surface());
+            if (fb_continued) queue_push_ray(fb_ray.origin, p, fb_ray.dir, fb_ray.tmax);
         }
     } else if (fb_continued) {
         // Bounce 1's ray, for the wavefront (or past a budget of one bounce, where

@@ -40,6 +40,7 @@ pub enum Spec {
     UniformEmitterChoice = 27,
     SppmAlpha = 28,
     ScanStage = 29,
+    SecondFused = 30,
     Instances = 44,
     InstanceSlots = 45,
     SensorShape = 56,
@@ -185,6 +186,9 @@ pub const SPEC_CONSTANTS: &[SpecConst] = &[
     c(Spec::SecondEnds, "SCENE_SECOND_ENDS", Bool, "false",
       "first_bounce: the second bounce ends the paths and meets the emitters alone: it \
        runs there too."),
+    c(Spec::SecondFused, "SCENE_SECOND_FUSED", Bool, "false",
+      "first_bounce: bounce 1 runs there too (traced, shaded, its shadow ray traced), and \
+       the rays it continues go to ray queue 0 for the wavefront's bounce 2."),
     c(Spec::FilmFilter, "FILM_FILTER", Uint, "2u",
       "The film's reconstruction filter (FILTER_*)."),
     c(Spec::FilmFromPaths, "FILM_FROM_PATHS", Bool, "false",

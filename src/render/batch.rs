@@ -103,6 +103,14 @@ impl Renderer {
         cmd.barrier();
         cmd.dispatch(&self.kernels.queue_args, sets, p, [1, 1, 1]);
         cmd.barrier();
+        // Bounce 1's shadow rays, which first_bounce leaves to the shadow queue where
+        // it shades bounce 1 in full.
+        if let (true, Some(shadow)) = (self.kernels.second_fused, &self.kernels.shadow) {
+            let p = Push { depth: 1, ..*push };
+            let p = bytemuck::bytes_of(&p);
+            cmd.dispatch_indirect(shadow, sets, p, &wf.dispatch_args, Wavefront::SHADOW_ARGS);
+            cmd.barrier();
+        }
     }
 
     /// Records bounces `range` of a batch whose first rays are in ray queue
@@ -200,7 +208,12 @@ impl Renderer {
         let k = &self.kernels;
         let first = match &k.first_bounce {
             Some(fused) => {
-                self.start_batch_fused(cmd, &sets, &push, fused);
+                // Its rays for the wavefront go to the queue of bounce fused_bounces.
+                let fused_push = Push {
+                    queue_in: (k.fused_bounces + 1) % 2,
+                    ..push
+                };
+                self.start_batch_fused(cmd, &sets, &fused_push, fused);
                 k.fused_bounces
             }
             None => {

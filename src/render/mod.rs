@@ -197,8 +197,12 @@ struct Kernels {
     /// (shaders/kernels/first_bounce.comp; see [`fuses_first_bounce`]): it, in place of
     /// generate and bounce 0 (and of bounce 1 where that ends the paths).
     first_bounce: Option<Kernel>,
-    /// The bounces `first_bounce` runs: 1, or 2 where bounce 1 ends the paths.
+    /// The bounces `first_bounce` runs: 1, or 2 where bounce 1 ends the paths or it
+    /// shades bounce 1 in full (`Schedule::second_fused`).
     fused_bounces: u32,
+    /// Whether `first_bounce` shades bounce 1 in full, leaving its shadow rays to the
+    /// shadow queue.
+    second_fused: bool,
 }
 
 impl Kernels {
@@ -275,6 +279,7 @@ fn make_kernels(
         aov_samples: take(Stage::AovSamples),
         first_bounce: take(Stage::FirstBounce),
         fused_bounces: schedule.fused_bounces,
+        second_fused: schedule.second_fused,
     })
 }
 

@@ -30,6 +30,10 @@ pub const MAX_BATCH_PATHS: u32 = 1 << 22;
 /// (see [`Schedule`]): what pays for the extra kernel's creation
 /// (docs/performance.md, "Renderer decisions").
 const FUSED_MIN_PATHS: u64 = 1 << 21;
+/// The largest fraction of camera rays leaving the scene at which `first_bounce`
+/// shades bounce 1 too (`Schedule::second_fused`): lanes whose paths ended idle
+/// through it (scenes/textures/textures.xml, 23% misses: +6% instructions).
+const SECOND_FUSED_MISSES_MAX: f32 = 1.0 / 16.0;
 
 /// One kernel of the path-tracing wavefront, by the part it plays in a batch (the
 /// photon mappers' own kernels are `photon::Photons`').
@@ -132,6 +136,9 @@ pub struct Schedule {
     /// Whether `first_bounce` runs a batch's first bounce (or two), and how many.
     pub fused: bool,
     pub fused_bounces: u32,
+    /// Whether `first_bounce` shades bounce 1 too (in full, the wavefront going on from
+    /// bounce 2): in closed scenes without media, where every camera path continues.
+    pub second_fused: bool,
     /// Whether generate and the per-bounce kernels are made (not where `first_bounce`
     /// is the whole path).
     pub wavefront_kernels: bool,
@@ -498,8 +505,8 @@ struct SceneFacts {
     bvh_depth: u32,
     /// SCENE_INSTANCES and SCENE_INSTANCE_SLOTS (accel::instance; 0 without).
     instances: [u32; 2],
-    /// On CPU devices, in scenes with an environment: the fraction of camera rays
-    /// that leave the scene ([`camera_miss_fraction`]).
+    /// On CPU devices: the fraction of camera rays that leave the scene
+    /// ([`camera_miss_fraction`]).
     camera_misses: Option<f32>,
     /// Whether the scene has an environment emitter.
     environment: bool,
@@ -542,7 +549,7 @@ impl SceneFacts {
                 .two_level
                 .map_or(bvh.stats.stack_depth(), |t| t.stack_depth),
             instances: accel::instance::TwoLevel::constants(bvh.two_level.as_ref()),
-            camera_misses: (caps.kind == DeviceKind::Cpu && environment)
+            camera_misses: (caps.kind == DeviceKind::Cpu)
                 .then(|| camera_miss_fraction(bvh, &scene.camera)),
             environment,
             medium_features: records.medium_features(),
@@ -675,7 +682,23 @@ impl Schedule {
         // where over a third of the camera rays leave the scene into an environment,
         // whose misses the wavefront shades apart (docs/performance.md).
         let second_ends = bounces == 2 && integrator.ends_paths_at(1) && emitted_only > 0;
-        let fused_bounces = 1 + second_ends as u32;
+        // Without an environment or media, where (nearly) every camera ray finds a
+        // surface, nearly every lane of a SIMD group still has a path at bounce 1
+        // (before Russian roulette): shading it in the same kernel keeps its ray, hit
+        // and path state out of the queues; its shadow rays still go through the
+        // shadow queue, which traces only the lanes that have one (docs/performance.md:
+        // the Cornell box -3.4% instructions, glass -7.2%; textures, where 23% of the
+        // camera rays miss, would be +6%).
+        let second_fused = !second_ends
+            && bounces > 2
+            && !media
+            && !facts.environment
+            && !integrator.ends_paths_at(0)
+            && !integrator.ends_paths_at(1)
+            && facts
+                .camera_misses
+                .is_some_and(|m| m <= SECOND_FUSED_MISSES_MAX);
+        let fused_bounces = 1 + (second_ends || second_fused) as u32;
         let fused = fuses_first_bounce(caps.kind, integrator)
             && !options.wavefront
             && (bounces <= fused_bounces
@@ -699,6 +722,7 @@ impl Schedule {
             emitted_only,
             fused,
             fused_bounces,
+            second_fused: fused && second_fused,
             wavefront_kernels,
             deferral: wavefront_kernels && deferring,
         }
@@ -939,11 +963,12 @@ fn kernels(
     if s.fused {
         // Shade's constants, saying whether bounce 0 or bounce 1 ends the paths, and
         // the emitter primitives bounce 1 meets.
-        let second_ends = s.fused_bounces == 2;
+        let second_ends = s.fused_bounces == 2 && !s.second_fused;
         let spec = c
             .shade(s, second_ends, false)
             .with(Spec::FirstEnds, c.ends_at_0)
             .with(Spec::SecondEnds, second_ends as u32)
+            .with(Spec::SecondFused, s.second_fused as u32)
             .with(Spec::SensorShape, c.sensor_shape)
             .with(Spec::SensorBatch, c.sensor_batch);
         add(Stage::FirstBounce, spec);
@@ -1151,6 +1176,31 @@ mod tests {
         };
         let p = plan(&scene("cbox/cbox_path.xml"), &many, &lavapipe());
         assert!(p.schedule.fused && p.has(Stage::FirstBounce) && p.has(Stage::Shade));
+    }
+
+    #[test]
+    fn a_closed_scene_fuses_bounce_1_too() {
+        let many = RenderOptions {
+            expected_spp: Some((FUSED_MIN_PATHS / (32 * 32)) as u32),
+            ..Default::default()
+        };
+        // The Cornell box: every camera ray finds a wall.
+        let p = plan(&scene("cbox/cbox_path.xml"), &many, &lavapipe());
+        assert!(p.schedule.second_fused && p.schedule.fused_bounces == 2);
+        assert!(p.has(Stage::Shadow) && p.has(Stage::Shade));
+        // A quarter of the camera rays of the textures scene miss; the normal map
+        // scene has an environment.
+        for file in [
+            "textures/textures.xml",
+            "textures/normalmap.xml",
+            "media/cube.xml",
+        ] {
+            let p = plan(&scene(file), &many, &lavapipe());
+            assert!(!p.schedule.second_fused, "{file}");
+        }
+        // A GPU keeps the wavefront.
+        let p = plan(&scene("cbox/cbox_path.xml"), &many, &gpu());
+        assert!(!p.schedule.second_fused);
     }
 
     #[test]
