@@ -31,23 +31,14 @@ pub const BYTES_PER_SPLAT_PIXEL: u64 = 24;
 /// The particle tracer's kernels, in the order `Photons::new` takes them back: its
 /// emission and bounce (in the photon mappers' places), then `ptracer_fold`.
 pub fn kernel_specs(f: &SceneFeatures) -> Vec<KernelSpec<'static>> {
-    let traversal = [
-        (Spec::PrimKinds, f.prim_kinds),
-        (Spec::BvhDepth, f.bvh_depth),
-        (Spec::FlatPrims, f.flat_count),
-        (Spec::FlatKinds, f.flat_kinds),
-        (Spec::SurfaceFeatures, f.surface),
-        (Spec::Textures, f.textures),
-        (Spec::FilmFilter, f.film_filter),
-    ];
-    let named = |name, spirv, extra: (Spec, u32)| {
-        let spec = traversal
-            .iter()
-            .copied()
-            .chain([extra])
-            .chain(f.instance_specs())
-            .collect();
-        KernelSpec::named(name, spirv, &spec)
+    let scene = f
+        .traversal
+        .specs()
+        .with(Spec::SurfaceFeatures, f.surface)
+        .with(Spec::Textures, f.textures)
+        .with(Spec::FilmFilter, f.film_filter);
+    let named = |name, spirv, (spec, value): (Spec, u32)| {
+        KernelSpec::named(name, spirv, &scene.clone().with(spec, value))
     };
     vec![
         named(
