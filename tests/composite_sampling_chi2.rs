@@ -7,11 +7,11 @@
 
 mod common;
 
-use common::stats::{bsdf_probe, BsdfProbe, Sampled, FLAG_DELTA};
+use common::stats::{bsdf_probe, dir, BsdfProbe, Sampled, FLAG_DELTA};
 use glam::Vec3;
 use wavetrace::scene::bsdf::composite::{self, Weight};
 use wavetrace::scene::bsdf::{Bsdf, Conductor, Dielectric, Diffuse, Distribution, RoughConductor};
-use wavetrace::warptest::{test_bsdf_records, Axis};
+use wavetrace::warptest::Axis;
 
 /// Chi-square tests in this file (Šidák correction).
 const TESTS_IN_FILE: usize = 8;
@@ -19,11 +19,6 @@ const TESTS_IN_FILE: usize = 8;
 const ALPHA: f64 = 0.01;
 /// Samples per test, as tests/chi2.rs.
 const N: u32 = 400_000;
-
-fn dir(theta_deg: f32, phi_deg: f32) -> Vec3 {
-    let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
-    Vec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
-}
 
 fn diffuse(r: f32) -> Bsdf {
     Bsdf::Diffuse(Diffuse {
@@ -49,64 +44,12 @@ fn blend(w: f32, a: Bsdf, b: Bsdf) -> Bsdf {
     }
 }
 
-/// Weights of smooth samples against eval / pdf of the mixture (relative 1e-3);
-/// returns the share of delta samples.
-fn check_weights(name: &str, samples: &[Sampled]) -> f64 {
-    let mut delta = 0usize;
-    let mut bad = 0usize;
-    for s in samples {
-        if s.flags == 0 {
-            assert_eq!(
-                s.weight,
-                Vec3::ZERO,
-                "{name}: a failed sample carries weight"
-            );
-            continue;
-        }
-        assert!(
-            s.weight.is_finite() && s.weight.min_element() >= 0.0,
-            "{name}: bad weight {s:?}"
-        );
-        if s.flags & FLAG_DELTA != 0 {
-            delta += 1;
-            assert_eq!(s.pdf, 0.0, "{name}: delta sample with a pdf");
-            continue;
-        }
-        let rel = |a: f32, b: f32| (a - b).abs() <= 1e-3 * a.abs().max(b.abs()) + 1e-7;
-        let w = s.eval / s.pdf_eval;
-        if !(s.pdf > 0.0
-            && rel(s.pdf, s.pdf_eval)
-            && rel(s.weight.x, w.x)
-            && rel(s.weight.y, w.y)
-            && rel(s.weight.z, w.z))
-        {
-            bad += 1;
-        }
-    }
-    assert!(
-        bad * 10_000 <= samples.len(),
-        "{name}: {bad} of {} samples disagree with eval/pdf of the mixture",
-        samples.len()
-    );
-    delta as f64 / samples.len() as f64
-}
-
+/// A case of common::stats::bsdf_case (chi-square of the smooth samples against the
+/// mixture's pdf, ∫ pdf against the share of delta samples, every smooth sample's
+/// weight against eval / pdf of the mixture); returns the samples.
 fn case(probe: &BsdfProbe, name: &str, bsdf: &Bsdf, wo: Vec3, axis: Axis) -> Vec<Sampled> {
     let recs = composite::records(std::slice::from_ref(bsdf));
-    let name = format!("{name}, wo = {wo:.2}");
-    let (outcome, samples) = test_bsdf_records(probe, &recs, wo, axis, N, 5).expect("bsdf kernel");
-    let delta = check_weights(&name, &samples);
-    let total = outcome.pdf_integral;
-    let sigma = (delta * (1.0 - delta) / N as f64).sqrt();
-    let failed = samples.iter().filter(|s| s.flags == 0).count() as f64 / N as f64;
-    println!("{name}: ∫pdf = {total:.4}, delta {delta:.4}, absorbed {failed:.4}");
-    // As tests/chi2.rs: ∫ pdf = P(smooth sample), within 5 σ and the quadrature's 1%.
-    assert!(
-        (total + delta - 1.0).abs() < 5.0 * sigma + 0.01 + failed,
-        "{name}: ∫pdf = {total} but {delta} of the samples are delta"
-    );
-    common::stats::assert_outcome(&name, &outcome, ALPHA, TESTS_IN_FILE);
-    samples
+    common::stats::bsdf_case(probe, name, &recs, wo, axis, (N, 5), ALPHA, TESTS_IN_FILE)
 }
 
 #[test]

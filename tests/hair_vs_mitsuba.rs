@@ -19,80 +19,42 @@
 
 mod common;
 
-use common::mitsuba_values::v3;
+use common::mitsuba_values::{compare_eval_pdf, read_cases, Tolerance};
 use common::stats::bsdf_probe;
 use common::{assert_matches_reference_at, device, repo};
-use serde_json::Value;
 use wavetrace::gpu::layout::BsdfRecord;
 use wavetrace::image::Image;
 use wavetrace::render::RenderOptions;
 
 #[test]
 fn eval_and_pdf_match_mitsuba() {
-    let text = std::fs::read_to_string(repo("tests/data/hair_values.json"))
-        .expect("tests/data/hair_values.json (python3 tools/mitsuba_hair_values.py)");
-    let data: Value = serde_json::from_str(&text).expect("JSON");
+    let cases = read_cases(
+        "tests/data/hair_values.json",
+        "python3 tools/mitsuba_hair_values.py",
+    );
     let probe = bsdf_probe();
     let mut checked = 0;
-    for (i, case) in data["cases"].as_array().expect("cases").iter().enumerate() {
-        let name = case["mitsuba"].to_string();
+    for (i, case) in cases.iter().enumerate() {
+        let name = case.params["mitsuba"].to_string();
         let rec = BsdfRecord::from(&common::bsdf_from_mitsuba_dict(
-            &case["mitsuba"],
+            &case.params["mitsuba"],
             &format!("hair_vs_mitsuba{i}"),
         ));
-        let values = case["values"].as_array().expect("values");
-        let scale = values
-            .iter()
-            .map(|v| v3(&v["eval"]).max_element() as f64)
-            .fold(0.0, f64::max);
-        let pdf_scale = values
-            .iter()
-            .map(|v| v["pdf"].as_f64().expect("pdf"))
-            .fold(0.0, f64::max);
-        let dirs: Vec<[f32; 4]> = values
-            .iter()
-            .map(|v| {
-                let wi = v3(&v["wi"]);
-                [wi.x, wi.y, wi.z, 0.0]
-            })
-            .collect();
-        let (mut worst_eval, mut worst_pdf) = (0.0f64, 0.0f64);
-        let mut failures = Vec::new();
-        for (v, dir) in values.iter().zip(&dirs) {
-            let (wo, wi) = (v3(&v["wo"]), v3(&v["wi"]));
-            let got = probe
-                .eval(&rec, wo, std::slice::from_ref(dir))
-                .expect("bsdf kernel")[0];
-            let (want_eval, want_pdf) = (v3(&v["eval"]), v["pdf"].as_f64().expect("pdf"));
-            for k in 0..3 {
-                let (g, w) = (got.0[k] as f64, want_eval[k] as f64);
-                if w.abs() > 1e-4 * scale {
-                    worst_eval = worst_eval.max((g - w).abs() / w.abs());
-                }
-                if (g - w).abs() > 5e-4 * w.abs() + 1e-5 * scale {
-                    failures.push(format!("wo {wo}, wi {wi}: eval[{k}] {g}, Mitsuba {w}"));
-                }
-            }
-            let g = got.1 as f64;
-            if want_pdf > 1e-4 * pdf_scale {
-                worst_pdf = worst_pdf.max((g - want_pdf).abs() / want_pdf);
-            }
-            if (g - want_pdf).abs() > 5e-4 * want_pdf.abs() + 1e-5 * pdf_scale {
-                failures.push(format!("wo {wo}, wi {wi}: pdf {g}, Mitsuba {want_pdf}"));
-            }
-            checked += 1;
-        }
-        println!(
-            "{name}: {} pairs; worst relative |GPU - Mitsuba|: eval {worst_eval:.1e}, pdf {worst_pdf:.1e}",
-            values.len()
+        let (scale, pdf_scale) = (case.eval_scale(), case.pdf_scale());
+        let a = compare_eval_pdf(
+            &probe,
+            &rec,
+            &case.pairs,
+            [1e-4 * scale, 1e-4 * pdf_scale],
+            |_| {
+                [
+                    Tolerance::new(5e-4, 1e-5 * scale),
+                    Tolerance::new(5e-4, 1e-5 * pdf_scale),
+                ]
+            },
         );
-        assert!(
-            failures.is_empty(),
-            "{name}: {} of {} disagree:\n{}",
-            failures.len(),
-            values.len(),
-            failures.join("\n")
-        );
+        a.print_and_assert(&name, case.pairs.len());
+        checked += case.pairs.len();
     }
     assert!(checked >= 500, "{checked} pairs");
 }

@@ -13,11 +13,9 @@
 
 mod common;
 
-use common::mitsuba_values::v3;
-use common::stats::bsdf_probe;
+use common::mitsuba_values::{compare_eval_pdf, read_cases, Tolerance};
+use common::stats::{bsdf_probe, dir};
 use common::{assert_matches_reference_at, device, repo};
-use glam::Vec3;
-use serde_json::Value;
 use wavetrace::image::Image;
 use wavetrace::render::RenderOptions;
 use wavetrace::scene::bsdf::measured::record_with_tables;
@@ -44,69 +42,33 @@ fn measured(file: &str, test: &str) -> Bsdf {
 /// (differences of percents) fails by a hundred times.
 #[test]
 fn eval_and_pdf_match_mitsuba() {
-    let text = std::fs::read_to_string(repo("tests/data/measured_values.json"))
-        .expect("tests/data/measured_values.json (python3 tools/mitsuba_measured_values.py)");
-    let data: Value = serde_json::from_str(&text).expect("JSON");
+    let cases = read_cases(
+        "tests/data/measured_values.json",
+        "python3 tools/mitsuba_measured_values.py",
+    );
     let mut probe = bsdf_probe();
     let mut checked = 0;
-    for (i, case) in data["cases"].as_array().expect("cases").iter().enumerate() {
-        let file = case["mitsuba"]["filename"].as_str().expect("filename");
+    for (i, case) in cases.iter().enumerate() {
+        let file = case.params["mitsuba"]["filename"]
+            .as_str()
+            .expect("filename");
         let (rec, tables) = record_with_tables(&measured(file, &format!("measured_values{i}")));
         probe.set_tables(&tables);
-        let values = case["values"].as_array().expect("values");
-        let scale = values
-            .iter()
-            .map(|v| v3(&v["eval"]).max_element() as f64)
-            .fold(0.0, f64::max);
-        let pdf_scale = values
-            .iter()
-            .map(|v| v["pdf"].as_f64().expect("pdf"))
-            .fold(0.0, f64::max);
-        let dirs: Vec<[f32; 4]> = values
-            .iter()
-            .map(|v| {
-                let wi = v3(&v["wi"]);
-                [wi.x, wi.y, wi.z, 0.0]
-            })
-            .collect();
-        let mut failures = Vec::new();
-        let (mut worst_eval, mut worst_pdf) = (0.0f64, 0.0f64);
-        for (v, d) in values.iter().zip(&dirs) {
-            let wo = v3(&v["wo"]);
-            let got = probe.eval(&rec, wo, &[*d]).expect("bsdf kernel")[0];
-            let (want_eval, want_pdf) = (v3(&v["eval"]), v["pdf"].as_f64().expect("pdf"));
-            for k in 0..3 {
-                let (g, w) = (got.0[k] as f64, want_eval[k] as f64);
-                if w.abs() > 1e-3 * scale {
-                    worst_eval = worst_eval.max((g - w).abs() / w.abs());
-                }
-                if (g - w).abs() > 1e-4 * w.abs() + 1e-6 * scale {
-                    failures.push(format!("wo {wo}, wi {d:?}: eval[{k}] {g}, Mitsuba {w}"));
-                }
-            }
-            let g = got.1 as f64;
-            if want_pdf > 1e-3 * pdf_scale {
-                worst_pdf = worst_pdf.max((g - want_pdf).abs() / want_pdf);
-            }
-            if (g - want_pdf).abs() > 1e-4 * want_pdf + 1e-6 * pdf_scale {
-                failures.push(format!("wo {wo}, wi {d:?}: pdf {g}, Mitsuba {want_pdf}"));
-            }
-            checked += 1;
-        }
-        println!(
-            "{file}: {} pairs; worst relative |GPU - Mitsuba|: eval {worst_eval:.1e}, pdf {worst_pdf:.1e}",
-            values.len()
+        let (scale, pdf_scale) = (case.eval_scale(), case.pdf_scale());
+        let a = compare_eval_pdf(
+            &probe,
+            &rec,
+            &case.pairs,
+            [1e-3 * scale, 1e-3 * pdf_scale],
+            |_| {
+                [
+                    Tolerance::new(1e-4, 1e-6 * scale),
+                    Tolerance::new(1e-4, 1e-6 * pdf_scale),
+                ]
+            },
         );
-        for f in &failures {
-            println!("{f}");
-        }
-        assert!(
-            failures.is_empty(),
-            "{file}: {} of {} values differ from Mitsuba:\n{}",
-            failures.len(),
-            values.len(),
-            failures[..failures.len().min(12)].join("\n")
-        );
+        a.print_and_assert(file, case.pairs.len());
+        checked += case.pairs.len();
     }
     assert!(checked >= 400, "{checked} pairs");
 }
@@ -114,11 +76,6 @@ fn eval_and_pdf_match_mitsuba() {
 /// Chi-square tests in this file (Šidák correction).
 const TESTS_IN_FILE: usize = 8;
 const N: u32 = 400_000;
-
-fn dir(theta_deg: f32, phi_deg: f32) -> Vec3 {
-    let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
-    Vec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
-}
 
 /// `wavetrace warptest measured`'s test for several incident directions of both
 /// files: the samples against bsdf_pdf, sample's pdf and weight against eval / pdf.

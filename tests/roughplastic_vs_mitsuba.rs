@@ -17,87 +17,47 @@
 
 mod common;
 
-use common::mitsuba_values::{num, v3, EPS};
-use common::repo;
+use common::mitsuba_values::{
+    beckmann_exponent, compare_eval_pdf, num, read_cases, v3, Tolerance, EPS,
+};
 use common::stats::bsdf_probe;
-use glam::Vec3;
-use serde_json::Value;
 use wavetrace::gpu::layout::BsdfRecord;
 use wavetrace::scene::bsdf::{Bsdf, Distribution, RoughPlastic};
 
-/// The exponent of Beckmann's D at the half vector (0 for GGX, whose D is rational).
-fn exponent(b: &RoughPlastic, wo: Vec3, wi: Vec3) -> f64 {
-    let m = (wo + wi).normalize();
-    if b.distribution != Distribution::Beckmann || m.z <= 0.0 {
-        return 0.0;
-    }
-    let (x, y, z) = (m.x as f64, m.y as f64, m.z as f64);
-    let a = b.alpha as f64;
-    (x * x + y * y) / (a * a * z * z)
-}
-
 #[test]
 fn eval_and_pdf_match_mitsuba() {
-    let text = std::fs::read_to_string(repo("tests/data/roughplastic_values.json")).expect(
-        "tests/data/roughplastic_values.json (python3 tools/mitsuba_bsdf_values.py roughplastic)",
+    let cases = read_cases(
+        "tests/data/roughplastic_values.json",
+        "python3 tools/mitsuba_bsdf_values.py roughplastic",
     );
-    let data: Value = serde_json::from_str(&text).expect("JSON");
     let probe = bsdf_probe();
     let mut checked = 0;
-    for case in data["cases"].as_array().expect("cases") {
-        let name = case["name"].as_str().expect("name");
+    for case in &cases {
+        let c = &case.params;
+        let name = c["name"].as_str().expect("name");
         let b = RoughPlastic {
-            distribution: match case["distribution"].as_str() {
+            distribution: match c["distribution"].as_str() {
                 Some("ggx") => Distribution::Ggx,
                 _ => Distribution::Beckmann,
             },
-            alpha: num(&case["alpha_u"]),
-            diffuse_reflectance: v3(&case["diffuse_reflectance"]),
-            specular_reflectance: v3(&case["specular_reflectance"]),
-            eta: num(&case["eta"]),
-            nonlinear: case["nonlinear"].as_bool().expect("nonlinear"),
+            alpha: num(&c["alpha_u"]),
+            diffuse_reflectance: v3(&c["diffuse_reflectance"]),
+            specular_reflectance: v3(&c["specular_reflectance"]),
+            eta: num(&c["eta"]),
+            nonlinear: c["nonlinear"].as_bool().expect("nonlinear"),
         };
         let rec = BsdfRecord::from(&Bsdf::RoughPlastic(b));
-        let values = case["values"].as_array().expect("values");
-        let scale = values
-            .iter()
-            .map(|v| v3(&v["eval"]).max_element() as f64)
-            .fold(0.0, f64::max);
-        let (mut worst_eval, mut worst_pdf) = (0.0f64, 0.0f64);
-        for v in values {
-            let (wo, wi) = (v3(&v["wo"]), v3(&v["wi"]));
-            let got = probe
-                .eval(&rec, wo, &[[wi.x, wi.y, wi.z, 0.0]])
-                .expect("bsdf kernel")[0];
-            let (want_eval, want_pdf) = (v3(&v["eval"]), num(&v["pdf"]) as f64);
-            let rel = (64.0 + 4.0 * exponent(&b, wo, wi).min(50.0)) * EPS + 1e-4;
-            for k in 0..3 {
-                let (g, w) = (got.0[k] as f64, want_eval[k] as f64);
-                let tol = rel * w.abs() + 1e-7 * scale;
-                if w.abs() > 1e-6 * scale {
-                    worst_eval = worst_eval.max((g - w).abs() / w.abs());
-                }
-                assert!(
-                    (g - w).abs() <= tol,
-                    "{name}: wo {wo}, wi {wi}: eval[{k}] {g}, Mitsuba {w} (tolerance {tol:e})"
-                );
-            }
-            let g = got.1 as f64;
-            let tol = (rel + 2e-4) * want_pdf.abs() + 1e-7;
-            if want_pdf > 1e-6 {
-                worst_pdf = worst_pdf.max((g - want_pdf).abs() / want_pdf);
-            }
-            assert!(
-                (g - want_pdf).abs() <= tol,
-                "{name}: wo {wo}, wi {wi}: pdf {g}, Mitsuba {want_pdf} (tolerance {tol:e})"
-            );
-            checked += 1;
-        }
-        println!(
-            "{name}: {} pairs; worst |GPU - Mitsuba| / |Mitsuba|: eval {worst_eval:.1e}, \
-             pdf {worst_pdf:.1e}",
-            values.len()
-        );
+        let scale = case.eval_scale();
+        let a = compare_eval_pdf(&probe, &rec, &case.pairs, [1e-6 * scale, 1e-6], |p| {
+            let x = beckmann_exponent(b.distribution, b.alpha, b.alpha, p.wo, p.wi);
+            let rel = (64.0 + 4.0 * x.min(50.0)) * EPS + 1e-4;
+            [
+                Tolerance::new(rel, 1e-7 * scale),
+                Tolerance::new(rel + 2e-4, 1e-7),
+            ]
+        });
+        a.print_and_assert(name, case.pairs.len());
+        checked += case.pairs.len();
     }
     assert!(checked >= 400, "{checked} pairs");
 }

@@ -18,13 +18,12 @@ Beckmann cases set `sample_visible` false: wavetrace samples Beckmann's full nor
 distribution (shaders/bsdf/microfacet.glsl), whose pdf is Mitsuba's with that flag;
 eval does not depend on it.
 """
-import json
-import math
 import random
-import struct
 import sys
 
 import mitsuba as mi
+
+from mitsuba_pairs import direction, print_cases, unit, values
 
 mi.set_variant("scalar_rgb")
 
@@ -74,22 +73,6 @@ ROUGHPLASTIC_CASES = [
 ]
 
 
-def f32(x):
-    return struct.unpack("f", struct.pack("f", x))[0]
-
-
-def unit(v):
-    n = math.sqrt(sum(c * c for c in v))
-    return [f32(c / n) for c in v]
-
-
-def direction(rng, lower=False):
-    mu = rng.uniform(0.02, 1.0)
-    phi = rng.uniform(0.0, 2.0 * math.pi)
-    s = math.sqrt(1.0 - mu * mu)
-    return unit([s * math.cos(phi), s * math.sin(phi), -mu if lower else mu])
-
-
 def pairs(rng, alpha):
     out = []
     for _ in range(24):  # anywhere over the hemisphere
@@ -108,7 +91,6 @@ def pairs(rng, alpha):
 
 def main():
     rng = random.Random(39)
-    ctx = mi.BSDFContext()
     cases = []
     rough = sys.argv[1:] == ["roughplastic"]
     for name, d in ROUGHPLASTIC_CASES if rough else CASES:
@@ -128,16 +110,7 @@ def main():
             v = params[k]
             return [float(c) for c in v] if hasattr(v, "__len__") else [float(v)] * 3
 
-        values = []
-        for wo, wi in pairs(rng, max(au, av)):
-            si = mi.SurfaceInteraction3f()
-            si.wi = mi.Vector3f(wo)
-            si.uv = mi.Point2f(0.5, 0.5)
-            e = bsdf.eval(ctx, si, mi.Vector3f(wi))
-            p = bsdf.pdf(ctx, si, mi.Vector3f(wi))
-            values.append({"wo": wo, "wi": wi, "eval": [float(e[0]), float(e[1]), float(e[2])],
-                           "pdf": float(p)})
-        cases.append({
+        case = {
             "name": name,
             "mitsuba": d,
             "distribution": d.get("distribution", "beckmann"),
@@ -146,11 +119,12 @@ def main():
             "diffuse_reflectance": rgb("diffuse_reflectance", [0.5, 0.5, 0.5]),
             "specular_reflectance": rgb("specular_reflectance", [1.0, 1.0, 1.0]),
             "eta": float(params["eta.value"] if "eta.value" in params else params["eta"]),
-            "nonlinear": bool(d.get("nonlinear", False)),
-            "values": values,
-        })
-    print(json.dumps({"mitsuba": mi.__version__, "variant": mi.variant(), "cases": cases},
-                     indent=1))
+        }
+        if rough:  # (pplastic_values.json has no such key)
+            case["nonlinear"] = bool(d.get("nonlinear", False))
+        case["values"] = values(bsdf, pairs(rng, max(au, av)))
+        cases.append(case)
+    print_cases(cases)
 
 
 if __name__ == "__main__":

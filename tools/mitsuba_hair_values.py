@@ -12,16 +12,14 @@ from `si.wi` alone (sin γ_i), not from `si.uv`: the script checks that two uv g
 the same values. Each case stores its Mitsuba dictionary; the test reads the same
 dictionary as a scene.
 """
-import json
 import math
 import random
-import struct
 
 import mitsuba as mi
 
-mi.set_variant("scalar_rgb")
+from mitsuba_pairs import RGB, eval_pdf, print_cases, unit
 
-RGB = lambda *v: {"type": "rgb", "value": list(v)}
+mi.set_variant("scalar_rgb")
 
 CASES = [
     {"type": "hair"},
@@ -35,15 +33,6 @@ CASES = [
     {"type": "hair", "sigma_a": 0.3, "longitudinal_roughness": 0.2,
      "azimuthal_roughness": 0.5, "scale_tilt": 6.0, "int_ior": "water", "ext_ior": 1.1},
 ]
-
-
-def f32(x):
-    return struct.unpack("f", struct.pack("f", x))[0]
-
-
-def unit(v):
-    n = math.sqrt(sum(c * c for c in v))
-    return [f32(c / n) for c in v]
 
 
 def sphere(rng):
@@ -80,19 +69,11 @@ def main():
         bsdf = mi.load_dict(d)
         values = []
         for wo, wi in pairs(rng, d.get("longitudinal_roughness", 0.3)):
-            res = []
-            for uv in ((0.5, 0.5), (0.1, 0.9)):
-                si = mi.SurfaceInteraction3f()
-                si.wi = mi.Vector3f(wo)
-                si.uv = mi.Point2f(*uv)
-                e = bsdf.eval(ctx, si, mi.Vector3f(wi))
-                p = bsdf.pdf(ctx, si, mi.Vector3f(wi))
-                res.append(([float(e[0]), float(e[1]), float(e[2])], float(p)))
+            res = [eval_pdf(bsdf, ctx, wo, wi, uv) for uv in ((0.5, 0.5), (0.1, 0.9))]
             assert res[0] == res[1], (d, wo, wi, res)
             values.append({"wo": wo, "wi": wi, "eval": res[0][0], "pdf": res[0][1]})
         cases.append({"mitsuba": d, "values": values})
-    print(json.dumps({"mitsuba": mi.__version__, "variant": mi.variant(), "cases": cases},
-                     indent=1))
+    print_cases(cases)
 
 
 if __name__ == "__main__":

@@ -10,32 +10,21 @@ wavetrace's convention (`wo` towards the viewer = Mitsuba's `si.wi`, `wi` = the
 argument of Mitsuba's `eval`/`pdf`), rounded to f32. Pairs: anywhere in the upper
 hemisphere, near the mirror direction (where the lobe is), and a few below (zero).
 """
-import json
 import math
 import random
-import struct
 
 import mitsuba as mi
+
+import mitsuba_pairs
+from mitsuba_pairs import print_cases, unit, values
 
 mi.set_variant("scalar_rgb")
 
 FILES = ["tests/data/measured_iso.bsdf", "tests/data/measured_aniso.bsdf"]
 
 
-def f32(x):
-    return struct.unpack("f", struct.pack("f", x))[0]
-
-
-def unit(v):
-    n = math.sqrt(sum(c * c for c in v))
-    return [f32(c / n) for c in v]
-
-
 def direction(rng):
-    mu = rng.uniform(0.03, 1.0)
-    phi = rng.uniform(-math.pi, math.pi)
-    s = math.sqrt(1.0 - mu * mu)
-    return unit([s * math.cos(phi), s * math.sin(phi), mu])
+    return mitsuba_pairs.direction(rng, mu_min=0.03, phi_range=(-math.pi, math.pi))
 
 
 def pairs(rng):
@@ -57,22 +46,11 @@ def pairs(rng):
 
 def main():
     rng = random.Random(39)
-    ctx = mi.BSDFContext()
     cases = []
     for f in FILES:
         d = {"type": "measured", "filename": f}
-        bsdf = mi.load_dict(d)
-        values = []
-        for wo, wi in pairs(rng):
-            si = mi.SurfaceInteraction3f()
-            si.wi = mi.Vector3f(wo)
-            e = bsdf.eval(ctx, si, mi.Vector3f(wi))
-            p = bsdf.pdf(ctx, si, mi.Vector3f(wi))
-            values.append({"wo": wo, "wi": wi, "eval": [float(e[0]), float(e[1]), float(e[2])],
-                           "pdf": float(p)})
-        cases.append({"mitsuba": d, "values": values})
-    print(json.dumps({"mitsuba": mi.__version__, "variant": mi.variant(), "cases": cases},
-                     indent=0))
+        cases.append({"mitsuba": d, "values": values(mi.load_dict(d), pairs(rng))})
+    print_cases(cases, indent=0)
 
 
 if __name__ == "__main__":

@@ -10,16 +10,13 @@ argument of Mitsuba's `eval`/`pdf`), rounded to f32; both sides of the surface (
 models handle wo below: inside for principled, mirrored for principledthin). Each
 case stores its Mitsuba dictionary; the test reads the same dictionary as a scene.
 """
-import json
-import math
 import random
-import struct
 
 import mitsuba as mi
 
-mi.set_variant("scalar_rgb")
+from mitsuba_pairs import RGB, direction, print_cases, unit, values
 
-RGB = lambda *v: {"type": "rgb", "value": list(v)}
+mi.set_variant("scalar_rgb")
 
 CASES = [
     {"type": "principled"},
@@ -42,22 +39,6 @@ CASES = [
      "flatness": 0.6, "diff_trans": 0.4, "eta": 1.6,
      "specular_reflectance_sampling_rate": 2.0, "diffuse_transmittance_sampling_rate": 0.5},
 ]
-
-
-def f32(x):
-    return struct.unpack("f", struct.pack("f", x))[0]
-
-
-def unit(v):
-    n = math.sqrt(sum(c * c for c in v))
-    return [f32(c / n) for c in v]
-
-
-def direction(rng, lower=False):
-    mu = rng.uniform(0.02, 1.0)
-    phi = rng.uniform(0.0, 2.0 * math.pi)
-    s = math.sqrt(1.0 - mu * mu)
-    return unit([s * math.cos(phi), s * math.sin(phi), -mu if lower else mu])
 
 
 def pairs(rng, roughness):
@@ -85,22 +66,11 @@ def pairs(rng, roughness):
 
 def main():
     rng = random.Random(39)
-    ctx = mi.BSDFContext()
     cases = []
     for d in CASES:
         bsdf = mi.load_dict(d)
-        values = []
-        for wo, wi in pairs(rng, d.get("roughness", 0.5)):
-            si = mi.SurfaceInteraction3f()
-            si.wi = mi.Vector3f(wo)
-            si.uv = mi.Point2f(0.5, 0.5)
-            e = bsdf.eval(ctx, si, mi.Vector3f(wi))
-            p = bsdf.pdf(ctx, si, mi.Vector3f(wi))
-            values.append({"wo": wo, "wi": wi, "eval": [float(e[0]), float(e[1]), float(e[2])],
-                           "pdf": float(p)})
-        cases.append({"mitsuba": d, "values": values})
-    print(json.dumps({"mitsuba": mi.__version__, "variant": mi.variant(), "cases": cases},
-                     indent=1))
+        cases.append({"mitsuba": d, "values": values(bsdf, pairs(rng, d.get("roughness", 0.5)))})
+    print_cases(cases)
 
 
 if __name__ == "__main__":

@@ -27,6 +27,12 @@ impl SpecValues {
         }
     }
 
+    /// These values with every value of `other` set too (replacing any set before).
+    pub fn with_all(mut self, other: &SpecValues) -> SpecValues {
+        other.iter().for_each(|(s, v)| self.set(s, v));
+        self
+    }
+
     /// The value set for `spec`.
     pub fn get(&self, spec: Spec) -> Option<u32> {
         self.0.iter().find(|(s, _)| *s == spec).map(|&(_, v)| v)

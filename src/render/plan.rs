@@ -311,12 +311,8 @@ impl RenderPlan {
             emitters: constants.emitter_kinds,
             bsdfs: constants.bsdf_kinds,
             sampler: constants.sampler,
-            prim_kinds: constants.prim_kinds,
-            bvh_depth: constants.bvh_depth,
-            flat_count: constants.flat_count,
-            flat_kinds: constants.flat_kinds,
+            traversal: constants.traversal,
             film_filter: film::filter_constants(&film_spec.filter).0,
-            instances: constants.instances,
             thin_lens: scene.camera.projection.is_thin_lens() as u32,
         };
         Ok(RenderPlan {
@@ -784,15 +780,42 @@ fn partitions(integrator: &Integrator, has_media: bool, has_environment: bool) -
     has_environment && integrator.shades_paths() && !has_media
 }
 
+/// What the traversal (accel/bvh.glsl) specializes on, in every kernel that finds
+/// surfaces: `intersect`, `shade`, `shadow`, the particle tracer's.
+#[derive(Debug, Clone, Copy)]
+pub struct TraversalConstants {
+    /// The quadric kinds (SURFACE_FEATURE_* bits): the traversal and the hit geometry
+    /// compile the others away.
+    pub prim_kinds: u32,
+    /// The traversal stack holds at most one entry per level above the deepest leaf
+    /// (bvh.glsl).
+    pub bvh_depth: u32,
+    /// A small scene's primitives and their kinds, tested in turn (accel::FlatPrims).
+    pub flat_count: u32,
+    pub flat_kinds: u32,
+    /// Instances: the hit names' shift (0: none) and their records (accel::instance).
+    pub instances: [u32; 2],
+}
+
+impl TraversalConstants {
+    /// The constants, by name.
+    pub fn specs(&self) -> SpecValues {
+        SpecValues::new()
+            .with(Spec::PrimKinds, self.prim_kinds)
+            .with(Spec::BvhDepth, self.bvh_depth)
+            .with(Spec::FlatPrims, self.flat_count)
+            .with(Spec::FlatKinds, self.flat_kinds)
+            .with(Spec::Instances, self.instances[0])
+            .with(Spec::InstanceSlots, self.instances[1])
+    }
+}
+
 /// The values the kernels specialize on: code for features the scene lacks is
 /// compiled out.
 struct Constants {
     integrator: u32,
     bsdf_kinds: u32,
     textures: u32,
-    /// The quadric kinds (SURFACE_FEATURE_* bits): the traversal and the hit geometry
-    /// compile the others away.
-    prim_kinds: u32,
     /// The kinds and grid layouts the scene's media use; homogeneous-only scenes
     /// compile tracking away.
     medium_features: u32,
@@ -801,16 +824,10 @@ struct Constants {
     /// Quadric kinds, vertex normals and uvs: hit geometry compiles the absent ones
     /// away.
     surface_features: u32,
-    /// The traversal stack holds at most one entry per level above the deepest leaf
-    /// (bvh.glsl).
-    bvh_depth: u32,
     sampler: u32,
     has_alpha: u32,
     emitter_prim_kinds: u32,
-    flat_count: u32,
-    flat_kinds: u32,
-    /// Instances: the hit names' shift (0: none) and their records (accel::instance).
-    instances: [u32; 2],
+    traversal: TraversalConstants,
     /// Whether bounce 0 ends the paths.
     ends_at_0: u32,
     /// Whether the sensor samples a shape (an irradiancemeter).
@@ -833,18 +850,20 @@ impl Constants {
             integrator: integrator.id(),
             bsdf_kinds: records.bsdfs.iter().fold(0u32, |m, b| m | 1 << b.kind),
             textures: records.texture_mask(),
-            prim_kinds,
             medium_features: facts.medium_features,
             power_heuristic: integrator.power_heuristic() as u32,
             emitter_kinds: records.emitter_kinds(),
             surface_features: records.surface_features() | prim_kinds,
-            bvh_depth: facts.bvh_depth,
             sampler: sampler::kind_id(sampler),
             has_alpha: has_alpha as u32,
             emitter_prim_kinds: facts.emitter_prim_kinds,
-            flat_count,
-            flat_kinds,
-            instances: facts.instances,
+            traversal: TraversalConstants {
+                prim_kinds,
+                bvh_depth: facts.bvh_depth,
+                flat_count,
+                flat_kinds,
+                instances: facts.instances,
+            },
             ends_at_0: integrator.ends_paths_at(0) as u32,
             sensor_shape: records.sensor_shape.is_some() as u32,
             sensor_batch: 0,
@@ -885,15 +904,10 @@ impl Constants {
         SpecValues::new()
             .with(Spec::Textures, self.textures)
             .with(Spec::HasMedia, s.media as u32)
-            .with(Spec::PrimKinds, self.prim_kinds)
             .with(Spec::MediumFeatures, self.medium_features)
             .with(Spec::ThinNull, s.thin_null as u32)
             .with(Spec::SurfaceFeatures, self.surface_features)
-            .with(Spec::BvhDepth, self.bvh_depth)
-            .with(Spec::FlatPrims, self.flat_count)
-            .with(Spec::FlatKinds, self.flat_kinds)
-            .with(Spec::Instances, self.instances[0])
-            .with(Spec::InstanceSlots, self.instances[1])
+            .with_all(&self.traversal.specs())
     }
 
     /// The constants of `shadow`, `mode` its deferral mode (deferral.glsl).
@@ -904,15 +918,10 @@ impl Constants {
     }
 
     fn intersect(&self, s: &Schedule) -> SpecValues {
-        SpecValues::new()
-            .with(Spec::PrimKinds, self.prim_kinds)
-            .with(Spec::BvhDepth, self.bvh_depth)
+        self.traversal
+            .specs()
             .with(Spec::Partition, s.partitioned as u32)
-            .with(Spec::FlatPrims, self.flat_count)
-            .with(Spec::FlatKinds, self.flat_kinds)
             .with(Spec::SecondHits, s.media as u32)
-            .with(Spec::Instances, self.instances[0])
-            .with(Spec::InstanceSlots, self.instances[1])
     }
 }
 

@@ -15,6 +15,10 @@ pub use wavetrace::warptest::{
     chi2, sidak, BsdfProbe, Outcome, PhaseProbe, Sampled, SphereGrid, Warp, WarpProbe,
 };
 
+use glam::Vec3;
+use wavetrace::gpu::layout::BsdfRecord;
+use wavetrace::warptest::{test_bsdf_records, Axis};
+
 /// SplitMix64 (Steele, Lea, Flood 2014): a small deterministic generator for test
 /// inputs and CPU random walks, so failures reproduce.
 pub struct SplitMix64(pub u64);
@@ -83,4 +87,105 @@ pub fn bsdf_probe() -> BsdfProbe {
 /// A phase-function probe on the test device.
 pub fn phase_probe() -> PhaseProbe {
     PhaseProbe::new(&super::device()).expect("phase kernel")
+}
+
+/// The unit direction at polar angle `theta_deg` from +z and azimuth `phi_deg`.
+pub fn dir(theta_deg: f32, phi_deg: f32) -> Vec3 {
+    let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
+    Vec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
+}
+
+/// eval/pdf consistency of the non-delta samples of bsdf_sample (failed samples
+/// weigh nothing, weights are finite and non-negative, wi is unit, each sample is a
+/// reflection or a transmission, delta samples have no pdf, and the others' pdf and
+/// weight are bsdf_pdf's and bsdf_eval / bsdf_pdf); returns the fraction of delta
+/// samples.
+pub fn check_bsdf_samples(name: &str, samples: &[Sampled]) -> f64 {
+    let mut delta = 0usize;
+    let mut bad = 0usize;
+    let mut worst = String::new();
+    for s in samples {
+        if s.flags == 0 {
+            assert_eq!(
+                s.weight,
+                Vec3::ZERO,
+                "{name}: a failed sample carries weight"
+            );
+            continue;
+        }
+        assert!(
+            s.weight.is_finite() && s.weight.min_element() >= 0.0,
+            "{name}: bad weight {:?}",
+            s
+        );
+        assert!(
+            (s.wi.length() - 1.0).abs() < 1e-3,
+            "{name}: wi not unit: {:?}",
+            s
+        );
+        let refl = s.flags & FLAG_REFLECTION != 0;
+        let trans = s.flags & FLAG_TRANSMISSION != 0;
+        assert!(refl != trans, "{name}: flags {}", s.flags);
+        if s.flags & FLAG_DELTA != 0 {
+            delta += 1;
+            assert_eq!(s.pdf, 0.0, "{name}: delta sample with a pdf");
+            continue;
+        }
+        // Relative 1e-3 (f32 evaluations of the same terms along different paths).
+        let rel = |a: f32, b: f32| (a - b).abs() <= 1e-3 * a.abs().max(b.abs()) + 1e-7;
+        let w = s.eval / s.pdf_eval;
+        let ok = s.pdf > 0.0
+            && rel(s.pdf, s.pdf_eval)
+            && rel(s.weight.x, w.x)
+            && rel(s.weight.y, w.y)
+            && rel(s.weight.z, w.z);
+        if !ok {
+            bad += 1;
+            if worst.is_empty() {
+                worst = format!("{s:?} (eval/pdf = {w})");
+            }
+        }
+    }
+    // At most 1 in 10^4 samples may miss the 1e-3 agreement through f32 cancellation
+    // (normalize(wo + wi) at near-grazing configurations).
+    assert!(
+        bad * 10_000 <= samples.len(),
+        "{name}: {bad} of {} samples disagree with eval/pdf, e.g. {worst}",
+        samples.len()
+    );
+    delta as f64 / samples.len() as f64
+}
+
+/// One BSDF case of `n` samples of the BSDF whose records are `recs` (a model's, or
+/// a composite's nodes and models): chi-square of the non-delta samples against
+/// bsdf_pdf (wavetrace::warptest::test_bsdf_records) at the Šidák level for `alpha`
+/// over `tests` tests, pdf normalization, [`check_bsdf_samples`]; returns the samples.
+#[allow(clippy::too_many_arguments)]
+pub fn bsdf_case(
+    probe: &BsdfProbe,
+    name: &str,
+    recs: &[BsdfRecord],
+    wo: Vec3,
+    axis: Axis,
+    (n, seed): (u32, u32),
+    alpha: f64,
+    tests: usize,
+) -> Vec<Sampled> {
+    let name = format!("{name}, wo = {wo:.2}");
+    let (outcome, samples) =
+        test_bsdf_records(probe, recs, wo, axis, n, seed).expect("bsdf kernel");
+    let delta = check_bsdf_samples(&name, &samples);
+    let total = outcome.pdf_integral;
+    // ∫ pdf = P(non-delta sample). Allowed gap: 5 binomial σ of the delta fraction plus
+    // 1% for the quadrature (midpoint, 256 x 192 points, peaks centred on the grid axis)
+    // and for samples lost below the horizon (pdf mass with no valid sample).
+    let sigma = (delta * (1.0 - delta) / n as f64).sqrt();
+    let failed = samples.iter().filter(|s| s.flags == 0).count() as f64 / n as f64;
+    println!("{name}: ∫pdf = {total:.4}, delta {delta:.4}, absorbed {failed:.4}");
+    assert!(
+        (total + delta - 1.0).abs() < 5.0 * sigma + 0.01 + failed,
+        "{name}: ∫pdf = {total} but {delta} of the samples are delta"
+    );
+    assert_outcome(&name, &outcome, alpha, tests);
+    samples
 }

@@ -42,6 +42,7 @@ use crate::gpu::{
 
 use super::error::{Error, Result};
 use super::integrator::PhotonBudget;
+use super::plan::TraversalConstants;
 use super::{groups_for, Integrator, Over, RenderStats, Renderer, SHORT_BOUNCE_CHUNKS};
 
 pub use grid::{GridKernels, GridShape};
@@ -282,17 +283,11 @@ pub struct SceneFeatures {
     pub bsdfs: u32,
     /// The sampler's `SAMPLER_*` kind (camera paths draw from it).
     pub sampler: u32,
-    /// The traversal's: quadric kinds, stack depth, a small scene's primitives and
-    /// their kinds (the particle tracer's shadow rays to the camera).
-    pub prim_kinds: u32,
-    pub bvh_depth: u32,
-    pub flat_count: u32,
-    pub flat_kinds: u32,
+    /// The traversal's (the particle tracer's shadow rays to the camera; every
+    /// kernel that finds a surface or an emitter's point reads instances' primitives).
+    pub traversal: TraversalConstants,
     /// The film's filter (`FILTER_*`), through which the particle tracer splats.
     pub film_filter: u32,
-    /// SCENE_INSTANCES and SCENE_INSTANCE_SLOTS (accel::instance; 0 without): every
-    /// kernel that finds a surface or an emitter's point reads instances' primitives.
-    pub instances: [u32; 2],
     /// The particle tracer's camera is a thin lens (PTRACER_THIN_LENS).
     pub thin_lens: u32,
 }
@@ -301,8 +296,8 @@ impl SceneFeatures {
     /// The instance constants, for a kernel's specialization.
     pub fn instance_specs(&self) -> [(Spec, u32); 2] {
         [
-            (Spec::Instances, self.instances[0]),
-            (Spec::InstanceSlots, self.instances[1]),
+            (Spec::Instances, self.traversal.instances[0]),
+            (Spec::InstanceSlots, self.traversal.instances[1]),
         ]
     }
 }

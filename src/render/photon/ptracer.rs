@@ -31,22 +31,16 @@ pub const BYTES_PER_SPLAT_PIXEL: u64 = 24;
 /// The particle tracer's kernels, in the order `Photons::new` takes them back: its
 /// emission and bounce (in the photon mappers' places), then `ptracer_fold`.
 pub fn kernel_specs(f: &SceneFeatures) -> Vec<KernelSpec<'static>> {
-    let traversal = [
-        (Spec::PrimKinds, f.prim_kinds),
-        (Spec::BvhDepth, f.bvh_depth),
-        (Spec::FlatPrims, f.flat_count),
-        (Spec::FlatKinds, f.flat_kinds),
-        (Spec::SurfaceFeatures, f.surface),
-        (Spec::Textures, f.textures),
-        (Spec::FilmFilter, f.film_filter),
-    ];
+    let scene = f
+        .traversal
+        .specs()
+        .with(Spec::SurfaceFeatures, f.surface)
+        .with(Spec::Textures, f.textures)
+        .with(Spec::FilmFilter, f.film_filter);
     let named = |name, spirv, extra: &[(Spec, u32)]| {
-        let spec = traversal
+        let spec = extra
             .iter()
-            .copied()
-            .chain(extra.iter().copied())
-            .chain(f.instance_specs())
-            .collect();
+            .fold(scene.clone(), |spec, &(s, v)| spec.with(s, v));
         KernelSpec::named(name, spirv, &spec)
     };
     vec![
