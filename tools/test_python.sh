@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The Python package's tests (python/tests, docs/python.md): installs maturin, numpy
-# and pytest with pip if missing, builds and installs the package from ./python
+# The Python package's tests (python/tests, docs/python.md): installs maturin, numpy,
+# pytest and Mitsuba 3.9.1 with pip if missing, builds and installs the package from ./python
 # (`pip install ./python`, in the same target folder as `cargo test`, whose compiled
 # dependencies it shares where their features match), and runs pytest. The tests
 # compare with the CLI's images, so the CLI must be built (`cargo test` or
@@ -12,6 +12,8 @@ py=${PYTHON:-python3}
 need=()
 "$py" -c 'import numpy' 2>/dev/null || need+=(numpy)
 "$py" -c 'import pytest' 2>/dev/null || need+=(pytest)
+# Mitsuba 3.9.1, the reference the mesh API's images are compared with (test_mesh.py).
+"$py" -c 'import mitsuba' 2>/dev/null || need+=("mitsuba==3.9.1")
 "$py" -m maturin --version >/dev/null 2>&1 || command -v maturin >/dev/null 2>&1 || need+=("maturin>=1.4,<2")
 if [ ${#need[@]} -gt 0 ]; then
     echo "test_python.sh: pip install ${need[*]}" >&2
