@@ -1632,7 +1632,6 @@ mod tests {
             ("<bsdf type=\"polarizer\"/>", 3, "bsdf type 'polarizer' is not supported yet"),
             ("<bsdf type=\"thindielectric\"><texture type=\"checkerboard\" name=\"int_ior\"/></bsdf>", 3, "'int_ior' of bsdf 'thindielectric' cannot be a texture"),
             ("<bsdf type=\"velvet\"/>", 3, "unknown bsdf type 'velvet'"),
-            ("<shape type=\"merge\"/>", 3, "shape type 'merge' is not supported yet"),
             ("<shape type=\"cylinder\">\n<float name=\"radius\" value=\"0\"/></shape>", 4, "cylinder radius must be positive"),
             ("<shape type=\"cylinder\">\n<point name=\"p1\" value=\"0,0,0\"/></shape>", 4, "p0 and p1 apart"),
             ("<shape type=\"cylinder\"><transform name=\"to_world\"><scale value=\"1,2,1\"/></transform></shape>", 3, "non-uniform scale across the axis"),
