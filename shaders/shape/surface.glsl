@@ -223,7 +223,31 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
         surface_bspline_curve(s, prim, ray_o + t * ray_d, u, dpdu);
     } else if (SURFACE_HAS(SURFACE_FEATURE_SPHERES | SURFACE_FEATURE_DISKS | SURFACE_FEATURE_CYLINDERS)
         && prim.kind != PRIM_TRIANGLE) {
-        surface_quadric(s, prim, shape, ray_o + t * ray_d, vec2(u, v), dpdu);
+        uint k1 = instance_of(prim_index);
+        if (INSTANCED && k1 != 0u && prim.kind != PRIM_DISK) {
+            // A sphere or cylinder of an instance, in the group's space (the record as
+            // stored, the ray mapped there), then to the world as Mitsuba's instance
+            // maps its object's interaction: the point and tangents by to_world, the
+            // normal by its inverse transpose. An instance that stretches unevenly
+            // makes the sphere an ellipsoid (the cylinder elliptic), whose normal is
+            // not the mapped record's radial direction.
+            InstanceMap m = instance_to_object(k1 - 1u);
+            vec3 o = instance_point(m, ray_o), d = instance_vector(m, ray_d);
+            surface_quadric(s, prim_load(instance_prim(prim_index)), shape, o + t * d,
+                            vec2(u, v), dpdu);
+            mat3 to_world = instance_to_world_linear(m);
+            s.p = to_world * s.p - to_world * m.b;
+            s.p_error = mat3(abs(to_world[0]), abs(to_world[1]), abs(to_world[2])) * s.p_error
+                + SURFACE_GAMMA5 * abs(s.p);
+            s.ng = normalize(s.ng.x * m.r0 + s.ng.y * m.r1 + s.ng.z * m.r2);
+            s.ns = s.ng;
+            dpdu = to_world * dpdu;
+#ifdef SURFACE_PARTIALS
+            surface_dp_dv = to_world * surface_dp_dv;
+#endif
+        } else {
+            surface_quadric(s, prim, shape, ray_o + t * ray_d, vec2(u, v), dpdu);
+        }
         if (INSTANCED && prim.kind == PRIM_DISK && instance_mirrors(prim_index)) {
             s.ng = -s.ng;
             s.ns = s.ng;
