@@ -1,7 +1,7 @@
 //! Mitsuba scenes may declare an object once, at the top level with an `id`, and use it
 //! by `<ref id="..."/>` anywhere its type is expected: a sampler or film in a sensor,
-//! an rfilter in a film, a volume in a medium, a phase function in a medium, a spectrum
-//! as a parameter. Mitsuba's parser instantiates the object once and passes it where
+//! an rfilter in a film, a volume in a medium, a phase function in a medium (a
+//! `<spectrum>` cannot carry an `id` in Mitsuba, nor here). Mitsuba's parser instantiates the object once and passes it where
 //! it is referenced. For these objects, plain values without identity of their own,
 //! the same meaning is had by copying the declaration to where each reference stands
 //! ([`inline`]) before the scene is loaded; BSDFs, textures, media and emitters,
@@ -13,7 +13,20 @@ use super::error::Error;
 use super::xml::Element;
 
 /// Tags whose top-level declarations are copied to their references.
-const VALUE_TAGS: &[&str] = &["sampler", "film", "rfilter", "volume", "phase", "spectrum"];
+const VALUE_TAGS: &[&str] = &["sampler", "film", "rfilter", "volume", "phase"];
+
+/// Where Mitsuba 3.9.1 takes each [`VALUE_TAGS`] object: the tags of the elements a
+/// reference to it may stand in (elsewhere Mitsuba's parser reports the object as an
+/// unreferenced property, or the plugin as taking no such object).
+fn parents(tag: &str) -> &'static [&'static str] {
+    match tag {
+        "sampler" | "film" => &["sensor"],
+        "rfilter" => &["film"],
+        "volume" => &["medium", "texture"],
+        "phase" => &["medium", "phase"],
+        _ => &[],
+    }
+}
 
 /// `root` with every `<ref>` to a top-level declaration of a [`VALUE_TAGS`] object
 /// replaced by a copy of it (its `name` attribute taken from the reference, which says
@@ -21,6 +34,7 @@ const VALUE_TAGS: &[&str] = &["sampler", "film", "rfilter", "volume", "phase", "
 /// declaration without an `id` cannot be referenced and is left where it is (the
 /// loader then says it is misplaced).
 pub fn inline(root: &Element) -> Result<Element, Error> {
+    refuse_spectrum_ids(root)?;
     let declared: HashMap<&str, &Element> = root
         .children
         .iter()
@@ -39,6 +53,20 @@ pub fn inline(root: &Element) -> Result<Element, Error> {
     Ok(out)
 }
 
+/// Mitsuba's parser refuses an `id` on a `<spectrum>` (it is a value, not an object
+/// that can be referenced): so do we, rather than accept a scene Mitsuba refuses.
+fn refuse_spectrum_ids(el: &Element) -> Result<(), Error> {
+    for c in &el.children {
+        if c.tag == "spectrum" && c.attr("id").is_some() {
+            return Err(c.err(
+                "unexpected attribute \"id\" in <spectrum>: Mitsuba does not let a spectrum be declared once and referenced; write it where it is used",
+            ));
+        }
+        refuse_spectrum_ids(c)?;
+    }
+    Ok(())
+}
+
 /// Replaces, below `el`, each reference to a declared value object by its copy.
 fn replace_refs(
     el: &mut Element,
@@ -51,7 +79,22 @@ fn replace_refs(
     }
     for c in &mut el.children {
         if c.tag == "ref" {
-            if let Some(target) = c.attr("id").and_then(|id| declared.get(id)) {
+            if let Some((id, target)) = c.attr("id").and_then(|id| declared.get_key_value(id)) {
+                if !parents(&target.tag).contains(&el.tag.as_str()) {
+                    let takes = parents(&target.tag)
+                        .iter()
+                        .map(|t| format!("<{t}>"))
+                        .collect::<Vec<_>>()
+                        .join(" or ");
+                    return Err(c.err(format!(
+                        "<ref id=\"{id}\"> names the <{}> declared at {}:{}, which a <{}> does not take (as in Mitsuba, a <{}> goes in a {takes})",
+                        target.tag,
+                        target.file.display(),
+                        target.line,
+                        el.tag,
+                        target.tag
+                    )));
+                }
                 let mut copy = (*target).clone();
                 copy.attrs.retain(|(k, _)| k != "id" && k != "name");
                 if let Some(name) = c.attr("name") {
@@ -175,5 +218,216 @@ mod tests {
         assert_eq!(declared.spp, inline.spp);
         assert_eq!(declared.media.len(), 1);
         assert_eq!(declared.media[0].albedo, inline.media[0].albedo);
+    }
+
+    /// A scene around `body`: a sphere lit by a constant environment, seen by a
+    /// perspective sensor unless `body` has one.
+    fn scene(body: &str) -> String {
+        let sensor = if body.contains("<sensor") {
+            ""
+        } else {
+            r#"<sensor type="perspective"/>"#
+        };
+        format!(
+            r#"<scene version="3.0.0">{sensor}<emitter type="constant"/>
+{body}
+</scene>"#
+        )
+    }
+
+    /// Loads `declared` (objects declared once at the top level and referenced) and
+    /// `inline` (the same objects written where they are used); the two scenes must
+    /// be equal in everything but the file they came from.
+    fn same(declared: &str, inline: &str) {
+        let load = |body: &str| {
+            let mut s = testutil::load(&[("scene.xml", &scene(body))], &[])
+                .unwrap_or_else(|e| panic!("{e}\n{body}"));
+            s.path = Default::default();
+            format!("{s:?}")
+        };
+        assert_eq!(load(declared), load(inline));
+    }
+
+    /// The error loading `body`, which must name the reference's line, its id and
+    /// each of `words`.
+    fn refused(body: &str, id: &str, words: &[&str]) -> String {
+        let e = testutil::load(&[("scene.xml", &scene(body))], &[])
+            .err()
+            .unwrap_or_else(|| panic!("loaded, but Mitsuba refuses:\n{body}"))
+            .to_string();
+        assert!(e.contains("scene.xml:"), "{e}");
+        assert!(e.contains(&format!("\"{id}\"")), "{e}");
+        for w in words {
+            assert!(e.contains(w), "'{w}' not in: {e}");
+        }
+        e
+    }
+
+    const SPHERE: &str = r#"<shape type="sphere"><bsdf type="diffuse"/></shape>"#;
+
+    #[test]
+    fn a_referenced_sampler_in_a_sensor_is_the_inline_one() {
+        same(
+            &format!(
+                r#"<sampler type="stratified" id="s"><integer name="sample_count" value="16"/></sampler>
+                <sensor type="perspective"><ref id="s"/></sensor>{SPHERE}"#
+            ),
+            &format!(
+                r#"<sensor type="perspective"><sampler type="stratified"><integer name="sample_count" value="16"/></sampler></sensor>{SPHERE}"#
+            ),
+        );
+    }
+
+    #[test]
+    fn a_referenced_film_in_a_sensor_is_the_inline_one() {
+        same(
+            &format!(
+                r#"<film type="hdrfilm" id="f"><integer name="width" value="20"/><integer name="height" value="10"/></film>
+                <sensor type="perspective"><ref id="f"/></sensor>{SPHERE}"#
+            ),
+            &format!(
+                r#"<sensor type="perspective"><film type="hdrfilm"><integer name="width" value="20"/><integer name="height" value="10"/></film></sensor>{SPHERE}"#
+            ),
+        );
+    }
+
+    #[test]
+    fn a_referenced_rfilter_in_a_film_is_the_inline_one() {
+        same(
+            &format!(
+                r#"<rfilter type="tent" id="r"><float name="radius" value="1.5"/></rfilter>
+                <sensor type="perspective"><film type="hdrfilm"><ref id="r"/></film></sensor>{SPHERE}"#
+            ),
+            &format!(
+                r#"<sensor type="perspective"><film type="hdrfilm"><rfilter type="tent"><float name="radius" value="1.5"/></rfilter></film></sensor>{SPHERE}"#
+            ),
+        );
+    }
+
+    #[test]
+    fn a_referenced_texture_in_a_bsdf_is_the_inline_one() {
+        same(
+            r#"<texture type="checkerboard" id="t"><rgb name="color0" value="0.1, 0.2, 0.3"/></texture>
+            <shape type="sphere"><bsdf type="diffuse"><ref name="reflectance" id="t"/></bsdf></shape>"#,
+            r#"<shape type="sphere"><bsdf type="diffuse"><texture type="checkerboard" name="reflectance"><rgb name="color0" value="0.1, 0.2, 0.3"/></texture></bsdf></shape>"#,
+        );
+    }
+
+    #[test]
+    fn a_referenced_volume_and_phase_in_a_medium_and_the_medium_in_a_shape_are_the_inline_ones() {
+        same(
+            r#"<volume type="constvolume" id="v"><rgb name="value" value="0.6"/></volume>
+            <phase type="hg" id="p"><float name="g" value="0.4"/></phase>
+            <medium type="homogeneous" id="m"><ref name="albedo" id="v"/><ref id="p"/><float name="sigma_t" value="2"/></medium>
+            <shape type="sphere"><bsdf type="null"/><ref name="interior" id="m"/></shape>"#,
+            r#"<shape type="sphere"><bsdf type="null"/><medium type="homogeneous" name="interior" id="m">
+                <volume type="constvolume" name="albedo"><rgb name="value" value="0.6"/></volume>
+                <phase type="hg"><float name="g" value="0.4"/></phase><float name="sigma_t" value="2"/></medium></shape>"#,
+        );
+    }
+
+    #[test]
+    fn a_referenced_shape_in_a_shapegroup_joins_it_and_stays_where_declared() {
+        same(
+            r#"<shape type="sphere" id="sp"><float name="radius" value="0.5"/></shape>
+            <shape type="shapegroup" id="g"><ref id="sp"/></shape>
+            <shape type="instance"><ref id="g"/></shape>"#,
+            r#"<shape type="sphere"><float name="radius" value="0.5"/></shape>
+            <shape type="shapegroup" id="g"><shape type="sphere"><float name="radius" value="0.5"/></shape></shape>
+            <shape type="instance"><ref id="g"/></shape>"#,
+        );
+    }
+
+    // Each refusal below is one Mitsuba 3.9.1 refuses as well (checked with
+    // `mi.load_string` in scalar_rgb).
+
+    #[test]
+    fn an_rfilter_referenced_in_a_sensor_is_refused() {
+        refused(
+            &format!(
+                r#"<rfilter type="box" id="r"/><sensor type="perspective"><ref id="r"/></sensor>{SPHERE}"#
+            ),
+            "r",
+            &["<rfilter>", "<sensor>", "<film>"],
+        );
+    }
+
+    #[test]
+    fn a_film_or_sampler_referenced_outside_a_sensor_is_refused() {
+        refused(
+            r#"<film type="hdrfilm" id="f"/><shape type="sphere"><ref id="f"/></shape>"#,
+            "f",
+            &["<film>", "<shape>", "<sensor>"],
+        );
+        refused(
+            r#"<sampler type="independent" id="s"/><shape type="sphere"><bsdf type="diffuse"><ref id="s"/></bsdf></shape>"#,
+            "s",
+            &["<sampler>", "<bsdf>"],
+        );
+    }
+
+    #[test]
+    fn a_medium_referenced_in_a_medium_is_refused() {
+        refused(
+            r#"<medium type="homogeneous" id="m0"/><medium type="homogeneous" id="m"><ref id="m0"/></medium>
+            <sensor type="perspective"><ref id="m"/></sensor>"#,
+            "m0",
+            &["<medium type=\"homogeneous\">", "a <medium> does not take"],
+        );
+    }
+
+    #[test]
+    fn a_volume_referenced_in_a_bsdf_is_refused() {
+        refused(
+            r#"<volume type="constvolume" id="v"/><shape type="sphere"><bsdf type="diffuse"><ref name="reflectance" id="v"/></bsdf></shape>"#,
+            "v",
+            &["<volume>", "<bsdf>"],
+        );
+    }
+
+    #[test]
+    fn a_bsdf_or_texture_referenced_in_a_sensor_is_refused() {
+        refused(
+            &format!(
+                r#"<bsdf type="diffuse" id="b"/><sensor type="perspective"><ref id="b"/></sensor>{SPHERE}"#
+            ),
+            "b",
+            &["<bsdf type=\"diffuse\">", "<sensor>"],
+        );
+        refused(
+            &format!(
+                r#"<texture type="checkerboard" id="t"/><sensor type="perspective"><ref id="t"/></sensor>{SPHERE}"#
+            ),
+            "t",
+            &["<texture type=\"checkerboard\">", "<sensor>"],
+        );
+    }
+
+    #[test]
+    fn a_shape_referenced_in_a_shape_is_refused() {
+        refused(
+            r#"<shape type="sphere" id="sp"/><shape type="cube"><ref id="sp"/></shape>"#,
+            "sp",
+            &["<shape type=\"sphere\">", "a <shape> does not take"],
+        );
+    }
+
+    #[test]
+    fn an_area_emitter_referenced_by_two_shapes_is_refused() {
+        refused(
+            r#"<emitter type="area" id="e"><rgb name="radiance" value="1"/></emitter>
+            <shape type="sphere"><ref id="e"/></shape><shape type="cube"><ref id="e"/></shape>"#,
+            "e",
+            &["single shape"],
+        );
+    }
+
+    #[test]
+    fn a_spectrum_with_an_id_is_refused() {
+        refused(
+            r#"<spectrum id="s" value="0.3"/><shape type="sphere"><bsdf type="diffuse"><ref name="reflectance" id="s"/></bsdf></shape>"#,
+            "id",
+            &["<spectrum>"],
+        );
     }
 }

@@ -45,6 +45,7 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
         null_bsdfs: HashSet::new(),
         texture_ids: HashMap::new(),
         building: HashSet::new(),
+        attached_areas: HashSet::new(),
         groups: Vec::new(),
         group_ids: HashMap::new(),
         instances: Vec::new(),
@@ -191,6 +192,8 @@ struct Loader<'a> {
     null_bsdfs: HashSet<u32>,
     /// Ids being built (reference cycle guard).
     building: HashSet<String>,
+    /// Ids of area emitters a shape references (Mitsuba attaches one to one shape).
+    attached_areas: HashSet<String>,
     /// Shape groups, and those with an id (built once, at their place or at the
     /// first instance that names them).
     groups: Vec<ShapeGroup>,
@@ -201,7 +204,29 @@ struct Loader<'a> {
 }
 
 impl<'a> Loader<'a> {
+    /// The error for a `<ref>` naming `target`, which `parent` does not take: where,
+    /// the id, what it names and where that was declared.
+    fn misplaced_ref(r: &Element, target: &Element, parent: &str) -> Error {
+        let article = if parent.starts_with('<') { "a " } else { "" };
+        let what = match target.attr("type") {
+            Some(t) => format!("<{} type=\"{t}\">", target.tag),
+            None => format!("<{}>", target.tag),
+        };
+        r.err(format!(
+            "<ref id=\"{}\"> names the {what} declared at {}:{}, which {article}{parent} does not take (Mitsuba refuses it too)",
+            r.attr("id").unwrap_or(""),
+            target.file.display(),
+            target.line
+        ))
+    }
+
     fn unexpected(&self, el: &Element, parent: &str) -> Error {
+        if el.tag == "ref" {
+            return match self.deref(el) {
+                Ok(target) => Self::misplaced_ref(el, target, parent),
+                Err(e) => e,
+            };
+        }
         match el.tag.as_str() {
             "texture" => el.err(format!(
                 "a <texture> in {parent} has no parameter to feed (textures go in a bsdf or an area emitter)"
@@ -232,6 +257,18 @@ impl<'a> Loader<'a> {
         if let Some(i) = id.as_ref().and_then(|id| self.medium_ids.get(id)) {
             return Ok(*i);
         }
+        // What a `<ref>` in a medium may name (volumes and phase functions) was copied
+        // to its place (inline_refs); any other reference is misplaced.
+        if let Some(r) = el.children.iter().find(|c| c.tag == "ref") {
+            let target = self.deref(r)?;
+            if target.tag == "texture" {
+                return Err(r.err(format!(
+                    "<ref id=\"{}\"> names a <texture> as a volume of a medium: Mitsuba takes it, wavetrace does not yet (use a <volume>)",
+                    r.attr("id").unwrap_or("")
+                )));
+            }
+            return Err(Self::misplaced_ref(r, target, "a <medium>"));
+        }
         let m = Medium::from_mitsuba(el)?;
         if self.b.media.len() >= 0xfffe {
             return Err(el.err("more than 65534 media"));
@@ -245,14 +282,10 @@ impl<'a> Loader<'a> {
     }
 
     /// The medium a nested `<medium>` or a `<ref>` names.
-    fn medium_of(&mut self, n: &'a Element) -> Result<u32, Error> {
+    fn medium_of(&mut self, n: &'a Element, parent: &str) -> Result<u32, Error> {
         let target = if n.tag == "ref" { self.deref(n)? } else { n };
         if target.tag != "medium" {
-            return Err(n.err(format!(
-                "'{}' is a <{}>, not a <medium>",
-                n.attr("id").unwrap_or(""),
-                target.tag
-            )));
+            return Err(Self::misplaced_ref(n, target, parent));
         }
         self.medium(target)
     }
@@ -414,11 +447,11 @@ impl<'a> Loader<'a> {
             let target = if n.tag == "ref" { self.deref(n)? } else { n };
             if target.tag != "bsdf" {
                 return Err(if n.tag == "ref" {
-                    n.err(format!(
-                        "'{}' is a <{}>, not a <bsdf>",
-                        n.attr("id").unwrap_or(""),
-                        target.tag
-                    ))
+                    Self::misplaced_ref(
+                        n,
+                        target,
+                        &format!("a {} <bsdf>", el.attr("type").unwrap_or("")),
+                    )
                 } else {
                     n.err(format!(
                         "unexpected <{}> in a {} <bsdf>",
@@ -592,11 +625,11 @@ impl<'a> Loader<'a> {
                 && matches!(n.attr("name"), Some("interior" | "exterior"))
                 && target.tag != "medium"
             {
-                return Err(n.err(format!(
-                    "'{}' is a <{}>, not a <medium>",
-                    n.attr("id").unwrap_or(""),
-                    target.tag
-                )));
+                return Err(Self::misplaced_ref(
+                    n,
+                    target,
+                    &format!("a shape's {}", n.attr("name").unwrap_or("")),
+                ));
             }
             match target.tag.as_str() {
                 "bsdf" => {
@@ -631,7 +664,7 @@ impl<'a> Loader<'a> {
                     if slot.is_some() {
                         return Err(n.err("the shape's medium on that side is given twice"));
                     }
-                    *slot = Some(self.medium_of(n)?);
+                    *slot = Some(self.medium_of(n, "a <shape>")?);
                 }
                 _ => return Err(self.unexpected(n, "<shape>")),
             }
@@ -668,6 +701,15 @@ impl<'a> Loader<'a> {
                 emitter::unsupported(target, Dialect::Mitsuba)
             });
         }
+        if let (true, Some(id)) = (via_ref, target.attr("id")) {
+            if !self.attached_areas.insert(id.to_string()) {
+                return Err(n.err(format!(
+                    "<ref id=\"{id}\">: the area emitter declared at {}:{} is already attached to another shape; as in Mitsuba, an area emitter belongs to a single shape",
+                    target.file.display(),
+                    target.line
+                )));
+            }
+        }
         self.area(target)
     }
 
@@ -684,6 +726,17 @@ impl<'a> Loader<'a> {
             ..ShapeGroup::default()
         };
         for c in &el.children {
+            // A shape declared elsewhere with an id joins the group by reference (and
+            // stays where it was declared too, as in Mitsuba).
+            let c = if c.tag == "ref" {
+                let target = self.deref(c)?;
+                if target.tag != "shape" {
+                    return Err(Self::misplaced_ref(c, target, "a shapegroup"));
+                }
+                target
+            } else {
+                c
+            };
             if c.tag != "shape" {
                 return Err(c.err(format!(
                     "a shapegroup holds shapes only, found <{}> (Mitsuba: \"Tried to add an unsupported object\")",
@@ -887,7 +940,7 @@ impl<'a> Loader<'a> {
     fn sensor_choice(&mut self, parts: sensor::SensorParts<'a>) -> Result<SceneSensor, Error> {
         let (camera, (sampler, spp), film, medium) = parts;
         let medium = match medium {
-            Some(m) => Some(self.medium_of(m)?),
+            Some(m) => Some(self.medium_of(m, "a <sensor>")?),
             None => None,
         };
         Ok(SceneSensor {

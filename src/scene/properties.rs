@@ -151,8 +151,7 @@ impl Properties {
     /// Resolves a file name given in these properties as Mitsuba's file resolver does
     /// ([`crate::scene::xml::Element::resolve`]); on failure, the paths tried.
     pub fn resolve(&self, name: &str) -> Result<PathBuf, String> {
-        let dir = self.file.parent().unwrap_or(std::path::Path::new(""));
-        self.search.resolve(dir, name)
+        self.search.resolve(name)
     }
 
     /// The object these properties belong to, for messages (`sensor 'perspective'`).

@@ -41,8 +41,9 @@ pub struct Element {
 /// folders its `<path value="..."/>` tags add (each relative to the file holding the
 /// tag, as Mitsuba's parser makes them). Later `<path>`s are searched first, as
 /// Mitsuba prepends them. File names are resolved after the whole scene is read (as
-/// Mitsuba's plugins resolve them when they are built), so a `<path>` applies to
-/// every file the scene names; an `<include>` sees the `<path>`s above it.
+/// Mitsuba's plugins resolve them when they are built), so a `<path>` of the main
+/// file applies to every file the scene names; an `<include>` sees the `<path>`s above
+/// it. A `<path>` in an included file applies to the includes of that file only.
 #[derive(Debug)]
 pub struct SearchPath {
     /// The main scene file's folder.
@@ -64,14 +65,24 @@ impl SearchPath {
         self.paths.borrow().iter().rev().cloned().collect()
     }
 
-    /// Resolves a file name written in a file of folder `dir` ([`Element::resolve`]).
-    pub fn resolve(&self, dir: &Path, name: &str) -> Result<PathBuf, String> {
+    /// Resolves a file name a plugin names ([`Element::resolve`]), as Mitsuba 3.9.1
+    /// does when it builds the plugin after the whole scene is parsed: in the main
+    /// file's `<path>` folders (most recent first), then the main scene's folder. Not
+    /// in the folder of an included file that names it, nor in `<path>`s written in
+    /// included files: their resolver scope ends with the included file (checked with
+    /// `mi.load_file`).
+    pub fn resolve(&self, name: &str) -> Result<PathBuf, String> {
+        self.resolve_in(&[], name)
+    }
+
+    /// Resolves a name in the folders `first`, then as [`SearchPath::resolve`].
+    fn resolve_in(&self, first: &[PathBuf], name: &str) -> Result<PathBuf, String> {
         let mut tried: Vec<PathBuf> = Vec::new();
         let dirs = if Path::new(name).is_absolute() {
             vec![PathBuf::new()]
         } else {
-            let mut dirs = self.paths();
-            dirs.push(dir.to_path_buf());
+            let mut dirs = first.to_vec();
+            dirs.extend(self.paths());
             dirs.push(self.base.clone());
             dirs
         };
@@ -131,12 +142,12 @@ impl Element {
         self.file.parent().unwrap_or(Path::new(""))
     }
 
-    /// Resolves a file name written in this element as Mitsuba's file resolver does:
-    /// an absolute name as is; a relative one in the scene's `<path>` folders (most
-    /// recent first), then the folder of the file holding the element, then the main
-    /// scene's folder. On failure, the paths tried.
+    /// Resolves a file name written in this element as Mitsuba's file resolver does
+    /// for a plugin ([`SearchPath::resolve`]): an absolute name as is; a relative one in
+    /// the main file's `<path>` folders (most recent first), then the main scene's
+    /// folder. On failure, the paths tried.
     pub fn resolve(&self, name: &str) -> Result<PathBuf, String> {
-        self.search.resolve(self.dir(), name)
+        self.search.resolve(name)
     }
 }
 
@@ -173,6 +184,7 @@ pub fn read(path: &Path, defines: &[(String, String)]) -> Result<Document, Error
         search: search.clone(),
         params: defines.to_vec(),
         stack: vec![canonical(path)],
+        scoped: Vec::new(),
     };
     let line = line_of(&doc, root);
     let mut attrs = Vec::new();
@@ -303,6 +315,9 @@ struct Expander {
     params: Vec<(String, String)>,
     /// Canonical paths of the files being read, outermost first (include cycle guard).
     stack: Vec<PathBuf>,
+    /// The `<path>` folders of each included file being read, outermost first: they
+    /// apply to the includes in that file only (Mitsuba's resolver scope).
+    scoped: Vec<Vec<PathBuf>>,
 }
 
 impl Expander {
@@ -378,15 +393,24 @@ impl Expander {
         if !dir.is_dir() {
             return Err(el.err(format!("<path>: folder '{}' not found", dir.display())));
         }
-        self.search.paths.borrow_mut().push(dir);
+        match self.scoped.last_mut() {
+            Some(scope) => scope.push(dir),
+            None => self.search.paths.borrow_mut().push(dir),
+        }
         Ok(())
     }
 
     fn include(&mut self, el: &Element) -> Result<Vec<Element>, Error> {
         el.check_attrs(&["filename"])?;
         let name = el.require("filename")?;
-        let path = el
-            .resolve(name)
+        // Parsing, Mitsuba resolves an include in the `<path>`s of the files being read
+        // (most recent first), the including file's folder and the main folder.
+        let mut first: Vec<PathBuf> = self.scoped.iter().flatten().rev().cloned().collect();
+        first.extend(self.search.paths());
+        first.push(el.dir().to_path_buf());
+        let path = self
+            .search
+            .resolve_in(&first, name)
             .map_err(|tried| el.err(format!("included file {tried} not found")))?;
         let canon = canonical(&path);
         if self.stack.contains(&canon) {
@@ -405,6 +429,7 @@ impl Expander {
         let root = doc.xml.root_element();
         let file = Rc::new(path);
         self.stack.push(canon);
+        self.scoped.push(Vec::new());
         let result = if root.tag_name().name() == "scene" {
             self.children(&doc, root, &file)
         } else {
@@ -428,6 +453,7 @@ impl Expander {
             }])
         };
         self.stack.pop();
+        self.scoped.pop();
         result
     }
 
@@ -467,4 +493,76 @@ pub fn parse_number(s: &str) -> Option<f64> {
 /// Parses a list of finite numbers written with commas and/or whitespace.
 pub fn parse_numbers(s: &str) -> Option<Vec<f64>> {
     tokens(s).map(parse_number).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::scene::testutil::load;
+
+    const TRI: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    const SPHERE: &str = r#"<scene version="3.0.0"><shape type="sphere"/></scene>"#;
+
+    fn main(body: &str) -> String {
+        format!(r#"<scene version="3.0.0"><sensor type="perspective"/>{body}</scene>"#)
+    }
+
+    // Each case as Mitsuba 3.9.1's `mi.load_file` resolves it.
+
+    #[test]
+    fn an_included_files_path_serves_its_own_includes_only() {
+        let frag =
+            r#"<scene version="3.0.0"><path value="assets"/><include filename="b.xml"/></scene>"#;
+        let files = |body: &str| {
+            load(
+                &[
+                    ("main.xml", &main(body)),
+                    ("sub/frag.xml", frag),
+                    ("sub/assets/b.xml", SPHERE),
+                    ("sub/assets/c.xml", SPHERE),
+                ],
+                &[],
+            )
+        };
+        let s = files(r#"<include filename="sub/frag.xml"/>"#).unwrap();
+        assert_eq!(s.quadrics.len(), 1);
+        let e = files(r#"<include filename="sub/frag.xml"/><include filename="c.xml"/>"#)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("main.xml:1") && e.contains("c.xml"), "{e}");
+    }
+
+    #[test]
+    fn a_plugins_file_is_found_by_the_main_files_paths_not_an_included_ones() {
+        // A mesh beside the included file naming it, or in a <path> of that file, is
+        // not found (Mitsuba builds the plugin after the included file's scope ended);
+        // in a <path> of the main file, it is, even one written after the include.
+        let shape = r#"<scene version="3.0.0"><shape type="obj"><string name="filename" value="tri.obj"/></shape></scene>"#;
+        let with_path = r#"<scene version="3.0.0"><path value="assets"/><shape type="obj"><string name="filename" value="tri.obj"/></shape></scene>"#;
+        for (frag, mesh) in [(shape, "sub/tri.obj"), (with_path, "sub/assets/tri.obj")] {
+            let e = load(
+                &[
+                    ("main.xml", &main(r#"<include filename="sub/frag.xml"/>"#)),
+                    ("sub/frag.xml", frag),
+                    (mesh, TRI),
+                ],
+                &[],
+            )
+            .unwrap_err()
+            .to_string();
+            assert!(e.contains("frag.xml") && e.contains("tri.obj"), "{e}");
+        }
+        let s = load(
+            &[
+                (
+                    "main.xml",
+                    &main(r#"<include filename="sub/frag.xml"/><path value="sub/assets"/>"#),
+                ),
+                ("sub/frag.xml", shape),
+                ("sub/assets/tri.obj", TRI),
+            ],
+            &[],
+        )
+        .unwrap();
+        assert_eq!(s.meshes.len(), 1);
+    }
 }
