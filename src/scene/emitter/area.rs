@@ -26,7 +26,7 @@ pub const MITSUBA: PluginDoc = PluginDoc::new(
     "area",
     "Uniform or textured emission from the front side of the shape carrying it (nested in or referenced by a shape).",
     &[
-        Param::new("radiance", "rgb|texture", "", "emitted radiance (required)"),
+        Param::new("radiance", "rgb|texture", "1", "emitted radiance"),
         Param::new(
             "scale",
             "rgb",
@@ -69,10 +69,9 @@ pub fn mitsuba(props: &Properties) -> Result<(Emitter, f32), Error> {
             scale,
         }
     } else {
+        // Mitsuba 3.9.1's area light defaults its radiance to 1 (Nori's requires one).
         Emitter::Area {
-            radiance: props
-                .color_opt("radiance")?
-                .ok_or_else(|| props.object_error("area emitter needs a 'radiance'"))?,
+            radiance: props.color("radiance", Vec3::ONE)?,
         }
     };
     let weight = super::sampling_weight(props)?;
@@ -117,5 +116,27 @@ pub fn textured_record(texture: u32, scale: Vec3) -> EmitterRecord {
         shape: NONE,
         texture: texture + 1,
         ..Default::default()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::scene::testutil::{error_at, load};
+    use crate::scene::Emitter;
+    use glam::Vec3;
+
+    /// Mitsuba 3.9.1 loads an area light without a radiance as radiance 1
+    /// (`mi.traverse` gives `radiance.value` 1.0); Nori's area light requires one.
+    #[test]
+    fn radiance_defaults_as_each_dialect_says() {
+        let mitsuba = "<scene version=\"3.0.0\">\n<sensor type=\"perspective\"/>\n<shape type=\"rectangle\"><emitter type=\"area\"/></shape>\n</scene>\n";
+        let scene = load(&[("s.xml", mitsuba)], &[]).unwrap();
+        assert!(
+            matches!(scene.emitters[..], [Emitter::Area { radiance }] if radiance == Vec3::ONE)
+        );
+        let nori = "<scene>\n<integrator type=\"path_mis\"/>\n<camera type=\"perspective\"/>\n<mesh type=\"obj\"><string name=\"filename\" value=\"m.obj\"/>\n<emitter type=\"area\"/></mesh>\n</scene>\n";
+        let obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+        let e = error_at(load(&[("n.xml", nori), ("m.obj", obj)], &[]), "n.xml", 5);
+        assert!(e.contains("area emitter needs a 'radiance'"), "{e}");
     }
 }
