@@ -202,3 +202,26 @@ fn ellipsoids_loader_errors() {
         }
     }
 }
+
+/// With B-spline curves in the same scene (moved out of the way), whose control points
+/// come first in the grid buffer, the ellipsoids' side table still lines up.
+#[test]
+fn ellipsoids_after_bspline_curves() {
+    let data = data();
+    let case = &data["cases"][0];
+    let shape = format!(
+        "<shape type=\"bsplinecurve\"><string name=\"filename\" value=\"../curves/bsplines.txt\"/><transform name=\"to_world\"><translate value=\"100, 0, 0\"/></transform></shape>\n{}",
+        case["shape"].as_str().unwrap()
+    );
+    let dir = common::repo("scenes/ellipsoids");
+    let scene = common::shape_scene("ellipsoids_curves", "both", &dir, &shape);
+    let found = common::surface_query(&scene, &rays(case));
+    let mut failures = Vec::new();
+    let mut worst = [0.0f32; 2];
+    compare(case, &found, &mut failures, &mut worst);
+    assert!(
+        failures.is_empty(),
+        "{}",
+        failures[..failures.len().min(10)].join("\n")
+    );
+}
