@@ -726,7 +726,9 @@ fn print_info(
     println!("meshes:      {}", sc.meshes.len());
     for m in &sc.meshes {
         // Curves (linearcurve): segments between control points.
-        let (prims, points) = if m.is_curves() {
+        let (prims, points) = if m.is_ellipsoids() {
+            ("ellipsoids", "centres")
+        } else if m.is_curves() {
             ("segments", "control points")
         } else {
             ("triangles", "vertices")

@@ -22,6 +22,7 @@
 #include "shape/intersect_sdfgrid.glsl"
 #include "shape/intersect_curve.glsl"
 #include "shape/intersect_bspline.glsl"
+#include "shape/intersect_ellipsoid.glsl"
 #include "accel/instance.glsl"
 
 // Traversal stack entries; the build keeps every leaf at depth <= this (root = 0).
@@ -170,6 +171,8 @@ bool bvh_prim_hit_of(uint kinds, Prim p, TriangleRay tr, vec3 o, vec3 d, float t
         vec4 cp[4];
         bspline_points(floatBitsToUint(p.p2.x), cp);
         return intersect_bspline_curve(o, d, cp, tmin, tmax, t, u);
+    } else if ((kinds & BVH_KIND_BIT(PRIM_ELLIPSOID)) != 0u && (one || p.kind == PRIM_ELLIPSOID)) {
+        return intersect_ellipsoid(o, d, floatBitsToUint(p.p2.x), tmin, tmax, t);
     } else if ((kinds & BVH_KIND_BIT(PRIM_TRIANGLE)) != 0u) {
         return intersect_triangle(tr, o, p.p0, p.p1, p.p2, tmin, tmax, t, u, v);
     }
@@ -183,6 +186,7 @@ bool bvh_prim_hit_of(uint kinds, Prim p, TriangleRay tr, vec3 o, vec3 d, float t
     | (BVH_HAS(SURFACE_FEATURE_SDFGRIDS) ? BVH_KIND_BIT(PRIM_SDFGRID) : 0u)             \
     | (BVH_HAS(SURFACE_FEATURE_LINEAR_CURVES) ? BVH_KIND_BIT(PRIM_LINEAR_CURVE) : 0u)   \
     | (BVH_HAS(SURFACE_FEATURE_BSPLINE_CURVES) ? BVH_KIND_BIT(PRIM_BSPLINE_CURVE) : 0u) \
+    | (BVH_HAS(SURFACE_FEATURE_ELLIPSOIDS) ? BVH_KIND_BIT(PRIM_ELLIPSOID) : 0u)         \
     | (BVH_FLAT_COUNT > 0u ? 0u :                                                       \
        ((BVH_HAS(SURFACE_FEATURE_SPHERES) ? BVH_KIND_BIT(PRIM_SPHERE) : 0u)             \
         | (BVH_HAS(SURFACE_FEATURE_DISKS) ? BVH_KIND_BIT(PRIM_DISK) : 0u)               \

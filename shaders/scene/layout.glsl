@@ -17,6 +17,7 @@
 #define PRIM_SDFGRID 7u
 #define PRIM_LINEAR_CURVE 8u
 #define PRIM_BSPLINE_CURVE 9u
+#define PRIM_ELLIPSOID 10u
 
 #define NONE 0xffffffffu
 
@@ -136,6 +137,7 @@
 #define SURFACE_FEATURE_SDFGRIDS 128u
 #define SURFACE_FEATURE_LINEAR_CURVES 64u
 #define SURFACE_FEATURE_BSPLINE_CURVES 256u
+#define SURFACE_FEATURE_ELLIPSOIDS 512u
 // Medium features of a scene (a specialization constant; see src/gpu/layout.rs).
 #define MEDIUM_FEATURE_HOMOGENEOUS 1u
 #define MEDIUM_FEATURE_PACKED1 2u

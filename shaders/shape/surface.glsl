@@ -8,6 +8,7 @@
 #include "accel/instance.glsl"
 #include "shape/intersect_sdfgrid.glsl"
 #include "shape/intersect_bspline.glsl"
+#include "shape/intersect_ellipsoid.glsl"
 #include "texture/texture_hit.glsl"
 
 // The primitive and vertex features of the scene (SURFACE_FEATURE_* bits of
@@ -221,6 +222,15 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
         surface_linear_curve(s, prim, ray_o + t * ray_d, u, dpdu);
     } else if (SURFACE_HAS(SURFACE_FEATURE_BSPLINE_CURVES) && prim.kind == PRIM_BSPLINE_CURVE) {
         surface_bspline_curve(s, prim, ray_o + t * ray_d, u, dpdu);
+    } else if (SURFACE_HAS(SURFACE_FEATURE_ELLIPSOIDS) && prim.kind == PRIM_ELLIPSOID) {
+        // Mitsuba's ellipsoids: the normal, uv = 0, no ∂p/∂u (the frame is the
+        // normal's); p rounds as the unit-sphere root mapped back (the box's size).
+        s.p = ray_o + t * ray_d;
+        s.ng = ellipsoid_normal(floatBitsToUint(prim.p2.x), s.p);
+        s.ns = s.ng;
+        s.p_error = 8.0 * SURFACE_GAMMA7 * (abs(s.p) + 0.5 * (prim.p1 - prim.p0));
+        s.uv = vec2(0.0);
+        dpdu = vec3(0.0);
     } else if (SURFACE_HAS(SURFACE_FEATURE_SPHERES | SURFACE_FEATURE_DISKS | SURFACE_FEATURE_CYLINDERS)
         && prim.kind != PRIM_TRIANGLE) {
         uint k1 = instance_of(prim_index);

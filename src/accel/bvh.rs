@@ -21,8 +21,8 @@ use glam::Vec3;
 use super::bvh_build::{PrimSource, ShapePrims};
 use super::{cylinder, disk, sphere, triangle};
 use crate::gpu::layout::{
-    BvhNode, Prim, PRIM_BSPLINE_CURVE, PRIM_CYLINDER, PRIM_DISK, PRIM_INSTANCE, PRIM_LINEAR_CURVE,
-    PRIM_SDFGRID, PRIM_SPHERE,
+    BvhNode, Prim, PRIM_BSPLINE_CURVE, PRIM_CYLINDER, PRIM_DISK, PRIM_ELLIPSOID, PRIM_INSTANCE,
+    PRIM_LINEAR_CURVE, PRIM_SDFGRID, PRIM_SPHERE,
 };
 use crate::scene::{Mesh, Quadric};
 
@@ -93,7 +93,7 @@ impl FlatPrims {
             && bvh.prims.iter().all(|p| {
                 !matches!(
                     p.kind,
-                    PRIM_SDFGRID | PRIM_LINEAR_CURVE | PRIM_BSPLINE_CURVE
+                    PRIM_SDFGRID | PRIM_LINEAR_CURVE | PRIM_BSPLINE_CURVE | PRIM_ELLIPSOID
                 )
             });
         let count = if all {
@@ -272,7 +272,9 @@ pub(super) fn prim_bounds(p: &Prim) -> Aabb {
                 max: p0 + e,
             }
         }
-        PRIM_INSTANCE | PRIM_SDFGRID | PRIM_BSPLINE_CURVE => Aabb { min: p0, max: p1 },
+        PRIM_INSTANCE | PRIM_SDFGRID | PRIM_BSPLINE_CURVE | PRIM_ELLIPSOID => {
+            Aabb { min: p0, max: p1 }
+        }
         // The two end spheres' boxes hold the cone between them.
         PRIM_LINEAR_CURVE => Aabb {
             min: (p0 - Vec3::splat(p2.x)).min(p1 - Vec3::splat(p2.y)),
@@ -574,8 +576,9 @@ pub fn intersect_prim(
         // as the render plan's camera misses; the kernels trace the group's tree).
         // So does an sdfgrid's (its voxels are walked on the GPU alone) and a B-spline
         // segment's (its control points are in the grid buffer: accel::bspline
-        // intersects them given those).
-        PRIM_INSTANCE | PRIM_SDFGRID | PRIM_BSPLINE_CURVE => {
+        // intersects them given those), and an ellipsoid's (its map is there too:
+        // scene::shape::ellipsoids::Ellipsoid::intersect).
+        PRIM_INSTANCE | PRIM_SDFGRID | PRIM_BSPLINE_CURVE | PRIM_ELLIPSOID => {
             let (hit, tn) = BoxRay::new(o, d).slab(p.p0, p.p1, tmin, tmax);
             hit.then_some((tn, 0.0, 0.0))
         }

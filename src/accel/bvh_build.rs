@@ -123,6 +123,9 @@ impl PrimSource for ShapePrims<'_> {
         if i < self.triangles() {
             if self.curves {
                 let mesh = &self.meshes[self.first.partition_point(|&f| f <= i) - 1];
+                if mesh.is_ellipsoids() {
+                    return crate::gpu::layout::PRIM_ELLIPSOID;
+                }
                 if mesh.is_bspline() {
                     return crate::gpu::layout::PRIM_BSPLINE_CURVE;
                 }

@@ -81,6 +81,9 @@ pub fn prims_from_shapes(meshes: &[Mesh], quadrics: &[Quadric]) -> Vec<Prim> {
 /// Triangle `k` of `mesh`, shape `shape`, global triangle number `index`; segment `k`
 /// of curves ([`curve_prim`]).
 pub fn triangle_prim(mesh: &Mesh, k: usize, shape: u32, index: u32) -> Prim {
+    if mesh.is_ellipsoids() {
+        return ellipsoid_prim(mesh, k, shape);
+    }
     if mesh.is_bspline() {
         return bspline_prim(mesh, k, shape);
     }
@@ -95,6 +98,20 @@ pub fn triangle_prim(mesh: &Mesh, k: usize, shape: u32, index: u32) -> Prim {
         index,
         p2: p[2],
         kind: PRIM_TRIANGLE,
+    }
+}
+
+/// Ellipsoid `k` of the `ellipsoids` shape `mesh`, shape `shape` (layout in
+/// [`crate::gpu::layout::PRIM_ELLIPSOID`]).
+pub fn ellipsoid_prim(mesh: &Mesh, k: usize, shape: u32) -> Prim {
+    let (lo, hi) = mesh.ellipsoids[k].bounds();
+    Prim {
+        p0: lo.to_array(),
+        shape,
+        p1: hi.to_array(),
+        index: k as u32,
+        p2: [f32::from_bits(mesh.indices[k][2]), 0.0, 0.0],
+        kind: crate::gpu::layout::PRIM_ELLIPSOID,
     }
 }
 

@@ -36,6 +36,10 @@ pub const PRIM_LINEAR_CURVE: u32 = 8;
 /// segments. The control points are a side table in the grid buffer (after the
 /// sdfgrids), as a segment's 16 numbers do not fit a record.
 pub const PRIM_BSPLINE_CURVE: u32 = 9;
+/// An ellipsoid of an `ellipsoids` shape (`scene::shape::ellipsoids`): `p0`, `p1` its
+/// box, `p2` = (the bits of the grid-buffer offset of its 12 numbers: centre and the
+/// rows of its map to the unit sphere, 0, 0), `index` its number in the shape.
+pub const PRIM_ELLIPSOID: u32 = 10;
 
 /// Marks an absent index (no emitter, no hit).
 pub const NONE: u32 = u32::MAX;
@@ -96,6 +100,8 @@ pub const SURFACE_FEATURE_SDFGRIDS: u32 = 128;
 pub const SURFACE_FEATURE_LINEAR_CURVES: u32 = 64;
 /// B-spline curve segments ([`PRIM_BSPLINE_CURVE`]).
 pub const SURFACE_FEATURE_BSPLINE_CURVES: u32 = 256;
+/// Ellipsoids ([`PRIM_ELLIPSOID`]).
+pub const SURFACE_FEATURE_ELLIPSOIDS: u32 = 512;
 /// The `SURFACE_FEATURE_*` bit of each quadric `PRIM_*` kind; the BVH traversal's
 /// primitive mask (specialization constant of intersect, shade and shadow) is made of
 /// these bits too.
@@ -107,6 +113,7 @@ pub const fn surface_feature_of_prim(kind: u32) -> u32 {
         PRIM_SDFGRID => SURFACE_FEATURE_SDFGRIDS,
         PRIM_LINEAR_CURVE => SURFACE_FEATURE_LINEAR_CURVES,
         PRIM_BSPLINE_CURVE => SURFACE_FEATURE_BSPLINE_CURVES,
+        PRIM_ELLIPSOID => SURFACE_FEATURE_ELLIPSOIDS,
         _ => 0,
     }
 }
@@ -765,6 +772,8 @@ mod tests {
                 "SURFACE_FEATURE_BSPLINE_CURVES",
                 SURFACE_FEATURE_BSPLINE_CURVES,
             ),
+            ("PRIM_ELLIPSOID", PRIM_ELLIPSOID),
+            ("SURFACE_FEATURE_ELLIPSOIDS", SURFACE_FEATURE_ELLIPSOIDS),
             ("SHAPE_HAS_NORMALS", SHAPE_HAS_NORMALS),
             ("SHAPE_HAS_UVS", SHAPE_HAS_UVS),
             ("SHAPE_FLIP_NORMALS", SHAPE_FLIP_NORMALS),

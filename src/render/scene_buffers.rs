@@ -155,6 +155,7 @@ impl SceneRecords {
             r.quadric_kinds |= crate::gpu::layout::SURFACE_FEATURE_SDFGRIDS;
         }
         crate::scene::shape::bsplinecurve::pack(&scene.meshes, &mut r.grid_data);
+        crate::scene::shape::ellipsoids::pack(&scene.meshes, &mut r.grid_data);
         for m in &scene.media {
             let rec = crate::scene::medium::record::record(
                 m,
@@ -280,6 +281,7 @@ impl SceneRecords {
             }
             if p.kind == crate::gpu::layout::PRIM_LINEAR_CURVE
                 || p.kind == crate::gpu::layout::PRIM_BSPLINE_CURVE
+                || p.kind == crate::gpu::layout::PRIM_ELLIPSOID
             {
                 self.quadric_kinds |= surface_feature_of_prim(p.kind);
             }

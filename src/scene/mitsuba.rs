@@ -123,6 +123,15 @@ pub fn load(doc: &Document) -> Result<Scene, Error> {
     // B-spline curves' control points follow the sdfgrids in the grid buffer.
     let grid_words = l.b.sdfgrids.iter().map(|g| g.words()).sum();
     super::shape::bsplinecurve::place(&mut l.b.meshes, grid_words).map_err(|m| root.err(m))?;
+    // Ellipsoids follow those.
+    let curve_words: usize =
+        l.b.meshes
+            .iter()
+            .filter(|m| m.is_bspline())
+            .map(|m| 4 * m.positions.len())
+            .sum();
+    super::shape::ellipsoids::place(&mut l.b.meshes, grid_words + curve_words)
+        .map_err(|m| root.err(m))?;
     let scene = Scene {
         path: root.file.as_ref().clone(),
         camera,
@@ -754,6 +763,9 @@ impl<'a> Loader<'a> {
             }
             let (m0, q0) = (self.b.meshes.len(), self.b.quadrics.len());
             self.shape(c)?;
+            if self.b.meshes[m0..].iter().any(|m| m.is_ellipsoids()) {
+                return Err(c.err("ellipsoids in a shapegroup are not supported yet"));
+            }
             if self.b.meshes[m0..].iter().any(|m| m.is_curves()) {
                 return Err(c.err("curves in a shapegroup are not supported yet"));
             }

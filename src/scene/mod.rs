@@ -240,10 +240,13 @@ impl Scene {
         };
         add(self.meshes.iter().any(|m| !m.is_curves()), "triangles");
         add(
-            self.meshes.iter().any(|m| m.is_curves() && !m.is_bspline()),
+            self.meshes
+                .iter()
+                .any(|m| m.is_curves() && !m.is_bspline() && !m.is_ellipsoids()),
             "linear curves",
         );
         add(self.meshes.iter().any(Mesh::is_bspline), "bspline curves");
+        add(self.meshes.iter().any(Mesh::is_ellipsoids), "ellipsoids");
         let has = |k: QuadricKind| self.quadrics.iter().any(|q| q.kind == k);
         add(has(QuadricKind::Sphere), "spheres");
         add(has(QuadricKind::Disk), "disks");

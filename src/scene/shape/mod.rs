@@ -9,6 +9,7 @@ pub mod bsplinecurve;
 pub mod cube;
 pub mod cylinder;
 pub mod disk;
+pub mod ellipsoids;
 pub mod instance;
 pub mod linearcurve;
 pub mod merge;
@@ -43,7 +44,7 @@ pub const REGISTRY: &[PluginDoc] = &[
     instance::INSTANCE,
     bsplinecurve::MITSUBA,
     sdfgrid::MITSUBA,
-    not_yet("ellipsoids"),
+    ellipsoids::MITSUBA,
     not_yet("ellipsoidsmesh"),
     merge::MITSUBA,
     obj::NORI,
@@ -103,6 +104,7 @@ pub fn mitsuba(t: &str, el: &Element, props: &Properties) -> Result<Geometry, Er
         "sdfgrid" => return sdfgrid::mitsuba(el, props),
         "linearcurve" => return linearcurve::mitsuba(el, props),
         "bsplinecurve" => return bsplinecurve::mitsuba(el, props),
+        "ellipsoids" => return ellipsoids::mitsuba(el, props),
         provided::TYPE if provided::active() => return provided::mitsuba(el, props),
         _ => {}
     }
@@ -169,6 +171,10 @@ pub struct Mesh {
     /// the mesh a set of curves, each entry of `indices` a segment `[its first control
     /// point, 0, 0]` from that point to the next, in the file's order.
     pub radii: Vec<f32>,
+    /// The ellipsoids of an `ellipsoids` shape ([`ellipsoids`]), in world space: then
+    /// `positions` are their centres, `radii` their largest semi-axes and `indices`
+    /// `[number, ellipsoids::MARKER, grid-buffer offset]`.
+    pub ellipsoids: Vec<ellipsoids::Ellipsoid>,
 }
 
 impl Mesh {
@@ -181,6 +187,11 @@ impl Mesh {
     /// are `[first control point, 3, grid-buffer offset of that point]`.
     pub fn is_bspline(&self) -> bool {
         self.is_curves() && self.indices.first().is_some_and(|s| s[1] == 3)
+    }
+
+    /// Whether this is an `ellipsoids` shape ([`Mesh::ellipsoids`]).
+    pub fn is_ellipsoids(&self) -> bool {
+        !self.ellipsoids.is_empty()
     }
 }
 
