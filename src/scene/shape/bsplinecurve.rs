@@ -184,24 +184,7 @@ mod tests {
             ("0 0 0 1\n1 1 1 nan\n", 2, "radius must be finite"),
             ("0 0 0 1\n1 1 1\n", 2, "'x y z radius'"),
         ];
-        for (text, line, what) in cases {
-            match read(text) {
-                Err(Error::At {
-                    line: l,
-                    message,
-                    file,
-                }) => {
-                    assert_eq!(
-                        (l, file.as_path()),
-                        (line, Path::new("hair.txt")),
-                        "{text:?}"
-                    );
-                    assert!(message.contains(what), "{text:?}: {message}");
-                }
-                other => panic!("{text:?}: {other:?}"),
-            }
-        }
-        assert!(matches!(read("\n\n"), Err(Error::File { .. })));
+        super::super::linearcurve::tests::assert_errors_at_lines(read, &cases);
     }
 
     fn scene(shape_body: &str, curves: &str) -> Result<crate::scene::Scene, Error> {

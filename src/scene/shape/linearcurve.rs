@@ -161,11 +161,38 @@ pub fn parse_curves(path: &Path, bytes: &[u8], degree: u32) -> Result<Mesh, Erro
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
 
     fn read(text: &str) -> Result<Mesh, Error> {
         parse(Path::new("hair.txt"), text.as_bytes())
+    }
+
+    /// Each case's text, read as `hair.txt` by `read`, fails at its line with a message
+    /// containing its words; a file of blank lines is an error of the whole file (the
+    /// B-spline parser's test asks the same).
+    pub(in crate::scene::shape) fn assert_errors_at_lines(
+        read: fn(&str) -> Result<Mesh, Error>,
+        cases: &[(&str, u32, &str)],
+    ) {
+        for &(text, line, what) in cases {
+            match read(text) {
+                Err(Error::At {
+                    line: l,
+                    message,
+                    file,
+                }) => {
+                    assert_eq!(
+                        (l, file.as_path()),
+                        (line, Path::new("hair.txt")),
+                        "{text:?}"
+                    );
+                    assert!(message.contains(what), "{text:?}: {message}");
+                }
+                other => panic!("{text:?}: {other:?}"),
+            }
+        }
+        assert!(matches!(read("\n\n"), Err(Error::File { .. })));
     }
 
     #[test]
@@ -201,24 +228,7 @@ mod tests {
             ("0 0 0 NaN\n1 1 1 1\n", 1, "radius must be finite"),
             ("0 inf 0 1\n1 1 1 1\n", 1, "not finite"),
         ];
-        for (text, line, what) in cases {
-            match read(text) {
-                Err(Error::At {
-                    line: l,
-                    message,
-                    file,
-                }) => {
-                    assert_eq!(
-                        (l, file.as_path()),
-                        (line, Path::new("hair.txt")),
-                        "{text:?}"
-                    );
-                    assert!(message.contains(what), "{text:?}: {message}");
-                }
-                other => panic!("{text:?}: {other:?}"),
-            }
-        }
-        assert!(matches!(read("\n\n"), Err(Error::File { .. })));
+        assert_errors_at_lines(read, &cases);
     }
 
     fn scene(shape_body: &str, curves: &str) -> Result<crate::scene::Scene, Error> {
