@@ -42,33 +42,19 @@ fn compare(
     worst: &mut [f32; 4],
 ) {
     let name = case["name"].as_str().unwrap();
-    let hits = case["hits"].as_array().unwrap();
-    let misses = case["misses"].as_array().unwrap();
-    for (m, f) in misses.iter().zip(&found[hits.len()..]) {
-        if let Some(SurfaceHit { p, t, .. }) = f {
-            failures.push(format!(
-                "{name}: ours a hit at {p} (t {t}), Mitsuba's a miss (ray {} {})",
-                m["o"], m["d"]
-            ));
-        }
-    }
-    for (h, f) in hits.iter().zip(found) {
-        let ray = format!("ray {} {}", h["o"], h["d"]);
-        let Some(SurfaceHit {
+    for (
+        h,
+        SurfaceHit {
             p,
             t,
             ng,
             ns,
             ss,
             uv,
-        }) = *f
-        else {
-            failures.push(format!(
-                "{name}: ours a miss, Mitsuba's t = {} ({ray})",
-                h["t"]
-            ));
-            continue;
-        };
+        },
+        ray,
+    ) in common::hits_both_found(case, found, failures)
+    {
         let t_mi = h["t"].as_f64().unwrap() as f32;
         let p_mi = v3(&h["p"]);
         // Float precision at the scene's scale (a few units), as for linear curves.

@@ -33,33 +33,21 @@ fn linear_curves_hit_like_mitsuba() {
         let shape = case["shape"].as_str().unwrap();
         let dir = common::repo("scenes/curves");
         let found = common::surface_query(&common::shape_scene("curves", name, &dir, shape), &rays);
-        for (m, f) in misses.iter().zip(&found[hits.len()..]) {
-            missed += 1;
-            if let Some(SurfaceHit { p, t, .. }) = f {
-                failures.push(format!(
-                    "{name}: ours a hit at {p} (t {t}), Mitsuba's a miss (ray {} {})",
-                    m["o"], m["d"]
-                ));
-            }
-        }
-        for (h, f) in hits.iter().zip(&found) {
-            checked += 1;
-            let ray = format!("ray {} {}", h["o"], h["d"]);
-            let Some(SurfaceHit {
+        missed += misses.len();
+        checked += hits.len();
+        for (
+            h,
+            SurfaceHit {
                 p,
                 t,
                 ng,
                 ns,
                 ss,
                 uv,
-            }) = *f
-            else {
-                failures.push(format!(
-                    "{name}: ours a miss, Mitsuba's t = {} ({ray})",
-                    h["t"]
-                ));
-                continue;
-            };
+            },
+            ray,
+        ) in common::hits_both_found(case, &found, &mut failures)
+        {
             let t_mi = h["t"].as_f64().unwrap() as f32;
             let p_mi = v3(&h["p"]);
             // Float precision at the scene's scale (a few units), as for the quadrics.

@@ -44,28 +44,14 @@ fn compare(
     worst: &mut [f32; 2],
 ) {
     let name = case["name"].as_str().unwrap();
-    let hits = case["hits"].as_array().unwrap();
-    let misses = case["misses"].as_array().unwrap();
-    for (m, f) in misses.iter().zip(&found[hits.len()..]) {
-        if let Some(SurfaceHit { p, t, .. }) = f {
-            failures.push(format!(
-                "{name}: ours a hit at {p} (t {t}), Mitsuba's a miss (ray {} {})",
-                m["o"], m["d"]
-            ));
-        }
-    }
-    for (h, f) in hits.iter().zip(found) {
-        let ray = format!("ray {} {}", h["o"], h["d"]);
-        let Some(SurfaceHit {
+    for (
+        h,
+        SurfaceHit {
             p, t, ng, ns, uv, ..
-        }) = *f
-        else {
-            failures.push(format!(
-                "{name}: ours a miss, Mitsuba's t = {} ({ray})",
-                h["t"]
-            ));
-            continue;
-        };
+        },
+        ray,
+    ) in common::hits_both_found(case, found, failures)
+    {
         let t_mi = h["t"].as_f64().unwrap() as f32;
         let p_mi = v3(&h["p"]);
         // Mitsuba's own roots stray from the exact (double) ones by up to 5.3e-5 of 1 + t

@@ -85,6 +85,40 @@ pub struct SurfaceHit {
     pub uv: [f32; 2],
 }
 
+/// Pairs what [`surface_query`] found along a Mitsuba hit/miss case's rays (its
+/// `hits`, then its `misses`, as `found`) with Mitsuba's records: pushes to `failures`
+/// each of Mitsuba's misses that ours hits and each of its hits that ours misses, and
+/// returns the hits both found, each with Mitsuba's record and the ray as a label.
+pub fn hits_both_found<'a>(
+    case: &'a serde_json::Value,
+    found: &[Option<SurfaceHit>],
+    failures: &mut Vec<String>,
+) -> Vec<(&'a serde_json::Value, SurfaceHit, String)> {
+    let name = case["name"].as_str().unwrap();
+    let hits = case["hits"].as_array().unwrap();
+    let misses = case["misses"].as_array().unwrap();
+    for (m, f) in misses.iter().zip(&found[hits.len()..]) {
+        if let Some(SurfaceHit { p, t, .. }) = f {
+            failures.push(format!(
+                "{name}: ours a hit at {p} (t {t}), Mitsuba's a miss (ray {} {})",
+                m["o"], m["d"]
+            ));
+        }
+    }
+    let mut both = Vec::new();
+    for (h, f) in hits.iter().zip(found) {
+        let ray = format!("ray {} {}", h["o"], h["d"]);
+        match f {
+            Some(hit) => both.push((h, *hit, ray)),
+            None => failures.push(format!(
+                "{name}: ours a miss, Mitsuba's t = {} ({ray})",
+                h["t"]
+            )),
+        }
+    }
+    both
+}
+
 /// Loads the scene at `scene_path`, builds and uploads its tree and traces `rays`
 /// (origin, direction) with the `surface_query` test kernel: the surface at each
 /// closest hit, or None on a miss.
