@@ -17,8 +17,6 @@ that one) and random rays through the box; misses kept where rays moved by 1e-3
 miss too. A fixed seed: running it again gives the same files.
 """
 
-import argparse
-import json
 import math
 import os
 import random
@@ -27,15 +25,11 @@ import mitsuba as mi
 
 mi.set_variant("scalar_rgb")
 
-ROOT = os.path.normpath(os.path.join(os.path.dirname(__file__), ".."))
+from mitsuba_hits import (ROOT, TO_WORLD_XML, arguments, clear_miss, grazing,  # noqa: E402
+                          rand_dir, record, rounded, to_world, unit, write)
+
 PLY = os.path.join(ROOT, "scenes", "ellipsoids", "ellipsoids.ply")
 
-TO_WORLD = (mi.ScalarTransform4f().translate([-0.4, 0.1, 0.2])
-            @ mi.ScalarTransform4f().rotate([0.6917145, -0.6917145, 0.2075144], 61)
-            @ mi.ScalarTransform4f().scale([1.3, 0.8, 1.1]))
-TO_WORLD_XML = ('<transform name="to_world"><scale value="1.3, 0.8, 1.1"/>'
-                '<rotate x="0.6917145" y="-0.6917145" z="0.2075144" angle="61"/>'
-                '<translate value="-0.4, 0.1, 0.2"/></transform>')
 FILE = '<string name="filename" value="ellipsoids.ply"/>'
 CASES = [
     ("ellipsoids", f'<shape type="ellipsoids">{FILE}</shape>', {}),
@@ -44,17 +38,8 @@ CASES = [
      '<float name="scale_factor" value="1.2"/></shape>',
      {"extent": 1.5, "scale_factor": 1.2}),
     ("ellipsoids_to_world", f'<shape type="ellipsoids">{FILE}{TO_WORLD_XML}</shape>',
-     {"to_world": TO_WORLD}),
+     {"to_world": to_world()}),
 ]
-
-
-def unit(v):
-    n = math.sqrt(sum(x * x for x in v))
-    return [x / n for x in v]
-
-
-def rand_dir(rng):
-    return unit([rng.gauss(0, 1) for _ in range(3)])
 
 
 def write_ply(rng, n=16):
@@ -76,16 +61,8 @@ def write_ply(rng, n=16):
     return [[float("%.6f" % x) for x in r] for r in rows]
 
 
-def record(si, o, d):
-    return {"o": list(o), "d": list(d), "t": si.t, "p": list(si.p), "n": list(si.n),
-            "sh_n": list(si.sh_frame.n), "uv": list(si.uv), "prim_index": int(si.prim_index)}
-
-
 def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("--out", default=os.path.join(ROOT, "tests", "data", "ellipsoids_hits.json"))
-    ap.add_argument("--rays", type=int, default=200)
-    args = ap.parse_args()
+    args = arguments("ellipsoids_hits.json")
     rng = random.Random(40)
     rows = write_ply(rng)
     cases = []
@@ -99,22 +76,13 @@ def main():
         size = [k * max(math.exp(x) for x in r[7:10]) for r in rows]
         hits, misses = [], []
 
-        def keep_miss(o, dvec):
-            for dx in [(0, 0, 0), (1e-3, 0, 0), (-1e-3, 0, 0), (0, 1e-3, 0), (0, -1e-3, 0),
-                       (0, 0, 1e-3), (0, 0, -1e-3)]:
-                oo = [o[i] + dx[i] for i in range(3)]
-                if scene.ray_intersect(mi.Ray3f(oo, dvec)).is_valid():
-                    return False
-            return True
-
         def trace(o, dvec):
-            o = [round(x, 6) for x in o]
-            dvec = [round(x, 6) for x in dvec]
+            o, dvec = rounded(o, dvec)
             si = scene.ray_intersect(mi.Ray3f(o, dvec))
             if si.is_valid():
-                if abs(sum(a * b for a, b in zip(si.n, dvec))) >= 0.1 and len(hits) < args.rays:
-                    hits.append(record(si, o, dvec))
-            elif len(misses) < args.rays and keep_miss(o, dvec):
+                if not grazing(si, dvec) and len(hits) < args.rays:
+                    hits.append(record(si, o, dvec, frame_s=False))
+            elif len(misses) < args.rays and clear_miss(scene, o, dvec):
                 misses.append({"o": o, "d": dvec})
 
         inside = 0
@@ -133,9 +101,7 @@ def main():
                 target = [rng.uniform(-1.6, 1.6), rng.uniform(-1.1, 1.1), rng.uniform(-0.9, 0.9)]
                 trace(o, unit([target[i] - o[i] for i in range(3)]))
         cases.append({"name": name, "shape": xml, "hits": hits, "misses": misses})
-    with open(args.out, "w") as f:
-        json.dump({"mitsuba": mi.__version__, "cases": cases}, f, indent=0)
-    print("wrote", args.out, sum(len(c["hits"]) for c in cases), "hits")
+    write(args.out, cases)
 
 
 if __name__ == "__main__":
