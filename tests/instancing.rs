@@ -133,6 +133,48 @@ fn render_with(name: &str, xml: &str, integrator: Option<&str>, spp: u32, seed: 
     common::render(&device(), &scene, &options, spp)
 }
 
+/// How many of the two images' values agree to 1e-3 (relative, or absolute below
+/// 1e-2), and how many there are.
+/// The instance maps, each stretching its object by `scale(1, 0.6 + 0.2 k, 1.3)`
+/// first.
+fn stretched_maps() -> Vec<Mat4> {
+    instance_maps()
+        .iter()
+        .enumerate()
+        .map(|(k, m)| *m * Mat4::from_scale(Vec3::new(1.0, 0.6 + 0.2 * k as f32, 1.3)))
+        .collect()
+}
+
+fn agreeing_values(a: &Image, b: &Image) -> (usize, usize) {
+    let close = a
+        .rgb
+        .iter()
+        .zip(&b.rgb)
+        .filter(|(x, y)| (*x - *y).abs() <= 1e-3 * x.abs().max(y.abs()).max(1e-2))
+        .count();
+    (close, a.rgb.len())
+}
+
+/// One tent (`SHAPES[0]` with `extra` after its transform) in a group placed by each
+/// of `maps`, and the same tents written out: the two scene bodies.
+fn tents_grouped_and_written(extra: &str, maps: &[Mat4]) -> (String, String) {
+    let tent = SHAPES[0].replace("{M}", &format!("{{M}}{extra}"));
+    let own = shape_maps()[0];
+    let mut grouped = format!(
+        r#"<shape type="shapegroup" id="group">{}</shape>"#,
+        tent.replace("{M}", &matrix(&own))
+    );
+    let mut written = String::new();
+    for m in maps {
+        grouped += &format!(
+            r#"<shape type="instance"><ref id="group"/>{}</shape>"#,
+            matrix(m)
+        );
+        written += &tent.replace("{M}", &matrix(&(*m * own)));
+    }
+    (grouped, written)
+}
+
 /// The photon mappers and the particle tracer trace instances too (their light paths
 /// meet, and their emitters' points and the camera's visible points lie on, mapped
 /// primitives): each renders the instanced scene as the flattened one. Their light
@@ -192,13 +234,7 @@ fn instances_render_as_their_shapes_written_out() {
     let a = render("instanced.xml", &instanced());
     let b = render("flattened.xml", &flattened());
     assert_eq!((a.width, a.height), (b.width, b.height));
-    let n = a.rgb.len();
-    let close = a
-        .rgb
-        .iter()
-        .zip(&b.rgb)
-        .filter(|(x, y)| (*x - *y).abs() <= 1e-3 * x.abs().max(y.abs()).max(1e-2))
-        .count();
+    let (close, n) = agreeing_values(&a, &b);
     let (ma, mb) = (common::mean(&a), common::mean(&b));
     println!("instanced mean {ma:.5}, flattened {mb:.5}; {close} of {n} values agree to 1e-3");
     assert!(ma > 0.05, "the scene is lit");
@@ -212,25 +248,12 @@ fn instances_render_as_their_shapes_written_out() {
 /// by them render as the tents written out, to rounding.
 #[test]
 fn general_instance_records_render_as_their_shapes_written_out() {
-    let tent = SHAPES[0];
-    let own = shape_maps()[0];
     let mut maps = instance_maps();
     maps.push(
         Mat4::from_translation(Vec3::new(0.0, -50.0, 0.0))
             * Mat4::from_scale(Vec3::new(1.0, 0.6, 1.3)),
     );
-    let mut grouped = format!(
-        r#"<shape type="shapegroup" id="group">{}</shape>"#,
-        tent.replace("{M}", &matrix(&own))
-    );
-    let mut written = String::new();
-    for m in &maps {
-        grouped += &format!(
-            r#"<shape type="instance"><ref id="group"/>{}</shape>"#,
-            matrix(m)
-        );
-        written += &tent.replace("{M}", &matrix(&(*m * own)));
-    }
+    let (grouped, written) = tents_grouped_and_written("", &maps);
     let dir = temp_dir("instancing");
     std::fs::write(dir.join("tent.obj"), TENT_OBJ).expect("write obj");
     std::fs::write(dir.join("general_records.xml"), scene(&grouped)).expect("write scene");
@@ -240,13 +263,7 @@ fn general_instance_records_render_as_their_shapes_written_out() {
     assert_eq!(texels, wavetrace::accel::instance::GENERAL_TEXELS);
     let a = render("general.xml", &scene(&grouped));
     let b = render("general_flat.xml", &scene(&written));
-    let n = a.rgb.len();
-    let close = a
-        .rgb
-        .iter()
-        .zip(&b.rgb)
-        .filter(|(x, y)| (*x - *y).abs() <= 1e-3 * x.abs().max(y.abs()).max(1e-2))
-        .count();
+    let (close, n) = agreeing_values(&a, &b);
     println!("{close} of {n} values agree to 1e-3");
     assert!(close as f64 >= 0.999 * n as f64, "{close} of {n} agree");
 }
@@ -277,30 +294,13 @@ fn an_unused_group_is_not_seen() {
 /// in an instance after; the geometric normals agree in both.
 #[test]
 fn unevenly_stretched_instances_render_as_their_shapes_written_out() {
-    let tent = SHAPES[0].replace("{M}", r#"{M}<boolean name="face_normals" value="true"/>"#);
-    let own = shape_maps()[0];
-    let mut grouped = format!(
-        r#"<shape type="shapegroup" id="group">{}</shape>"#,
-        tent.replace("{M}", &matrix(&own))
+    let (grouped, written) = tents_grouped_and_written(
+        r#"<boolean name="face_normals" value="true"/>"#,
+        &stretched_maps(),
     );
-    let mut written = String::new();
-    for (k, m) in instance_maps().iter().enumerate() {
-        let m = *m * Mat4::from_scale(Vec3::new(1.0, 0.6 + 0.2 * k as f32, 1.3));
-        grouped += &format!(
-            r#"<shape type="instance"><ref id="group"/>{}</shape>"#,
-            matrix(&m)
-        );
-        written += &tent.replace("{M}", &matrix(&(m * own)));
-    }
     let a = render("stretched.xml", &scene(&grouped));
     let b = render("stretched_flat.xml", &scene(&written));
-    let n = a.rgb.len();
-    let close = a
-        .rgb
-        .iter()
-        .zip(&b.rgb)
-        .filter(|(x, y)| (*x - *y).abs() <= 1e-3 * x.abs().max(y.abs()).max(1e-2))
-        .count();
+    let (close, n) = agreeing_values(&a, &b);
     println!("{close} of {n} values agree to 1e-3");
     assert!(close as f64 >= 0.999 * n as f64, "{close} of {n} agree");
 }
@@ -331,11 +331,7 @@ fn unevenly_stretched_quadrics_have_the_inverse_transposed_normal() {
         base.y + axis.y,
         base.z + axis.z
     );
-    let maps: Vec<Mat4> = instance_maps()
-        .iter()
-        .enumerate()
-        .map(|(k, m)| *m * Mat4::from_scale(Vec3::new(1.0, 0.6 + 0.2 * k as f32, 1.3)))
-        .collect();
+    let maps = stretched_maps();
     for m in &maps {
         body += &format!(
             r#"<shape type="instance"><ref id="group"/>{}</shape>"#,
