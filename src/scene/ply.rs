@@ -104,6 +104,147 @@ pub fn load(path: &Path) -> Result<Mesh, Error> {
     Ok(mesh)
 }
 
+/// Chooses the wanted properties of an element from their names, in file order: their
+/// indices, or why the layout is wrong ([`first_element`]).
+pub type Pick<'a> = dyn FnMut(&[String]) -> Result<Vec<usize>, String> + 'a;
+
+/// Chosen scalar properties of a PLY file's first element, for loaders of a layout of
+/// their own (Mitsuba's `ellipsoids` reads its first element so): [`first_element`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScalarElement {
+    /// Values per entry: the properties chosen, in the order chosen.
+    pub columns: usize,
+    /// Entry after entry, `columns` values each, every one finite.
+    pub values: Vec<f32>,
+    /// In an ASCII file, the line of entry 0 (ply-rs reads one entry a line).
+    pub first_line: Option<u32>,
+}
+
+impl ScalarElement {
+    pub fn count(&self) -> usize {
+        self.values.len() / self.columns.max(1)
+    }
+
+    /// Entry `k`'s values.
+    pub fn entry(&self, k: usize) -> &[f32] {
+        &self.values[k * self.columns..(k + 1) * self.columns]
+    }
+
+    /// An error about entry `k` (whose name `message` says): at its line in an ASCII
+    /// file.
+    pub fn error_at(&self, path: &Path, k: usize, message: String) -> Error {
+        match self.first_line {
+            Some(line) => Error::at(path, line + k as u32, message),
+            None => Error::file(path, message),
+        }
+    }
+}
+
+/// Reads the first element of the PLY file at `path` as [`load`] reads meshes (binary
+/// through [`super::ply_binary`], ASCII through ply-rs). Its properties must be
+/// scalars; `pick` is given their names in file order and returns the indices of those
+/// wanted (or why the layout is wrong). Errors name the file, the entry as `entry` and
+/// its number, and in an ASCII file its line: a file that ends early, a value that is
+/// not a number, a chosen value that is not finite.
+pub fn first_element(
+    path: &Path,
+    entry: &str,
+    mut pick: impl FnMut(&[String]) -> Result<Vec<usize>, String>,
+) -> Result<ScalarElement, Error> {
+    use ply_rs::ply::{Addable, ElementDef, PropertyType};
+    use std::io::BufRead;
+    let bytes = super::file_bytes::FileBytes::open(path)?;
+    check_header(path, &bytes)?;
+    if let Some(e) = super::ply_binary::first_element(path, &bytes, entry, &mut pick)? {
+        return Ok(e);
+    }
+    // ASCII.
+    let parser = ply_rs::parser::Parser::<DefaultElement>::new();
+    let mut reader = &bytes[..];
+    let header = parser
+        .read_header(&mut reader)
+        .map_err(|e| Error::file(path, format!("malformed PLY: {e}")))?;
+    let def = header
+        .elements
+        .values()
+        .next()
+        .ok_or_else(|| Error::file(path, "the PLY file has no element"))?;
+    if let Some(p) = def
+        .properties
+        .values()
+        .find(|p| !matches!(p.data_type, PropertyType::Scalar(_)))
+    {
+        return Err(Error::file(
+            path,
+            format!(
+                "PLY element '{}': '{}' is a list, where scalars are read",
+                def.name, p.name
+            ),
+        ));
+    }
+    let names: Vec<String> = def.properties.keys().cloned().collect();
+    let wanted = pick(&names).map_err(|m| Error::file(path, m))?;
+    // The body's first line follows the header's lines.
+    let header_lines = bytes[..bytes.len() - reader.len()]
+        .iter()
+        .filter(|&&b| b == b'\n')
+        .count() as u32;
+    let mut out = ScalarElement {
+        columns: wanted.len(),
+        values: Vec::with_capacity(def.count.min(1 << 20) * wanted.len()),
+        first_line: Some(header_lines + 1),
+    };
+    let ends = |k: usize| {
+        Error::file(
+            path,
+            format!("the file ends inside {entry} {k} of {}", def.count),
+        )
+    };
+    let mut line = String::new();
+    for k in 0..def.count {
+        line.clear();
+        reader
+            .read_line(&mut line)
+            .map_err(|e| out.error_at(path, k, format!("{entry} {k}: {e}")))?;
+        if line.is_empty() {
+            return Err(ends(k));
+        }
+        let e = parser.read_ascii_element(&line, def).map_err(|e| {
+            // Which word ply-rs refuses, read alone as its property.
+            let words: Vec<&str> = line.split_whitespace().collect();
+            let why = def.properties.values().enumerate().find_map(|(j, p)| {
+                let Some(w) = words.get(j) else {
+                    return Some(format!("the line ends before '{}'", p.name));
+                };
+                let mut one = ElementDef::new(p.name.clone());
+                one.properties.add(p.clone());
+                parser.read_ascii_element(w, &one).is_err().then(|| {
+                    if w.parse::<f64>().is_ok_and(|v| !v.is_finite()) {
+                        format!("'{}' is not finite ('{w}')", p.name)
+                    } else {
+                        format!("'{}' is not a number of its type ('{w}')", p.name)
+                    }
+                })
+            });
+            let why = why.unwrap_or_else(|| format!("ply-rs cannot read it: {e}"));
+            out.error_at(path, k, format!("{entry} {k}: {why}"))
+        })?;
+        for &j in &wanted {
+            let name = &names[j];
+            let v = e.get(name).and_then(scalar).unwrap_or(f64::NAN) as f32;
+            if !v.is_finite() {
+                return Err(out.error_at(
+                    path,
+                    k,
+                    format!("{entry} {k}: '{name}' is not finite ({v})"),
+                ));
+            }
+            out.values.push(v);
+        }
+    }
+    Ok(out)
+}
+
 /// The vertex and face attributes Mitsuba makes of the other scalar properties
 /// (`mesh_attribute::ply_attributes`); a face's values repeat for each triangle of
 /// its fan.

@@ -177,6 +177,62 @@ pub fn load(path: &Path, bytes: &[u8]) -> Result<Option<Mesh>, Error> {
     Ok(Some(mesh))
 }
 
+/// The first element of a binary PLY file, for [`super::ply::first_element`] (which
+/// documents `entry` and `pick`); `None` for an ASCII file.
+pub fn first_element(
+    path: &Path,
+    bytes: &[u8],
+    entry: &str,
+    pick: &mut super::ply::Pick,
+) -> Result<Option<super::ply::ScalarElement>, Error> {
+    let Some((big, elements, body)) = header(path, bytes)? else {
+        return Ok(None);
+    };
+    let e = elements
+        .first()
+        .ok_or_else(|| Error::file(path, "the PLY file has no element"))?;
+    let Some(size) = e.fixed_size() else {
+        return Err(Error::file(
+            path,
+            format!(
+                "PLY element '{}' has a list property, where scalars are read",
+                e.name
+            ),
+        ));
+    };
+    let names: Vec<String> = e.properties.iter().map(|p| p.name.clone()).collect();
+    let wanted = pick(&names).map_err(|m| Error::file(path, m))?;
+    let columns: Vec<(usize, Scalar)> = wanted
+        .iter()
+        .map(|&j| e.scalar(&names[j]).expect("a scalar of the element"))
+        .collect();
+    let data = &bytes[body..];
+    let mut values = Vec::with_capacity(e.count.min(data.len() / size.max(1)) * wanted.len());
+    for k in 0..e.count {
+        let record = data.get(k * size..(k + 1) * size).ok_or_else(|| {
+            Error::file(
+                path,
+                format!("the file ends inside {entry} {k} of {}", e.count),
+            )
+        })?;
+        for (&j, &(offset, s)) in wanted.iter().zip(&columns) {
+            let v = s.read(&record[offset..], big) as f32;
+            if !v.is_finite() {
+                return Err(Error::file(
+                    path,
+                    format!("{entry} {k}: '{}' is not finite ({v})", names[j]),
+                ));
+            }
+            values.push(v);
+        }
+    }
+    Ok(Some(super::ply::ScalarElement {
+        columns: wanted.len(),
+        values,
+        first_line: None,
+    }))
+}
+
 /// Parses the header: (big endian, elements, offset of the body), or `None` if the
 /// file is ASCII.
 fn header(path: &Path, bytes: &[u8]) -> Result<Option<(bool, Vec<Element>, usize)>, Error> {

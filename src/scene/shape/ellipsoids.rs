@@ -32,6 +32,7 @@ use glam::{Mat3, Quat, Vec3};
 use super::{Geometry, Mesh, TO_WORLD};
 use crate::scene::builder;
 use crate::scene::plugin::{Family, Param, PluginDoc};
+use crate::scene::ply;
 use crate::scene::properties::Properties;
 use crate::scene::xml::{Dialect, Element};
 use crate::scene::Error;
@@ -164,8 +165,7 @@ pub fn mitsuba(el: &Element, props: &Properties) -> Result<Geometry, Error> {
     if !(to_world.is_finite() && world_scale != 0.0 && r.is_finite()) {
         return Err(props.error("to_world", "'to_world' must be an invertible affine map"));
     }
-    let bytes = std::fs::read(&path).map_err(|e| Error::file(&path, format!("{e}")))?;
-    let raw = parse(&path, &bytes)?;
+    let raw = parse(&path)?;
     let mut mesh = Mesh {
         name: path.display().to_string(),
         ..Mesh::default()
@@ -220,195 +220,45 @@ pub fn polar(m: Mat3) -> (Quat, f32) {
 }
 
 /// The ellipsoids of a PLY file as written (centre, log-scales, the quaternion with
-/// `rot_0` its real part), before `to_world`, exp and `extent`.
-pub fn parse(path: &Path, bytes: &[u8]) -> Result<Vec<Ellipsoid>, Error> {
-    let err = |m: String| Error::file(path, m);
-    let end = bytes
-        .windows(11)
-        .position(|w| w == b"end_header\n")
-        .or_else(|| {
-            bytes
-                .windows(12)
-                .position(|w| w == b"end_header\r\n")
-                .map(|p| p + 1)
-        })
-        .ok_or_else(|| err("not a PLY file: no 'end_header' line".into()))?;
-    let header =
-        std::str::from_utf8(&bytes[..end]).map_err(|_| err("a PLY header must be text".into()))?;
-    let body = &bytes[end + 11..];
-    let mut lines = header.lines().map(str::trim_end);
-    if lines.next() != Some("ply") {
-        return Err(err("not a PLY file: it does not start with 'ply'".into()));
-    }
-    let mut format = None;
-    let mut count: Option<usize> = None;
-    let mut props: Vec<(String, &str)> = Vec::new();
-    let mut in_first = false;
-    for line in lines {
-        let w: Vec<&str> = line.split_whitespace().collect();
-        match w.as_slice() {
-            ["format", f, _] => format = Some(f.to_string()),
-            ["element", _, n] => {
-                if count.is_some() {
-                    in_first = false;
-                    continue;
-                }
-                count = Some(
-                    n.parse()
-                        .map_err(|_| err(format!("bad element count '{n}'")))?,
-                );
-                in_first = true;
-            }
-            ["property", "list", ..] if in_first => {
-                return Err(err(
-                    "the ellipsoids' element cannot hold list properties".into()
-                ))
-            }
-            ["property", ty, name] if in_first => props.push((name.to_string(), ty)),
-            _ => {}
-        }
-    }
-    let count = count.ok_or_else(|| err("the PLY file has no element".into()))?;
-    let names: Vec<&str> = props.iter().map(|p| p.0.as_str()).collect();
-    let n = names.len();
-    let first = ["x", "y", "z", "nx", "ny", "nz"];
-    let last = [
+/// `rot_0` its real part), before `to_world`, exp and `extent`. The file is read by
+/// [`ply::first_element`]; here only Mitsuba's layout is checked (ellipsoids.h).
+pub fn parse(path: &Path) -> Result<Vec<Ellipsoid>, Error> {
+    const FIRST: [&str; 6] = ["x", "y", "z", "nx", "ny", "nz"];
+    const LAST: [&str; 7] = [
         "scale_0", "scale_1", "scale_2", "rot_0", "rot_1", "rot_2", "rot_3",
     ];
-    if n < 13 || names[..6] != first || names[n - 7..] != last {
-        return Err(err(format!(
-            "ellipsoids need the properties 'x y z nx ny nz' first and 'scale_0 scale_1 scale_2 rot_0 rot_1 rot_2 rot_3' last (Mitsuba's layout); this file has '{}'",
-            names.join(" ")
-        )));
-    }
-    let sizes = type_sizes(path, &props)?;
-    let mut values = vec![0f64; n];
-    let mut out = Vec::with_capacity(count.min(1 << 24));
-    let big = match format.as_deref() {
-        Some("ascii") => None,
-        Some("binary_little_endian") => Some(false),
-        Some("binary_big_endian") => Some(true),
-        f => return Err(err(format!("unknown PLY format {f:?}"))),
-    };
-    let stride: usize = sizes.iter().sum();
-    // ASCII: each word with its line in the file (the body starts after end_header).
-    let first_line = header.lines().count() as u32 + 2;
-    let mut words = if big.is_none() {
-        Some(
-            std::str::from_utf8(body)
-                .map_err(|_| err("an ASCII PLY file must be text".into()))?
-                .lines()
-                .enumerate()
-                .flat_map(|(i, l)| l.split_whitespace().map(move |w| (i as u32, w))),
-        )
-    } else {
-        None
-    };
-    let mut line = 0u32;
-    // An error in entry k: at its line in ASCII files.
-    let at = |line: u32, m: String| {
-        if big.is_none() {
-            Error::at(path, first_line + line, m)
-        } else {
-            Error::file(path, m)
-        }
-    };
-    for k in 0..count {
-        match (big, words.as_mut()) {
-            (Some(big), _) => {
-                let rec = body
-                    .get(k * stride..(k + 1) * stride)
-                    .ok_or_else(|| err(format!("the file ends inside ellipsoid {k} of {count}")))?;
-                let mut at = 0;
-                for (j, ((_, ty), size)) in props.iter().zip(&sizes).enumerate() {
-                    values[j] = read_scalar(ty, &rec[at..at + size], big);
-                    at += size;
-                }
-            }
-            (None, Some(words)) => {
-                for (j, v) in values.iter_mut().enumerate() {
-                    let (l, w) = words.next().ok_or_else(|| {
-                        err(format!("the file ends inside ellipsoid {k} of {count}"))
-                    })?;
-                    line = l;
-                    *v = w.parse().map_err(|_| {
-                        at(
-                            line,
-                            format!("ellipsoid {k}: '{}' is not a number ('{w}')", names[j]),
-                        )
-                    })?;
-                }
-            }
-            _ => unreachable!("ASCII files have their words"),
-        }
-        let geometry = (0..3).chain(n - 7..n);
-        if let Some(j) = geometry.clone().find(|&j| !values[j].is_finite()) {
-            return Err(at(
-                line,
-                format!(
-                    "ellipsoid {k}: '{}' is not finite ({})",
-                    names[j], values[j]
-                ),
+    let table = ply::first_element(path, "ellipsoid", |names| {
+        let n = names.len();
+        if n < 13 || names[..6] != FIRST || names[n - 7..] != LAST {
+            return Err(format!(
+                "ellipsoids need the properties 'x y z nx ny nz' first and 'scale_0 scale_1 scale_2 rot_0 rot_1 rot_2 rot_3' last (Mitsuba's layout); this file has '{}'",
+                names.join(" ")
             ));
         }
-        let v = |j: usize| values[j] as f32;
-        let rotation = Quat::from_xyzw(v(n - 3), v(n - 2), v(n - 1), v(n - 4));
+        // The centre, then the scales and the quaternion.
+        Ok((0..3).chain(n - 7..n).collect())
+    })?;
+    let mut out = Vec::with_capacity(table.count());
+    for k in 0..table.count() {
+        let v = table.entry(k);
+        let rotation = Quat::from_xyzw(v[7], v[8], v[9], v[6]);
         if rotation.length_squared() == 0.0 {
-            return Err(at(
-                line,
+            return Err(table.error_at(
+                path,
+                k,
                 format!("ellipsoid {k}: its quaternion 'rot_0..3' is zero"),
             ));
         }
         out.push(Ellipsoid {
-            center: Vec3::new(v(0), v(1), v(2)),
-            scale: Vec3::new(v(n - 7), v(n - 6), v(n - 5)),
+            center: Vec3::new(v[0], v[1], v[2]),
+            scale: Vec3::new(v[3], v[4], v[5]),
             rotation,
         });
     }
     if out.is_empty() {
-        return Err(err("the file holds no ellipsoids".into()));
+        return Err(Error::file(path, "the file holds no ellipsoids"));
     }
     Ok(out)
-}
-
-/// The size in bytes of each PLY property `(name, type)`.
-fn type_sizes(path: &Path, props: &[(String, &str)]) -> Result<Vec<usize>, Error> {
-    props
-        .iter()
-        .map(|(_, ty)| match *ty {
-            "char" | "int8" | "uchar" | "uint8" => Ok(1),
-            "short" | "int16" | "ushort" | "uint16" => Ok(2),
-            "int" | "int32" | "uint" | "uint32" | "float" | "float32" => Ok(4),
-            "double" | "float64" => Ok(8),
-            t => Err(Error::file(
-                path,
-                format!("unknown PLY property type '{t}'"),
-            )),
-        })
-        .collect()
-}
-
-fn read_scalar(ty: &str, b: &[u8], big: bool) -> f64 {
-    macro_rules! get {
-        ($t:ty) => {{
-            let a = b.try_into().expect("sized by the type");
-            (if big {
-                <$t>::from_be_bytes(a)
-            } else {
-                <$t>::from_le_bytes(a)
-            }) as f64
-        }};
-    }
-    match ty {
-        "char" | "int8" => get!(i8),
-        "uchar" | "uint8" => get!(u8),
-        "short" | "int16" => get!(i16),
-        "ushort" | "uint16" => get!(u16),
-        "int" | "int32" => get!(i32),
-        "uint" | "uint32" => get!(u32),
-        "float" | "float32" => get!(f32),
-        _ => get!(f64),
-    }
 }
 
 /// Gives each ellipsoid of `meshes` its place in the grid buffer, from word `base` on
@@ -455,8 +305,10 @@ pub fn pack(meshes: &[Mesh], words: &mut Vec<f32>) {
 mod tests {
     use super::*;
 
-    fn read(text: &str) -> Result<Vec<Ellipsoid>, Error> {
-        parse(Path::new("e.ply"), text.as_bytes())
+    fn read(bytes: impl AsRef<[u8]>) -> Result<Vec<Ellipsoid>, Error> {
+        let path = crate::scene::testutil::temp_dir("ellipsoids").join("e.ply");
+        std::fs::write(&path, bytes).unwrap();
+        parse(&path)
     }
 
     const HEADER: &str = "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty float opacity\nproperty float scale_0\nproperty float scale_1\nproperty float scale_2\nproperty float rot_0\nproperty float rot_1\nproperty float rot_2\nproperty float rot_3\nend_header\n";
@@ -479,24 +331,73 @@ mod tests {
         for v in [0f32, 0., 0., 0., 0., 0., 1., 0., 0., 0., 0.5, 0.5, 0.5, 0.5] {
             bin.extend_from_slice(&v.to_le_bytes());
         }
-        assert_eq!(parse(Path::new("e.ply"), &bin).unwrap(), e);
+        assert_eq!(read(&bin).unwrap(), e);
+        let mut big = HEADER.replace("ascii", "binary_big_endian").into_bytes();
+        for v in [1f32, 2., 3., 0., 0., 1., 0.5, 0., 0.5, -1., 1., 0., 0., 0.] {
+            big.extend_from_slice(&v.to_be_bytes());
+        }
+        for v in [0f32, 0., 0., 0., 0., 0., 1., 0., 0., 0., 0.5, 0.5, 0.5, 0.5] {
+            big.extend_from_slice(&v.to_be_bytes());
+        }
+        assert_eq!(read(&big).unwrap(), e);
     }
 
     #[test]
     fn errors_name_the_cause() {
-        let msg = |t: &str| read(t).unwrap_err().to_string();
-        assert!(msg(&format!(
-            "{HEADER}1 2 3 0 0 1 0.5 0 0.5 nan 1 0 0 0\n0 0 0 0 0 0 1 0 0 0 1 0 0 0\n"
-        ))
-        .contains("ellipsoid 0: 'scale_2' is not finite"));
-        assert!(msg(&format!("{HEADER}1 2 3 0 0 1 0.5 0 0.5 0 1 0 0 0\n"))
-            .contains("ends inside ellipsoid 1"));
-        assert!(msg(&HEADER.replace("scale_0", "s0")).contains("'x y z nx ny nz' first"));
-        assert!(msg(&format!(
-            "{HEADER}1 2 3 0 0 1 0.5 0 0.5 0 0 0 0 0\n0 0 0 0 0 0 1 0 0 0 1 0 0 0\n"
-        ))
-        .contains("quaternion"));
-        assert!(msg("hello\n").contains("end_header"));
+        let msg = |t: &[u8]| read(t).unwrap_err().to_string();
+        let ascii = |rows: &str| msg(format!("{HEADER}{rows}").as_bytes());
+        // The header is 18 lines: entry k is on line 19 + k.
+        let e = ascii("1 2 3 0 0 1 0.5 0 0.5 nan 1 0 0 0\n0 0 0 0 0 0 1 0 0 0 1 0 0 0\n");
+        assert!(
+            e.contains("e.ply:19: ellipsoid 0: 'scale_2' is not finite ('nan')"),
+            "{e}"
+        );
+        let e = ascii("1 2 3 0 0 1 0.5 0 0.5 0 1 0 0 0\n0 0 0 0 0 0 1 0 0 1e99 1 0 0 0\n");
+        assert!(
+            e.contains("e.ply:20: ellipsoid 1: 'scale_2' is not finite (inf)"),
+            "{e}"
+        );
+        let e = ascii("1 2 3 0 0 1 0.5 0 0.5 0 1 0 0 0\n0 0 0 0 0 0 abc 0 0 0 1 0 0 0\n");
+        assert!(
+            e.contains("e.ply:20: ellipsoid 1: 'opacity' is not a number"),
+            "{e}"
+        );
+        let e = ascii("1 2 3 0 0 1 0.5 0 0.5 0 1 0 0 0\n0 0 0 0 0 0 1 0 0 0 1\n");
+        assert!(
+            e.contains("e.ply:20: ellipsoid 1: the line ends before 'rot_1'"),
+            "{e}"
+        );
+        assert!(ascii("1 2 3 0 0 1 0.5 0 0.5 0 1 0 0 0\n")
+            .contains("e.ply: the file ends inside ellipsoid 1 of 2"));
+        assert!(msg(HEADER.replace("scale_0", "s0").as_bytes()).contains("'x y z nx ny nz' first"));
+        let e = ascii("1 2 3 0 0 1 0.5 0 0.5 0 1 0 0 0\n0 0 0 0 0 0 1 0 0 0 0 0 0 0\n");
+        assert!(e.contains("e.ply:20: ellipsoid 1: its quaternion"), "{e}");
+        assert!(msg(b"hello\n").contains("end_header"));
+        // Binary: the entry, no line.
+        let binary = |rows: &[[f32; 14]]| {
+            let mut b = HEADER.replace("ascii", "binary_little_endian").into_bytes();
+            for v in rows.iter().flatten() {
+                b.extend_from_slice(&v.to_le_bytes());
+            }
+            b
+        };
+        let good = [1f32, 2., 3., 0., 0., 1., 0.5, 0., 0.5, -1., 1., 0., 0., 0.];
+        let mut nan = good;
+        nan[11] = f32::NAN;
+        let e = msg(&binary(&[good, nan]));
+        assert!(
+            e.contains("e.ply: ellipsoid 1: 'rot_1' is not finite (NaN)"),
+            "{e}"
+        );
+        let b = binary(&[good, good]);
+        let e = msg(&b[..b.len() - 3]);
+        assert!(
+            e.contains("e.ply: the file ends inside ellipsoid 1 of 2"),
+            "{e}"
+        );
+        let mut zero = good;
+        zero[10..].fill(0.0);
+        assert!(msg(&binary(&[zero, good])).contains("ellipsoid 0: its quaternion"));
     }
 
     #[test]
