@@ -146,6 +146,79 @@ fn ellipsoids_hit_like_mitsuba_on_the_cpu() {
     report("CPU", &data, &failures, worst);
 }
 
+/// `ellipsoidsmesh` (tests/data/ellipsoidsmesh_hits.json, tools/mitsuba_ellipsoidsmesh.py:
+/// the same file as Mitsuba's icosahedron shells, plain and under a to_world, and box
+/// shells with extent and scale_factor; no ray starts inside a shell, where Mitsuba
+/// culls back faces and wavetrace does not): the GPU finds Mitsuba's hits and misses,
+/// its points, its flat normals and its uv (a mesh without uvs: the barycentrics).
+#[test]
+fn ellipsoidsmesh_hits_like_mitsuba_on_the_gpu() {
+    let text = std::fs::read_to_string(common::repo("tests/data/ellipsoidsmesh_hits.json"))
+        .expect("tests/data/ellipsoidsmesh_hits.json (python3 tools/mitsuba_ellipsoidsmesh.py)");
+    let data: Value = serde_json::from_str(&text).unwrap();
+    let mut failures = Vec::new();
+    let mut worst = [0.0f32; 3];
+    for case in data["cases"].as_array().unwrap() {
+        let name = case["name"].as_str().unwrap();
+        let found = common::surface_query(&scene_of("ellipsoidsmesh", case), &rays(case));
+        for (
+            h,
+            SurfaceHit {
+                p, t, ng, ns, uv, ..
+            },
+            ray,
+        ) in common::hits_both_found(case, &found, &mut failures)
+        {
+            let t_mi = h["t"].as_f64().unwrap() as f32;
+            let p_mi = v3(&h["p"]);
+            let n_mi = v3(&h["n"]);
+            let uv_mi = [
+                h["uv"][0].as_f64().unwrap() as f32,
+                h["uv"][1].as_f64().unwrap() as f32,
+            ];
+            let duv = (uv[0] - uv_mi[0]).abs().max((uv[1] - uv_mi[1]).abs());
+            if (t - t_mi).abs() > 1e-5 * (1.0 + t_mi) || (p - p_mi).length() > 1e-5 * (1.0 + t_mi) {
+                failures.push(format!(
+                    "{name}: point: ours {p} at t {t}, Mitsuba's {p_mi} at t {t_mi} ({ray})"
+                ));
+            }
+            if (ng - n_mi).length() > 1e-4 || (ns - v3(&h["sh_n"])).length() > 1e-4 {
+                failures.push(format!(
+                    "{name}: normal: ours {ng} {ns}, Mitsuba's {n_mi} ({ray})"
+                ));
+            }
+            if duv > 1e-4 {
+                failures.push(format!(
+                    "{name}: uv: ours {uv:?}, Mitsuba's {uv_mi:?} ({ray})"
+                ));
+            }
+            worst[0] = worst[0].max((p - p_mi).length() / (1.0 + t_mi));
+            worst[1] = worst[1].max((ng - n_mi).length());
+            worst[2] = worst[2].max(duv);
+        }
+    }
+    eprintln!(
+        "ellipsoidsmesh: largest differences from Mitsuba: point {:.1e} (relative to 1 + t), \
+         normal {:.1e}, uv {:.1e}",
+        worst[0], worst[1], worst[2]
+    );
+    let count = |k: &str| -> usize {
+        data["cases"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| c[k].as_array().unwrap().len())
+            .sum()
+    };
+    assert!(count("hits") >= 600 && count("misses") >= 600);
+    assert!(
+        failures.is_empty(),
+        "{} differences from Mitsuba's ellipsoidsmesh:\n{}",
+        failures.len(),
+        failures[..failures.len().min(20)].join("\n")
+    );
+}
+
 /// Loader errors name the file and the line, or the file and the ellipsoid.
 #[test]
 fn ellipsoids_loader_errors() {
@@ -177,6 +250,18 @@ fn ellipsoids_loader_errors() {
         (
             "<shape type=\"ellipsoids\"><string name=\"filename\" value=\"nan.ply\"/><float name=\"extent\" value=\"-1\"/></shape>",
             vec!["extent", "positive", ":4"],
+        ),
+        (
+            "<shape type=\"ellipsoidsmesh\"><string name=\"filename\" value=\"nan.ply\"/><string name=\"shell\" value=\"uv_sphere\"/></shape>",
+            vec!["'uv_sphere'", "not supported yet", ":4"],
+        ),
+        (
+            "<shape type=\"ellipsoidsmesh\"><string name=\"filename\" value=\"nan.ply\"/><string name=\"shell\" value=\"ball\"/></shape>",
+            vec!["unknown shell 'ball'", ":4"],
+        ),
+        (
+            "<shape type=\"ellipsoidsmesh\"><string name=\"filename\" value=\"nan.ply\"/></shape>",
+            vec!["nan.ply:19: ellipsoid 0: 'scale_2' is not finite"],
         ),
     ];
     for (i, (shape, wants)) in cases.iter().enumerate() {

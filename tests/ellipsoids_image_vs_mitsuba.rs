@@ -14,16 +14,32 @@ use common::{device, repo};
 use wavetrace::image::Image;
 use wavetrace::render::RenderOptions;
 
-#[test]
-fn ellipsoids_match_mitsuba() {
-    let path = repo("scenes/ellipsoids/five.xml");
+fn render_against(scene: &str, reference: &str) {
+    let path = repo(scene);
     let scene = wavetrace::scene::load(&path, &[])
         .unwrap_or_else(|e| panic!("loading {}: {e}", path.display()));
-    let reference =
-        Image::read_exr(repo("scenes/refs/ellipsoids_five.exr")).expect("reference EXR");
+    let reference = Image::read_exr(repo(reference)).expect(reference);
     let t = std::time::Instant::now();
     let img = common::render(&device(), &scene, &RenderOptions::default(), 256);
     assert_eq!((img.width, img.height), (reference.width, reference.height));
     let label = format!("{} ({:.1} s)", path.display(), t.elapsed().as_secs_f64());
     common::assert_matches_reference(&img, &reference, &label);
+}
+
+#[test]
+fn ellipsoids_match_mitsuba() {
+    render_against(
+        "scenes/ellipsoids/five.xml",
+        "scenes/refs/ellipsoids_five.exr",
+    );
+}
+
+/// The same ellipsoids as Mitsuba's `ellipsoidsmesh` icosahedron shells (flat shaded),
+/// against Mitsuba's render of scenes/ellipsoids/five_mesh.xml.
+#[test]
+fn ellipsoidsmesh_matches_mitsuba() {
+    render_against(
+        "scenes/ellipsoids/five_mesh.xml",
+        "scenes/refs/ellipsoids_five_mesh.exr",
+    );
 }

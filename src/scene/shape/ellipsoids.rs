@@ -25,7 +25,7 @@
 //! <shape type="ellipsoids"><string name="filename" value="primitives.ply"/></shape>
 //! ```
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use glam::{Mat3, Quat, Vec3};
 
@@ -137,6 +137,26 @@ impl Ellipsoid {
 /// A Mitsuba `ellipsoids`: the ellipsoids in world space (`to_world` applied, as
 /// Mitsuba applies it when it reads the file).
 pub fn mitsuba(el: &Element, props: &Properties) -> Result<Geometry, Error> {
+    let (path, ellipsoids) = world(el, props)?;
+    let mut mesh = Mesh {
+        name: path.display().to_string(),
+        ..Mesh::default()
+    };
+    for (k, e) in ellipsoids.into_iter().enumerate() {
+        mesh.positions.push(e.center);
+        mesh.radii.push(e.scale.abs().max_element());
+        mesh.indices.push([k as u32, MARKER, 0]);
+        mesh.ellipsoids.push(e);
+    }
+    Ok(Geometry::Curves {
+        mesh,
+        to_world: glam::Mat4::IDENTITY,
+    })
+}
+
+/// The file and the ellipsoids in world space of an `ellipsoids` or `ellipsoidsmesh`
+/// (their parameters `filename`, `extent`, `scale_factor`, `to_world` and refusals).
+pub fn world(el: &Element, props: &Properties) -> Result<(PathBuf, Vec<Ellipsoid>), Error> {
     for key in ["data", "centers"] {
         if props.has(key) {
             return Err(props.error(
@@ -166,10 +186,7 @@ pub fn mitsuba(el: &Element, props: &Properties) -> Result<Geometry, Error> {
         return Err(props.error("to_world", "'to_world' must be an invertible affine map"));
     }
     let raw = parse(&path)?;
-    let mut mesh = Mesh {
-        name: path.display().to_string(),
-        ..Mesh::default()
-    };
+    let mut out = Vec::with_capacity(raw.len());
     for (k, e) in raw.iter().enumerate() {
         let center = to_world.transform_point3(e.center);
         let scale = e.scale.exp().max(Vec3::splat(1e-6)) * scale_factor * world_scale * extent;
@@ -187,15 +204,9 @@ pub fn mitsuba(el: &Element, props: &Properties) -> Result<Geometry, Error> {
                 ),
             ));
         }
-        mesh.positions.push(center);
-        mesh.radii.push(scale.abs().max_element());
-        mesh.indices.push([k as u32, MARKER, 0]);
-        mesh.ellipsoids.push(ell);
+        out.push(ell);
     }
-    Ok(Geometry::Curves {
-        mesh,
-        to_world: glam::Mat4::IDENTITY,
-    })
+    Ok((path, out))
 }
 
 /// The rotation of `m`'s polar decomposition m = Q P (a reflection folded into P, as

@@ -10,6 +10,7 @@ pub mod cube;
 pub mod cylinder;
 pub mod disk;
 pub mod ellipsoids;
+pub mod ellipsoidsmesh;
 pub mod instance;
 pub mod linearcurve;
 pub mod merge;
@@ -45,11 +46,12 @@ pub const REGISTRY: &[PluginDoc] = &[
     bsplinecurve::MITSUBA,
     sdfgrid::MITSUBA,
     ellipsoids::MITSUBA,
-    not_yet("ellipsoidsmesh"),
+    ellipsoidsmesh::MITSUBA,
     merge::MITSUBA,
     obj::NORI,
 ];
 
+#[allow(dead_code)] // for Mitsuba shape types not supported yet (none today)
 const fn not_yet(name: &'static str) -> PluginDoc {
     PluginDoc::not_yet(Family::Shape, Dialect::Mitsuba, name)
 }
@@ -105,6 +107,7 @@ pub fn mitsuba(t: &str, el: &Element, props: &Properties) -> Result<Geometry, Er
         "linearcurve" => return linearcurve::mitsuba(el, props),
         "bsplinecurve" => return bsplinecurve::mitsuba(el, props),
         "ellipsoids" => return ellipsoids::mitsuba(el, props),
+        "ellipsoidsmesh" => return ellipsoidsmesh::mitsuba(el, props),
         provided::TYPE if provided::active() => return provided::mitsuba(el, props),
         _ => {}
     }
