@@ -19,6 +19,10 @@ struct SurfaceTexels {
 #define SURFACE_TEX_EMISSION 5u
 #define SURFACE_TEX_COND_ETA 6u
 #define SURFACE_TEX_COND_K 7u
+#define SURFACE_TEX_ETA 8u
+// Whether the scene textures some record's eta (surface_tex_used(SURFACE_TEX_ETA)):
+// where not, the code of that slot compiles out, even in the lookup loop.
+#define SURFACE_TEX_ETA_USED TEXTURE_USES(1u << (TEXTURE_FEATURE_PARAM_SHIFT + SURFACE_TEX_ETA))
 
 // Texture id of lookup slot k (SURFACE_TEX_*) of record b.
 uint surface_tex_id(BsdfRecord b, uint emission_texture, uint k) {
@@ -29,6 +33,7 @@ uint surface_tex_id(BsdfRecord b, uint emission_texture, uint k) {
         : k == SURFACE_TEX_ALPHA_V ? b.tex_alpha_v
         : k == SURFACE_TEX_COND_ETA ? b.tex_cond_eta
         : k == SURFACE_TEX_COND_K ? b.tex_cond_k
+        : SURFACE_TEX_ETA_USED && k == SURFACE_TEX_ETA ? b.tex_eta
         : emission_texture;
 }
 
@@ -47,6 +52,9 @@ BsdfRecord surface_tex_store(BsdfRecord b, inout SurfaceTexels texels, uint k, u
     if (k == SURFACE_TEX_EMISSION) texels.emission = c;
     if (k == SURFACE_TEX_COND_ETA) b.cond_eta = c;
     if (k == SURFACE_TEX_COND_K) b.cond_k = c;
+    // eta (pplastic's) as Mitsuba's eval_1, as roughness: the luminance (a scene without
+    // such a texture compiles this out).
+    if (SURFACE_TEX_ETA_USED && k == SURFACE_TEX_ETA) b.eta = texture_luminance(texture_eval_1_color(id, c));
     return b;
 }
 
@@ -136,6 +144,7 @@ BsdfRecord bsdf_textured_point(BsdfRecord b, vec2 uv, bool normal_map, uint emis
             | (b.tex_alpha_v != 0u && alpha_v_own ? 1u << SURFACE_TEX_ALPHA_V : 0u)
             | (b.tex_cond_eta != 0u ? 1u << SURFACE_TEX_COND_ETA : 0u)
             | (b.tex_cond_k != 0u ? 1u << SURFACE_TEX_COND_K : 0u);
+        if (SURFACE_TEX_ETA_USED && b.tex_eta != 0u) pending |= 1u << SURFACE_TEX_ETA;
     }
     if (TEXTURE_USES(TEXTURE_FEATURE_AREA) && emission_texture != 0u) {
         pending |= 1u << SURFACE_TEX_EMISSION;
@@ -156,6 +165,7 @@ BsdfRecord bsdf_textured_point(BsdfRecord b, vec2 uv, bool normal_map, uint emis
         SURFACE_TEX_ONE(SURFACE_TEX_EMISSION)
         SURFACE_TEX_ONE(SURFACE_TEX_COND_ETA)
         SURFACE_TEX_ONE(SURFACE_TEX_COND_K)
+        SURFACE_TEX_ONE(SURFACE_TEX_ETA)
     }
     if (bsdf) {
         if (b.tex_alpha_v != 0u && !alpha_v_own) b.alpha_v = b.alpha_u;

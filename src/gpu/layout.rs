@@ -229,7 +229,7 @@ pub const TEXTURE_FEATURE_TABLE: u32 = 8192;
 pub const TEXTURE_FEATURE_EMITTER_PROFILE: u32 = 16384;
 /// Bit `TEXTURE_FEATURE_PARAM_SHIFT + k`: some BSDF textures its parameter k (0
 /// reflectance, 1 specular, 2 transmittance, 3 alpha_u, 4 alpha_v, 6 cond_eta, 7
-/// cond_k), as `SURFACE_TEX_*` in bsdf_textured.glsl.
+/// cond_k, 8 eta), as `SURFACE_TEX_*` in bsdf_textured.glsl.
 pub const TEXTURE_FEATURE_PARAM_SHIFT: u32 = 16;
 
 /// Most emitter prims [`Frame::emitter_prims`] holds.
@@ -399,7 +399,7 @@ mod tests {
                 distribution,
                 specular_weight,
                 internal,
-                pad0,
+                tex_eta,
                 table,
                 tex_reflectance,
                 tex_specular,

@@ -217,6 +217,7 @@ gpu_record! {
     /// | plastic | `reflectance`, `specular`, `eta`, `specular_weight`, `internal` (F_dr inside) |
     /// | roughplastic | + `distribution`, `alpha_u` (= `alpha_v`), `table` (coating transmittance at cos θ = i/63, 64 unorm16 entries, two a word), `internal` (R_int) |
     /// | Nori microfacet | `reflectance` (kd), `specular_weight` (ks), `eta`, `alpha_u` |
+    /// | pplastic | `reflectance`, `specular`, `eta`, `specular_weight`, `distribution`, `alpha_u`, `alpha_v` |
     /// | principled, principledthin | `reflectance` (base_color), `eta`, `table` (scalar parameters, their textures: `scene::bsdf::principled`) |
     /// | measured | `table[0]`: where its tables start in the texel words, its file's hash (`scene::bsdf::measured`) |
     ///
@@ -237,7 +238,9 @@ gpu_record! {
         pub distribution: u32 => uint,
         pub specular_weight: f32 => float,
         pub internal: f32 => float,
-        pub pad0: u32 => uint,
+        /// Texture of `eta` (index + 1, 0: `eta` applies), read as Mitsuba's `eval_1`
+        /// (pplastic's textured `eta`).
+        pub tex_eta: u32 => uint,
         pub table: [[u32; 4]; BSDF_TABLE_SIZE / 4] => uvec4[8],
         /// Textures replacing the constants above at a hit, as texture index + 1 (0: the
         /// constant applies): `reflectance`, `specular`, `transmittance` (colors),

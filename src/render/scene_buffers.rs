@@ -462,6 +462,7 @@ impl SceneRecords {
                 0, // SURFACE_TEX_EMISSION: TEXTURE_FEATURE_AREA
                 b.tex_cond_eta,
                 b.tex_cond_k,
+                b.tex_eta,
             ]
             .iter()
             .enumerate()

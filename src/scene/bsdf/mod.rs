@@ -478,6 +478,7 @@ pub struct TextureMaps {
     pub alpha_v: Option<u32>,
     pub cond_eta: Option<u32>,
     pub cond_k: Option<u32>,
+    pub eta: Option<u32>,
     /// Scalar parameters kept in the record's table ([`Slot::Table`]): (entry, texture).
     pub table: Vec<(u8, u32)>,
 }
@@ -495,6 +496,8 @@ pub enum Slot {
     /// A conductor's `eta` and `k` (colors).
     CondEta,
     CondK,
+    /// `eta`, read as Mitsuba's `eval_1` reads a texture (pplastic's).
+    Eta,
     /// Entry k of the record's table, the texture's luminance (`principled`'s scalars;
     /// looked up where the scene's texture mask has `TEXTURE_FEATURE_TABLE`).
     Table(u8),
@@ -541,6 +544,7 @@ impl TextureMaps {
                 }
                 Slot::CondEta => maps.cond_eta = Some(index),
                 Slot::CondK => maps.cond_k = Some(index),
+                Slot::Eta => maps.eta = Some(index),
                 Slot::Table(k) => maps.table.push((*k, index)),
             }
         }
@@ -558,6 +562,7 @@ impl TextureMaps {
         r.tex_alpha_v = id(self.alpha_v);
         r.tex_cond_eta = id(self.cond_eta);
         r.tex_cond_k = id(self.cond_k);
+        r.tex_eta = id(self.eta);
         for &(k, index) in &self.table {
             principled::pack_table_texture(&mut r, k as usize, index);
         }

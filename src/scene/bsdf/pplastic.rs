@@ -21,12 +21,24 @@
 //! | `specular_reflectance` | spectrum or texture | 1 |
 //! | `int_ior` | number or name | `polypropylene` = 1.49 |
 //! | `ext_ior` | number or name | `air` = 1.000277 |
-//! | `eta` | number | `int_ior / ext_ior` (instead of the two) |
+//! | `eta` | float, rgb, spectrum or texture | `int_ior / ext_ior` (instead of the two) |
 //! | `distribution` | `beckmann` or `ggx` | `beckmann` |
 //! | `alpha` (or `alpha_u` + `alpha_v`) | float or texture | 0.1 |
 //! | `sample_visible` | boolean | true |
 //!
-//! Differences from Mitsuba: `eta` is a number, not a texture; Beckmann samples
+//! `eta` as Mitsuba 3.9.1 reads it (`get_unbounded_texture("eta")`, then
+//! `m_eta->eval_1(si)` wherever eval needs a Fresnel term; pdf and the lobe
+//! weights do not read it): a texture (record slot `tex_eta`, looked up at the hit
+//! by bsdf_textured.glsl) gives its `eval_1`, a bitmap's the luminance of its RGB, a
+//! checkerboard's its squares' values (swapped as `texture_eval_1` says); an `rgb`
+//! or `spectrum` value its channels' mean (the unbounded `srgb` texture's `eval_1`).
+//! A constant must be positive and not 1 (Mitsuba takes any: 1 turns the Fresnel
+//! terms off, 0 gives NaN); a texture's values are used as they are, below 1 too
+//! (total reflection past the critical angle, as Mitsuba's `fresnel`). `eta` with
+//! `int_ior` or `ext_ior` is an error (Mitsuba refuses `int_ior` and leaves
+//! `ext_ior` unread, also an error there).
+//!
+//! Differences from Mitsuba: Beckmann samples
 //! its full normal distribution rather than the visible normals (as every
 //! microfacet model here, `shaders/bsdf/microfacet.glsl`), so its pdf is that of
 //! Mitsuba's `sample_visible="false"`; the sampled directions and eval agree.
@@ -94,6 +106,7 @@ pub const MITSUBA: Plugin = Plugin::new(
     ("alpha", Slot::Alpha),
     ("alpha_u", Slot::AlphaU),
     ("alpha_v", Slot::AlphaV),
+    ("eta", Slot::Eta),
 ])
 .warptest(WarpTest {
     kind: KIND,
@@ -109,14 +122,26 @@ fn mitsuba(props: &Properties) -> Result<Bsdf, Error> {
                 return Err(props.error(key, "give either 'eta' or 'int_ior' and 'ext_ior'"));
             }
         }
-        let eta = props.float("eta", 1.49)?;
-        if !(eta > 0.0 && eta.is_finite() && eta != 1.0) {
-            return Err(props.error(
-                "eta",
-                format!("'eta' must be positive and not 1, found {eta}"),
-            ));
+        let textured = props.textures().iter().any(|(name, _)| name == "eta");
+        if textured {
+            // The texture's mean luminance; bsdf_textured.glsl replaces it at each hit.
+            props.float("eta", 1.49)?
+        } else {
+            // A float, or the mean of an rgb/spectrum (Mitsuba's srgb eval_1).
+            let c = props.color("eta", Vec3::splat(1.49))?;
+            let eta = if c.x == c.y && c.y == c.z {
+                c.x
+            } else {
+                c.element_sum() / 3.0
+            };
+            if !(eta > 0.0 && eta.is_finite() && eta != 1.0) {
+                return Err(props.error(
+                    "eta",
+                    format!("'eta' must be positive and not 1, found {eta}"),
+                ));
+            }
+            eta
         }
-        eta
     } else {
         relative_ior(props, "int_ior", "ext_ior", "polypropylene", true)?
     };
@@ -205,6 +230,27 @@ mod tests {
         let r = BsdfRecord::from(&s.bsdfs[1]);
         assert_eq!(r.kind, KIND.id);
         assert!((r.specular_weight - 0.5 / (0.06 + 0.5)).abs() < 1e-6);
+        assert_eq!(r.tex_eta, 0);
+    }
+
+    #[test]
+    fn eta_as_rgb_or_texture() {
+        let body = r#"<bsdf type="pplastic" id="a"><rgb name="eta" value="1.2, 1.5, 1.9"/></bsdf>
+<bsdf type="pplastic" id="b"><texture type="checkerboard" name="eta"><float name="color0" value="0.75"/><float name="color1" value="1.6"/></texture></bsdf>"#;
+        let s = load(&[("s.xml", &mitsuba(body))], &[]).expect("scene");
+        // An rgb eta: its mean, as Mitsuba's unbounded srgb texture's eval_1.
+        let Bsdf::PPlastic(a) = s.bsdfs[0] else {
+            panic!("{:?}", s.bsdfs[0])
+        };
+        assert!((a.eta - 4.6 / 3.0).abs() < 1e-6, "{a:?}");
+        // A texture feeds the record's tex_eta (index + 1) and nothing else.
+        let Bsdf::Textured { bsdf, maps } = &s.bsdfs[1] else {
+            panic!("{:?}", s.bsdfs[1])
+        };
+        assert!(matches!(**bsdf, Bsdf::PPlastic(_)));
+        assert_eq!(maps.eta, Some(0));
+        let r = BsdfRecord::from(&s.bsdfs[1]);
+        assert_eq!((r.kind, r.tex_eta, r.tex_cond_eta), (KIND.id, 1, 0));
     }
 
     #[test]
@@ -213,7 +259,11 @@ mod tests {
             ("<bsdf type=\"pplastic\"><float name=\"eta\" value=\"1.3\"/>\n<float name=\"int_ior\" value=\"1.5\"/></bsdf>", 4, "either 'eta' or 'int_ior'"),
             ("<bsdf type=\"pplastic\">\n<float name=\"eta\" value=\"1\"/></bsdf>", 4, "'eta' must be positive and not 1"),
             ("<bsdf type=\"pplastic\">\n<float name=\"int_ior\" value=\"1.2\"/><float name=\"ext_ior\" value=\"1.2\"/></bsdf>", 4, "must differ"),
-            ("<bsdf type=\"pplastic\">\n<texture type=\"checkerboard\" name=\"eta\"/></bsdf>", 4, "cannot be a texture"),
+            ("<bsdf type=\"pplastic\">\n<float name=\"eta\" value=\"-1.5\"/></bsdf>", 4, "'eta' must be positive and not 1, found -1.5"),
+            ("<bsdf type=\"pplastic\">\n<rgb name=\"eta\" value=\"0.5, -2, 0.5\"/></bsdf>", 4, "'eta' must be positive and not 1, found -0.33"),
+            ("<bsdf type=\"pplastic\"><texture type=\"checkerboard\" name=\"eta\"/>\n<float name=\"int_ior\" value=\"1.5\"/></bsdf>", 4, "either 'eta' or 'int_ior'"),
+            ("<bsdf type=\"pplastic\">\n<ref name=\"eta\" id=\"no_such_texture\"/></bsdf>", 4, "no_such_texture"),
+            ("<bsdf type=\"pplastic\">\n<texture type=\"bitmap\" name=\"eta\"><string name=\"filename\" value=\"missing.exr\"/></texture></bsdf>", 4, "missing.exr"),
         ];
         for (body, line, msg) in cases {
             let e = error_at(load(&[("s.xml", &mitsuba(body))], &[]), "s.xml", *line);

@@ -301,6 +301,7 @@ fn bsdf_texture_ids(b: &crate::scene::Bsdf, ids: &mut Vec<u32>) {
                 r.normal_map,
                 r.tex_cond_eta,
                 r.tex_cond_k,
+                r.tex_eta,
             ]);
         }
     }
