@@ -6,6 +6,7 @@
 #define PHOTON_EMIT_GLSL
 
 #include "emitter/projector.glsl"
+#include "emitter/directionalarea.glsl"
 
 struct PhotonEmission {
     vec3 origin;
@@ -103,10 +104,10 @@ PhotonEmission photon_emit_sample(bool uniform_choice, vec4 u0, vec4 u1) {
     } else if (EMITTER_HAS(EMITTER_DIRECTIONAL_AREA) && e.kind == EMITTER_DIRECTIONAL_AREA) {
         // A uniform point of the shape (density 1/A), along the normal there: power
         // radiance A / P(emitter) (Mitsuba's directionalarea sample_ray).
-        Surface ls = emitter_area_point(e, u0.yz);
-        em.dir = ls.ng;
-        em.origin = surface_spawn_origin(ls, ls.ng);
-        em.power = e.radiance * (e.area / pmf);
+        DirectionalAreaRay r = emitter_directionalarea_ray(e, u0.yz);
+        em.dir = r.dir;
+        em.origin = r.origin;
+        em.power = r.weight / pmf;
     } else if (EMITTER_HAS_ANY(EMITTER_AREA_BITS) && e.kind == EMITTER_AREA) {
         // A point uniform over the shape (density 1/A; emitter_area_point) and a
         // cosine-weighted direction around its normal (density cos θ / π):
