@@ -133,6 +133,9 @@ pub enum Chart {
     /// projector's frustum): (½ + ½ x / (z tan_x), ½ + ½ y / (z tan_y)); a point there
     /// is a unit direction and dω = 4 tan_x tan_y cos³ θ du dv.
     Frustum { tan_x: f32, tan_y: f32 },
+    /// The square [-1, 1]² (a rectangle's or a mesh's local coordinates): (½ + ½ x,
+    /// ½ + ½ y); dA = 4 du dv.
+    Square,
 }
 
 impl Chart {
@@ -153,6 +156,7 @@ impl Chart {
                 Vec2::new(p.length_squared(), phi.rem_euclid(1.0))
             }
             Chart::Triangle => Vec2::new(p.x, if p.x < 1.0 { p.y / (1.0 - p.x) } else { 0.0 }),
+            Chart::Square => Vec2::new(0.5 + 0.5 * p.x, 0.5 + 0.5 * p.y),
         }
     }
 
@@ -167,6 +171,10 @@ impl Chart {
                 )
             }
             Chart::Triangle => ([u as f32, (v * (1.0 - u)) as f32, 0.0, 0.0], 1.0 - u),
+            Chart::Square => (
+                [(2.0 * u - 1.0) as f32, (2.0 * v - 1.0) as f32, 0.0, 0.0],
+                4.0,
+            ),
             Chart::Frustum { tan_x, tan_y } => {
                 let (tx, ty) = (tan_x as f64, tan_y as f64);
                 let (x, y) = ((2.0 * u - 1.0) * tx, (2.0 * v - 1.0) * ty);
@@ -192,7 +200,7 @@ impl PlaneGrid {
     /// The cell of point `p` (x, y); `None` off the domain (beyond rounding).
     pub fn cell_of(&self, p: Vec3) -> Option<usize> {
         let q = self.chart.to_square(p);
-        let ok = q.x >= 0.0 && q.y >= 0.0 && q.x <= 1.0 + 1e-6 && q.y <= 1.0 + 1e-6;
+        let ok = q.x >= -1e-6 && q.y >= -1e-6 && q.x <= 1.0 + 1e-6 && q.y <= 1.0 + 1e-6;
         if !ok || !q.is_finite() {
             return None;
         }
@@ -299,17 +307,17 @@ mod tests {
             .iter()
             .sum::<f64>();
         assert!((area - 4.0 * std::f64::consts::PI).abs() < 1e-3, "{area}");
-        for chart in [Chart::Disk, Chart::Triangle] {
+        for chart in [Chart::Disk, Chart::Triangle, Chart::Square] {
             let plane = Grid::Plane(PlaneGrid { chart, res: 16 });
             let (p, w) = plane.quadrature(4);
             let area = plane
                 .integrate(4, &vec![1.0; p.len()], &w)
                 .iter()
                 .sum::<f64>();
-            let want = if chart == Chart::Disk {
-                std::f64::consts::PI
-            } else {
-                0.5
+            let want = match chart {
+                Chart::Disk => std::f64::consts::PI,
+                Chart::Square => 4.0,
+                _ => 0.5,
             };
             assert!((area - want).abs() < 1e-9, "{chart:?}: {area}");
             // Every quadrature point lies in the cell it stands for.
