@@ -9,7 +9,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use wavetrace::bench;
 use wavetrace::gpu::Device;
-use wavetrace::render::RenderOptions;
+use wavetrace::render::{emitter_probe, RenderOptions};
 use wavetrace::scene::film::{FileFormat, Filter, PixelFormat};
 use wavetrace::scene::sampler::SamplerKind;
 use wavetrace::scene::{self, Scene};
@@ -437,7 +437,12 @@ fn run(cli: Cli) -> Result<()> {
             let device = Device::new(device.as_deref())?;
             eprintln!("device: {}", device.info());
             let t = Instant::now();
-            let outcome = warptest::run(&device, &what, samples, seed)?;
+            let outcome = match &what {
+                warptest::Test::Kernel(target) => warptest::run(&device, target, samples, seed)?,
+                warptest::Test::DirectionalArea(light) => {
+                    emitter_probe::test_directional_area(&device, *light, samples, seed)?
+                }
+            };
             println!("{target}: {description}");
             println!(
                 "{} samples in {:.2} s ({} left out: delta lobes or absorbed; {} off the domain), \

@@ -90,6 +90,21 @@ fn correct_samplers_pass_and_a_wrong_pdf_fails_with_images() {
         ),
         ("hg", vec!["hg", "--g", "-0.6", "--samples", "200000"]),
         ("disk", vec!["square_to_disk", "--samples", "200000"]),
+        // A directionalarea light's ray origins (the routine the photon and particle
+        // tracers call) on each kind of shape it samples: a mesh through its triangle
+        // table, a disk, a sphere.
+        (
+            "directionalarea",
+            vec!["directionalarea", "--samples", "200000"],
+        ),
+        (
+            "directionalarea_disk",
+            vec!["directionalarea_disk", "--samples", "200000"],
+        ),
+        (
+            "directionalarea_sphere",
+            vec!["directionalarea_sphere", "--samples", "200000"],
+        ),
     ] {
         let (code, out, err, img) = warptest(name, &args);
         assert_eq!(code, 0, "{name}: {out}{err}");
@@ -110,6 +125,17 @@ fn correct_samplers_pass_and_a_wrong_pdf_fails_with_images() {
         "{out}"
     );
     assert!(img.is_some(), "the failing test writes its image too");
+    // The same points against the density of a mesh's triangles chosen uniformly (not
+    // by area): rejected (X² near 34,000 for 1,023 degrees of freedom).
+    let (code, out, err, _) = warptest(
+        "wrong_area",
+        &["mismatched_directionalarea", "--samples", "200000"],
+    );
+    assert_eq!(code, 1, "{out}{err}");
+    assert!(
+        out.contains("FAILS") && out.contains("p-value = 0"),
+        "{out}"
+    );
 }
 
 #[test]

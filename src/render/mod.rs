@@ -8,6 +8,7 @@
 
 pub mod alias;
 mod batch;
+pub mod emitter_probe;
 pub mod error;
 pub mod film;
 pub mod integrator;

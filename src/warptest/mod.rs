@@ -45,6 +45,39 @@ pub enum Target {
     Phase { g: f32, wo: Vec3 },
 }
 
+/// What `wavetrace warptest` runs ([`target::parse`]): a [`Target`] of this module's
+/// own kernels ([`run`]), or a test that needs a scene's buffers, which the layer
+/// above uploads (`render::emitter_probe`; `warptest` sits below `render`).
+#[derive(Debug, Clone)]
+pub enum Test {
+    Kernel(Target),
+    /// A directionalarea emitter's light rays on a shape of its own
+    /// (`shaders/emitter/directionalarea.glsl`): the points against their density.
+    DirectionalArea(AreaLight),
+}
+
+/// The shape a [`Test::DirectionalArea`] emitter sits on, placed so that its area
+/// in world space differs from its local one.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum AreaShape {
+    /// A mesh of four triangles of areas 0.5, 0.7, 1.5 and 1.3 tiling the square
+    /// [-1, 1]² (a fan from (0.3, -0.5)), scaled unevenly, rotated and moved.
+    Fan,
+    /// A disk, scaled, rotated and moved.
+    Disk,
+    /// A sphere (its points as directions from the centre).
+    Sphere,
+}
+
+/// What [`Test::DirectionalArea`] tests: the emitter's shape, and whether to pair
+/// its points with a deliberately wrong density (the fan's triangles chosen uniformly
+/// instead of by area), for testing the test.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AreaLight {
+    pub shape: AreaShape,
+    pub mismatched: bool,
+}
+
 /// Where to centre a sphere grid for a BSDF: cells shrink near the axis and its
 /// opposite, where narrow lobes peak.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -128,7 +161,9 @@ pub fn expected_counts(
     Ok((mass.iter().map(|m| m * samples as f64).collect(), total))
 }
 
-fn finish(
+/// The outcome of a test from its grid, the sampled points (in the grid's domain),
+/// the samples drawn and left out, and [`expected_counts`].
+pub fn finish(
     grid: Grid,
     points: Vec<Vec3>,
     samples: usize,

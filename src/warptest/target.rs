@@ -3,7 +3,7 @@
 
 use glam::Vec3;
 
-use super::{Axis, Target, Warp};
+use super::{AreaLight, AreaShape, Axis, Target, Test, Warp};
 use crate::scene::bsdf::composite::Weight;
 use crate::scene::bsdf::{self, Bsdf, Distribution, TestParams};
 
@@ -24,6 +24,10 @@ const NAMES: &[&str] = &[
     "mismatched_cosine",
     "thinlens_aperture",
     "projector",
+    "directionalarea",
+    "directionalarea_disk",
+    "directionalarea_sphere",
+    "mismatched_directionalarea",
 ];
 
 /// Every name [`parse`] knows, for help and error messages: the warps and
@@ -49,8 +53,10 @@ pub fn help() -> String {
          cosine_hemisphere, uniform_sphere, uniform_cap), microfacet normals (beckmann, ggx), \
          a BSDF ({}), blendbsdf (0.7 diffuse + 0.3 roughconductor of --alpha, \
          sampled as a one-sample mixture), a phase function (hg, isotropic), an emitter's or sensor's \
-         sampling (thinlens_aperture; projector: tan of the half fields of view 1.2 x 0.8), \
-         or mismatched_cosine (a deliberately wrong pdf: it fails)",
+         sampling (thinlens_aperture; projector: tan of the half fields of view 1.2 x 0.8; \
+         directionalarea: the light rays' points on a mesh of four uneven triangles, \
+         directionalarea_disk, directionalarea_sphere: on a disk, a sphere), or \
+         mismatched_cosine, mismatched_directionalarea (deliberately wrong pdfs: they fail)",
         bsdfs.join(", ")
     )
 }
@@ -110,25 +116,29 @@ fn angle(w: Vec3) -> String {
     )
 }
 
-/// The target called `name` with `p`, and a one-line description of it.
-pub fn parse(name: &str, p: &Params) -> Result<(Target, String), String> {
-    let used = |allowed: &[&str]| -> Result<(), String> {
-        let given = [
-            ("alpha", p.alpha.is_some()),
-            ("alpha-u", p.alpha_u.is_some()),
-            ("alpha-v", p.alpha_v.is_some()),
-            ("distribution", p.distribution.is_some()),
-            ("eta", p.eta.is_some()),
-            ("theta", p.theta.is_some()),
-            ("phi", p.phi.is_some()),
-            ("g", p.g.is_some()),
-            ("cos-max", p.cos_max.is_some()),
-        ];
-        match given.iter().find(|(k, set)| *set && !allowed.contains(k)) {
-            Some((k, _)) => Err(format!("--{k} does not apply to '{name}'")),
-            None => Ok(()),
-        }
-    };
+/// An error naming the first option given in `p` that is not in `allowed` (the
+/// options of target `name`).
+fn options_apply(name: &str, p: &Params, allowed: &[&str]) -> Result<(), String> {
+    let given = [
+        ("alpha", p.alpha.is_some()),
+        ("alpha-u", p.alpha_u.is_some()),
+        ("alpha-v", p.alpha_v.is_some()),
+        ("distribution", p.distribution.is_some()),
+        ("eta", p.eta.is_some()),
+        ("theta", p.theta.is_some()),
+        ("phi", p.phi.is_some()),
+        ("g", p.g.is_some()),
+        ("cos-max", p.cos_max.is_some()),
+    ];
+    match given.iter().find(|(k, set)| *set && !allowed.contains(k)) {
+        Some((k, _)) => Err(format!("--{k} does not apply to '{name}'")),
+        None => Ok(()),
+    }
+}
+
+/// The test called `name` with `p`, and a one-line description of it.
+pub fn parse(name: &str, p: &Params) -> Result<(Test, String), String> {
+    let used = |allowed: &[&str]| options_apply(name, p, allowed);
     let roughness = |anisotropic: bool| -> Result<(f32, f32), String> {
         match (p.alpha, p.alpha_u, p.alpha_v) {
             (Some(_), Some(_), _) | (Some(_), _, Some(_)) => {
@@ -161,8 +171,12 @@ pub fn parse(name: &str, p: &Params) -> Result<(Target, String), String> {
         }
         Ok(e)
     };
+    if let Some((light, what)) = area_light(name) {
+        used(&[])?;
+        return Ok((Test::DirectionalArea(light), what));
+    }
     let warp = |w: Warp, what: &str| Ok((Target::Warp(w), what.to_string()));
-    match name {
+    let target = match name {
         "square_to_disk" | "uniform_triangle" | "uniform_hemisphere" | "cosine_hemisphere"
         | "uniform_sphere" | "mismatched_cosine" => {
             used(&[])?;
@@ -260,7 +274,8 @@ pub fn parse(name: &str, p: &Params) -> Result<(Target, String), String> {
                 names().join(", ")
             )),
         },
-    }
+    };
+    target.map(|(t, what)| (Test::Kernel(t), what))
 }
 
 /// The options of the `blendbsdf` target.
@@ -313,6 +328,28 @@ fn endpoint_warp(name: &str) -> (Target, String) {
     }
 }
 
+/// A directionalarea emitter's light rays (`shaders/emitter/directionalarea.glsl`):
+/// their points on the emitter's shape against the density the rays' weight divides
+/// by; `None` for any other name.
+fn area_light(name: &str) -> Option<(AreaLight, String)> {
+    let (shape, mismatched, what) = match name {
+        "directionalarea" => (AreaShape::Fan, false, "on a mesh of four uneven triangles"),
+        "directionalarea_disk" => (AreaShape::Disk, false, "on a disk"),
+        "directionalarea_sphere" => (AreaShape::Sphere, false, "on a sphere"),
+        "mismatched_directionalarea" => (
+            AreaShape::Fan,
+            true,
+            "on a mesh of four uneven triangles against the density of choosing its \
+             triangles uniformly (deliberately wrong)",
+        ),
+        _ => return None,
+    };
+    Some((
+        AreaLight { shape, mismatched },
+        format!("a directionalarea emitter's light rays, their points {what}"),
+    ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -330,7 +367,7 @@ mod tests {
             ..Params::default()
         };
         let (t, _) = parse("roughconductor", &p).unwrap();
-        let Target::Bsdf { bsdf, wo, .. } = t else {
+        let Test::Kernel(Target::Bsdf { bsdf, wo, .. }) = t else {
             panic!("{t:?}")
         };
         assert!(
