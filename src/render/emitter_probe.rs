@@ -10,8 +10,9 @@
 //! a disk's local plane, a sphere's directions from its centre) and compared with that
 //! density times the chart's area element, which the host knows from the placement:
 //! a wrong area in the record, an alias table not by area or a warp that is not
-//! uniform all fail. Each sample's direction must also be the shape's normal and its
-//! weight radiance / pdf (a sample that is not counts as off the domain).
+//! uniform all fail. Each sample's direction must also be the shape's normal, its
+//! weight radiance x area and its pdf 1 / area, with the area the host knows from the
+//! placement (a sample that is not counts as off the domain, which fails the test).
 
 use glam::{Affine3A, Mat3, Vec3};
 
@@ -151,6 +152,17 @@ impl ShapeChart {
         }
     }
 
+    /// The shape's world area: the chart's measure (4 for the square, π for the disk,
+    /// 4π for the sphere) times [`ShapeChart::jacobian`].
+    fn area(&self) -> f64 {
+        let measure = match self.shape {
+            AreaShape::Fan => 4.0,
+            AreaShape::Disk => std::f64::consts::PI,
+            AreaShape::Sphere => 4.0 * std::f64::consts::PI,
+        };
+        measure * self.jacobian()
+    }
+
     /// The shape's outward normal at world point `p` on it.
     fn normal(&self, p: Vec3) -> Vec3 {
         match self.shape {
@@ -259,13 +271,16 @@ pub fn test_directional_area(
     let probe = Probe::new(device, &scene(light.shape)?)?;
     let grid = chart.grid();
     let raw = probe.run(0, n, seed, &[])?;
+    let area = chart.area();
     let points: Vec<Vec3> = raw
         .chunks(2)
         .map(|s| {
             let p = Vec3::new(s[0][0], s[0][1], s[0][2]);
             let (pdf, dir, weight) = (s[0][3], Vec3::new(s[1][0], s[1][1], s[1][2]), s[1][3]);
             let along_normal = dir.dot(chart.normal(p)) > 1.0 - 1e-4;
-            let weighted = (weight * pdf / RADIANCE.x - 1.0).abs() < 1e-4;
+            // radiance x area, and a density 1 / area, of the shape as placed.
+            let weighted = (weight as f64 / (RADIANCE.x as f64 * area) - 1.0).abs() < 1e-4
+                && (pdf as f64 * area - 1.0).abs() < 1e-4;
             if along_normal && weighted {
                 chart.to_chart(p)
             } else {
@@ -293,15 +308,12 @@ pub fn test_directional_area(
 mod tests {
     use super::*;
 
-    /// The chart round-trips, and its area element times the chart's measure is the
-    /// area the host puts in the emitter's record (which the kernel's density reads).
+    /// The chart round-trips, and its area (the chart's measure times its area
+    /// element) is the one the host puts in the emitter's record (which the kernel's
+    /// density reads).
     #[test]
     fn charts_measure_the_recorded_area() {
-        for (shape, measure) in [
-            (AreaShape::Fan, 4.0),
-            (AreaShape::Disk, std::f64::consts::PI),
-            (AreaShape::Sphere, 4.0 * std::f64::consts::PI),
-        ] {
+        for shape in [AreaShape::Fan, AreaShape::Disk, AreaShape::Sphere] {
             let chart = ShapeChart {
                 shape,
                 to_world: placement(shape),
@@ -310,7 +322,7 @@ mod tests {
             let bvh = Bvh::build(prims_from_scene(&scene));
             let records = SceneRecords::new(&scene, &bvh);
             let area = records.emitters[0].area as f64;
-            let want = chart.jacobian() * measure;
+            let want = chart.area();
             assert!(
                 (area - want).abs() < 1e-4 * want,
                 "{shape:?}: {area} vs {want}"
