@@ -20,6 +20,7 @@
 
 #include "sampling/rng.glsl"
 #include "bsdf/mixture.glsl"
+#include "bsdf/mask_crossing.glsl"
 
 // The leaf a surface point resolves to: its record index, the flags to add to it
 // (BSDF_TWOSIDED where a twosided node chose a side), the lobe number left for it, and
@@ -149,10 +150,8 @@ CompositeLeaf bsdf_composite_resolve(uint index, inout Surface s, uint prim, vec
             if (composite_bump(b, s, prim, bary, wo, leaf.nm)) leaf.bumped = true;
             leaf.index = c0;
         } else {
-            // Blend or mask: w is child 1's probability, the texture read as Mitsuba's
-            // eval_1 (Mitsuba clamps it to [0, 1]).
-            float w = b.tex_reflectance != 0u ? texture_eval_1(b.tex_reflectance, s.uv) : b.eta;
-            w = clamp(w, 0.0, 1.0);
+            // Blend or mask: w is child 1's probability.
+            float w = bsdf_blend_weight(b, s.uv);
             bool second = leaf.u < w;
             leaf.index = second ? c1 : c0;
             leaf.u = second ? leaf.u / w : (leaf.u - w) / (1.0 - w);
@@ -177,6 +176,8 @@ CompositeLeaf bsdf_composite_resolve(uint index, inout Surface s, uint prim, vec
 #define COMPOSITE_MAX_LEAVES 4
 // Nodes visited at most (the loader's trees are finite; this bounds the loop).
 #define COMPOSITE_MAX_STEPS 32
+// Branches a depth-first walk of a whole tree holds at once (bsdf_composite_null_pass).
+#define COMPOSITE_WALK_STACK 8
 
 // One branch of the tree: the record it reached, the flags to add to the record
 // (BSDF_TWOSIDED below a twosided node), its weight, and, where a bump map tilted the
@@ -251,11 +252,9 @@ CompositeMix bsdf_composite_mix(uint index, Surface s, uint prim, vec2 bary, vec
             e.index = c0;
             stack[top++] = e;
         } else {
-            // Blend or mask: child 1 has weight w, child 0 1 − w (w as in
-            // bsdf_composite_resolve). Child 0 goes below child 1 on the stack, so
-            // that child 1's leaves come first.
-            float w = b.tex_reflectance != 0u ? texture_eval_1(b.tex_reflectance, s.uv) : b.eta;
-            w = clamp(w, 0.0, 1.0);
+            // Blend or mask: child 1 has weight w, child 0 1 − w. Child 0 goes below
+            // child 1 on the stack, so that child 1's leaves come first.
+            float w = bsdf_blend_weight(b, s.uv);
             if (w > 0.0 && w < 1.0 && m.count + top + 2u <= uint(COMPOSITE_MAX_LEAVES)) {
                 CompositeBranch e1 = e;
                 e.index = c0;
@@ -317,6 +316,65 @@ CompositeMix bsdf_composite_solid(CompositeMix m, float u) {
         r.u = 0.99999994;
     }
     return r;
+}
+
+// How a ray going on along dir passes the tree of record `index` at surface point s
+// of primitive `prim` (barycentrics bary), as Mitsuba 3.9.1's BSDF::sample does for
+// its Null lobe: x the probability of a pass-through (the sum over the mask_null
+// leaves wₖ, the product of the blend and mask weights above each, bump maps passed),
+// y its expected weight Σ wₖ gₖ, gₖ the product over the bump maps above leaf k of
+// what bumpmap::sample multiplies a sample by: its shadowing term (normal_map_weight:
+// Estevez et al. 2019, 2 / (1 + √(1 + α² tan²θ)), θ the angle of dir to the bump
+// map's unperturbed normal) and 0 where dir lies on different sides of that normal
+// and the bumped one. blendbsdf::sample keeps a pass-through's weight gₖ (its other
+// side has no value at −wi). Without bump maps x = y. Each branch keeps its frame
+// (ns, ss) as bsdf_composite_mix does, so a bump map below another one tilts the
+// tilted frame.
+vec2 bsdf_composite_null_pass(uint index, Surface s, uint prim, vec2 bary, vec3 dir) {
+    vec2 sum = vec2(0.0);
+    // A branch: its record, its weight and g so far, its shading frame.
+    uint stack[COMPOSITE_WALK_STACK];
+    vec2 weight[COMPOSITE_WALK_STACK];
+    vec3 ns[COMPOSITE_WALK_STACK];
+    vec3 ss[COMPOSITE_WALK_STACK];
+    stack[0] = index;
+    weight[0] = vec2(1.0);
+    ns[0] = s.ns;
+    ss[0] = s.ss;
+    uint top = 1u;
+    for (int i = 0; i < COMPOSITE_MAX_STEPS && top > 0u; i++) {
+        top--;
+        uint k = stack[top];
+        vec2 w0 = weight[top];
+        Surface se = s;
+        se.ns = ns[top];
+        se.ss = ss[top];
+        BsdfRecord b = bsdf_load(k);
+        if (b.kind == BSDF_MASK_NULL) sum += w0;
+        if (b.kind != BSDF_COMPOSITE || b.distribution == COMPOSITE_TWOSIDED) continue;
+        if (b.distribution == COMPOSITE_BUMP) {
+            NormalMapFrame nm = NormalMapFrame(se.ns, se.ns, 0.0);
+            if (composite_bump(b, se, prim, bary, -dir, nm)) w0.y *= normal_map_weight(nm, dir);
+            stack[top] = b.tex_specular;
+            weight[top] = w0;
+            ns[top] = se.ns;
+            ss[top++] = se.ss;
+            continue;
+        }
+        // Blend or mask: child 1 has weight w, child 0 1 − w.
+        float w = bsdf_blend_weight(b, s.uv);
+        if (top + 2u <= uint(COMPOSITE_WALK_STACK)) {
+            stack[top] = b.tex_specular;
+            weight[top] = w0 * (1.0 - w);
+            ns[top] = se.ns;
+            ss[top++] = se.ss;
+            stack[top] = b.tex_transmittance;
+            weight[top] = w0 * w;
+            ns[top] = se.ns;
+            ss[top++] = se.ss;
+        }
+    }
+    return sum;
 }
 
 // Σ wₖ (fₖ(wo, wi) |cos θi|, pdfₖ(wo, wi)) over the leaves of m other than the chosen

@@ -9,12 +9,21 @@
 // way with the tree's null weight: Mitsuba's volpath passes a surface whenever the
 // BSDF's sample has the Null flag, which a blend's or mask's sample has with the
 // product of the weights down to a pass-through (the sum over its pass-throughs),
-// and a shadow ray passes scaled by eval_null_transmission, which blendbsdf and mask
+// a bump map's sample weighed by its shadowing term (bsdf_composite_null_pass), and
+// a shadow ray passes scaled by eval_null_transmission, which blendbsdf and mask
 // forward with their weights but bumpmap does not (Mitsuba 3.9.1: 0 below a bump
-// map). Where the path does not pass, path_shade takes the tree without its
-// pass-throughs (bsdf_composite_solid).
+// map; bsdf_null_weight). Where the path does not pass, path_shade takes the tree
+// without its pass-throughs (bsdf_composite_solid).
 #ifndef BSDF_MASK_CROSSING_GLSL
 #define BSDF_MASK_CROSSING_GLSL
+
+// The weight of child 1 of blend or mask node b (src/scene/bsdf/composite.rs) at uv,
+// child 0 having 1 − it: its texture's eval_1 or its constant, clamped to [0, 1] as
+// Mitsuba 3.9.1's blendbsdf::eval_weight and mask::eval_opacity clamp it.
+float bsdf_blend_weight(BsdfRecord b, vec2 uv) {
+    float w = b.tex_reflectance != 0u ? texture_eval_1(b.tex_reflectance, uv) : b.eta;
+    return clamp(w, 0.0, 1.0);
+}
 
 // Whether BSDF record `index` is a mask: a blend node (src/scene/bsdf/composite.rs)
 // whose child 0 is the pass-through.
@@ -31,7 +40,7 @@ bool bsdf_is_mask(uint index) {
 #define MASK_CROSSING_NONE 0u
 // A mask at the root whose BSDF has no pass-through of its own: 1 − opacity.
 #define MASK_CROSSING_ROOT 1u
-// Any other tree with pass-throughs: bsdf_null_weight.
+// Any other tree with pass-throughs: bsdf_composite_null_pass, bsdf_null_weight.
 #define MASK_CROSSING_TREE 2u
 
 // Nodes a tree walk visits at most (the loader's trees are finite; this bounds it),
@@ -69,11 +78,12 @@ uint bsdf_mask_crossing(uint index) {
     return crossing;
 }
 
-// The weight of the pass-throughs of the tree of record `index` at uv: the sum over
-// its mask_null leaves of the product of the blend and mask weights above each (as
-// bsdf_composite_mix weighs leaves). With through_bumps false, a bump map's subtree
-// counts 0 (eval_null_transmission, which Mitsuba's bumpmap does not forward).
-float bsdf_null_weight(uint index, vec2 uv, bool through_bumps) {
+// What a shadow ray passing the tree of record `index` at uv is scaled by, as
+// Mitsuba 3.9.1's eval_null_transmission: the sum over its mask_null leaves of the
+// product of the blend and mask weights above each (as bsdf_composite_mix weighs
+// leaves), a bump map's subtree counting 0 (bumpmap.cpp does not forward it). A path
+// passes by sampling (bsdf_composite_null_pass, composite.glsl), bump maps included.
+float bsdf_null_weight(uint index, vec2 uv) {
     float sum = 0.0;
     uint stack[MASK_WALK_STACK];
     float weight[MASK_WALK_STACK];
@@ -86,17 +96,10 @@ float bsdf_null_weight(uint index, vec2 uv, bool through_bumps) {
         float w0 = weight[top];
         BsdfRecord b = bsdf_load(k);
         if (b.kind == BSDF_MASK_NULL) sum += w0;
-        if (b.kind != BSDF_COMPOSITE || b.distribution == 1u /* COMPOSITE_TWOSIDED */) continue;
-        if (b.distribution == 2u /* COMPOSITE_BUMP */) {
-            if (through_bumps && top < uint(MASK_WALK_STACK)) {
-                stack[top] = b.tex_specular;
-                weight[top++] = w0;
-            }
-            continue;
-        }
-        // Blend or mask: child 1 has weight w, child 0 1 − w (composite.glsl).
-        float w = b.tex_reflectance != 0u ? texture_eval_1(b.tex_reflectance, uv) : b.eta;
-        w = clamp(w, 0.0, 1.0);
+        // Twosided (1u) and bump map (2u) nodes pass nothing.
+        if (b.kind != BSDF_COMPOSITE || b.distribution != 0u /* COMPOSITE_BLEND */) continue;
+        // Blend or mask: child 1 has weight w, child 0 1 − w.
+        float w = bsdf_blend_weight(b, uv);
         if (top + 2u <= uint(MASK_WALK_STACK)) {
             stack[top] = b.tex_specular;
             weight[top++] = w0 * (1.0 - w);
@@ -107,12 +110,9 @@ float bsdf_null_weight(uint index, vec2 uv, bool through_bumps) {
     return sum;
 }
 
-// The opacity of mask record `index` at uv, as Mitsuba's: its texture's eval_1 or
-// its constant, clamped to [0, 1].
+// The opacity of mask record `index` at uv.
 float bsdf_mask_opacity(uint index, vec2 uv) {
-    BsdfRecord b = bsdf_load(index);
-    float w = b.tex_reflectance != 0u ? texture_eval_1(b.tex_reflectance, uv) : b.eta;
-    return clamp(w, 0.0, 1.0);
+    return bsdf_blend_weight(bsdf_load(index), uv);
 }
 
 #endif

@@ -174,10 +174,20 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, HitItem seco
         // A surface with a BSDF ends the stage (path_shade computes its geometry).
         if ((shape.flags & SHAPE_NULL_BSDF) == 0u && !thin && !masked) break;
         Surface s = surface_at(h.prim, h.u, h.v, o, r.dir, h.t);
-        if (masked && medium_rng_next(rng).x < (mask_cross == MASK_CROSSING_ROOT
-                ? bsdf_mask_opacity(shape.bsdf, s.uv) : 1.0 - bsdf_null_weight(shape.bsdf, s.uv, true))) {
-            path.flags |= PATH_THIN_REFLECT;
-            break;
+        if (masked) {
+            // x: the probability of passing, y: its expected weight (below a bump map
+            // the bump map's shadowing term, composite.glsl).
+            bool root = mask_cross == MASK_CROSSING_ROOT;
+            vec2 pass = root ? vec2(1.0) : bsdf_composite_null_pass(shape.bsdf, s, h.prim, vec2(h.u, h.v), r.dir);
+            if (medium_rng_next(rng).x < (root ? bsdf_mask_opacity(shape.bsdf, s.uv) : 1.0 - pass.x)) {
+                path.flags |= PATH_THIN_REFLECT;
+                break;
+            }
+            if (!root) {
+                throughput *= pass.y / pass.x;
+                alive = any(greaterThan(throughput, vec3(0.0)));
+                if (!alive) break;
+            }
         }
         if (thin) {
             BsdfRecord b = bsdf_textured(bsdf_load(shape.bsdf), s.uv);

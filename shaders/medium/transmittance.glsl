@@ -104,7 +104,7 @@ vec3 transmittance_shadow_from(ShadowItem s, uint pixel, uint sample_index, uint
         if (masked) {
             // A tree: its pass-throughs' weight, none below a bump map (mask_crossing.glsl).
             T *= mask_cross == MASK_CROSSING_ROOT ? 1.0 - bsdf_mask_opacity(shape.bsdf, sf.uv)
-                                                : bsdf_null_weight(shape.bsdf, sf.uv, false);
+                                                : bsdf_null_weight(shape.bsdf, sf.uv);
             if (!any(greaterThan(T, vec3(0.0)))) break;
         }
         if (thin) {
