@@ -28,6 +28,11 @@
 //! power heuristic: that image depends on the heuristic (with the balance heuristic
 //! the test fails by far: block t = 27 at max_depth 2), and the test renders with
 //! `mis_heuristic` = `power`.
+//!
+//! A tree of seven leaves (tests/data/mask_deep_volpath.xml, references as above at
+//! 8192 spp): more than a vertex lists at once, so a blend's side is picked
+//! stochastically (composite.glsl); the vertex that did not pass is rescaled so that
+//! its mean is still the tree's.
 
 mod common;
 
@@ -95,4 +100,14 @@ fn direct_light_through_a_bumped_mask_matches_mitsubas_volpath() {
 #[test]
 fn unbounded_volpath_through_a_bumped_mask_matches_mitsuba() {
     render_against("mask_bump_volpath", -1, true);
+}
+
+#[test]
+fn direct_light_through_a_deep_tree_of_masks_matches_mitsubas_volpath() {
+    render_against("mask_deep_volpath", 2, false);
+}
+
+#[test]
+fn unbounded_volpath_through_a_deep_tree_of_masks_matches_mitsuba() {
+    render_against("mask_deep_volpath", -1, false);
 }

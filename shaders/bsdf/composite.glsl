@@ -192,13 +192,15 @@ struct CompositeBranch {
 };
 
 // The leaves of a tree (leaf[0, count)), the one the lobe number chose (chosen) with
-// the number left for it (u), and whether every leaf is delta only (no emitter
-// sampling).
+// the number left for it (u), whether every leaf is delta only (no emitter
+// sampling), and whether a blend's side was picked for lack of room (sampled: the
+// leaves are then one draw of a random mixture whose mean is the tree's).
 struct CompositeMix {
     uint count;
     uint chosen;
     float u;
     bool all_delta;
+    bool sampled;
     CompositeBranch leaf[COMPOSITE_MAX_LEAVES];
 };
 
@@ -211,6 +213,7 @@ CompositeMix bsdf_composite_mix(uint index, Surface s, uint prim, vec2 bary, vec
     m.chosen = 0u;
     m.u = u;
     m.all_delta = true;
+    m.sampled = false;
     bool found = false;
     float below = 0.0; // the weight of the leaves listed so far
     CompositeBranch stack[COMPOSITE_MAX_LEAVES];
@@ -266,6 +269,7 @@ CompositeMix bsdf_composite_mix(uint index, Surface s, uint prim, vec2 bary, vec
             } else {
                 float v = rng_to_float(rng_pcg4d(uvec4(floatBitsToUint(u), e.index, m.count, top)).x);
                 e.index = v < w ? c1 : c0;
+                m.sampled = m.sampled || (w > 0.0 && w < 1.0);
                 stack[top++] = e;
             }
         }
@@ -278,6 +282,15 @@ CompositeMix bsdf_composite_mix(uint index, Surface s, uint prim, vec2 bary, vec
     return m;
 }
 
+// The weight of the leaves of m that are not pass-throughs (mask_null).
+float bsdf_composite_solid_weight(CompositeMix m) {
+    float total = 0.0;
+    for (uint k = 0u; k < m.count; k++) {
+        if (bsdf_load(m.leaf[k].index).kind != BSDF_MASK_NULL) total += m.leaf[k].weight;
+    }
+    return total;
+}
+
 // The leaves of m without its pass-throughs (mask_null), their weights divided by
 // what remains, the leaf chosen anew by the lobe number u (as bsdf_composite_mix
 // chooses): the BSDF at a surface that a volumetric path did not pass
@@ -288,6 +301,7 @@ CompositeMix bsdf_composite_solid(CompositeMix m, float u) {
     r.chosen = 0u;
     r.u = u;
     r.all_delta = true;
+    r.sampled = m.sampled;
     float total = 0.0;
     for (uint k = 0u; k < m.count; k++) {
         CompositeBranch e = m.leaf[k];

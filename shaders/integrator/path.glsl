@@ -239,7 +239,20 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
                     path.flags &= ~PATH_THIN_REFLECT;
                 }
                 leaves = bsdf_composite_mix(bsdf_index, s, h.prim, vec2(h.u, h.v), -r.dir, u_lobe);
-                if (mask_cross == MASK_CROSSING_TREE) leaves = bsdf_composite_solid(leaves, u_lobe);
+                if (mask_cross == MASK_CROSSING_TREE) {
+                    // Where a blend's side was picked (more leaves than listed), the
+                    // listed leaves are one draw of a random mixture whose mean is the
+                    // tree: their solid weight over the whole tree's, 1 − the
+                    // pass-through probability vol_path_traverse took, scales the
+                    // vertex, so that its mean is the tree's solid part (renormalizing
+                    // by the draw's own solid weight would not be).
+                    float solid = leaves.sampled ? bsdf_composite_solid_weight(leaves) : 1.0;
+                    leaves = bsdf_composite_solid(leaves, u_lobe);
+                    if (leaves.sampled) {
+                        float whole = 1.0 - bsdf_composite_null_pass(bsdf_index, s, h.prim, vec2(h.u, h.v), r.dir).x;
+                        path.throughput *= whole > 0.0 ? solid / whole : 0.0;
+                    }
+                }
                 CompositeBranch leaf = leaves.leaf[leaves.chosen];
                 bsdf_index = leaf.index;
                 bsdf_flags = leaf.flags;
