@@ -27,7 +27,11 @@
 //! floor gets through the strip comes by BSDF sampling alone, weighed by volpath's
 //! power heuristic: that image depends on the heuristic (with the balance heuristic
 //! the test fails by far: block t = 27 at max_depth 2), and the test renders with
-//! `mis_heuristic` = `power`.
+//! `mis_heuristic` = `power`. tests/data/mask_bump_mis_volpath.xml (references as
+//! above) lights a masked floor through a bumped mask canopy: there the power
+//! heuristic weighs the light by the floor's pdf as Mitsuba's mask::pdf gives it, the
+//! opacity times the diffuse's (wavetrace's vertex that did not pass samples the
+//! diffuse alone).
 //!
 //! A tree of seven leaves (tests/data/mask_deep_volpath.xml, references as above at
 //! 8192 spp): more than a vertex lists at once, so a blend's side is picked
@@ -110,4 +114,14 @@ fn direct_light_through_a_deep_tree_of_masks_matches_mitsubas_volpath() {
 #[test]
 fn unbounded_volpath_through_a_deep_tree_of_masks_matches_mitsuba() {
     render_against("mask_deep_volpath", -1, false);
+}
+
+#[test]
+fn direct_light_through_a_bumped_mask_onto_a_mask_matches_mitsubas_volpath() {
+    render_against("mask_bump_mis_volpath", 2, true);
+}
+
+#[test]
+fn unbounded_volpath_through_a_bumped_mask_onto_a_mask_matches_mitsuba() {
+    render_against("mask_bump_mis_volpath", -1, true);
 }

@@ -13,7 +13,8 @@
 // a shadow ray passes scaled by eval_null_transmission, which blendbsdf and mask
 // forward with their weights but bumpmap does not (Mitsuba 3.9.1: 0 below a bump
 // map; bsdf_null_weight). Where the path does not pass, path_shade takes the tree
-// without its pass-throughs (bsdf_composite_solid).
+// without its pass-throughs (bsdf_composite_solid), its MIS weights by the whole
+// tree's pdf (path.glsl's mis_scale).
 #ifndef BSDF_MASK_CROSSING_GLSL
 #define BSDF_MASK_CROSSING_GLSL
 

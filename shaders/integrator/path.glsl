@@ -197,6 +197,13 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
     CompositeMix leaves;
     leaves.count = 0u;
     Surface s_base;
+    // Where the medium stage did not pass a tree with pass-throughs (probability
+    // 1 − x), the vertex samples its solid part divided by 1 − x; MIS weighs by the
+    // tree's own pdf, 1 − x times that (Mitsuba 3.9.1's mask::pdf, the opacity times
+    // the nested pdf; blendbsdf's pdf, the weighted sum): the two differ in mean
+    // where shadow rays and BSDF sampling see different surfaces (a bump map over a
+    // mask: mask_crossing.glsl).
+    float mis_scale = 1.0;
     if (miss) {
         s.p = r.origin;
     } else if (in_medium) {
@@ -232,6 +239,7 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
                 uint mask_cross = THIN_NULL && (path.flags & PATH_THIN_REFLECT) != 0u
                     ? bsdf_mask_crossing(bsdf_index) : MASK_CROSSING_NONE;
                 if (mask_cross == MASK_CROSSING_ROOT) {
+                    mis_scale = bsdf_mask_opacity(bsdf_index, s.uv);
                     bsdf_index = bsdf_load(bsdf_index).tex_transmittance;
                 }
                 if (mask_cross != MASK_CROSSING_NONE) {
@@ -248,10 +256,8 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
                     // by the draw's own solid weight would not be).
                     float solid = leaves.sampled ? bsdf_composite_solid_weight(leaves) : 1.0;
                     leaves = bsdf_composite_solid(leaves, u_lobe);
-                    if (leaves.sampled) {
-                        float whole = 1.0 - bsdf_composite_null_pass(bsdf_index, s, h.prim, vec2(h.u, h.v), r.dir).x;
-                        path.throughput *= whole > 0.0 ? solid / whole : 0.0;
-                    }
+                    mis_scale = 1.0 - bsdf_composite_null_pass(bsdf_index, s, h.prim, vec2(h.u, h.v), r.dir).x;
+                    if (leaves.sampled) path.throughput *= mis_scale > 0.0 ? solid / mis_scale : 0.0;
                 }
                 CompositeBranch leaf = leaves.leaf[leaves.chosen];
                 bsdf_index = leaf.index;
@@ -345,7 +351,7 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
             }
             if (any(greaterThan(f, vec3(0.0)))) {
                 // single_scatter's in-scattering is emitter sampling alone.
-                float w = (mis && !es.delta && !(single && in_medium)) ? mis_weight(es.pdf, pdf) : 1.0;
+                float w = (mis && !es.delta && !(single && in_medium)) ? mis_weight(es.pdf, mis_scale * pdf) : 1.0;
                 path_push_shadow(medium, origin, r.path, es.wi, tmax, path.throughput * f * es.Le * (w / es.pdf));
             }
         }
@@ -413,7 +419,7 @@ void path_shade_to(uint integrator, RayItem r, HitItem h, PathState path, PathVe
             throughput /= q;
         }
         path.throughput = throughput;
-        path.bsdf_pdf = pdf;
+        path.bsdf_pdf = mis_scale * pdf;
         path.flags = flags | (path.flags & PATH_COVERED);
         path.medium = medium;
         path_keep_bounce(r.path, path); // the radiance word is stored where it changed
