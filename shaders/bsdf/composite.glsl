@@ -340,10 +340,11 @@ CompositeMix bsdf_composite_solid(CompositeMix m, float u) {
 // what bumpmap::sample multiplies a sample by: its shadowing term (normal_map_weight:
 // Estevez et al. 2019, 2 / (1 + √(1 + α² tan²θ)), θ the angle of dir to the bump
 // map's unperturbed normal) and 0 where dir lies on different sides of that normal
-// and the bumped one. blendbsdf::sample keeps a pass-through's weight gₖ (its other
-// side has no value at −wi). Without bump maps x = y. Each branch keeps its frame
-// (ns, ss) as bsdf_composite_mix does, so a bump map below another one tilts the
-// tilted frame.
+// and the bumped one. blendbsdf::sample keeps a pass-through's weight gₖ where the
+// blend's other side has no value at −wi (a reflecting BSDF; elsewhere wavetrace
+// keeps it too, as its note on delta samples above says). Without bump maps x = y.
+// Each branch keeps its frame (ns, ss) as bsdf_composite_mix does, so a bump map
+// below another one tilts the tilted frame.
 vec2 bsdf_composite_null_pass(uint index, Surface s, uint prim, vec2 bary, vec3 dir) {
     vec2 sum = vec2(0.0);
     // A branch: its record, its weight and g so far, its shading frame.
