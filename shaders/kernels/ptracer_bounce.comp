@@ -2,7 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // ptracer_bounce: where a light path meets a surface (path depth push.depth + 1, as
 // Mitsuba counts it) below max_depth, it connects the surface to the camera and splats
-// β f |cos| / (d² cos³θc A) (integrator/ptracer.glsl), with Mitsuba's adjoint
+// β f |cos| / (d² cos³θc A) (an irradiancemeter: β f |cos| cos θx / d²;
+// integrator/ptracer.glsl), with Mitsuba's adjoint
 // shading-normal correction (Veach 1997, p. 155) and light-leak test; then, if the next
 // vertex can still be connected, it scatters by BSDF sampling (adjoint refraction) with
 // Mitsuba's Russian roulette (from depth rr_depth on: survival min(max β η², 0.95)).
@@ -30,6 +31,11 @@ SPEC(SCENE_BVH_DEPTH);
 SPEC(SCENE_FLAT_PRIMS);
 SPEC(SCENE_FLAT_KINDS);
 SPEC(PTRACER_THIN_LENS);
+SPEC(SCENE_SENSOR_SHAPE);
+#define PTRACER_SENSOR_SHAPE SCENE_SENSOR_SHAPE
+// An irradiancemeter's points are drawn as an area emitter's (emitter.glsl).
+SPEC(SCENE_EMITTER_KINDS);
+#define EMITTER_KINDS SCENE_EMITTER_KINDS
 #define BVH_FLAT_PRIMS SCENE_FLAT_PRIMS
 #define BVH_FLAT_KINDS SCENE_FLAT_KINDS
 #include "accel/bvh.glsl"
@@ -37,6 +43,7 @@ SPEC(PTRACER_THIN_LENS);
 #include "texture/texture.glsl"
 #include "bsdf/bsdf.glsl"
 #include "bsdf/bsdf_textured.glsl"
+#include "emitter/emitter.glsl"
 #include "queue/queue.glsl"
 #include "photon/bindings.glsl"
 #include "photon/record.glsl"
@@ -64,8 +71,8 @@ void main() {
     float wl_ng = dot(x.s.ng, wl);
     float wl_s = dot(x.s.ns, wl);
     if (push.depth + 1u < frame.max_depth) {
-        vec2 u_lens = PTRACER_THIN_LENS
-            ? photon_rng(ph.index, photon_params.iteration, PTRACER_RNG_DIM_APERTURE + 1u + push.depth).xy
+        vec2 u_lens = PTRACER_SENSOR_SAMPLED
+            ? ptracer_sensor_rng(ph.index, photon_params.iteration, PTRACER_RNG_DIM_SENSOR + 1u + push.depth)
             : vec2(0.0);
         CameraLink c = ptracer_camera(x.s.p, u_lens);
         if (c.ok) {

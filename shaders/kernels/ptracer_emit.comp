@@ -32,6 +32,8 @@ SPEC(SCENE_BVH_DEPTH);
 SPEC(SCENE_FLAT_PRIMS);
 SPEC(SCENE_FLAT_KINDS);
 SPEC(PTRACER_THIN_LENS);
+SPEC(SCENE_SENSOR_SHAPE);
+#define PTRACER_SENSOR_SHAPE SCENE_SENSOR_SHAPE
 #define BVH_FLAT_PRIMS SCENE_FLAT_PRIMS
 #define BVH_FLAT_KINDS SCENE_FLAT_KINDS
 #include "accel/bvh.glsl"
@@ -48,8 +50,9 @@ SPEC(FILM_FILTER);
 
 // The environment seen by the camera along a direction d sampled as the emitter
 // samples it (Mitsuba samples it from the sensor's position): its radiance along d
-// times the importance of d, 1 / (cos³θc A), over the density of d and of the choice
-// (uniform, 1 / n), where nothing blocks the ray from the camera.
+// times the importance of d, 1 / (cos³θc A) (an irradiancemeter's: cos θx at a point x
+// of its shape), over the density of d and of the choice (uniform, 1 / n), where
+// nothing blocks the ray from the camera.
 void connect_visible_environment(EmitterRecord e, uint n, vec2 u, vec2 u_lens) {
     vec3 d;
     float pdf;
@@ -61,6 +64,15 @@ void connect_visible_environment(EmitterRecord e, uint n, vec2 u, vec2 u_lens) {
         pdf = warp_uniform_sphere_pdf(d);
     }
     if (!(pdf > 0.0)) return;
+    if (PTRACER_SENSOR_SHAPE) {
+        Surface x;
+        float w = irradiancemeter_direction_importance(d, u_lens, x);
+        vec3 value = emitter_env_radiance(e, d) * (float(n) * w / pdf);
+        if (!any(greaterThan(value, vec3(0.0)))) return;
+        if (bvh_any(surface_spawn_origin(x, x.ng), d, 0.0, EMITTER_INFINITY)) return;
+        ptracer_splat(u_lens * vec2(frame.width, frame.height), value);
+        return;
+    }
     vec3 eye = frame.camera_to_world[3].xyz;
     // A thin lens sees the environment along d from a point of its aperture.
     if (PTRACER_THIN_LENS) eye = (frame.camera_to_world * vec4(ptracer_lens_point(u_lens), 1.0)).xyz;
@@ -81,7 +93,7 @@ void connect_visible_environment(EmitterRecord e, uint n, vec2 u, vec2 u_lens) {
 // times cos θ over the density of choosing the point (uniform emitter choice, 1 / area).
 void connect_visible_emitter(uint index, uint it) {
     vec4 u = photon_rng(index, it, PTRACER_RNG_DIM_VISIBLE);
-    vec2 u_lens = PTRACER_THIN_LENS ? photon_rng(index, it, PTRACER_RNG_DIM_APERTURE).xy : vec2(0.0);
+    vec2 u_lens = PTRACER_SENSOR_SAMPLED ? ptracer_sensor_rng(index, it, PTRACER_RNG_DIM_SENSOR) : vec2(0.0);
     uint n = frame.emitter_count;
     uint i = min(uint(u.x * float(n)), n - 1u);
     EmitterRecord e = emitter_load(i);

@@ -16,4 +16,28 @@ void irradiancemeter_ray(vec2 u_pos, vec2 u_dir, out vec3 origin, out vec3 dir, 
     tmax = EMITTER_INFINITY;
 }
 
+// The particle tracer's connection of a light-path point p to the meter (Mitsuba's
+// IrradianceMeter::sample_direction): x, a uniform point of the shape drawn from u as
+// irradiancemeter_ray draws its origins (area density 1 / A). The meter measures
+// (1/A) ∫∫ L cos θx dω dA, an importance W = 1 / A per unit area and projected solid
+// angle, so p's light reaches it weighted by W cos θx / (d² p_A(x)) = cos θx / d²
+// (d = |p - x|, θx from x's normal, on the side irradiancemeter_ray's hemisphere
+// faces; 0 behind), which this returns. Mitsuba 3.9.1 weighs every connection by π
+// whatever d and θx, so its ptracer's irradiancemeter is not the irradiance its path
+// tracer measures (7.4 times it in tests/ptracer.rs); this is that irradiance.
+float irradiancemeter_importance(vec3 p, vec2 u, out Surface x) {
+    x = emitter_area_point(emitter_load(frame.emitter_count), u);
+    vec3 v = p - x.p;
+    float d2 = dot(v, v);
+    float cos_x = dot(x.ng, v) * inversesqrt(d2);
+    return cos_x > 0.0 ? cos_x / d2 : 0.0;
+}
+
+// The same for light arriving along -d from infinitely far (an environment): per unit
+// solid angle, W cos θx / p_A(x) = cos θx (0 behind).
+float irradiancemeter_direction_importance(vec3 d, vec2 u, out Surface x) {
+    x = emitter_area_point(emitter_load(frame.emitter_count), u);
+    return max(dot(x.ng, d), 0.0);
+}
+
 #endif

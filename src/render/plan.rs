@@ -314,6 +314,7 @@ impl RenderPlan {
             traversal: constants.traversal,
             film_filter: film::filter_constants(&film_spec.filter).0,
             thin_lens: scene.camera.projection.is_thin_lens() as u32,
+            sensor_shape: constants.sensor_shape,
         };
         Ok(RenderPlan {
             integrator,
@@ -425,14 +426,9 @@ fn check(scene: &Scene, integrator: &Integrator) -> Result<()> {
     if matches!(integrator, Integrator::Ptracer(_)) {
         use crate::scene::camera::Projection;
         match scene.camera.projection {
-            Projection::Perspective | Projection::ThinLens { .. } => {}
-            Projection::IrradianceMeter { .. } => {
-                return refuse(
-                    "integrator 'ptracer' with an irradiancemeter sensor is not supported \
-                     yet; render this sensor with path"
-                        .to_string(),
-                )
-            }
+            Projection::Perspective
+            | Projection::ThinLens { .. }
+            | Projection::IrradianceMeter { .. } => {}
             p => {
                 let kind = match p {
                     Projection::Orthographic => "orthographic",

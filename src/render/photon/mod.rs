@@ -290,6 +290,9 @@ pub struct SceneFeatures {
     pub film_filter: u32,
     /// The particle tracer's camera is a thin lens (PTRACER_THIN_LENS).
     pub thin_lens: u32,
+    /// The sensor is an irradiancemeter on a shape (SCENE_SENSOR_SHAPE: the particle
+    /// tracer connects to points of it).
+    pub sensor_shape: u32,
 }
 
 impl SceneFeatures {

@@ -50,6 +50,7 @@ pub fn kernel_specs(f: &SceneFeatures) -> Vec<KernelSpec<'static>> {
             &[
                 (Spec::EmitterKinds, f.emitters),
                 (Spec::PtracerThinLens, f.thin_lens),
+                (Spec::SensorShape, f.sensor_shape),
             ],
         ),
         named(
@@ -57,7 +58,9 @@ pub fn kernel_specs(f: &SceneFeatures) -> Vec<KernelSpec<'static>> {
             shaders::PTRACER_BOUNCE,
             &[
                 (Spec::BsdfKinds, f.bsdfs),
+                (Spec::EmitterKinds, f.emitters),
                 (Spec::PtracerThinLens, f.thin_lens),
+                (Spec::SensorShape, f.sensor_shape),
             ],
         ),
         KernelSpec::named("ptracer_fold", shaders::PTRACER_FOLD, &SpecValues::new()),

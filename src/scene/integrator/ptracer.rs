@@ -1,8 +1,11 @@
 //! `ptracer`: Mitsuba 3's particle tracer. Light paths leave the emitters and every
 //! vertex is connected to the camera and splatted into the film; points on area
-//! emitters are connected directly (the emitters the camera sees). The camera: a
-//! perspective or a thin lens (render::plan refuses the sensors Mitsuba's has no
-//! sample_direction for, and the irradiancemeter for now).
+//! emitters are connected directly (the emitters the camera sees). The sensor: a
+//! perspective camera, a thin lens, or an irradiancemeter, whose connections go to a
+//! uniform point of its shape with importance cos θx / d², so its film holds the
+//! irradiance its path tracer measures (Mitsuba 3.9.1's ptracer weighs them by π
+//! alone, which is not: tests/ptracer.rs). render::plan refuses the sensors Mitsuba's
+//! has no sample_direction for.
 
 use super::{path, Integrator, Param, Params};
 use crate::scene::plugin::{Family, Param as Doc, PluginDoc};
