@@ -202,9 +202,10 @@ fn batch_with_radiancemeters_matches_mitsuba() {
 }
 
 /// What cannot render a batch yet says so: the particle tracer (its camera
-/// connections know one camera) and AOVs (aov.comp traces through one camera).
+/// connections know one camera) and the uv partials' AOVs (they need each child's ray
+/// differentials).
 #[test]
-fn batch_refuses_ptracer_and_aovs() {
+fn batch_refuses_ptracer_and_uv_partials() {
     let mut sc = common::load(&repo(SCENE));
     sc.select_sensor(0).expect("sensor");
     let options = RenderOptions {
@@ -217,17 +218,55 @@ fn batch_refuses_ptracer_and_aovs() {
         .to_string();
     assert!(err.contains("not to a batch sensor"), "{err}");
     let options = RenderOptions {
-        aovs: wavetrace::scene::integrator::aov::parse_cli("depth").expect("aov"),
+        aovs: wavetrace::scene::integrator::aov::parse_cli("depth,duv_dx").expect("aov"),
         ..Default::default()
     };
     let err = wavetrace::render::Renderer::new(&device(), &sc, &options)
         .err()
-        .expect("AOVs refuse a batch")
+        .expect("uv partials refuse a batch")
         .to_string();
     assert!(
-        err.contains("AOVs of a batch sensor are not supported yet"),
+        err.contains("the AOV 'duv_dx' of a batch sensor is not supported yet"),
         "{err}"
     );
+}
+
+/// AOVs of a batch (batch3_aov.xml: batch3.xml's orthographic, thin-lens and
+/// perspective cameras under Mitsuba's aov integrator, 1 spp at pixel centres) equal
+/// Mitsuba 3.9.1's up to float rounding, every child's rays traced as the radiance's
+/// (`python3 -c "import mitsuba as mi; mi.set_variant('scalar_rgb'); s =
+/// mi.load_file('tests/data/batch_sensor/batch3_aov.xml'); mi.render(s);
+/// s.sensors()[0].film().write('tests/data/batch_sensor/batch3_aov_ref.exr')"`).
+#[test]
+fn batch_aovs_match_mitsuba_at_pixel_centres() {
+    let dir = common::temp_dir("batch_aovs");
+    let out = dir.join("aov.exr");
+    let (code, _, err) = common::wavetrace(&[
+        "render",
+        repo("tests/data/batch_sensor/batch3_aov.xml")
+            .to_str()
+            .unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let ours = common::aov_channels::assert_match_mitsuba(
+        &out,
+        &repo("tests/data/batch_sensor/batch3_aov_ref.exr"),
+        "_arg_0",
+    );
+    // Each child sees the spheres and the floor: depths vary in every third.
+    let depth = common::aov_channels::channel(&ours, "dd.T");
+    for child in 0..3 {
+        let third: Vec<f32> = (0..32)
+            .flat_map(|y| (32 * child..32 * child + 32).map(move |x| (x, y)))
+            .map(|(x, y)| depth[y * 96 + x])
+            .collect();
+        let lo = third.iter().cloned().fold(f32::MAX, f32::min);
+        let hi = third.iter().cloned().fold(0.0f32, f32::max);
+        assert!(hi > lo + 0.5, "child {child}: depths {lo} to {hi}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// A batch's `--samples` parts merge to its whole render bit for bit, as any sensor's

@@ -41,6 +41,13 @@ SPEC(SCENE_BSDF_KINDS);
 #include "bsdf/bsdf_textured.glsl"
 #include "film/film.glsl"
 #include "sensor/camera.glsl"
+// The sensor's rays as the camera paths' (sensor_ray.glsl): a batch sensor's children,
+// an irradiancemeter's shape.
+SPEC(SCENE_SENSOR_SHAPE);
+#define SENSOR_ON_SHAPE SCENE_SENSOR_SHAPE
+SPEC(SCENE_SENSOR_BATCH);
+#define SENSOR_BATCH SCENE_SENSOR_BATCH
+#include "sensor/sensor_ray.glsl"
 SPEC(SCENE_PRIM_KINDS);
 #define BVH_PRIM_KINDS SCENE_PRIM_KINDS
 SPEC(SCENE_BVH_DEPTH);
@@ -95,17 +102,18 @@ AovHit aov_sample(ivec2 q, uint sample_index) {
     ivec2 pixel = ivec2(film.region_x, film.region_y) + q;
     uint key = film_pixel_key(pixel);
     AovRay r;
-    vec2 u_lens = (frame.camera_kind == CAMERA_THINLENS || frame.camera_kind == CAMERA_DISTANT)
-        ? sample_2d(key, sample_index, RNG_DIM_APERTURE) : vec2(0.0);
     vec2 film_pos = vec2(pixel) + film_sample_position(key, sample_index);
-    camera_ray(film_pos, u_lens, r.o, r.d, r.tmax);
+    sensor_ray(film_pos, key, sample_index, r.o, r.d, r.tmax);
     r.has_differentials = false;
     r.o_x = r.o;
     r.o_y = r.o;
     r.d_x = r.d;
     r.d_y = r.d;
     bool partials = aov_needs_uv_partials();
-    if (partials) {
+    // One camera's differentials (render::plan refuses uv partials of a batch; an
+    // irradiancemeter has none, as Mitsuba's: duv 0).
+    if (partials && SENSOR_BATCH <= 1u && !(SENSOR_ON_SHAPE && frame.camera_kind == CAMERA_IRRADIANCEMETER)) {
+        vec2 u_lens = sensor_lens_sample(frame.camera_kind, key, sample_index);
         // Mitsuba's render_sample scales the differentials by 1/√spp.
         r.has_differentials = camera_ray_differentials(film_pos, u_lens, r.o, r.d,
             inversesqrt(float(frame.sample_count)), r.o_x, r.d_x, r.o_y, r.d_y);

@@ -35,6 +35,11 @@ const FUSED_MIN_PATHS: u64 = 1 << 21;
 /// through it (scenes/textures/textures.xml, 23% misses: +6% instructions).
 const SECOND_FUSED_MISSES_MAX: f32 = 1.0 / 16.0;
 
+/// Most samples of one pixel in a batch of a render with AOVs: aov.comp traces them in
+/// one thread, whose loops (the BVH traversal's, per sample) llvmpipe stops after
+/// 65,535 iterations in all; 256 leaves each sample 256.
+const AOV_SAMPLES_PER_PIXEL: u32 = 256;
+
 /// One kernel of the path-tracing wavefront, by the part it plays in a batch (the
 /// photon mappers' own kernels are `photon::Photons`').
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -223,38 +228,23 @@ impl RenderPlan {
         }
         let expected_paths = u64::from(geometry.region_pixels())
             * u64::from(options.expected_spp.unwrap_or(scene.spp));
-        let capacity = batch_capacity(caps, options, &geometry, expected_paths);
+        let mut capacity = batch_capacity(caps, options, &geometry, expected_paths);
         let schedule = Schedule::new(scene, options, caps, &integrator, &facts, expected_paths);
         // Alpha: the film keeps covered weights and shade marks covered camera paths;
         // a visible environment covers every path of the integrators where Mitsuba
         // counts it (`valid_ray` of path and volpath). The photon mappers' camera
         // kernels mark none: no alpha there (see `film_overridden`).
-        let outputs = &scene.integrator.outputs;
-        let aov_count = outputs.aovs.len() + options.aovs.len();
-        if aov_count > crate::scene::integrator::aov::MAX_AOVS {
-            return Err(Error::Options(format!(
-                "{aov_count} AOVs requested (the scene's aov integrator's and --aov's); \
-                 wavetrace writes at most {}",
-                crate::scene::integrator::aov::MAX_AOVS
-            )));
-        }
-        // aov.comp traces its own camera rays, through one camera (sensor/camera.glsl).
-        if aov_count > 0 && !scene.camera.batch.is_empty() {
-            return Err(Error::Options(
-                "AOVs of a batch sensor are not supported yet: render each of its cameras \
-                 as a sensor of its own"
-                    .to_string(),
-            ));
-        }
-        if let Some(a) = options
-            .aovs
-            .iter()
-            .find(|a| outputs.aovs.iter().any(|b| b.name == a.name))
-        {
-            return Err(Error::Options(format!(
-                "--aov names '{}', which the scene's aov integrator already writes",
-                a.name
-            )));
+        if check_aovs(scene, options)? > 0 {
+            // aov.comp traces the rays of a pixel's samples of a batch in one thread
+            // (the box filter's gather): llvmpipe ends a thread's loops after 65,535
+            // iterations in all, which a 1 x 1 film at 65,536 spp met after ~6,000
+            // samples (the AOVs of the rest went missing). A batch holds at most
+            // AOV_SAMPLES_PER_PIXEL samples of each pixel; images are the same bits
+            // whatever the batches.
+            let most = geometry
+                .region_pixels()
+                .saturating_mul(AOV_SAMPLES_PER_PIXEL);
+            capacity = capacity.min(most.max(1));
         }
         let extra = ExtraChannels::of(
             &scene.integrator.outputs,
@@ -921,6 +911,49 @@ impl Constants {
     }
 }
 
+/// Checks the AOVs a render asks for (the scene's `aov` integrator's and `--aov`'s):
+/// at most MAX_AOVS, no uv partials of a batch sensor, no name twice; returns their
+/// number.
+fn check_aovs(scene: &Scene, options: &RenderOptions) -> Result<usize> {
+    let outputs = &scene.integrator.outputs;
+    let aov_count = outputs.aovs.len() + options.aovs.len();
+    if aov_count > crate::scene::integrator::aov::MAX_AOVS {
+        return Err(Error::Options(format!(
+            "{aov_count} AOVs requested (the scene's aov integrator's and --aov's); \
+             wavetrace writes at most {}",
+            crate::scene::integrator::aov::MAX_AOVS
+        )));
+    }
+    // aov.comp traces the camera paths' rays again (sensor/sensor_ray.glsl), a batch
+    // sensor's children's too, but has the ray differentials of one camera only.
+    let partials = outputs.aovs.iter().chain(&options.aovs).find(|a| {
+        matches!(
+            a.kind,
+            crate::scene::integrator::aov::AovKind::DuvDx
+                | crate::scene::integrator::aov::AovKind::DuvDy
+        )
+    });
+    if let (Some(a), false) = (partials, scene.camera.batch.is_empty()) {
+        return Err(Error::Options(format!(
+            "the AOV '{}' of a batch sensor is not supported yet (uv partials need each \
+             child camera's ray differentials): render each of its cameras as a sensor \
+             of its own",
+            a.name
+        )));
+    }
+    if let Some(a) = options
+        .aovs
+        .iter()
+        .find(|a| outputs.aovs.iter().any(|b| b.name == a.name))
+    {
+        return Err(Error::Options(format!(
+            "--aov names '{}', which the scene's aov integrator already writes",
+            a.name
+        )));
+    }
+    Ok(aov_count)
+}
+
 /// The constants of `aov.comp`: the scene's (as shade's), the film's filter and the
 /// AOV kinds (4 bits each, the scene's `aov` first, then `--aov`'s), moments.
 fn aov_constants(
@@ -950,6 +983,8 @@ fn aov_constants(
         .with(Spec::FilmAovsLo, kinds[0])
         .with(Spec::FilmAovsHi, kinds[1])
         .with(Spec::FilmMoment, outputs.moment.is_some() as u32)
+        .with(Spec::SensorShape, c.sensor_shape)
+        .with(Spec::SensorBatch, c.sensor_batch)
 }
 
 /// Every kernel a render with `schedule` makes, the largest first; `gather`: the

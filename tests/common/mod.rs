@@ -381,6 +381,7 @@ pub fn downsample(img: &Image, k: u32) -> Image {
 }
 
 pub mod albedo;
+pub mod aov_channels;
 pub mod media;
 pub mod mitsuba_values;
 pub mod stats;
