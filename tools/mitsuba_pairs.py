@@ -39,6 +39,25 @@ def direction(rng, lower=False, mu_min=0.02, phi_range=(0.0, 2.0 * math.pi)):
     return unit([s * math.cos(phi), s * math.sin(phi), -mu if lower else mu])
 
 
+def textured_query(rng, bsdf, ctx, mu_min=0.02):
+    """A random uv and (wo, wi) pair for a BSDF with textured parameters (`wi` near
+    the mirror direction half the time; directions as `direction` with `mu_min`), the
+    surface interaction there and Mitsuba's eval (RGB, cosine-weighted) and pdf of
+    `bsdf` at it: (uv, wo, wi, si, eval, pdf)."""
+    uv = [f32(rng.uniform(0.0, 1.0)), f32(rng.uniform(0.0, 1.0))]
+    wo = direction(rng, mu_min=mu_min)
+    if rng.random() < 0.5:  # near the mirror direction
+        wi = unit([-wo[0] + rng.gauss(0, 0.3), -wo[1] + rng.gauss(0, 0.3), wo[2]])
+    else:
+        wi = direction(rng, mu_min=mu_min)
+    si = mi.SurfaceInteraction3f()
+    si.wi = mi.Vector3f(wo)
+    si.uv = mi.Point2f(uv)
+    e = bsdf.eval(ctx, si, mi.Vector3f(wi))
+    p = bsdf.pdf(ctx, si, mi.Vector3f(wi))
+    return uv, wo, wi, si, [float(e[i]) for i in range(3)], float(p)
+
+
 def eval_pdf(bsdf, ctx, wo, wi, uv=(0.5, 0.5)):
     """Mitsuba's eval (RGB, cosine-weighted) and pdf (solid angle) of `bsdf` at
     (wo, wi), at the surface coordinates `uv`."""

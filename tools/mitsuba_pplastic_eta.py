@@ -31,7 +31,7 @@ import numpy as np
 
 mi.set_variant("scalar_rgb")
 
-from mitsuba_pairs import direction, f32, unit  # noqa: E402
+from mitsuba_pairs import textured_query  # noqa: E402
 
 HERE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data",
                     "pplastic_eta")
@@ -92,19 +92,8 @@ def main():
         bsdf = load(xml)
         values = []
         for _ in range(48):
-            uv = [f32(rng.uniform(0.0, 1.0)), f32(rng.uniform(0.0, 1.0))]
-            wo = direction(rng)
-            if rng.random() < 0.5:  # near the mirror direction
-                wi = unit([-wo[0] + rng.gauss(0, 0.3), -wo[1] + rng.gauss(0, 0.3), wo[2]])
-            else:
-                wi = direction(rng)
-            si = mi.SurfaceInteraction3f()
-            si.wi = mi.Vector3f(wo)
-            si.uv = mi.Point2f(uv)
-            e = bsdf.eval(ctx, si, mi.Vector3f(wi))
-            p = bsdf.pdf(ctx, si, mi.Vector3f(wi))
-            values.append({"uv": uv, "wo": wo, "wi": wi,
-                           "eval": [float(e[i]) for i in range(3)], "pdf": float(p),
+            uv, wo, wi, si, e, p = textured_query(rng, bsdf, ctx)
+            values.append({"uv": uv, "wo": wo, "wi": wi, "eval": e, "pdf": p,
                            "eta": eta_at(xml, si), "eta_rgb": eta_rgb_at(xml, si)})
         cases.append({"name": name, "xml": xml, "values": values})
     with open(os.path.join(HERE, "values.json"), "w") as f:

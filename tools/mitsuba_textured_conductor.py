@@ -15,34 +15,18 @@ says whether the lookup or the BSDF differs. (Mitsuba warns that the textures ex
 [0, 1]: that matters only to spectral variants, which upsample RGB as reflectances.)
 """
 import json
-import math
 import os
 import random
-import struct
 
 import mitsuba as mi
 import numpy as np
 
 mi.set_variant("scalar_rgb")
 
+from mitsuba_pairs import textured_query  # noqa: E402
+
 HERE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data",
                     "textured_conductor")
-
-
-def f32(x):
-    return struct.unpack("f", struct.pack("f", x))[0]
-
-
-def unit(v):
-    n = math.sqrt(sum(c * c for c in v))
-    return [f32(c / n) for c in v]
-
-
-def direction(rng):
-    mu = rng.uniform(0.05, 1.0)
-    phi = rng.uniform(0.0, 2.0 * math.pi)
-    s = math.sqrt(1.0 - mu * mu)
-    return unit([s * math.cos(phi), s * math.sin(phi), mu])
 
 
 def write_textures():
@@ -87,20 +71,9 @@ def main():
         k_tex = mi.load_dict(textured(d)["k"])
         values = []
         for _ in range(48):
-            uv = [f32(rng.uniform(0.0, 1.0)), f32(rng.uniform(0.0, 1.0))]
-            wo = direction(rng)
-            if rng.random() < 0.5:  # near the mirror direction
-                wi = unit([-wo[0] + rng.gauss(0, 0.3), -wo[1] + rng.gauss(0, 0.3), wo[2]])
-            else:
-                wi = direction(rng)
-            si = mi.SurfaceInteraction3f()
-            si.wi = mi.Vector3f(wo)
-            si.uv = mi.Point2f(uv)
-            e = bsdf.eval(ctx, si, mi.Vector3f(wi))
-            p = bsdf.pdf(ctx, si, mi.Vector3f(wi))
+            uv, wo, wi, si, e, p = textured_query(rng, bsdf, ctx, mu_min=0.05)
             te, tk = eta_tex.eval(si), k_tex.eval(si)
-            values.append({"uv": uv, "wo": wo, "wi": wi,
-                           "eval": [float(e[i]) for i in range(3)], "pdf": float(p),
+            values.append({"uv": uv, "wo": wo, "wi": wi, "eval": e, "pdf": p,
                            "eta": [float(te[i]) for i in range(3)],
                            "k": [float(tk[i]) for i in range(3)]})
         cases.append({"name": name, "mitsuba": d, "values": values})
