@@ -43,31 +43,38 @@ pub const MITSUBA: PluginDoc = PluginDoc::new(
     "ellipsoids",
     "A cloud of anisotropic ellipsoids (centre, log-scales, rotation quaternion) from a PLY file, intersected in closed form, back faces culled; uv = 0. Only the `filename` form (Mitsuba's `data`/`centers` tensors cannot be written in XML); no area emitters or media on them yet; attributes other than the geometry are ignored.",
     &[
-        Param::new(
-            "filename",
-            "string",
-            "",
-            "the PLY file: `x y z nx ny nz` first, `scale_0..2 rot_0..3` last (required)",
-        ),
-        Param::new(
-            "extent",
-            "float",
-            "3",
-            "the semi-axes are the file's scales times this",
-        ),
-        Param::new(
-            "scale_factor",
-            "float",
-            "1",
-            "a factor on every ellipsoid's scales",
-        ),
-        Param::new(
-            "to_world",
-            TO_WORLD.ty,
-            TO_WORLD.default,
-            "moves the centres, rotates the ellipsoids and scales them by its mean scale",
-        ),
+        FILENAME,
+        EXTENT,
+        SCALE_FACTOR,
+        ELLIPSOIDS_TO_WORLD,
     ],
+);
+
+/// The parameters `ellipsoids` shares with `ellipsoidsmesh` (which reads the same file
+/// through [`world`]).
+pub const FILENAME: Param = Param::new(
+    "filename",
+    "string",
+    "",
+    "the PLY file: `x y z nx ny nz` first, `scale_0..2 rot_0..3` last (required)",
+);
+pub const EXTENT: Param = Param::new(
+    "extent",
+    "float",
+    "3",
+    "the semi-axes are the file's scales times this",
+);
+pub const SCALE_FACTOR: Param = Param::new(
+    "scale_factor",
+    "float",
+    "1",
+    "a factor on every ellipsoid's scales",
+);
+pub const ELLIPSOIDS_TO_WORLD: Param = Param::new(
+    "to_world",
+    TO_WORLD.ty,
+    TO_WORLD.default,
+    "moves the centres, rotates the ellipsoids and scales them by its mean scale",
 );
 
 /// The marker of an ellipsoid entry in [`Mesh::indices`]: `[its number, this, its

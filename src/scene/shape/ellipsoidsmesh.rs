@@ -21,7 +21,7 @@
 
 use glam::{Mat3, Vec3};
 
-use super::{Geometry, Mesh, TO_WORLD};
+use super::{ellipsoids, Geometry, Mesh};
 use crate::scene::plugin::{Family, Param, PluginDoc};
 use crate::scene::properties::Properties;
 use crate::scene::xml::{Dialect, Element};
@@ -33,36 +33,16 @@ pub const MITSUBA: PluginDoc = PluginDoc::new(
     "ellipsoidsmesh",
     "The ellipsoids of an `ellipsoids` PLY file as Mitsuba's triangle shells (an icosahedron or a box per ellipsoid, flat shaded). Only the `filename` form; shells `ico_sphere` and `box` (not `uv_sphere` or a nested mesh yet); back faces are not culled as Mitsuba culls them.",
     &[
-        Param::new(
-            "filename",
-            "string",
-            "",
-            "the PLY file: `x y z nx ny nz` first, `scale_0..2 rot_0..3` last (required)",
-        ),
-        Param::new(
-            "extent",
-            "float",
-            "3",
-            "the semi-axes are the file's scales times this",
-        ),
-        Param::new(
-            "scale_factor",
-            "float",
-            "1",
-            "a factor on every ellipsoid's scales",
-        ),
+        ellipsoids::FILENAME,
+        ellipsoids::EXTENT,
+        ellipsoids::SCALE_FACTOR,
         Param::new(
             "shell",
             "string",
             "ico_sphere",
             "the polyhedron each ellipsoid becomes: `ico_sphere` (or `default`) or `box`",
         ),
-        Param::new(
-            "to_world",
-            TO_WORLD.ty,
-            TO_WORLD.default,
-            "moves the centres, rotates the ellipsoids and scales them by its mean scale",
-        ),
+        ellipsoids::ELLIPSOIDS_TO_WORLD,
     ],
 );
 
@@ -128,7 +108,7 @@ pub fn mitsuba(el: &Element, props: &Properties) -> Result<Geometry, Error> {
             ))
         }
     };
-    let (path, ellipsoids) = super::ellipsoids::world(el, props)?;
+    let (path, ellipsoids) = ellipsoids::world(el, props)?;
     let mut mesh = Mesh {
         name: path.display().to_string(),
         ..Mesh::default()
