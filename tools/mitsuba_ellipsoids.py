@@ -61,47 +61,68 @@ def write_ply(rng, n=16):
     return [[float("%.6f" % x) for x in r] for r in rows]
 
 
-def main():
-    args = arguments("ellipsoids_hits.json")
-    rng = random.Random(40)
-    rows = write_ply(rng)
-    cases = []
-    for name, xml, extra in CASES:
-        d = {"type": "ellipsoids", "filename": PLY}
+def read_ply():
+    """The rows of scenes/ellipsoids/ellipsoids.ply as `write_ply` returns them."""
+    text = open(PLY).read().split("end_header\n")[1]
+    return [[float(x) for x in line.split()] for line in text.strip().split("\n")]
+
+
+def hit_cases(shape_type, cases, rows, rng, rays, aimed=0.5, inside=0.2, outside=None,
+              to_world_scale=1.0):
+    """Mitsuba's hits and misses on each of `cases` (name, XML, the dictionary's
+    parameters) of a `shape_type` shape made of the ellipsoids `rows`: until `rays`
+    of each, a ray is aimed from 3 units away at a point inside a random ellipsoid
+    (probability `aimed`), starts at its centre (`inside`), or goes from the cube
+    [-3, 3]^3 through the box of the ellipsoids. With `outside`, rays start farther
+    than `outside` times the largest semi-axis from every centre; the semi-axes are
+    taken `to_world_scale` times larger under a to_world."""
+    out = []
+    for name, xml, extra in cases:
+        d = {"type": shape_type, "filename": PLY}
         d.update(extra)
         scene = mi.load_dict({"type": "scene", "e": d})
         tw = extra.get("to_world")
         k = extra.get("extent", 3.0) * extra.get("scale_factor", 1.0)
+        if tw is not None:
+            k *= to_world_scale
         centres = [list(tw @ mi.ScalarPoint3f(r[:3])) if tw is not None else r[:3] for r in rows]
         size = [k * max(math.exp(x) for x in r[7:10]) for r in rows]
         hits, misses = [], []
 
         def trace(o, dvec):
             o, dvec = rounded(o, dvec)
+            if outside is not None and any(
+                    math.dist(o, c) <= outside * s for c, s in zip(centres, size)):
+                return
             si = scene.ray_intersect(mi.Ray3f(o, dvec))
             if si.is_valid():
-                if not grazing(si, dvec) and len(hits) < args.rays:
+                if not grazing(si, dvec) and len(hits) < rays:
                     hits.append(record(si, o, dvec, frame_s=False))
-            elif len(misses) < args.rays and clear_miss(scene, o, dvec):
+            elif len(misses) < rays and clear_miss(scene, o, dvec):
                 misses.append({"o": o, "d": dvec})
 
-        inside = 0
-        while len(hits) < args.rays or len(misses) < args.rays:
+        while len(hits) < rays or len(misses) < rays:
             j = rng.randrange(len(rows))
             kind = rng.random()
-            if kind < 0.5:
+            if kind < aimed:
                 target = [centres[j][i] + 0.5 * size[j] * x for i, x in enumerate(rand_dir(rng))]
                 o = [target[i] + 3.0 * x for i, x in enumerate(rand_dir(rng))]
                 trace(o, unit([target[i] - o[i] for i in range(3)]))
-            elif kind < 0.7:
-                inside += 1
+            elif kind < aimed + inside:
                 trace(centres[j], rand_dir(rng))
             else:
                 o = [rng.uniform(-3, 3) for _ in range(3)]
                 target = [rng.uniform(-1.6, 1.6), rng.uniform(-1.1, 1.1), rng.uniform(-0.9, 0.9)]
                 trace(o, unit([target[i] - o[i] for i in range(3)]))
-        cases.append({"name": name, "shape": xml, "hits": hits, "misses": misses})
-    write(args.out, cases)
+        out.append({"name": name, "shape": xml, "hits": hits, "misses": misses})
+    return out
+
+
+def main():
+    args = arguments("ellipsoids_hits.json")
+    rng = random.Random(40)
+    rows = write_ply(rng)
+    write(args.out, hit_cases("ellipsoids", CASES, rows, rng, args.rays))
 
 
 if __name__ == "__main__":

@@ -17,18 +17,14 @@ and misses kept where rays moved by 1e-3 miss too (tools/mitsuba_hits.py). A fix
 seed: running it again gives the same file.
 """
 
-import math
-import os
 import random
 
 import mitsuba as mi
 
 mi.set_variant("scalar_rgb")
 
-from mitsuba_hits import (ROOT, TO_WORLD_XML, arguments, clear_miss, grazing,  # noqa: E402
-                          rand_dir, record, rounded, to_world, unit, write)
-
-PLY = os.path.join(ROOT, "scenes", "ellipsoids", "ellipsoids.ply")
+from mitsuba_ellipsoids import hit_cases, read_ply  # noqa: E402
+from mitsuba_hits import TO_WORLD_XML, arguments, to_world, write  # noqa: E402
 
 FILE = '<string name="filename" value="ellipsoids.ply"/>'
 CASES = [
@@ -42,53 +38,13 @@ CASES = [
 ]
 
 
-def read_ply():
-    text = open(PLY).read().split("end_header\n")[1]
-    return [[float(x) for x in line.split()] for line in text.strip().split("\n")]
-
-
 def main():
     args = arguments("ellipsoidsmesh_hits.json")
     rng = random.Random(41)
-    rows = read_ply()
-    cases = []
-    for name, xml, extra in CASES:
-        d = {"type": "ellipsoidsmesh", "filename": PLY}
-        d.update(extra)
-        scene = mi.load_dict({"type": "scene", "e": d})
-        tw = extra.get("to_world")
-        k = extra.get("extent", 3.0) * extra.get("scale_factor", 1.0)
-        if tw is not None:
-            k *= 1.3  # at most the to_world's largest scale
-        centres = [list(tw @ mi.ScalarPoint3f(r[:3])) if tw is not None else r[:3] for r in rows]
-        size = [k * max(math.exp(x) for x in r[7:10]) for r in rows]
-        hits, misses = [], []
-
-        def outside(o):
-            return all(math.dist(o, c) > 1.6 * s for c, s in zip(centres, size))
-
-        def trace(o, dvec):
-            o, dvec = rounded(o, dvec)
-            if not outside(o):
-                return
-            si = scene.ray_intersect(mi.Ray3f(o, dvec))
-            if si.is_valid():
-                if not grazing(si, dvec) and len(hits) < args.rays:
-                    hits.append(record(si, o, dvec, frame_s=False))
-            elif len(misses) < args.rays and clear_miss(scene, o, dvec):
-                misses.append({"o": o, "d": dvec})
-
-        while len(hits) < args.rays or len(misses) < args.rays:
-            j = rng.randrange(len(rows))
-            if rng.random() < 0.6:
-                target = [centres[j][i] + 0.5 * size[j] * x for i, x in enumerate(rand_dir(rng))]
-                o = [target[i] + 3.0 * x for i, x in enumerate(rand_dir(rng))]
-                trace(o, unit([target[i] - o[i] for i in range(3)]))
-            else:
-                o = [rng.uniform(-3, 3) for _ in range(3)]
-                target = [rng.uniform(-1.6, 1.6), rng.uniform(-1.1, 1.1), rng.uniform(-0.9, 0.9)]
-                trace(o, unit([target[i] - o[i] for i in range(3)]))
-        cases.append({"name": name, "shape": xml, "hits": hits, "misses": misses})
+    # No inside rays; semi-axes taken 1.3 times larger (the to_world's largest scale)
+    # where one applies.
+    cases = hit_cases("ellipsoidsmesh", CASES, read_ply(), rng, args.rays, aimed=0.6,
+                      inside=0.0, outside=1.6, to_world_scale=1.3)
     write(args.out, cases)
 
 
