@@ -481,14 +481,7 @@ fn aovs_of_one_pixel_at_many_samples() {
     let dir = temp_dir("aovs_of_one_pixel");
     let render = |scene: &std::path::Path, spp: &str, name: &str| {
         let out = dir.join(name);
-        let (code, _, err) = wavetrace(&[
-            "render",
-            scene.to_str().unwrap(),
-            "--spp",
-            spp,
-            "-o",
-            out.to_str().unwrap(),
-        ]);
+        let (code, _, err) = common::render_to(scene, &out, spp);
         assert_eq!(code, 0, "{err}");
         exr::read_channels(&out).expect("ours").2
     };

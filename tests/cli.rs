@@ -14,19 +14,6 @@ fn assert_error(args: &[&str], needles: &[&str]) {
     }
 }
 
-/// Renders `scene` at `spp` to `out`, quietly: (exit status, stdout, stderr).
-fn render_to(scene: &std::path::Path, out: &std::path::Path, spp: &str) -> (i32, String, String) {
-    wavetrace(&[
-        "render",
-        scene.to_str().unwrap(),
-        "--spp",
-        spp,
-        "-o",
-        out.to_str().unwrap(),
-        "-q",
-    ])
-}
-
 /// Renders `scene` with `args` at 4 spp to `out`, quietly, with the environment
 /// variable `env` set where given; fails the test with its stderr if it fails, else
 /// returns it.
@@ -153,7 +140,7 @@ fn renders_writes_exr_and_png_and_reports_speed() {
     let dir = temp_dir("cli");
     let out = dir.join("ao.exr");
     let scene = repo("scenes/ao/ao.xml");
-    let (code, _, err) = render_to(&scene, &out, "2");
+    let (code, _, err) = common::render_to(&scene, &out, "2");
     assert_eq!(code, 0, "{err}");
     assert!(err.contains("device:"), "{err}");
     assert!(err.contains("rays/s"), "{err}");
@@ -298,7 +285,7 @@ fn render_writes_the_films_formats() {
     for (name, extra, ext, channels, half) in cases {
         let scene = temp_file("cli_formats", &format!("{name}.xml"), &film(extra));
         let out = scene.with_file_name(format!("{name}-out.exr"));
-        let (code, _, err) = render_to(&scene, &out, "1");
+        let (code, _, err) = common::render_to(&scene, &out, "1");
         assert_eq!(code, 0, "{name}: {err}");
         let written = out.with_extension(ext);
         assert!(

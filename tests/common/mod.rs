@@ -196,6 +196,20 @@ pub fn wavetrace(args: &[&str]) -> (i32, String, String) {
     )
 }
 
+/// Renders `scene` at `spp` to `out` with the `wavetrace` binary, quietly: (exit
+/// status, stdout, stderr).
+pub fn render_to(scene: &Path, out: &Path, spp: &str) -> (i32, String, String) {
+    wavetrace(&[
+        "render",
+        scene.to_str().unwrap(),
+        "--spp",
+        spp,
+        "-o",
+        out.to_str().unwrap(),
+        "-q",
+    ])
+}
+
 /// Path of a file in the repository.
 pub fn repo(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
