@@ -8,7 +8,8 @@
 //! (`tools/lavapipe.sh --prebuilt`, which `.ci/run` runs where Debian sid can be
 //! reached), a record of it at 512 bits renders the Cornell box as the system's driver
 //! does; `WAVETRACE_REQUIRE_PREBUILT=1` (set by `.ci/run` once it installed one) makes
-//! its absence a failure instead of a skip.
+//! its absence a failure instead of a skip; there the scene is read from storage
+//! buffers, and through texel buffers (`WAVETRACE_SCENE_TEXELS`) to the same bits.
 
 mod common;
 
@@ -135,4 +136,22 @@ fn a_recorded_newer_lavapipe_at_512_bits_renders_the_same_image() {
     );
     let d = common::largest_relative_difference(&reference, &img);
     assert!(d < 1e-3, "the 512-bit render differs by {d}");
+
+    // Mesa 22.3 reads the scene through texel buffers, the newer driver from storage
+    // buffers (DeviceInfo::scene_storage); WAVETRACE_SCENE_TEXELS=1 makes it read them
+    // through texel buffers too, with the same image bit for bit.
+    assert!(!plain.contains("(into storage buffers)"), "{plain}");
+    assert!(chosen.contains("(into storage buffers)"), "{chosen}");
+    let (texels, texel_img) = render(
+        &cache,
+        &dir.join("texels.exr"),
+        &[("WAVETRACE_SCENE_TEXELS", "1")],
+    );
+    assert!(device_line(&texels).contains("512 bits"), "{texels}");
+    assert!(!texels.contains("(into storage buffers)"), "{texels}");
+    assert_eq!(
+        common::largest_relative_difference(&img, &texel_img),
+        0.0,
+        "texel and storage buffers render different images"
+    );
 }

@@ -5,22 +5,28 @@
 
 #include "scene/layout.glsl"
 
-// Every scene record is read through a storage texel buffer with imageLoad
-// (BindingKind::Texels in src/gpu/kernel.rs: llvmpipe gathers an image load at
-// scattered addresses inline, much faster than it loads from a storage buffer or
-// calls its texel-fetch function). Use the *_load functions below, never the images.
-//
-// Large arrays may be split over several bindings (src/render/scene_parts.rs): one
-// texel-buffer view addresses at most maxTexelBufferElements texels (lavapipe: 2^27)
-// within one allocation, so an array past that is cut into parts of 2^SCENE_PART_SHIFT
-// texels, part p at binding `NAME_p`, and a load tests its part against each binding
-// (no descriptor indexing on lavapipe). Every kernel that includes this file is also
-// compiled with SCENE_SPLIT defined (build.rs), the variant the renderer runs for a
-// scene with a split array: there the parts of each array are specialization
-// constants that every kernel gets from its BindingLayout (ScenePlan::spec, ids 64 and
-// up: kernels number their own constants below 64). Without SCENE_SPLIT, the common
-// case, a load is the one image load it always was (the split loads' dead code would
-// cost llvmpipe 0.2 s of pipeline creation on every render).
+// Every scene record is read through a *_load function below, never from the bindings
+// directly. Kernels are compiled twice over (build.rs; gpu::SceneAccess picks one for a
+// device and a scene): by default each array is a storage texel buffer read with
+// imageLoad (BindingKind::Texels: llvmpipe up to Mesa 22.3 gathers an image load at
+// scattered addresses inline, much faster than it loads from a storage buffer or calls
+// its texel-fetch function); with SCENE_STORAGE defined, a storage buffer read by index
+// (llvmpipe from Mesa 26 calls a function for every image load, and gathers a storage
+// buffer load inline, or loads it once where every lane reads one address).
+#ifdef SCENE_STORAGE
+#define SCENE_TEXELS(b, NAME) \
+    layout(std430, set = 0, binding = b) readonly buffer NAME##_block { uvec4 NAME[]; };
+#define SCENE_WORDS(b, NAME) \
+    layout(std430, set = 0, binding = b) readonly buffer NAME##_block { uint NAME[]; };
+#define SCENE_LOAD(NAME, k) scene_storage_texel(NAME[k])
+uvec4 scene_storage_texel(uvec4 t) { return t; }
+uvec4 scene_storage_texel(uint w) { return uvec4(w, 0u, 0u, 0u); }
+#else
+#define SCENE_TEXELS(b, NAME) layout(set = 0, binding = b, rgba32ui) uniform readonly uimageBuffer NAME;
+#define SCENE_WORDS(b, NAME) layout(set = 0, binding = b, r32ui) uniform readonly uimageBuffer NAME;
+#define SCENE_LOAD(NAME, k) imageLoad(NAME, int(k))
+#endif
+
 #ifdef SCENE_SPLIT
 #include "generated/spec_constants.glsl"
 SPEC(SCENE_PART_SHIFT);
@@ -36,48 +42,48 @@ SPEC(GRID_PACKED_PARTS);
 #endif
 
 // BVH nodes and primitives: 4 and 3 uvec4 texels a record (bvh_node_load, prim_load).
-layout(set = 0, binding = 0, rgba32ui) uniform readonly uimageBuffer bvh_node_texels;
-layout(set = 0, binding = 15, rgba32ui) uniform readonly uimageBuffer bvh_node_texels_1;
-layout(set = 0, binding = 16, rgba32ui) uniform readonly uimageBuffer bvh_node_texels_2;
-layout(set = 0, binding = 17, rgba32ui) uniform readonly uimageBuffer bvh_node_texels_3;
-layout(set = 0, binding = 1, rgba32ui) uniform readonly uimageBuffer prim_texels;
-layout(set = 0, binding = 18, rgba32ui) uniform readonly uimageBuffer prim_texels_1;
-layout(set = 0, binding = 19, rgba32ui) uniform readonly uimageBuffer prim_texels_2;
-layout(set = 0, binding = 20, rgba32ui) uniform readonly uimageBuffer prim_texels_3;
+SCENE_TEXELS(0, bvh_node_texels)
+SCENE_TEXELS(15, bvh_node_texels_1)
+SCENE_TEXELS(16, bvh_node_texels_2)
+SCENE_TEXELS(17, bvh_node_texels_3)
+SCENE_TEXELS(1, prim_texels)
+SCENE_TEXELS(18, prim_texels_1)
+SCENE_TEXELS(19, prim_texels_2)
+SCENE_TEXELS(20, prim_texels_3)
 // Shapes and triangles (one texel each) and vertices (two) likewise: read them
 // with shape_load, triangle_load and vertex_load.
-layout(set = 0, binding = 2, rgba32ui) uniform readonly uimageBuffer shape_texels;
-layout(set = 0, binding = 3, rgba32ui) uniform readonly uimageBuffer triangle_texels;
-layout(set = 0, binding = 21, rgba32ui) uniform readonly uimageBuffer triangle_texels_1;
-layout(set = 0, binding = 4, rgba32ui) uniform readonly uimageBuffer vertex_texels;
-layout(set = 0, binding = 22, rgba32ui) uniform readonly uimageBuffer vertex_texels_1;
+SCENE_TEXELS(2, shape_texels)
+SCENE_TEXELS(3, triangle_texels)
+SCENE_TEXELS(21, triangle_texels_1)
+SCENE_TEXELS(4, vertex_texels)
+SCENE_TEXELS(22, vertex_texels_1)
 // BSDFs, emitters and alias tables (bsdf_load, emitter_load, alias_load).
-layout(set = 0, binding = 5, rgba32ui) uniform readonly uimageBuffer bsdf_texels;
-layout(set = 0, binding = 6, rgba32ui) uniform readonly uimageBuffer emitter_texels;
+SCENE_TEXELS(5, bsdf_texels)
+SCENE_TEXELS(6, emitter_texels)
 // Emitter alias table at [0, emitter_count), then each mesh emitter's triangle table.
-layout(set = 0, binding = 7, rgba32ui) uniform readonly uimageBuffer alias_texels;
+SCENE_TEXELS(7, alias_texels)
 // Textures (texture.glsl): records (texture_load), and every bitmap's RGB texels, three
 // floats each (texel_value).
-layout(set = 0, binding = 8, rgba32ui) uniform readonly uimageBuffer texture_texels;
-layout(set = 0, binding = 9, r32ui) uniform readonly uimageBuffer texel_words;
-layout(set = 0, binding = 23, r32ui) uniform readonly uimageBuffer texel_words_1;
-layout(set = 0, binding = 24, r32ui) uniform readonly uimageBuffer texel_words_2;
-layout(set = 0, binding = 25, r32ui) uniform readonly uimageBuffer texel_words_3;
+SCENE_TEXELS(8, texture_texels)
+SCENE_WORDS(9, texel_words)
+SCENE_WORDS(23, texel_words_1)
+SCENE_WORDS(24, texel_words_2)
+SCENE_WORDS(25, texel_words_3)
 // Sampling distributions of environment maps and textured area emitters
 // (distribution2d.glsl; dist_value).
-layout(set = 0, binding = 10, r32ui) uniform readonly uimageBuffer dist_words;
-layout(set = 0, binding = 26, r32ui) uniform readonly uimageBuffer dist_words_1;
+SCENE_WORDS(10, dist_words)
+SCENE_WORDS(26, dist_words_1)
 // Media (shaders/medium/medium.glsl): records (medium_load), density and albedo grids
 // (grid_value), majorant grids (majorant_value), and density grids packed a texel per
 // voxel (grid_packed; MEDIUM_DENSITY_PACKED).
-layout(set = 0, binding = 11, rgba32ui) uniform readonly uimageBuffer medium_texels;
-layout(set = 0, binding = 12, r32ui) uniform readonly uimageBuffer grid_words;
-layout(set = 0, binding = 27, r32ui) uniform readonly uimageBuffer grid_words_1;
-layout(set = 0, binding = 28, r32ui) uniform readonly uimageBuffer grid_words_2;
-layout(set = 0, binding = 29, r32ui) uniform readonly uimageBuffer grid_words_3;
-layout(set = 0, binding = 13, r32ui) uniform readonly uimageBuffer majorant_words;
-layout(set = 0, binding = 14, rgba32ui) uniform readonly uimageBuffer grid_packed_texels;
-layout(set = 0, binding = 30, rgba32ui) uniform readonly uimageBuffer grid_packed_texels_1;
+SCENE_TEXELS(11, medium_texels)
+SCENE_WORDS(12, grid_words)
+SCENE_WORDS(27, grid_words_1)
+SCENE_WORDS(28, grid_words_2)
+SCENE_WORDS(29, grid_words_3)
+SCENE_WORDS(13, majorant_words)
+SCENE_TEXELS(14, grid_packed_texels)
+SCENE_TEXELS(30, grid_packed_texels_1)
 
 // `uvec4 fn(uint k)`: texel k of an array of up to two (four) parts named IMG, IMG_1
 // (, IMG_2, IMG_3). Each further part costs a masked gather, paid only by scenes
@@ -85,11 +91,11 @@ layout(set = 0, binding = 30, rgba32ui) uniform readonly uimageBuffer grid_packe
 #ifdef SCENE_SPLIT
 // The first two parts: sets `w` to texel k (local index `j`) if it lies in one.
 #define SCENE_ARRAY_FIRST_TWO(IMG, PARTS)                                                \
-    if (PARTS == 1u) return imageLoad(IMG, int(k));                                      \
+    if (PARTS == 1u) return SCENE_LOAD(IMG, k);                                          \
     int j = int(k & SCENE_PART_MASK);                                                    \
     uint part = k >> SCENE_PART_SHIFT;                                                   \
-    uvec4 w = imageLoad(IMG, j);                                                         \
-    if (part == 1u) w = imageLoad(IMG##_1, j);
+    uvec4 w = SCENE_LOAD(IMG, j);                                                        \
+    if (part == 1u) w = SCENE_LOAD(IMG##_1, j);
 #define SCENE_ARRAY_2(fn, IMG, PARTS)                                                    \
     uvec4 fn(uint k) {                                                                   \
         SCENE_ARRAY_FIRST_TWO(IMG, PARTS)                                                \
@@ -98,13 +104,13 @@ layout(set = 0, binding = 30, rgba32ui) uniform readonly uimageBuffer grid_packe
 #define SCENE_ARRAY_4(fn, IMG, PARTS)                                                    \
     uvec4 fn(uint k) {                                                                   \
         SCENE_ARRAY_FIRST_TWO(IMG, PARTS)                                                \
-        if (PARTS > 2u && part == 2u) w = imageLoad(IMG##_2, j);                         \
-        if (PARTS > 3u && part == 3u) w = imageLoad(IMG##_3, j);                         \
+        if (PARTS > 2u && part == 2u) w = SCENE_LOAD(IMG##_2, j);                        \
+        if (PARTS > 3u && part == 3u) w = SCENE_LOAD(IMG##_3, j);                        \
         return w;                                                                        \
     }
 #else
-#define SCENE_ARRAY_2(fn, IMG, PARTS) uvec4 fn(uint k) { return imageLoad(IMG, int(k)); }
-#define SCENE_ARRAY_4(fn, IMG, PARTS) uvec4 fn(uint k) { return imageLoad(IMG, int(k)); }
+#define SCENE_ARRAY_2(fn, IMG, PARTS) uvec4 fn(uint k) { return SCENE_LOAD(IMG, k); }
+#define SCENE_ARRAY_4(fn, IMG, PARTS) uvec4 fn(uint k) { return SCENE_LOAD(IMG, k); }
 #endif
 SCENE_ARRAY_4(bvh_node_texel, bvh_node_texels, BVH_NODE_PARTS)
 SCENE_ARRAY_4(prim_texel, prim_texels, PRIM_PARTS)
@@ -118,18 +124,18 @@ SCENE_ARRAY_2(grid_packed_texel, grid_packed_texels, GRID_PACKED_PARTS)
 float texel_value(uint k) { return uintBitsToFloat(texel_word(k).x); }
 float dist_value(uint k) { return uintBitsToFloat(dist_word(k).x); }
 float grid_value(uint k) { return uintBitsToFloat(grid_word(k).x); }
-float majorant_value(uint k) { return uintBitsToFloat(imageLoad(majorant_words, int(k)).x); }
+float majorant_value(uint k) { return uintBitsToFloat(SCENE_LOAD(majorant_words, k).x); }
 vec4 grid_packed(uint k) { return uintBitsToFloat(grid_packed_texel(k)); }
 
 // The records' loaders (generated: generated/records.glsl), `T NAME_load(uint i)`, each
 // reading its array's texels through `NAME_texel`. Vertices are also read a texel at a
 // time (vertex_texel).
-uvec4 shape_texel(uint k) { return imageLoad(shape_texels, int(k)); }
-uvec4 bsdf_texel(uint k) { return imageLoad(bsdf_texels, int(k)); }
-uvec4 emitter_texel(uint k) { return imageLoad(emitter_texels, int(k)); }
-uvec4 alias_texel(uint k) { return imageLoad(alias_texels, int(k)); }
-uvec4 texture_texel(uint k) { return imageLoad(texture_texels, int(k)); }
-uvec4 medium_texel(uint k) { return imageLoad(medium_texels, int(k)); }
+uvec4 shape_texel(uint k) { return SCENE_LOAD(shape_texels, k); }
+uvec4 bsdf_texel(uint k) { return SCENE_LOAD(bsdf_texels, k); }
+uvec4 emitter_texel(uint k) { return SCENE_LOAD(emitter_texels, k); }
+uvec4 alias_texel(uint k) { return SCENE_LOAD(alias_texels, k); }
+uvec4 texture_texel(uint k) { return SCENE_LOAD(texture_texels, k); }
+uvec4 medium_texel(uint k) { return SCENE_LOAD(medium_texels, k); }
 BvhNode_LOAD(bvh_node_load, bvh_node_texel)
 Prim_LOAD(prim_load, prim_texel)
 ShapeRecord_LOAD(shape_load, shape_texel)

@@ -515,7 +515,7 @@ fn open_renderer(
     let renderer = Renderer::new(&device, sc, options)?;
     let s = &renderer.setup;
     eprintln!(
-        "start-up: scene {:.0} ms, vulkan {:.0} ms, bvh {:.0} ms ({} nodes, SAH {:.1}{}), upload {:.0} ms, \
+        "start-up: scene {:.0} ms, vulkan {:.0} ms, bvh {:.0} ms ({} nodes, SAH {:.1}{}), upload {:.0} ms{}, \
          pipelines {:.0} ms ({}), first dispatch (kernel compile) {:.0} ms",
         load_seconds * 1e3,
         device.info().startup_seconds * 1e3,
@@ -534,6 +534,11 @@ fn open_renderer(
             String::new()
         },
         s.upload_seconds * 1e3,
+        match s.scene_access {
+            wavetrace::gpu::SceneAccess::Texels => "",
+            wavetrace::gpu::SceneAccess::Split => " (arrays split over bindings)",
+            wavetrace::gpu::SceneAccess::Storage => " (into storage buffers)",
+        },
         s.pipeline_seconds * 1e3,
         crate::specialization_summary(),
         s.first_dispatch_seconds * 1e3,

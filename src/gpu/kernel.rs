@@ -32,6 +32,23 @@ pub enum BindingKind {
     Uniform,
 }
 
+/// How the kernels of a layout read the scene's arrays (`scene_bindings.glsl`), which
+/// picks the variant of every kernel that reads them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SceneAccess {
+    /// Image loads from storage texel buffers, an array at one binding: the plain
+    /// kernels.
+    #[default]
+    Texels,
+    /// Image loads, arrays split over several bindings: the `SCENE_SPLIT` variants
+    /// ([`super::shaders::scene_split_variant`]).
+    Split,
+    /// Loads from storage buffers, an array at one binding: the `SCENE_STORAGE`
+    /// variants ([`super::shaders::scene_storage_variant`]), for devices where they
+    /// are faster ([`DeviceInfo::scene_storage`](super::DeviceInfo)).
+    Storage,
+}
+
 impl BindingKind {
     fn descriptor_type(self) -> vk::DescriptorType {
         match self {
@@ -58,8 +75,8 @@ struct LayoutInner {
     push_bytes: u32,
     /// Specialization constants `(constant_id, value)` every kernel of this layout gets.
     spec: Vec<(u32, u32)>,
-    /// Kernels run their SCENE_SPLIT variant where they have one.
-    scene_split: bool,
+    /// Which variant of kernels that read the scene runs.
+    scene: SceneAccess,
 }
 
 impl Drop for LayoutInner {
@@ -139,21 +156,20 @@ impl BindingLayout {
         kinds: &[Vec<BindingKind>],
         push_bytes: u32,
     ) -> Result<BindingLayout> {
-        BindingLayout::with_spec(device, kinds, push_bytes, &[], false)
+        BindingLayout::with_spec(device, kinds, push_bytes, &[], SceneAccess::Texels)
     }
 
     /// [`BindingLayout::with_kinds`], plus specialization constants `(constant_id,
     /// value)` that every [`Kernel`] made with this layout gets: facts about the bound
     /// data that all kernels reading it must agree on (how the scene's arrays are split
     /// over bindings, `render::scene_parts`). Their ids must lie above those kernels
-    /// number themselves. With `scene_split`, kernels that read the scene run their
-    /// `SCENE_SPLIT` variant ([`super::shaders::scene_split_variant`]).
+    /// number themselves. Kernels that read the scene run the variant `scene` says.
     pub fn with_spec(
         device: &Device,
         kinds: &[Vec<BindingKind>],
         push_bytes: u32,
         spec: &[(u32, u32)],
-        scene_split: bool,
+        scene: SceneAccess,
     ) -> Result<BindingLayout> {
         let raw = device.raw();
         let mut set_layouts = Vec::new();
@@ -214,7 +230,7 @@ impl BindingLayout {
                 pipeline_layout,
                 push_bytes,
                 spec: spec.to_vec(),
-                scene_split,
+                scene,
             }),
         })
     }
@@ -228,9 +244,9 @@ impl BindingLayout {
         &self.inner.spec
     }
 
-    /// Whether kernels of this layout run their SCENE_SPLIT variants.
-    pub fn scene_split(&self) -> bool {
-        self.inner.scene_split
+    /// Which variant of kernels that read the scene this layout's kernels run.
+    pub fn scene_access(&self) -> SceneAccess {
+        self.inner.scene
     }
 }
 
@@ -384,9 +400,10 @@ impl Kernel {
     pub fn from_spec(device: &Device, layout: &BindingLayout, spec: &KernelSpec) -> Result<Kernel> {
         let (name, spirv, inline) = (spec.name, spec.spirv, spec.inline);
         let spec = &spec.spec[..];
-        let spirv = match layout.inner.scene_split {
-            true => super::shaders::scene_split_variant(spirv).unwrap_or(spirv),
-            false => spirv,
+        let spirv = match layout.inner.scene {
+            SceneAccess::Texels => spirv,
+            SceneAccess::Split => super::shaders::scene_split_variant(spirv).unwrap_or(spirv),
+            SceneAccess::Storage => super::shaders::scene_storage_variant(spirv).unwrap_or(spirv),
         };
         let spirv = match device.info().int64 {
             true => super::shaders::int64_variant(spirv).unwrap_or(spirv),

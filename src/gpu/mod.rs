@@ -22,6 +22,6 @@ pub use buffer::{Buffer, ByteSize, Location};
 pub use command::{CommandList, KernelTimes};
 pub use device::{Device, DeviceInfo, DeviceKind, SurfaceRequest};
 pub use error::{Error, Result};
-pub use kernel::{BindingKind, BindingLayout, DescriptorSet, Kernel, KernelSpec};
+pub use kernel::{BindingKind, BindingLayout, DescriptorSet, Kernel, KernelSpec, SceneAccess};
 pub use spec::{Spec, SpecValues};
 pub use swapchain::{Presented, Swapchain};

@@ -33,7 +33,8 @@ use std::time::Instant;
 use crate::accel::{BvhStats, FlatPrims};
 use crate::gpu::layout::{Counters, Frame, Push, WORKGROUP_SIZE};
 use crate::gpu::{
-    BindingLayout, CommandList, DescriptorSet, Device, Kernel, KernelSpec, KernelTimes,
+    BindingKind, BindingLayout, CommandList, DescriptorSet, Device, Kernel, KernelSpec,
+    KernelTimes, SceneAccess,
 };
 use crate::image::Image;
 use crate::scene::sampler::{SampleCount, Sampler, SamplerKind};
@@ -44,7 +45,7 @@ use film::{film_binding_kinds, Film, FilmGeometry};
 use photon::{photon_binding_kinds, PhotonStats, Photons};
 use plan::{PlannedKernel, Schedule, Stage};
 use scene_buffers::SceneBuffers;
-use scene_parts::{scene_binding_kinds, take_scene_arrays, ScenePlan};
+use scene_parts::{scene_binding_kinds_for, take_scene_arrays, ScenePlan};
 use wavefront::{wavefront_binding_kinds, Wavefront};
 
 /// How to render, beyond what the scene says.
@@ -115,6 +116,8 @@ pub struct SetupStats {
     /// BVH (`flat.flat_only`), or the few quadrics kept out of the tree (`Bvh::apart`),
     /// before it.
     pub flat: FlatPrims,
+    /// How the kernels read the scene's arrays (`ScenePlan::access`).
+    pub scene_access: SceneAccess,
     pub upload_seconds: f64,
     /// Creating the pipelines.
     pub pipeline_seconds: f64,
@@ -374,17 +377,25 @@ impl Renderer {
             shape_first,
         } = plan;
         let t = Instant::now();
+        let others = [
+            wavefront_binding_kinds(),
+            photon_binding_kinds(),
+            film_binding_kinds(),
+        ];
+        let other_storage = others
+            .iter()
+            .flatten()
+            .filter(|&&k| k == BindingKind::Storage)
+            .count();
+        let scene_access = scene_plan.access(device.info(), other_storage as u32);
+        let mut kinds = vec![scene_binding_kinds_for(scene_access)];
+        kinds.extend(others);
         let layout = BindingLayout::with_spec(
             device,
-            &[
-                scene_binding_kinds(),
-                wavefront_binding_kinds(),
-                photon_binding_kinds(),
-                film_binding_kinds(),
-            ],
+            &kinds,
             std::mem::size_of::<Push>() as u32,
             &scene_plan.spec(),
-            scene_plan.is_split(),
+            scene_access,
         )?;
         // The BVH and the large records are moved into the upload, which frees each
         // once it is on the device.
@@ -447,6 +458,7 @@ impl Renderer {
             setup: SetupStats {
                 bvh: bvh_stats,
                 flat,
+                scene_access,
                 upload_seconds,
                 pipeline_seconds,
                 first_dispatch_seconds: 0.0,

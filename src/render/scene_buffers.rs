@@ -18,7 +18,7 @@ use crate::gpu::layout::{
     surface_feature_of_prim, EMITTER_KIND_BIT_QUADRIC_AREA, EMITTER_KIND_BIT_SPHERE_AREA,
     EMITTER_KIND_BIT_TEXTURE_SAMPLED, EMITTER_KIND_BIT_TEXTURE_SPHERE,
 };
-use crate::gpu::{BindingLayout, Buffer, DescriptorSet, Device};
+use crate::gpu::{BindingLayout, Buffer, DescriptorSet, Device, SceneAccess};
 use crate::scene::textured_emitter;
 use crate::scene::{Emitter, QuadricKind, Scene};
 
@@ -738,11 +738,12 @@ impl SceneBuffers {
         plan: ScenePlan,
     ) -> Result<SceneBuffers> {
         if plan.is_split()
-            && !(layout.scene_split() && plan.spec().iter().all(|c| layout.spec().contains(c)))
+            && !(layout.scene_access() == SceneAccess::Split
+                && plan.spec().iter().all(|c| layout.spec().contains(c)))
         {
             return Err(Error::Options(
                 "the scene is split over several bindings but the binding layout is not made \
-                 for it (BindingLayout::with_spec with ScenePlan::spec and scene_split)"
+                 for it (BindingLayout::with_spec with ScenePlan::spec and SceneAccess::Split)"
                     .into(),
             ));
         }

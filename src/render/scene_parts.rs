@@ -19,7 +19,7 @@
 
 use crate::accel::Bvh;
 use crate::gpu::layout::MediumRecord;
-use crate::gpu::{BindingKind, ByteSize, DeviceInfo};
+use crate::gpu::{BindingKind, ByteSize, DeviceInfo, SceneAccess};
 
 use super::error::{Error, Result};
 use super::scene_buffers::SceneRecords;
@@ -185,13 +185,23 @@ pub fn extra_bindings(a: usize) -> std::ops::Range<u32> {
     first..first + SCENE_ARRAYS[a].max_parts - 1
 }
 
-/// The kind of each binding of set 0.
+/// The kind of each binding of set 0 (texel buffers: [`SceneAccess::Texels`] and
+/// [`SceneAccess::Split`]).
 pub fn scene_binding_kinds() -> Vec<BindingKind> {
     let mut kinds: Vec<BindingKind> = SCENE_ARRAYS.iter().map(|a| a.kind).collect();
     for a in &SCENE_ARRAYS {
         kinds.extend(std::iter::repeat_n(a.kind, a.max_parts as usize - 1));
     }
     kinds
+}
+
+/// The kind of each binding of set 0 for kernels that read the scene as `access` says:
+/// every one a storage buffer for [`SceneAccess::Storage`].
+pub fn scene_binding_kinds_for(access: SceneAccess) -> Vec<BindingKind> {
+    match access {
+        SceneAccess::Storage => vec![BindingKind::Storage; SCENE_BINDINGS as usize],
+        SceneAccess::Texels | SceneAccess::Split => scene_binding_kinds(),
+    }
 }
 
 /// Bytes in one texel of an array of this kind.
@@ -392,6 +402,28 @@ impl ScenePlan {
         self.parts.iter().any(|&p| p > 1)
     }
 
+    /// How kernels read this scene on the device `info` describes, their layout
+    /// binding `other_storage` storage buffers besides the scene's: split arrays
+    /// through texel buffers; else from storage buffers where the device reads those
+    /// faster ([`DeviceInfo::scene_storage`]), binds that many and every array fits
+    /// one (`max_storage_buffer_range`); else through texel buffers.
+    pub fn access(&self, info: &DeviceInfo, other_storage: u32) -> SceneAccess {
+        let fits = self
+            .bytes
+            .iter()
+            .all(|&b| b <= info.max_storage_buffer_range);
+        if self.is_split() {
+            SceneAccess::Split
+        } else if info.scene_storage
+            && fits
+            && SCENE_BINDINGS + other_storage <= info.max_storage_buffers
+        {
+            SceneAccess::Storage
+        } else {
+            SceneAccess::Texels
+        }
+    }
+
     /// The specialization constants `(constant_id, value)` every kernel reading the
     /// scene needs (through [`crate::gpu::BindingLayout::with_spec`]).
     pub fn spec(&self) -> Vec<(u32, u32)> {
@@ -458,22 +490,59 @@ mod tests {
         }
     }
 
+    /// Storage buffers where the device prefers them, binds enough and the arrays fit;
+    /// a split scene keeps its texel buffers.
+    #[test]
+    fn scene_access_follows_the_device() {
+        let mut info = DeviceInfo::lavapipe_for_tests();
+        let plan = ScenePlan::new([1 << 10; 15], DEFAULT_PART_SHIFT).unwrap();
+        assert_eq!(plan.access(&info, 8), SceneAccess::Texels);
+        info.scene_storage = true;
+        info.max_storage_buffers = SCENE_BINDINGS + 8;
+        assert_eq!(plan.access(&info, 8), SceneAccess::Storage);
+        assert_eq!(plan.access(&info, 9), SceneAccess::Texels);
+        info.max_storage_buffer_range = 1 << 9;
+        assert_eq!(plan.access(&info, 8), SceneAccess::Texels);
+        info.max_storage_buffer_range = 1 << 40;
+        let mut bytes = [16; 15];
+        bytes[0] = 1 << 10; // BVH nodes: 64 texels, in parts of 16
+        let split = ScenePlan::new(bytes, 4).unwrap();
+        assert!(split.is_split());
+        assert_eq!(split.access(&info, 8), SceneAccess::Split);
+        assert_eq!(
+            scene_binding_kinds_for(SceneAccess::Storage),
+            vec![BindingKind::Storage; SCENE_BINDINGS as usize]
+        );
+        assert_eq!(
+            scene_binding_kinds_for(SceneAccess::Split),
+            scene_binding_kinds()
+        );
+    }
+
     /// scene_bindings.glsl declares every part of every array at the binding, with the
     /// format and the parts constant this table gives it.
     #[test]
     fn glsl_bindings_mirror_the_table() {
         let glsl = include_str!("../../shaders/scene/scene_bindings.glsl");
         let declared = |binding: u32, name: &str, format: &str| {
-            let decl = format!(
-                "layout(set = 0, binding = {binding}, {format}) uniform readonly uimageBuffer {name};"
-            );
+            let decl = format!("\n{format}({binding}, {name})\n");
             assert!(glsl.contains(&decl), "scene_bindings.glsl lacks `{decl}`");
         };
+        // The two declaring macros: a texel buffer of that format, or a storage buffer
+        // of uvec4 or uint (SCENE_STORAGE).
+        for decl in [
+            "SCENE_TEXELS(b, NAME) layout(set = 0, binding = b, rgba32ui) uniform readonly uimageBuffer NAME;",
+            "SCENE_WORDS(b, NAME) layout(set = 0, binding = b, r32ui) uniform readonly uimageBuffer NAME;",
+            "readonly buffer NAME##_block { uvec4 NAME[]; };",
+            "readonly buffer NAME##_block { uint NAME[]; };",
+        ] {
+            assert!(glsl.contains(decl), "scene_bindings.glsl lacks `{decl}`");
+        }
         let mut declarations = 0;
         for (a, array) in SCENE_ARRAYS.iter().enumerate() {
             let format = match array.kind {
-                BindingKind::Words => "r32ui",
-                _ => "rgba32ui",
+                BindingKind::Words => "SCENE_WORDS",
+                _ => "SCENE_TEXELS",
             };
             declared(a as u32, array.glsl, format);
             for (p, b) in extra_bindings(a).enumerate() {
@@ -491,10 +560,10 @@ mod tests {
                 assert_spec_declared(glsl, id, parts, 1);
             }
         }
-        assert_eq!(
-            glsl.matches("uniform readonly uimageBuffer").count() as u32,
-            declarations
-        );
+        let declaring = |l: &&str| {
+            (l.starts_with("SCENE_TEXELS(") || l.starts_with("SCENE_WORDS(")) && l.ends_with(')')
+        };
+        assert_eq!(glsl.lines().filter(declaring).count() as u32, declarations);
         assert_spec_declared(
             glsl,
             SPEC_PART_SHIFT,
