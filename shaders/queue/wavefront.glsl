@@ -40,14 +40,25 @@ layout(std140, set = 1, binding = 0) uniform FrameBuffer { Frame frames[1]; uvec
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #define WAVEFRONT_WORD u64vec2
 WAVEFRONT_WORD wavefront_word(uvec4 w) { return u64vec2(packUint2x32(w.xy), packUint2x32(w.zw)); }
+uvec4 wavefront_texel(WAVEFRONT_WORD w) { return uvec4(unpackUint2x32(w.x), unpackUint2x32(w.y)); }
 #else
 #define WAVEFRONT_WORD uvec4
 WAVEFRONT_WORD wavefront_word(uvec4 w) { return w; }
+uvec4 wavefront_texel(WAVEFRONT_WORD w) { return w; }
 #endif
-layout(std430, set = 1, binding = 1) writeonly buffer PathBuffer { WAVEFRONT_WORD path_words[]; };
-layout(std430, set = 1, binding = 2) writeonly buffer RayBuffer { WAVEFRONT_WORD ray_words[]; };
-layout(std430, set = 1, binding = 3) writeonly buffer HitBuffer { WAVEFRONT_WORD hit_words[]; };
-layout(std430, set = 1, binding = 4) writeonly buffer ShadowBuffer { WAVEFRONT_WORD shadow_words[]; };
+// The queues' records are written here and read through the texel views at bindings
+// 7-10, or, in the SCENE_STORAGE variants of kernels that also read the scene (for
+// drivers whose storage-buffer loads beat their image loads: gpu::SceneAccess), read
+// here too.
+#ifdef SCENE_STORAGE
+#define WAVEFRONT_ACCESS
+#else
+#define WAVEFRONT_ACCESS writeonly
+#endif
+layout(std430, set = 1, binding = 1) WAVEFRONT_ACCESS buffer PathBuffer { WAVEFRONT_WORD path_words[]; };
+layout(std430, set = 1, binding = 2) WAVEFRONT_ACCESS buffer RayBuffer { WAVEFRONT_WORD ray_words[]; };
+layout(std430, set = 1, binding = 3) WAVEFRONT_ACCESS buffer HitBuffer { WAVEFRONT_WORD hit_words[]; };
+layout(std430, set = 1, binding = 4) WAVEFRONT_ACCESS buffer ShadowBuffer { WAVEFRONT_WORD shadow_words[]; };
 layout(std430, set = 1, binding = 5) buffer CounterBuffer { Counters counters; };
 layout(std430, set = 1, binding = 6) buffer DispatchBuffer { DispatchArgs dispatch_args; };
 layout(set = 1, binding = 7, rgba32ui) uniform readonly uimageBuffer path_texels;
@@ -107,12 +118,20 @@ uvec3 dispatch_groups(uint n) {
     return uvec3(x, y, 1u);
 }
 
-// The queues' records: loads through the texel views, stores through the word
-// buffers, each a texel of the record at a time (generated: generated/records.glsl).
+// The queues' records: loads through the texel views (the storage buffers in
+// SCENE_STORAGE variants), stores through the word buffers, each a texel of the record
+// at a time (generated: generated/records.glsl).
+#ifdef SCENE_STORAGE
+uvec4 path_texel(uint k) { return wavefront_texel(path_words[k]); }
+uvec4 ray_texel(uint k) { return wavefront_texel(ray_words[k]); }
+uvec4 hit_texel(uint k) { return wavefront_texel(hit_words[k]); }
+uvec4 shadow_texel(uint k) { return wavefront_texel(shadow_words[k]); }
+#else
 uvec4 path_texel(uint k) { return imageLoad(path_texels, int(k)); }
 uvec4 ray_texel(uint k) { return imageLoad(ray_texels, int(k)); }
 uvec4 hit_texel(uint k) { return imageLoad(hit_texels, int(k)); }
 uvec4 shadow_texel(uint k) { return imageLoad(shadow_texels, int(k)); }
+#endif
 void path_word_store(uint k, uvec4 w) { path_words[k] = wavefront_word(w); }
 void ray_word_store(uint k, uvec4 w) { ray_words[k] = wavefront_word(w); }
 void hit_word_store(uint k, uvec4 w) { hit_words[k] = wavefront_word(w); }
