@@ -11,6 +11,8 @@
 // Sampling: the specular lobe with probability P_s = (1 - T_o) w / ((1 - T_o) w + T_o (1 - w)),
 // else cosine-weighted; pdf is the mixture, weight = eval / pdf.
 
+#include "numeric/convert.glsl"
+
 // Word k (0..31) of b.table (entries 2k and 2k + 1 as unorm16), picked by selects
 // between constant-indexed words: llvmpipe (Mesa 22.3) keeps a local array read at a
 // dynamic index (b.table[k >> 2]) in per-lane scratch memory, so every shade of a
@@ -35,7 +37,7 @@ vec2 bsdf_roughplastic_table_word(BsdfRecord b, int k) {
 // T(mu), linear between the 64 entries at mu = i/63 (Mitsuba's lerp_gather).
 float bsdf_roughplastic_transmittance(BsdfRecord b, float mu) {
     float x = clamp(mu, 0.0, 1.0) * 63.0;
-    int i = min(int(x), 62);
+    int i = min(trunc_to_int(x), 62); // x in [0, 63]: convert.glsl
     float w = x - float(i);
     // Entries i and i + 1: one word when i is even, two neighbouring words when odd.
     vec2 lo = bsdf_roughplastic_table_word(b, i >> 1);

@@ -8,6 +8,7 @@
 
 #include "sampling/warp.glsl"
 #include "sampling/distribution2d.glsl"
+#include "numeric/convert.glsl"
 
 // World direction -> the map's frame (to_world is a rotation: its inverse is the
 // transpose).
@@ -38,9 +39,10 @@ vec3 envmap_eval(EmitterRecord e, vec3 d) {
     float y = uv.y * float(h - 1);
     float x0f = floor(x), y0f = floor(y);
     float fx = x - x0f, fy = y - y0f;
-    int xa = texture_wrap(int(x0f), w, TEXTURE_WRAP_REPEAT);
-    int xb = texture_wrap(int(x0f) + 1, w, TEXTURE_WRAP_REPEAT);
-    int ya = clamp(int(y0f), 0, h - 1), yb = clamp(int(y0f) + 1, 0, h - 1);
+    int x0 = trunc_to_int(x0f), y0 = trunc_to_int(y0f); // |x|, |y| <= w, h: convert.glsl
+    int xa = texture_wrap(x0, w, TEXTURE_WRAP_REPEAT);
+    int xb = texture_wrap(x0 + 1, w, TEXTURE_WRAP_REPEAT);
+    int ya = clamp(y0, 0, h - 1), yb = clamp(y0 + 1, 0, h - 1);
     vec3 a = mix(texture_texel(t, xa, ya), texture_texel(t, xb, ya), fx);
     vec3 b = mix(texture_texel(t, xa, yb), texture_texel(t, xb, yb), fx);
     return e.radiance * mix(a, b, fy);
@@ -54,8 +56,8 @@ float envmap_pdf(EmitterRecord e, vec3 d) {
     // sqrt(1 - y²) rounds to 0 within 3.5e-4 rad of them.
     float st = length(local.xz);
     if (st <= 0.0) return 0.0;
-    uint i = min(uint(uv.x * float(e.dist_width)), e.dist_width - 1u);
-    uint j = min(uint(uv.y * float(e.dist_height)), e.dist_height - 1u);
+    uint i = min(floor_to_uint(uv.x * float(e.dist_width)), e.dist_width - 1u);
+    uint j = min(floor_to_uint(uv.y * float(e.dist_height)), e.dist_height - 1u);
     return dist2d_cell_density(e.dist_offset, e.dist_width, e.dist_height, i, j) / (2.0 * PI * PI * st);
 }
 

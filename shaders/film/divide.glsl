@@ -8,9 +8,11 @@
 #ifndef DIVIDE_GLSL
 #define DIVIDE_GLSL
 
+#include "numeric/convert.glsl"
+
 // (a / b, a % b) for 0 < b <= 2^30 and a / b < 2^23.
 uvec2 divide(uint a, uint b) {
-    int q = int(float(a) / float(b));
+    int q = int(floor_to_uint(float(a) / float(b)));
     // a - q b, within [-b, 2b): an int for b <= 2^30.
     int r = int(a - uint(q) * b);
     if (r < 0) {

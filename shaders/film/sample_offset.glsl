@@ -2,6 +2,7 @@
 #ifndef FILM_SAMPLE_OFFSET_GLSL
 #define FILM_SAMPLE_OFFSET_GLSL
 
+#include "numeric/convert.glsl"
 #include "sampling/rng.glsl"
 #include "sampler/sampler_frame.glsl"
 
@@ -22,7 +23,9 @@ vec2 film_sample_offset(uint pixel, uint sample_index) {
 #define FILM_POSITION_CELLS 32768.0
 
 uvec2 film_position_cells(vec2 offset) {
-    return min(uvec2(offset * FILM_POSITION_CELLS), uvec2((1u << FILM_POSITION_BITS) - 1u));
+    uvec2 cells = uvec2(floor_to_uint(offset.x * FILM_POSITION_CELLS),
+                        floor_to_uint(offset.y * FILM_POSITION_CELLS));
+    return min(cells, uvec2((1u << FILM_POSITION_BITS) - 1u));
 }
 
 vec2 film_position_from_cells(uvec2 cells) {

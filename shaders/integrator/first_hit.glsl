@@ -12,6 +12,7 @@
 #include "sampler/sampler_frame.glsl"
 #include "shape/surface.glsl"
 #include "integrator/ao.glsl"
+#include "numeric/convert.glsl"
 
 void first_hit_shade(uint integrator, RayItem r, HitItem h) {
     if (h.prim == NONE) return;
@@ -42,7 +43,7 @@ void first_hit_shade(uint integrator, RayItem r, HitItem h) {
         uint count = frame.point_light_count;
         if (count == 0u) return;
         float u = sample_1d(path.pixel, path.sample_index, dim);
-        EmitterRecord light = emitter_load(min(uint(u * float(count)), count - 1u));
+        EmitterRecord light = emitter_load(min(floor_to_uint(u * float(count)), count - 1u));
         vec3 to_light = light.position - s.p;
         float d2 = dot(to_light, to_light);
         vec3 wi = to_light * inversesqrt(d2);

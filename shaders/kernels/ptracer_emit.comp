@@ -40,6 +40,7 @@ SPEC(SCENE_SENSOR_SHAPE);
 #include "emitter/emitter.glsl"
 #include "photon/bindings.glsl"
 #include "photon/record.glsl"
+#include "numeric/convert.glsl"
 #include "photon/random.glsl"
 #include "photon/emit.glsl"
 #include "film/film.glsl"
@@ -95,7 +96,7 @@ void connect_visible_emitter(uint index, uint it) {
     vec4 u = photon_rng(index, it, PTRACER_RNG_DIM_VISIBLE);
     vec2 u_lens = PTRACER_SENSOR_SAMPLED ? ptracer_sensor_rng(index, it, PTRACER_RNG_DIM_SENSOR) : vec2(0.0);
     uint n = frame.emitter_count;
-    uint i = min(uint(u.x * float(n)), n - 1u);
+    uint i = min(floor_to_uint(u.x * float(n)), n - 1u);
     EmitterRecord e = emitter_load(i);
     if ((EMITTER_HAS(EMITTER_CONSTANT) && e.kind == EMITTER_CONSTANT)
         || (EMITTER_HAS(EMITTER_ENVMAP) && e.kind == EMITTER_ENVMAP)) {

@@ -6,6 +6,7 @@
 #define MEDIUM_GLSL
 
 #include "sampling/rng.glsl"
+#include "numeric/convert.glsl"
 
 #define MEDIUM_INF uintBitsToFloat(0x7f800000u)
 
@@ -346,7 +347,7 @@ MediumEvent medium_sample(uint mi, vec3 o, vec3 d, float tmax, inout MediumRng r
             ev.weight = medium_tr(st, tmax);
         } else {
             vec4 u = medium_rng_next(rng);
-            uint c = min(uint(u.x * 3.0), 2u);
+            uint c = min(floor_to_uint(u.x * 3.0), 2u);
             float sc = st[c];
             float t = sc > 0.0 ? -log(1.0 - u.y) / sc : MEDIUM_INF;
             if (t < tmax) {

@@ -7,6 +7,7 @@
 
 #include "emitter/projector.glsl"
 #include "emitter/directionalarea.glsl"
+#include "numeric/convert.glsl"
 
 struct PhotonEmission {
     vec3 origin;
@@ -41,7 +42,7 @@ PhotonEmission photon_emit_sample(bool uniform_choice, vec4 u0, vec4 u1) {
     uint index;
     float pmf;
     if (uniform_choice) {
-        index = min(uint(u0.x * float(n)), n - 1u);
+        index = min(floor_to_uint(u0.x * float(n)), n - 1u);
         pmf = 1.0 / float(n);
     } else {
         index = alias_sample(frame.photon_alias, n, u0.x, pmf);

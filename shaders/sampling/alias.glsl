@@ -3,6 +3,8 @@
 #ifndef ALIAS_GLSL
 #define ALIAS_GLSL
 
+#include "numeric/convert.glsl"
+
 // Picks an entry of the alias table at entries [base, base + n) with one uniform u
 // (pmf: the probability of the entry picked), and remaps u to a fresh uniform number:
 // its position within the part of [0, 1) that picked the entry, rescaled (sample
@@ -10,7 +12,7 @@
 // stratified within each part.
 uint alias_sample_reuse(uint base, uint n, inout float u, out float pmf) {
     float x = u * float(n);
-    uint i = min(uint(x), n - 1u);
+    uint i = min(floor_to_uint(x), n - 1u);
     float f = x - float(i);
     AliasEntry e = alias_load(base + i);
     bool own = f < e.prob;

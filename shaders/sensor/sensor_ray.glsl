@@ -17,6 +17,7 @@
 #else
 #include "sensor/irradiancemeter.glsl"
 #endif
+#include "numeric/convert.glsl"
 
 // The aperture sample of sample `sample_index` of the pixel with key `key` through a
 // camera of kind `kind` (a batch child's, else frame.camera_kind): a thin lens's and
@@ -42,7 +43,7 @@ float sensor_ray(vec2 film_pos, uint key, uint sample_index, out vec3 origin, ou
         // Mitsuba's (a filter's border samples right of the film wrap to the last
         // child's left edge there too; left of it, idx_f < 0 stays in child 0).
         float idx_f = film_pos.x * float(SENSOR_BATCH) / float(frame.width);
-        uint idx_u = uint(max(idx_f, 0.0));
+        uint idx_u = floor_to_uint(max(idx_f, 0.0));
         child = min(idx_u, SENSOR_BATCH - 1u);
         child_kind = frame.batch_lens[child].x;
         child_x = idx_f - float(idx_u);

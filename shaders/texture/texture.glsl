@@ -16,19 +16,18 @@
 // parameters, normal maps, environment maps, textured area emitters.
 #define TEXTURE_USES(f) ((TEXTURE_KINDS & (f)) != 0u)
 
+#include "numeric/convert.glsl"
 #include "texture/texture_hit.glsl"
 
 // A texel index brought into [0, n) by the wrap mode (as Mitsuba's, on indices).
 // The remainder of i by m comes from a float quotient, corrected by one step either
 // way: llvmpipe (Mesa 22.3) has no vector integer division and divides lane by lane
 // (an integer % took a quarter of the shade time of scenes/textures/textures.xml).
-// Exact while the quotient's error stays below 1, i.e.
-// for |i| < 2^23 m (texture coordinates within 8 million repeats, beyond which a float
-// texture coordinate no longer resolves a texel anyway).
+// Exact for |i| <= 2^22 (texture_footprint's indices; convert.glsl).
 int texture_wrap(int i, int n, uint mode) {
     if (mode == TEXTURE_WRAP_CLAMP) return clamp(i, 0, n - 1);
     int m = mode == TEXTURE_WRAP_MIRROR ? 2 * n : n;
-    int r = i - m * int(floor(float(i) / float(m)));
+    int r = i - m * trunc_to_int(floor(float(i) / float(m)));
     if (r < 0) r += m;
     if (r >= m) r -= m;
     return (mode == TEXTURE_WRAP_MIRROR && r >= n) ? 2 * n - 1 - r : r;
@@ -65,7 +64,10 @@ TexelFootprint texture_footprint(uint flags, int w, int h, vec2 p) {
     TexelFootprint f;
     f.fx = nearest ? 0.0 : x - x0f;
     f.fy = nearest ? 0.0 : y - y0f;
-    int x0 = int(x0f), y0 = int(y0f);
+    // Indices within 2^22 texels of the origin (convert.glsl's range), beyond which a
+    // float coordinate no longer resolves a texel anyway (its ulp is half a texel).
+    const float far = 4194303.0;
+    int x0 = trunc_to_int(clamp(x0f, -far, far)), y0 = trunc_to_int(clamp(y0f, -far, far));
     f.xa = texture_wrap(x0, w, mode);
     f.xb = texture_wrap(x0 + 1, w, mode);
     f.ya = texture_wrap(y0, h, mode);
