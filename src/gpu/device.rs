@@ -730,8 +730,9 @@ pub fn int64_stores_work(name: &str) -> bool {
 /// around it) and a storage-buffer load at scattered addresses into an inline gather
 /// (one load where every lane reads one address). Measured on Mesa 26.2.6 at 512 bits
 /// (docs/performance.md): the Cornell box 6% faster, the normal-map scene 17%. Mesa
-/// 22.3 gathers image loads inline and loops over the lanes for a storage buffer
-/// (and crashes with the scene's 31 storage buffers). Other drivers keep texel buffers.
+/// 22.3 gathers image loads inline and loops over the lanes for a storage buffer (and
+/// a render that bound the scene's 31 storage buffers there segfaulted; the cause was
+/// not looked into). Other drivers keep texel buffers.
 pub fn scene_storage_faster(driver: &str, info: &str) -> bool {
     let mesa_major = info
         .strip_prefix("Mesa ")
