@@ -2,7 +2,9 @@
 //! on a free display number) on whatever Vulkan device the tests use (lavapipe on
 //! CI), with real key presses sent by xdotool (XTEST, to the focused window).
 //!
-//! Without Xvfb or xdotool these tests skip with a loud message, unless
+//! What the window shows is read back with xwd.
+//!
+//! Without Xvfb, xdotool or xwd these tests skip with a loud message, unless
 //! WAVETRACE_REQUIRE_XVFB is set (as `.ci/run` sets it): then they fail.
 //! The tests that need no display (the no-display error) always run.
 
@@ -64,7 +66,7 @@ fn have(tool: &str) -> bool {
 /// Starts Xvfb on a free display, or says why not: `None` means skip (with a message
 /// printed), and a missing Xvfb fails the test when WAVETRACE_REQUIRE_XVFB is set.
 fn xvfb(test: &str) -> Option<Xvfb> {
-    let missing: Vec<&str> = ["Xvfb", "xdotool"]
+    let missing: Vec<&str> = ["Xvfb", "xdotool", "xwd"]
         .into_iter()
         .filter(|t| !have(t))
         .collect();
@@ -444,6 +446,106 @@ fn keys_resize_and_escape() {
     let (code, err) = v.wait_exit(30);
     assert_eq!(code, 0, "Esc should quit cleanly: {err}");
     assert!(err.contains("saved"), "{err}");
+}
+
+/// What X window `id` on `display` shows, read with xwd (its XWD dump: a header of
+/// big-endian 32-bit fields, colour map entries, then rows of pixels).
+fn window_pixels(display: &str, id: &str) -> image::RgbImage {
+    let out = Command::new("xwd")
+        .args(["-silent", "-id", id])
+        .env("DISPLAY", display)
+        .output()
+        .expect("run xwd");
+    assert!(
+        out.status.success(),
+        "xwd failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let d = out.stdout;
+    let field = |i: usize| u32::from_be_bytes(d[4 * i..4 * i + 4].try_into().unwrap());
+    let (header, format, width, height) = (field(0), field(2), field(4), field(5));
+    let (byte_order, bits, bytes_per_line) = (field(7), field(11), field(12));
+    let masks = [field(14), field(15), field(16)];
+    let colors = field(19);
+    assert_eq!(format, 2, "xwd: not a ZPixmap");
+    assert_eq!(bits, 32, "xwd: {bits} bits a pixel");
+    let start = (header + colors * 12) as usize;
+    image::RgbImage::from_fn(width, height, |x, y| {
+        let at = start + (y * bytes_per_line + 4 * x) as usize;
+        let b: [u8; 4] = d[at..at + 4].try_into().unwrap();
+        let v = if byte_order == 0 {
+            u32::from_le_bytes(b)
+        } else {
+            u32::from_be_bytes(b)
+        };
+        image::Rgb(masks.map(|m| ((v & m) >> m.trailing_zeros()) as u8))
+    })
+}
+
+#[test]
+fn the_window_shows_the_picture_letterboxed() {
+    use wavetrace::gpu::letterbox::{self, Letterbox, WindowFormat};
+    use wavetrace::gpu::{Buffer, CommandList, Location};
+
+    let Some(x) = xvfb("window") else { return };
+    let dir = temp_dir("window");
+    let mut v = Viewer::start(&x, &dir, &["--spp", "4"]);
+    v.xdotool(&["windowsize", "--sync", &v.window.clone(), "200", "120"]);
+    v.wait_title("4/4 spp, done", 120);
+
+    // What the window should show: the render of the same samples (which the viewer's
+    // picture equals within a level, see above) put in its letterbox by the kernel.
+    let render = rgb8(&render_png(&dir, 4));
+    let (pw, ph) = render.dimensions();
+    let pixels: Vec<u32> = render
+        .pixels()
+        .map(|p| u32::from_le_bytes([p[0], p[1], p[2], 255]))
+        .collect();
+    let format = WindowFormat {
+        bgra: false,
+        srgb: false,
+    };
+    let push = letterbox::push((200, 120), (pw, ph), format);
+    // 48x48 scaled 2.5 times, bars of 40 pixels left and right.
+    assert_eq!((push.x, push.y, push.width, push.height), (40, 0, 120, 120));
+    let device = common::device();
+    let kernel = Letterbox::new(&device).expect("letterbox kernel");
+    let picture = Buffer::from_slice(&device, "picture", &pixels).unwrap();
+    let window = Buffer::new(&device, "window", 200 * 120 * 4, Location::Gpu).unwrap();
+    let set = kernel.bind(&picture, &window).unwrap();
+    let mut cmd = CommandList::new(&device).unwrap();
+    let groups = letterbox::groups(&push);
+    cmd.dispatch(&kernel.kernel, &[&set], bytemuck::bytes_of(&push), groups);
+    cmd.barrier();
+    cmd.submit_and_wait().unwrap();
+    let drawn: Vec<u32> = window.read(&device).unwrap();
+    let want = image::RgbImage::from_fn(200, 120, |x, y| {
+        let [r, g, b, _] = drawn[(y * 200 + x) as usize].to_le_bytes();
+        image::Rgb([r, g, b])
+    });
+
+    // The frame after the resize may still be on its way: read until it is there.
+    let deadline = v.deadline(30);
+    loop {
+        v.assert_running();
+        let shown = window_pixels(&x.display, &v.window);
+        let d = (shown.dimensions() == (200, 120)).then(|| max_level_difference(&shown, &want));
+        if d.is_some_and(|d| d <= 1) {
+            // The bars: grey 0.05, code 13, on both sides.
+            assert_eq!(shown.get_pixel(0, 60), &image::Rgb([13, 13, 13]));
+            assert_eq!(shown.get_pixel(199, 0), &image::Rgb([13, 13, 13]));
+            break;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "the window ({:?}) never showed the letterboxed render (largest difference {d:?} levels)",
+            shown.dimensions()
+        );
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    v.key("Escape");
+    let (code, err) = v.wait_exit(30);
+    assert_eq!(code, 0, "{err}");
 }
 
 #[test]

@@ -10,6 +10,7 @@
 #                        crate; GLFW loads libX11 at run time, only when `view` opens a
 #                        window)
 #   xvfb, xdotool        the viewer's tests: a virtual X server and real key presses
+#   x11-apps             xwd, with which the viewer's tests read back what the window shows
 #   g++                  libFuzzer's C++ runtime, for the fuzz targets .ci/run runs
 #                        (tools/fuzz.sh, fuzz/README.md)
 #   vulkan-validationlayers  the Khronos validation layer, under which .ci/run runs part
@@ -53,6 +54,7 @@ for pair in x11:libx11-dev xrandr:libxrandr-dev xinerama:libxinerama-dev \
 done
 command -v Xvfb >/dev/null 2>&1 || missing+=(xvfb)
 command -v xdotool >/dev/null 2>&1 || missing+=(xdotool)
+command -v xwd >/dev/null 2>&1 || missing+=(x11-apps)
 command -v c++ >/dev/null 2>&1 || missing+=(g++)
 if ! ls /usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json >/dev/null 2>&1; then
     missing+=(vulkan-validationlayers)
@@ -84,7 +86,7 @@ echo "setup.sh: missing ${missing[*]}" >&2
 if ! command -v apt-get >/dev/null 2>&1; then
     echo "setup.sh: no apt-get here; install the Vulkan loader, Mesa's lavapipe driver," \
         "glslangValidator, spirv-opt, cmake, pkg-config, the X11 development headers (X11, Xrandr," \
-        "Xinerama, Xcursor, Xi), Xvfb, xdotool and a C++ compiler with your package manager" >&2
+        "Xinerama, Xcursor, Xi), Xvfb, xdotool, xwd and a C++ compiler with your package manager" >&2
     exit 1
 fi
 

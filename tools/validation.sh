@@ -34,5 +34,5 @@ fi
 # rendering; one photon-mapping render (photon emission, grid, gather).
 WAVETRACE_VALIDATION=1 cargo test --test mitsuba_regression_suite --test render \
     --test emitters --test records --test texture_lookups_gpu_vs_cpu --test media_grids \
-    --test progressive
+    --test progressive --test letterbox --test viewer
 WAVETRACE_VALIDATION=1 cargo test --test photon photon_mapper_estimates_irradiance_under_a_point_light

@@ -106,30 +106,8 @@ impl CommandList {
     }
 
     fn bind(&mut self, kernel: &Kernel, sets: &[&DescriptorSet], push: &[u8]) {
-        let raw = self.device.raw();
-        // SAFETY: recording; kernel, sets and layout belong to this device.
-        unsafe {
-            raw.cmd_bind_pipeline(self.cmd, vk::PipelineBindPoint::COMPUTE, kernel.pipeline);
-            for s in sets {
-                raw.cmd_bind_descriptor_sets(
-                    self.cmd,
-                    vk::PipelineBindPoint::COMPUTE,
-                    kernel.pipeline_layout(),
-                    s.set,
-                    &[s.raw],
-                    &[],
-                );
-            }
-            if !push.is_empty() {
-                raw.cmd_push_constants(
-                    self.cmd,
-                    kernel.pipeline_layout(),
-                    vk::ShaderStageFlags::COMPUTE,
-                    0,
-                    push,
-                );
-            }
-        }
+        // SAFETY: recording; kernel and sets belong to this device.
+        unsafe { kernel.record_bind(self.cmd, sets, push) };
     }
 
     fn stamp(&mut self, label: &str) {

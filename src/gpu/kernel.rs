@@ -517,6 +517,43 @@ impl Kernel {
     pub(crate) fn pipeline_layout(&self) -> vk::PipelineLayout {
         self.layout.pipeline_layout
     }
+
+    /// Records into `cmd` the binding of this kernel, `sets` and the push constants
+    /// `push` (none where empty), ready for a dispatch.
+    ///
+    /// # Safety
+    /// `cmd` is recording, and it and `sets` belong to this kernel's device.
+    pub(crate) unsafe fn record_bind(
+        &self,
+        cmd: vk::CommandBuffer,
+        sets: &[&DescriptorSet],
+        push: &[u8],
+    ) {
+        let raw = &self.layout.device.raw;
+        // SAFETY: as the caller promises.
+        unsafe {
+            raw.cmd_bind_pipeline(cmd, vk::PipelineBindPoint::COMPUTE, self.pipeline);
+            for s in sets {
+                raw.cmd_bind_descriptor_sets(
+                    cmd,
+                    vk::PipelineBindPoint::COMPUTE,
+                    self.pipeline_layout(),
+                    s.set,
+                    &[s.raw],
+                    &[],
+                );
+            }
+            if !push.is_empty() {
+                raw.cmd_push_constants(
+                    cmd,
+                    self.pipeline_layout(),
+                    vk::ShaderStageFlags::COMPUTE,
+                    0,
+                    push,
+                );
+            }
+        }
+    }
 }
 
 impl Drop for Kernel {

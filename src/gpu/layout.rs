@@ -606,6 +606,21 @@ mod tests {
             rust_layout!(VisiblePoint, p, bsdf, wo, u, n, v, beta, alpha2, n0, flags),
             rust_layout!(SppmPixel, tau, radius, ld, n, phi, m),
             rust_layout!(TonemapPush, width, height, scale, luminance),
+            rust_layout!(
+                LetterboxPush,
+                window_width,
+                window_height,
+                x,
+                y,
+                width,
+                height,
+                picture_width,
+                picture_height,
+                step_x,
+                step_y,
+                bar,
+                bgra
+            ),
         ]
     }
 

@@ -10,6 +10,7 @@ pub mod driver_choice;
 pub mod error;
 pub mod kernel;
 pub mod layout;
+pub mod letterbox;
 pub mod records;
 pub mod shaders;
 pub mod spec;

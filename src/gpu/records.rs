@@ -548,6 +548,27 @@ gpu_record! {
         pub luminance: u32 => uint,
     }
 
+    /// Push constants of `letterbox` (the viewer's window, src/gpu/letterbox.rs): the
+    /// window's size; where the picture lies in it (x, y, width, height: the letterbox);
+    /// the picture's size; picture pixels per window pixel in x and y; the pixel of the
+    /// bars around it, as the window stores it; and whether the window's bytes are
+    /// B, G, R, A (else R, G, B, A).
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+    pub struct LetterboxPush {
+        pub window_width: u32 => uint,
+        pub window_height: u32 => uint,
+        pub x: u32 => uint,
+        pub y: u32 => uint,
+        pub width: u32 => uint,
+        pub height: u32 => uint,
+        pub picture_width: u32 => uint,
+        pub picture_height: u32 => uint,
+        pub step_x: f32 => float,
+        pub step_y: f32 => float,
+        pub bar: u32 => uint,
+        pub bgra: u32 => uint,
+    }
+
     /// The film's parameters (`render::film::FilmGeometry`): the sampled region (the
     /// crop window and the pixels around it whose samples its filter reaches, within the
     /// film or, with `sample_border`, the film and its border), the crop window kept, the

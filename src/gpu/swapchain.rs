@@ -1,39 +1,22 @@
 //! Showing pictures in a window: the swapchain of the surface a device was opened
-//! for ([`Device::with_surface`]) and a picture of fixed size (the film's) that each
-//! frame's pixels are copied into and blitted from, scaled to fit and letterboxed.
+//! for ([`Device::with_surface`]) and a picture of fixed size (the film's), scaled to
+//! fit the window and letterboxed.
 //!
-//! A frame is one submission: copy the 8-bit pixels (a buffer a compute kernel wrote)
-//! into the picture, clear the window's image, blit the picture into the largest
-//! rectangle of the picture's aspect ratio centred in it, present. The pixels never
-//! come back to the host.
+//! A frame is one submission: the `letterbox` kernel (`shaders/kernels/letterbox.comp`)
+//! draws the window's pixels from the picture's 8-bit pixels (a buffer a compute
+//! kernel wrote), the picture in the largest rectangle of its aspect ratio centred in
+//! the window and grey bars around it; they are copied into the window's image, which
+//! is presented. The pixels never come back to the host. Nothing of the driver's
+//! graphics pipeline is used (no blit, no clear): llvmpipe at 512 bits (Mesa 26)
+//! crashes compiling the shader of its blit.
 
 use ash::vk;
 
-use super::buffer::Buffer;
+use super::buffer::{Buffer, Location};
 use super::device::Device;
 use super::error::{Error, Result, VkContext};
-
-/// Grey of the bars around a letterboxed picture (linear 8-bit value).
-const BAR_GREY: f32 = 0.05;
-
-/// Where the picture lies in a window: x, y, width, height in window pixels.
-pub type Placement = (i32, i32, u32, u32);
-
-/// The largest rectangle of the picture's aspect ratio that fits the window, centred
-/// (the picture's own size where the window is exactly that).
-pub fn letterbox(window: (u32, u32), picture: (u32, u32)) -> Placement {
-    let (ww, wh) = (window.0.max(1) as f64, window.1.max(1) as f64);
-    let (pw, ph) = (picture.0.max(1) as f64, picture.1.max(1) as f64);
-    let scale = (ww / pw).min(wh / ph);
-    let w = ((pw * scale).round() as u32).clamp(1, window.0.max(1));
-    let h = ((ph * scale).round() as u32).clamp(1, window.1.max(1));
-    (
-        ((window.0.max(1) - w) / 2) as i32,
-        ((window.1.max(1) - h) / 2) as i32,
-        w,
-        h,
-    )
-}
+use super::kernel::DescriptorSet;
+use super::letterbox::{self, Letterbox, WindowFormat};
 
 /// What presenting a frame found.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -54,13 +37,16 @@ pub struct Swapchain {
     format: vk::Format,
     present_mode: vk::PresentModeKHR,
     extent: vk::Extent2D,
-    picture: vk::Image,
-    picture_memory: vk::DeviceMemory,
     picture_size: (u32, u32),
+    letterbox: Letterbox,
+    /// The window's pixels (its extent, 4 bytes each, in its format's byte order), with
+    /// the set that binds the picture's pixels of the last frame (that buffer's
+    /// handle) and them; made again when either changes.
+    window: Option<(Buffer, DescriptorSet, vk::Buffer)>,
     cmd: vk::CommandBuffer,
     fence: vk::Fence,
     acquired: vk::Semaphore,
-    /// One per swapchain image: its frame's copy and blit are done.
+    /// One per swapchain image: its frame is drawn and copied into it.
     drawn: Vec<vk::Semaphore>,
 }
 
@@ -82,6 +68,7 @@ impl Swapchain {
         // SAFETY: valid pool of this device.
         let cmd =
             unsafe { raw_dev.allocate_command_buffers(&alloc) }.vk("vkAllocateCommandBuffers")?[0];
+        let letterbox = Letterbox::new(device)?;
         let mut chain = Swapchain {
             device: device.clone(),
             loader,
@@ -90,9 +77,9 @@ impl Swapchain {
             format: vk::Format::UNDEFINED,
             present_mode: vk::PresentModeKHR::FIFO,
             extent: vk::Extent2D::default(),
-            picture: vk::Image::null(),
-            picture_memory: vk::DeviceMemory::null(),
             picture_size: picture,
+            letterbox,
+            window: None,
             cmd,
             fence: vk::Fence::null(),
             acquired: vk::Semaphore::null(),
@@ -108,7 +95,6 @@ impl Swapchain {
                 .vk("vkCreateSemaphore")?;
         }
         chain.resize(window)?;
-        chain.create_picture()?;
         Ok(chain)
     }
 
@@ -123,63 +109,6 @@ impl Swapchain {
     /// The size of the window's images.
     pub fn extent(&self) -> (u32, u32) {
         (self.extent.width, self.extent.height)
-    }
-
-    /// The format of the picture: 8-bit RGBA, sRGB-encoded values stored as they are
-    /// (an `_SRGB` picture where the window's format is one, so the blit between them
-    /// changes no value).
-    fn picture_format(&self) -> vk::Format {
-        match self.format {
-            vk::Format::B8G8R8A8_SRGB
-            | vk::Format::R8G8B8A8_SRGB
-            | vk::Format::A8B8G8R8_SRGB_PACK32 => vk::Format::R8G8B8A8_SRGB,
-            _ => vk::Format::R8G8B8A8_UNORM,
-        }
-    }
-
-    fn create_picture(&mut self) -> Result<()> {
-        let raw = self.device.raw();
-        let (w, h) = self.picture_size;
-        let info = vk::ImageCreateInfo::default()
-            .image_type(vk::ImageType::TYPE_2D)
-            .format(self.picture_format())
-            .extent(vk::Extent3D {
-                width: w,
-                height: h,
-                depth: 1,
-            })
-            .mip_levels(1)
-            .array_layers(1)
-            .samples(vk::SampleCountFlags::TYPE_1)
-            .tiling(vk::ImageTiling::OPTIMAL)
-            .usage(vk::ImageUsageFlags::TRANSFER_SRC | vk::ImageUsageFlags::TRANSFER_DST)
-            .sharing_mode(vk::SharingMode::EXCLUSIVE)
-            .initial_layout(vk::ImageLayout::UNDEFINED);
-        // SAFETY: valid create info; destroyed in Drop.
-        self.picture = unsafe { raw.create_image(&info, None) }.vk("vkCreateImage")?;
-        // SAFETY: image of this device.
-        let req = unsafe { raw.get_image_memory_requirements(self.picture) };
-        let index = self
-            .device
-            .memory_type(req.memory_type_bits, vk::MemoryPropertyFlags::DEVICE_LOCAL)
-            .or_else(|| {
-                self.device
-                    .memory_type(req.memory_type_bits, vk::MemoryPropertyFlags::empty())
-            })
-            .ok_or_else(|| Error::NoMemoryType {
-                label: "window picture".into(),
-                wanted: vk::MemoryPropertyFlags::DEVICE_LOCAL,
-            })?;
-        let alloc = vk::MemoryAllocateInfo::default()
-            .allocation_size(req.size)
-            .memory_type_index(index);
-        // SAFETY: valid allocation; freed in Drop after the image.
-        unsafe {
-            self.picture_memory = raw.allocate_memory(&alloc, None).vk("vkAllocateMemory")?;
-            raw.bind_image_memory(self.picture, self.picture_memory, 0)
-                .vk("vkBindImageMemory")?;
-        }
-        Ok(())
     }
 
     /// Makes the swapchain again for a window of `window` pixels (after a resize, or
@@ -218,18 +147,22 @@ impl Swapchain {
                 "the window's images cannot be copied to (no TRANSFER_DST usage)".into(),
             ));
         }
-        let preferred = [
-            vk::Format::B8G8R8A8_UNORM,
-            vk::Format::R8G8B8A8_UNORM,
-            vk::Format::B8G8R8A8_SRGB,
-            vk::Format::R8G8B8A8_SRGB,
-        ];
-        let chosen = preferred
+        let chosen = WindowFormat::SUPPORTED
             .iter()
-            .find_map(|p| formats.iter().find(|f| f.format == *p))
-            .or_else(|| formats.first())
+            .find_map(|(p, _)| formats.iter().find(|f| f.format == *p))
             .copied()
-            .ok_or_else(|| Error::NoPresentation("the window offers no pixel format".into()))?;
+            .ok_or_else(|| {
+                let offered: Vec<String> =
+                    formats.iter().map(|f| format!("{:?}", f.format)).collect();
+                Error::NoPresentation(format!(
+                    "the window offers no 8-bit RGBA or BGRA pixel format (it offers: {})",
+                    if offered.is_empty() {
+                        "none".to_string()
+                    } else {
+                        offered.join(", ")
+                    }
+                ))
+            })?;
         // Mailbox never makes the renderer wait for the display; FIFO always exists.
         let present_mode = if modes.contains(&vk::PresentModeKHR::MAILBOX) {
             vk::PresentModeKHR::MAILBOX
@@ -294,9 +227,6 @@ impl Swapchain {
         // SAFETY: valid swapchain.
         self.images =
             unsafe { self.loader.get_swapchain_images(self.raw) }.vk("vkGetSwapchainImagesKHR")?;
-        let picture_format_changes = self.format != vk::Format::UNDEFINED
-            && self.format != chosen.format
-            && self.picture != vk::Image::null();
         self.format = chosen.format;
         self.present_mode = present_mode;
         self.extent = extent;
@@ -305,10 +235,6 @@ impl Swapchain {
             let s = unsafe { raw_dev.create_semaphore(&vk::SemaphoreCreateInfo::default(), None) }
                 .vk("vkCreateSemaphore")?;
             self.drawn.push(s);
-        }
-        if picture_format_changes {
-            self.destroy_picture();
-            self.create_picture()?;
         }
         Ok(())
     }
@@ -319,6 +245,7 @@ impl Swapchain {
         if self.raw == vk::SwapchainKHR::null() {
             return Ok(Presented::Stale);
         }
+        self.prepare_window(pixels)?;
         let raw_dev = self.device.raw();
         // SAFETY: valid swapchain and semaphore; the semaphore is unsignaled (the
         // last submission that waited on it finished).
@@ -336,7 +263,7 @@ impl Swapchain {
             }
         };
         let image = self.images[index as usize];
-        self.record(pixels, image)?;
+        self.record(image)?;
         let waits = [self.acquired];
         let stages = [vk::PipelineStageFlags::TRANSFER];
         let cmds = [self.cmd];
@@ -378,17 +305,45 @@ impl Swapchain {
         }
     }
 
-    /// Records the frame: pixels to picture, clear, blit into the letterbox, ready to
-    /// present.
-    fn record(&self, pixels: &Buffer, image: vk::Image) -> Result<()> {
+    /// Makes the window's pixels and their set where the window's size or the
+    /// picture's buffer changed since the last frame (nothing of either is in flight:
+    /// every frame is waited for).
+    fn prepare_window(&mut self, pixels: &Buffer) -> Result<()> {
+        let bytes = u64::from(self.extent.width) * u64::from(self.extent.height) * 4;
+        let current = self
+            .window
+            .as_ref()
+            .is_some_and(|(w, _, p)| w.size() == bytes && *p == pixels.raw);
+        if !current {
+            self.window = None;
+            let window = Buffer::new(&self.device, "window pixels", bytes, Location::Gpu)?;
+            let set = self.letterbox.bind(pixels, &window)?;
+            self.window = Some((window, set, pixels.raw));
+        }
+        Ok(())
+    }
+
+    /// Records the frame: `letterbox` draws the window's pixels, which are copied into
+    /// the window's `image`, ready to present.
+    fn record(&self, image: vk::Image) -> Result<()> {
         let raw = self.device.raw();
         let cmd = self.cmd;
-        let color = color_range();
+        let Some((window, set, _)) = &self.window else {
+            return Err(Error::NoPresentation(
+                "the window's pixels were not made".into(),
+            ));
+        };
+        let format = WindowFormat::of(self.format).ok_or_else(|| {
+            Error::NoPresentation(format!("no layout for the window format {:?}", self.format))
+        })?;
+        let push = letterbox::push(
+            (self.extent.width, self.extent.height),
+            self.picture_size,
+            format,
+        );
         let layers = vk::ImageSubresourceLayers::default()
             .aspect_mask(vk::ImageAspectFlags::COLOR)
             .layer_count(1);
-        let (pw, ph) = self.picture_size;
-        let (x, y, w, h) = letterbox((self.extent.width, self.extent.height), self.picture_size);
         // SAFETY: the command buffer is not in use (the last frame's fence was waited
         // on); every handle belongs to this device.
         unsafe {
@@ -400,107 +355,59 @@ impl Swapchain {
                     .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT),
             )
             .vk("vkBeginCommandBuffer")?;
-            // The pixels were written by a compute kernel in an earlier submission.
+            // The picture's pixels were written by a compute kernel in an earlier
+            // submission; the window's were read by the last frame's copy.
             let written = [vk::MemoryBarrier::default()
                 .src_access_mask(vk::AccessFlags::SHADER_WRITE | vk::AccessFlags::TRANSFER_WRITE)
+                .dst_access_mask(vk::AccessFlags::SHADER_READ | vk::AccessFlags::SHADER_WRITE)];
+            raw.cmd_pipeline_barrier(
+                cmd,
+                vk::PipelineStageFlags::COMPUTE_SHADER | vk::PipelineStageFlags::TRANSFER,
+                vk::PipelineStageFlags::COMPUTE_SHADER,
+                vk::DependencyFlags::empty(),
+                &written,
+                &[],
+                &[],
+            );
+            self.letterbox
+                .kernel
+                .record_bind(cmd, &[set], bytemuck::bytes_of(&push));
+            let [gx, gy, gz] = letterbox::groups(&push);
+            raw.cmd_dispatch(cmd, gx, gy, gz);
+            // The window's pixels before the copy; the image's layout after the
+            // acquisition (the submission waits for it at the transfer stage).
+            let drawn = [vk::MemoryBarrier::default()
+                .src_access_mask(vk::AccessFlags::SHADER_WRITE)
                 .dst_access_mask(vk::AccessFlags::TRANSFER_READ)];
-            let images = [
-                transition(
-                    self.picture,
-                    vk::ImageLayout::UNDEFINED,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    vk::AccessFlags::empty(),
-                    vk::AccessFlags::TRANSFER_WRITE,
-                ),
-                transition(
-                    image,
-                    vk::ImageLayout::UNDEFINED,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    vk::AccessFlags::empty(),
-                    vk::AccessFlags::TRANSFER_WRITE,
-                ),
-            ];
+            let images = [transition(
+                image,
+                vk::ImageLayout::UNDEFINED,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                vk::AccessFlags::empty(),
+                vk::AccessFlags::TRANSFER_WRITE,
+            )];
             raw.cmd_pipeline_barrier(
                 cmd,
                 vk::PipelineStageFlags::COMPUTE_SHADER | vk::PipelineStageFlags::TRANSFER,
                 vk::PipelineStageFlags::TRANSFER,
                 vk::DependencyFlags::empty(),
-                &written,
+                &drawn,
                 &[],
                 &images,
             );
             let copy = [vk::BufferImageCopy::default()
                 .image_subresource(layers)
                 .image_extent(vk::Extent3D {
-                    width: pw,
-                    height: ph,
+                    width: self.extent.width,
+                    height: self.extent.height,
                     depth: 1,
                 })];
             raw.cmd_copy_buffer_to_image(
                 cmd,
-                pixels.raw,
-                self.picture,
+                window.raw,
+                image,
                 vk::ImageLayout::TRANSFER_DST_OPTIMAL,
                 &copy,
-            );
-            let grey = vk::ClearColorValue {
-                float32: [BAR_GREY, BAR_GREY, BAR_GREY, 1.0],
-            };
-            raw.cmd_clear_color_image(
-                cmd,
-                image,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                &grey,
-                &[color],
-            );
-            let ready = [
-                transition(
-                    self.picture,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                    vk::AccessFlags::TRANSFER_WRITE,
-                    vk::AccessFlags::TRANSFER_READ,
-                ),
-                transition(
-                    image,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                    vk::AccessFlags::TRANSFER_WRITE,
-                    vk::AccessFlags::TRANSFER_WRITE,
-                ),
-            ];
-            raw.cmd_pipeline_barrier(
-                cmd,
-                vk::PipelineStageFlags::TRANSFER,
-                vk::PipelineStageFlags::TRANSFER,
-                vk::DependencyFlags::empty(),
-                &[],
-                &[],
-                &ready,
-            );
-            let corner = |x: i32, y: i32| vk::Offset3D { x, y, z: 1 };
-            let blit = [vk::ImageBlit::default()
-                .src_subresource(layers)
-                .src_offsets([vk::Offset3D::default(), corner(pw as i32, ph as i32)])
-                .dst_subresource(layers)
-                .dst_offsets([
-                    vk::Offset3D { x, y, z: 0 },
-                    corner(x + w as i32, y + h as i32),
-                ])];
-            // One window pixel per picture pixel: copy exactly; else interpolate.
-            let filter = if (w, h) == (pw, ph) {
-                vk::Filter::NEAREST
-            } else {
-                vk::Filter::LINEAR
-            };
-            raw.cmd_blit_image(
-                cmd,
-                self.picture,
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                image,
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                &blit,
-                filter,
             );
             let present = [transition(
                 image,
@@ -530,17 +437,6 @@ impl Swapchain {
             unsafe { raw.destroy_semaphore(s, None) };
         }
     }
-
-    fn destroy_picture(&mut self) {
-        let raw = self.device.raw();
-        // SAFETY: the device is idle when this is called; null handles are ignored.
-        unsafe {
-            raw.destroy_image(self.picture, None);
-            raw.free_memory(self.picture_memory, None);
-        }
-        self.picture = vk::Image::null();
-        self.picture_memory = vk::DeviceMemory::null();
-    }
 }
 
 impl Drop for Swapchain {
@@ -553,7 +449,7 @@ impl Drop for Swapchain {
             let _ = raw.device_wait_idle();
         }
         self.destroy_chain_semaphores();
-        self.destroy_picture();
+        self.window = None;
         // SAFETY: as above.
         unsafe {
             if self.raw != vk::SwapchainKHR::null() {
@@ -592,23 +488,4 @@ fn transition(
         .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
         .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
         .subresource_range(color_range())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::letterbox;
-
-    #[test]
-    fn letterbox_fits_and_centres_the_picture() {
-        // Exactly the picture's size: one pixel for one.
-        assert_eq!(letterbox((128, 96), (128, 96)), (0, 0, 128, 96));
-        // A wider window: bars left and right, full height.
-        assert_eq!(letterbox((400, 100), (100, 100)), (150, 0, 100, 100));
-        // A taller window: bars above and below, full width.
-        assert_eq!(letterbox((200, 400), (100, 50)), (0, 150, 200, 100));
-        // Smaller than the picture: scaled down, aspect kept.
-        assert_eq!(letterbox((64, 64), (256, 128)), (0, 16, 64, 32));
-        // Degenerate sizes stay inside the window.
-        assert_eq!(letterbox((0, 0), (10, 10)), (0, 0, 1, 1));
-    }
 }
