@@ -13,7 +13,7 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 use wavetrace::gpu::driver_choice::machine;
@@ -42,20 +42,6 @@ fn render(cache: &Path, out: &Path, env: &[(&str, &str)]) -> (String, wavetrace:
     (err, img)
 }
 
-fn record(cache: &Path, machine: &str, driver: Option<&Path>, width: u32) {
-    let dir = cache.join("wavetrace");
-    std::fs::create_dir_all(&dir).unwrap();
-    let driver = driver.map_or("null".to_string(), |d| format!("\"{}\"", d.display()));
-    std::fs::write(
-        dir.join("driver-choice.json"),
-        format!(
-            r#"{{"machine": {}, "choice": {{"driver": {driver}, "width": {width}}}}}"#,
-            serde_json::to_string(machine).unwrap()
-        ),
-    )
-    .unwrap();
-}
-
 fn device_line(stderr: &str) -> &str {
     stderr
         .lines()
@@ -71,7 +57,7 @@ fn a_recorded_width_takes_over_and_renders_the_same_image() {
     assert!(!device_line(&plain).contains("128 bits"), "{plain}");
     assert!(!plain.contains("driver:"), "{plain}");
 
-    record(&cache, &machine(), None, 128);
+    common::write_driver_record(&cache, &machine(), None, 128);
     let (chosen, img) = render(&cache, &dir.join("chosen.exr"), &[]);
     assert!(device_line(&chosen).contains("128 bits"), "{chosen}");
     assert!(
@@ -88,44 +74,21 @@ fn a_recorded_width_takes_over_and_renders_the_same_image() {
         &[("WAVETRACE_DRIVER", "system")],
     );
     assert!(!device_line(&system).contains("128 bits"), "{system}");
-    record(&cache, "another machine [avx2]", None, 128);
+    common::write_driver_record(&cache, "another machine [avx2]", None, 128);
     let (other, _) = render(&cache, &dir.join("other.exr"), &[]);
     assert!(!device_line(&other).contains("128 bits"), "{other}");
     assert!(!other.contains("driver:"), "{other}");
 }
 
-/// The newest newer lavapipe installed in the user's cache, if any.
-fn installed_prebuilt() -> Option<PathBuf> {
-    let home = std::env::var_os("HOME")?;
-    let cache = PathBuf::from(home).join(".cache/wavetrace");
-    let mut found: Vec<PathBuf> = std::fs::read_dir(cache)
-        .ok()?
-        .flatten()
-        .map(|e| e.path())
-        .filter(|p| {
-            p.file_name()
-                .is_some_and(|n| n.to_string_lossy().starts_with("lavapipe-deb-"))
-                && p.join(".complete").is_file()
-        })
-        .collect();
-    found.sort();
-    found.pop()
-}
-
 #[test]
 fn a_recorded_newer_lavapipe_at_512_bits_renders_the_same_image() {
-    let Some(driver) = installed_prebuilt() else {
-        assert!(
-            std::env::var_os("WAVETRACE_REQUIRE_PREBUILT").is_none(),
-            "WAVETRACE_REQUIRE_PREBUILT is set but no newer lavapipe is installed in ~/.cache/wavetrace"
-        );
-        eprintln!("skipped: no newer lavapipe installed (tools/lavapipe.sh --prebuilt)");
+    let Some(driver) = common::installed_prebuilt() else {
         return;
     };
     let dir = common::temp_dir("driver_choice_prebuilt");
     let cache = dir.join("cache");
     let (plain, reference) = render(&cache, &dir.join("plain.exr"), &[]);
-    record(&cache, &machine(), Some(&driver), 512);
+    common::write_driver_record(&cache, &machine(), Some(&driver), 512);
     let (chosen, img) = render(&cache, &dir.join("chosen.exr"), &[]);
     let line = device_line(&chosen);
     assert!(line.contains("512 bits"), "{chosen}");

@@ -448,6 +448,47 @@ fn keys_resize_and_escape() {
     assert!(err.contains("saved"), "{err}");
 }
 
+/// On the newer lavapipe at 512 bits, which a machine's driver record (`wavetrace
+/// driver --calibrate`) may choose, the window shows its frames and the screenshot is
+/// the render's: the window once used the driver's blit, whose fragment shader
+/// llvmpipe at 512 bits crashed compiling.
+#[test]
+fn the_viewer_runs_on_a_recorded_newer_lavapipe_at_512_bits() {
+    let Some(driver) = common::installed_prebuilt() else {
+        return;
+    };
+    let Some(x) = xvfb("wide") else { return };
+    let dir = temp_dir("wide");
+    let cache = dir.join("cache");
+    let machine = wavetrace::gpu::driver_choice::machine();
+    common::write_driver_record(&cache, &machine, Some(&driver), 512);
+    let shot = dir.join("view.png");
+    let out = Command::new(bin())
+        .current_dir(repo(""))
+        .args(["view", SCENE, "-D", RES, "--seed", "3", "--spp", "4"])
+        .arg("--screenshot")
+        .arg(&shot)
+        .env("DISPLAY", &x.display)
+        .env("XDG_CACHE_HOME", &cache)
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAVETRACE_DRIVER")
+        .env_remove("WAVETRACE_DRIVER_CHOSEN")
+        .env_remove("LP_NATIVE_VECTOR_WIDTH")
+        .env_remove("VK_ICD_FILENAMES")
+        .env_remove("VK_DRIVER_FILES")
+        .output()
+        .expect("run wavetrace view");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "view failed ({}): {err}", out.status);
+    assert!(err.contains("512 bits"), "{err}");
+    assert!(err.contains("first frame"), "{err}");
+    let d = max_level_difference(&rgb8(&shot), &rgb8(&render_png(&dir, 4)));
+    assert!(
+        d <= 1,
+        "the 512-bit screenshot and the render differ by {d} levels"
+    );
+}
+
 /// What X window `id` on `display` shows, read with xwd (its XWD dump: a header of
 /// big-endian 32-bit fields, colour map entries, then rows of pixels).
 fn window_pixels(display: &str, id: &str) -> image::RgbImage {

@@ -313,7 +313,7 @@ impl Swapchain {
         let current = self
             .window
             .as_ref()
-            .is_some_and(|(w, _, p)| w.size() == bytes && *p == pixels.raw);
+            .is_some_and(|(w, _, p)| w.size() == bytes.max(16) && *p == pixels.raw);
         if !current {
             self.window = None;
             let window = Buffer::new(&self.device, "window pixels", bytes, Location::Gpu)?;

@@ -210,6 +210,53 @@ pub fn render_to(scene: &Path, out: &Path, spp: &str) -> (i32, String, String) {
     ])
 }
 
+/// Writes a driver record (`wavetrace driver --calibrate`'s
+/// `driver-choice.json`) into `cache/wavetrace`, for a run with XDG_CACHE_HOME =
+/// `cache`: measured on `machine`, choosing `driver` (a newer lavapipe's folder;
+/// `None`: the system's driver) at `width` bits.
+pub fn write_driver_record(cache: &Path, machine: &str, driver: Option<&Path>, width: u32) {
+    let dir = cache.join("wavetrace");
+    std::fs::create_dir_all(&dir).unwrap();
+    let driver = driver.map_or("null".to_string(), |d| format!("\"{}\"", d.display()));
+    std::fs::write(
+        dir.join("driver-choice.json"),
+        format!(
+            r#"{{"machine": {}, "choice": {{"driver": {driver}, "width": {width}}}}}"#,
+            serde_json::to_string(machine).unwrap()
+        ),
+    )
+    .unwrap();
+}
+
+/// The newest newer lavapipe installed in the user's cache (`tools/lavapipe.sh
+/// --prebuilt`), if any; without one, says the test skips, or fails it where
+/// WAVETRACE_REQUIRE_PREBUILT is set (as `.ci/run` sets it once it installed one).
+pub fn installed_prebuilt() -> Option<PathBuf> {
+    let found = std::env::var_os("HOME").and_then(|home| {
+        let cache = PathBuf::from(home).join(".cache/wavetrace");
+        let mut found: Vec<PathBuf> = std::fs::read_dir(cache)
+            .ok()?
+            .flatten()
+            .map(|e| e.path())
+            .filter(|p| {
+                p.file_name()
+                    .is_some_and(|n| n.to_string_lossy().starts_with("lavapipe-deb-"))
+                    && p.join(".complete").is_file()
+            })
+            .collect();
+        found.sort();
+        found.pop()
+    });
+    if found.is_none() {
+        assert!(
+            std::env::var_os("WAVETRACE_REQUIRE_PREBUILT").is_none(),
+            "WAVETRACE_REQUIRE_PREBUILT is set but no newer lavapipe is installed in ~/.cache/wavetrace"
+        );
+        eprintln!("skipped: no newer lavapipe installed (tools/lavapipe.sh --prebuilt)");
+    }
+    found
+}
+
 /// Path of a file in the repository.
 pub fn repo(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
