@@ -18,10 +18,14 @@ RES, SPP, SEED = 32, 4, 7
 
 
 def cli_render(cli, scene, out, *args):
+    """The CLI's render on the driver this process has: a machine's driver record
+    (`wavetrace driver --calibrate`) would start the CLI again under a newer driver,
+    which rounds differently, and the library never switches drivers."""
     subprocess.run(
         [str(cli), "render", str(scene), "-q", "-o", str(out), *args],
         check=True,
         capture_output=True,
+        env={**os.environ, "WAVETRACE_DRIVER": "system"},
     )
     return wt.read(out)
 
