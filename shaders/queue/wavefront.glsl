@@ -3,6 +3,8 @@
 #ifndef WAVEFRONT_GLSL
 #define WAVEFRONT_GLSL
 
+#extension GL_KHR_shader_subgroup_basic : require
+#include "generated/spec_constants.glsl"
 #include "scene/layout.glsl"
 
 #define WORKGROUP_SIZE 128
@@ -85,10 +87,19 @@ uint queue_part_back(uint p) { return p == 0u ? queue_lengths[2].z : queue_lengt
 layout(push_constant) uniform PushBlock { Push push; };
 #define frame frames[push.frame_index]
 
+SPEC(SUBGROUPS_IN_ORDER);
+
 // Linear thread index over a 2D grid of workgroups (queues can exceed 65535 groups).
+// Where the device runs a workgroup's invocations in order, subgroup after subgroup
+// (SUBGROUPS_IN_ORDER: llvmpipe, whose subgroup is one SIMD vector), the invocation's
+// place in its workgroup is its subgroup's number times the subgroup size plus its
+// lane, which llvmpipe has at hand; gl_LocalInvocationID there costs every vector of
+// every kernel one integer division per lane (16 `divl` at 512 bits: llvmpipe
+// derives it from the linear index with the workgroup's size, a run-time value).
 uint thread_index() {
-    return (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * WORKGROUP_SIZE
-        + gl_LocalInvocationID.x;
+    uint local = SUBGROUPS_IN_ORDER ? gl_SubgroupID * gl_SubgroupSize + gl_SubgroupInvocationID
+                                    : gl_LocalInvocationID.x;
+    return (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * WORKGROUP_SIZE + local;
 }
 
 // Position of item i in a queue of n items of which `back` lie at its back end

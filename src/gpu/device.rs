@@ -79,6 +79,14 @@ pub struct DeviceInfo {
     /// `WAVETRACE_SCENE_TEXELS` is not set (it forces texel buffers, which every device
     /// runs).
     pub scene_storage: bool,
+    /// Whether subgroup s of a workgroup holds the workgroup's invocations
+    /// s × subgroup size onwards, in order (llvmpipe: a subgroup is one SIMD vector of
+    /// consecutive invocations), so that the kernels' `thread_index` is read from the
+    /// subgroup's number and the lane's (the `SUBGROUPS_IN_ORDER` specialization
+    /// constant) instead of `gl_LocalInvocationID`, which llvmpipe computes with an
+    /// integer division per lane. Vulkan promises no such order, so other devices keep
+    /// `gl_LocalInvocationID`.
+    pub subgroups_in_order: bool,
     /// Storage buffers one kernel may bind (`maxPerStageDescriptorStorageBuffers`, and
     /// `maxDescriptorSetStorageBuffers`, the lesser).
     pub max_storage_buffers: u32,
@@ -577,6 +585,7 @@ impl Device {
             })
             .vk("vkCreatePipelineCache")?;
 
+        let subgroups_in_order = driver == "llvmpipe";
         let scene_storage = scene_storage_faster(&driver, &driver_info)
             && std::env::var_os("WAVETRACE_SCENE_TEXELS").is_none();
         let info = DeviceInfo {
@@ -594,6 +603,7 @@ impl Device {
             max_workgroups_x: props.limits.max_compute_work_group_count[0],
             int64,
             scene_storage,
+            subgroups_in_order,
             max_storage_buffers: props
                 .limits
                 .max_per_stage_descriptor_storage_buffers
@@ -700,6 +710,7 @@ impl DeviceInfo {
             max_workgroups_x: 65535,
             int64: true,
             scene_storage: false,
+            subgroups_in_order: true,
             max_storage_buffers: 8,
             startup_seconds: 0.0,
         }

@@ -46,6 +46,7 @@ pub enum Spec {
     SensorShape = 56,
     SensorBatch = 57,
     PtracerThinLens = 58,
+    SubgroupsInOrder = 59,
     /// The AOVs of `aov.comp` (scene::integrator::aov): kinds 1-8, then 9-16.
     FilmAovsLo = 90,
     FilmAovsHi = 91,
@@ -215,6 +216,10 @@ pub const SPEC_CONSTANTS: &[SpecConst] = &[
     c(Spec::PtracerThinLens, "PTRACER_THIN_LENS", Bool, "false",
       "The particle tracer connects to a thin lens's aperture (integrator/ptracer.glsl); \
        false: the pinhole, and the lens's code compiles away."),
+    c(Spec::SubgroupsInOrder, "SUBGROUPS_IN_ORDER", Bool, "false",
+      "Subgroup s of a workgroup holds its invocations s * gl_SubgroupSize on, in order \
+       (DeviceInfo::subgroups_in_order): thread_index (queue/wavefront.glsl) is read \
+       from the subgroup's number and the lane's."),
     c(Spec::ScenePartShift, "SCENE_PART_SHIFT", Uint, "27u",
       "log2 of the texels of one part of a split scene array (scene_bindings.glsl)."),
     c(Spec::BvhNodeParts, "BVH_NODE_PARTS", Uint, "1u", "Parts of the BVH nodes."),

@@ -390,11 +390,13 @@ impl Renderer {
         let scene_access = scene_plan.access(device.info(), other_storage as u32);
         let mut kinds = vec![scene_binding_kinds_for(scene_access)];
         kinds.extend(others);
+        let mut layout_spec = scene_plan.spec();
+        layout_spec.extend(plan::layout_constants(device.info()).ids());
         let layout = BindingLayout::with_spec(
             device,
             &kinds,
             std::mem::size_of::<Push>() as u32,
-            &scene_plan.spec(),
+            &layout_spec,
             scene_access,
         )?;
         // The BVH and the large records are moved into the upload, which frees each

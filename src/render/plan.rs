@@ -766,6 +766,17 @@ fn partitions(integrator: &Integrator, has_media: bool, has_environment: bool) -
     has_environment && integrator.shades_paths() && !has_media
 }
 
+/// The constants every kernel of a render gets from its binding layout, whatever its
+/// stage (the photon mappers' and the particle tracer's too): what the device does,
+/// not what the scene holds. `SUBGROUPS_IN_ORDER`: `thread_index`
+/// (shaders/queue/wavefront.glsl) from the subgroup's number and the lane's where the
+/// device keeps a workgroup's invocations in order ([`DeviceInfo::subgroups_in_order`];
+/// on llvmpipe every kernel then runs without an integer division per lane, the same
+/// image bit for bit).
+pub fn layout_constants(device: &DeviceInfo) -> SpecValues {
+    SpecValues::new().with(Spec::SubgroupsInOrder, device.subgroups_in_order as u32)
+}
+
 /// What the traversal (accel/bvh.glsl) specializes on, in every kernel that finds
 /// surfaces: `intersect`, `shade`, `shadow`, the particle tracer's.
 #[derive(Debug, Clone, Copy)]
@@ -1277,8 +1288,13 @@ mod tests {
         ] {
             let p = plan(&scene(file), &options, &lavapipe());
             for k in &p.kernels {
+                let layout = layout_constants(&lavapipe());
                 for (id, name) in crate::gpu::spec::declared(k.stage.spirv()) {
-                    let set = k.spec.iter().any(|(s, _)| s.id() == id);
+                    let set = k
+                        .spec
+                        .iter()
+                        .chain(layout.iter())
+                        .any(|(s, _)| s.id() == id);
                     assert!(
                         set,
                         "{file}: {} declares {name} ({id}), unset",
