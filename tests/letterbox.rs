@@ -6,8 +6,7 @@
 mod common;
 
 use wavetrace::gpu::layout::LetterboxPush;
-use wavetrace::gpu::letterbox::{self, Letterbox, WindowFormat};
-use wavetrace::gpu::{Buffer, CommandList, Location};
+use wavetrace::gpu::letterbox::{self, WindowFormat};
 
 /// A picture of distinct pixels (R, G, B varying with x and y, opaque).
 fn picture(w: u32, h: u32) -> Vec<u32> {
@@ -73,26 +72,6 @@ fn expected(push: &LetterboxPush, pic: &[u32]) -> Vec<u32> {
     out
 }
 
-/// The window the kernel draws for `push` from `pic`.
-fn draw(push: &LetterboxPush, pic: &[u32]) -> Vec<u32> {
-    let device = common::device();
-    let kernel = Letterbox::new(&device).expect("letterbox kernel");
-    let picture = Buffer::from_slice(&device, "picture", pic).unwrap();
-    let bytes = u64::from(push.window_width) * u64::from(push.window_height) * 4;
-    let window = Buffer::new(&device, "window", bytes, Location::Gpu).unwrap();
-    let set = kernel.bind(&picture, &window).unwrap();
-    let mut cmd = CommandList::new(&device).unwrap();
-    cmd.dispatch(
-        &kernel.kernel,
-        &[&set],
-        bytemuck::bytes_of(push),
-        letterbox::groups(push),
-    );
-    cmd.barrier();
-    cmd.submit_and_wait().unwrap();
-    window.read(&device).unwrap()
-}
-
 /// Pixels of `got` off `want` by more than one code in a channel (float rounding of
 /// the filter's weights), as (index, got, want), at most 5.
 fn off(got: &[u32], want: &[u32]) -> Vec<(usize, u32, u32)> {
@@ -116,7 +95,7 @@ fn the_same_size_copies_every_pixel_in_the_window_order() {
     let pic = picture(13, 7);
     for format in WindowFormat::SUPPORTED.map(|(_, f)| f) {
         let push = letterbox::push((13, 7), (13, 7), format);
-        let got = draw(&push, &pic);
+        let got = common::letterbox_window(&push, &pic);
         assert_eq!(got, expected(&push, &pic), "{format:?}");
         if format.bgra {
             assert_eq!(
@@ -136,7 +115,7 @@ fn a_larger_window_scales_the_picture_between_bars() {
     // Wider than the picture's aspect: bars left and right, scaled 2.5x.
     let push = letterbox::push((50, 20), (12, 8), format);
     assert_eq!((push.x, push.y, push.width, push.height), (10, 0, 30, 20));
-    let got = draw(&push, &pic);
+    let got = common::letterbox_window(&push, &pic);
     let want = expected(&push, &pic);
     assert_eq!(off(&got, &want), vec![]);
     assert_eq!(got[0], format.bar_pixel());
@@ -151,7 +130,7 @@ fn a_smaller_window_shrinks_the_picture_between_bars() {
     // Taller than the picture's aspect: bars above and below.
     let push = letterbox::push((16, 20), (40, 30), format);
     assert_eq!((push.x, push.y, push.width, push.height), (0, 4, 16, 12));
-    let got = draw(&push, &pic);
+    let got = common::letterbox_window(&push, &pic);
     assert_eq!(off(&got, &expected(&push, &pic)), vec![]);
     assert!(got[..16 * 4].iter().all(|p| *p == format.bar_pixel()));
     assert!(got[16 * 16..].iter().all(|p| *p == format.bar_pixel()));

@@ -525,8 +525,7 @@ fn window_pixels(display: &str, id: &str) -> image::RgbImage {
 
 #[test]
 fn the_window_shows_the_picture_letterboxed() {
-    use wavetrace::gpu::letterbox::{self, Letterbox, WindowFormat};
-    use wavetrace::gpu::{Buffer, CommandList, Location};
+    use wavetrace::gpu::letterbox::{self, WindowFormat};
 
     let Some(x) = xvfb("window") else { return };
     let dir = temp_dir("window");
@@ -549,17 +548,7 @@ fn the_window_shows_the_picture_letterboxed() {
     let push = letterbox::push((200, 120), (pw, ph), format);
     // 48x48 scaled 2.5 times, bars of 40 pixels left and right.
     assert_eq!((push.x, push.y, push.width, push.height), (40, 0, 120, 120));
-    let device = common::device();
-    let kernel = Letterbox::new(&device).expect("letterbox kernel");
-    let picture = Buffer::from_slice(&device, "picture", &pixels).unwrap();
-    let window = Buffer::new(&device, "window", 200 * 120 * 4, Location::Gpu).unwrap();
-    let set = kernel.bind(&picture, &window).unwrap();
-    let mut cmd = CommandList::new(&device).unwrap();
-    let groups = letterbox::groups(&push);
-    cmd.dispatch(&kernel.kernel, &[&set], bytemuck::bytes_of(&push), groups);
-    cmd.barrier();
-    cmd.submit_and_wait().unwrap();
-    let drawn: Vec<u32> = window.read(&device).unwrap();
+    let drawn = common::letterbox_window(&push, &pixels);
     let want = image::RgbImage::from_fn(200, 120, |x, y| {
         let [r, g, b, _] = drawn[(y * 200 + x) as usize].to_le_bytes();
         image::Rgb([r, g, b])

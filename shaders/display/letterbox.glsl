@@ -1,4 +1,4 @@
-// How the viewer's window shows the picture (src/gpu/swapchain.rs): the picture fills
+// How the viewer's window shows the picture (src/gpu/letterbox.rs): the picture fills
 // the largest rectangle of its aspect ratio centred in the window, scaled with
 // bilinear filtering, as vkCmdBlitImage's VK_FILTER_LINEAR does it (texel centres at
 // half-integers, edges clamped), and bars of one grey around it. Where the rectangle

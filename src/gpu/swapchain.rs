@@ -35,6 +35,8 @@ pub struct Swapchain {
     raw: vk::SwapchainKHR,
     images: Vec<vk::Image>,
     format: vk::Format,
+    /// How `format` stores a pixel (one of [`WindowFormat::SUPPORTED`]).
+    window_format: WindowFormat,
     present_mode: vk::PresentModeKHR,
     extent: vk::Extent2D,
     picture_size: (u32, u32),
@@ -75,6 +77,7 @@ impl Swapchain {
             raw: vk::SwapchainKHR::null(),
             images: Vec::new(),
             format: vk::Format::UNDEFINED,
+            window_format: WindowFormat::SUPPORTED[0].1,
             present_mode: vk::PresentModeKHR::FIFO,
             extent: vk::Extent2D::default(),
             picture_size: picture,
@@ -147,10 +150,14 @@ impl Swapchain {
                 "the window's images cannot be copied to (no TRANSFER_DST usage)".into(),
             ));
         }
-        let chosen = WindowFormat::SUPPORTED
+        let (chosen, window_format) = WindowFormat::SUPPORTED
             .iter()
-            .find_map(|(p, _)| formats.iter().find(|f| f.format == *p))
-            .copied()
+            .find_map(|(p, layout)| {
+                formats
+                    .iter()
+                    .find(|f| f.format == *p)
+                    .map(|f| (*f, *layout))
+            })
             .ok_or_else(|| {
                 let offered: Vec<String> =
                     formats.iter().map(|f| format!("{:?}", f.format)).collect();
@@ -228,6 +235,7 @@ impl Swapchain {
         self.images =
             unsafe { self.loader.get_swapchain_images(self.raw) }.vk("vkGetSwapchainImagesKHR")?;
         self.format = chosen.format;
+        self.window_format = window_format;
         self.present_mode = present_mode;
         self.extent = extent;
         for _ in 0..self.images.len() {
@@ -333,13 +341,10 @@ impl Swapchain {
                 "the window's pixels were not made".into(),
             ));
         };
-        let format = WindowFormat::of(self.format).ok_or_else(|| {
-            Error::NoPresentation(format!("no layout for the window format {:?}", self.format))
-        })?;
         let push = letterbox::push(
             (self.extent.width, self.extent.height),
             self.picture_size,
-            format,
+            self.window_format,
         );
         let layers = vk::ImageSubresourceLayers::default()
             .aspect_mask(vk::ImageAspectFlags::COLOR)

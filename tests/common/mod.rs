@@ -210,6 +210,29 @@ pub fn render_to(scene: &Path, out: &Path, spp: &str) -> (i32, String, String) {
     ])
 }
 
+/// The window `letterbox` (src/gpu/letterbox.rs) draws on the device for `push` from
+/// the picture `pixels` (4 bytes a pixel, R in the lowest, top row first): 4 bytes a
+/// window pixel in the order `push` says, top row first.
+pub fn letterbox_window(push: &wavetrace::gpu::layout::LetterboxPush, pixels: &[u32]) -> Vec<u32> {
+    use wavetrace::gpu::letterbox::{self, Letterbox};
+    let device = device();
+    let kernel = Letterbox::new(&device).expect("letterbox kernel");
+    let picture = Buffer::from_slice(&device, "picture", pixels).unwrap();
+    let bytes = u64::from(push.window_width) * u64::from(push.window_height) * 4;
+    let window = Buffer::new(&device, "window", bytes, Location::Gpu).unwrap();
+    let set = kernel.bind(&picture, &window).unwrap();
+    let mut cmd = CommandList::new(&device).unwrap();
+    cmd.dispatch(
+        &kernel.kernel,
+        &[&set],
+        bytemuck::bytes_of(push),
+        letterbox::groups(push),
+    );
+    cmd.barrier();
+    cmd.submit_and_wait().unwrap();
+    window.read(&device).unwrap()
+}
+
 /// Writes a driver record (`wavetrace driver --calibrate`'s
 /// `driver-choice.json`) into `cache/wavetrace`, for a run with XDG_CACHE_HOME =
 /// `cache`: measured on `machine`, choosing `driver` (a newer lavapipe's folder;
