@@ -9,7 +9,7 @@ use glam::Mat4;
 use glam::{Vec2, Vec3};
 use wavetrace::accel::{
     brute_force_closest, prims_from_shapes, Bvh, FlatPrims, APART_QUADRICS_MAX, FLAT_CAPACITY,
-    FLAT_PRIMS_MAX,
+    FLAT_PRIMS_MAX, FLAT_PRIMS_MAX_WIDE,
 };
 use wavetrace::gpu::layout::HitItem;
 use wavetrace::gpu::{shaders, Buffer, CommandList, DescriptorSet, Kernel, Location};
@@ -302,23 +302,29 @@ fn gpu_closest_and_any_hit_equal_brute_force_on_bunny_and_quadrics() {
 }
 
 /// A scene of a few primitives of every kind, traced without its tree (bvh.glsl's
-/// bvh_trace_flat, as the renderer does below accel::FLAT_PRIMS_MAX primitives):
-/// closest hits equal the brute force's, and any-hit agrees, at the flat traversal's
-/// full capacity and with fewer primitives (its later steps compiled away).
+/// bvh_trace_flat, as the renderer does below accel::FLAT_PRIMS_MAX primitives, or
+/// FLAT_PRIMS_MAX_WIDE on llvmpipe at 16 lanes): closest hits equal the brute force's,
+/// and any-hit agrees, at the flat traversal's full capacity of primitives of any
+/// kind, with fewer primitives (its later steps compiled away), and with triangles
+/// beyond that capacity (its loop).
 #[test]
 fn gpu_flat_traversal_of_a_small_scene_equals_brute_force() {
-    // Six triangles (a fan), and spheres, disks and cylinders around them.
+    // Up to 34 triangles (a fan, winding round more than once), and spheres, disks and
+    // cylinders around them.
     let mut fan = Mesh {
         name: "fan".into(),
         ..Default::default()
     };
     fan.positions.push(Vec3::ZERO);
-    for k in 0..7 {
+    for k in 0..35 {
         let a = k as f32 * 0.5;
-        fan.positions
-            .push(Vec3::new(a.cos(), a.sin(), 0.2 * (k % 2) as f32));
+        fan.positions.push(Vec3::new(
+            a.cos(),
+            a.sin(),
+            0.2 * (k % 2) as f32 + 0.01 * k as f32,
+        ));
     }
-    fan.indices = (1..7).map(|k| [0, k, k + 1]).collect();
+    fan.indices = (1..35).map(|k| [0, k, k + 1]).collect();
     let mut quadrics = Vec::new();
     for k in 0..10 {
         let t = k as f32 / 9.0;
@@ -359,13 +365,13 @@ fn gpu_flat_traversal_of_a_small_scene_equals_brute_force() {
             }
         })
         .collect();
-    for (triangles, quadric_count) in [(6, 10), (3, 2)] {
+    for (triangles, quadric_count) in [(6, 10), (3, 2), (34, 3)] {
         let mut mesh = fan.clone();
         mesh.indices.truncate(triangles);
         let bvh = Bvh::build(prims_from_shapes(&[mesh], &quadrics[..quadric_count]));
         let n = bvh.prims.len();
-        assert!(n <= FLAT_CAPACITY);
-        let flat = FlatPrims::of(&bvh, FLAT_CAPACITY);
+        assert!(n <= FLAT_PRIMS_MAX_WIDE);
+        let flat = FlatPrims::of(&bvh, FLAT_PRIMS_MAX_WIDE);
         assert_eq!(flat.count as usize, n);
         assert!(flat.flat_only);
         let hits = check_with(&bvh, &rays, flat);
@@ -381,7 +387,7 @@ fn gpu_flat_traversal_of_a_small_scene_equals_brute_force() {
         assert_eq!((tree.count as usize, bvh.apart as usize), (apart, apart));
         assert_eq!(check_with(&bvh, &rays, tree), hits, "{n} primitives: tree");
     }
-    // The renderer's threshold lies within what the traversal can hold.
+    // The renderer's threshold lies within what the traversal holds of every kind.
     assert!((1..=FLAT_CAPACITY).contains(&FLAT_PRIMS_MAX));
 }
 

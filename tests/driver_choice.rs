@@ -102,9 +102,16 @@ fn a_recorded_newer_lavapipe_at_512_bits_renders_the_same_image() {
 
     // Mesa 22.3 reads the scene through texel buffers, the newer driver from storage
     // buffers (DeviceInfo::scene_storage); WAVETRACE_SCENE_TEXELS=1 makes it read them
-    // through texel buffers too, with the same image bit for bit.
+    // through texel buffers too, with the same image bit for bit. From storage buffers
+    // at 16 lanes the box's 32 triangles are tested in turn (plan::flat_prims_max),
+    // through texel buffers its tree is walked: the same bits again.
     assert!(!plain.contains("(into storage buffers)"), "{plain}");
     assert!(chosen.contains("(into storage buffers)"), "{chosen}");
+    assert!(
+        chosen.contains("its 32 primitives tested in turn"),
+        "{chosen}"
+    );
+    assert!(!plain.contains("tested in turn"), "{plain}");
     let (texels, texel_img) = render(
         &cache,
         &dir.join("texels.exr"),
@@ -112,6 +119,7 @@ fn a_recorded_newer_lavapipe_at_512_bits_renders_the_same_image() {
     );
     assert!(device_line(&texels).contains("512 bits"), "{texels}");
     assert!(!texels.contains("(into storage buffers)"), "{texels}");
+    assert!(!texels.contains("tested in turn"), "{texels}");
     assert_eq!(
         common::largest_relative_difference(&img, &texel_img),
         0.0,

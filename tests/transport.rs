@@ -560,10 +560,12 @@ fn first_bounce_in_one_kernel_matches_the_wavefront() {
 /// media code of shade and shadow); the glass scene's 19 primitives are traversed.
 /// Where the tree is traversed, a scene's few quadrics are tested apart before it
 /// (accel::Bvh::apart): the sphere of the normal map, the fog and the glass scene,
-/// the two of the env map scene.
+/// the two of the env map scene. (On llvmpipe at 16 lanes reading the scene from
+/// storage buffers the glass scene is tested in turn too: plan::flat_prims_max.)
 #[test]
 fn small_scenes_traced_without_the_tree_match_the_traversal() {
     let device = device();
+    let flat_max = wavetrace::render::plan::flat_prims_max(device.info());
     for (file, defines, quadrics) in [
         ("scenes/textures/normalmap.xml", vec![("res", "40")], 1),
         ("scenes/envmap/envmap_glossy.xml", vec![("res", "40")], 2),
@@ -586,7 +588,7 @@ fn small_scenes_traced_without_the_tree_match_the_traversal() {
         assert_eq!(tree_flat_prims, quadrics, "{file}: quadrics tested apart");
         assert_eq!(
             flat_only,
-            !file.contains("glass"),
+            !file.contains("glass") || flat_max >= 19,
             "{file}: {flat_prims} primitives tested in turn"
         );
         if !flat_only {

@@ -56,10 +56,10 @@
 
 // The primitives at the start of prims[] that are tested in turn (bvh_trace_flat),
 // and whether the tree follows (accel::FlatPrims; two specialization constants): the
-// including kernel may #define BVH_FLAT_PRIMS to their count (at most
-// BVH_FLAT_CAPACITY), with BVH_FLAT_ONLY set where they are every primitive of the
-// scene (a scene of a few: no tree), and BVH_FLAT_KINDS to their PRIM_* kinds, two
-// bits each, primitive k at bit 2k. Without BVH_FLAT_ONLY they are the scene's few
+// including kernel may #define BVH_FLAT_PRIMS to their count, with BVH_FLAT_ONLY set
+// where they are every primitive of the scene (a scene of a few: no tree), and
+// BVH_FLAT_KINDS to the PRIM_* kinds of the first BVH_FLAT_CAPACITY, two bits each,
+// primitive k at bit 2k; any after those are triangles. Without BVH_FLAT_ONLY they are the scene's few
 // quadrics (accel::Bvh::apart), and the tree holds the triangles alone. 0: the tree
 // holds every primitive.
 #define BVH_FLAT_CAPACITY 16
@@ -239,15 +239,26 @@ float bvh_bound(uint mode, Hit hit, Hit second) { return mode == BVH_TWO ? secon
 // which loads per lane and runs every branch of a leaf's kind test for every lane, this
 // costs far less than a traversal of a few primitives (accel::FLAT_PRIMS_MAX), and a
 // few quadrics cost less here than in the leaves of a tree of triangles
-// (accel::APART_QUADRICS_MAX). Written out step by step because Mesa unrolls no loop
-// with a body this large. Every ray tests every primitive: any-hit queries gain nothing
-// from stopping early on llvmpipe.
+// (accel::APART_QUADRICS_MAX). The first BVH_FLAT_CAPACITY are written out step by
+// step, each for its own kind, because Mesa unrolls no loop with a body this large;
+// the triangles after them (scenes of up to accel::FLAT_PRIMS_MAX_WIDE primitives on
+// llvmpipe at 16 lanes, where a load common to all lanes is one scalar load) in a loop
+// whose bound is a constant, so every lane is in every pass and loads the same
+// triangle. Every ray tests every primitive: any-hit queries gain nothing from
+// stopping early on llvmpipe.
 void bvh_trace_flat(vec3 o, vec3 d, TriangleRay tr, float tmin, uint mode, inout Hit hit,
                     inout Hit second) {
     BVH_FLAT_STEP(0u) BVH_FLAT_STEP(1u) BVH_FLAT_STEP(2u) BVH_FLAT_STEP(3u)
     BVH_FLAT_STEP(4u) BVH_FLAT_STEP(5u) BVH_FLAT_STEP(6u) BVH_FLAT_STEP(7u)
     BVH_FLAT_STEP(8u) BVH_FLAT_STEP(9u) BVH_FLAT_STEP(10u) BVH_FLAT_STEP(11u)
     BVH_FLAT_STEP(12u) BVH_FLAT_STEP(13u) BVH_FLAT_STEP(14u) BVH_FLAT_STEP(15u)
+    for (uint k = BVH_FLAT_CAPACITY; k < BVH_FLAT_COUNT; k++) {
+        float t, u, v;
+        if (bvh_prim_hit_of(BVH_KIND_BIT(PRIM_TRIANGLE), prim_load(k), tr, o, d, tmin,
+                            bvh_bound(mode, hit, second), t, u, v)) {
+            bvh_record(mode, hit, second, Hit(t, u, v, k));
+        }
+    }
 }
 
 // Stack traversal visiting the nearer child first, for what `mode` asks (BVH_CLOSEST,

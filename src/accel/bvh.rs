@@ -22,7 +22,7 @@ use super::bvh_build::{PrimSource, ShapePrims};
 use super::{cylinder, disk, sphere, triangle};
 use crate::gpu::layout::{
     BvhNode, Prim, PRIM_BSPLINE_CURVE, PRIM_CYLINDER, PRIM_DISK, PRIM_ELLIPSOID, PRIM_INSTANCE,
-    PRIM_LINEAR_CURVE, PRIM_SDFGRID, PRIM_SPHERE,
+    PRIM_LINEAR_CURVE, PRIM_SDFGRID, PRIM_SPHERE, PRIM_TRIANGLE,
 };
 use crate::scene::{Mesh, Quadric};
 
@@ -42,8 +42,10 @@ pub const BVH_COUNT_BITS: u32 = 4;
 
 const _: () = assert!(BVH_MAX_LEAF_SIZE < 1 << BVH_COUNT_BITS);
 
-/// Primitives a flat traversal can test (`#define BVH_FLAT_CAPACITY` in bvh.glsl: its
-/// steps written out; checked by a test). Their kinds take two bits each of one word.
+/// Primitives a flat traversal tests each for its own kind (`#define BVH_FLAT_CAPACITY`
+/// in bvh.glsl: its steps written out; checked by a test). Their kinds take two bits
+/// each of one word; any further primitives of a flat traversal are triangles, tested
+/// in a loop.
 pub const FLAT_CAPACITY: usize = 16;
 
 /// Most primitives of a scene that the kernels trace without its BVH, testing each in
@@ -51,6 +53,14 @@ pub const FLAT_CAPACITY: usize = 16;
 /// fewer instructions than the tree, beyond it more (docs/performance.md, "Small
 /// scenes without a tree").
 pub const FLAT_PRIMS_MAX: usize = 8;
+
+/// [`FLAT_PRIMS_MAX`] on devices that load what every lane reads from one address
+/// once for all of them, and run 16 lanes or more (lavapipe from Mesa 26 reading the
+/// scene from storage buffers, at 512 bits: `render::plan`): a flat test is then
+/// arithmetic alone, where the tree gathers every node and primitive lane by lane and
+/// its lanes diverge; the Cornell box (32 triangles) renders 19% faster flat, a scene
+/// of 44 as fast either way (docs/performance.md, "Small scenes without a tree").
+pub const FLAT_PRIMS_MAX_WIDE: usize = 40;
 
 const _: () = assert!(FLAT_PRIMS_MAX <= FLAT_CAPACITY);
 
@@ -70,7 +80,8 @@ pub const FLAT_ONLY: u32 = 1 << 16;
 
 /// A scene's primitives as the traversal kernels see them: how many lead
 /// [`Bvh::prims`] to be tested in turn, the `PRIM_*` kind of primitive k at bits
-/// `2k..2k+2` of `kinds`, and whether the tree follows (it holds the rest). Two
+/// `2k..2k+2` of `kinds` (the first [`FLAT_CAPACITY`]; any after them are
+/// triangles), and whether the tree follows (it holds the rest). Two
 /// specialization constants of the kernels that trace rays. The default is the tree
 /// alone, right for a [`Bvh`] with nothing apart.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -83,19 +94,22 @@ pub struct FlatPrims {
 
 impl FlatPrims {
     /// How the kernels trace `bvh`: every primitive in turn where there are at most
-    /// `max` (at most [`FLAT_CAPACITY`]), else the primitives apart ([`Bvh::apart`])
-    /// in turn, then the tree.
+    /// `max` and those after the first [`FLAT_CAPACITY`] are triangles, else the
+    /// primitives apart ([`Bvh::apart`]) in turn, then the tree.
     pub fn of(bvh: &Bvh, max: usize) -> FlatPrims {
         // (Sdfgrids and curves take more than the two bits of a kind: they stay in the
         // tree.)
         let all = !bvh.prims.is_empty()
-            && bvh.prims.len() <= max.min(FLAT_CAPACITY)
+            && bvh.prims.len() <= max
             && bvh.prims.iter().all(|p| {
                 !matches!(
                     p.kind,
                     PRIM_SDFGRID | PRIM_LINEAR_CURVE | PRIM_BSPLINE_CURVE | PRIM_ELLIPSOID
                 )
-            });
+            })
+            && bvh.prims[FLAT_CAPACITY.min(bvh.prims.len())..]
+                .iter()
+                .all(|p| p.kind == PRIM_TRIANGLE);
         let count = if all {
             bvh.prims.len()
         } else {
@@ -103,7 +117,7 @@ impl FlatPrims {
         };
         FlatPrims {
             count: count as u32,
-            kinds: bvh.prims[..count]
+            kinds: bvh.prims[..count.min(FLAT_CAPACITY)]
                 .iter()
                 .enumerate()
                 .fold(0, |m, (k, p)| m | (p.kind & 3) << (2 * k)),

@@ -90,7 +90,8 @@ pub struct RenderOptions {
     /// compare the two.
     pub trace_last_bounce: bool,
     /// Traverse the BVH even where the scene has so few primitives that the kernels
-    /// would test each in turn ([`accel::FLAT_PRIMS_MAX`], bvh.glsl's
+    /// would test each in turn ([`accel::FLAT_PRIMS_MAX`] or
+    /// [`accel::FLAT_PRIMS_MAX_WIDE`], `plan::flat_prims_max`; bvh.glsl's
     /// `bvh_trace_flat`). The same image either way; tests compare the two.
     pub traverse_small_scenes: bool,
     /// Render with the wavefront's kernels alone even where a CPU device would run a

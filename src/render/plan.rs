@@ -475,6 +475,22 @@ fn check(scene: &Scene, integrator: &Integrator) -> Result<()> {
     Ok(())
 }
 
+/// Most primitives of a scene the kernels test each in turn instead of walking its
+/// tree, on the device `caps` describes: [`accel::FLAT_PRIMS_MAX_WIDE`] where a load
+/// every lane makes from one address is one scalar load and a SIMD vector holds 16
+/// lanes or more (llvmpipe at 512 bits reading the scene from storage buffers: its
+/// tree walk gathers lane by lane), else [`accel::FLAT_PRIMS_MAX`]. (A layout that
+/// cannot bind the storage buffers after all reads the flat primitives through texel
+/// buffers: the same image, somewhat slower.)
+pub fn flat_prims_max(caps: &DeviceInfo) -> usize {
+    let lanes = crate::gpu::device::llvmpipe_bits(&caps.name).map_or(0, |bits| bits / 32);
+    if caps.scene_storage && lanes >= 16 {
+        accel::FLAT_PRIMS_MAX_WIDE
+    } else {
+        accel::FLAT_PRIMS_MAX
+    }
+}
+
 /// What the plan reads from the scene's BVH and records.
 struct SceneFacts {
     /// The emitter primitives (at most `MAX_EMITTER_PRIMS`; `None`: more).
@@ -518,7 +534,7 @@ impl SceneFacts {
                 if options.traverse_small_scenes {
                     0
                 } else {
-                    accel::FLAT_PRIMS_MAX
+                    flat_prims_max(caps)
                 },
             )
         };
@@ -1106,6 +1122,39 @@ mod tests {
 
     fn plan(scene: &Scene, options: &RenderOptions, caps: &DeviceInfo) -> RenderPlan {
         RenderPlan::new(scene, options, caps).unwrap_or_else(|e| panic!("plan: {e}"))
+    }
+
+    /// The Cornell box's 32 triangles are tested in turn, without the tree, on
+    /// llvmpipe at 512 bits reading the scene from storage buffers, and walked in their
+    /// tree at 256 bits, from texel buffers, and on a GPU.
+    #[test]
+    fn small_scenes_go_without_their_tree_on_wide_llvmpipe() {
+        let cbox = scene("cbox/cbox_path.xml");
+        let wide = DeviceInfo {
+            name: "llvmpipe (LLVM 22.1.8, 512 bits)".into(),
+            scene_storage: true,
+            ..lavapipe()
+        };
+        let flat = plan(&cbox, &RenderOptions::default(), &wide).flat;
+        assert_eq!((flat.count, flat.flat_only), (32, true));
+        let texels = DeviceInfo {
+            scene_storage: false,
+            ..wide.clone()
+        };
+        let narrow = DeviceInfo {
+            name: "llvmpipe (LLVM 22.1.8, 256 bits)".into(),
+            ..wide.clone()
+        };
+        for caps in [texels, narrow, gpu()] {
+            let flat = plan(&cbox, &RenderOptions::default(), &caps).flat;
+            assert_eq!((flat.count, flat.flat_only), (0, false), "{}", caps.name);
+        }
+        // RenderOptions::traverse_small_scenes keeps the tree.
+        let options = RenderOptions {
+            traverse_small_scenes: true,
+            ..RenderOptions::default()
+        };
+        assert!(!plan(&cbox, &options, &wide).flat.flat_only);
     }
 
     #[test]
