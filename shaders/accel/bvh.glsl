@@ -59,9 +59,9 @@
 // including kernel may #define BVH_FLAT_PRIMS to their count, with BVH_FLAT_ONLY set
 // where they are every primitive of the scene (a scene of a few: no tree), and
 // BVH_FLAT_KINDS to the PRIM_* kinds of the first BVH_FLAT_CAPACITY, two bits each,
-// primitive k at bit 2k; any after those are triangles. Without BVH_FLAT_ONLY they are the scene's few
-// quadrics (accel::Bvh::apart), and the tree holds the triangles alone. 0: the tree
-// holds every primitive.
+// primitive k at bit 2k; any after those are triangles. Without BVH_FLAT_ONLY they are
+// the scene's few quadrics (accel::Bvh::apart), and the tree holds the triangles
+// alone. 0: the tree holds every primitive.
 #define BVH_FLAT_CAPACITY 16
 #define BVH_FLAT_ONLY 0x10000u
 #ifndef BVH_FLAT_PRIMS
