@@ -12,7 +12,7 @@ use wavetrace::accel::{
     FLAT_PRIMS_MAX, FLAT_PRIMS_MAX_WIDE,
 };
 use wavetrace::gpu::layout::HitItem;
-use wavetrace::gpu::{shaders, Buffer, CommandList, DescriptorSet, Kernel, Location};
+use wavetrace::gpu::{shaders, Buffer, CommandList, DescriptorSet, Kernel, KernelSpec, Location};
 use wavetrace::render::scene_buffers::SceneRecords;
 use wavetrace::scene::{Mesh, Quadric, QuadricKind};
 
@@ -55,12 +55,28 @@ fn gpu_queries_with(bvh: &Bvh, rays: &[QueryRay], stack_depth: u32, flat: FlatPr
     let any = Buffer::new(&device, "any", (rays.len() * 4) as u64, Location::Gpu).unwrap();
     let second = Buffer::new(&device, "second", (rays.len() * 16) as u64, Location::Gpu).unwrap();
     let set = DescriptorSet::new(&layout, 1, &[&queries, &closest, &any, &second]).unwrap();
-    let kernel = Kernel::new(
+    // The test kernel numbers its own constants 0-2; the vertex constants of the
+    // primitives tested in turn keep their ids (gpu::spec_ids::flat_vertex).
+    let mut spec = vec![
+        (0, stack_depth),
+        (1, flat.constants()[0]),
+        (2, flat.constants()[1]),
+    ];
+    for (j, w) in flat.vertex_words(bvh).into_iter().enumerate() {
+        spec.push((
+            wavetrace::gpu::spec_ids::flat_vertex(j as u32 / 9, j as u32 % 9).0,
+            w,
+        ));
+    }
+    let kernel = Kernel::from_spec(
         &device,
-        "bvh_query",
-        shaders::TESTS_BVH_QUERY,
         &layout,
-        &[stack_depth, flat.constants()[0], flat.constants()[1]],
+        &KernelSpec {
+            name: "bvh_query",
+            spirv: shaders::TESTS_BVH_QUERY,
+            spec,
+            inline: false,
+        },
     )
     .unwrap();
     let mut cmd = CommandList::new(&device).unwrap();
@@ -376,6 +392,15 @@ fn gpu_flat_traversal_of_a_small_scene_equals_brute_force() {
         assert!(flat.flat_only);
         let hits = check_with(&bvh, &rays, flat);
         assert!(hits > 2_000, "{n} primitives: too few rays hit ({hits})");
+        // The first 16 primitives' vertices as kernel constants (as on llvmpipe at 16
+        // lanes): the same hits.
+        let constants = FlatPrims::with_vertex_constants(&bvh, FLAT_PRIMS_MAX_WIDE);
+        assert!(constants.vertices);
+        assert_eq!(
+            check_with(&bvh, &rays, constants),
+            hits,
+            "{n} primitives: constants"
+        );
         // The tree: with its quadrics apart where there are few (2), else holding them.
         let tree = FlatPrims::of(&bvh, n - 1);
         assert!(!tree.flat_only);

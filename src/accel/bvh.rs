@@ -78,6 +78,11 @@ const _: () = assert!(APART_QUADRICS_MAX <= FLAT_CAPACITY);
 /// BVH_FLAT_ONLY` in bvh.glsl): no tree follows the primitives tested in turn.
 pub const FLAT_ONLY: u32 = 1 << 16;
 
+/// Bit of the same constant (`#define BVH_FLAT_VERTEX_CONSTANTS` in bvh.glsl): the
+/// vertices of the first [`FLAT_CAPACITY`] primitives tested in turn are constants of
+/// the kernel (`gpu::spec_ids::flat_vertex`, [`FlatPrims::vertex_words`]), not loads.
+pub const FLAT_VERTEX_CONSTANTS: u32 = 1 << 17;
+
 /// A scene's primitives as the traversal kernels see them: how many lead
 /// [`Bvh::prims`] to be tested in turn, the `PRIM_*` kind of primitive k at bits
 /// `2k..2k+2` of `kinds` (the first [`FLAT_CAPACITY`]; any after them are
@@ -90,6 +95,9 @@ pub struct FlatPrims {
     pub kinds: u32,
     /// Only the primitives tested in turn: every one of the scene's.
     pub flat_only: bool,
+    /// The vertices of the first [`FLAT_CAPACITY`] of them are constants of the
+    /// kernels ([`FLAT_VERTEX_CONSTANTS`]).
+    pub vertices: bool,
 }
 
 impl FlatPrims {
@@ -122,13 +130,48 @@ impl FlatPrims {
                 .enumerate()
                 .fold(0, |m, (k, p)| m | (p.kind & 3) << (2 * k)),
             flat_only: all,
+            vertices: false,
         }
+    }
+
+    /// [`FlatPrims::of`], the vertices of the first [`FLAT_CAPACITY`] primitives tested
+    /// in turn given to the kernels as constants ([`FlatPrims::vertex_words`]).
+    pub fn with_vertex_constants(bvh: &Bvh, max: usize) -> FlatPrims {
+        let flat = FlatPrims::of(bvh, max);
+        FlatPrims {
+            vertices: flat.count > 0,
+            ..flat
+        }
+    }
+
+    /// The vertex words of the first [`FLAT_CAPACITY`] primitives tested in turn, as
+    /// f32 bits: p0, p1, p2 (x, y, z each) of primitive k at `9 k`; empty unless
+    /// [`FlatPrims::vertices`].
+    pub fn vertex_words(&self, bvh: &Bvh) -> Vec<u32> {
+        if !self.vertices {
+            return Vec::new();
+        }
+        let n = (self.count as usize)
+            .min(FLAT_CAPACITY)
+            .min(bvh.prims.len());
+        bvh.prims[..n]
+            .iter()
+            .flat_map(|p| [p.p0, p.p1, p.p2])
+            .flatten()
+            .map(f32::to_bits)
+            .collect()
     }
 
     /// As specialization constants: count (with [`FLAT_ONLY`]), kinds.
     pub fn constants(&self) -> [u32; 2] {
         [
-            self.count | if self.flat_only { FLAT_ONLY } else { 0 },
+            self.count
+                | if self.flat_only { FLAT_ONLY } else { 0 }
+                | if self.vertices {
+                    FLAT_VERTEX_CONSTANTS
+                } else {
+                    0
+                },
             self.kinds,
         ]
     }
@@ -1056,8 +1099,16 @@ mod tests {
             .skip(1)
             .map(|rest| rest.split(')').next().unwrap_or(""))
             .collect();
-        let want: Vec<String> = (0..FLAT_CAPACITY).map(|k| format!("{k}u")).collect();
+        let want: Vec<String> = (0..FLAT_CAPACITY).map(|k| format!("{k}")).collect();
         assert_eq!(steps, want);
+        assert_eq!(
+            define("BVH_FLAT_VERTEX_CONSTANTS"),
+            format!("{FLAT_VERTEX_CONSTANTS:#x}u")
+        );
+        assert_eq!(
+            FLAT_CAPACITY as u32,
+            crate::gpu::spec_ids::FLAT_VERTEX_PRIMS
+        );
         assert_eq!(
             define("BVH_COUNT_MASK"),
             format!("{}u", (1u32 << BVH_COUNT_BITS) - 1)

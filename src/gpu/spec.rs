@@ -1,11 +1,11 @@
 //! Specialization constants set by name: [`SpecValues`] holds a value per [`Spec`] of
 //! the one table ([`super::spec_ids`]), whose ids every kernel shares.
 
-pub use super::spec_ids::{Spec, SpecConst, SpecType, SPEC_CONSTANTS};
+pub use super::spec_ids::{flat_vertex, Spec, SpecConst, SpecType, SPEC_CONSTANTS};
 
 /// Values of specialization constants, by name, in the order they were set.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
-pub struct SpecValues(Vec<(Spec, u32)>);
+pub struct SpecValues(Vec<(Spec, u32)>, Vec<u32>);
 
 impl SpecValues {
     pub fn new() -> SpecValues {
@@ -30,6 +30,16 @@ impl SpecValues {
     /// These values with every value of `other` set too (replacing any set before).
     pub fn with_all(mut self, other: &SpecValues) -> SpecValues {
         other.iter().for_each(|(s, v)| self.set(s, v));
+        if !other.1.is_empty() {
+            self.1 = other.1.clone();
+        }
+        self
+    }
+
+    /// These values with the vertex words of the first primitives tested in turn
+    /// (`spec_ids::flat_vertex`: word i of primitive k at `9 k + i`, as f32 bits).
+    pub fn with_flat_vertices(mut self, words: &[u32]) -> SpecValues {
+        self.1 = words.to_vec();
         self
     }
 
@@ -45,7 +55,12 @@ impl SpecValues {
 
     /// `(constant_id, value)` of every constant set.
     pub fn ids(&self) -> Vec<(u32, u32)> {
-        self.0.iter().map(|&(s, v)| (s.id(), v)).collect()
+        let named = self.0.iter().map(|&(s, v)| (s.id(), v));
+        let vertices = self.1.iter().enumerate().map(|(j, &v)| {
+            let j = j as u32;
+            (flat_vertex(j / 9, j % 9).0, v)
+        });
+        named.chain(vertices).collect()
     }
 }
 
@@ -125,6 +140,15 @@ mod tests {
                 continue; // test kernels number their own constants
             }
             for (id, name) in declared(spirv) {
+                if let Some((k, i)) = name
+                    .strip_prefix("FLAT_P")
+                    .and_then(|r| r.split_once('_'))
+                    .and_then(|(k, i)| Some((k.parse().ok()?, i.parse().ok()?)))
+                {
+                    assert_eq!(flat_vertex(k, i), (id, name.clone()), "{kernel}");
+                    checked += 1;
+                    continue;
+                }
                 let row = SPEC_CONSTANTS
                     .iter()
                     .find(|c| c.name == name)

@@ -73,6 +73,20 @@ impl Spec {
     }
 }
 
+/// The vertices of the first primitives a traversal tests in turn
+/// (`accel::FlatPrims::vertices`), as constants of their own: `FLAT_P<k>_<i>`, word i
+/// of p0, p1, p2 (x, y, z each) of primitive k, has id `FLAT_VERTEX_BASE + 9 k + i`,
+/// for k below [`FLAT_VERTEX_PRIMS`]. A load every lane makes from one address costs
+/// llvmpipe a bounds check per word; a constant costs nothing (docs/performance.md).
+pub const FLAT_VERTEX_BASE: u32 = 100;
+/// Primitives whose vertices the constants hold (bvh.glsl's `BVH_FLAT_CAPACITY`).
+pub const FLAT_VERTEX_PRIMS: u32 = 16;
+
+/// The constant id and GLSL name of word i of primitive k's vertices.
+pub fn flat_vertex(k: u32, i: u32) -> (u32, String) {
+    (FLAT_VERTEX_BASE + 9 * k + i, format!("FLAT_P{k}_{i}"))
+}
+
 /// The GLSL type of a constant.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SpecType {
@@ -265,6 +279,18 @@ pub fn glsl_header() -> String {
             k.default
         ));
     }
-    s.push_str("#endif\n");
+    s.push_str(
+        "// The vertices of the first primitives tested in turn (spec_ids::flat_vertex).\n\
+         #define SPEC_FLAT_VERTICES",
+    );
+    for k in 0..FLAT_VERTEX_PRIMS {
+        for i in 0..9 {
+            let (id, name) = flat_vertex(k, i);
+            s.push_str(&format!(
+                " \\\n    layout(constant_id = {id}) const float {name} = 0.0;"
+            ));
+        }
+    }
+    s.push_str("\n#endif\n");
     s
 }
