@@ -12,7 +12,9 @@ use wavetrace::accel::{
     FLAT_PRIMS_MAX, FLAT_PRIMS_MAX_WIDE,
 };
 use wavetrace::gpu::layout::HitItem;
-use wavetrace::gpu::{shaders, Buffer, CommandList, DescriptorSet, Kernel, KernelSpec, Location};
+use wavetrace::gpu::{
+    shaders, Buffer, CommandList, DescriptorSet, Kernel, KernelSpec, Location, SpecValues,
+};
 use wavetrace::render::scene_buffers::SceneRecords;
 use wavetrace::scene::{Mesh, Quadric, QuadricKind};
 
@@ -62,12 +64,11 @@ fn gpu_queries_with(bvh: &Bvh, rays: &[QueryRay], stack_depth: u32, flat: FlatPr
         (1, flat.constants()[0]),
         (2, flat.constants()[1]),
     ];
-    for (j, w) in flat.vertex_words(bvh).into_iter().enumerate() {
-        spec.push((
-            wavetrace::gpu::spec_ids::flat_vertex(j as u32 / 9, j as u32 % 9).0,
-            w,
-        ));
-    }
+    spec.extend(
+        SpecValues::new()
+            .with_flat_vertices(&flat.vertex_words(bvh))
+            .ids(),
+    );
     let kernel = Kernel::from_spec(
         &device,
         &layout,

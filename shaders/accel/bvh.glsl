@@ -240,12 +240,12 @@ float bvh_bound(uint mode, Hit hit, Hit second) { return mode == BVH_TWO ? secon
 // BVH_FLAT_KINDS are specialized, a step past the last one compiles away and `kinds`
 // is a constant with one bit.
 #define BVH_FLAT_STEP(k)                                                                 \
-    if (uint(k) < BVH_FLAT_COUNT) {                                                         \
+    if (uint(k) < BVH_FLAT_COUNT) {                                                      \
         float t, u, v;                                                                   \
-        uint kinds = BVH_KIND_BIT((BVH_FLAT_KINDS >> (2u * uint(k))) & 3u);                 \
+        uint kinds = BVH_KIND_BIT((BVH_FLAT_KINDS >> (2u * uint(k))) & 3u);              \
         if (bvh_prim_hit_of(kinds, BVH_FLAT_PRIM(k), tr, o, d, tmin,                     \
                             bvh_bound(mode, hit, second), t, u, v)) {                    \
-            bvh_record(mode, hit, second, Hit(t, u, v, uint(k)));                           \
+            bvh_record(mode, hit, second, Hit(t, u, v, uint(k)));                        \
         }                                                                                \
     }
 

@@ -806,7 +806,7 @@ pub fn layout_constants(device: &DeviceInfo) -> SpecValues {
 
 /// What the traversal (accel/bvh.glsl) specializes on, in every kernel that finds
 /// surfaces: `intersect`, `shade`, `shadow`, the particle tracer's.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct TraversalConstants {
     /// The quadric kinds (SURFACE_FEATURE_* bits): the traversal and the hit geometry
     /// compile the others away.
@@ -820,9 +820,8 @@ pub struct TraversalConstants {
     /// Instances: the hit names' shift (0: none) and their records (accel::instance).
     pub instances: [u32; 2],
     /// The vertex words of the first primitives tested in turn, as kernel constants
-    /// (`FlatPrims::vertex_words`): `flat_vertex_count` of them.
-    pub flat_vertices: [u32; 144],
-    pub flat_vertex_count: usize,
+    /// (`FlatPrims::vertex_words`; empty where they are loaded).
+    pub flat_vertices: Vec<u32>,
 }
 
 impl TraversalConstants {
@@ -835,7 +834,7 @@ impl TraversalConstants {
             .with(Spec::FlatKinds, self.flat_kinds)
             .with(Spec::Instances, self.instances[0])
             .with(Spec::InstanceSlots, self.instances[1])
-            .with_flat_vertices(&self.flat_vertices[..self.flat_vertex_count])
+            .with_flat_vertices(&self.flat_vertices)
     }
 }
 
@@ -892,10 +891,7 @@ impl Constants {
                 flat_count,
                 flat_kinds,
                 instances: facts.instances,
-                flat_vertices: std::array::from_fn(|i| {
-                    facts.flat_vertices.get(i).copied().unwrap_or(0)
-                }),
-                flat_vertex_count: facts.flat_vertices.len().min(144),
+                flat_vertices: facts.flat_vertices.clone(),
             },
             ends_at_0: integrator.ends_paths_at(0) as u32,
             sensor_shape: records.sensor_shape.is_some() as u32,

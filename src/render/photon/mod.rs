@@ -275,7 +275,7 @@ impl PhotonMap {
 }
 
 /// The specialization constants of the photon kernels: what the scene uses.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct SceneFeatures {
     pub surface: u32,
     pub textures: u32,
