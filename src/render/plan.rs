@@ -1114,6 +1114,15 @@ mod tests {
         DeviceInfo::lavapipe_for_tests()
     }
 
+    /// llvmpipe at 512 bits (16 lanes) reading the scene from storage buffers (Mesa 26).
+    fn wide_llvmpipe() -> DeviceInfo {
+        DeviceInfo {
+            name: "llvmpipe (LLVM 22.1.8, 512 bits)".into(),
+            scene_storage: true,
+            ..lavapipe()
+        }
+    }
+
     /// A discrete GPU's.
     fn gpu() -> DeviceInfo {
         DeviceInfo {
@@ -1146,11 +1155,7 @@ mod tests {
     #[test]
     fn small_scenes_go_without_their_tree_on_wide_llvmpipe() {
         let cbox = scene("cbox/cbox_path.xml");
-        let wide = DeviceInfo {
-            name: "llvmpipe (LLVM 22.1.8, 512 bits)".into(),
-            scene_storage: true,
-            ..lavapipe()
-        };
+        let wide = wide_llvmpipe();
         let flat = plan(&cbox, &RenderOptions::default(), &wide).flat;
         assert_eq!((flat.count, flat.flat_only), (32, true));
         let texels = DeviceInfo {
@@ -1179,11 +1184,7 @@ mod tests {
     #[test]
     fn wide_llvmpipe_gets_the_first_vertices_as_constants() {
         let cbox = scene("cbox/cbox_path.xml");
-        let wide = DeviceInfo {
-            name: "llvmpipe (LLVM 22.1.8, 512 bits)".into(),
-            scene_storage: true,
-            ..lavapipe()
-        };
+        let wide = wide_llvmpipe();
         let p = plan(&cbox, &RenderOptions::default(), &wide);
         assert!(p.flat.vertices && p.flat.constants()[0] & accel::FLAT_VERTEX_CONSTANTS != 0);
         let shade = p.kernel(Stage::Shade).expect("shade");
