@@ -393,8 +393,8 @@ fn gpu_flat_traversal_of_a_small_scene_equals_brute_force() {
         assert!(flat.flat_only);
         let hits = check_with(&bvh, &rays, flat);
         assert!(hits > 2_000, "{n} primitives: too few rays hit ({hits})");
-        // The first 16 primitives' vertices as kernel constants (as on llvmpipe at 16
-        // lanes): the same hits.
+        // The triangles' vertices as kernel constants (as on llvmpipe at 16 lanes), past
+        // the 16 whose kinds the kernels are told too: the same hits.
         let constants = FlatPrims::with_vertex_constants(&bvh, FLAT_PRIMS_MAX_WIDE);
         assert!(constants.vertices);
         assert_eq!(

@@ -65,10 +65,10 @@
 // alone. 0: the tree holds every primitive.
 #define BVH_FLAT_CAPACITY 16
 #define BVH_FLAT_ONLY 0x10000u
-// With BVH_FLAT_VERTEX_CONSTANTS also set, the vertices of the first BVH_FLAT_CAPACITY
-// primitives tested in turn are the constants FLAT_P<k>_<i> (gpu::spec_ids::flat_vertex)
-// rather than loads: a load every lane makes from one address costs llvmpipe a bounds
-// check per word, a constant nothing (the Cornell box at 16 lanes: 1.38 -> 1.21 s).
+// With BVH_FLAT_VERTEX_CONSTANTS also set, the vertices of the triangles tested in turn
+// are the constants FLAT_P<k>_<i> (gpu::spec_ids::flat_vertex) rather than loads: a load
+// every lane makes from one address costs llvmpipe a bounds check per word, a constant
+// nothing (the Cornell box at 16 lanes, its first 16 triangles: 1.38 -> 1.21 s).
 #define BVH_FLAT_VERTEX_CONSTANTS 0x20000u
 #ifndef BVH_FLAT_PRIMS
 #define BVH_FLAT_PRIMS 0u
@@ -77,6 +77,10 @@
 #define BVH_FLAT_KINDS 0u
 #endif
 #define BVH_FLAT_COUNT (BVH_FLAT_PRIMS & 0xffffu)
+// The PRIM_* kind of primitive k (a literal) of those tested in turn.
+#define BVH_FLAT_KIND(k)                                                                 \
+    (uint(k) < uint(BVH_FLAT_CAPACITY) ? (BVH_FLAT_KINDS >> (2u * (uint(k) & 15u))) & 3u \
+                                       : PRIM_TRIANGLE)
 #define BVH_TREE ((BVH_FLAT_PRIMS & BVH_FLAT_ONLY) == 0u)
 #define BVH_VERTEX_CONSTANTS ((BVH_FLAT_PRIMS & BVH_FLAT_VERTEX_CONSTANTS) != 0u)
 SPEC(FLAT_VERTICES)
@@ -85,7 +89,7 @@ SPEC(FLAT_VERTICES)
 // test). Quadrics are loaded: their tests compute from their vertices alone (a
 // sphere's radius), which the compiler would fold with other roundings.
 #define BVH_FLAT_PRIM(k)                                                                 \
-    (BVH_VERTEX_CONSTANTS && ((BVH_FLAT_KINDS >> (2u * uint(k))) & 3u) == PRIM_TRIANGLE  \
+    (BVH_VERTEX_CONSTANTS && BVH_FLAT_KIND(k) == PRIM_TRIANGLE                           \
          ? Prim(vec3(FLAT_P##k##_0, FLAT_P##k##_1, FLAT_P##k##_2), 0u,                   \
                 vec3(FLAT_P##k##_3, FLAT_P##k##_4, FLAT_P##k##_5), 0u,                   \
                 vec3(FLAT_P##k##_6, FLAT_P##k##_7, FLAT_P##k##_8), 0u)                   \
@@ -242,7 +246,7 @@ float bvh_bound(uint mode, Hit hit, Hit second) { return mode == BVH_TWO ? secon
 #define BVH_FLAT_STEP(k)                                                                 \
     if (uint(k) < BVH_FLAT_COUNT) {                                                      \
         float t, u, v;                                                                   \
-        uint kinds = BVH_KIND_BIT((BVH_FLAT_KINDS >> (2u * uint(k))) & 3u);              \
+        uint kinds = BVH_KIND_BIT(BVH_FLAT_KIND(k));                                     \
         if (bvh_prim_hit_of(kinds, BVH_FLAT_PRIM(k), tr, o, d, tmin,                     \
                             bvh_bound(mode, hit, second), t, u, v)) {                    \
             bvh_record(mode, hit, second, Hit(t, u, v, uint(k)));                        \
@@ -257,26 +261,25 @@ float bvh_bound(uint mode, Hit hit, Hit second) { return mode == BVH_TWO ? secon
 // which loads per lane and runs every branch of a leaf's kind test for every lane, this
 // costs far less than a traversal of a few primitives (accel::FLAT_PRIMS_MAX), and a
 // few quadrics cost less here than in the leaves of a tree of triangles
-// (accel::APART_QUADRICS_MAX). The first BVH_FLAT_CAPACITY are written out step by
-// step, each for its own kind, because Mesa unrolls no loop with a body this large;
-// the triangles after them (scenes of up to accel::FLAT_PRIMS_MAX_WIDE primitives on
-// llvmpipe at 16 lanes, where a load common to all lanes is one scalar load) in a loop
-// whose bound is a constant, so every lane is in every pass and loads the same
-// triangle. Every ray tests every primitive: any-hit queries gain nothing from
-// stopping early on llvmpipe.
+// (accel::APART_QUADRICS_MAX). The steps are written out, one per primitive the
+// flat traversal may hold (accel::FLAT_STEPS: scenes of up to
+// accel::FLAT_PRIMS_MAX_WIDE on llvmpipe at 16 lanes), each for its own kind (the first
+// BVH_FLAT_CAPACITY's from BVH_FLAT_KINDS, triangles after them), because Mesa unrolls
+// no loop with a body this large, and a loop's triangles are loads where written-out
+// steps take their vertices from constants. Every ray tests every primitive: any-hit
+// queries gain nothing from stopping early on llvmpipe.
 void bvh_trace_flat(vec3 o, vec3 d, TriangleRay tr, float tmin, uint mode, inout Hit hit,
                     inout Hit second) {
     BVH_FLAT_STEP(0) BVH_FLAT_STEP(1) BVH_FLAT_STEP(2) BVH_FLAT_STEP(3)
     BVH_FLAT_STEP(4) BVH_FLAT_STEP(5) BVH_FLAT_STEP(6) BVH_FLAT_STEP(7)
     BVH_FLAT_STEP(8) BVH_FLAT_STEP(9) BVH_FLAT_STEP(10) BVH_FLAT_STEP(11)
     BVH_FLAT_STEP(12) BVH_FLAT_STEP(13) BVH_FLAT_STEP(14) BVH_FLAT_STEP(15)
-    for (uint k = BVH_FLAT_CAPACITY; k < BVH_FLAT_COUNT; k++) {
-        float t, u, v;
-        if (bvh_prim_hit_of(BVH_KIND_BIT(PRIM_TRIANGLE), prim_load(k), tr, o, d, tmin,
-                            bvh_bound(mode, hit, second), t, u, v)) {
-            bvh_record(mode, hit, second, Hit(t, u, v, k));
-        }
-    }
+    BVH_FLAT_STEP(16) BVH_FLAT_STEP(17) BVH_FLAT_STEP(18) BVH_FLAT_STEP(19)
+    BVH_FLAT_STEP(20) BVH_FLAT_STEP(21) BVH_FLAT_STEP(22) BVH_FLAT_STEP(23)
+    BVH_FLAT_STEP(24) BVH_FLAT_STEP(25) BVH_FLAT_STEP(26) BVH_FLAT_STEP(27)
+    BVH_FLAT_STEP(28) BVH_FLAT_STEP(29) BVH_FLAT_STEP(30) BVH_FLAT_STEP(31)
+    BVH_FLAT_STEP(32) BVH_FLAT_STEP(33) BVH_FLAT_STEP(34) BVH_FLAT_STEP(35)
+    BVH_FLAT_STEP(36) BVH_FLAT_STEP(37) BVH_FLAT_STEP(38) BVH_FLAT_STEP(39)
 }
 
 // Stack traversal visiting the nearer child first, for what `mode` asks (BVH_CLOSEST,

@@ -43,9 +43,8 @@ pub const BVH_COUNT_BITS: u32 = 4;
 const _: () = assert!(BVH_MAX_LEAF_SIZE < 1 << BVH_COUNT_BITS);
 
 /// Primitives a flat traversal tests each for its own kind (`#define BVH_FLAT_CAPACITY`
-/// in bvh.glsl: its steps written out; checked by a test). Their kinds take two bits
-/// each of one word; any further primitives of a flat traversal are triangles, tested
-/// in a loop.
+/// in bvh.glsl). Their kinds take two bits each of one word; any further primitives
+/// of a flat traversal are triangles.
 pub const FLAT_CAPACITY: usize = 16;
 
 /// Most primitives of a scene that the kernels trace without its BVH, testing each in
@@ -62,7 +61,13 @@ pub const FLAT_PRIMS_MAX: usize = 8;
 /// of 44 as fast either way (docs/performance.md, "Small scenes without a tree").
 pub const FLAT_PRIMS_MAX_WIDE: usize = 40;
 
+/// Most primitives a flat traversal may hold: bvh.glsl's `bvh_trace_flat` writes out a
+/// step for each (checked by a test), each taking a triangle's vertices from the
+/// kernel's constants where [`FlatPrims::vertices`].
+pub const FLAT_STEPS: usize = FLAT_PRIMS_MAX_WIDE;
+
 const _: () = assert!(FLAT_PRIMS_MAX <= FLAT_CAPACITY);
+const _: () = assert!(FLAT_CAPACITY <= FLAT_STEPS);
 
 /// Most quadrics (spheres, disks, cylinders) of a scene with triangles that the build
 /// keeps out of the tree ([`Bvh::apart`]): the traversals test them in turn, each for
@@ -79,8 +84,7 @@ const _: () = assert!(APART_QUADRICS_MAX <= FLAT_CAPACITY);
 pub const FLAT_ONLY: u32 = 1 << 16;
 
 /// Bit of the same constant (`#define BVH_FLAT_VERTEX_CONSTANTS` in bvh.glsl): the
-/// vertices of the first [`FLAT_CAPACITY`] primitives tested in turn are constants of
-/// the kernel (`gpu::spec_ids::flat_vertex`, [`FlatPrims::vertex_words`]), not loads.
+/// vertices of the triangles tested in turn are constants of the kernel (`gpu::spec_ids::flat_vertex`, [`FlatPrims::vertex_words`]), not loads.
 pub const FLAT_VERTEX_CONSTANTS: u32 = 1 << 17;
 
 /// A scene's primitives as the traversal kernels see them: how many lead
@@ -95,16 +99,17 @@ pub struct FlatPrims {
     pub kinds: u32,
     /// Only the primitives tested in turn: every one of the scene's.
     pub flat_only: bool,
-    /// The vertices of the first [`FLAT_CAPACITY`] of them are constants of the
-    /// kernels ([`FLAT_VERTEX_CONSTANTS`]).
+    /// The vertices of its triangles are constants of the kernels ([`FLAT_VERTEX_CONSTANTS`]).
     pub vertices: bool,
 }
 
 impl FlatPrims {
     /// How the kernels trace `bvh`: every primitive in turn where there are at most
-    /// `max` and those after the first [`FLAT_CAPACITY`] are triangles, else the
-    /// primitives apart ([`Bvh::apart`]) in turn, then the tree.
+    /// `max` (itself at most [`FLAT_STEPS`]) and those after the first
+    /// [`FLAT_CAPACITY`] are triangles, else the primitives apart ([`Bvh::apart`]) in
+    /// turn, then the tree.
     pub fn of(bvh: &Bvh, max: usize) -> FlatPrims {
+        let max = max.min(FLAT_STEPS);
         // (Sdfgrids and curves take more than the two bits of a kind: they stay in the
         // tree.)
         let all = !bvh.prims.is_empty()
@@ -134,26 +139,25 @@ impl FlatPrims {
         }
     }
 
-    /// [`FlatPrims::of`], the vertices of the first [`FLAT_CAPACITY`] primitives tested
-    /// in turn given to the kernels as constants ([`FlatPrims::vertex_words`]).
+    /// [`FlatPrims::of`], the vertices of the primitives tested in turn given to the
+    /// kernels as constants ([`FlatPrims::vertex_words`]) where they are the whole
+    /// scene (the quadrics apart from a tree are loaded: bvh.glsl takes constants for
+    /// triangles alone).
     pub fn with_vertex_constants(bvh: &Bvh, max: usize) -> FlatPrims {
         let flat = FlatPrims::of(bvh, max);
         FlatPrims {
-            vertices: flat.count > 0,
+            vertices: flat.flat_only,
             ..flat
         }
     }
 
-    /// The vertex words of the first [`FLAT_CAPACITY`] primitives tested in turn, as
-    /// f32 bits: p0, p1, p2 (x, y, z each) of primitive k at `9 k`; empty unless
-    /// [`FlatPrims::vertices`].
+    /// The vertex words of the primitives tested in turn, as f32 bits: p0, p1, p2 (x,
+    /// y, z each) of primitive k at `9 k`; empty unless [`FlatPrims::vertices`].
     pub fn vertex_words(&self, bvh: &Bvh) -> Vec<u32> {
         if !self.vertices {
             return Vec::new();
         }
-        let n = (self.count as usize)
-            .min(FLAT_CAPACITY)
-            .min(bvh.prims.len());
+        let n = (self.count as usize).min(FLAT_STEPS).min(bvh.prims.len());
         bvh.prims[..n]
             .iter()
             .flat_map(|p| [p.p0, p.p1, p.p2])
@@ -1099,16 +1103,13 @@ mod tests {
             .skip(1)
             .map(|rest| rest.split(')').next().unwrap_or(""))
             .collect();
-        let want: Vec<String> = (0..FLAT_CAPACITY).map(|k| format!("{k}")).collect();
+        let want: Vec<String> = (0..FLAT_STEPS).map(|k| format!("{k}")).collect();
         assert_eq!(steps, want);
         assert_eq!(
             define("BVH_FLAT_VERTEX_CONSTANTS"),
             format!("{FLAT_VERTEX_CONSTANTS:#x}u")
         );
-        assert_eq!(
-            FLAT_CAPACITY as u32,
-            crate::gpu::spec_ids::FLAT_VERTEX_PRIMS
-        );
+        assert_eq!(FLAT_STEPS as u32, crate::gpu::spec_ids::FLAT_VERTEX_PRIMS);
         assert_eq!(
             define("BVH_COUNT_MASK"),
             format!("{}u", (1u32 << BVH_COUNT_BITS) - 1)

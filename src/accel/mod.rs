@@ -20,7 +20,7 @@ pub mod triangle;
 pub use bvh::{
     brute_force_closest, Bvh, BvhStats, FlatPrims, Hit, SplitMethod, APART_QUADRICS_MAX,
     BVH_MAX_LEAF_SIZE, BVH_MAX_PRIMS, BVH_STACK_SIZE, FLAT_CAPACITY, FLAT_ONLY, FLAT_PRIMS_MAX,
-    FLAT_PRIMS_MAX_WIDE, FLAT_VERTEX_CONSTANTS,
+    FLAT_PRIMS_MAX_WIDE, FLAT_STEPS, FLAT_VERTEX_CONSTANTS,
 };
 
 use bvh_build::PrimSource;

@@ -79,8 +79,9 @@ impl Spec {
 /// for k below [`FLAT_VERTEX_PRIMS`]. A load every lane makes from one address costs
 /// llvmpipe a bounds check per word; a constant costs nothing (docs/performance.md).
 pub const FLAT_VERTEX_BASE: u32 = 100;
-/// Primitives whose vertices the constants hold (bvh.glsl's `BVH_FLAT_CAPACITY`).
-pub const FLAT_VERTEX_PRIMS: u32 = 16;
+/// Primitives whose vertices the constants hold (`accel::FLAT_STEPS`, the steps of
+/// bvh.glsl's `bvh_trace_flat`).
+pub const FLAT_VERTEX_PRIMS: u32 = 40;
 
 /// The constant id and GLSL name of word i of primitive k's vertices.
 pub fn flat_vertex(k: u32, i: u32) -> (u32, String) {
