@@ -96,6 +96,10 @@ fn gpu_queries_with(bvh: &Bvh, rays: &[QueryRay], stack_depth: u32, flat: FlatPr
     c.truncate(rays.len());
     a.truncate(rays.len());
     s.truncate(rays.len());
+    // bvh_query.comp marks a closest hit that bvh_closest_coherent did not find too.
+    if let Some(i) = c.iter().position(|h| h.prim == u32::MAX - 2) {
+        panic!("ray {i}: bvh_closest_coherent's hit is not bvh_closest's");
+    }
     Answers {
         closest: c,
         any: a,

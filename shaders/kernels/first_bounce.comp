@@ -173,7 +173,7 @@ void main() {
     if (SCENE_HAS_MEDIA) {
         hit = bvh_closest_two(r.origin, r.dir, 0.0, r.tmax, second);
     } else {
-        hit = bvh_closest(r.origin, r.dir, 0.0, r.tmax);
+        hit = bvh_closest_coherent(r.origin, r.dir, 0.0, r.tmax);
     }
     HitItem h = HitItem(hit.t, hit.u, hit.v, hit.prim);
     PathVertex v = path_vertex_surface();
