@@ -84,7 +84,8 @@ const _: () = assert!(APART_QUADRICS_MAX <= FLAT_CAPACITY);
 pub const FLAT_ONLY: u32 = 1 << 16;
 
 /// Bit of the same constant (`#define BVH_FLAT_VERTEX_CONSTANTS` in bvh.glsl): the
-/// vertices of the triangles tested in turn are constants of the kernel (`gpu::spec_ids::flat_vertex`, [`FlatPrims::vertex_words`]), not loads.
+/// vertices of the triangles tested in turn are constants of the kernel
+/// (`gpu::spec_ids::flat_vertex`, [`FlatPrims::vertex_words`]), not loads.
 pub const FLAT_VERTEX_CONSTANTS: u32 = 1 << 17;
 
 /// A scene's primitives as the traversal kernels see them: how many lead
@@ -99,7 +100,8 @@ pub struct FlatPrims {
     pub kinds: u32,
     /// Only the primitives tested in turn: every one of the scene's.
     pub flat_only: bool,
-    /// The vertices of its triangles are constants of the kernels ([`FLAT_VERTEX_CONSTANTS`]).
+    /// The vertices of its triangles are constants of the kernels
+    /// ([`FLAT_VERTEX_CONSTANTS`]).
     pub vertices: bool,
 }
 
