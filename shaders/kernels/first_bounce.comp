@@ -1,11 +1,5 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-#ifdef SCENE_STORAGE
-// The rays' count is summed over the subgroup (main's end). This variant runs on
-// llvmpipe from Mesa 26 alone (gpu::device::scene_storage_faster), which supports
-// subgroup arithmetic.
-#extension GL_KHR_shader_subgroup_arithmetic : require
-#endif
 // first_bounce: generate, intersect, shade and shadow of a batch's first bounce in one
 // kernel, for the integrators of path.glsl (and, in scenes with media or null
 // surfaces, their medium stage: vol_path.glsl, transmittance.glsl) on CPU devices
@@ -226,7 +220,7 @@ void main() {
         queue_push_ray(fb_ray.origin, p, fb_ray.dir, fb_ray.tmax);
     }
     path_store(p, fb_path);
-#ifdef SCENE_STORAGE
+#if SUBGROUP_ATOMICS
     // One atomic per SIMD group: llvmpipe runs an atomic as a locked add per lane, all
     // on one counter that every core adds to (Veach's plates, direct, 128², 512 spp at
     // 16 lanes: 0.449 -> 0.424 s).
