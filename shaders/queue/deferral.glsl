@@ -40,6 +40,10 @@ uvec2 deferral_groups(uint n) {
 uint deferral_push(uint k, uint index) {
     uint j = atomicAdd(counters.deferred[k], 1u);
     shade_ray_words[k * push.capacity + j] = index;
+    // Only the first item of each workgroup's worth raises the dispatch (the args are
+    // the groups that cover the largest position, which that item's covers too): an
+    // atomic per WORKGROUP_SIZE items instead of per item, on counters both cores share.
+    if (j % WORKGROUP_SIZE != 0u) return j;
     uvec2 g = deferral_groups(j + 1u);
     if (k == DEFERRED_RAYS) {
         atomicMax(dispatch_args.deferred_rays[0], g.x);
