@@ -538,9 +538,10 @@ impl SceneFacts {
                 flat_prims_max(caps)
             };
             // Where a load every lane makes from one address is one scalar load (and
-            // its bounds check), the vertices of the first primitives tested in turn
-            // are constants of the kernels instead: the same image bits, the Cornell
-            // box 1.38 -> 1.21 s at 512 bits (docs/performance.md).
+            // its bounds check), the vertices of the triangles tested in turn are
+            // constants of the kernels instead: the same image bits, the Cornell box
+            // 1.38 -> 1.21 s at 512 bits with its first 16, 1.06 -> 0.82 s with all 32
+            // (docs/performance.md).
             if max >= accel::FLAT_PRIMS_MAX_WIDE {
                 FlatPrims::with_vertex_constants(bvh, max)
             } else {
@@ -819,7 +820,7 @@ pub struct TraversalConstants {
     pub flat_kinds: u32,
     /// Instances: the hit names' shift (0: none) and their records (accel::instance).
     pub instances: [u32; 2],
-    /// The vertex words of the first primitives tested in turn, as kernel constants
+    /// The vertex words of the primitives tested in turn, as kernel constants
     /// (`FlatPrims::vertex_words`; empty where they are loaded).
     pub flat_vertices: Vec<u32>,
 }
