@@ -2,8 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // queue_args: one thread, between `shade` and `shadow` of a bounce, turns the queue
 // lengths into indirect dispatch arguments, empties the lists of deferred items
-// (deferral.glsl) and counts the rays traced: the shadow
-// queue `shade` filled (for the `shadow` kernel)
+// (deferral.glsl) and counts the rays traced (first_bounce's count, queue_count_rays,
+// and the queues' rays): the shadow queue `shade` filled (for the `shadow` kernel)
 // and the ray queue it filled, for the next bounce's `intersect` and `shade`. It
 // empties the shadow queue and the ray queue this bounce read, which the next
 // bounce's `shade` appends to. The queues' lengths are their segments' tails added up
@@ -26,7 +26,9 @@ void main() {
     uint next = queue_fold(TAIL_RAYS + 1u - q, ray_back);
     g = dispatch_groups(next);
     dispatch_args.rays = uint[3](g.x, g.y, g.z);
-    counters.rays_traced += counters.ray_count[q] + shadows;
+    uint fused_back;
+    uint fused = queue_fold(TAIL_RAYS_TRACED, fused_back);
+    counters.rays_traced += counters.ray_count[q] + shadows + fused;
     counters.ray_count[q] = 0u;
     counters.ray_count[1u - q] = next;
     queue_lengths_out[0] = q == 0u ? uvec4(0u, next, 0u, ray_back) : uvec4(next, 0u, ray_back, 0u);

@@ -159,6 +159,7 @@
 #define TAIL_RAYS 0 // + q: ray queue q
 #define TAIL_SHADOWS 2
 #define TAIL_PART 3 // + PART_HITS, PART_MISSES
+#define TAIL_RAYS_TRACED 5 // not a queue: rays first_bounce traced (queue_count_rays)
 #define COUNTER_TAIL_STRIDE 32
 
 // Reconstruction filters (specialization constant FILM_FILTER of film_gather).
