@@ -239,7 +239,8 @@ fn store_texel(r: &Record, k: usize) -> String {
     format!("uvec4({})", parts.join(", "))
 }
 
-/// `T_TEXELS`, `T_WORDk`, `T_LOAD` and `T_STORE` of `r`.
+/// `T_TEXELS`, `T_WORDk`, `T_LOAD` and `T_STORE` of `r`, and `T_LOAD_SPLIT` and
+/// `T_STORE_SPLIT`, which keep texel k of record i at k * stride + i.
 fn glsl_access(out: &mut String, r: &Record) {
     let (n, t) = (r.size / 16, r.name);
     writeln!(out, "#define {t}_TEXELS {n}u").unwrap();
@@ -260,6 +261,14 @@ fn glsl_access(out: &mut String, r: &Record) {
     let fields: Vec<String> = r.fields.iter().map(load_field).collect();
     writeln!(out, "        return {t}({}); \\", fields.join(", ")).unwrap();
     out.push_str("    }\n");
+    // Texel k of record i at texel k * stride + i (a record split across arrays).
+    writeln!(out, "#define {t}_LOAD_SPLIT(fn, texel, stride) \\").unwrap();
+    writeln!(out, "    {t} fn(uint i) {{ \\").unwrap();
+    for k in 0..n {
+        writeln!(out, "        uvec4 w{k} = texel({k}u * (stride) + i); \\").unwrap();
+    }
+    writeln!(out, "        return {t}({}); \\", fields.join(", ")).unwrap();
+    out.push_str("    }\n");
     writeln!(out, "#define {t}_STORE(fn, store) \\").unwrap();
     writeln!(out, "    void fn(uint i, {t} R) {{ \\").unwrap();
     writeln!(out, "        uint b = {n}u * i; \\").unwrap();
@@ -270,6 +279,16 @@ fn glsl_access(out: &mut String, r: &Record) {
             format!("b + {k}u")
         };
         writeln!(out, "        store({at}, {t}_WORD{k}(R)); \\").unwrap();
+    }
+    out.push_str("    }\n");
+    writeln!(out, "#define {t}_STORE_SPLIT(fn, store, stride) \\").unwrap();
+    writeln!(out, "    void fn(uint i, {t} R) {{ \\").unwrap();
+    for k in 0..n {
+        writeln!(
+            out,
+            "        store({k}u * (stride) + i, {t}_WORD{k}(R)); \\"
+        )
+        .unwrap();
     }
     out.push_str("    }\n\n");
 }

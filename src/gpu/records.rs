@@ -414,7 +414,9 @@ gpu_record! {
         pub batch_lens: [[u32; 4]; 8] => uvec4[8],
     }
 
-    /// The state of one path of the wavefront, indexed by path slot.
+    /// The state of one path of the wavefront, indexed by path slot. In the paths buffer
+    /// its three texels lie in three arrays, texel k of path i at k x capacity + i
+    /// (`path_load` in shaders/queue/wavefront.glsl says why).
     #[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
     pub struct PathState {
         pub throughput: [f32; 3] => vec3,
