@@ -57,6 +57,8 @@ bool fb_shadowed;
 ShadowItem fb_shadow;
 bool fb_continued;
 RayItem fb_ray;
+// Whether fb_ray goes to the wavefront's ray queue (main pushes it, in uniform flow).
+bool fb_push;
 
 void path_keep_radiance(uint i, PathState p) { fb_path.radiance = p.radiance; }
 void path_keep_bounce(uint i, PathState p) {
@@ -211,12 +213,12 @@ uint first_bounce_path(uint p) {
             rays += 1u;
             path_shade(INTEGRATOR, r1, HitItem(hit1.t, hit1.u, hit1.v, hit1.prim), fb_path,
                        path_vertex_surface());
-            if (fb_continued) queue_push_ray(fb_ray.origin, p, fb_ray.dir, fb_ray.tmax);
+            fb_push = fb_continued;
         }
     } else if (fb_continued) {
         // Bounce 1's ray, for the wavefront (or past a budget of one bounce, where
         // queue_args counts its path as cut).
-        queue_push_ray(fb_ray.origin, p, fb_ray.dir, fb_ray.tmax);
+        fb_push = true;
     }
     path_store(p, fb_path);
     return rays;
@@ -227,5 +229,9 @@ void main() {
     // No early return: every invocation counts its rays (none past the batch), one
     // atomic per SIMD group on its core's own counter (queue_count_rays; one per lane,
     // all on one counter both cores add to, cost Veach's plates at 16 lanes 6%).
-    queue_count_rays(p < push.path_count ? first_bounce_path(p) : 0u);
+    fb_push = false;
+    uint rays = p < push.path_count ? first_bounce_path(p) : 0u;
+    // One atomic per SIMD group for the continuation rays (queue_push_ray_all).
+    queue_push_ray_all(fb_push, fb_ray.origin, p, fb_ray.dir, fb_ray.tmax);
+    queue_count_rays(rays);
 }

@@ -75,4 +75,28 @@ void queue_push_ray(vec3 origin, uint path, vec3 dir, float tmax) {
     ray_store(ray_slot_at(q, queue_append(TAIL_RAYS + q)), RayItem(origin, path, dir, tmax));
 }
 
+// queue_push_ray where `want`, called by every invocation of the dispatch (first_bounce,
+// whose lanes nearly all continue): with SUBGROUP_ATOMICS the SIMD group takes its
+// positions with one atomic from lane 0 and a prefix sum, instead of llvmpipe's
+// locked add per lane (the HG media cube's first_bounce at 16 lanes -1 to -6%; shade's
+// pushes lie in divergent branches, where aggregating with subgroupElect made shade 7%
+// slower: docs/performance.md). The same order of positions as lane-by-lane atomics.
+void queue_push_ray_all(bool want, vec3 origin, uint path, vec3 dir, float tmax) {
+#if SUBGROUP_ATOMICS
+    uint q = 1u - push.queue_in;
+    uint s = queue_segment();
+    uint one = want ? 1u : 0u;
+    uint n = subgroupAdd(one);
+    uint before = subgroupExclusiveAdd(one);
+    uint base = 0u;
+    if (gl_SubgroupInvocationID == 0u && n > 0u) {
+        base = atomicAdd(counters.tails[s * COUNTER_TAIL_STRIDE + TAIL_RAYS + q], n);
+    }
+    uint k = subgroupBroadcast(base, 0u) + before;
+    if (want) ray_store(ray_slot_at(q, s == 0u ? k : push.capacity - 1u - k), RayItem(origin, path, dir, tmax));
+#else
+    if (want) queue_push_ray(origin, path, dir, tmax);
+#endif
+}
+
 #endif

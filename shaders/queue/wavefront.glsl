@@ -12,6 +12,8 @@
 // with a subgroup prefix sum instead, shade took 7% longer on the Cornell box.)
 #define SUBGROUP_ATOMICS 1
 #extension GL_KHR_shader_subgroup_arithmetic : require
+// subgroupBroadcast (queue_push_ray_all).
+#extension GL_KHR_shader_subgroup_ballot : require
 #else
 #define SUBGROUP_ATOMICS 0
 #endif
