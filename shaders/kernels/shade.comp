@@ -40,6 +40,9 @@ SPEC(SCENE_BSDF_KINDS);
 #include "bsdf/bsdf.glsl"
 #include "bsdf/bsdf_textured.glsl"
 #include "integrator/first_hit.glsl"
+// A vertex's shadow ray and next ray go to their queues at the end of the kernel, a SIMD
+// group at a time (path_queues.glsl), where subgroup operations allow it.
+#define PATH_QUEUES_GROUPED (SUBGROUP_ATOMICS == 1)
 
 // Media or null surfaces in the scene; without them the medium stage compiles away.
 SPEC(SCENE_HAS_MEDIA);
@@ -100,32 +103,26 @@ SPEC(INTEGRATOR);
 // The film keeps an alpha channel: camera paths record whether they cover their pixel.
 SPEC(SCENE_FILM_ALPHA);
 
-void main() {
-    uint i = thread_index();
-    uint n = SHADE_RAYS == SHADE_RAYS_HITS ? queue_part_count(PART_HITS)
-        : SHADE_RAYS == SHADE_RAYS_MISSES ? queue_part_count(PART_MISSES)
-        : SCENE_DEFERRAL == SHADE_DEFERRED ? deferral_count(DEFERRED_RAYS)
-        : queue_ray_count(push.queue_in);
-    if (i >= n) return;
+// Shades item i of the bounce's rays (one return, at the end: medium.glsl says why).
+void shade_item(uint i) {
     if (SHADE_RAYS == SHADE_RAYS_HITS) i = partition_hit(i);
     if (SHADE_RAYS == SHADE_RAYS_MISSES) i = partition_miss(i);
     if (SCENE_DEFERRAL == SHADE_DEFERRED) i = deferral_item(DEFERRED_RAYS, i);
     RayItem r = ray_load(ray_slot(push.queue_in, i));
     if (SHADE_LAST && EMITTER_PRIMS > 0u && !integrator_is_first_hit(INTEGRATOR)) {
         path_shade_emitted(INTEGRATOR, r, path_load(r.path));
-        return;
-    }
-    HitItem h = SHADE_RAYS == SHADE_RAYS_MISSES ? HitItem(r.tmax, 0.0, 0.0, NONE) : hit_load(i);
-    if (!integrator_is_first_hit(INTEGRATOR)) {
+    } else if (!integrator_is_first_hit(INTEGRATOR)) {
+        HitItem h = SHADE_RAYS == SHADE_RAYS_MISSES ? HitItem(r.tmax, 0.0, 0.0, NONE) : hit_load(i);
         PathState path = path_load(r.path);
         PathVertex v = path_vertex_surface();
-        if (SCENE_HAS_MEDIA && !vol_path_traverse(INTEGRATOR, r, h, hit_second_load(i), path, v)) {
-            if (VOL_PATH_DEFER && vol_path_deferred) deferral_push(DEFERRED_RAYS, i);
-            return;
+        if (!SCENE_HAS_MEDIA || vol_path_traverse(INTEGRATOR, r, h, hit_second_load(i), path, v)) {
+            if (SCENE_FILM_ALPHA && push.depth == 0u) path_mark_covered(r.path, path, h, v);
+            path_shade(INTEGRATOR, r, h, path, v);
+        } else if (VOL_PATH_DEFER && vol_path_deferred) {
+            deferral_push(DEFERRED_RAYS, i);
         }
-        if (SCENE_FILM_ALPHA && push.depth == 0u) path_mark_covered(r.path, path, h, v);
-        path_shade(INTEGRATOR, r, h, path, v);
     } else {
+        HitItem h = SHADE_RAYS == SHADE_RAYS_MISSES ? HitItem(r.tmax, 0.0, 0.0, NONE) : hit_load(i);
         // Mitsuba's first-hit integrators: a camera ray covers its pixel where it hits.
         if (SCENE_FILM_ALPHA && push.depth == 0u && h.prim != NONE) {
             PathState path = path_load(r.path);
@@ -134,4 +131,16 @@ void main() {
         }
         first_hit_shade(INTEGRATOR, r, h);
     }
+}
+
+void main() {
+    uint i = thread_index();
+    uint n = SHADE_RAYS == SHADE_RAYS_HITS ? queue_part_count(PART_HITS)
+        : SHADE_RAYS == SHADE_RAYS_MISSES ? queue_part_count(PART_MISSES)
+        : SCENE_DEFERRAL == SHADE_DEFERRED ? deferral_count(DEFERRED_RAYS)
+        : queue_ray_count(push.queue_in);
+    // No early return where the vertices' rays go to their queues a SIMD group at a time
+    // (PATH_QUEUES_GROUPED): every invocation pushes, or not, at the end.
+    if (i < n) shade_item(i);
+    path_queues_flush();
 }

@@ -75,27 +75,47 @@ void queue_push_ray(vec3 origin, uint path, vec3 dir, float tmax) {
     ray_store(ray_slot_at(q, queue_append(TAIL_RAYS + q)), RayItem(origin, path, dir, tmax));
 }
 
-// queue_push_ray where `want`, called by every invocation of the dispatch (first_bounce,
-// whose lanes nearly all continue): with SUBGROUP_ATOMICS the SIMD group takes its
-// positions with one atomic from lane 0 and a prefix sum, instead of llvmpipe's
-// locked add per lane (the HG media cube's first_bounce at 16 lanes -1 to -6%; shade's
-// pushes lie in divergent branches, where aggregating with subgroupElect made shade 7%
-// slower: docs/performance.md). The same order of positions as lane-by-lane atomics.
-void queue_push_ray_all(bool want, vec3 origin, uint path, vec3 dir, float tmax) {
 #if SUBGROUP_ATOMICS
-    uint q = 1u - push.queue_in;
+// queue_append where `want`, called by every invocation of the dispatch (in uniform
+// flow): the SIMD group takes its positions with one atomic from lane 0 and a prefix
+// sum, instead of llvmpipe's locked add per lane. The same order of positions as
+// lane-by-lane atomics. (Aggregated in divergent branches with subgroupElect instead,
+// which llvmpipe runs as a loop over the lanes, shade took 7% longer:
+// docs/performance.md.) Returns the position where `want`.
+uint queue_append_all(uint tail, bool want) {
     uint s = queue_segment();
     uint one = want ? 1u : 0u;
     uint n = subgroupAdd(one);
     uint before = subgroupExclusiveAdd(one);
     uint base = 0u;
     if (gl_SubgroupInvocationID == 0u && n > 0u) {
-        base = atomicAdd(counters.tails[s * COUNTER_TAIL_STRIDE + TAIL_RAYS + q], n);
+        base = atomicAdd(counters.tails[s * COUNTER_TAIL_STRIDE + tail], n);
     }
     uint k = subgroupBroadcast(base, 0u) + before;
-    if (want) ray_store(ray_slot_at(q, s == 0u ? k : push.capacity - 1u - k), RayItem(origin, path, dir, tmax));
+    return s == 0u ? k : push.capacity - 1u - k;
+}
+#endif
+
+// queue_push_ray where `want`, and queue_push_shadow_in where `want` for shadow ray s,
+// called by every invocation of the dispatch (first_bounce, shade with
+// PATH_QUEUES_GROUPED): one atomic per SIMD group with SUBGROUP_ATOMICS
+// (queue_append_all; the HG media cube's first_bounce at 16 lanes -1 to -6%).
+void queue_push_ray_all(bool want, vec3 origin, uint path, vec3 dir, float tmax) {
+#if SUBGROUP_ATOMICS
+    uint q = 1u - push.queue_in;
+    uint k = queue_append_all(TAIL_RAYS + q, want);
+    if (want) ray_store(ray_slot_at(q, k), RayItem(origin, path, dir, tmax));
 #else
     if (want) queue_push_ray(origin, path, dir, tmax);
+#endif
+}
+
+void queue_push_shadow_all(bool want, ShadowItem s) {
+#if SUBGROUP_ATOMICS
+    uint k = queue_append_all(TAIL_SHADOWS, want);
+    if (want) shadow_store(k, s);
+#else
+    if (want) shadow_store(queue_append(TAIL_SHADOWS), s);
 #endif
 }
 
