@@ -57,8 +57,10 @@ bool fb_shadowed;
 ShadowItem fb_shadow;
 bool fb_continued;
 RayItem fb_ray;
-// Whether fb_ray goes to the wavefront's ray queue (main pushes it, in uniform flow).
+// Whether fb_ray goes to the wavefront's ray queue, and fb_shadow to its shadow queue
+// (main pushes them, in uniform flow).
 bool fb_push;
+bool fb_push_shadow;
 
 void path_keep_radiance(uint i, PathState p) { fb_path.radiance = p.radiance; }
 void path_keep_bounce(uint i, PathState p) {
@@ -73,13 +75,11 @@ void path_keep_flags(uint i, PathState p) {
     fb_path.medium = p.medium;
 }
 void path_push_shadow(uint medium, vec3 origin, uint path, vec3 dir, float tmax, vec3 contribution) {
-    if (SCENE_SECOND_FUSED && fb_depth == 1u) {
-        // Bounce 1's, to the shadow kernel: it traces only the lanes that have one.
-        queue_push_shadow_in(medium, origin, path, dir, tmax, contribution);
-    } else {
-        fb_shadowed = true;
-        fb_shadow = ShadowItem(origin, path, dir, tmax, contribution, medium);
-    }
+    // Bounce 1's goes to the shadow kernel (which traces only the lanes that have one),
+    // pushed at the end of main.
+    fb_push_shadow = SCENE_SECOND_FUSED && fb_depth == 1u;
+    fb_shadowed = !fb_push_shadow;
+    fb_shadow = ShadowItem(origin, path, dir, tmax, contribution, medium);
 }
 void path_push_ray(vec3 origin, uint path, vec3 dir, float tmax) {
     fb_continued = true;
@@ -230,8 +230,10 @@ void main() {
     // atomic per SIMD group on its core's own counter (queue_count_rays; one per lane,
     // all on one counter both cores add to, cost Veach's plates at 16 lanes 6%).
     fb_push = false;
+    fb_push_shadow = false;
     uint rays = p < push.path_count ? first_bounce_path(p) : 0u;
-    // One atomic per SIMD group for the continuation rays (queue_push_ray_all).
+    // One atomic per SIMD group and queue (queue_push_ray_all).
+    if (SCENE_SECOND_FUSED) queue_push_shadow_all(fb_push_shadow, fb_shadow);
     queue_push_ray_all(fb_push, fb_ray.origin, p, fb_ray.dir, fb_ray.tmax);
     queue_count_rays(rays);
 }

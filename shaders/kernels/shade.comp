@@ -103,6 +103,9 @@ SPEC(INTEGRATOR);
 // The film keeps an alpha channel: camera paths record whether they cover their pixel.
 SPEC(SCENE_FILM_ALPHA);
 
+// The queue index of the ray this invocation leaves to shade_deferred, or NONE.
+uint shade_deferred_item = NONE;
+
 // Shades item i of the bounce's rays (one return, at the end: medium.glsl says why).
 void shade_item(uint i) {
     if (SHADE_RAYS == SHADE_RAYS_HITS) i = partition_hit(i);
@@ -119,7 +122,7 @@ void shade_item(uint i) {
             if (SCENE_FILM_ALPHA && push.depth == 0u) path_mark_covered(r.path, path, h, v);
             path_shade(INTEGRATOR, r, h, path, v);
         } else if (VOL_PATH_DEFER && vol_path_deferred) {
-            deferral_push(DEFERRED_RAYS, i);
+            shade_deferred_item = i;
         }
     } else {
         HitItem h = SHADE_RAYS == SHADE_RAYS_MISSES ? HitItem(r.tmax, 0.0, 0.0, NONE) : hit_load(i);
@@ -139,8 +142,10 @@ void main() {
         : SHADE_RAYS == SHADE_RAYS_MISSES ? queue_part_count(PART_MISSES)
         : SCENE_DEFERRAL == SHADE_DEFERRED ? deferral_count(DEFERRED_RAYS)
         : queue_ray_count(push.queue_in);
-    // No early return where the vertices' rays go to their queues a SIMD group at a time
-    // (PATH_QUEUES_GROUPED): every invocation pushes, or not, at the end.
+    // No early return: the vertices' rays go to their queues (PATH_QUEUES_GROUPED) and
+    // the deferred rays to their list a SIMD group at a time, every invocation pushing,
+    // or not, at the end.
     if (i < n) shade_item(i);
     path_queues_flush();
+    if (VOL_PATH_DEFER) deferral_push_where(DEFERRED_RAYS, shade_deferred_item != NONE, shade_deferred_item);
 }

@@ -67,21 +67,36 @@ SPEC(SCENE_DEFERRAL);
 #include "medium/transmittance.glsl"
 #include "queue/deferral.glsl"
 
-void main() {
-    uint i = thread_index();
+// Traces shadow ray i of the queue (or of the deferred list); returns whether it left
+// the rest of the ray to the full kernel, with its slot and draws.
+bool shadow_item(uint i, out uint slot, out uint draws) {
     bool deferred = SCENE_DEFERRAL == SHADOW_DEFERRED;
-    if (i >= (deferred ? deferral_count(DEFERRED_SHADOWS) : queue_shadow_count())) return;
-    uint slot = deferred ? deferral_item(DEFERRED_SHADOWS, i) : shadow_slot(i);
+    slot = deferred ? deferral_item(DEFERRED_SHADOWS, i) : shadow_slot(i);
+    draws = 0u;
     ShadowItem s = shadow_load(slot);
     PathState p = path_load(s.path);
     vec3 T = shadow_transmittance_from(s, p.pixel, p.sample_index, deferred ? deferral_draws(i) : 0u);
-    if (TRANSMITTANCE_DEFER && transmittance_deferred) {
+    bool defer = TRANSMITTANCE_DEFER && transmittance_deferred;
+    if (defer) {
         // The rest of the ray, in its slot, for the full kernel.
         shadow_store(slot, transmittance_rest);
-        deferral_push_shadow(slot, transmittance_rest_draws);
+        draws = transmittance_rest_draws;
     }
     if (any(greaterThan(T, vec3(0.0)))) {
         p.radiance += s.contribution * T;
         path_store_radiance(s.path, p);
     }
+    return defer;
+}
+
+void main() {
+    uint i = thread_index();
+    bool deferred = SCENE_DEFERRAL == SHADOW_DEFERRED;
+    uint n = deferred ? deferral_count(DEFERRED_SHADOWS) : queue_shadow_count();
+    // No early return where the fast kernel defers: the deferred rays go to their list a
+    // SIMD group at a time (deferral_push_shadow_where), every invocation at the end.
+    uint slot = 0u;
+    uint draws = 0u;
+    bool defer = i < n && shadow_item(i, slot, draws);
+    if (TRANSMITTANCE_DEFER) deferral_push_shadow_where(defer, slot, draws);
 }

@@ -55,12 +55,66 @@ uint deferral_push(uint k, uint index) {
     return j;
 }
 
+#if SUBGROUP_ATOMICS
+// deferral_push where `want`, called by every invocation of the dispatch (in uniform
+// flow): one atomic per SIMD group that defers anything, from lane 0, on the counter
+// both cores share, instead of llvmpipe's locked add per lane (as queue_append_all).
+// Lane 0 raises the dispatch where the group's items need more workgroups than those
+// before them. Returns the item's position where `want`.
+uint deferral_push_all(uint k, bool want, uint index) {
+    uint one = want ? 1u : 0u;
+    uint n = subgroupAdd(one);
+    uint j = 0u;
+    if (n > 0u) {
+        uint before = subgroupExclusiveAdd(one);
+        uint base = 0u;
+        if (gl_SubgroupInvocationID == 0u) base = atomicAdd(counters.deferred[k], n);
+        base = subgroupBroadcast(base, 0u);
+        j = base + before;
+        if (want) shade_ray_words[k * push.capacity + j] = index;
+        if (gl_SubgroupInvocationID == 0u
+            && (base + n + WORKGROUP_SIZE - 1u) / WORKGROUP_SIZE > (base + WORKGROUP_SIZE - 1u) / WORKGROUP_SIZE) {
+            uvec2 g = deferral_groups(base + n);
+            if (k == DEFERRED_RAYS) {
+                atomicMax(dispatch_args.deferred_rays[0], g.x);
+                atomicMax(dispatch_args.deferred_rays[1], g.y);
+            } else {
+                atomicMax(dispatch_args.deferred_shadows[0], g.x);
+                atomicMax(dispatch_args.deferred_shadows[1], g.y);
+            }
+        }
+    }
+    return j;
+}
+#endif
+
+// deferral_push where `want`, from every invocation of the dispatch: a SIMD group at a
+// time where subgroup operations allow it.
+void deferral_push_where(uint k, bool want, uint index) {
+#if SUBGROUP_ATOMICS
+    deferral_push_all(k, want, index);
+#else
+    if (want) deferral_push(k, index);
+#endif
+}
+
 // Leaves the rest of a shadow ray (written to shadow queue slot `slot`) to the full
 // shadow kernel, with the number of random numbers its tracking drew
 // (transmittance.glsl).
 void deferral_push_shadow(uint slot, uint draws) {
     uint j = deferral_push(DEFERRED_SHADOWS, slot);
     shade_ray_words[2u * push.capacity + j] = draws;
+}
+
+// deferral_push_shadow where `want`, from every invocation of the dispatch (as
+// deferral_push_where).
+void deferral_push_shadow_where(bool want, uint slot, uint draws) {
+#if SUBGROUP_ATOMICS
+    uint j = deferral_push_all(DEFERRED_SHADOWS, want, slot);
+    if (want) shade_ray_words[2u * push.capacity + j] = draws;
+#else
+    if (want) deferral_push_shadow(slot, draws);
+#endif
 }
 
 // The random numbers deferred shadow ray j drew before it was deferred.
