@@ -6,7 +6,7 @@ use ash::vk;
 
 use super::buffer::Buffer;
 use super::device::Device;
-use super::error::{Result, VkContext};
+use super::error::{Error, Result, VkContext};
 use super::kernel::{DescriptorSet, Kernel};
 
 /// Most timestamps one command list records.
@@ -41,7 +41,15 @@ pub struct CommandList {
     queries: Option<vk::QueryPool>,
     labels: Vec<String>,
     recording: bool,
+    /// Where each submission's kernel intervals go with timestamps on (`KERNEL_TRACE_VAR`).
+    trace: Option<std::path::PathBuf>,
 }
+
+/// With timestamps on (`--profile`), the file to which every submission appends a line
+/// per kernel dispatch, `label start_ns end_ns`, in the device's timestamp clock: on
+/// lavapipe CLOCK_MONOTONIC, which `perf record -k CLOCK_MONOTONIC` shares, so that
+/// tools/kernel_perf.py can attribute a profile's samples to the kernels.
+pub const KERNEL_TRACE_VAR: &str = "WAVETRACE_KERNEL_TRACE";
 
 impl CommandList {
     /// A command list in the recording state.
@@ -73,6 +81,7 @@ impl CommandList {
             queries: None,
             labels: Vec::new(),
             recording: false,
+            trace: None,
         };
         list.fence = fence.vk("vkCreateFence")?;
         if timestamps {
@@ -82,6 +91,7 @@ impl CommandList {
             // SAFETY: valid create info.
             list.queries =
                 Some(unsafe { raw.create_query_pool(&info, None) }.vk("vkCreateQueryPool")?);
+            list.trace = std::env::var_os(KERNEL_TRACE_VAR).map(std::path::PathBuf::from);
         }
         list.begin()?;
         Ok(list)
@@ -284,11 +294,28 @@ impl CommandList {
             )
         }
         .vk("vkGetQueryPoolResults")?;
+        let mut trace = String::new();
         for (i, label) in self.labels.iter().enumerate() {
+            if self.trace.is_some() {
+                let ns = |t: u64| (t as f64 * period) as u64;
+                trace += &format!("{label} {} {}\n", ns(ticks[i]), ns(ticks[i + 1]));
+            }
             let dt = ticks[i + 1].saturating_sub(ticks[i]) as f64 * period * 1e-9;
             let e = times.by_kernel.entry(label.clone()).or_default();
             e.0 += dt;
             e.1 += 1;
+        }
+        if let Some(path) = &self.trace {
+            use std::io::Write;
+            std::fs::OpenOptions::new()
+                .create(true)
+                .append(true)
+                .open(path)
+                .and_then(|mut f| f.write_all(trace.as_bytes()))
+                .map_err(|e| Error::KernelTrace {
+                    path: path.display().to_string(),
+                    why: e.to_string(),
+                })?;
         }
         Ok(times)
     }

@@ -67,6 +67,8 @@ pub enum Error {
         value: String,
         expected: &'static str,
     },
+    #[error("cannot write the kernel trace {path}: {why}")]
+    KernelTrace { path: String, why: String },
     #[error("invalid SPIR-V for kernel '{0}'")]
     BadSpirv(String),
     #[error("descriptor set {set} has {expected} bindings but {got} buffers were given")]
