@@ -35,6 +35,18 @@ uvec2 deferral_groups(uint n) {
     return uvec2(min(groups, 65535u), (groups + 65534u) / 65535u);
 }
 
+// Raises list k's full kernel's dispatch to cover its items 0..n.
+void deferral_raise(uint k, uint n) {
+    uvec2 g = deferral_groups(n);
+    if (k == DEFERRED_RAYS) {
+        atomicMax(dispatch_args.deferred_rays[0], g.x);
+        atomicMax(dispatch_args.deferred_rays[1], g.y);
+    } else {
+        atomicMax(dispatch_args.deferred_shadows[0], g.x);
+        atomicMax(dispatch_args.deferred_shadows[1], g.y);
+    }
+}
+
 // Leaves queue item `index` (a ray's, or a shadow ray's) to list k's full kernel;
 // returns its position in the list.
 uint deferral_push(uint k, uint index) {
@@ -43,15 +55,7 @@ uint deferral_push(uint k, uint index) {
     // Only the first item of each workgroup's worth raises the dispatch (the args are
     // the groups that cover the largest position, which that item's covers too): an
     // atomic per WORKGROUP_SIZE items instead of per item, on counters both cores share.
-    if (j % WORKGROUP_SIZE != 0u) return j;
-    uvec2 g = deferral_groups(j + 1u);
-    if (k == DEFERRED_RAYS) {
-        atomicMax(dispatch_args.deferred_rays[0], g.x);
-        atomicMax(dispatch_args.deferred_rays[1], g.y);
-    } else {
-        atomicMax(dispatch_args.deferred_shadows[0], g.x);
-        atomicMax(dispatch_args.deferred_shadows[1], g.y);
-    }
+    if (j % WORKGROUP_SIZE == 0u) deferral_raise(k, j + 1u);
     return j;
 }
 
@@ -74,14 +78,7 @@ uint deferral_push_all(uint k, bool want, uint index) {
         if (want) shade_ray_words[k * push.capacity + j] = index;
         if (gl_SubgroupInvocationID == 0u
             && (base + n + WORKGROUP_SIZE - 1u) / WORKGROUP_SIZE > (base + WORKGROUP_SIZE - 1u) / WORKGROUP_SIZE) {
-            uvec2 g = deferral_groups(base + n);
-            if (k == DEFERRED_RAYS) {
-                atomicMax(dispatch_args.deferred_rays[0], g.x);
-                atomicMax(dispatch_args.deferred_rays[1], g.y);
-            } else {
-                atomicMax(dispatch_args.deferred_shadows[0], g.x);
-                atomicMax(dispatch_args.deferred_shadows[1], g.y);
-            }
+            deferral_raise(k, base + n);
         }
     }
     return j;
