@@ -57,10 +57,6 @@ bool fb_shadowed;
 ShadowItem fb_shadow;
 bool fb_continued;
 RayItem fb_ray;
-// Whether fb_ray goes to the wavefront's ray queue, and fb_shadow to its shadow queue
-// (main pushes them, in uniform flow).
-bool fb_push;
-bool fb_push_shadow;
 
 void path_keep_radiance(uint i, PathState p) { fb_path.radiance = p.radiance; }
 void path_keep_bounce(uint i, PathState p) {
@@ -75,10 +71,9 @@ void path_keep_flags(uint i, PathState p) {
     fb_path.medium = p.medium;
 }
 void path_push_shadow(uint medium, vec3 origin, uint path, vec3 dir, float tmax, vec3 contribution) {
-    // Bounce 1's goes to the shadow kernel (which traces only the lanes that have one),
-    // pushed at the end of main.
-    fb_push_shadow = SCENE_SECOND_FUSED && fb_depth == 1u;
-    fb_shadowed = !fb_push_shadow;
+    // Traced in this kernel, but bounce 1's with SCENE_SECOND_FUSED, which main pushes
+    // to the shadow kernel (it traces only the lanes that have one).
+    fb_shadowed = true;
     fb_shadow = ShadowItem(origin, path, dir, tmax, contribution, medium);
 }
 void path_push_ray(vec3 origin, uint path, vec3 dir, float tmax) {
@@ -165,10 +160,7 @@ uint first_bounce_path(uint p) {
     RayItem r;
     camera_path_start(p, fb_path, r);
 
-    // Bounce 0: intersect, the medium stage, shade and shadow.
-    fb_depth = 0u;
-    fb_shadowed = false;
-    fb_continued = false;
+    // Bounce 0: intersect, the medium stage, shade and shadow (main reset the sink).
     Hit hit;
     Hit second = Hit(r.tmax, 0.0, 0.0, HIT_NONE);
     if (SCENE_HAS_MEDIA) {
@@ -213,27 +205,26 @@ uint first_bounce_path(uint p) {
             rays += 1u;
             path_shade(INTEGRATOR, r1, HitItem(hit1.t, hit1.u, hit1.v, hit1.prim), fb_path,
                        path_vertex_surface());
-            fb_push = fb_continued;
         }
-    } else if (fb_continued) {
-        // Bounce 1's ray, for the wavefront (or past a budget of one bounce, where
-        // queue_args counts its path as cut).
-        fb_push = true;
     }
+    // A ray left in fb_continued goes on in the wavefront (bounce 1's, or with
+    // SCENE_SECOND_FUSED bounce 2's; past a budget of one bounce queue_args counts its
+    // path as cut): main pushes it.
     path_store(p, fb_path);
     return rays;
 }
 
 void main() {
     uint p = thread_index();
-    // No early return: every invocation counts its rays (none past the batch), one
-    // atomic per SIMD group on its core's own counter (queue_count_rays; one per lane,
-    // all on one counter both cores add to, cost Veach's plates at 16 lanes 6%).
-    fb_push = false;
-    fb_push_shadow = false;
+    // No early return: every invocation pushes its rays (none past the batch) and counts
+    // them, one atomic per SIMD group and counter (queue_push_ray_all,
+    // queue_count_rays; per lane, they and subgroupElect cost the HG media cube's
+    // first_bounce 6-8% at 16 lanes).
+    fb_depth = 0u;
+    fb_shadowed = false;
+    fb_continued = false;
     uint rays = p < push.path_count ? first_bounce_path(p) : 0u;
-    // One atomic per SIMD group and queue (queue_push_ray_all).
-    if (SCENE_SECOND_FUSED) queue_push_shadow_all(fb_push_shadow, fb_shadow);
-    queue_push_ray_all(fb_push, fb_ray.origin, p, fb_ray.dir, fb_ray.tmax);
+    if (SCENE_SECOND_FUSED) queue_push_shadow_all(fb_depth == 1u && fb_shadowed, fb_shadow);
+    queue_push_ray_all(fb_continued, fb_ray.origin, p, fb_ray.dir, fb_ray.tmax);
     queue_count_rays(rays);
 }

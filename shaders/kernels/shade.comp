@@ -114,25 +114,26 @@ void shade_item(uint i) {
     RayItem r = ray_load(ray_slot(push.queue_in, i));
     if (SHADE_LAST && EMITTER_PRIMS > 0u && !integrator_is_first_hit(INTEGRATOR)) {
         path_shade_emitted(INTEGRATOR, r, path_load(r.path));
-    } else if (!integrator_is_first_hit(INTEGRATOR)) {
-        HitItem h = SHADE_RAYS == SHADE_RAYS_MISSES ? HitItem(r.tmax, 0.0, 0.0, NONE) : hit_load(i);
-        PathState path = path_load(r.path);
-        PathVertex v = path_vertex_surface();
-        if (!SCENE_HAS_MEDIA || vol_path_traverse(INTEGRATOR, r, h, hit_second_load(i), path, v)) {
-            if (SCENE_FILM_ALPHA && push.depth == 0u) path_mark_covered(r.path, path, h, v);
-            path_shade(INTEGRATOR, r, h, path, v);
-        } else if (VOL_PATH_DEFER && vol_path_deferred) {
-            shade_deferred_item = i;
-        }
     } else {
         HitItem h = SHADE_RAYS == SHADE_RAYS_MISSES ? HitItem(r.tmax, 0.0, 0.0, NONE) : hit_load(i);
-        // Mitsuba's first-hit integrators: a camera ray covers its pixel where it hits.
-        if (SCENE_FILM_ALPHA && push.depth == 0u && h.prim != NONE) {
+        if (!integrator_is_first_hit(INTEGRATOR)) {
             PathState path = path_load(r.path);
-            path.flags |= PATH_COVERED;
-            path_store_flags(r.path, path);
+            PathVertex v = path_vertex_surface();
+            if (!SCENE_HAS_MEDIA || vol_path_traverse(INTEGRATOR, r, h, hit_second_load(i), path, v)) {
+                if (SCENE_FILM_ALPHA && push.depth == 0u) path_mark_covered(r.path, path, h, v);
+                path_shade(INTEGRATOR, r, h, path, v);
+            } else if (VOL_PATH_DEFER && vol_path_deferred) {
+                shade_deferred_item = i;
+            }
+        } else {
+            // Mitsuba's first-hit integrators: a camera ray covers its pixel where it hits.
+            if (SCENE_FILM_ALPHA && push.depth == 0u && h.prim != NONE) {
+                PathState path = path_load(r.path);
+                path.flags |= PATH_COVERED;
+                path_store_flags(r.path, path);
+            }
+            first_hit_shade(INTEGRATOR, r, h);
         }
-        first_hit_shade(INTEGRATOR, r, h);
     }
 }
 

@@ -66,16 +66,17 @@ SPEC(SCENE_DEFERRAL);
 #define TRANSMITTANCE_DEFER (SCENE_DEFERRAL == SHADOW_FAST)
 #include "medium/transmittance.glsl"
 #include "queue/deferral.glsl"
+// This is the full kernel over the deferred rests.
+#define SHADOW_OF_DEFERRED (SCENE_DEFERRAL == SHADOW_DEFERRED)
 
 // Traces shadow ray i of the queue (or of the deferred list); returns whether it left
 // the rest of the ray to the full kernel, with its slot and draws.
 bool shadow_item(uint i, out uint slot, out uint draws) {
-    bool deferred = SCENE_DEFERRAL == SHADOW_DEFERRED;
-    slot = deferred ? deferral_item(DEFERRED_SHADOWS, i) : shadow_slot(i);
+    slot = SHADOW_OF_DEFERRED ? deferral_item(DEFERRED_SHADOWS, i) : shadow_slot(i);
     draws = 0u;
     ShadowItem s = shadow_load(slot);
     PathState p = path_load(s.path);
-    vec3 T = shadow_transmittance_from(s, p.pixel, p.sample_index, deferred ? deferral_draws(i) : 0u);
+    vec3 T = shadow_transmittance_from(s, p.pixel, p.sample_index, SHADOW_OF_DEFERRED ? deferral_draws(i) : 0u);
     bool defer = TRANSMITTANCE_DEFER && transmittance_deferred;
     if (defer) {
         // The rest of the ray, in its slot, for the full kernel.
@@ -91,8 +92,7 @@ bool shadow_item(uint i, out uint slot, out uint draws) {
 
 void main() {
     uint i = thread_index();
-    bool deferred = SCENE_DEFERRAL == SHADOW_DEFERRED;
-    uint n = deferred ? deferral_count(DEFERRED_SHADOWS) : queue_shadow_count();
+    uint n = SHADOW_OF_DEFERRED ? deferral_count(DEFERRED_SHADOWS) : queue_shadow_count();
     // No early return where the fast kernel defers: the deferred rays go to their list a
     // SIMD group at a time (deferral_push_shadow_where), every invocation at the end.
     uint slot = 0u;
