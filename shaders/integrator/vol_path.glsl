@@ -173,7 +173,7 @@ bool vol_path_traverse(uint integrator, RayItem r, inout HitItem h, HitItem seco
         bool masked = mask_cross != MASK_CROSSING_NONE;
         // A surface with a BSDF ends the stage (path_shade computes its geometry).
         if ((shape.flags & SHAPE_NULL_BSDF) == 0u && !thin && !masked) break;
-        Surface s = surface_at(h.prim, h.u, h.v, o, r.dir, h.t);
+        Surface s = surface_at_as(h.prim, h.u, h.v, o, r.dir, h.t, THIN_NULL);
         if (masked) {
             // x: the probability of passing, y: its expected weight (below a bump map
             // the bump map's shadowing term, composite.glsl).

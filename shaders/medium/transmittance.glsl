@@ -100,7 +100,7 @@ vec3 transmittance_shadow_from(ShadowItem s, uint pixel, uint sample_index, uint
             through = true;
             break;
         }
-        Surface sf = surface_at(h.prim, h.u, h.v, o, s.dir, h.t);
+        Surface sf = surface_at_as(h.prim, h.u, h.v, o, s.dir, h.t, THIN_NULL);
         if (masked) {
             // A tree: its pass-throughs' weight, none below a bump map (mask_crossing.glsl).
             T *= mask_cross == MASK_CROSSING_ROOT ? 1.0 - bsdf_mask_opacity(shape.bsdf, sf.uv)

@@ -29,6 +29,7 @@
 #define SHAPE_MEDIUM_TRANSITION 16u
 #define SHAPE_THIN_DIELECTRIC 32u
 #define SHAPE_MIRRORED 64u
+#define SHAPE_NORMALS_AGREE 128u
 // No medium in one half of ShapeRecord.media.
 #define MEDIUM_NONE16 0xffffu
 

@@ -183,12 +183,18 @@ void surface_bspline_curve(inout Surface s, Prim prim, vec3 hit, float u, out ve
 // (counter-clockwise front, or outwards), flipped by SHAPE_FLIP_NORMALS. The tangent
 // is Mitsuba's: a triangle's ∂p/∂u from its own vertices and uvs (p1 - p0 without
 // uvs), a quadric's from its parameterization.
-Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, float t) {
+// `shading` (a constant): false where only the point, its error bound, the geometric
+// normal (on the side of the shading normal, as below) and the shape are read, as a
+// null crossing reads them (vol_path.glsl, transmittance.glsl): a triangle's uvs, its
+// tangent and its texture lookup's hit are then left out (uv = (u, v), ss = 0), and
+// its vertex normals where they cannot turn the geometric normal (SHAPE_NORMALS_AGREE;
+// ns = ng); what is read comes out as with them, the same bits.
+Surface surface_at_as(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, float t, bool shading) {
     // In world space (an instance's primitive mapped by its to_world).
     Prim prim = instance_prim_load(prim_index);
     ShapeRecord shape = shape_load(prim.shape);
     bool sdf = SURFACE_HAS(SURFACE_FEATURE_SDFGRIDS) && prim.kind == PRIM_SDFGRID;
-    texture_hit_set(prim.shape, prim.index, sdf ? vec2(0.0) : vec2(u, v));
+    if (shading) texture_hit_set(prim.shape, prim.index, sdf ? vec2(0.0) : vec2(u, v));
     Surface s;
     s.shape = prim.shape;
     vec3 dpdu;
@@ -282,10 +288,14 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
 #ifdef SURFACE_PARTIALS
         surface_dp_dv = dp1;
 #endif
+        // A crossing (!shading) of a mesh whose vertex normals agree with its faces
+        // (SHAPE_NORMALS_AGREE, not instanced) reads no vertex: the geometric normal
+        // stays as it is, and ns = ng.
+        bool agree = (shape.flags & SHAPE_NORMALS_AGREE) != 0u && !(INSTANCED && instance_of(prim_index) != 0u);
         if (SURFACE_HAS(SURFACE_FEATURE_NORMALS | SURFACE_FEATURE_UVS)
-            && (shape.flags & (SHAPE_HAS_NORMALS | SHAPE_HAS_UVS)) != 0u) {
+            && (shape.flags & (SHAPE_HAS_NORMALS | SHAPE_HAS_UVS)) != 0u && (shading || !agree)) {
             TriangleRecord tri = triangle_load(prim.index);
-            if (SURFACE_HAS(SURFACE_FEATURE_UVS) && (shape.flags & SHAPE_HAS_UVS) != 0u) {
+            if (shading && SURFACE_HAS(SURFACE_FEATURE_UVS) && (shape.flags & SHAPE_HAS_UVS) != 0u) {
                 vec2 uv0 = vec2(vertex_texel(tri.v0, 0u).w, vertex_texel(tri.v0, 1u).x);
                 vec2 uv1 = vec2(vertex_texel(tri.v1, 0u).w, vertex_texel(tri.v1, 1u).x);
                 vec2 uv2 = vec2(vertex_texel(tri.v2, 0u).w, vertex_texel(tri.v2, 1u).x);
@@ -323,11 +333,15 @@ Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, fl
         s.ng = -s.ng;
         s.ns = -s.ns;
     }
-    s.ss = surface_tangent(dpdu, s.ns);
+    s.ss = shading ? surface_tangent(dpdu, s.ns) : vec3(0.0);
 #ifdef SURFACE_PARTIALS
     surface_dp_du = dpdu;
 #endif
     return s;
+}
+
+Surface surface_at(uint prim_index, float u, float v, vec3 ray_o, vec3 ray_d, float t) {
+    return surface_at_as(prim_index, u, v, ray_o, ray_d, t, true);
 }
 
 // A direction in the shading frame (ss, ns × ss, ns) of s, and back.

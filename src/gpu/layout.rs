@@ -61,6 +61,10 @@ pub const SHAPE_THIN_DIELECTRIC: u32 = 32;
 /// A quadric whose `to_world` mirrors: its object frame is left-handed, which the
 /// uvs and tangents of spheres and cylinders need (see [`Prim`]).
 pub const SHAPE_MIRRORED: u32 = 64;
+/// Every vertex normal of the mesh lies on its triangle's side (by a margin,
+/// [`crate::scene::Mesh::normals_agree`]): the shading normal never turns the geometric
+/// one, so a null crossing needs neither (shaders/shape/surface.glsl, surface_at_as).
+pub const SHAPE_NORMALS_AGREE: u32 = 128;
 /// No medium in one half of [`ShapeRecord::media`].
 pub const MEDIUM_NONE16: u32 = 0xffff;
 
@@ -796,6 +800,7 @@ mod tests {
             ("SHAPE_MEDIUM_TRANSITION", SHAPE_MEDIUM_TRANSITION),
             ("SHAPE_THIN_DIELECTRIC", SHAPE_THIN_DIELECTRIC),
             ("SHAPE_MIRRORED", SHAPE_MIRRORED),
+            ("SHAPE_NORMALS_AGREE", SHAPE_NORMALS_AGREE),
             ("MEDIUM_HOMOGENEOUS", MEDIUM_HOMOGENEOUS),
             ("MEDIUM_GRID", MEDIUM_GRID),
             ("MEDIUM_SAMPLE_EMITTERS", MEDIUM_SAMPLE_EMITTERS),

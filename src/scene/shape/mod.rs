@@ -180,10 +180,32 @@ pub struct Mesh {
     pub ellipsoids: Vec<ellipsoids::Ellipsoid>,
 }
 
+/// The least cosine between a vertex normal and its triangle's face normal for
+/// [`Mesh::normals_agree`].
+pub const NORMALS_AGREE_COS: f32 = 1e-3;
+
 impl Mesh {
     /// Whether this is a set of curves ([`Mesh::radii`]), not triangles.
     pub fn is_curves(&self) -> bool {
         !self.radii.is_empty()
+    }
+
+    /// Whether the mesh has vertex normals and each of them lies on its triangles' side
+    /// of the face normal, their cosine above [`NORMALS_AGREE_COS`]: every interpolated
+    /// shading normal then lies there too (a convex combination), and the renderer,
+    /// which turns the geometric normal to the shading normal's side as Mitsuba does,
+    /// never turns it (shaders/shape/surface.glsl). The margin keeps that true through
+    /// the kernels' rounding; degenerate triangles and zero normals do not agree.
+    pub fn normals_agree(&self) -> bool {
+        !self.normals.is_empty()
+            && self.indices.iter().all(|t| {
+                let p = t.map(|i| self.positions.get(i as usize).copied().unwrap_or_default());
+                let ng = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+                t.iter().all(|&i| {
+                    let n = self.normals.get(i as usize).copied().unwrap_or_default();
+                    ng.dot(n.normalize_or_zero()) > NORMALS_AGREE_COS
+                })
+            })
     }
 
     /// Whether these curves are cubic B-splines ([`bsplinecurve`]): their segments
@@ -332,6 +354,37 @@ impl Quadric {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A unit quad in the z = 0 plane (face normal +z) with `normals`.
+    fn quad(normals: Vec<Vec3>) -> Mesh {
+        Mesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y],
+            indices: vec![[0, 1, 2], [0, 2, 3]],
+            normals,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn normals_agree_only_where_each_lies_on_its_face_side() {
+        let up = Vec3::Z;
+        assert!(quad(vec![up; 4]).normals_agree());
+        // Tilted, but on the face's side.
+        let tilted = Vec3::new(0.9, 0.0, 0.1);
+        assert!(quad(vec![up, tilted, up, up]).normals_agree());
+        // One vertex normal in the plane or below it: a shading normal may turn the
+        // geometric one there.
+        assert!(!quad(vec![up, Vec3::X, up, up]).normals_agree());
+        assert!(!quad(vec![up, up, up, -up]).normals_agree());
+        // Inwards everywhere (the renderer turns every geometric normal): no.
+        assert!(!quad(vec![-up; 4]).normals_agree());
+        // No normals, a zero normal, a degenerate triangle.
+        assert!(!quad(Vec::new()).normals_agree());
+        assert!(!quad(vec![up, Vec3::ZERO, up, up]).normals_agree());
+        let mut flat = quad(vec![up; 4]);
+        flat.positions[2] = Vec3::new(2.0, 0.0, 0.0);
+        assert!(!flat.normals_agree());
+    }
 
     #[test]
     fn quadric_bounds_hold_the_shape() {
