@@ -194,15 +194,16 @@ float emitter_choice_pmf(uint i) {
 // of the unit disk; a cylinder a uniform height and angle (Mitsuba's sample_position
 // of each; their area elements are constant). In a scene without area lights on
 // quadrics (nor texture-sampled ones, which may be quadrics) the quadrics' code
-// compiles away.
-Surface emitter_area_point(EmitterRecord e, vec2 u) {
+// compiles away. `shading` (a constant): as surface_at_as's, false where only the
+// point, the geometric normal (its side) and the shape are read.
+Surface emitter_area_point_as(EmitterRecord e, vec2 u, bool shading) {
     // (Photon emission takes texture-sampled emitters' points here too.)
     if (!EMITTER_HAS_ANY(EMITTER_QUADRIC_AREA_BITS)
         || (EMITTER_HAS_ANY((1u << EMITTER_AREA) | (1u << EMITTER_KIND_BIT_TEXTURE_SAMPLED)) && e.tri_count > 0u)) {
         float tri_pmf;
         uint t = alias_sample_reuse(e.tri_first, e.tri_count, u.y, tri_pmf);
         vec2 b = warp_uniform_triangle(u);
-        return surface_at(alias_load(e.tri_first + t).prim, b.x, b.y, vec3(0.0), vec3(0.0), 0.0);
+        return surface_at_as(alias_load(e.tri_first + t).prim, b.x, b.y, vec3(0.0), vec3(0.0), 0.0, shading);
     }
     if (e.prim_kind == PRIM_DISK) {
         vec2 xy = warp_square_to_disk(u);
@@ -219,6 +220,8 @@ Surface emitter_area_point(EmitterRecord e, vec2 u) {
     }
     return surface_at(e.prim, 0.0, 0.0, y, vec3(0.0), 0.0);
 }
+
+Surface emitter_area_point(EmitterRecord e, vec2 u) { return emitter_area_point_as(e, u, true); }
 
 // Samples light arriving at x from one 2-D sample u: the emitter is chosen by u.x, which
 // is then reused (emitter_choose), and the point on it drawn from the 2-D sample
@@ -302,7 +305,9 @@ EmitterSample emitter_sample_env(vec3 x, vec2 u, bool env, vec3 d) {
         // A point uniform over the shape's area, as the surface a ray finds there: its
         // front side follows the vertex normals where a mesh has them (as in Mitsuba
         // and Nori), so a mirroring to_world does not turn a light around.
-        Surface ls = emitter_area_point(e, u);
+        // Its uvs only for a textured emitter's radiance (a scene without them reads
+        // no vertex of a mesh light whose normals agree with its faces).
+        Surface ls = emitter_area_point_as(e, u, TEXTURE_USES(TEXTURE_FEATURE_AREA));
         vec3 y = ls.p;
         vec3 ng = ls.ng;
         vec3 d = y - x;
