@@ -75,9 +75,13 @@ struct RunArgs {
     wavefront: bool,
     /// In scenes with null surfaces, let shade and shadow trace inside their crossing
     /// loops instead of leaving the rays that need it to kernels of their own (the
-    /// same image either way; for comparisons).
-    #[arg(long)]
+    /// same image either way up to float rounding; for comparisons).
+    #[arg(long, conflicts_with = "deferral")]
     no_deferral: bool,
+    /// Defer those rays even where the driver does not pay for it (by default only
+    /// drivers other than Mesa 26's lavapipe defer; for comparisons).
+    #[arg(long)]
+    deferral: bool,
     /// AOVs to write beside the radiance, as named EXR channels (Mitsuba's `aov`
     /// integrator's): comma-separated types (depth, position, uv, geo_normal,
     /// sh_normal, albedo, prim_index, shape_index), each optionally `name:type`
@@ -106,7 +110,11 @@ impl RunArgs {
             max_bounces: self.max_bounces,
             max_photons_per_pass: self.photons_per_pass,
             wavefront: self.wavefront,
-            deferral: self.no_deferral.then_some(false),
+            deferral: if self.no_deferral {
+                Some(false)
+            } else {
+                self.deferral.then_some(true)
+            },
             aovs: self.aov.map(|a| a.0).unwrap_or_default(),
             ..RenderOptions::default()
         };

@@ -612,7 +612,8 @@ fn small_scenes_traced_without_the_tree_match_the_traversal() {
 /// scattering with equiangular sampling in fog inside a null sphere, in the wavefront
 /// and (but for single scattering, whole in first_bounce) after the fused first
 /// bounce, which traces in its loops. By default only the homogeneous scenes without
-/// null spheres defer.
+/// null spheres defer, and only on drivers where it pays (not Mesa 26's lavapipe:
+/// DeviceInfo::deferral_pays).
 #[test]
 fn deferred_crossings_match_tracing_in_the_loop() {
     let device = device();
@@ -666,7 +667,7 @@ fn deferred_crossings_match_tracing_in_the_loop() {
             assert_eq!(tracing_stats.deferred, 0, "{case}");
             assert_eq!(
                 ran(&default_stats, "shadow_deferred"),
-                by_default,
+                by_default && device.info().deferral_pays,
                 "{case}: deferring by default"
             );
             assert_eq!(deferring.non_finite_count(), 0, "{case}");

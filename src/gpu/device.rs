@@ -79,6 +79,10 @@ pub struct DeviceInfo {
     /// `WAVETRACE_SCENE_TEXELS` is not set (it forces texel buffers, which every device
     /// runs).
     pub scene_storage: bool,
+    /// Whether shade and shadow in scenes with null surfaces pay for leaving the rays
+    /// that must trace again to full twins of themselves (shaders/queue/deferral.glsl;
+    /// [`deferral_pays`]): every driver but lavapipe of Mesa 26 or later.
+    pub deferral_pays: bool,
     /// Whether subgroup s of a workgroup holds the workgroup's invocations
     /// s × subgroup size onwards, in order (llvmpipe: a subgroup is one SIMD vector of
     /// consecutive invocations), so that the kernels' `thread_index` is read from the
@@ -588,6 +592,7 @@ impl Device {
         let subgroups_in_order = driver == "llvmpipe";
         let scene_storage = scene_storage_faster(&driver, &driver_info)
             && std::env::var_os("WAVETRACE_SCENE_TEXELS").is_none();
+        let deferral_pays = deferral_pays(&driver, &driver_info);
         let info = DeviceInfo {
             index,
             name: phys.name.clone(),
@@ -603,6 +608,7 @@ impl Device {
             max_workgroups_x: props.limits.max_compute_work_group_count[0],
             int64,
             scene_storage,
+            deferral_pays,
             subgroups_in_order,
             max_storage_buffers: props
                 .limits
@@ -710,6 +716,7 @@ impl DeviceInfo {
             max_workgroups_x: 65535,
             int64: true,
             scene_storage: false,
+            deferral_pays: true,
             subgroups_in_order: true,
             max_storage_buffers: 8,
             startup_seconds: 0.0,
@@ -745,16 +752,48 @@ pub fn int64_stores_work(name: &str) -> bool {
 /// a render that bound the scene's 31 storage buffers there segfaulted; the cause was
 /// not looked into). Other drivers keep texel buffers.
 pub fn scene_storage_faster(driver: &str, info: &str) -> bool {
-    let mesa_major = info
-        .strip_prefix("Mesa ")
+    lavapipe_mesa_major(driver, info).is_some_and(|m| m >= 26)
+}
+
+/// Whether deferral (shaders/queue/deferral.glsl) pays on the driver `driver` whose
+/// `driverInfo` is `info`. It was made for Mesa 22.3's lavapipe, which runs a crossing
+/// loop's traversal for every SIMD group at every crossing whether a lane traces or
+/// not (Debian's 22.3.6, the HG media cube at 256², 64 spp: 1.66 s deferring, 1.70 s
+/// not). Mesa 26's does not pay it (26.2.6 at 512 bits, medians of 5-7 alternated:
+/// the HG cube 0.559 s deferring, 0.546 s not; the isotropic cube 0.563 against 0.547;
+/// thin_textured 0.481 against 0.485), and the two extra dispatches of each bounce
+/// are two more points where lavapipe's threads sleep and wake (docs/performance.md).
+/// GPUs keep it: tracing in a loop diverges there too.
+pub fn deferral_pays(driver: &str, info: &str) -> bool {
+    lavapipe_mesa_major(driver, info).is_none_or(|m| m < 26)
+}
+
+/// The Mesa major version of lavapipe (`driver` "llvmpipe", `info` its driverInfo,
+/// "Mesa 26.2.6-1 (LLVM 22.1.8)"); None for another driver or an unreadable version.
+fn lavapipe_mesa_major(driver: &str, info: &str) -> Option<u32> {
+    if driver != "llvmpipe" {
+        return None;
+    }
+    info.strip_prefix("Mesa ")
         .and_then(|v| v.split('.').next())
-        .and_then(|m| m.parse::<u32>().ok());
-    driver == "llvmpipe" && mesa_major.is_some_and(|m| m >= 26)
+        .and_then(|m| m.parse::<u32>().ok())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn deferral_but_on_lavapipe_from_mesa_26() {
+        assert!(!deferral_pays("llvmpipe", "Mesa 26.2.6-1 (LLVM 22.1.8)"));
+        assert!(!deferral_pays(
+            "llvmpipe",
+            "Mesa 27.0.0-devel (git-1234abcd)"
+        ));
+        assert!(deferral_pays("llvmpipe", "Mesa 22.3.6 (LLVM 15.0.6)"));
+        assert!(deferral_pays("llvmpipe", ""));
+        assert!(deferral_pays("radv", "Mesa 26.2.6"));
+    }
 
     #[test]
     fn scene_storage_on_lavapipe_from_mesa_26() {

@@ -715,14 +715,18 @@ impl Schedule {
                 || (expected_paths >= FUSED_MIN_PATHS
                     && (!partitioned || facts.camera_misses.is_some_and(|m| m <= 1.0 / 3.0))));
         let wavefront_kernels = !fused || bounces > fused_bounces;
-        // Deferral pays where few rays defer and a deferred one costs little to run
-        // again: not with a null sphere or cylinder, which every ray that crosses it
-        // must trace again past, nor with grid media, whose tracking shade_deferred
-        // repeats (docs/performance.md). first_bounce traces its crossings itself.
+        // Deferral pays on the drivers that run a loop's traversal for every SIMD group
+        // (DeviceInfo::deferral_pays), where few rays defer and a deferred one costs
+        // little to run again: not with a null sphere or cylinder, which every ray that
+        // crosses it must trace again past, nor with grid media, whose tracking
+        // shade_deferred repeats (docs/performance.md). first_bounce traces its
+        // crossings itself.
         let deferring = media
             && integrator.shades_paths()
             && options.deferral.unwrap_or_else(|| {
-                !scene.has_curved_crossings() && facts.medium_features & MEDIUM_FEATURE_GRIDS == 0
+                caps.deferral_pays
+                    && !scene.has_curved_crossings()
+                    && facts.medium_features & MEDIUM_FEATURE_GRIDS == 0
             });
         Schedule {
             bounces,
@@ -1120,6 +1124,7 @@ mod tests {
         DeviceInfo {
             name: "llvmpipe (LLVM 22.1.8, 512 bits)".into(),
             scene_storage: true,
+            deferral_pays: false,
             ..lavapipe()
         }
     }
@@ -1265,6 +1270,19 @@ mod tests {
         let p = plan(&scene("media/cube.xml"), &never, &lavapipe());
         assert!(p.schedule.media && !p.schedule.deferral);
         assert!(!p.has(Stage::ShadeDeferred) && !p.has(Stage::ShadowDeferred));
+        // Not by default on Mesa 26's lavapipe, where it does not pay; asked for, yes.
+        let p = plan(
+            &scene("media/cube.xml"),
+            &RenderOptions::default(),
+            &wide_llvmpipe(),
+        );
+        assert!(p.schedule.media && !p.schedule.deferral);
+        let always = RenderOptions {
+            deferral: Some(true),
+            ..Default::default()
+        };
+        let p = plan(&scene("media/cube.xml"), &always, &wide_llvmpipe());
+        assert!(p.schedule.deferral && p.has(Stage::ShadowDeferred));
     }
 
     #[test]
