@@ -63,7 +63,9 @@ pub const SHAPE_THIN_DIELECTRIC: u32 = 32;
 pub const SHAPE_MIRRORED: u32 = 64;
 /// Every vertex normal of the mesh lies on its triangle's side (by a margin,
 /// [`crate::scene::Mesh::normals_agree`]): the shading normal never turns the geometric
-/// one, so a null crossing needs neither (shaders/shape/surface.glsl, surface_at_as).
+/// one, so a null crossing or a sampled point of a light needs neither
+/// (shaders/shape/surface.glsl, surface_at_as). Set on null-BSDF and emitting meshes,
+/// the only ones read that way.
 pub const SHAPE_NORMALS_AGREE: u32 = 128;
 /// No medium in one half of [`ShapeRecord::media`].
 pub const MEDIUM_NONE16: u32 = 0xffff;

@@ -216,7 +216,9 @@ impl SceneRecords {
             let mut flags = 0;
             if has_n {
                 flags |= SHAPE_HAS_NORMALS;
-                if mesh.normals_agree() {
+                // Only null boundaries and lights are read without their shading frame
+                // (surface_at_as): a large mesh of another kind skips the check.
+                if (mesh.null_bsdf || mesh.emitter.is_some()) && mesh.normals_agree() {
                     flags |= SHAPE_NORMALS_AGREE;
                 }
             }
